@@ -1,0 +1,120 @@
+"""One explicit numpy/CasADi backend: every physics function is written once against this module.
+
+Each function looks at its arguments: if any is a CasADi ``SX``, ``MX`` or ``DM`` it calls the
+CasADi function, otherwise the numpy one. Nothing here relies on numpy forwarding ``np.sin`` to
+CasADi objects (CasADi 3.8 warns about that), and nothing branches in Python on *data values*:
+use :func:`where` (``casadi.if_else``) or a smooth form instead.
+
+Elliptic integrals follow scipy's parameter convention ``m = k**2``. On the numpy path they are
+scipy's ``ellipk``/``ellipe``; on the CasADi path a fixed-count arithmetic-geometric-mean (AGM)
+iteration, which gives exact values and exact derivatives (7 steps reach machine precision for
+``m < 1 - 1e-6``, i.e. anywhere not on the wire itself).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import casadi as _ca
+import numpy as _np
+from scipy import special as _special
+
+__all__ = [
+    "is_casadi", "sin", "cos", "tan", "arctan", "arctan2", "arcsin", "arccos", "exp", "log",
+    "sqrt", "abs", "square", "where", "fmax", "fmin", "softplus", "ellipk", "ellipe", "pi",
+    "AGM_STEPS",
+]
+
+pi = _np.pi
+AGM_STEPS = 7
+_CASADI_TYPES = (_ca.SX, _ca.MX, _ca.DM)
+
+
+def is_casadi(*args: Any) -> bool:
+    """True if any argument is a CasADi SX, MX or DM value."""
+    return any(isinstance(a, _CASADI_TYPES) for a in args)
+
+
+def _unary(np_fn, ca_fn):
+    def fn(x):
+        return ca_fn(x) if isinstance(x, _CASADI_TYPES) else np_fn(x)
+
+    fn.__name__ = np_fn.__name__
+    fn.__doc__ = f"Elementwise ``{np_fn.__name__}`` on floats, numpy arrays or CasADi values."
+    return fn
+
+
+sin = _unary(_np.sin, _ca.sin)
+cos = _unary(_np.cos, _ca.cos)
+tan = _unary(_np.tan, _ca.tan)
+arctan = _unary(_np.arctan, _ca.atan)
+arcsin = _unary(_np.arcsin, _ca.asin)
+arccos = _unary(_np.arccos, _ca.acos)
+exp = _unary(_np.exp, _ca.exp)
+log = _unary(_np.log, _ca.log)
+sqrt = _unary(_np.sqrt, _ca.sqrt)
+abs = _unary(_np.abs, _ca.fabs)  # noqa: A001 - mirrors numpy's name on purpose
+square = _unary(_np.square, lambda x: x * x)
+
+
+def arctan2(y: Any, x: Any) -> Any:
+    """Four-quadrant arctangent ``atan2(y, x)``."""
+    return _ca.atan2(y, x) if is_casadi(y, x) else _np.arctan2(y, x)
+
+
+def where(condition: Any, if_true: Any, if_false: Any) -> Any:
+    """``condition ? if_true : if_false`` elementwise (``numpy.where`` / ``casadi.if_else``)."""
+    if is_casadi(condition, if_true, if_false):
+        return _ca.if_else(condition, if_true, if_false)
+    return _np.where(condition, if_true, if_false)
+
+
+def fmax(a: Any, b: Any) -> Any:
+    """Elementwise maximum."""
+    return _ca.fmax(a, b) if is_casadi(a, b) else _np.maximum(a, b)
+
+
+def fmin(a: Any, b: Any) -> Any:
+    """Elementwise minimum."""
+    return _ca.fmin(a, b) if is_casadi(a, b) else _np.minimum(a, b)
+
+
+def softplus(x: Any, sharpness: float = 1.0) -> Any:
+    """Smooth ``max(x, 0)``: ``log(1 + exp(s x)) / s``, overflow-safe on both paths."""
+    s = sharpness
+    return (fmax(s * x, 0.0) + log(1.0 + exp(-abs(s * x)))) / s
+
+
+def _agm_K_E(m: Any) -> tuple[Any, Any]:
+    """Complete elliptic integrals K(m), E(m) by a fixed-count AGM (CasADi path)."""
+    a = 1.0
+    b = _ca.sqrt(1.0 - m)
+    c_sq_sum = 0.5 * m  # 2**(n-1) c_n**2 at n = 0, c_0**2 = m
+    weight = 0.5
+    for _ in range(AGM_STEPS):
+        c = 0.5 * (a - b)
+        a, b = 0.5 * (a + b), _ca.sqrt(a * b)
+        weight *= 2.0
+        c_sq_sum = c_sq_sum + weight * c * c
+    k = _np.pi / (2.0 * a)
+    return k, k * (1.0 - c_sq_sum)
+
+
+def ellipk(m: Any) -> Any:
+    """Complete elliptic integral of the first kind K(m), parameter ``m = k**2`` (scipy's)."""
+    return _agm_K_E(m)[0] if isinstance(m, _CASADI_TYPES) else _special.ellipk(m)
+
+
+def ellipe(m: Any) -> Any:
+    """Complete elliptic integral of the second kind E(m), parameter ``m = k**2`` (scipy's)."""
+    return _agm_K_E(m)[1] if isinstance(m, _CASADI_TYPES) else _special.ellipe(m)
+
+
+def ellipke(m: Any) -> tuple[Any, Any]:
+    """Both K(m) and E(m); on the CasADi path they share one AGM iteration."""
+    if isinstance(m, _CASADI_TYPES):
+        return _agm_K_E(m)
+    return _special.ellipk(m), _special.ellipe(m)
+
+
+__all__.append("ellipke")

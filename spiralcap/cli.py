@@ -1,0 +1,61 @@
+"""The ``spiralcap`` console script: one argparse parser, subcommands kept in one table.
+
+Each subcommand lives in ``spiralcap/commands/<name>.py`` with ``add_arguments(parser)`` and
+``run(args) -> int``. Command modules import the domain packages inside ``run`` only, so building
+the parser stays cheap and ``spiralcap init`` never pays for CasADi or matplotlib.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+
+from spiralcap import __version__
+from spiralcap.errors import SpiralcapError
+
+#: name -> (module under spiralcap.commands, one-line help)
+COMMANDS: dict[str, tuple[str, str]] = {
+    "init": ("init", "write the built-in example design, with comments, to a file"),
+    "coils": ("coils", "per-axis coil sizing: field per amp, R, L, voltage, power, heating"),
+    "capsule": ("capsule", "capsule figures: magnet moment, spiral pitch, speed, thrust torque"),
+    "torque": ("torque", "tissue resistive torque against rotation frequency"),
+    "fit": ("fit", "identify tissue parameters from bench torque measurements (CSV)"),
+    "evaluate": ("evaluate", "the design at its operating point: field, torques, margin, limits"),
+    "optimize": ("optimize", "choose helical angle, frequency and coil currents for most margin"),
+    "sweep": ("sweep", "evaluate or re-optimise across a grid of design keys"),
+    "report": ("report", "write the engineering report (self-contained HTML, optional PDF)"),
+}
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The full parser; subcommand modules add their own arguments."""
+    parser = argparse.ArgumentParser(
+        prog="spiralcap",
+        description="Design tool for magnetically actuated spiral-type capsule endoscopes.")
+    parser.add_argument("--version", action="version", version=f"spiralcap {__version__}")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
+    for name, (module, help_) in COMMANDS.items():
+        p = sub.add_parser(name, help=help_, description=help_)
+        mod = importlib.import_module(f"spiralcap.commands.{module}")
+        mod.add_arguments(p)
+        p.set_defaults(_module=mod)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Entry point: parse, run, and turn every expected error into one line and an exit status."""
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    try:
+        return int(args._module.run(args) or 0)
+    except SpiralcapError as exc:
+        print(f"spiralcap {args.command}: error: {exc}", file=sys.stderr)
+        return exc.exit_status
+    except KeyboardInterrupt:
+        print(f"spiralcap {args.command}: interrupted", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())
