@@ -144,7 +144,8 @@ KEYS.update({
     "requirements.slip_efficiency": _between(
         "forward speed / (frequency x spiral lead); 1 is a nut on a screw", 0.5, 0.0, 1.0,
         open_=False),
-    "requirements.min_speed_mm_s": _nonneg("least forward speed the capsule must reach", 2.0),
+    "requirements.min_speed_mm_s": _nonneg(
+        "least forward speed the capsule must reach (5 mm/s: about 17 min per metre)", 5.0),
     "requirements.min_spiral_turns": _nonneg(
         "fewest spiral turns over the wound length that can be made (0 switches the rule off)",
         1.0),

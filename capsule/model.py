@@ -1,0 +1,241 @@
+"""The whole capsule: body, spiral and magnet, their consistency, and its headline figures."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass
+from typing import Any
+
+from capsule.body import GEOMETRY_RTOL, Body
+from capsule.magnet import Magnet, magnet_fit_check
+from capsule.propulsion import forward_speed_m_s, thrust_torque_Nm
+from capsule.spiral import (
+    MAX_WIRE_TO_BODY_DIAMETER,
+    Spiral,
+    max_helical_angle_for_turns_rad,
+    min_helical_angle_for_clearance_rad,
+)
+from capsule.torque import max_synchronous_torque_Nm
+from spiralcap.errors import InputError
+
+
+def geometry_problems(body: Body, spiral: Spiral, magnet: Magnet) -> list[tuple[str, str]]:
+    """Every way the three parts do not make a buildable capsule.
+
+    Parameters
+    ----------
+    body : Body
+        Capsule shell.
+    spiral : Spiral
+        Spiral wound on the cylindrical part.
+    magnet : Magnet
+        Magnet centred in the shell.
+
+    Returns
+    -------
+    list of (str, str)
+        ``(field, reason)`` pairs, ``field`` one of ``magnet.diameter_m``, ``magnet.length_m``,
+        ``spiral.wire_diameter_m``, ``spiral.wound_length_m``, ``spiral.helical_angle_rad``,
+        ``spiral.starts``; empty when the capsule can be built. Reasons quote sizes in mm.
+    """
+    out: list[tuple[str, str]] = []
+    fit = magnet_fit_check(body, magnet)
+    if fit is not None:
+        out.append((f"magnet.{fit[0]}", fit[1]))
+    wire_max = MAX_WIRE_TO_BODY_DIAMETER * body.diameter_m
+    if spiral.wire_diameter_m > wire_max * (1.0 + GEOMETRY_RTOL):
+        out.append(("spiral.wire_diameter_m",
+                    f"at most {wire_max * 1e3:g} mm: {MAX_WIRE_TO_BODY_DIAMETER:.0%} of the body "
+                    f"diameter {body.diameter_m * 1e3:g} mm (a plausibility bound of this tool)"))
+    if spiral.wound_length_m > body.cylinder_length_m * (1.0 + GEOMETRY_RTOL):
+        out.append(("spiral.wound_length_m",
+                    f"at most the cylindrical part's length {body.cylinder_length_m * 1e3:g} mm "
+                    "(length - diameter); the spiral is wound on the cylinder only"))
+    d_h = spiral.helix_diameter_m(body)
+    if spiral.starts * spiral.wire_diameter_m < math.pi * d_h:
+        a_min = float(min_helical_angle_for_clearance_rad(d_h, spiral.wire_diameter_m,
+                                                          spiral.starts))
+        if spiral.helical_angle_rad < a_min * (1.0 - GEOMETRY_RTOL):
+            out.append(("spiral.helical_angle_rad",
+                        f"at least {math.degrees(a_min):.3g} deg, else neighbouring turns of the "
+                        f"{spiral.wire_diameter_m * 1e3:g} mm wire ({spiral.starts} start(s)) "
+                        "overlap"))
+    else:
+        n_max = math.pi * d_h / spiral.wire_diameter_m
+        out.append(("spiral.starts", f"fewer than pi D_h / d_w = {n_max:.3g} starts, else the "
+                    "wires cannot all fit round the circumference"))
+    return out
+
+
+@dataclass(frozen=True)
+class CapsuleFigures:
+    """Headline figures of a capsule at an operating point (SI; units in every name).
+
+    Attributes
+    ----------
+    magnet_moment_Am2 : float
+        Magnet moment ``B_r V / mu0``, A·m^2.
+    magnet_volume_m3 : float
+        Magnet volume, m^3.
+    remanence_T : float
+        Magnet remanence, T.
+    helical_angle_deg : float
+        Helical angle, degrees.
+    helix_diameter_m : float
+        Wire centre-line diameter, m.
+    lead_m : float
+        Advance per revolution of each start, m.
+    pitch_m : float
+        Same as ``lead_m`` (the advance per turn, DESIGN.md 4.2).
+    wire_spacing_m : float
+        Axial distance between neighbouring wires, ``lead / starts``, m.
+    turns : float
+        Turns of each start over the wound length.
+    min_turns : float
+        Fewest turns asked for (0: rule off).
+    full_turn_ok : bool
+        ``turns >= min_turns``.
+    max_helical_angle_for_min_turns_deg : float
+        Largest helical angle that still gives ``min_turns``, degrees.
+    footprint_width_m : float
+        Circumferential width of one wire's bump in a cross-section, m.
+    frequency_hz : float
+        Rotation frequency, Hz.
+    slip_efficiency : float
+        Forward speed / (frequency x lead).
+    speed_m_s : float
+        Forward speed, m/s.
+    axial_load_N : float
+        Axial load pushed, N.
+    friction_coefficient : float
+        Wire-tissue friction coefficient used for the thrust torque.
+    thrust_torque_Nm : float
+        Torque to push the axial load, N·m.
+    synchronous_torque_per_mT_Nm : float
+        Largest synchronous torque per millitesla of rotating field, ``m x 1 mT``, N·m.
+    """
+
+    magnet_moment_Am2: float
+    magnet_volume_m3: float
+    remanence_T: float
+    helical_angle_deg: float
+    helix_diameter_m: float
+    lead_m: float
+    pitch_m: float
+    wire_spacing_m: float
+    turns: float
+    min_turns: float
+    full_turn_ok: bool
+    max_helical_angle_for_min_turns_deg: float
+    footprint_width_m: float
+    frequency_hz: float
+    slip_efficiency: float
+    speed_m_s: float
+    axial_load_N: float
+    friction_coefficient: float
+    thrust_torque_Nm: float
+    synchronous_torque_per_mT_Nm: float
+
+    def to_dict(self) -> dict[str, Any]:
+        """The figures as a plain dict (for JSON)."""
+        return asdict(self)
+
+
+@dataclass(frozen=True)
+class Capsule:
+    """A spiral capsule: shell, spiral and magnet that fit together.
+
+    Parameters
+    ----------
+    body : Body
+        Capsule shell.
+    spiral : Spiral
+        Spiral on the cylindrical part.
+    magnet : Magnet
+        Diametrically magnetised magnet centred in the shell.
+
+    Raises
+    ------
+    spiralcap.errors.InputError
+        For the first problem :func:`geometry_problems` finds, naming e.g. ``magnet.diameter_m``.
+    """
+
+    body: Body
+    spiral: Spiral
+    magnet: Magnet
+
+    def __post_init__(self) -> None:
+        problems = geometry_problems(self.body, self.spiral, self.magnet)
+        if problems:
+            field, reason = problems[0]
+            part, _, name = field.partition(".")
+            raise InputError(field, getattr(getattr(self, part), name), reason)
+
+    @property
+    def helix_diameter_m(self) -> float:
+        """Wire centre-line diameter, m."""
+        return self.spiral.helix_diameter_m(self.body)
+
+    @property
+    def lead_m(self) -> float:
+        """Advance per revolution of each start, m."""
+        return self.spiral.lead_m(self.body)
+
+    @property
+    def turns(self) -> float:
+        """Turns of each start over the wound length."""
+        return self.spiral.turns(self.body)
+
+    @property
+    def moment_Am2(self) -> float:
+        """Magnet moment, A·m^2."""
+        return self.magnet.moment_Am2
+
+    def figures(self, frequency_hz: float, axial_load_N: float, friction_coefficient: float,
+                slip_efficiency: float = 1.0, min_turns: float = 1.0) -> CapsuleFigures:
+        """The capsule's figures at an operating point.
+
+        Parameters
+        ----------
+        frequency_hz : float
+            Rotation frequency, Hz.
+        axial_load_N : float
+            Axial load the spiral pushes, N.
+        friction_coefficient : float
+            Wire-tissue Coulomb friction coefficient.
+        slip_efficiency : float
+            Forward speed / (frequency x lead), in [0, 1].
+        min_turns : float
+            Fewest spiral turns over the wound length that count as manufacturable (0: off).
+
+        Returns
+        -------
+        CapsuleFigures
+        """
+        s, d_h = self.spiral, self.helix_diameter_m
+        lead, turns = self.lead_m, self.turns
+        return CapsuleFigures(
+            magnet_moment_Am2=self.moment_Am2,
+            magnet_volume_m3=self.magnet.volume_m3,
+            remanence_T=self.magnet.remanence_T,
+            helical_angle_deg=s.helical_angle_deg,
+            helix_diameter_m=d_h,
+            lead_m=lead,
+            pitch_m=lead,
+            wire_spacing_m=lead / s.starts,
+            turns=turns,
+            min_turns=float(min_turns),
+            full_turn_ok=bool(turns >= min_turns),
+            max_helical_angle_for_min_turns_deg=math.degrees(float(
+                max_helical_angle_for_turns_rad(d_h, s.wound_length_m, float(min_turns)))),
+            footprint_width_m=s.footprint_width_m,
+            frequency_hz=float(frequency_hz),
+            slip_efficiency=float(slip_efficiency),
+            speed_m_s=float(forward_speed_m_s(frequency_hz, lead, slip_efficiency)),
+            axial_load_N=float(axial_load_N),
+            friction_coefficient=float(friction_coefficient),
+            thrust_torque_Nm=float(thrust_torque_Nm(axial_load_N, d_h, s.helical_angle_rad,
+                                                    friction_coefficient)),
+            synchronous_torque_per_mT_Nm=float(max_synchronous_torque_Nm(self.moment_Am2,
+                                                                         1e-3)),
+        )

@@ -1,0 +1,74 @@
+"""Propulsion kinematics of a spiral capsule: forward speed and the torque to push a load.
+
+The model is a documented default meant to be replaced (DESIGN.md section 4.2). Assumptions:
+
+* the spiral is a rigid screw turning in a compliant nut formed by the intestinal wall;
+* the wall-wire contact is Coulomb friction with the tissue's friction coefficient ``mu``
+  (friction angle ``atan(mu)``), acting on the helix (wire centre-line) diameter;
+* the axial resistance ``F`` of the bowel acts along the capsule axis;
+* all slip of the compliant nut (the wall deforming and sliding back over the wire) is lumped
+  into one efficiency ``eta`` on the forward speed.
+
+The resistive torque of the tissue against rotation itself (Zhou et al. 2013) is modelled in
+``torque_model``; this module only adds what pushing the axial load costs.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from spiralcap import backend as bk
+
+
+def forward_speed_m_s(frequency_hz: Any, lead_m: Any, slip_efficiency: Any) -> Any:
+    """Forward speed of the capsule, ``eta f lead``.
+
+    Parameters
+    ----------
+    frequency_hz : float, array or CasADi
+        Rotation frequency of the capsule (synchronous with the field), Hz.
+    lead_m : float, array or CasADi
+        Advance per revolution of the spiral, m (see :func:`capsule.lead_m`).
+    slip_efficiency : float, array or CasADi
+        Forward speed / (frequency x lead), in [0, 1]; 1 is a nut on a rigid screw.
+
+    Returns
+    -------
+    float, array or CasADi
+        Speed along the capsule axis, m/s.
+    """
+    return slip_efficiency * frequency_hz * lead_m
+
+
+def thrust_torque_Nm(axial_load_N: Any, helix_diameter_m: Any, helical_angle_rad: Any,
+                     friction_coefficient: Any) -> Any:
+    """Torque to drive the screw against an axial load, ``F (D_h / 2) tan(alpha + atan(mu))``.
+
+    Parameters
+    ----------
+    axial_load_N : float, array or CasADi
+        Axial resistance the capsule pushes against, N (Zhou et al. 2013 cite 20-100 mN for
+        8-13 mm capsules in porcine small intestine).
+    helix_diameter_m : float, array or CasADi
+        Helix (mean contact) diameter ``D_h``, m.
+    helical_angle_rad : float, array or CasADi
+        Helical angle ``alpha`` (the screw's lead angle), rad.
+    friction_coefficient : float, array or CasADi
+        Coulomb friction coefficient ``mu`` between wire and tissue.
+
+    Returns
+    -------
+    float, array or CasADi
+        Torque about the capsule axis, N·m. Grows without bound as ``alpha + atan(mu)`` nears
+        90° (the screw locks).
+
+    Notes
+    -----
+    Torque to raise a load with a square-thread power screw, ``T = F d_m/2 tan(lambda + phi)``
+    with lead angle ``lambda`` measured from the plane normal to the axis and friction angle
+    ``phi = atan(mu)``: Budynas & Nisbett, *Shigley's Mechanical Engineering Design*, 9th ed.,
+    section 8-2 (power screws), eq. (8-1) rewritten with ``tan(lambda) = l / (pi d_m)``. The
+    paper's helical angle is that lead angle.
+    """
+    return (0.5 * axial_load_N * helix_diameter_m
+            * bk.tan(helical_angle_rad + bk.arctan(friction_coefficient)))

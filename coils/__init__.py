@@ -1,0 +1,37 @@
+"""Helmholtz coils: exact loop fields, three-axis systems, rotating-field allocation,
+electrical and thermal sizing, and field uniformity. SI units throughout; imports only the
+spiralcap core (backend, constants, errors)."""
+
+from coils.electrical import (
+    copper_loss_W,
+    copper_resistivity_ohm_m,
+    impedance_ohm,
+    temperature_rise_K,
+    voltage_amplitude_V,
+)
+from coils.loop import coaxial_mutual_inductance_H, loop_field
+from coils.pair import HelmholtzPair
+from coils.rotating import heading_frame
+from coils.sizing import AxisSizing, SystemSizing, size_system
+from coils.system import ThreeAxisHelmholtz
+from coils.uniformity import UniformRegion, uniform_region, uniform_region_radius_m, uniformity
+
+__all__ = [
+    "AxisSizing",
+    "HelmholtzPair",
+    "SystemSizing",
+    "ThreeAxisHelmholtz",
+    "UniformRegion",
+    "coaxial_mutual_inductance_H",
+    "copper_loss_W",
+    "copper_resistivity_ohm_m",
+    "heading_frame",
+    "impedance_ohm",
+    "loop_field",
+    "size_system",
+    "temperature_rise_K",
+    "uniform_region",
+    "uniform_region_radius_m",
+    "uniformity",
+    "voltage_amplitude_V",
+]

@@ -1,0 +1,96 @@
+"""Electrical and thermal relations of a coil drive, backend-generic.
+
+Each function takes floats, numpy arrays or CasADi values (the optimiser passes a CasADi
+frequency and current amplitude) and is written once against :mod:`spiralcap.backend`. Currents
+and voltages are sinusoidal *amplitudes* (peak, not RMS).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from spiralcap import backend as bk
+from spiralcap.constants import (
+    COPPER_RESISTIVITY_20C_ohm_m,
+    COPPER_TEMPERATURE_COEFFICIENT_per_K,
+)
+
+__all__ = [
+    "copper_loss_W",
+    "copper_resistivity_ohm_m",
+    "impedance_ohm",
+    "temperature_rise_K",
+    "voltage_amplitude_V",
+]
+
+
+def copper_resistivity_ohm_m(temperature_C: Any) -> Any:
+    """Resistivity of annealed copper, Ω·m: ρ20 (1 + α20 (T - 20 °C)) (IEC 60028).
+
+    Parameters
+    ----------
+    temperature_C : float, array or CasADi
+        Copper temperature, °C.
+    """
+    return COPPER_RESISTIVITY_20C_ohm_m * (
+        1.0 + COPPER_TEMPERATURE_COEFFICIENT_per_K * (temperature_C - 20.0))
+
+
+def impedance_ohm(resistance_ohm: Any, inductance_H: Any, frequency_hz: Any) -> Any:
+    """Magnitude of the series R-L impedance, |R + jωL| = sqrt(R² + (2π f L)²), Ω.
+
+    Parameters
+    ----------
+    resistance_ohm : float, array or CasADi
+        Series resistance, Ω.
+    inductance_H : float, array or CasADi
+        Series inductance, H.
+    frequency_hz : float, array or CasADi
+        Drive frequency, Hz.
+    """
+    reactance = 2.0 * bk.pi * frequency_hz * inductance_H
+    return bk.sqrt(resistance_ohm * resistance_ohm + reactance * reactance)
+
+
+def voltage_amplitude_V(resistance_ohm: Any, inductance_H: Any, frequency_hz: Any,
+                        current_amplitude_A: Any) -> Any:
+    """Drive-voltage amplitude |Z| I for a sinusoidal current of amplitude I, V.
+
+    Parameters
+    ----------
+    resistance_ohm : float, array or CasADi
+        Series resistance, Ω.
+    inductance_H : float, array or CasADi
+        Series inductance, H.
+    frequency_hz : float, array or CasADi
+        Drive frequency, Hz.
+    current_amplitude_A : float, array or CasADi
+        Current amplitude (peak), A.
+    """
+    return impedance_ohm(resistance_ohm, inductance_H, frequency_hz) * current_amplitude_A
+
+
+def copper_loss_W(resistance_ohm: Any, current_amplitude_A: Any) -> Any:
+    """Mean copper loss of a sinusoidal current, R I² / 2 (I the amplitude), W.
+
+    Parameters
+    ----------
+    resistance_ohm : float, array or CasADi
+        Resistance, Ω.
+    current_amplitude_A : float, array or CasADi
+        Current amplitude (peak), A.
+    """
+    return 0.5 * resistance_ohm * current_amplitude_A * current_amplitude_A
+
+
+def temperature_rise_K(power_W: Any, thermal_conductance_W_per_K: Any) -> Any:
+    """Steady temperature rise ΔT = P / G of a lumped body losing heat through conductance G, K.
+
+    Parameters
+    ----------
+    power_W : float, array or CasADi
+        Dissipated power, W.
+    thermal_conductance_W_per_K : float, array or CasADi
+        Conductance to ambient, W/K.
+    """
+    return power_W / thermal_conductance_W_per_K

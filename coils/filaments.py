@@ -1,0 +1,180 @@
+"""A set of coaxial-loop filaments along the x, y or z axis, and the field they make.
+
+Every coil in this package is a list of circular filaments, each with an axis (x, y or z), a
+radius, an axial centre, a number of turns and the drive current (column) it belongs to. The
+field of all of them at once is assembled here, once, for numpy point arrays and for CasADi
+row vectors alike.
+
+For a filament along axis a, a point p has axial coordinate ζ = p_a and the field per ampere is
+B = s (p - ζ e_a) + b_z e_a = s p + (b_z - s ζ) e_a with s = B_ρ/ρ (see :mod:`coils.loop`). Summed
+over the filaments of drive column k, with turns N_l,
+
+    B(p) = Σ_k I_k [S_k(p) p + T_k(p) e_{a_k}],  S_k = Σ N_l s_l,  T_k = Σ N_l (b_z,l - s_l ζ_l),
+
+so the field matrix is G(p) = p S^T + diag-like T and B = G(p) I.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from coils.loop import loop_terms
+from spiralcap import backend as bk
+
+__all__ = ["AXES", "FilamentSet", "gauss_legendre_pack"]
+
+AXES = ("x", "y", "z")
+
+#: Points per chunk on the numpy path: keeps the (chunk, filaments) temporaries in cache.
+CHUNK_POINTS = 8192
+
+
+def gauss_legendre_pack(side_m: float, counts: tuple[int, int]) -> tuple[np.ndarray, ...]:
+    """Gauss-Legendre nodes and weights over a square winding pack of side ``side_m``.
+
+    Parameters
+    ----------
+    side_m : float
+        Side of the square pack, m.
+    counts : (int, int)
+        Nodes across the radial and the axial extent.
+
+    Returns
+    -------
+    d_radial_m, d_axial_m, weight : ndarray, shape (counts[0] * counts[1],)
+        Offsets of the nodes from the pack centre, m, and weights summing to 1.
+    """
+    xr, wr = np.polynomial.legendre.leggauss(counts[0])
+    xz, wz = np.polynomial.legendre.leggauss(counts[1])
+    dr, dz = np.meshgrid(0.5 * side_m * xr, 0.5 * side_m * xz, indexing="ij")
+    w = np.outer(wr, wz) / 4.0
+    return dr.ravel(), dz.ravel(), w.ravel()
+
+
+def _axis_distance(rho_sq: Any) -> Any:
+    """ρ = sqrt(ρ²); on CasADi guarded so its derivative is finite (and exact for B) on the axis.
+
+    The guard only matters for derivatives (numpy's sqrt(0) is 0), so numpy skips its cost.
+    """
+    if not bk.is_casadi(rho_sq):
+        return bk.sqrt(rho_sq)
+    positive = rho_sq > 0.0
+    return bk.where(positive, bk.sqrt(bk.where(positive, rho_sq, 1.0)), 0.0)
+
+
+@dataclass(frozen=True)
+class FilamentSet:
+    """Filaments l = 0..L-1 with axis, radius, axial centre, turns and drive column.
+
+    Parameters
+    ----------
+    axes : ndarray of int, shape (L,)
+        Axis index of each filament (0, 1, 2 for x, y, z).
+    radii_m : ndarray, shape (L,)
+        Filament radii, m.
+    centres_m : ndarray, shape (L,)
+        Axial coordinate of each filament's plane, m.
+    turns : ndarray, shape (L,)
+        Ampere-turns per ampere of drive current (may be fractional for a quadrature node).
+    columns : ndarray of int, shape (L,)
+        Drive current each filament carries (index into the current vector).
+    column_axes : tuple of int
+        Axis of each drive column (all its filaments share it).
+    """
+
+    axes: np.ndarray
+    radii_m: np.ndarray
+    centres_m: np.ndarray
+    turns: np.ndarray
+    columns: np.ndarray
+    column_axes: tuple[int, ...]
+    _mats: dict = field(default_factory=dict, init=False, repr=False, compare=False)
+
+    @property
+    def n_currents(self) -> int:
+        """Number of drive currents."""
+        return len(self.column_axes)
+
+    def _matrices(self, casadi: bool) -> dict[str, Any]:
+        if casadi not in self._mats:
+            L, ncol = len(self.radii_m), self.n_currents
+            along = np.zeros((3, L))
+            along[self.axes, np.arange(L)] = 1.0
+            weights = np.zeros((L, ncol))
+            weights[np.arange(L), self.columns] = self.turns
+            direction = np.zeros((ncol, 3))
+            direction[np.arange(ncol), self.column_axes] = 1.0
+            mats = {"along": along, "across": 1.0 - along, "weights": weights,
+                    "radii": self.radii_m[None, :], "centres": self.centres_m[None, :],
+                    "direction": direction}
+            if casadi:
+                import casadi as ca
+
+                mats = {k: ca.DM(v) for k, v in mats.items()}
+            self._mats[casadi] = mats
+        return self._mats[casadi]
+
+    def terms(self, points: Any) -> tuple[Any, Any]:
+        """S and T of the module docstring at each point.
+
+        Parameters
+        ----------
+        points : ndarray (n, 3) or CasADi (1, 3)
+            Field points (rows), m.
+
+        Returns
+        -------
+        S, T : ndarray (n, n_currents) or CasADi (1, n_currents)
+            S in T/(A·m), T in T/A.
+        """
+        mats = self._matrices(bk.is_casadi(points))
+        zeta = points @ mats["along"]
+        rho_sq = (points * points) @ mats["across"]
+        rho = _axis_distance(rho_sq)
+        s, b_z = loop_terms(mats["radii"], zeta - mats["centres"], rho, rho_sq)
+        return s @ mats["weights"], (b_z - s * zeta) @ mats["weights"]
+
+    def field(self, points: Any, currents: Any) -> Any:
+        """Field B = G(p) I, T, for numpy (n, 3) points or a CasADi (1, 3) row.
+
+        Parameters
+        ----------
+        points : ndarray (n, 3) or CasADi (1, 3)
+            Field points, m.
+        currents : ndarray or CasADi, shape (n_currents, 1)
+            Drive currents as a column, A.
+
+        Returns
+        -------
+        ndarray (n, 3) or CasADi (1, 3)
+            Magnetic flux density, T.
+        """
+        if not bk.is_casadi(points) and len(points) > CHUNK_POINTS:
+            out = np.empty((len(points), 3))
+            for start in range(0, len(points), CHUNK_POINTS):
+                stop = start + CHUNK_POINTS
+                out[start:stop] = self.field(points[start:stop], currents)
+            return out
+        S, T = self.terms(points)
+        direction = self._matrices(bk.is_casadi(points))["direction"]
+        return points * (S @ currents) + (T * currents.T) @ direction
+
+    def field_matrix(self, points: np.ndarray) -> np.ndarray:
+        """G(p), shape (n, 3, n_currents), T/A, with B(p) = G(p) @ I (numpy path).
+
+        Parameters
+        ----------
+        points : ndarray, shape (n, 3)
+            Field points, m.
+        """
+        out = np.empty((len(points), 3, self.n_currents))
+        direction = self._matrices(False)["direction"]
+        for start in range(0, len(points), CHUNK_POINTS):
+            p = points[start:start + CHUNK_POINTS]
+            S, T = self.terms(p)
+            out[start:start + CHUNK_POINTS] = (p[:, :, None] * S[:, None, :]
+                                               + T[:, None, :] * direction.T[None, :, :])
+        return out

@@ -1,0 +1,250 @@
+"""A Helmholtz pair: two coaxial coils in series with square winding packs.
+
+Geometry: each coil has N turns of round copper wire of bare diameter d wound into a square
+cross-section of side c = sqrt(N π d² / 4 / packing_factor) centred on the mean radius R; the
+two coils sit at ±s/2 along the pair's axis (s = R is Helmholtz spacing) and carry the same
+current in the same sense, so their fields add at the centre.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import cached_property
+from typing import Any
+
+import numpy as np
+
+from coils.electrical import copper_resistivity_ohm_m
+from coils.filaments import AXES, FilamentSet, gauss_legendre_pack
+from coils.loop import coaxial_mutual_inductance_H, loop_field
+from spiralcap.constants import MU0_T_m_per_A
+from spiralcap.errors import InputError, check_positive
+
+__all__ = ["MAX_PACKING_FACTOR", "HelmholtzPair"]
+
+#: Densest packing of equal round wires (hexagonal), π / (2 sqrt 3).
+MAX_PACKING_FACTOR = math.pi / (2.0 * math.sqrt(3.0))
+
+# Stefan's formula constants for a square section (b = c), Rosa & Grover (1912) Table 23:
+# y1 = 2 - ln(sqrt(2) / 0.447049) from Maxwell's geometric mean distance of a square, y2.
+_STEFAN_Y1 = 0.848340
+_STEFAN_Y2 = 0.8162
+# Gauss-Legendre nodes across each pack for the mutual inductance (converged to < 1e-10).
+_MUTUAL_NODES = 4
+
+
+def _check_count(key: str, value: Any) -> int:
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
+        raise InputError(key, value, "a whole number >= 1")
+    return int(value)
+
+
+@dataclass(frozen=True)
+class HelmholtzPair:
+    """Two coaxial, series-connected coils of N turns each; all quantities SI.
+
+    Parameters
+    ----------
+    radius_m : float
+        Mean radius R of each coil (centre of the winding pack), m.
+    turns : int
+        Turns N of each coil.
+    axis : {"x", "y", "z"}
+        Common axis of the two coils.
+    separation_m : float, optional
+        Distance between the coil planes, m; default R (Helmholtz spacing).
+    wire_diameter_m : float
+        Bare copper diameter d, m.
+    packing_factor : float
+        Copper area / pack area, in (0, π/(2√3)).
+    filaments : (int, int)
+        Gauss-Legendre filaments across the radial and axial pack extent used for the *field*
+        (1, 1 = one filament at the mean radius; larger counts model the real pack).
+
+    Raises
+    ------
+    InputError
+        A parameter outside its range, named by its parameter name; also a pack side >= R
+        (``wire_diameter_m``) or coils that overlap (``separation_m``).
+    """
+
+    radius_m: float
+    turns: int
+    axis: str = "z"
+    separation_m: float | None = None
+    wire_diameter_m: float = 2.5e-3
+    packing_factor: float = 0.7
+    filaments: tuple[int, int] = (1, 1)
+
+    def __post_init__(self) -> None:
+        set_ = object.__setattr__
+        set_(self, "radius_m", check_positive("radius_m", self.radius_m))
+        set_(self, "turns", _check_count("turns", self.turns))
+        if self.axis not in AXES:
+            raise InputError("axis", self.axis, "one of 'x', 'y', 'z'")
+        sep = self.radius_m if self.separation_m is None else self.separation_m
+        set_(self, "separation_m", check_positive("separation_m", sep))
+        set_(self, "wire_diameter_m", check_positive("wire_diameter_m", self.wire_diameter_m))
+        pf = check_positive("packing_factor", self.packing_factor)
+        if pf >= MAX_PACKING_FACTOR:
+            raise InputError("packing_factor", pf, f"a number in (0, {MAX_PACKING_FACTOR:.4f})")
+        set_(self, "packing_factor", pf)
+        if not (isinstance(self.filaments, tuple) and len(self.filaments) == 2):
+            raise InputError("filaments", self.filaments, "a pair (radial, axial) of counts >= 1")
+        set_(self, "filaments", tuple(_check_count("filaments", n) for n in self.filaments))
+        side = self.winding_pack_side_m
+        if side >= self.radius_m:
+            raise InputError("wire_diameter_m", self.wire_diameter_m,
+                             f"a wire whose {self.turns}-turn pack (side {side:.4g} m) is "
+                             f"smaller than radius_m = {self.radius_m:.4g} m")
+        if side >= self.separation_m:
+            raise InputError("separation_m", self.separation_m,
+                             f"a separation larger than the winding pack side {side:.4g} m "
+                             "(else the two coils overlap)")
+
+    # --- geometry ------------------------------------------------------------------------------
+    @property
+    def axis_index(self) -> int:
+        """0, 1 or 2 for x, y or z."""
+        return AXES.index(self.axis)
+
+    @property
+    def wire_area_m2(self) -> float:
+        """Bare copper cross-section of the wire, π d² / 4, m²."""
+        return math.pi * self.wire_diameter_m**2 / 4.0
+
+    @property
+    def winding_pack_area_m2(self) -> float:
+        """Cross-section of one coil's winding pack, N π d² / 4 / packing_factor, m²."""
+        return self.turns * self.wire_area_m2 / self.packing_factor
+
+    @property
+    def winding_pack_side_m(self) -> float:
+        """Side c of the square winding pack, m."""
+        return math.sqrt(self.winding_pack_area_m2)
+
+    @property
+    def wire_length_m(self) -> float:
+        """Copper length of both coils, 2 N · 2π R (mean turn on the mean radius), m."""
+        return 2.0 * self.turns * 2.0 * math.pi * self.radius_m
+
+    @cached_property
+    def filament_set(self) -> FilamentSet:
+        """The field model: both coils as Gauss-Legendre filament grids, one drive column."""
+        dr, dz, w = gauss_legendre_pack(self.winding_pack_side_m, self.filaments)
+        half = 0.5 * self.separation_m
+        n = len(w)
+        return FilamentSet(
+            axes=np.full(2 * n, self.axis_index), radii_m=np.tile(self.radius_m + dr, 2),
+            centres_m=np.concatenate([-half + dz, half + dz]),
+            turns=np.tile(self.turns * w, 2), columns=np.zeros(2 * n, dtype=int),
+            column_axes=(self.axis_index,))
+
+    # --- field ---------------------------------------------------------------------------------
+    def field(self, points_m: np.ndarray, current_A: float) -> np.ndarray:
+        """Field of the pair, T.
+
+        Parameters
+        ----------
+        points_m : array_like, shape (n, 3) or (3,)
+            Field points in the coil frame (pair centre at the origin), m.
+        current_A : float
+            Current in the series pair, A.
+
+        Returns
+        -------
+        ndarray, shape (n, 3) (or (3,) for one point)
+            Magnetic flux density, T.
+        """
+        p = np.asarray(points_m, dtype=float)
+        b = self.filament_set.field(np.atleast_2d(p), np.array([[float(current_A)]]))
+        return b[0] if p.ndim == 1 else b
+
+    @cached_property
+    def centre_field_per_amp_T_per_A(self) -> float:
+        """Field at the centre per ampere, T/A.
+
+        Exact sum over the filaments; for one filament at s = R it is (4/5)^{3/2} μ0 N / R.
+        """
+        fs = self.filament_set
+        return float(np.sum(fs.turns * loop_field(fs.radii_m, fs.centres_m, 0.0, 0.0)[1]))
+
+    # --- electrical ----------------------------------------------------------------------------
+    def resistance_ohm(self, temperature_C: float = 20.0) -> float:
+        """Resistance of both coils in series at a copper temperature, Ω.
+
+        R = ρ(T) ℓ / (π d²/4), ρ(T) from :func:`coils.electrical.copper_resistivity_ohm_m` (IEC
+        60028). DC value: at the drive frequencies here (< 100 Hz) the copper skin depth (> 6 mm)
+        exceeds the wire radius.
+
+        Parameters
+        ----------
+        temperature_C : float
+            Copper temperature, °C.
+        """
+        return float(copper_resistivity_ohm_m(temperature_C) * self.wire_length_m
+                     / self.wire_area_m2)
+
+    @cached_property
+    def self_inductance_H(self) -> float:
+        """Self inductance of one coil, H.
+
+        Stefan's formula for a circular coil of rectangular section b x c (axial x radial) and
+        mean radius a (Rosa & Grover, Bull. Bur. Stand. 8, 1912, eq. 91; Grover, *Inductance
+        Calculations*, 1946, ch. 16), here b = c:
+
+            L = μ0 a N² [(1 + (3b² + c²)/(96 a²)) ln(8a/d) - y1 + b²/(16 a²) y2],
+            d = sqrt(b² + c²),
+
+        with y1 = 0.84834, y2 = 0.8162 for a square section. Uniform current density over the
+        pack. Checked in the tests against a filament-sum of Maxwell's mutual formula (volume
+        integral) to < 1e-5 for c/R up to 0.5.
+        """
+        a, c = self.radius_m, self.winding_pack_side_m
+        d = math.sqrt(2.0) * c
+        bracket = ((1.0 + 4.0 * c * c / (96.0 * a * a)) * math.log(8.0 * a / d) - _STEFAN_Y1
+                   + c * c / (16.0 * a * a) * _STEFAN_Y2)
+        return MU0_T_m_per_A * a * self.turns**2 * bracket
+
+    @cached_property
+    def mutual_inductance_H(self) -> float:
+        """Mutual inductance between the two coils of the pair, H.
+
+        N² times Maxwell's exact formula for coaxial filaments
+        (:func:`coils.loop.coaxial_mutual_inductance_H`), averaged over both square packs with a
+        4 x 4 Gauss-Legendre rule each (uniform current density; the integrand is smooth because
+        the packs do not touch).
+        """
+        dr, dz, w = gauss_legendre_pack(self.winding_pack_side_m, (_MUTUAL_NODES,) * 2)
+        r1, r2 = self.radius_m + dr[:, None], self.radius_m + dr[None, :]
+        dist = self.separation_m + dz[:, None] - dz[None, :]
+        m = coaxial_mutual_inductance_H(r1, r2, dist)
+        return float(self.turns**2 * np.sum(w[:, None] * w[None, :] * m))
+
+    @property
+    def series_inductance_H(self) -> float:
+        """Inductance of the two coils in series aiding, 2 L + 2 M, H."""
+        return 2.0 * self.self_inductance_H + 2.0 * self.mutual_inductance_H
+
+    # --- thermal -------------------------------------------------------------------------------
+    @property
+    def surface_area_m2(self) -> float:
+        """Outer surface of both winding packs, 2 x 4c x 2πR (Pappus), m²."""
+        return 2.0 * 4.0 * self.winding_pack_side_m * 2.0 * math.pi * self.radius_m
+
+    def thermal_conductance_W_per_K(self, heat_transfer_coefficient_W_m2K: float) -> float:
+        """Thermal conductance from both coils to ambient air, h A, W/K.
+
+        Assumes each winding pack is isothermal (no internal gradient) and loses heat by
+        convection from all four faces of its square section (inner, outer and both annular
+        faces, total 4c · 2πR per coil) with one coefficient h that also absorbs radiation;
+        no conduction into the frame. Pair it with the copper loss of both coils.
+
+        Parameters
+        ----------
+        heat_transfer_coefficient_W_m2K : float
+            Convective coefficient h, W/(m²·K).
+        """
+        h = check_positive("heat_transfer_coefficient_W_m2K", heat_transfer_coefficient_W_m2K)
+        return h * self.surface_area_m2

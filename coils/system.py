@@ -1,0 +1,264 @@
+"""Three orthogonal Helmholtz pairs: field, field matrix, CasADi functions, rotating fields."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import cached_property
+from typing import Any
+
+import numpy as np
+
+from coils.filaments import AXES, FilamentSet
+from coils.pair import HelmholtzPair
+from coils.rotating import allocation, ellipse_semi_axes
+from spiralcap.errors import InputError
+
+__all__ = ["PointEvaluator", "ThreeAxisHelmholtz"]
+
+
+def _points(points_m: Any) -> np.ndarray:
+    p = np.atleast_2d(np.asarray(points_m, dtype=float))
+    if p.ndim != 2 or p.shape[1] != 3:
+        raise InputError("points_m", np.shape(points_m), "an array of shape (n, 3)")
+    return p
+
+
+def _currents(currents_A: Any) -> np.ndarray:
+    i = np.asarray(currents_A, dtype=float)
+    if i.shape != (3,):
+        raise InputError("currents_A", np.shape(currents_A), "three currents (x, y, z), A")
+    return i
+
+
+class PointEvaluator:
+    """Low-overhead repeated calls of a compiled CasADi Function on numpy vectors.
+
+    Uses CasADi's ``Function.buffer()``: inputs and outputs are fixed numpy arrays the Function
+    reads and writes in place, so a call costs a copy-in, the evaluation and a copy-out. Not
+    thread-safe (one buffer per evaluator).
+    """
+
+    def __init__(self, function: Any) -> None:
+        self.function = function
+        self._inputs = [np.zeros(function.nnz_in(i)) for i in range(function.n_in())]
+        self._outputs = [np.zeros(function.nnz_out(i)) for i in range(function.n_out())]
+        self._buffer, self._trigger = function.buffer()
+        for i, a in enumerate(self._inputs):
+            self._buffer.set_arg(i, memoryview(a))
+        for i, a in enumerate(self._outputs):
+            self._buffer.set_res(i, memoryview(a))
+
+    def __call__(self, *args: Any) -> np.ndarray | tuple[np.ndarray, ...]:
+        """Evaluate; arguments and results flattened column-major (CasADi order)."""
+        for dst, src in zip(self._inputs, args, strict=True):
+            dst[:] = src
+        self._trigger()
+        outs = tuple(o.copy() for o in self._outputs)
+        return outs[0] if len(outs) == 1 else outs
+
+
+@dataclass(frozen=True)
+class ThreeAxisHelmholtz:
+    """Three orthogonal Helmholtz pairs sharing one centre (the origin); B(p) = G(p) I.
+
+    Parameters
+    ----------
+    x, y, z : HelmholtzPair
+        The pairs along each axis; each pair's ``axis`` must match its slot.
+
+    Raises
+    ------
+    InputError
+        A pair missing or on the wrong axis (named ``x``, ``y`` or ``z``).
+    """
+
+    x: HelmholtzPair
+    y: HelmholtzPair
+    z: HelmholtzPair
+
+    def __post_init__(self) -> None:
+        for name in AXES:
+            pair = getattr(self, name)
+            if not isinstance(pair, HelmholtzPair) or pair.axis != name:
+                raise InputError(name, pair, f"a HelmholtzPair with axis={name!r}")
+
+    @property
+    def pairs(self) -> tuple[HelmholtzPair, HelmholtzPair, HelmholtzPair]:
+        """The (x, y, z) pairs."""
+        return (self.x, self.y, self.z)
+
+    @cached_property
+    def filament_set(self) -> FilamentSet:
+        """All filaments of the three pairs; drive column k is pair k."""
+        sets = [p.filament_set for p in self.pairs]
+        cat = np.concatenate
+        return FilamentSet(
+            axes=cat([s.axes for s in sets]), radii_m=cat([s.radii_m for s in sets]),
+            centres_m=cat([s.centres_m for s in sets]), turns=cat([s.turns for s in sets]),
+            columns=cat([np.full(len(s.turns), k) for k, s in enumerate(sets)]),
+            column_axes=(0, 1, 2))
+
+    # --- field ---------------------------------------------------------------------------------
+    def field(self, points_m: Any, currents_A: Any) -> np.ndarray:
+        """Field of the three pairs, T.
+
+        Parameters
+        ----------
+        points_m : array_like, shape (n, 3)
+            Field points, m.
+        currents_A : array_like, shape (3,)
+            Currents of the x, y, z pairs, A.
+
+        Returns
+        -------
+        ndarray, shape (n, 3)
+            Magnetic flux density, T.
+        """
+        return self.filament_set.field(_points(points_m), _currents(currents_A)[:, None])
+
+    def field_matrix(self, points_m: Any) -> np.ndarray:
+        """G(p), shape (n, 3, 3), T/A: column k is the field of pair k per ampere.
+
+        Parameters
+        ----------
+        points_m : array_like, shape (n, 3)
+            Field points, m.
+        """
+        return self.filament_set.field_matrix(_points(points_m))
+
+    @cached_property
+    def centre_gains_T_per_A(self) -> np.ndarray:
+        """Centre field per ampere of the x, y, z pairs, shape (3,), T/A."""
+        return np.array([p.centre_field_per_amp_T_per_A for p in self.pairs])
+
+    # --- CasADi --------------------------------------------------------------------------------
+    @cached_property
+    def _casadi_symbols(self) -> tuple[Any, Any, Any]:
+        import casadi as ca
+
+        point = ca.SX.sym("point_m", 3)
+        currents = ca.SX.sym("currents_A", 3)
+        field = self.filament_set.field(point.T, currents).T
+        return point, currents, ca.densify(field)
+
+    def casadi_field_function(self) -> Any:
+        """CasADi Function ``coil_field(point_m[3], currents_A[3]) -> field_T[3]`` (SX, exact)."""
+        import casadi as ca
+
+        p, i, b = self._casadi_symbols
+        return ca.Function("coil_field", [p, i], [b], ["point_m", "currents_A"], ["field_T"])
+
+    def casadi_field_jacobian_function(self) -> Any:
+        """CasADi Function ``(point_m, currents_A) -> (field_T[3], dfield_dpoint_T_per_m[3x3])``.
+
+        The Jacobian J[i, j] = ∂B_i/∂p_j is exact (algorithmic differentiation).
+        """
+        import casadi as ca
+
+        p, i, b = self._casadi_symbols
+        jac = ca.densify(ca.jacobian(b, p))
+        return ca.Function("coil_field_jacobian", [p, i], [b, jac],
+                           ["point_m", "currents_A"], ["field_T", "dfield_dpoint_T_per_m"])
+
+    def casadi_field_matrix_function(self) -> Any:
+        """CasADi Function ``coil_field_matrix(point_m[3]) -> G_T_per_A[3x3]`` with B = G I."""
+        import casadi as ca
+
+        p, i, b = self._casadi_symbols
+        return ca.Function("coil_field_matrix", [p], [ca.densify(ca.jacobian(b, i))],
+                           ["point_m"], ["G_T_per_A"])
+
+    @cached_property
+    def point_field(self) -> PointEvaluator:
+        """Fast single-point field: ``system.point_field(point_m, currents_A) -> (3,)`` in T."""
+        return PointEvaluator(self.casadi_field_function())
+
+    # --- rotating field ------------------------------------------------------------------------
+    def rotating_current_per_tesla_A_per_T(self, heading: Any) -> np.ndarray:
+        """Centre current amplitude per tesla of rotating field, sqrt(1 - n_k²)/g_k, A/T.
+
+        Multiply by a (possibly CasADi) amplitude B0 to get the allocation of
+        :meth:`rotating_allocation` without leaving the backend.
+
+        Parameters
+        ----------
+        heading : array_like, shape (3,)
+            Rotation axis n (normalised here).
+        """
+        return self.rotating_allocation(heading, 1.0)[0]
+
+    def rotating_allocation(self, heading: Any, amplitude_T: float
+                            ) -> tuple[np.ndarray, np.ndarray]:
+        """Currents making at the centre a field of amplitude B0 turning about ``heading``.
+
+        Parameters
+        ----------
+        heading : array_like, shape (3,)
+            Rotation axis n (right-handed sense), normalised here.
+        amplitude_T : float
+            Field amplitude B0, T.
+
+        Returns
+        -------
+        amplitudes_A, phases_rad : ndarray, shape (3,)
+            I_k(t) = A_k cos(2π f t + φ_k); A_k = B0 sqrt(1 - n_k²) / g_k.
+        """
+        return allocation(np.diag(self.centre_gains_T_per_A), heading, amplitude_T)
+
+    def rotating_allocation_at(self, point_m: Any, heading: Any, amplitude_T: float
+                               ) -> tuple[np.ndarray, np.ndarray]:
+        """As :meth:`rotating_allocation` but exact at ``point_m``, solving with the full G(p).
+
+        Parameters
+        ----------
+        point_m : array_like, shape (3,)
+            Where the rotating field must be exact, m.
+        heading : array_like, shape (3,)
+            Rotation axis n.
+        amplitude_T : float
+            Field amplitude B0, T.
+        """
+        return allocation(self.field_matrix(point_m)[0], heading, amplitude_T)
+
+    def rotating_currents(self, heading: Any, amplitude_T: float, frequency_hz: float,
+                          t_s: Any) -> np.ndarray:
+        """Currents of the centre allocation at times ``t_s``, shape (len(t), 3), A.
+
+        Parameters
+        ----------
+        heading : array_like, shape (3,)
+            Rotation axis n.
+        amplitude_T : float
+            Field amplitude B0, T.
+        frequency_hz : float
+            Rotation frequency f, Hz.
+        t_s : array_like, shape (m,)
+            Times, s.
+        """
+        amps, phases = self.rotating_allocation(heading, amplitude_T)
+        t = np.atleast_1d(np.asarray(t_s, dtype=float))
+        return amps * np.cos(2.0 * np.pi * frequency_hz * t[:, None] + phases)
+
+    def rotating_field_semi_axes_T(self, points_m: Any, heading: Any, amplitude_T: float
+                                   ) -> tuple[np.ndarray, np.ndarray]:
+        """Field ellipse ⟂ heading at each point under the *centre* allocation, T.
+
+        Parameters
+        ----------
+        points_m : array_like, shape (n, 3)
+            Field points, m.
+        heading : array_like, shape (3,)
+            Rotation axis n.
+        amplitude_T : float
+            Field amplitude B0 at the centre, T.
+
+        Returns
+        -------
+        minor_T, major_T : ndarray, shape (n,)
+            Smallest and largest in-plane field during one turn (minor is what the capsule
+            magnet is sure to see; minor/B0 is the workspace derating).
+        """
+        amps, phases = self.rotating_allocation(heading, amplitude_T)
+        G = self.field_matrix(points_m)
+        return ellipse_semi_axes(G @ (amps * np.cos(phases)), G @ (-amps * np.sin(phases)),
+                                 heading)

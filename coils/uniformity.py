@@ -1,0 +1,211 @@
+"""Field uniformity: relative deviation of |B| from its centre value, and the uniform sphere.
+
+The uniform-region radius is found along rays from the centre: for each ray the first radius
+at which |deviation| exceeds the tolerance (a scan on a radial grid, then bisection), and the
+sphere radius is the smallest over the rays. The rays are a Fibonacci lattice on the sphere plus
+the axes and the face and body diagonals, where the extremes of a symmetric system lie.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from scipy.optimize import minimize
+
+from coils.pair import HelmholtzPair
+from coils.system import ThreeAxisHelmholtz
+from spiralcap.errors import InputError, check_positive
+
+__all__ = ["UniformRegion", "uniform_region", "uniform_region_radius_m", "uniformity"]
+
+#: The axes, the six face diagonals and the four body diagonals (up to sign).
+_SYMMETRY_DIRECTIONS = np.array(
+    [[1, 0, 0], [0, 1, 0], [0, 0, 1], [1, 1, 0], [1, -1, 0], [1, 0, 1], [1, 0, -1], [0, 1, 1],
+     [0, 1, -1], [1, 1, 1], [1, 1, -1], [1, -1, 1], [-1, 1, 1]], dtype=float)
+_SYMMETRY_DIRECTIONS /= np.linalg.norm(_SYMMETRY_DIRECTIONS, axis=1, keepdims=True)
+_FIBONACCI_RAYS = 400
+_RADIAL_STEPS = 200
+_BISECTIONS = 40
+
+
+def _rays() -> np.ndarray:
+    k = np.arange(_FIBONACCI_RAYS) + 0.5
+    z = 1.0 - 2.0 * k / _FIBONACCI_RAYS
+    phi = np.pi * (1.0 + 5.0**0.5) * k
+    r = np.sqrt(1.0 - z * z)
+    fib = np.column_stack([r * np.cos(phi), r * np.sin(phi), z])
+    return np.vstack([_SYMMETRY_DIRECTIONS, -_SYMMETRY_DIRECTIONS, fib])
+
+
+def _field_function(coils: Any, currents_A: Any) -> Callable[[np.ndarray], np.ndarray]:
+    if isinstance(coils, HelmholtzPair):
+        current = 1.0 if currents_A is None else float(currents_A)
+        return lambda p: coils.field(p, current)
+    if isinstance(coils, ThreeAxisHelmholtz):
+        currents = np.asarray(currents_A, dtype=float)
+        if currents.shape != (3,) or not np.all(np.isfinite(currents)) or not np.any(currents):
+            raise InputError("currents_A", currents_A, "three finite currents, not all zero")
+        return lambda p: coils.field(p, currents)
+    raise InputError("system", type(coils).__name__, "a HelmholtzPair or ThreeAxisHelmholtz")
+
+
+def _deviation(field: Callable[[np.ndarray], np.ndarray], points: np.ndarray) -> np.ndarray:
+    centre = np.linalg.norm(field(np.zeros((1, 3)))[0])
+    return np.linalg.norm(field(points), axis=1) / centre - 1.0
+
+
+def uniformity(system: Any, points_m: Any, currents_A: Any = None) -> np.ndarray:
+    """Relative deviation |B(p)| / |B(0)| - 1 at each point (dimensionless).
+
+    Parameters
+    ----------
+    system : ThreeAxisHelmholtz or HelmholtzPair
+        The coils (centre at the origin).
+    points_m : array_like, shape (n, 3)
+        Field points, m.
+    currents_A : array_like (3,) for a system, float for a pair (default 1 A)
+        Drive currents, A.
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        Deviation of the field magnitude from the centre value.
+    """
+    points = np.atleast_2d(np.asarray(points_m, dtype=float))
+    return _deviation(_field_function(system, currents_A), points)
+
+
+def _first_crossing(field: Callable[[np.ndarray], np.ndarray], tolerance: float,
+                    r_max: float, rays: np.ndarray) -> np.ndarray:
+    """First radius along each ray where |deviation| > tolerance (r_max if none), m."""
+    radii = np.linspace(0.0, r_max, _RADIAL_STEPS + 1)[1:]
+    pts = (radii[None, :, None] * rays[:, None, :]).reshape(-1, 3)
+    outside = (np.abs(_deviation(field, pts)) > tolerance).reshape(len(rays), len(radii))
+    hit = outside.any(axis=1)
+    first = np.argmax(outside, axis=1)
+    hi = np.where(hit, radii[first], r_max)
+    lo = np.where(first > 0, radii[np.maximum(first - 1, 0)], 0.0)
+    lo = np.where(hit, lo, r_max)
+    for _ in range(_BISECTIONS):
+        mid = 0.5 * (lo + hi)
+        out = np.abs(_deviation(field, mid[:, None] * rays)) > tolerance
+        hi, lo = np.where(out, mid, hi), np.where(out, lo, mid)
+    return lo
+
+
+def _radius(field: Callable[[np.ndarray], np.ndarray], tolerance: float, r_max: float,
+            refine: bool = True) -> tuple[float, np.ndarray]:
+    """Smallest first-crossing radius over the rays (m) and the ray where it occurs.
+
+    With ``refine`` the crossing radius is then minimised over directions near the worst
+    lattice ray (Nelder-Mead in its tangent plane), so the answer does not hang on the lattice
+    spacing (about 10 degrees).
+    """
+    rays = _rays()
+    crossing = _first_crossing(field, tolerance, r_max, rays)
+    best = int(np.argmin(crossing))
+    u0 = rays[best]
+    if not refine or crossing[best] >= r_max:
+        return float(crossing[best]), u0
+    e1 = np.cross(u0, np.eye(3)[int(np.argmin(np.abs(u0)))])
+    e1 /= np.linalg.norm(e1)
+    e2 = np.cross(u0, e1)
+
+    def ray(ab: np.ndarray) -> np.ndarray:
+        u = u0 + ab[0] * e1 + ab[1] * e2
+        return u / np.linalg.norm(u)
+
+    def crossing_at(ab: np.ndarray) -> float:
+        return float(_first_crossing(field, tolerance, r_max, ray(ab)[None, :])[0])
+
+    res = minimize(crossing_at, np.zeros(2), method="Nelder-Mead",
+                   options={"initial_simplex": [[0, 0], [0.1, 0], [0, 0.1]],
+                            "xatol": 1e-4, "fatol": 1e-9 * r_max})
+    if res.fun < crossing[best]:
+        return float(res.fun), ray(res.x)
+    return float(crossing[best]), u0
+
+
+@dataclass(frozen=True)
+class UniformRegion:
+    """Result of :func:`uniform_region`.
+
+    Attributes
+    ----------
+    radius_m : float
+        Radius of the largest centred sphere within tolerance, m.
+    tolerance : float
+        Relative tolerance used.
+    limiting_ray : ndarray, shape (3,)
+        Unit direction from the centre along which the deviation first reaches the tolerance.
+    field_direction : ndarray, shape (3,)
+        Unit direction of the centre field for which the radius holds (the worst one tried).
+    """
+
+    radius_m: float
+    tolerance: float
+    limiting_ray: np.ndarray
+    field_direction: np.ndarray
+
+
+def uniform_region(system_or_pair: Any, tolerance: float, currents_A: Any = None,
+                   direction: Any = None) -> UniformRegion:
+    """The largest centred sphere in which | |B|/|B(0)| - 1 | <= tolerance, and where it ends.
+
+    Parameters
+    ----------
+    system_or_pair : ThreeAxisHelmholtz or HelmholtzPair
+        The coils. For a pair the field is along its axis and its size does not matter.
+    tolerance : float
+        Allowed relative deviation (0.01 for ±1 %).
+    currents_A : array_like (3,), optional
+        System currents, A. If omitted, ``direction`` sets them.
+    direction : array_like (3,), optional
+        Field direction at the centre (currents n_k / g_k). If both are omitted, the worst
+        over the axes, face diagonals and body diagonals (13 static-field directions): all are
+        scanned on the ray lattice, and the worst is refined.
+
+    Returns
+    -------
+    UniformRegion
+        Radius capped at the smallest coil radius (the search stops there).
+    """
+    tol = check_positive("tolerance", tolerance)
+    if isinstance(system_or_pair, HelmholtzPair):
+        field = _field_function(system_or_pair, None)
+        radius, ray = _radius(field, tol, system_or_pair.radius_m)
+        return UniformRegion(radius, tol, ray, np.eye(3)[system_or_pair.axis_index])
+    if not isinstance(system_or_pair, ThreeAxisHelmholtz):
+        raise InputError("system_or_pair", type(system_or_pair).__name__,
+                         "a HelmholtzPair or ThreeAxisHelmholtz")
+    r_max = min(p.radius_m for p in system_or_pair.pairs)
+    gains = system_or_pair.centre_gains_T_per_A
+    if currents_A is not None:
+        currents = [np.asarray(currents_A, dtype=float)]
+    elif direction is not None:
+        n = np.asarray(direction, dtype=float)
+        if n.shape != (3,) or not np.all(np.isfinite(n)) or not np.any(n):
+            raise InputError("direction", direction, "three finite numbers, not all zero")
+        currents = [n / gains]
+    else:
+        currents = [n / gains for n in _SYMMETRY_DIRECTIONS]
+    fields = [_field_function(system_or_pair, c) for c in currents]
+    coarse = [_radius(f, tol, r_max, refine=False)[0] for f in fields] if len(fields) > 1 else [0]
+    worst = int(np.argmin(coarse))
+    radius, ray = _radius(fields[worst], tol, r_max)
+    b0 = currents[worst] * gains
+    return UniformRegion(radius, tol, ray, b0 / np.linalg.norm(b0))
+
+
+def uniform_region_radius_m(system_or_pair: Any, tolerance: float, currents_A: Any = None,
+                            direction: Any = None) -> float:
+    """Radius of the largest centred sphere in which | |B|/|B(0)| - 1 | <= tolerance, m.
+
+    See :func:`uniform_region` (same parameters) for the search and the defaults; for a
+    system with neither ``currents_A`` nor ``direction`` this is the worst over 13 static
+    field directions.
+    """
+    return uniform_region(system_or_pair, tolerance, currents_A, direction).radius_m

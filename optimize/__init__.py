@@ -1,0 +1,18 @@
+"""Design evaluation and CasADi/IPOPT optimisation of spiral angle, frequency and coil currents.
+
+>>> from spiralcap.assemble import build_model          # doctest: +SKIP
+>>> from optimize import evaluate, optimize_design       # doctest: +SKIP
+>>> result = optimize_design(build_model(design))        # doctest: +SKIP
+"""
+
+from optimize.evaluate import Check, Evaluation, evaluate, margin_grid, step_out_frequency_hz
+from optimize.physics import ICNIRP2010_LEVELS_T, exposure_level_T
+from optimize.result import BindingLimit, OptimizationResult, Shortfall
+from optimize.solve import optimize_design, with_operating_point
+from optimize.system import Bounds, DesignModel, Limits, Requirements, prepare
+
+__all__ = [
+    "ICNIRP2010_LEVELS_T", "BindingLimit", "Bounds", "Check", "DesignModel", "Evaluation",
+    "Limits", "OptimizationResult", "Requirements", "Shortfall", "evaluate", "exposure_level_T",
+    "margin_grid", "optimize_design", "prepare", "step_out_frequency_hz", "with_operating_point",
+]

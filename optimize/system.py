@@ -1,0 +1,175 @@
+"""The assembled design the analyses work on, and the constants they precompute from it.
+
+A :class:`DesignModel` holds domain objects only (SI, no design-file keys). :func:`precompute`
+reduces the coils, headings and workspace to the few numbers the margin and the limits need,
+so that the same backend-generic expressions serve numpy evaluation, vectorised sweeps and the
+CasADi problem.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+#: The 13 symmetry directions of a cube: 3 axes, 6 face diagonals, 4 body diagonals.
+_CUBE_DIRECTIONS = np.array(
+    [[1, 0, 0], [0, 1, 0], [0, 0, 1],
+     [1, 1, 0], [1, -1, 0], [1, 0, 1], [1, 0, -1], [0, 1, 1], [0, 1, -1],
+     [1, 1, 1], [1, 1, -1], [1, -1, 1], [-1, 1, 1]], dtype=float)
+
+
+def default_headings() -> np.ndarray:
+    """Unit headings standing for "every heading": the 13 cube symmetry directions.
+
+    At the centre the three axis headings alone already give the exact worst case over the
+    sphere (per-axis current peaks when the heading is ⟂ that axis; the power, a quadratic form
+    in the heading, peaks on an axis); the diagonals add the off-centre field shapes.
+    """
+    return _CUBE_DIRECTIONS / np.linalg.norm(_CUBE_DIRECTIONS, axis=1, keepdims=True)
+
+
+def workspace_points(radius_m: float) -> np.ndarray:
+    """Centre, the six points at ±radius on the axes, and the eight cube corners on the sphere."""
+    if radius_m <= 0:
+        return np.zeros((1, 3))
+    corners = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)])
+    pts = np.vstack([np.zeros((1, 3)), radius_m * np.vstack([np.eye(3), -np.eye(3)]),
+                     radius_m * corners / np.sqrt(3.0)])
+    return pts
+
+
+@dataclass(frozen=True)
+class Limits:
+    """Hardware and exposure limits (SI). ``field_exposure`` is 'occupational', 'public' or 'off'."""
+
+    current_A: float
+    voltage_V: float
+    power_W: float
+    coil_temperature_C: float
+    field_exposure: str = "occupational"
+
+
+@dataclass(frozen=True)
+class Requirements:
+    """What the capsule must do: push ``axial_load_N`` at ``min_speed_m_s`` with a makeable spiral."""
+
+    axial_load_N: float
+    slip_efficiency: float
+    min_speed_m_s: float
+    min_spiral_turns: float
+
+
+@dataclass(frozen=True)
+class Bounds:
+    """Search box of the optimiser and its options."""
+
+    helical_angle_min_rad: float
+    helical_angle_max_rad: float
+    frequency_min_hz: float
+    frequency_max_hz: float
+    objective: str = "margin"
+    starts: int = 4
+
+
+@dataclass(frozen=True)
+class DesignModel:
+    """Everything an evaluation or optimisation needs, as domain objects in SI units.
+
+    Parameters
+    ----------
+    coils : coils.ThreeAxisHelmholtz
+        The three pairs.
+    capsule : capsule.Capsule
+        Body, spiral (its helical angle is the design's operating angle) and magnet.
+    tissues : tuple of torque_model.TissueParameters
+        Tissue sets; the margin must hold for every one (worst case).
+    frequency_hz : float
+        Operating rotation frequency, Hz.
+    headings : ndarray, shape (h, 3)
+        Unit headings the capsule must be steerable along.
+    points_m : ndarray, shape (n, 3)
+        Workspace points, m, relative to the coil centre.
+    winding_temperature_C, ambient_temperature_C : float
+        Copper temperature for the resistance, and the surrounding air, °C.
+    heat_transfer_coefficient_W_m2K : float
+        Convective coefficient from the winding surface, W/(m²·K).
+    """
+
+    coils: Any
+    capsule: Any
+    tissues: tuple
+    frequency_hz: float
+    headings: np.ndarray
+    points_m: np.ndarray
+    limits: Limits
+    requirements: Requirements
+    bounds: Bounds
+    winding_temperature_C: float = 40.0
+    ambient_temperature_C: float = 25.0
+    heat_transfer_coefficient_W_m2K: float = 10.0
+    constants: Any = field(default=None, compare=False, repr=False)
+
+
+@dataclass(frozen=True)
+class Constants:
+    """Numbers the margin and limits need, reduced from a :class:`DesignModel`.
+
+    ``current_per_tesla_A_per_T[k]``: current amplitude axis k needs per tesla of rotating field
+    for the worst heading, max over headings of sqrt(1 - n_k²) / g_k.
+    ``power_per_tesla2_W_per_T2``: copper loss per T² for the worst heading,
+    max over headings of Σ_k (1 - n_k²) R_k / (2 g_k²).
+    ``workspace_factor``: weakest field the magnet sees during a turn, over every workspace point
+    and heading, per tesla of centre amplitude (minor semi-axis of the field ellipse).
+    """
+
+    gains_T_per_A: np.ndarray
+    resistance_ohm: np.ndarray
+    inductance_H: np.ndarray
+    conductance_W_per_K: np.ndarray
+    current_per_tesla_A_per_T: np.ndarray
+    power_per_tesla2_W_per_T2: float
+    workspace_factor: float
+    moment_Am2: float
+    body_diameter_m: float
+    body_length_m: float
+    wire_diameter_m: float
+    wound_length_m: float
+    helix_diameter_m: float
+
+
+def precompute(model: DesignModel) -> Constants:
+    """Reduce coils, headings and workspace to the constants of the margin and the limits."""
+    import capsule as cap
+
+    pairs = model.coils.pairs
+    g = np.asarray(model.coils.centre_gains_T_per_A, dtype=float)
+    r = np.array([p.resistance_ohm(model.winding_temperature_C) for p in pairs])
+    ind = np.array([p.series_inductance_H for p in pairs])
+    cond = np.array([p.thermal_conductance_W_per_K(model.heat_transfer_coefficient_W_m2K)
+                     for p in pairs])
+    n2 = np.asarray(model.headings, dtype=float) ** 2               # (h, 3)
+    s = np.sqrt(np.clip(1.0 - n2, 0.0, 1.0))                         # (h, 3)
+    current_per_T = np.max(s / g, axis=0)
+    power_per_T2 = float(np.max(np.sum(s**2 * r / (2.0 * g**2), axis=1)))
+    factor = min(
+        float(np.min(model.coils.rotating_field_semi_axes_T(model.points_m, h, 1.0)[0]))
+        for h in model.headings)
+    body, spiral = model.capsule.body, model.capsule.spiral
+    return Constants(
+        gains_T_per_A=g, resistance_ohm=r, inductance_H=ind, conductance_W_per_K=cond,
+        current_per_tesla_A_per_T=current_per_T, power_per_tesla2_W_per_T2=power_per_T2,
+        workspace_factor=factor, moment_Am2=float(model.capsule.magnet.moment_Am2),
+        body_diameter_m=body.diameter_m, body_length_m=body.length_m,
+        wire_diameter_m=spiral.wire_diameter_m, wound_length_m=spiral.wound_length_m,
+        helix_diameter_m=float(cap.helix_diameter_m(body.diameter_m, spiral.wire_diameter_m)))
+
+
+def prepare(model: DesignModel) -> DesignModel:
+    """The model with its :class:`Constants` computed (returned unchanged if already there)."""
+    if model.constants is not None:
+        return model
+    from dataclasses import replace
+
+    return replace(model, constants=precompute(model))

@@ -1,0 +1,143 @@
+"""Tissue resistive torque against rotation frequency: model curves, paper points, fits.
+
+Functions take ``ax`` and return the artists they drew; they never create figures or files.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable, Sequence
+from typing import Any
+
+import numpy as np
+from matplotlib.axes import Axes
+
+__all__ = ["plot_fit", "plot_torque_vs_frequency", "save_figure"]
+
+_FREQ_LABEL = "rotation frequency f (Hz)"
+_TORQUE_LABEL = "resistive torque (mN·m)"
+
+
+def plot_torque_vs_frequency(ax: Axes, tissue: Any = None,
+                             helical_angles_deg: Sequence[float] = (5.0, 10.0, 15.0, 20.0), *,
+                             frequency_hz: Sequence[float] | None = None,
+                             paper_points: Iterable[Any] | None = None,
+                             geometry: dict[str, float] | None = None) -> dict[str, list[Any]]:
+    """Model torque against frequency for several helical angles, with the paper's points.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        Where to draw.
+    tissue : torque_model.TissueParameters, optional
+        Tissue set (default: preset ``zhou2013-sample2``).
+    helical_angles_deg : sequence of float
+        One model curve per helical angle, deg.
+    frequency_hz : sequence of float, optional
+        Frequencies of the curves, Hz (default 0.25-3.5 Hz).
+    paper_points : iterable of torque_model.PaperPoint, optional
+        Points to overlay (default: :data:`torque_model.PAPER_POINTS` of the tissue's sample
+        when the tissue is a Zhou 2013 preset, else none). Pass ``()`` for none.
+    geometry : dict, optional
+        Capsule geometry keyword arguments of :func:`torque_model.resistive_torque_Nm` (m).
+
+    Returns
+    -------
+    dict
+        ``{"curves": [Line2D, ...], "points": [PathCollection, ...]}``.
+    """
+    import torque_model as tm
+
+    tissue = tissue if tissue is not None else tm.preset("zhou2013-sample2")
+    f = np.asarray(frequency_hz if frequency_hz is not None else np.linspace(0.25, 3.5, 66),
+                   dtype=float)
+    if paper_points is None:
+        sample = {"zhou2013-sample2": 2, "zhou2013-sample3": 3}.get(tissue.name)
+        paper_points = [p for p in tm.PAPER_POINTS if p.sample == sample]
+    curves, points = [], []
+    colours = {}
+    for angle in helical_angles_deg:
+        tau = tm.resistive_torque_Nm(math.radians(angle), f, tissue, **(geometry or {}))
+        (line,) = ax.plot(f, np.asarray(tau) * 1e3, label=f"model, α = {angle:g}°")
+        colours[float(angle)] = line.get_color()
+        curves.append(line)
+    for p in paper_points:
+        colour = colours.get(float(p.helical_angle_deg), "k")
+        marker = "o" if p.role == "calibration" else "s"
+        points.append(ax.scatter([p.frequency_hz], [p.torque_mNm], color=colour, marker=marker,
+                                 zorder=3, edgecolors="k",
+                                 label=f"paper, No. {p.capsule} ({p.role})"))
+    ax.set_xlabel(_FREQ_LABEL)
+    ax.set_ylabel(_TORQUE_LABEL)
+    ax.set_title(f"tissue {tissue.name}")
+    _dedupe_legend(ax)
+    return {"curves": curves, "points": points}
+
+
+def plot_fit(ax: Axes, fit_result: Any, *, frequency_hz: Sequence[float] | None = None
+             ) -> dict[str, list[Any]]:
+    """Measured points and the fitted model curve for each helical angle in a fit.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        Where to draw.
+    fit_result : torque_model.FitResult
+        The fit to show.
+    frequency_hz : sequence of float, optional
+        Frequencies of the model curves, Hz (default: the data range widened by 10 %).
+
+    Returns
+    -------
+    dict
+        ``{"curves": [Line2D, ...], "points": [PathCollection, ...]}``.
+    """
+    r = fit_result
+    fmin, fmax = float(np.min(r.frequency_hz)), float(np.max(r.frequency_hz))
+    f = np.asarray(frequency_hz if frequency_hz is not None
+                   else np.linspace(0.9 * fmin, 1.1 * fmax, 80), dtype=float)
+    curves, points = [], []
+    for angle in np.unique(r.helical_angle_rad):
+        sel = r.helical_angle_rad == angle
+        deg = math.degrees(float(angle))
+        pts = ax.scatter(r.frequency_hz[sel], r.torque_Nm[sel] * 1e3, zorder=3,
+                         label=f"measured, α = {deg:.4g}°")
+        (line,) = ax.plot(f, np.asarray(r.predict_Nm(f, float(angle))) * 1e3,
+                          color=pts.get_facecolor()[0], label=f"fit, α = {deg:.4g}°")
+        points.append(pts)
+        curves.append(line)
+    ax.set_xlabel(_FREQ_LABEL)
+    ax.set_ylabel(_TORQUE_LABEL)
+    loose = ", ".join(n.split("_")[0] for n in r.not_pinned_down) or "none"
+    ax.set_title(f"identified tissue (not pinned down: {loose})")
+    ax.legend(fontsize="small")
+    return {"curves": curves, "points": points}
+
+
+def save_figure(draw: Any, path: str, *args: Any, **kwargs: Any) -> Any:
+    """Draw with ``draw(ax, *args, **kwargs)`` on a new Agg figure and write it atomically.
+
+    Returns what ``draw`` returned.
+    """
+    import io
+
+    from matplotlib.figure import Figure
+
+    from spiralcap.design import write_text_atomic
+
+    fig = Figure(figsize=(6.4, 4.4), layout="constrained")
+    ax = fig.add_subplot()
+    drawn = draw(ax, *args, **kwargs)
+    buf = io.BytesIO()
+    suffix = str(path).rsplit(".", 1)[-1].lower() if "." in str(path) else "png"
+    fig.savefig(buf, format=suffix, dpi=150)
+    write_text_atomic(path, buf.getvalue())
+    return drawn
+
+
+def _dedupe_legend(ax: Axes) -> None:
+    handles, labels = ax.get_legend_handles_labels()
+    seen: dict[str, Any] = {}
+    for h, lab in zip(handles, labels, strict=True):
+        seen.setdefault(lab, h)
+    ax.legend(list(seen.values()), list(seen), fontsize="small")

@@ -1,0 +1,105 @@
+"""Build the report of a design: run the analyses, assemble the sections, render HTML and PDF."""
+
+from __future__ import annotations
+
+import datetime as _dt
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+from spiralcap.design import Design
+from spiralcap.report.document import FigureBlock, Section
+from spiralcap.report.sections import Context, build_sections
+
+TITLE = "spiralcap engineering report"
+#: Version of the embedded JSON's layout (``format`` entry).
+DATA_FORMAT = "spiralcap-report/1"
+
+
+@dataclass(frozen=True)
+class Report:
+    """A rendered report: the HTML text, the PDF bytes (if asked for) and what they hold."""
+
+    html: str
+    pdf: bytes | None
+    page_count: int
+    figure_count: int
+    feasible: bool
+    status_message: str
+    payload: dict[str, Any]
+    sections: tuple[Section, ...]
+
+
+def report_payload(data: Any) -> dict[str, Any]:
+    """The JSON embedded in the HTML: the CLI's dicts and the report's other numbers."""
+    from spiralcap import __version__
+    from spiralcap.commands._common import _jsonable
+    from spiralcap.report.sections.tissue import tissue_payload
+    from spiralcap.report.sections.tradeoffs import power_sweep_payload
+
+    design = data.design
+    return _jsonable({
+        "format": DATA_FORMAT,
+        "spiralcap_version": __version__,
+        "design": {"source": design.source, "sha256": design.sha256(), "values": dict(design)},
+        "evaluate": data.evaluate_json,
+        "optimize": data.optimize_json,
+        "coils": data.coils_json,
+        "coils_source": data.coils_note,
+        "tissue": tissue_payload(data),
+        "tradeoffs": {"power_sweep": power_sweep_payload(data)},
+        "versions": data.versions,
+    })
+
+
+def build_report(design: Design, *, pdf: bool = False, workers: int = 1,
+                 command: str = "spiralcap report",
+                 progress: Callable[[str], None] | None = None) -> Report:
+    """Analyse ``design`` and render its report.
+
+    Parameters
+    ----------
+    design : Design
+        A validated design.
+    pdf : bool
+        Also render the PDF (matplotlib PdfPages; text pages and one page per figure).
+    workers : int
+        Worker processes for the power-budget re-optimisation sweep.
+    command : str
+        The command line to print in the reproducibility section.
+    progress : callable, optional
+        Called with the name of each analysis stage.
+
+    Returns
+    -------
+    Report
+
+    Raises
+    ------
+    spiralcap.errors.InputError
+        The design is inconsistent (cross-key checks of :func:`spiralcap.assemble.build_model`).
+    """
+    from spiralcap.report.data import collect
+    from spiralcap.report.html import render_html
+
+    data = collect(design, workers=workers, progress=progress)
+    payload = report_payload(data)
+    sections = build_sections(Context(data, payload), command)
+    stamp = _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
+    sha = payload["design"]["sha256"]
+    subtitle = (f"Design: {design.source} · SHA-256 {sha[:16]}… · made {stamp} with "
+                f"spiralcap {payload['spiralcap_version']}")
+    footer = f"{TITLE} · design {design.source} · SHA-256 {sha[:16]}…"
+    html = render_html(TITLE, subtitle, sections, payload, footer)
+    pdf_bytes, pages = None, 0
+    if pdf:
+        from spiralcap.report.pdf import render_pdf
+
+        pdf_bytes, pages = render_pdf(TITLE, subtitle, sections, footer,
+                                      metadata={"Subject": f"design {design.source}",
+                                                "Keywords": f"sha256 {sha}"})
+    figures = sum(isinstance(b, FigureBlock) for s in sections for b in s.blocks)
+    res = data.optimization
+    return Report(html=html, pdf=pdf_bytes, page_count=pages, figure_count=figures,
+                  feasible=res.status == "optimal", status_message=res.message,
+                  payload=payload, sections=tuple(sections))

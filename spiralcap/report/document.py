@@ -1,0 +1,118 @@
+"""The report as a renderer-neutral document: sections of paragraphs, tables, figures, code.
+
+Sections build these blocks from result dicts; :mod:`spiralcap.report.html` and
+:mod:`spiralcap.report.pdf` render the same blocks, so the HTML and the PDF say the same thing.
+Inline content is a sequence of strings and :class:`~spiralcap.report.numbers.Num` values.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from typing import Any, Union
+
+from spiralcap.report.numbers import Num
+
+#: Inline content: plain text and numbers tied to the embedded JSON.
+Inline = Union[str, Num, "Link", "Strong"]
+Cell = Union[str, Num, int, float, None]
+
+
+@dataclass(frozen=True)
+class Strong:
+    """Emphasised inline text."""
+
+    text: str
+
+
+@dataclass(frozen=True)
+class Link:
+    """An in-document link to a section or figure anchor (``#margin``); never an external URL."""
+
+    text: str
+    anchor: str
+
+
+@dataclass(frozen=True)
+class Paragraph:
+    """A paragraph of inline content. ``kind`` 'note', 'ok' or 'alert' renders as a callout."""
+
+    parts: Sequence[Inline]
+    kind: str = ""
+
+
+@dataclass(frozen=True)
+class Bullets:
+    """A bulleted list; each item is a sequence of inline content."""
+
+    items: Sequence[Sequence[Inline]]
+
+
+@dataclass(frozen=True)
+class Table:
+    """A table: header row, body rows, an optional caption; cells are text or numbers.
+
+    ``wrap`` names the column (index) whose text may wrap in the PDF (the longest text column).
+    """
+
+    headers: Sequence[str]
+    rows: Sequence[Sequence[Cell]]
+    caption: str = ""
+    wrap: int | None = None
+    id: str = ""
+
+
+@dataclass(frozen=True)
+class Code:
+    """Preformatted text (the design TOML)."""
+
+    text: str
+    caption: str = ""
+
+
+@dataclass(frozen=True)
+class FigureBlock:
+    """A figure: ``draw(fig)`` draws onto a matplotlib Figure or SubFigure of ``size_in``.
+
+    The HTML embeds it as a PNG; the PDF gives it a page. ``id`` is its anchor, ``caption``
+    explains what to read off it.
+    """
+
+    id: str
+    caption: str
+    draw: Callable[[Any], Any]
+    size_in: tuple[float, float] = (7.0, 4.2)
+
+
+Block = Union[Paragraph, Bullets, Table, Code, FigureBlock]
+
+
+@dataclass(frozen=True)
+class Section:
+    """One numbered section of the report."""
+
+    id: str
+    title: str
+    blocks: Sequence[Block] = field(default_factory=tuple)
+
+
+def inline_text(parts: Sequence[Inline]) -> str:
+    """Inline content as plain text (numbers with their units)."""
+    out = []
+    for p in parts:
+        if isinstance(p, (Link, Strong)):
+            out.append(p.text)
+        else:
+            out.append(str(p))
+    return "".join(out)
+
+
+def cell_text(cell: Cell) -> str:
+    """A table cell as plain text (numbers to 4 significant figures, with units)."""
+    from spiralcap.report.numbers import fmt
+
+    if isinstance(cell, Num):
+        return str(cell)
+    if cell is None:
+        return ""
+    return fmt(cell)

@@ -1,0 +1,139 @@
+"""Section 5: the torque margin at the design's operating point and against frequency."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from spiralcap.report.document import Cell, FigureBlock, Paragraph, Section, Table
+from spiralcap.report.sections._util import SHOWN_UNITS, Context, readable
+
+#: Rows of the operating-point table: (Evaluation JSON field, label, shown unit, factor).
+EVALUATION_ROWS: tuple[tuple[str, str, str, float], ...] = (
+    ("helical_angle_deg", "helical angle", "°", 1.0),
+    ("frequency_hz", "rotation frequency", "Hz", 1.0),
+    ("field_amplitude_T", "rotating field at the centre", "mT", 1e3),
+    ("field_limited_by", "field limited by", "", 1.0),
+    ("workspace_field_factor", "weakest field over the workspace / centre field", "–", 1.0),
+    ("current_amplitudes_A.x", "current amplitude, x pair", "A", 1.0),
+    ("current_amplitudes_A.y", "current amplitude, y pair", "A", 1.0),
+    ("current_amplitudes_A.z", "current amplitude, z pair", "A", 1.0),
+    ("magnetic_torque_Nm", "synchronous magnetic torque (worst point)", "mN·m", 1e3),
+    ("resistive_torque_Nm", "tissue resistive torque (worst set)", "mN·m", 1e3),
+    ("thrust_torque_Nm", "thrust torque for the axial load", "mN·m", 1e3),
+    ("required_torque_Nm", "required torque", "mN·m", 1e3),
+    ("worst_tissue", "worst tissue set", "", 1.0),
+    ("margin_Nm", "torque margin", "mN·m", 1e3),
+    ("safety_factor", "safety factor", "–", 1.0),
+    ("lag_angle_deg", "lag angle of the magnet behind the field", "°", 1.0),
+    ("step_out_frequency_hz", "step-out frequency at this helical angle", "Hz", 1.0),
+    ("speed_m_s", "forward speed", "mm/s", 1e3),
+    ("spiral_turns", "spiral turns over the wound length", "–", 1.0),
+    ("feasible", "every requirement and limit met", "", 1.0),
+)
+
+
+def evaluation_table(ctx: Context, columns: list[tuple[str, str]], caption: str) -> Table:
+    """The operating-point table, one column per (JSON prefix, heading)."""
+    rows: list[list[Cell]] = []
+    for field, label, unit, factor in EVALUATION_ROWS:
+        row: list[Cell] = [label, unit or "–"]
+        for prefix, _ in columns:
+            value = ctx.value(f"{prefix}.{field}")
+            if isinstance(value, str):
+                row.append(value.replace("_", " "))
+            elif isinstance(value, bool):
+                row.append("yes" if value else "NO")
+            else:
+                row.append(ctx.num(f"{prefix}.{field}", factor))
+        rows.append(row)
+    return Table(["quantity", "unit", *[h for _, h in columns]], rows, caption=caption,
+                 wrap=0, id="operating-points")
+
+
+def checks_table(ctx: Context, prefix: str, caption: str, ident: str) -> Table:
+    """Every requirement and limit of an evaluation: value, allowed, utilisation, verdict."""
+    rows: list[list[Cell]] = []
+    for i, c in enumerate(ctx.value(f"{prefix}.checks")):
+        label, factor = SHOWN_UNITS.get(c["unit"], (c["unit"], 1.0))
+        rows.append([readable(c["name"]), c["key"],
+                     ctx.num(f"{prefix}.checks.{i}.value", factor, label),
+                     c["sense"], ctx.num(f"{prefix}.checks.{i}.allowed", factor, label),
+                     "yes" if c["ok"] else "NO"])
+    return Table(["check", "design key", "value", "", "allowed", "ok"], rows, caption=caption,
+                 id=ident)
+
+
+def _draw_frequency(data: Any) -> Any:
+    ev, res = data.evaluation, data.optimization
+
+    def draw(fig: Any) -> None:
+        from spiralcap.figures.design import plot_margin_vs_frequency
+
+        ax = fig.subplots()
+        c = data.freq_design
+        plot_margin_vs_frequency(ax, c.x, c.margin_Nm, feasible=c.feasible,
+                                 step_out_frequency_hz=ev.step_out_frequency_hz,
+                                 operating_frequency_hz=ev.frequency_hz,
+                                 label=f"as entered, α = {ev.helical_angle_deg:.4g}°")
+        if data.freq_optimum is not None:
+            c = data.freq_optimum
+            plot_margin_vs_frequency(ax, c.x, c.margin_Nm, feasible=None, style_index=1,
+                                     step_out_frequency_hz=res.step_out_frequency_hz,
+                                     operating_frequency_hz=res.frequency_hz,
+                                     label=f"optimum, α = {res.helical_angle_deg:.4g}°",
+                                     shade=False)
+        top = float(max(data.freq_design.margin_Nm.max(), res.margin_Nm)) * 1e3
+        if top > 0:
+            ax.set_ylim(-0.8 * top, 1.25 * top)
+    return draw
+
+
+def _draw_budget(data: Any) -> Any:
+    def draw(fig: Any) -> None:
+        from spiralcap.figures.design import plot_torque_budget
+
+        ax = fig.subplots()
+        plot_torque_budget(ax, [("as entered", data.evaluate_json),
+                                ("optimum", data.optimize_json["evaluation"])])
+    return draw
+
+
+def build(ctx: Context) -> Section:
+    """The margin section."""
+    e, o = "evaluate", "optimize"
+    step = ctx.value(f"{e}.step_out_frequency_hz")
+    intro = Paragraph([
+        "The margin is the weakest synchronous magnetic torque over the workspace points and "
+        "headings minus the largest required torque (tissue resistive + thrust) over the tissue "
+        "sets, with the coils driven at the largest rotating field every limit allows at that "
+        "frequency (docs/optimisation.md). It falls with frequency: the tissue torque rises and "
+        "the inductive drive voltage and the exposure limit cut the field. At the design's "
+        "helical angle the margin reaches zero, and the capsule steps out of synchrony, at ",
+        ctx.num(f"{e}.step_out_frequency_hz", unit="Hz"),
+        "; at the optimum's helical angle at ", ctx.num(f"{o}.step_out_frequency_hz", unit="Hz"),
+        "."])
+    blocks: list[Any] = [intro]
+    if step == 0:
+        blocks.append(Paragraph(["At the design's helical angle the margin is negative at "
+                                 "every frequency: the magnet cannot turn the capsule."],
+                                kind="alert"))
+    blocks.append(FigureBlock(
+        "fig-margin-frequency",
+        "Worst-case torque margin against rotation frequency at the design's helical angle "
+        "(and at the optimum's), from optimize.margin_grid. Dotted vertical lines: step-out "
+        "frequencies (margin = 0); stars: the operating points; hatched: frequencies where a "
+        "requirement (minimum speed, margin) is not met at the design's angle.",
+        _draw_frequency(ctx.data), size_in=(7.5, 4.4)))
+    blocks.append(evaluation_table(
+        ctx, [(e, "as entered"), (f"{o}.evaluation", "optimum")],
+        "Operating points (same numbers as `spiralcap evaluate --json` and the evaluation "
+        "inside `spiralcap optimize --json`)"))
+    blocks.append(FigureBlock(
+        "fig-torque-budget",
+        "Torque budget at the operating point as entered and at the optimum: the synchronous "
+        "torque the magnet can deliver at the weakest workspace point against the required "
+        "torque (tissue resistive, hatched, plus thrust, dotted).",
+        _draw_budget(ctx.data), size_in=(6.5, 4.0)))
+    blocks.append(checks_table(ctx, e, "Requirements and limits of the design as entered",
+                               "checks-entered"))
+    return Section("margin", "Torque margin and step-out", blocks)

@@ -1,0 +1,119 @@
+"""Section 1: the answer in three lines -- margin, speed, binding limit -- and the verdict."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from spiralcap.report.document import Inline, Link, Paragraph, Section, Strong
+from spiralcap.report.numbers import Num
+from spiralcap.report.sections._util import Context, readable
+
+
+def gain_scale(objective: str, unit: str) -> tuple[float, str]:
+    """Factor and label that show a multiplier per SI unit in engineering units.
+
+    Reuses the table of ``spiralcap optimize`` (:data:`spiralcap.commands.optimize._ENGINEERING`),
+    so the report and the CLI print the same gains: mN·m per A, V, W, K, mT, mm/s, deg, Hz.
+    """
+    from spiralcap.commands.optimize import _ENGINEERING
+
+    label, factor = _ENGINEERING.get(unit, (unit, 1.0))
+    if objective == "margin":
+        return factor * 1e3, f"mN·m per {label}"
+    return factor, f"safety factor per {label}"
+
+
+def binding_gain(ctx: Context, limit_index: int) -> tuple[str, Num]:
+    """How relaxing binding limit ``i`` helps: the verb and the gain per unit relaxed.
+
+    Mirrors ``spiralcap optimize``: "raising it by 1 W gains 0.01234 mN·m" (``lowering`` for a
+    requirement or a lower bound), from the JSON's ``gain_per_unit_relaxed`` and
+    ``relaxing_means`` (older dicts: the signed ``gain_per_unit``).
+    """
+    path = f"optimize.binding_limits.{limit_index}"
+    b = ctx.value(path)
+    scale, label = gain_scale(ctx.value("optimize.objective"), b["unit"])
+    field = next(f for f in ("gain_per_unit_relaxed", "gain_per_unit", "sensitivity_per_unit")
+                 if f in b)
+    verb = b.get("relaxing_means", "raising")
+    return verb, ctx.num(f"{path}.{field}", scale, label)
+
+
+def binding_parts(ctx: Context, limit_index: int) -> list[Inline]:
+    """``total copper power (limits.power_W): raising it by one W gains 0.01 mN·m``, inline."""
+    b = ctx.value(f"optimize.binding_limits.{limit_index}")
+    verb, gain = binding_gain(ctx, limit_index)
+    unit = gain.unit.split(" per ", 1)[-1]
+    return [Strong(readable(b["name"])), f" ({b['key']}): {verb} it by 1 {unit} gains ",
+            Num(gain.value, gain.key, gain.scale, gain.unit.split(" per ", 1)[0])]
+
+
+def build(ctx: Context) -> Section:
+    """The summary section."""
+    o = "optimize"
+    feasible = ctx.value(f"{o}.status") == "optimal"
+    lines: list[Paragraph] = []
+    if feasible:
+        lines.append(Paragraph([
+            Strong("Margin"), " ", ctx.num(f"{o}.margin_Nm", 1e3, "mN·m"),
+            " worst-case torque margin (safety factor ", ctx.num(f"{o}.safety_factor"),
+            ") at the optimum: helical angle ", ctx.num(f"{o}.helical_angle_deg", unit="°"),
+            ", rotation ", ctx.num(f"{o}.frequency_hz", unit="Hz"), ", rotating field ",
+            ctx.num(f"{o}.field_amplitude_T", 1e3, "mT"), "."]))
+        lines.append(Paragraph([
+            Strong("Speed"), " ", ctx.num(f"{o}.speed_m_s", 1e3, "mm/s"),
+            " forward; at this helical angle the capsule steps out of synchrony above ",
+            ctx.num(f"{o}.step_out_frequency_hz", unit="Hz"), "."]))
+        binding = ctx.value(f"{o}.binding_limits")
+        parts: list[Inline] = [Strong("Binding limit"), " "]
+        if not binding:
+            parts.append("none: the optimum lies inside every limit.")
+        for i in range(len(binding)):
+            if i:
+                parts.append("; ")
+            parts += binding_parts(ctx, i)
+        parts.append(".")
+        lines.append(Paragraph(parts))
+        verdict = Paragraph([
+            "Feasible: the optimiser found a helical angle, frequency and coil currents that "
+            "meet every requirement inside every limit (", Link("section Optimum", "optimum"),
+            ")."], kind="ok")
+    else:
+        lines.append(Paragraph([
+            Strong("Margin"), " NO FEASIBLE DESIGN. ", str(ctx.value(f"{o}.message")), "."],
+            kind="alert"))
+        shortfalls = ctx.value(f"{o}.shortfalls")
+        parts = [Strong("Speed"), " "]
+        speed = [i for i, s in enumerate(shortfalls) if s["name"] == "speed"]
+        if speed:
+            i = speed[0]
+            parts += ["out of reach: needs ", ctx.shown(f"{o}.shortfalls.{i}.needed", "m/s"),
+                      ", the best reachable inside the limits is ",
+                      ctx.shown(f"{o}.shortfalls.{i}.best", "m/s"), "."]
+        else:
+            parts += ["closest design reaches ", ctx.num(f"{o}.speed_m_s", 1e3, "mm/s"), "."]
+        lines.append(Paragraph(parts))
+        lines.append(Paragraph([
+            Strong("Binding limit"), " the hardware and exposure limits are kept hard; what is "
+            "out of reach, and by how much, is listed in ", Link("section Optimum", "optimum"),
+            ". Relax a limit or a requirement and run the report again."]))
+        verdict = Paragraph(["Infeasible: no design inside the limits meets every requirement. "
+                             "The figures below show the closest design the optimiser found."],
+                            kind="alert")
+    return Section("summary", "Summary", [*lines, verdict, _as_entered(ctx)])
+
+
+def _as_entered(ctx: Context) -> Paragraph:
+    e = "evaluate"
+    failed = [c["name"] for c in ctx.value(f"{e}.checks") if not c["ok"]]
+    parts: list[Any] = [
+        "The design as entered (helical angle ", ctx.num(f"{e}.helical_angle_deg", unit="°"),
+        ", ", ctx.num(f"{e}.frequency_hz", unit="Hz"), ") has a margin of ",
+        ctx.num(f"{e}.margin_Nm", 1e3, "mN·m"), " (safety factor ",
+        ctx.num(f"{e}.safety_factor"), ") and moves at ", ctx.num(f"{e}.speed_m_s", 1e3, "mm/s"),
+        "; "]
+    if failed:
+        parts.append("it does NOT meet: " + ", ".join(readable(n) for n in failed) + ".")
+    else:
+        parts.append("it meets every requirement and limit.")
+    return Paragraph(parts, kind="note")

@@ -1,0 +1,174 @@
+"""Sweeps: evaluate or re-optimise a design across a grid of design keys.
+
+Keys that enter the margin only as operating variables or limit values (helical angle,
+frequency, ``limits.*`` numbers, ``requirements.*``) are swept in one vectorised call of
+:func:`optimize.margin_grid` (10^5 points in well under a second); any other key rebuilds the
+model point by point. ``optimize=True`` re-optimises at every grid point, optionally in worker
+processes.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+from concurrent.futures import ProcessPoolExecutor
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from spiralcap.design import Design
+from spiralcap.errors import InputError
+from spiralcap.schema import KEYS
+
+#: design key -> (where it lives in the model, SI factor)
+_VECTOR_KEYS: dict[str, tuple[str, str, float]] = {
+    "capsule.spiral.helical_angle_deg": ("alpha", "", math.pi / 180.0),
+    "operation.frequency_hz": ("f", "", 1.0),
+    "limits.current_A": ("limits", "current_A", 1.0),
+    "limits.voltage_V": ("limits", "voltage_V", 1.0),
+    "limits.power_W": ("limits", "power_W", 1.0),
+    "limits.coil_temperature_C": ("limits", "coil_temperature_C", 1.0),
+    "requirements.axial_load_mN": ("requirements", "axial_load_N", 1e-3),
+    "requirements.slip_efficiency": ("requirements", "slip_efficiency", 1.0),
+    "requirements.min_speed_mm_s": ("requirements", "min_speed_m_s", 1e-3),
+    "requirements.min_spiral_turns": ("requirements", "min_spiral_turns", 1.0),
+}
+EVALUATE_COLUMNS = ("margin_Nm", "safety_factor", "field_amplitude_T", "speed_m_s", "feasible")
+OPTIMIZE_COLUMNS = ("status", "helical_angle_deg", "frequency_hz", "margin_Nm", "safety_factor",
+                    "field_amplitude_T", "binding_limits")
+
+
+@dataclass(frozen=True)
+class Axis:
+    """One swept key: ``n`` values from ``start`` to ``stop`` inclusive."""
+
+    key: str
+    values: np.ndarray
+
+
+@dataclass(frozen=True)
+class SweepResult:
+    """Grid of swept keys (flattened, C order) and one array per output column."""
+
+    axes: tuple[Axis, ...]
+    inputs: dict[str, np.ndarray]
+    outputs: dict[str, np.ndarray]
+    mode: str
+
+
+def parse_over(expr: str) -> Axis:
+    """Parse ``KEY=START:STOP:N`` (N >= 1; integer keys are rounded and must stay distinct)."""
+    key, sep, rng = expr.partition("=")
+    parts = rng.split(":")
+    allowed = "the form KEY=START:STOP:N, e.g. operation.frequency_hz=0.5:5:10"
+    if not sep or len(parts) != 3:
+        raise InputError("--over", expr, allowed)
+    key = key.strip()
+    if key not in KEYS or KEYS[key].kind not in (float, int):
+        raise InputError("--over", expr, "a numeric design key (see `spiralcap init`)")
+    try:
+        start, stop, n = float(parts[0]), float(parts[1]), int(parts[2])
+    except ValueError:
+        raise InputError("--over", expr, allowed) from None
+    if n < 1 or not (math.isfinite(start) and math.isfinite(stop)):
+        raise InputError("--over", expr, "finite START and STOP and N >= 1")
+    values = np.linspace(start, stop, n)
+    for v in (start, stop):
+        if not KEYS[key].check(int(round(v)) if KEYS[key].kind is int else v):
+            raise InputError(key, v, KEYS[key].allowed)
+    if KEYS[key].kind is int:
+        values = np.unique(np.round(values).astype(int))
+    return Axis(key, values)
+
+
+def _grid(axes: Sequence[Axis]) -> dict[str, np.ndarray]:
+    mesh = np.meshgrid(*[a.values for a in axes], indexing="ij")
+    return {a.key: m.ravel() for a, m in zip(axes, mesh)}
+
+
+def sweep(design: Design, axes: Sequence[Axis], *, optimize: bool = False, workers: int = 1,
+          progress: Callable[[int, int], None] | None = None) -> SweepResult:
+    """Evaluate (or re-optimise) ``design`` at every point of the grid spanned by ``axes``."""
+    inputs = _grid(axes)
+    if optimize:
+        outputs = _optimize_points(design, inputs, workers, progress)
+        mode = "optimize"
+    elif all(a.key in _VECTOR_KEYS for a in axes):
+        outputs = _evaluate_vectorised(design, inputs)
+        mode = "evaluate (vectorised)"
+    else:
+        outputs = _evaluate_points(design, inputs, progress)
+        mode = "evaluate (point by point)"
+    return SweepResult(tuple(axes), inputs, outputs, mode)
+
+
+def _evaluate_vectorised(design: Design, inputs: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+    from optimize import margin_grid, prepare
+    from spiralcap.assemble import build_model
+
+    model = prepare(build_model(design))
+    alpha = model.capsule.spiral.helical_angle_rad
+    f = model.frequency_hz
+    groups: dict[str, dict[str, np.ndarray]] = {"limits": {}, "requirements": {}}
+    for key, values in inputs.items():
+        where, attr, factor = _VECTOR_KEYS[key]
+        if where == "alpha":
+            alpha = values * factor
+        elif where == "f":
+            f = values * factor
+        else:
+            groups[where][attr] = values * factor
+    model = replace(model, limits=replace(model.limits, **groups["limits"]),
+                    requirements=replace(model.requirements, **groups["requirements"]))
+    n = len(next(iter(inputs.values())))
+    out = margin_grid(model, np.broadcast_to(alpha, (n,)), np.broadcast_to(f, (n,)))
+    return {k: np.asarray(out[k]) for k in EVALUATE_COLUMNS}
+
+
+def _evaluate_points(design, inputs, progress) -> dict[str, np.ndarray]:
+    from optimize import evaluate
+    from spiralcap.assemble import build_model
+
+    n = len(next(iter(inputs.values())))
+    rows = []
+    for i in range(n):
+        ev = evaluate(build_model(_at(design, inputs, i)))
+        rows.append((ev.margin_Nm, ev.safety_factor, ev.field_amplitude_T, ev.speed_m_s,
+                     ev.feasible))
+        if progress:
+            progress(i + 1, n)
+    return {k: np.array([r[j] for r in rows]) for j, k in enumerate(EVALUATE_COLUMNS)}
+
+
+def _at(design: Design, inputs: dict[str, np.ndarray], i: int) -> Design:
+    values = {}
+    for k, v in inputs.items():
+        values[k] = int(v[i]) if KEYS[k].kind is int else float(v[i])
+    return design.with_values(values)
+
+
+def _optimize_one(design: Design) -> tuple:
+    from optimize import optimize_design
+    from spiralcap.assemble import build_model
+
+    r = optimize_design(build_model(design))
+    return (r.status, r.helical_angle_deg, r.frequency_hz, r.margin_Nm, r.safety_factor,
+            r.field_amplitude_T, ";".join(b.name for b in r.binding_limits))
+
+
+def _optimize_points(design, inputs, workers, progress) -> dict[str, np.ndarray]:
+    n = len(next(iter(inputs.values())))
+    designs = [_at(design, inputs, i) for i in range(n)]
+    rows = []
+    if workers > 1:
+        with ProcessPoolExecutor(max_workers=workers) as pool:
+            for i, row in enumerate(pool.map(_optimize_one, designs)):
+                rows.append(row)
+                if progress:
+                    progress(i + 1, n)
+    else:
+        for i, d in enumerate(designs):
+            rows.append(_optimize_one(d))
+            if progress:
+                progress(i + 1, n)
+    return {k: np.array([r[j] for r in rows]) for j, k in enumerate(OPTIMIZE_COLUMNS)}

@@ -1,0 +1,149 @@
+"""Design -> coils (spiralcap.assemble.coils) and the ``spiralcap coils`` command."""
+
+from __future__ import annotations
+
+import importlib
+import json
+import sys
+import types
+from pathlib import Path
+
+import pytest
+
+import coils
+import spiralcap
+from spiralcap import cli
+from spiralcap.constants import MU0_T_m_per_A
+from spiralcap.design import load_design
+from spiralcap.errors import InputError
+
+_PKG = Path(spiralcap.__file__).parent
+
+
+@pytest.fixture
+def run_cli(monkeypatch: pytest.MonkeyPatch):
+    """``cli.main`` with only the subcommands whose modules exist yet, and stand-ins for the
+    sibling builders ``spiralcap/assemble/__init__.py`` imports that are not written yet (other
+    engineers write them in parallel; the stand-ins are dropped after the test)."""
+    present = {k: v for k, v in cli.COMMANDS.items()
+               if (_PKG / "commands" / f"{v[0]}.py").exists()}
+    monkeypatch.setattr(cli, "COMMANDS", present)
+    init = (_PKG / "assemble" / "__init__.py").read_text(encoding="utf-8")
+    stubbed = False
+    for line in init.splitlines():
+        if line.startswith("from spiralcap.assemble.") and " import " in line:
+            mod, names = line[len("from spiralcap.assemble."):].split(" import ")
+            if not (_PKG / "assemble" / f"{mod}.py").exists():
+                stub = types.ModuleType(f"spiralcap.assemble.{mod}")
+                for name in names.split(","):
+                    setattr(stub, name.strip(), None)
+                monkeypatch.setitem(sys.modules, stub.__name__, stub)
+                stubbed = True
+    if stubbed:
+        sys.modules.pop("spiralcap.assemble", None)
+        sys.modules.pop("spiralcap.assemble.coils", None)
+    yield cli.main
+    if stubbed:
+        sys.modules.pop("spiralcap.assemble", None)
+
+
+@pytest.fixture
+def build_coils(run_cli):
+    return importlib.import_module("spiralcap.assemble.coils").build_coils
+
+
+def test_default_design_builds_in_si(build_coils) -> None:
+    system = build_coils(load_design())
+    assert [p.axis for p in system.pairs] == ["x", "y", "z"]
+    assert system.x.wire_diameter_m == pytest.approx(2.5e-3, rel=1e-15), "2.5 mm -> m"
+    assert system.z.separation_m == system.z.radius_m == 0.3, "separation defaults to radius"
+    assert system.y.centre_field_per_amp_T_per_A == pytest.approx(
+        (4 / 5) ** 1.5 * MU0_T_m_per_A * 350 / 0.35, rel=1e-12), "(4/5)^1.5 mu0 N/R, 1e-12"
+    other = build_coils(load_design(None, ["coils.z.separation_m=0.25"]))
+    assert other.z.separation_m == 0.25
+
+
+@pytest.mark.parametrize(("override", "key"), [
+    ("coils.x.wire_diameter_mm=20", "coils.x.wire_diameter_mm"),
+    ("coils.z.separation_m=0.03", "coils.z.separation_m"),
+    ("coils.z.radius_m=0.34", "coils.z.radius_m"),
+])
+def test_cross_key_problems_name_the_key(build_coils, override: str, key: str) -> None:
+    with pytest.raises(InputError) as err:
+        build_coils(load_design(None, [override]))
+    assert err.value.key == key, str(err.value)
+
+
+@pytest.mark.parametrize(("argv", "needle"), [
+    (["--set", "coils.x.radius_mmm=1"], "coils.x.radius_mmm"),
+    (["--set", "coils.x.turns=-3"], "coils.x.turns"),
+    (["--set", "coils.x.radius_m=nan"], "coils.x.radius_m"),
+    (["--set", "coils.packing_factor=0.95"], "coils.packing_factor"),
+    (["--set", "garbage"], "--set"),
+    (["--set", "coils.x.wire_diameter_mm=20"], "coils.x.wire_diameter_mm"),
+    (["--set", "coils.z.radius_m=0.34"], "coils.z.radius_m"),
+    (["/nonexistent/design.toml"], "/nonexistent/design.toml"),
+])
+def test_bad_input_is_one_line_and_exit_2(run_cli, capsys, argv: list, needle: str) -> None:
+    status = run_cli(["coils", *argv])
+    err = capsys.readouterr().err
+    assert status == 2, err
+    assert needle in err and err.count("\n") == 1, err
+
+
+def test_malformed_toml_names_the_line(run_cli, capsys, tmp_path: Path) -> None:
+    path = tmp_path / "bad.toml"
+    path.write_text("[coils.x]\nradius_m = = 0.4\n", encoding="utf-8")
+    assert run_cli(["coils", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert "line 2" in err and err.count("\n") == 1, err
+
+
+def test_unknown_key_suggests_the_right_one(run_cli, capsys) -> None:
+    assert run_cli(["coils", "--set", "coils.x.radius_mmm=1"]) == 2
+    assert "coils.x.radius_m?" in capsys.readouterr().err
+
+
+def test_json_output(run_cli, capsys, tmp_path: Path) -> None:
+    path = tmp_path / "d.toml"
+    path.write_text("[coils.z]\nturns = 250\n", encoding="utf-8")
+    assert run_cli(["coils", str(path), "--json", "--set", "operation.frequency_hz=2"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["design"] == str(path) and out["frequency_hz"] == 2.0
+    assert out["current_amplitude_A"] == 15.0
+    assert set(out["axes"]) == {"x", "y", "z"}
+    need = {"radius_m", "turns", "field_per_amp_T_per_A", "resistance_ohm", "inductance_H",
+            "voltage_amplitude_V", "power_W", "temperature_rise_K", "wire_length_m",
+            "impedance_ohm", "coil_temperature_C", "max_rotating_field_T", "max_current_A"}
+    for ax in "xyz":
+        assert need <= set(out["axes"][ax]), need - set(out["axes"][ax])
+    z = out["axes"]["z"]
+    assert z["turns"] == 250
+    assert z["power_W"] == pytest.approx(z["resistance_ohm"] * 15.0**2 / 2, rel=1e-12)
+    assert z["coil_temperature_C"] == pytest.approx(25 + z["temperature_rise_K"], rel=1e-12)
+    assert out["current_limiting_axes"] == ["z"], "fewest turns per metre: z is weakest"
+    region = out["uniform_region"]
+    assert region["radius_1pct_m"] < region["radius_5pct_m"] < 0.3
+
+
+def test_text_output(run_cli, capsys) -> None:
+    assert run_cli(["coils"]) == 0
+    out = capsys.readouterr().out
+    for needle in ("mT_per_A", "±1 %", "worst heading", "x, y and z axes (tied)"):
+        assert needle in out, needle
+
+
+def test_size_system_limits_by_hand() -> None:
+    system = coils.ThreeAxisHelmholtz(coils.HelmholtzPair(0.4, 400, "x"),
+                                      coils.HelmholtzPair(0.35, 350, "y"),
+                                      coils.HelmholtzPair(0.3, 200, "z"))
+    s = coils.size_system(system, frequency_hz=1.0, current_amplitude_A=10.0,
+                          winding_temperature_C=40.0, ambient_temperature_C=25.0,
+                          heat_transfer_coefficient_W_m2K=10.0, voltage_limit_V=20.0)
+    z = s.axes[2]
+    assert z.max_current_A == pytest.approx(20.0 / z.impedance_ohm, rel=1e-14), "V_max/|Z|"
+    assert z.max_current_limited_by == "voltage"
+    assert s.current_limiting_axes == ("z",)
+    assert s.max_rotating_field_T == pytest.approx(
+        min(a.field_per_amp_T_per_A * a.max_current_A for a in s.axes), rel=1e-14), \
+        "worst heading: min_k g_k I_max,k (DESIGN.md 4.1 allocation)"

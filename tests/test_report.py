@@ -1,0 +1,242 @@
+"""The engineering report, read as a reader would: one report of the built-in design, shared.
+
+Independent checks: the numbers shown equal the JSON the CLI prints (``spiralcap evaluate
+--json``, ``optimize --json``, ``coils --json``); the HTML needs nothing from outside (no URL,
+every image a data: URI holding a valid PNG); headless Chromium renders it to a non-blank page;
+the PDF has several pages (poppler's pdfinfo, else the page objects counted).
+"""
+
+from __future__ import annotations
+
+import base64
+import contextlib
+import html
+import io
+import json
+import re
+import shutil
+import subprocess
+from html.parser import HTMLParser
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from spiralcap.cli import main
+from spiralcap.report.numbers import fmt, lookup
+
+PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
+MIN_FIGURES = 5
+MIN_PDF_PAGES = 8
+
+
+def _cli_json(argv: list[str]) -> dict[str, Any]:
+    buf = io.StringIO()
+    with contextlib.redirect_stdout(buf):
+        status = main(argv)
+    assert status == 0, f"spiralcap {' '.join(argv)} exited {status}"
+    return json.loads(buf.getvalue())
+
+
+@pytest.fixture(scope="module")
+def report(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Any]:
+    """The one report run of this module: the built-in design, HTML and PDF, in a new folder."""
+    out = tmp_path_factory.mktemp("report") / "nested" / "folder"
+    html_path, pdf_path = out / "report.html", out / "report.pdf"
+    buf = io.StringIO()
+    with contextlib.redirect_stdout(buf):
+        status = main(["report", "-o", str(html_path), "--pdf", str(pdf_path)])
+    text = html_path.read_text(encoding="utf-8")
+    match = re.search(r'<script type="application/json" id="spiralcap-data">\s*(.*?)\s*'
+                      r"</script>", text, re.S)
+    assert match, "the HTML embeds its numbers as JSON in <script id='spiralcap-data'>"
+    return {"status": status, "stdout": buf.getvalue(), "html_path": html_path,
+            "pdf_path": pdf_path, "html": text,
+            "data": json.loads(match.group(1).replace("<\\/", "</"))}
+
+
+@pytest.fixture(scope="module")
+def cli() -> dict[str, Any]:
+    """What the CLI prints for the built-in design."""
+    return {"evaluate": _cli_json(["evaluate", "--json"]),
+            "optimize": _cli_json(["optimize", "--json"]),
+            "coils": _cli_json(["coils", "--json"])}
+
+
+class _Collector(HTMLParser):
+    """Every tag with its attributes, and the text of every element carrying data-key."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.tags: list[tuple[str, dict[str, str | None]]] = []
+        self.numbers: list[dict[str, Any]] = []
+        self._open: dict[str, Any] | None = None
+
+    def handle_starttag(self, tag: str, attrs: list[tuple[str, str | None]]) -> None:
+        a = dict(attrs)
+        self.tags.append((tag, a))
+        if "data-key" in a:
+            self._open = {"key": a["data-key"], "scale": float(a["data-scale"] or 1), "text": ""}
+
+    def handle_data(self, data: str) -> None:
+        if self._open is not None:
+            self._open["text"] += data
+
+    def handle_endtag(self, tag: str) -> None:
+        if self._open is not None and tag == "span":
+            self.numbers.append(self._open)
+            self._open = None
+
+
+@pytest.fixture(scope="module")
+def parsed(report: dict[str, Any]) -> _Collector:
+    p = _Collector()
+    p.feed(report["html"])
+    return p
+
+
+def test_report_command_succeeds_and_writes_both_files(report: dict[str, Any]) -> None:
+    assert report["status"] == 0, "built-in design is feasible, so the report exits 0"
+    assert report["html_path"].is_file() and report["pdf_path"].is_file(), \
+        "-o and --pdf written, parent folders created"
+    assert "wrote" in report["stdout"]
+    leftovers = [p.name for p in report["html_path"].parent.iterdir()
+                 if p.name not in ("report.html", "report.pdf")]
+    assert leftovers == [], "atomic writes leave no temporary files behind"
+
+
+def test_html_is_self_contained(report: dict[str, Any], parsed: _Collector) -> None:
+    text = report["html"]
+    assert not re.search(r"https?://", text, re.I), "no URL anywhere: nothing to fetch"
+    assert "<style>" in text and not any(t == "link" for t, _ in parsed.tags), \
+        "CSS inline, no <link> elements"
+    for tag, attrs in parsed.tags:
+        if tag == "script":
+            assert "src" not in attrs and attrs.get("type") == "application/json", \
+                "the only script is the JSON data block; nothing executes or loads"
+        for name in ("src", "href"):
+            value = attrs.get(name)
+            if value is None:
+                continue
+            if name == "href":
+                assert value.startswith("#"), f"links stay inside the document: {value}"
+            else:
+                assert value.startswith("data:image/png;base64,"), f"src must be data: {value}"
+    images = [a["src"] for t, a in parsed.tags if t == "img"]
+    assert len(images) >= MIN_FIGURES, f"at least {MIN_FIGURES} figures, found {len(images)}"
+    for src in images:
+        raw = base64.b64decode(src.split(",", 1)[1], validate=True)
+        assert raw.startswith(PNG_MAGIC), "every image decodes to a PNG"
+        from PIL import Image
+
+        with Image.open(io.BytesIO(raw)) as im:
+            im.verify()
+
+
+def test_embedded_json_is_the_cli_json(report: dict[str, Any], cli: dict[str, Any]) -> None:
+    data = report["data"]
+    assert data["evaluate"] == cli["evaluate"], "report 'evaluate' == spiralcap evaluate --json"
+    opt_report = {k: v for k, v in data["optimize"].items() if k != "solve_time_s"}
+    opt_cli = {k: v for k, v in cli["optimize"].items() if k != "solve_time_s"}
+    assert opt_report == opt_cli, "report 'optimize' == spiralcap optimize --json (bar timing)"
+    assert data["coils"] == cli["coils"], "report 'coils' == spiralcap coils --json"
+
+
+def test_every_shown_number_equals_the_cli_number(parsed: _Collector,
+                                                  cli: dict[str, Any]) -> None:
+    """Each <span data-key> shows fmt(CLI value x scale), 4 significant figures."""
+    keyed = [n for n in parsed.numbers if n["key"].split(".")[0] in cli]
+    assert len(keyed) > 100, "the report ties its numbers to the CLI JSON"
+    for n in keyed:
+        value = lookup(cli, n["key"])
+        if n["key"].endswith("solve_time_s"):
+            continue
+        shown = value * n["scale"] if isinstance(value, (int, float)) \
+            and not isinstance(value, bool) and n["scale"] != 1.0 else value
+        assert html.unescape(n["text"]) == fmt(shown), \
+            f"{n['key']}: report shows {n['text']!r}, CLI gives {value!r} (x{n['scale']})"
+
+
+def test_all_keyed_numbers_resolve_in_embedded_json(report: dict[str, Any],
+                                                    parsed: _Collector) -> None:
+    for n in parsed.numbers:
+        value = lookup(report["data"], n["key"])
+        shown = value * n["scale"] if isinstance(value, (int, float)) \
+            and not isinstance(value, bool) and n["scale"] != 1.0 else value
+        assert html.unescape(n["text"]) == fmt(shown), n["key"]
+
+
+def test_sections_and_summary(report: dict[str, Any]) -> None:
+    text = report["html"]
+    for title in ("Summary", "Design inputs", "Coil sizing", "Tissue resistive torque",
+                  "Torque margin and step-out", "Optimum and binding limits", "Trade-offs",
+                  "Assumptions and sources", "Reproducibility"):
+        assert title in text, f"section {title!r} present"
+    summary = text[text.index('id="summary"'):text.index('id="inputs"')]
+    for word in ("Margin", "Speed", "Binding limit"):
+        assert f"<strong>{word}</strong>" in summary, f"summary line {word!r}"
+    from spiralcap.schema import KEYS
+
+    inputs = text[text.index('id="inputs"'):text.index('id="coils"')]
+    missing = [k for k in KEYS if f"<td>{k}</td>" not in inputs]
+    assert missing == [], "every design key is in the inputs table"
+    for cite in ("Zhou", "ICNIRP", "Smythe", "Simpson", "Maxwell", "power screw",
+                 "calibration factor"):
+        assert cite.lower() in text.lower(), f"assumptions cite {cite}"
+    data = report["data"]
+    assert data["design"]["sha256"] in text, "the design hash is printed"
+    assert "[limits]" in text and "power_W = " in text, "the design TOML is printed"
+    for lib in ("numpy", "scipy", "casadi", "magpylib", "matplotlib", "python"):
+        assert lib in data["versions"], f"version of {lib} recorded"
+
+
+def _chromium() -> str | None:
+    for name in ("chromium", "chromium-browser", "google-chrome", "google-chrome-stable"):
+        path = shutil.which(name)
+        if path:
+            return path
+    return None
+
+
+def test_chromium_renders_a_non_blank_page(report: dict[str, Any], tmp_path: Path) -> None:
+    browser = _chromium()
+    if browser is None:
+        pytest.skip("no headless Chromium on PATH (Debian: apt-get install chromium); "
+                    ".ci/run installs it")
+    shot = tmp_path / "shot.png"
+    cmd = [browser, "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic",
+           "--no-first-run", "--disable-background-networking", "--disable-component-update",
+           "--disable-sync", f"--user-data-dir={tmp_path / 'profile'}",
+           "--enable-logging=stderr", "--v=0", f"--screenshot={shot}",
+           "--window-size=1280,2000", report["html_path"].resolve().as_uri()]
+    proc = subprocess.run(cmd, capture_output=True, text=True, timeout=180, check=False)
+    assert shot.is_file(), f"Chromium wrote no screenshot: {proc.stderr[-2000:]}"
+    failed = [ln for ln in proc.stderr.splitlines()
+              if re.search(r"net::ERR_|Failed to load resource|Not allowed to load", ln)]
+    assert failed == [], f"a resource failed to load: {failed}"
+    import numpy as np
+    from PIL import Image
+
+    with Image.open(shot) as im:
+        pixels = np.asarray(im.convert("RGB"))
+    assert pixels.shape[:2] == (2000, 1280), "the window size asked for"
+    non_white = float(np.mean(np.any(pixels < 240, axis=2)))
+    assert non_white > 0.05, f"page not blank: {non_white:.1%} non-white pixels"
+    colours = len(np.unique(pixels.reshape(-1, 3) // 16, axis=0))
+    assert colours >= 8, f"text, rules, callouts and figure colours: {colours} colour bins"
+
+
+def _pdf_pages(path: Path) -> int:
+    if shutil.which("pdfinfo"):
+        out = subprocess.run(["pdfinfo", str(path)], capture_output=True, text=True,
+                             check=True, timeout=60).stdout
+        return int(re.search(r"^Pages:\s+(\d+)", out, re.M).group(1))
+    return len(re.findall(rb"/Type\s*/Page\b", path.read_bytes()))
+
+
+def test_pdf_has_several_pages(report: dict[str, Any]) -> None:
+    pdf = report["pdf_path"].read_bytes()
+    assert pdf.startswith(b"%PDF-"), "a PDF file"
+    pages = _pdf_pages(report["pdf_path"])
+    assert pages >= MIN_PDF_PAGES, f"text pages and one page per figure: {pages} pages"
+    assert f"({pages} pages)" in report["stdout"], "the command reports the page count"

@@ -1,0 +1,53 @@
+"""Tissue resistive torque of a spiral capsule: the Zhou et al. 2013 model, parameter sets, fit.
+
+Everything physical is SI. The model functions run on floats, numpy arrays and CasADi values
+(``from spiralcap import backend as bk``); see ``docs/torque-model.md`` for the reading of the
+paper's eqs. 2-8 and the calibration of its parameter sets.
+"""
+
+from torque_model.data import CAPSULE_ANGLES_DEG, PAPER_POINTS, PaperPoint
+from torque_model.geometry import end_contact_moment_m2, equivalent_diameter_m
+from torque_model.identification import PARAMETER_NAMES, FitResult, identify
+from torque_model.model import (
+    angular_frequency_rad_s,
+    contact_factor_m3,
+    contact_factors_m3,
+    friction_per_length_N_m,
+    hoop_pressure_Pa,
+    normal_load_per_length_N_m,
+    relaxation_integral_Pa,
+    relaxation_modulus_Pa,
+    resistive_torque_Nm,
+    section_torque_per_length_N,
+    strain,
+    stress_Pa,
+    torque_breakdown_Nm,
+)
+from torque_model.tissue import PRESET_NAMES, TissueParameters, preset
+
+__all__ = [
+    "CAPSULE_ANGLES_DEG",
+    "PAPER_POINTS",
+    "PARAMETER_NAMES",
+    "PRESET_NAMES",
+    "FitResult",
+    "PaperPoint",
+    "TissueParameters",
+    "angular_frequency_rad_s",
+    "contact_factor_m3",
+    "contact_factors_m3",
+    "end_contact_moment_m2",
+    "equivalent_diameter_m",
+    "friction_per_length_N_m",
+    "hoop_pressure_Pa",
+    "identify",
+    "normal_load_per_length_N_m",
+    "preset",
+    "relaxation_integral_Pa",
+    "relaxation_modulus_Pa",
+    "resistive_torque_Nm",
+    "section_torque_per_length_N",
+    "strain",
+    "stress_Pa",
+    "torque_breakdown_Nm",
+]

@@ -1,0 +1,408 @@
+"""Identify the five viscoelastic constants from bench torque-frequency data (Zhou 2013, III-C).
+
+The paper minimised the summed squared error with a trust-region reflective method; this is the
+same family (``scipy.optimize.least_squares(method="trf")``) with three choices made explicit:
+
+- unknowns are the logarithms of E1, E2, E3, eta1, eta2 (positive, and scaled alike whatever
+  their magnitude), bounded in :data:`DEFAULT_BOUNDS`;
+- residuals are relative, (model - measured) / measured, so a curve from 0.5 to 3 mN·m weighs
+  every point alike (``relative=False`` gives the paper's absolute errors);
+- lumen, wall thickness and friction stay those of the base tissue.
+
+The torque factorises exactly as G(alpha) x I(omega; E, eta) (:func:`torque_model.model.
+contact_factors_m3`), so the geometry is evaluated once per point and the Jacobian of I is
+analytic. Uncertainty: s^2 (J^T J)^-1 in log-parameters (J from the solution, s^2 the residual
+variance on n - 5 degrees of freedom), carried to the physical parameters by the delta method
+(se(p) = p se(log p)); 95 % intervals are Wald intervals p +- t(0.975, n-5) se(p). A parameter is
+*not pinned down* when its interval is wider than the value itself (half-width > 100 %), when it
+lies along a null direction of J^T J (singular values below 1e-10 of the largest), when it is
+correlated with another at |r| > 0.99, or when it sits at a bound.
+
+Note on what the data can say: every helical angle only rescales G, so curves at several angles
+add no information on the five constants beyond a single curve (they check the geometry), and a
+curve over 0.5-3 Hz usually fixes about three combinations (the low-frequency modulus
+E1 + E3 when arm 1 relaxes slowly, the viscous slope eta2, a curvature), not five parameters.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from scipy import optimize, stats
+
+from spiralcap.errors import DataError, InputError
+from torque_model.model import contact_factor_m3
+from torque_model.tissue import VISCOELASTIC_FIELDS, TissueParameters
+
+__all__ = ["DEFAULT_BOUNDS", "PARAMETER_NAMES", "FitResult", "identify"]
+
+#: The identified parameters, SI names, in the order of every array in :class:`FitResult`.
+PARAMETER_NAMES = VISCOELASTIC_FIELDS
+
+#: Default bounds (SI): moduli 1 Pa - 1 GPa, viscosities 1 Pa·s - 10 GPa·s.
+DEFAULT_BOUNDS: dict[str, tuple[float, float]] = {
+    "E1_Pa": (1.0, 1e9), "E2_Pa": (1.0, 1e9), "E3_Pa": (1.0, 1e9),
+    "eta1_Pa_s": (1.0, 1e10), "eta2_Pa_s": (1.0, 1e10),
+}
+
+REL_CI_LIMIT = 1.0
+CORRELATION_LIMIT = 0.99
+SINGULAR_RCOND = 1e-10
+_N_STARTS = 4
+_MAX_NFEV = 200
+
+
+@dataclass(frozen=True)
+class FitResult:
+    """Outcome of :func:`identify`: values, uncertainty, what is not pinned down, residuals.
+
+    Attributes
+    ----------
+    tissue : TissueParameters
+        The base tissue with the five fitted constants (name ``"fit"``).
+    values, standard_errors : dict[str, float]
+        Fitted value and standard error of each of :data:`PARAMETER_NAMES`, SI (Pa, Pa·s);
+        ``inf`` where the data do not determine the parameter, ``nan`` with no residual degree
+        of freedom.
+    ci95 : dict[str, tuple[float, float]]
+        Wald 95 % confidence interval, SI.
+    flags : dict[str, tuple[str, ...]]
+        Why a parameter is not pinned down (empty tuple: pinned down).
+    correlation : numpy.ndarray
+        5 x 5 correlation matrix of the log-parameters (nan where undefined).
+    frequency_hz, helical_angle_rad, torque_Nm, predicted_Nm : numpy.ndarray
+        The data points, and the fitted model at them (N·m).
+    residuals : numpy.ndarray
+        Fit residuals, relative ((model - data)/data) or in N·m as ``relative`` says.
+    relative : bool
+        Whether residuals are relative.
+    residual_std : float
+        s, the residual standard deviation on ``dof`` degrees of freedom (same unit as residuals).
+    dof : int
+        Points minus parameters.
+    condition_number : float
+        Of J^T J in log-parameters.
+    cost : float
+        Half the sum of squared residuals.
+    success : bool
+        The optimiser's convergence flag; ``message`` its words.
+    geometry : dict[str, float]
+        Capsule geometry used (m, and ``starts``), for :meth:`predict_Nm`.
+    """
+
+    tissue: TissueParameters
+    values: dict[str, float]
+    standard_errors: dict[str, float]
+    ci95: dict[str, tuple[float, float]]
+    flags: dict[str, tuple[str, ...]]
+    correlation: np.ndarray
+    frequency_hz: np.ndarray
+    helical_angle_rad: np.ndarray
+    torque_Nm: np.ndarray
+    predicted_Nm: np.ndarray
+    residuals: np.ndarray
+    relative: bool
+    residual_std: float
+    dof: int
+    condition_number: float
+    cost: float
+    success: bool
+    message: str
+    geometry: dict[str, float] = field(default_factory=dict)
+
+    @property
+    def pinned_down(self) -> tuple[str, ...]:
+        """Parameters the data determine (no flag)."""
+        return tuple(n for n in PARAMETER_NAMES if not self.flags[n])
+
+    @property
+    def not_pinned_down(self) -> tuple[str, ...]:
+        """Parameters the data do not determine (at least one flag)."""
+        return tuple(n for n in PARAMETER_NAMES if self.flags[n])
+
+    def predict_Nm(self, frequency_hz: Any, helical_angle_rad: Any) -> Any:
+        """The fitted model's torque at other frequencies (Hz) and angles (rad), N·m."""
+        from torque_model.model import resistive_torque_Nm
+
+        return resistive_torque_Nm(helical_angle_rad, frequency_hz, self.tissue, **self.geometry)
+
+
+def _relaxation_integral_and_gradient(freq: np.ndarray, p: np.ndarray
+                                      ) -> tuple[np.ndarray, np.ndarray]:
+    """I(omega) of eq. 4 over one turn and dI/dlog(p) (n x 5), p = (E1, E2, E3, eta1, eta2)."""
+    E1, E2, E3, eta1, eta2 = p
+    omega = 2.0 * math.pi * freq
+    value = np.full_like(omega, 2.0 * math.pi * E3)
+    grad = np.zeros((omega.size, 5))
+    grad[:, 2] = 2.0 * math.pi * E3
+    for E, eta, iE, ieta in ((E1, eta1, 0, 3), (E2, eta2, 1, 4)):
+        x = 2.0 * math.pi * E / (omega * eta)
+        one_minus = -np.expm1(-x)
+        value = value + omega * eta * one_minus
+        grad[:, iE] = E * 2.0 * math.pi * np.exp(-x)                     # E dI/dE
+        grad[:, ieta] = eta * omega * (one_minus - x * np.exp(-x))       # eta dI/deta
+    return value, grad
+
+
+def _as_points(name: str, values: Any, n: int | None) -> np.ndarray:
+    arr = np.atleast_1d(np.asarray(values, dtype=float)).ravel()
+    if n is not None and arr.size == 1:
+        arr = np.full(n, arr[0])
+    if n is not None and arr.size != n:
+        raise DataError(f"{name}: {arr.size} values for {n} data points")
+    return arr
+
+
+def _check_data(freq: np.ndarray, torque: np.ndarray, angle: np.ndarray) -> None:
+    for name, arr, positive in (("frequency_hz", freq, True), ("torque_Nm", torque, True),
+                                ("helical_angle_rad", angle, True)):
+        for i, v in enumerate(arr):
+            if not math.isfinite(v) or (positive and v <= 0):
+                raise DataError(f"point {i + 1}: {name} = {v!r}: a finite number > 0")
+    bad = np.flatnonzero(angle >= math.pi / 2)
+    if bad.size:
+        raise DataError(f"point {bad[0] + 1}: helical_angle_rad = {angle[bad[0]]!r}: below pi/2")
+
+
+def identify(frequency_hz: Sequence[float] | np.ndarray, torque_Nm: Sequence[float] | np.ndarray,
+             helical_angle_rad: float | Sequence[float] | np.ndarray,
+             base_tissue: TissueParameters, *, body_diameter_m: float = 11e-3,
+             body_length_m: float = 26e-3, wire_diameter_m: float = 1e-3,
+             wound_length_m: float = 15e-3, starts: int = 1, relative: bool = True,
+             bounds: Mapping[str, tuple[float, float]] | None = None,
+             jacobian: str = "analytic", profile_bounds: bool = True) -> FitResult:
+    """Fit E1, E2, E3, eta1, eta2 to measured torque against frequency (bounded TRF).
+
+    Parameters
+    ----------
+    frequency_hz : array_like
+        Rotation frequency of each point, Hz (> 0).
+    torque_Nm : array_like
+        Measured resistive torque of each point, N·m (> 0).
+    helical_angle_rad : float or array_like
+        Helical angle of the capsule of each point (one value for all), rad; several capsules
+        are fitted jointly.
+    base_tissue : TissueParameters
+        Supplies the fixed lumen, wall thickness and friction, and the starting point.
+    body_diameter_m, body_length_m, wire_diameter_m, wound_length_m : float
+        Capsule geometry, m (as :func:`torque_model.resistive_torque_Nm`).
+    starts : int
+        Number of spiral wires.
+    relative : bool
+        Relative residuals (default) or absolute ones in N·m.
+    bounds : mapping, optional
+        ``{name: (low, high)}`` in SI for any of :data:`PARAMETER_NAMES`; others from
+        :data:`DEFAULT_BOUNDS`.
+    jacobian : {"analytic", "2-point", "3-point"}
+        Exact Jacobian (default) or scipy's finite differences (the benchmark's reference).
+    profile_bounds : bool
+        Also test, by re-fitting with each parameter held at each bound, whether the data can
+        exclude the bound (profile F-test at 95 %); adds ten small fits.
+
+    Returns
+    -------
+    FitResult
+
+    Raises
+    ------
+    DataError
+        Fewer points than the five parameters, arrays of unequal length, or a point with a
+        non-finite or non-positive frequency, torque or angle (named by its 1-based index).
+    InputError
+        An unknown bound name, an empty bound interval, or an unknown ``jacobian``.
+    """
+    freq = _as_points("frequency_hz", frequency_hz, None)
+    n = freq.size
+    torque = _as_points("torque_Nm", torque_Nm, n)
+    angle = _as_points("helical_angle_rad", helical_angle_rad, n)
+    n_par = len(PARAMETER_NAMES)
+    if n < n_par:
+        raise DataError(f"{n} data points for {n_par} parameters ({', '.join(PARAMETER_NAMES)}):"
+                        f" need at least {n_par}")
+    _check_data(freq, torque, angle)
+    if jacobian not in ("analytic", "2-point", "3-point"):
+        raise InputError("jacobian", jacobian, "'analytic', '2-point' or '3-point'")
+    lo, hi = _bounds(bounds)
+    geometry = {"body_diameter_m": body_diameter_m, "body_length_m": body_length_m,
+                "wire_diameter_m": wire_diameter_m, "wound_length_m": wound_length_m,
+                "starts": starts}
+    G = np.asarray(contact_factor_m3(angle, base_tissue, **geometry), dtype=float)
+    if np.any(G <= 0):
+        i = int(np.flatnonzero(G <= 0)[0])
+        raise DataError(f"point {i + 1}: the capsule does not touch a lumen of "
+                        f"{base_tissue.lumen_diameter_m * 1e3:g} mm: no torque to fit")
+    scale = 1.0 / torque if relative else np.full(n, 1.0 / np.median(torque))
+
+    def residuals(q: np.ndarray) -> np.ndarray:
+        value, _ = _relaxation_integral_and_gradient(freq, np.exp(q))
+        return (G * value - torque) * scale
+
+    def jac(q: np.ndarray) -> np.ndarray:
+        _, grad = _relaxation_integral_and_gradient(freq, np.exp(q))
+        return (G * scale)[:, None] * grad
+
+    fit_jac = jac if jacobian == "analytic" else jacobian
+    best = None
+    for q0 in _starts(base_tissue, freq, torque, G, scale, lo, hi):
+        sol = _solve(residuals, fit_jac, q0, lo, hi)
+        if best is None or sol.cost < best.cost:
+            best = sol
+    assert best is not None
+    order = _slow_arm_first(best.x, lo, hi)
+    best.x, best.active_mask = best.x[order], best.active_mask[order]
+    profile = _profile_to_bounds(residuals, fit_jac, best, lo, hi, n) if profile_bounds else None
+    return _result(best, freq, angle, torque, G, scale, relative, lo, hi, base_tissue, geometry,
+                   jac(best.x), profile)
+
+
+def _solve(fun: Any, jac: Any, q0: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> Any:
+    return optimize.least_squares(fun, q0, jac=jac, bounds=(lo, hi), method="trf",
+                                  xtol=1e-9, ftol=1e-9, gtol=1e-9, max_nfev=_MAX_NFEV)
+
+
+def _slow_arm_first(q: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> list[int]:
+    """Index order putting the slower Maxwell arm first (eta1/E1 >= eta2/E2).
+
+    The model is symmetric under swapping the arms; Tables I and II list the slow arm first.
+    The order is kept if the swapped values would leave the bounds.
+    """
+    swap = [1, 0, 2, 4, 3]
+    slow_first = (q[3] - q[0]) >= (q[4] - q[1])
+    inside = bool(np.all(q[swap] >= lo) and np.all(q[swap] <= hi))
+    return [0, 1, 2, 3, 4] if slow_first or not inside else swap
+
+
+def _profile_to_bounds(fun: Any, jac: Any, best: Any, lo: np.ndarray, hi: np.ndarray,
+                       n: int) -> dict[int, list[str]]:
+    """For each parameter, the bounds the data cannot exclude (profile F-test, 95 %).
+
+    The parameter is held at a bound and the other four re-fitted (from the best fit); if the
+    summed squared residual rises by less than s^2 F(0.95; 1, n - 5), the bound is inside the
+    parameter's 95 % profile interval: the data do not pin it down on that side.
+    """
+    n_par = best.x.size
+    dof = n - n_par
+    if dof <= 0:
+        return {}
+    ssr = 2.0 * best.cost
+    threshold = ssr / dof * float(stats.f.ppf(0.95, 1, dof))
+    out: dict[int, list[str]] = {}
+    for i in range(n_par):
+        free = [j for j in range(n_par) if j != i]
+        for side, value in (("lower", lo[i]), ("upper", hi[i])):
+            q = best.x.copy()
+            q[i] = value
+
+            def f_sub(z: np.ndarray, q: np.ndarray = q, free: list[int] = free) -> np.ndarray:
+                q = q.copy()
+                q[free] = z
+                return fun(q)
+
+            def j_sub(z: np.ndarray, q: np.ndarray = q, free: list[int] = free) -> np.ndarray:
+                q = q.copy()
+                q[free] = z
+                return jac(q)[:, free]
+
+            sub_jac = jac if isinstance(jac, str) else j_sub  # "2-point": finite differences
+
+            pad = 1e-9 * (hi[free] - lo[free])
+            z0 = np.clip(best.x[free], lo[free] + pad, hi[free] - pad)
+            sol = _solve(f_sub, sub_jac, z0, lo[free], hi[free])
+            if 2.0 * sol.cost - ssr < threshold:
+                out.setdefault(i, []).append(side)
+    return out
+
+
+def _bounds(bounds: Mapping[str, tuple[float, float]] | None) -> tuple[np.ndarray, np.ndarray]:
+    merged = dict(DEFAULT_BOUNDS)
+    for key, pair in (bounds or {}).items():
+        if key not in merged:
+            raise InputError(f"bounds.{key}", pair, "one of " + ", ".join(PARAMETER_NAMES))
+        merged[key] = pair
+    lo = np.array([merged[k][0] for k in PARAMETER_NAMES], dtype=float)
+    hi = np.array([merged[k][1] for k in PARAMETER_NAMES], dtype=float)
+    for k, a, b in zip(PARAMETER_NAMES, lo, hi, strict=True):
+        if not (0 < a < b < math.inf):
+            raise InputError(f"bounds.{k}", (a, b), "0 < low < high < inf")
+    return np.log(lo), np.log(hi)
+
+
+def _starts(base: TissueParameters, freq: np.ndarray, torque: np.ndarray, G: np.ndarray,
+            scale: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> list[np.ndarray]:
+    """The base set rescaled by the best common factor, then fixed log-perturbations of it."""
+    p0 = np.array([max(getattr(base, k), 1e-3) for k in PARAMETER_NAMES])
+    value, _ = _relaxation_integral_and_gradient(freq, p0)
+    m = G * value * scale
+    y = torque * scale
+    k = float(m @ y / (m @ m))
+    q0 = np.log(p0 * k)
+    rng = np.random.default_rng(20130501)
+    starts = [q0] + [q0 + rng.normal(0.0, 1.5, q0.size) for _ in range(_N_STARTS - 1)]
+    pad = 1e-9 * (hi - lo)
+    return [np.clip(q, lo + pad, hi - pad) for q in starts]
+
+
+def _result(sol: Any, freq: np.ndarray, angle: np.ndarray, torque: np.ndarray, G: np.ndarray,
+            scale: np.ndarray, relative: bool, lo: np.ndarray, hi: np.ndarray,
+            base: TissueParameters, geometry: dict[str, float], J: np.ndarray,
+            profile: dict[int, list[str]] | None) -> FitResult:
+    n, n_par = J.shape
+    p = np.exp(sol.x)
+    resid = sol.fun if relative else sol.fun / scale
+    dof = n - n_par
+    s2 = float(sol.fun @ sol.fun) / dof if dof > 0 else math.nan
+    _, sv, Vt = np.linalg.svd(J, full_matrices=False)
+    sv_max = sv[0] if sv.size and sv[0] > 0 else 1.0
+    null = sv <= SINGULAR_RCOND * sv_max
+    inv_sq = np.where(null, 0.0, 1.0 / np.where(null, 1.0, sv) ** 2)
+    cov_log = (Vt.T * inv_sq) @ Vt * s2
+    in_null = np.any(np.abs(Vt[null]) > 1e-6, axis=0) if null.any() else np.zeros(n_par, bool)
+    var_log = np.diag(cov_log).copy()
+    var_log[in_null] = math.inf
+    se_log = np.sqrt(var_log)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        corr = cov_log / np.sqrt(np.outer(np.diag(cov_log), np.diag(cov_log)))
+    corr[in_null, :] = np.nan
+    corr[:, in_null] = np.nan
+    t = float(stats.t.ppf(0.975, dof)) if dof > 0 else math.nan
+    se = p * se_log
+    cond = float((sv_max / sv[-1]) ** 2) if sv[-1] > 0 else math.inf
+    at_bound = (sol.active_mask != 0) | (sol.x - lo < 1e-6 * (hi - lo)) | \
+               (hi - sol.x < 1e-6 * (hi - lo))
+    flags: dict[str, tuple[str, ...]] = {}
+    for i, name in enumerate(PARAMETER_NAMES):
+        why = []
+        if in_null[i]:
+            why.append("J^T J singular along it")
+        if dof <= 0:
+            why.append("no residual degree of freedom: uncertainty unknown")
+        elif not in_null[i] and t * se_log[i] > REL_CI_LIMIT:
+            why.append(f"95 % interval +-{100 * t * se_log[i]:.3g} % of the value")
+        if at_bound[i]:
+            why.append("at a bound")
+        sides = (profile or {}).get(i, [])
+        if sides:
+            why.append(f"profile reaches the {' and '.join(sides)} bound"
+                       f"{'s' if len(sides) > 1 else ''}")
+        partners = [PARAMETER_NAMES[j] for j in range(n_par)
+                    if j != i and abs(corr[i, j]) > CORRELATION_LIMIT]
+        if partners:
+            why.append("|correlation| > 0.99 with " + ", ".join(partners))
+        flags[name] = tuple(why)
+    values = dict(zip(PARAMETER_NAMES, p.tolist(), strict=True))
+    tissue = base.replace(name="fit", **values)
+    pred = G * _relaxation_integral_and_gradient(freq, p)[0]
+    return FitResult(
+        tissue=tissue, values=values,
+        standard_errors=dict(zip(PARAMETER_NAMES, se.tolist(), strict=True)),
+        ci95={k: (v - t * e, v + t * e) for k, v, e in zip(PARAMETER_NAMES, p, se,
+                                                                  strict=True)},
+        flags=flags, correlation=corr, frequency_hz=freq, helical_angle_rad=angle,
+        torque_Nm=torque, predicted_Nm=pred, residuals=resid, relative=relative,
+        residual_std=math.sqrt(s2) if dof > 0 else math.nan, dof=dof, condition_number=cond,
+        cost=float(sol.cost), success=bool(sol.success), message=str(sol.message),
+        geometry=geometry)

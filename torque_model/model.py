@@ -1,0 +1,226 @@
+"""Resistive torque of a rotating spiral capsule in the small intestine (Zhou et al. 2013, III).
+
+Each piece is one equation of the paper, written once against :mod:`spiralcap.backend` so it
+runs on floats, numpy arrays and CasADi SX/MX (differentiable in the helical angle and the
+frequency). The reading of eqs. 7-8 and the calibration are in ``docs/torque-model.md``:
+
+- eq. 6, strain of a cross-section: eps = (D_after - D_before) / (D_before + d);
+- eqs. 2/4-5, stress at azimuth theta, the tissue having been strained for t = theta/omega:
+  sigma = eps [E1 exp(-theta E1/(omega eta1)) + E2 exp(-theta E2/(omega eta2)) + E3];
+- eq. 3, thin-walled vessel: p = 2 sigma d / D_after;
+- eq. 7 read as force per unit axial length: the load on the element (D_after/2) dtheta dz is
+  p (D_after/2) dtheta dz, so the normal load per unit length of one cross-section is
+  int_0^{2 pi} p D_after/2 dtheta = d int_0^{2 pi} sigma dtheta (D_after cancels: it is the wall's
+  hoop tension), and the friction per unit length is mu times that;
+- eq. 8, the moment arm D_after/2; integrated along the contact (the wound length at D' and the
+  parts of the hemispherical ends wider than the lumen):
+
+      tau = mu d I(omega) [eps_w (D'/2) L_w + eps_c (D/2) L_c + 2 int_end eps D_after/2 dz],
+
+  with I(omega) = int_0^{2 pi} (sigma/eps) dtheta in closed form
+  (:func:`relaxation_integral_Pa`), L_c the unwound cylindrical length.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from spiralcap import backend as bk
+from torque_model.geometry import end_contact_moment_m2, equivalent_diameter_m
+from torque_model.tissue import TissueParameters
+
+__all__ = [
+    "angular_frequency_rad_s",
+    "contact_factor_m3",
+    "contact_factors_m3",
+    "friction_per_length_N_m",
+    "hoop_pressure_Pa",
+    "normal_load_per_length_N_m",
+    "relaxation_integral_Pa",
+    "relaxation_modulus_Pa",
+    "resistive_torque_Nm",
+    "section_torque_per_length_N",
+    "strain",
+    "stress_Pa",
+    "torque_breakdown_Nm",
+]
+
+
+def angular_frequency_rad_s(frequency_hz: Any) -> Any:
+    """Eq. 5: omega = 2 pi f, rad/s, from the rotation frequency f in Hz."""
+    return 2.0 * bk.pi * frequency_hz
+
+
+def strain(diameter_after_m: Any, lumen_diameter_m: Any, wall_thickness_m: Any) -> Any:
+    """Eq. 6: circumferential strain (D_after - D_before) / (D_before + d), dimensionless.
+
+    Parameters
+    ----------
+    diameter_after_m : float, array or CasADi
+        Inner diameter of the deformed intestine D_after (D' in the wound section), m.
+    lumen_diameter_m : float
+        Undeformed inner diameter D_before, m.
+    wall_thickness_m : float
+        Wall thickness d, m.
+
+    Returns
+    -------
+    float, array or CasADi
+        The strain; negative where the capsule does not touch (callers clip it at zero).
+    """
+    return (diameter_after_m - lumen_diameter_m) / (lumen_diameter_m + wall_thickness_m)
+
+
+def relaxation_modulus_Pa(time_s: Any, tissue: TissueParameters) -> Any:
+    """Eq. 2 bracket: E1 exp(-t E1/eta1) + E2 exp(-t E2/eta2) + E3, Pa, at time t (s)."""
+    t = tissue
+    return (t.E1_Pa * bk.exp(-time_s * t.E1_Pa / t.eta1_Pa_s)
+            + t.E2_Pa * bk.exp(-time_s * t.E2_Pa / t.eta2_Pa_s) + t.E3_Pa)
+
+
+def stress_Pa(azimuth_rad: Any, frequency_hz: Any, strain_: Any,
+              tissue: TissueParameters) -> Any:
+    """Eq. 4: hoop stress at azimuth theta (rad) behind first contact, Pa.
+
+    The tissue at azimuth theta has been strained for t = theta / omega (section III-B).
+    """
+    omega = angular_frequency_rad_s(frequency_hz)
+    return strain_ * relaxation_modulus_Pa(azimuth_rad / omega, tissue)
+
+
+def relaxation_integral_Pa(frequency_hz: Any, tissue: TissueParameters) -> Any:
+    """int_0^{2 pi} of the eq. 4 bracket over one revolution, Pa (times rad), in closed form.
+
+        I(omega) = omega eta1 (1 - exp(-2 pi E1/(omega eta1)))
+                 + omega eta2 (1 - exp(-2 pi E2/(omega eta2))) + 2 pi E3.
+
+    One revolution, theta in [0, 2 pi]: a wall element is strained when the bump reaches it and
+    relaxes for one turn until strained again (docs/torque-model.md, "theta range").
+    """
+    omega = angular_frequency_rad_s(frequency_hz)
+    t = tissue
+    w1 = omega * t.eta1_Pa_s
+    w2 = omega * t.eta2_Pa_s
+    return (w1 * (1.0 - bk.exp(-2.0 * bk.pi * t.E1_Pa / w1))
+            + w2 * (1.0 - bk.exp(-2.0 * bk.pi * t.E2_Pa / w2)) + 2.0 * bk.pi * t.E3_Pa)
+
+
+def hoop_pressure_Pa(stress: Any, wall_thickness_m: Any, diameter_after_m: Any) -> Any:
+    """Eq. 3: contact pressure of a thin-walled cylinder, p = 2 sigma d / D_after, Pa."""
+    return 2.0 * stress * wall_thickness_m / diameter_after_m
+
+
+def normal_load_per_length_N_m(frequency_hz: Any, strain_: Any,
+                               tissue: TissueParameters) -> Any:
+    """Normal load per unit axial length of one cross-section, N/m.
+
+    int_0^{2 pi} p(theta) (D_after/2) dtheta with eq. 3 = d eps I(omega): the diameter cancels.
+    """
+    return tissue.wall_thickness_m * strain_ * relaxation_integral_Pa(frequency_hz, tissue)
+
+
+def friction_per_length_N_m(frequency_hz: Any, strain_: Any, tissue: TissueParameters) -> Any:
+    """Eq. 7 per unit axial length: circumferential Coulomb friction mu x normal load, N/m."""
+    return tissue.friction_coefficient * normal_load_per_length_N_m(frequency_hz, strain_, tissue)
+
+
+def section_torque_per_length_N(frequency_hz: Any, diameter_after_m: Any,
+                                tissue: TissueParameters) -> Any:
+    """Eq. 8 per unit axial length: friction x D_after/2, N·m/m, for a section of diameter D_after.
+
+    The strain is clipped at zero (a section narrower than the lumen does not touch).
+    """
+    eps = bk.fmax(strain(diameter_after_m, tissue.lumen_diameter_m, tissue.wall_thickness_m), 0.0)
+    return friction_per_length_N_m(frequency_hz, eps, tissue) * 0.5 * diameter_after_m
+
+
+def torque_breakdown_Nm(helical_angle_rad: Any, frequency_hz: Any, tissue: TissueParameters, *,
+                        body_diameter_m: float = 11e-3, body_length_m: float = 26e-3,
+                        wire_diameter_m: float = 1e-3,
+                        wound_length_m: float = 15e-3, starts: int = 1) -> dict[str, Any]:
+    """The resistive torque split into wound section, unwound cylinder and both ends, N·m.
+
+    Same arguments as :func:`resistive_torque_Nm`; returns a dict with ``"wound"``,
+    ``"cylinder"``, ``"ends"`` and ``"total"``.
+    """
+    parts = contact_factors_m3(helical_angle_rad, tissue, body_diameter_m=body_diameter_m,
+                               body_length_m=body_length_m, wire_diameter_m=wire_diameter_m,
+                               wound_length_m=wound_length_m, starts=starts)
+    integral = relaxation_integral_Pa(frequency_hz, tissue)
+    out = {k: v * integral for k, v in parts.items()}
+    out["total"] = out["wound"] + out["cylinder"] + out["ends"]
+    return out
+
+
+def contact_factors_m3(helical_angle_rad: Any, tissue: TissueParameters, *,
+                       body_diameter_m: float = 11e-3, body_length_m: float = 26e-3,
+                       wire_diameter_m: float = 1e-3,
+                       wound_length_m: float = 15e-3, starts: int = 1) -> dict[str, Any]:
+    """Geometric factors G with torque = G x I(omega), m^3, for each part of the contact.
+
+    G = mu d int eps(z) D_after(z)/2 dz over the part: ``"wound"`` (D_after = D', length
+    ``wound_length_m``), ``"cylinder"`` (D_after = D over the unwound cylindrical length
+    ``body_length_m - body_diameter_m - wound_length_m``, if positive) and ``"ends"`` (both
+    hemispheres, :func:`torque_model.geometry.end_contact_moment_m2`). Strains are clipped at 0.
+    They hold everything but the five viscoelastic constants, which enter through
+    :func:`relaxation_integral_Pa` only; :func:`torque_model.identify` uses this split.
+    """
+    mu_d = tissue.friction_coefficient * tissue.wall_thickness_m
+
+    def per_length(diameter_after: Any) -> Any:
+        eps = bk.fmax(strain(diameter_after, tissue.lumen_diameter_m, tissue.wall_thickness_m),
+                      0.0)
+        return mu_d * eps * 0.5 * diameter_after
+
+    d_prime = equivalent_diameter_m(helical_angle_rad, body_diameter_m, wire_diameter_m,
+                                    starts)
+    cylinder_length = bk.fmax(body_length_m - body_diameter_m - wound_length_m, 0.0)
+    ends = 2.0 * mu_d * end_contact_moment_m2(body_diameter_m, tissue.lumen_diameter_m,
+                                              tissue.wall_thickness_m)
+    return {"wound": per_length(d_prime) * wound_length_m,
+            "cylinder": per_length(body_diameter_m) * cylinder_length,
+            "ends": ends}
+
+
+def contact_factor_m3(helical_angle_rad: Any, tissue: TissueParameters,
+                      **geometry: float) -> Any:
+    """Sum of :func:`contact_factors_m3`: torque = contact_factor_m3 x relaxation_integral_Pa."""
+    parts = contact_factors_m3(helical_angle_rad, tissue, **geometry)
+    return parts["wound"] + parts["cylinder"] + parts["ends"]
+
+
+def resistive_torque_Nm(helical_angle_rad: Any, frequency_hz: Any, tissue: TissueParameters,
+                        *, body_diameter_m: float = 11e-3, body_length_m: float = 26e-3,
+                        wire_diameter_m: float = 1e-3, wound_length_m: float = 15e-3,
+                        starts: int = 1) -> Any:
+    """Torque the intestine resists a spiral capsule's rotation with (Zhou 2013 eqs. 2-8), N·m.
+
+    Parameters
+    ----------
+    helical_angle_rad : float, array or CasADi SX/MX
+        Helical angle of the spiral to the cross-section plane, rad.
+    frequency_hz : float, array or CasADi SX/MX
+        Rotation frequency f > 0, Hz. Broadcasts against ``helical_angle_rad`` (numpy).
+    tissue : TissueParameters
+        Viscoelastic constants (calibrated scale), lumen, wall, friction.
+    body_diameter_m : float
+        Capsule diameter D (cylinder and hemispherical ends), m.
+    body_length_m : float
+        Overall capsule length including both hemispherical ends, m.
+    wire_diameter_m : float
+        Spiral wire diameter d_w, m.
+    wound_length_m : float
+        Axial length of the spiral, m; the rest of the cylinder (if any) touches at diameter D.
+    starts : int
+        Number of spiral wires (:func:`torque_model.equivalent_diameter_m`); the paper used 1.
+
+    Returns
+    -------
+    float, array or CasADi
+        The resistive torque, N·m: wound section (D_after = D'), unwound cylinder and the two
+        hemispherical ends (D_after(z) where wider than the lumen).
+    """
+    return torque_breakdown_Nm(helical_angle_rad, frequency_hz, tissue,
+                               body_diameter_m=body_diameter_m, body_length_m=body_length_m,
+                               wire_diameter_m=wire_diameter_m,
+                               wound_length_m=wound_length_m, starts=starts)["total"]

@@ -1,0 +1,136 @@
+"""Tissue parameter sets in SI: the five-element viscoelastic constants and the lumen geometry.
+
+The five-element model (Zhou et al. 2013, eq. 2 and Fig. 7) is two Maxwell arms (E1, eta1),
+(E2, eta2) in parallel with a spring E3. The lumen (D_before in eq. 6), the wall thickness (d in
+eqs. 3 and 6) and the capsule-mucosa Coulomb friction coefficient (mu in eq. 7) complete a set.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+from typing import Any
+
+from spiralcap.errors import InputError, check_positive
+
+__all__ = ["PRESET_NAMES", "TissueParameters", "preset"]
+
+#: The viscoelastic fields (moduli and viscosities), in the order the identification uses.
+VISCOELASTIC_FIELDS = ("E1_Pa", "E2_Pa", "E3_Pa", "eta1_Pa_s", "eta2_Pa_s")
+
+
+@dataclass(frozen=True)
+class TissueParameters:
+    """One intestinal tissue: five-element viscoelastic constants, lumen geometry, friction.
+
+    Parameters
+    ----------
+    E1_Pa, E2_Pa, E3_Pa : float
+        Spring moduli of the five-element model (Zhou 2013 eq. 2), Pa, >= 0.
+    eta1_Pa_s, eta2_Pa_s : float
+        Dashpot viscosities of the two Maxwell arms, Pa·s, > 0.
+    lumen_diameter_m : float
+        Inner diameter of the undeformed intestine, D_before in eq. 6, m.
+    wall_thickness_m : float
+        Intestinal wall thickness, d in eqs. 3 and 6, m.
+    friction_coefficient : float
+        Capsule-mucosa Coulomb friction coefficient, mu in eq. 7 (dimensionless).
+    name : str
+        Where the set came from (a preset name, ``"fit"``, ``"custom"``).
+    """
+
+    E1_Pa: float
+    E2_Pa: float
+    E3_Pa: float
+    eta1_Pa_s: float
+    eta2_Pa_s: float
+    lumen_diameter_m: float
+    wall_thickness_m: float
+    friction_coefficient: float
+    name: str = "custom"
+
+    def __post_init__(self) -> None:
+        for f in dataclasses.fields(self):
+            if f.name == "name":
+                continue
+            value = getattr(self, f.name)
+            if hasattr(value, "item") and getattr(value, "ndim", 1) == 0:
+                value = value.item()
+            allow_zero = f.name in ("E1_Pa", "E2_Pa", "E3_Pa")
+            object.__setattr__(self, f.name, check_positive(f.name, value, allow_zero=allow_zero))
+        if not isinstance(self.name, str):
+            raise InputError("name", self.name, "a string")
+
+    def replace(self, **changes: Any) -> TissueParameters:
+        """A copy with some fields changed (validated again)."""
+        return dataclasses.replace(self, **changes)
+
+    def scaled(self, factor: float, name: str | None = None) -> TissueParameters:
+        """A copy with every modulus and viscosity multiplied by ``factor`` (geometry unchanged).
+
+        The torque of :func:`torque_model.resistive_torque_Nm` is linear in this factor and the
+        shape of torque against frequency is unchanged (the exponents hold E/eta ratios only).
+        """
+        factor = check_positive("factor", factor)
+        return self.replace(name=name or self.name,
+                            **{k: getattr(self, k) * factor for k in VISCOELASTIC_FIELDS})
+
+    def as_design_table(self) -> dict[str, float]:
+        """The set as ``tissue.*`` design-key values (kPa, kPa·s, mm): the keys without prefix."""
+        return {
+            "E1_kPa": self.E1_Pa / 1e3, "E2_kPa": self.E2_Pa / 1e3, "E3_kPa": self.E3_Pa / 1e3,
+            "eta1_kPa_s": self.eta1_Pa_s / 1e3, "eta2_kPa_s": self.eta2_Pa_s / 1e3,
+            "lumen_diameter_mm": self.lumen_diameter_m * 1e3,
+            "wall_thickness_mm": self.wall_thickness_m * 1e3,
+            "friction_coefficient": self.friction_coefficient,
+        }
+
+    @classmethod
+    def from_design_table(cls, table: dict[str, float], name: str = "custom") -> TissueParameters:
+        """Build from ``tissue.*`` design units (the inverse of :meth:`as_design_table`)."""
+        missing = [k for k in _DESIGN_KEYS if k not in table]
+        unknown = [k for k in table if k not in _DESIGN_KEYS]
+        if missing or unknown:
+            raise InputError("tissue", sorted(missing + unknown),
+                             "exactly the keys " + ", ".join(_DESIGN_KEYS))
+        return cls(
+            E1_Pa=table["E1_kPa"] * 1e3, E2_Pa=table["E2_kPa"] * 1e3,
+            E3_Pa=table["E3_kPa"] * 1e3, eta1_Pa_s=table["eta1_kPa_s"] * 1e3,
+            eta2_Pa_s=table["eta2_kPa_s"] * 1e3,
+            lumen_diameter_m=table["lumen_diameter_mm"] * 1e-3,
+            wall_thickness_m=table["wall_thickness_mm"] * 1e-3,
+            friction_coefficient=table["friction_coefficient"], name=name)
+
+
+_DESIGN_KEYS = ("E1_kPa", "E2_kPa", "E3_kPa", "eta1_kPa_s", "eta2_kPa_s", "lumen_diameter_mm",
+                "wall_thickness_mm", "friction_coefficient")
+
+
+def _registry() -> dict[str, Any]:
+    from torque_model.parameters import zhou2013
+
+    return {"zhou2013-sample2": zhou2013.SAMPLE2, "zhou2013-sample3": zhou2013.SAMPLE3}
+
+
+PRESET_NAMES = ("zhou2013-sample2", "zhou2013-sample3")
+
+
+def preset(name: str) -> TissueParameters:
+    """The calibrated tissue set the tool uses for ``name`` (see ``docs/torque-model.md``).
+
+    Parameters
+    ----------
+    name : str
+        ``"zhou2013-sample2"`` or ``"zhou2013-sample3"``.
+
+    Raises
+    ------
+    InputError
+        An unknown name.
+    """
+    sets = _registry()
+    if name not in sets:
+        raise InputError("tissue.preset", name, "one of " + ", ".join(repr(n) for n in sets))
+    from torque_model.parameters.zhou2013 import calibrated_tissue
+
+    return calibrated_tissue(sets[name], name)
