@@ -31,7 +31,7 @@ from typing import Any
 from spiralcap import backend as bk
 from spiralcap.constants import MU0_T_m_per_A
 
-__all__ = ["SERIES_BELOW", "coaxial_mutual_inductance_H", "loop_field"]
+__all__ = ["SERIES_BELOW", "coaxial_mutual_inductance_H", "loop_field", "loop_terms"]
 
 #: Below this elliptic parameter m the series form of g(m) is used: 5 terms truncate at
 #: < 1e-16 relative; above it the closed form loses < 1e-9 relative in B_ρ, which is

@@ -119,7 +119,7 @@ def required_torques_Nm(helical_angle_rad: Any, frequency_hz: Any, c: Constants,
         res = tm.resistive_torque_Nm(
             helical_angle_rad, frequency_hz, tissue, body_diameter_m=c.body_diameter_m,
             body_length_m=c.body_length_m, wire_diameter_m=c.wire_diameter_m,
-            wound_length_m=c.wound_length_m)
+            wound_length_m=c.wound_length_m, starts=c.starts)
         thr = cap.thrust_torque_Nm(req.axial_load_N, c.helix_diameter_m, helical_angle_rad,
                                    tissue.friction_coefficient)
         out.append((res, thr))

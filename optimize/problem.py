@@ -9,7 +9,8 @@ add flat directions. Every expression comes from :mod:`optimize.physics`, the sa
 :func:`optimize.evaluate.evaluate` uses.
 
 Constraints are written ``g(x) <= 0`` and normalised by their allowed value, so IPOPT's
-multipliers convert to engineering sensitivities as ``d margin / d allowed = λ · tau_ref / allowed``.
+multipliers convert to engineering sensitivities,
+``d margin / d allowed = λ · tau_ref / allowed``.
 """
 
 from __future__ import annotations

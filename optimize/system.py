@@ -42,7 +42,7 @@ def workspace_points(radius_m: float) -> np.ndarray:
 
 @dataclass(frozen=True)
 class Limits:
-    """Hardware and exposure limits (SI). ``field_exposure`` is 'occupational', 'public' or 'off'."""
+    """Hardware and exposure limits (SI); ``field_exposure``: 'occupational', 'public', 'off'."""
 
     current_A: float
     voltage_V: float
@@ -53,7 +53,7 @@ class Limits:
 
 @dataclass(frozen=True)
 class Requirements:
-    """What the capsule must do: push ``axial_load_N`` at ``min_speed_m_s`` with a makeable spiral."""
+    """What the capsule must do: push ``axial_load_N`` at ``min_speed_m_s``, makeable spiral."""
 
     axial_load_N: float
     slip_efficiency: float
@@ -137,6 +137,7 @@ class Constants:
     wire_diameter_m: float
     wound_length_m: float
     helix_diameter_m: float
+    starts: int = 1
 
 
 def precompute(model: DesignModel) -> Constants:
@@ -163,7 +164,8 @@ def precompute(model: DesignModel) -> Constants:
         workspace_factor=factor, moment_Am2=float(model.capsule.magnet.moment_Am2),
         body_diameter_m=body.diameter_m, body_length_m=body.length_m,
         wire_diameter_m=spiral.wire_diameter_m, wound_length_m=spiral.wound_length_m,
-        helix_diameter_m=float(cap.helix_diameter_m(body.diameter_m, spiral.wire_diameter_m)))
+        helix_diameter_m=float(cap.helix_diameter_m(body.diameter_m, spiral.wire_diameter_m)),
+        starts=int(spiral.starts))
 
 
 def prepare(model: DesignModel) -> DesignModel:

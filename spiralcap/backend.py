@@ -20,9 +20,27 @@ import numpy as _np
 from scipy import special as _special
 
 __all__ = [
-    "is_casadi", "sin", "cos", "tan", "arctan", "arctan2", "arcsin", "arccos", "exp", "log",
-    "sqrt", "abs", "square", "where", "fmax", "fmin", "softplus", "ellipk", "ellipe", "pi",
     "AGM_STEPS",
+    "abs",
+    "arccos",
+    "arcsin",
+    "arctan",
+    "arctan2",
+    "cos",
+    "ellipe",
+    "ellipk",
+    "exp",
+    "fmax",
+    "fmin",
+    "is_casadi",
+    "log",
+    "pi",
+    "sin",
+    "softplus",
+    "sqrt",
+    "square",
+    "tan",
+    "where",
 ]
 
 pi = _np.pi
@@ -53,7 +71,7 @@ arccos = _unary(_np.arccos, _ca.acos)
 exp = _unary(_np.exp, _ca.exp)
 log = _unary(_np.log, _ca.log)
 sqrt = _unary(_np.sqrt, _ca.sqrt)
-abs = _unary(_np.abs, _ca.fabs)  # noqa: A001 - mirrors numpy's name on purpose
+abs = _unary(_np.abs, _ca.fabs)
 square = _unary(_np.square, lambda x: x * x)
 
 

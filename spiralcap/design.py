@@ -148,9 +148,10 @@ def _to_toml(values: Mapping[str, Any], comments: bool = False) -> str:
 def example_toml() -> str:
     """The built-in example design as commented TOML (what ``spiralcap init`` writes)."""
     head = ("# spiralcap design file. SI-style units are in every key name.\n"
-            "# Any key left out takes the default shown here; run `spiralcap init` for a fresh copy.\n"
-            "# Built-in example: nested three-axis Helmholtz coils around a human abdomen, a\n"
-            "# PillCam SB2-size capsule with a 10 deg spiral, Zhou et al. 2013 sample-2 tissue.\n\n")
+            "# Any key left out takes the default shown here.\n"
+            "# Built-in example: nested three-axis Helmholtz coils around a human abdomen,\n"
+            "# a PillCam SB2-size capsule with a 10 deg spiral, Zhou et al. 2013 sample-2\n"
+            "# tissue.\n\n")
     return head + _to_toml(defaults(), comments=True)
 
 

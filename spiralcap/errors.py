@@ -42,5 +42,6 @@ def check_positive(key: str, value: Any, *, allow_zero: bool = False) -> float:
         value = float(value)
         ok = math.isfinite(value) and (value >= 0 if allow_zero else value > 0)
     if not ok:
-        raise InputError(key, value, "a finite number >= 0" if allow_zero else "a finite number > 0")
+        allowed = "a finite number >= 0" if allow_zero else "a finite number > 0"
+        raise InputError(key, value, allowed)
     return value

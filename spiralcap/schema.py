@@ -9,8 +9,9 @@ report's input table.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any, Callable
+from typing import Any
 
 from spiralcap.errors import InputError
 
@@ -181,7 +182,8 @@ def validate_value(key: str, value: Any) -> Any:
         import difflib
 
         near = difflib.get_close_matches(key, KEYS, n=1, cutoff=0.6)
-        hint = f"unknown key; did you mean {near[0]}?" if near else "unknown key; see `spiralcap init`"
+        hint = (f"unknown key; did you mean {near[0]}?" if near
+                else "unknown key; see `spiralcap init` for every key")
         raise InputError(key, value, hint)
     if spec.kind is float and isinstance(value, int) and not isinstance(value, bool):
         value = float(value)

@@ -74,7 +74,7 @@ def parse_over(expr: str) -> Axis:
         raise InputError("--over", expr, "finite START and STOP and N >= 1")
     values = np.linspace(start, stop, n)
     for v in (start, stop):
-        if not KEYS[key].check(int(round(v)) if KEYS[key].kind is int else v):
+        if not KEYS[key].check(round(v) if KEYS[key].kind is int else v):
             raise InputError(key, v, KEYS[key].allowed)
     if KEYS[key].kind is int:
         values = np.unique(np.round(values).astype(int))

@@ -43,12 +43,12 @@ def test_bad_values_name_the_key(expr, key):
 
 
 def test_unknown_key_suggests_the_near_one():
-    with pytest.raises(InputError, match="did you mean coils.x.radius_m"):
+    with pytest.raises(InputError, match=r"did you mean coils\.x\.radius_m"):
         load_design(None, ["coils.x.radius_mmm=1"])
 
 
 def test_malformed_set():
-    with pytest.raises(InputError, match="dotted.key=value"):
+    with pytest.raises(InputError, match=r"dotted\.key=value"):
         parse_set("garbage")
 
 

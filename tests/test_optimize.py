@@ -102,7 +102,7 @@ def test_analytic_case_single_current_limit(model):
 
 
 def test_ipopt_and_slsqp_agree(model, result):
-    alpha, f, field, margin = solve_slsqp(model)
+    alpha, f, _, margin = solve_slsqp(model)
     assert math.isclose(margin, result.margin_Nm, rel_tol=1e-5), \
         "SLSQP (finite differences) and IPOPT (exact derivatives) reach the same margin, 1e-5"
     assert math.isclose(alpha, result.helical_angle_rad, rel_tol=1e-3), \

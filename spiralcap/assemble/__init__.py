@@ -7,7 +7,7 @@ cross-key checks (a magnet that does not fit, a separation that makes no sense) 
 
 from spiralcap.assemble.capsule import build_capsule
 from spiralcap.assemble.coils import build_coils
-from spiralcap.assemble.tissue import build_tissues
 from spiralcap.assemble.system import build_model
+from spiralcap.assemble.tissue import build_tissues
 
 __all__ = ["build_capsule", "build_coils", "build_model", "build_tissues"]

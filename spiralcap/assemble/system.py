@@ -9,6 +9,10 @@ import numpy as np
 from spiralcap.design import Design
 from spiralcap.errors import InputError
 
+#: Below this helical angle the D' conversion of torque_model.geometry no longer holds for the
+#: paper's capsule (the bump wraps round the back; see its docstring).
+MIN_MODEL_ANGLE_deg = 1.8
+
 
 def _headings(design: Design) -> np.ndarray:
     from optimize.system import default_headings
@@ -36,6 +40,15 @@ def build_model(design: Design):
                    ("optimize.frequency_min_hz", "optimize.frequency_max_hz")):
         if d[lo] > d[hi]:
             raise InputError(hi, d[hi], f"a value >= {lo} = {d[lo]:g}")
+    import capsule as cap
+
+    floor = max(MIN_MODEL_ANGLE_deg, math.degrees(cap.min_helical_angle_for_clearance_rad(
+        cap.helix_diameter_m(d["capsule.diameter_mm"], d["capsule.spiral.wire_diameter_mm"]),
+        d["capsule.spiral.wire_diameter_mm"], d["capsule.spiral.starts"])))
+    if d["optimize.helical_angle_min_deg"] < floor:
+        raise InputError("optimize.helical_angle_min_deg", d["optimize.helical_angle_min_deg"],
+                         f"an angle >= {floor:.3g} deg (below it the spiral's turns touch or the "
+                         "paper's profile conversion no longer holds)")
     if d["limits.coil_temperature_C"] <= d["coils.ambient_temperature_C"]:
         raise InputError("limits.coil_temperature_C", d["limits.coil_temperature_C"],
                          f"a temperature above coils.ambient_temperature_C = "
