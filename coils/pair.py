@@ -96,8 +96,8 @@ class HelmholtzPair:
         side = self.winding_pack_side_m
         if side >= self.radius_m:
             raise InputError("wire_diameter_m", self.wire_diameter_m,
-                             f"a wire whose {self.turns}-turn pack (side {side:.4g} m) is "
-                             f"smaller than radius_m = {self.radius_m:.4g} m")
+                             f"a wire thin enough that the winding pack side (now {side:.4g} m "
+                             f"for {self.turns} turns) is below radius_m = {self.radius_m:.4g} m")
         if side >= self.separation_m:
             raise InputError("separation_m", self.separation_m,
                              f"a separation larger than the winding pack side {side:.4g} m "

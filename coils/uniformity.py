@@ -166,7 +166,8 @@ def uniform_region(system_or_pair: Any, tolerance: float, currents_A: Any = None
     direction : array_like (3,), optional
         Field direction at the centre (currents n_k / g_k). If both are omitted, the worst
         over the axes, face diagonals and body diagonals (13 static-field directions): all are
-        scanned on the ray lattice, and the worst is refined.
+        ranked on the ray lattice's radial grid, and those within one grid step of the worst
+        are refined.
 
     Returns
     -------
@@ -192,10 +193,24 @@ def uniform_region(system_or_pair: Any, tolerance: float, currents_A: Any = None
         currents = [n / gains]
     else:
         currents = [n / gains for n in _SYMMETRY_DIRECTIONS]
-    fields = [_field_function(system_or_pair, c) for c in currents]
-    coarse = [_radius(f, tol, r_max, refine=False)[0] for f in fields] if len(fields) > 1 else [0]
-    worst = int(np.argmin(coarse))
-    radius, ray = _radius(fields[worst], tol, r_max)
+    candidates = [0]
+    if len(currents) > 1:
+        # Rank the directions on the scan grid alone, with G(p) computed once for all of them,
+        # then refine every direction within one grid step of the worst.
+        rays = _rays()
+        radii = np.linspace(0.0, r_max, _RADIAL_STEPS + 1)[1:]
+        G = system_or_pair.field_matrix((radii[None, :, None] * rays[:, None, :]).reshape(-1, 3))
+        coarse = []
+        for c in currents:
+            dev = np.linalg.norm(G @ c, axis=1) / np.linalg.norm(gains * c) - 1.0
+            outside = (np.abs(dev) > tol).reshape(len(rays), len(radii))
+            first = np.where(outside.any(axis=1), np.argmax(outside, axis=1), len(radii) - 1)
+            coarse.append(radii[first].min())
+        step = radii[0]
+        candidates = [k for k, r in enumerate(coarse) if r <= min(coarse) + step]
+    results = [(*_radius(_field_function(system_or_pair, currents[k]), tol, r_max), k)
+               for k in candidates]
+    radius, ray, worst = min(results, key=lambda x: x[0])
     b0 = currents[worst] * gains
     return UniformRegion(radius, tol, ray, b0 / np.linalg.norm(b0))
 

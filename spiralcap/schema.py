@@ -75,8 +75,9 @@ MAGNET_GRADES = ("N35", "N42", "N45", "N48", "N52")
 KEYS: dict[str, Key] = {
     # --- coils ---------------------------------------------------------------------------------
     "coils.winding_temperature_C": Key(
-        float, 40.0, "a number in [-50, 250]", lambda v: _num(v) and -50 <= v <= 250,
-        "copper temperature at which the winding resistance is evaluated"),
+        float, None, "a number in [-50, 250]", lambda v: _num(v) and -50 <= v <= 250,
+        "copper temperature for the winding resistance (default: limits.coil_temperature_C, "
+        "the hottest allowed, which is self-consistent wherever the thermal limit binds)"),
     "coils.ambient_temperature_C": Key(
         float, 25.0, "a number in [-50, 100]", lambda v: _num(v) and -50 <= v <= 100,
         "air temperature around the coils"),
@@ -195,3 +196,9 @@ def validate_value(key: str, value: Any) -> Any:
 def defaults() -> dict[str, Any]:
     """The default of every key that has one (optional keys are absent)."""
     return {k: s.default for k, s in KEYS.items() if s.default is not None}
+
+
+def winding_temperature_C(design: Any) -> float:
+    """Copper temperature for the resistance: the key if set, else the coil temperature limit."""
+    value = design.get("coils.winding_temperature_C")
+    return float(design["limits.coil_temperature_C"] if value is None else value)

@@ -4,8 +4,6 @@ from __future__ import annotations
 
 import importlib
 import json
-import sys
-import types
 from pathlib import Path
 
 import pytest
@@ -21,34 +19,14 @@ _PKG = Path(spiralcap.__file__).parent
 
 
 @pytest.fixture
-def run_cli(monkeypatch: pytest.MonkeyPatch):
-    """``cli.main`` with only the subcommands whose modules exist yet, and stand-ins for the
-    sibling builders ``spiralcap/assemble/__init__.py`` imports that are not written yet (other
-    engineers write them in parallel; the stand-ins are dropped after the test)."""
-    present = {k: v for k, v in cli.COMMANDS.items()
-               if (_PKG / "commands" / f"{v[0]}.py").exists()}
-    monkeypatch.setattr(cli, "COMMANDS", present)
-    init = (_PKG / "assemble" / "__init__.py").read_text(encoding="utf-8")
-    stubbed = False
-    for line in init.splitlines():
-        if line.startswith("from spiralcap.assemble.") and " import " in line:
-            mod, names = line[len("from spiralcap.assemble."):].split(" import ")
-            if not (_PKG / "assemble" / f"{mod}.py").exists():
-                stub = types.ModuleType(f"spiralcap.assemble.{mod}")
-                for name in names.split(","):
-                    setattr(stub, name.strip(), None)
-                monkeypatch.setitem(sys.modules, stub.__name__, stub)
-                stubbed = True
-    if stubbed:
-        sys.modules.pop("spiralcap.assemble", None)
-        sys.modules.pop("spiralcap.assemble.coils", None)
-    yield cli.main
-    if stubbed:
-        sys.modules.pop("spiralcap.assemble", None)
+def run_cli():
+    """``spiralcap.cli.main``."""
+    return cli.main
 
 
 @pytest.fixture
-def build_coils(run_cli):
+def build_coils():
+    """``spiralcap.assemble.coils.build_coils``."""
     return importlib.import_module("spiralcap.assemble.coils").build_coils
 
 
@@ -129,7 +107,7 @@ def test_json_output(run_cli, capsys, tmp_path: Path) -> None:
 def test_text_output(run_cli, capsys) -> None:
     assert run_cli(["coils"]) == 0
     out = capsys.readouterr().out
-    for needle in ("mT_per_A", "±1 %", "worst heading", "x, y and z axes (tied)"):
+    for needle in ("mT_per_A", "±1 %", "worst heading", "x, y and z axes alike"):
         assert needle in out, needle
 
 

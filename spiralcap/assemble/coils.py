@@ -90,8 +90,8 @@ def build_coils(design: Mapping[str, Any]) -> Any:
         side = math.sqrt(turns * math.pi * (wire_mm * 1e-3) ** 2 / 4.0 / packing)
         if side >= radius:
             raise InputError(key + "wire_diameter_mm", wire_mm,
-                             f"a wire whose winding pack ({turns} turns at packing factor "
-                             f"{packing:g}: side {side:.4g} m) is smaller than "
+                             f"a wire thin enough that the winding pack side (now {side:.4g} m "
+                             f"for {turns} turns at packing factor {packing:g}) is below "
                              f"{key}radius_m = {radius:g} m")
         if side >= separation:
             raise InputError(key + "separation_m", separation,

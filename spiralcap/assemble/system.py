@@ -8,6 +8,7 @@ import numpy as np
 
 from spiralcap.design import Design
 from spiralcap.errors import InputError
+from spiralcap.schema import winding_temperature_C
 
 #: Below this helical angle the D' conversion of torque_model.geometry no longer holds for the
 #: paper's capsule (the bump wraps round the back; see its docstring).
@@ -69,6 +70,6 @@ def build_model(design: Design):
         coils=build_coils(d), capsule=build_capsule(d), tissues=tuple(build_tissues(d)),
         frequency_hz=d["operation.frequency_hz"], headings=_headings(d),
         points_m=workspace_points(d["workspace.radius_m"]), limits=limits, requirements=req,
-        bounds=bounds, winding_temperature_C=d["coils.winding_temperature_C"],
+        bounds=bounds, winding_temperature_C=winding_temperature_C(d),
         ambient_temperature_C=d["coils.ambient_temperature_C"],
         heat_transfer_coefficient_W_m2K=d["coils.heat_transfer_coefficient_W_m2K"])

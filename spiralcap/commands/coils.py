@@ -12,6 +12,7 @@ from spiralcap.commands._common import (
     format_table,
     print_json,
 )
+from spiralcap.schema import winding_temperature_C
 
 _TOLERANCES = (("1pct", 0.01), ("5pct", 0.05))
 
@@ -39,7 +40,7 @@ def _uniform(system: Any) -> dict[str, Any]:
 def _axes_words(axes: tuple[str, ...]) -> str:
     if len(axes) == 1:
         return f"{axes[0]} axis"
-    return ", ".join(axes[:-1]) + f" and {axes[-1]} axes (tied)"
+    return ", ".join(axes[:-1]) + f" and {axes[-1]} axes alike"
 
 
 def _text(source: str, sizing: Any, uniform: dict[str, Any]) -> str:
@@ -76,9 +77,9 @@ def _text(source: str, sizing: Any, uniform: dict[str, Any]) -> str:
         f"±5 %: radius {uniform['radius_5pct_m']:.4g} m",
         "rotating field, worst heading:",
         f"  at the current limit: {s.current_limited_rotating_field_T * 1e3:.4g} mT, "
-        f"set by the {_axes_words(s.current_limiting_axes)} (smallest field per amp x current)",
-        f"  within all limits: {s.max_rotating_field_T * 1e3:.4g} mT, set by {limited}"
-        f" (power limit alone: {s.power_limited_rotating_field_T * 1e3:.4g} mT)",
+        f"set by the {_axes_words(s.current_limiting_axes)}: the smallest field per amp x current",
+        f"  within all limits: {s.max_rotating_field_T * 1e3:.4g} mT, set by {limited}; "
+        f"the power limit alone allows {s.power_limited_rotating_field_T * 1e3:.4g} mT",
     ]
     hottest = max(s.axes, key=lambda a: a.coil_temperature_C)
     if hottest.coil_temperature_C > s.winding_temperature_C:
@@ -97,7 +98,7 @@ def run(args: argparse.Namespace) -> int:
     sizing = size_system(
         system, frequency_hz=design["operation.frequency_hz"],
         current_amplitude_A=design["limits.current_A"],
-        winding_temperature_C=design["coils.winding_temperature_C"],
+        winding_temperature_C=winding_temperature_C(design),
         ambient_temperature_C=design["coils.ambient_temperature_C"],
         heat_transfer_coefficient_W_m2K=design["coils.heat_transfer_coefficient_W_m2K"],
         voltage_limit_V=design["limits.voltage_V"], power_limit_W=design["limits.power_W"],

@@ -40,6 +40,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="worker processes for the power-budget re-optimisation sweep "
                              "(default 1)")
     parser.add_argument("--quiet", action="store_true", help="print nothing on success")
+    parser.epilog = ("exit status: 0 report written, design feasible; 3 report written, but no "
+                     "design meets every requirement inside the limits (as `spiralcap "
+                     "optimize`); 2 bad input, nothing written")
 
 
 def check_output_paths(output: str, pdf: str | None, design_path: str | None) -> None:

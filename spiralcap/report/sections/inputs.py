@@ -45,7 +45,8 @@ def build(ctx: Context) -> Section:
                      f"{spec.help}. Allowed: {spec.allowed}."])
     intro = Paragraph([
         f"Design source: {design.source}. Every key of the design schema is listed, in the "
-        f"units its name carries; {changed} differ from the built-in defaults (marked "
+        f"units its name carries; {changed} "
+        f"{'differs' if changed == 1 else 'differ'} from the built-in defaults (marked "
         "CHANGED). Optional keys left unset take their value from elsewhere: the tissue preset "
         "for tissue.*, the coil radius (Helmholtz spacing) for coils.*.separation_m, the magnet "
         "grade for capsule.magnet.remanence_T."])

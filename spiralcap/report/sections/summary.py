@@ -55,17 +55,18 @@ def build(ctx: Context) -> Section:
     lines: list[Paragraph] = []
     if feasible:
         lines.append(Paragraph([
-            Strong("Margin"), " ", ctx.num(f"{o}.margin_Nm", 1e3, "mN·m"),
+            Strong("Margin:"), " ", ctx.num(f"{o}.margin_Nm", 1e3, "mN·m"),
             " worst-case torque margin (safety factor ", ctx.num(f"{o}.safety_factor"),
             ") at the optimum: helical angle ", ctx.num(f"{o}.helical_angle_deg", unit="°"),
             ", rotation ", ctx.num(f"{o}.frequency_hz", unit="Hz"), ", rotating field ",
             ctx.num(f"{o}.field_amplitude_T", 1e3, "mT"), "."]))
         lines.append(Paragraph([
-            Strong("Speed"), " ", ctx.num(f"{o}.speed_m_s", 1e3, "mm/s"),
+            Strong("Speed:"), " ", ctx.num(f"{o}.speed_m_s", 1e3, "mm/s"),
             " forward; at this helical angle the capsule steps out of synchrony above ",
             ctx.num(f"{o}.step_out_frequency_hz", unit="Hz"), "."]))
         binding = ctx.value(f"{o}.binding_limits")
-        parts: list[Inline] = [Strong("Binding limit"), " "]
+        parts: list[Inline] = [
+            Strong("Binding limits:" if len(binding) > 1 else "Binding limit:"), " "]
         if not binding:
             parts.append("none: the optimum lies inside every limit.")
         for i in range(len(binding)):
@@ -80,10 +81,11 @@ def build(ctx: Context) -> Section:
             ")."], kind="ok")
     else:
         lines.append(Paragraph([
-            Strong("Margin"), " NO FEASIBLE DESIGN. ", str(ctx.value(f"{o}.message")), "."],
+            Strong("Margin:"), " NO FEASIBLE DESIGN: ",
+            _without_status(str(ctx.value(f"{o}.message"))).rstrip(".") + "."],
             kind="alert"))
         shortfalls = ctx.value(f"{o}.shortfalls")
-        parts = [Strong("Speed"), " "]
+        parts = [Strong("Speed:"), " "]
         speed = [i for i, s in enumerate(shortfalls) if s["name"] == "speed"]
         if speed:
             i = speed[0]
@@ -94,7 +96,7 @@ def build(ctx: Context) -> Section:
             parts += ["closest design reaches ", ctx.num(f"{o}.speed_m_s", 1e3, "mm/s"), "."]
         lines.append(Paragraph(parts))
         lines.append(Paragraph([
-            Strong("Binding limit"), " the hardware and exposure limits are kept hard; what is "
+            Strong("Binding limit:"), " the hardware and exposure limits are kept hard; what is "
             "out of reach, and by how much, is listed in ", Link("section Optimum", "optimum"),
             ". Relax a limit or a requirement and run the report again."]))
         verdict = Paragraph(["Infeasible: no design inside the limits meets every requirement. "
@@ -117,3 +119,9 @@ def _as_entered(ctx: Context) -> Paragraph:
     else:
         parts.append("it meets every requirement and limit.")
     return Paragraph(parts, kind="note")
+
+
+def _without_status(message: str) -> str:
+    """``infeasible: no design ...`` -> ``no design ...`` (the status is said already)."""
+    head, sep, rest = message.partition(": ")
+    return rest if sep and head in ("infeasible", "optimal") else message
