@@ -1,21 +1,17 @@
-"""Per-axis electrical and thermal sizing of a three-axis system at one operating point.
+"""Per-axis electrical and thermal sizing of a three-axis system at one current and frequency.
 
 For each pair at current amplitude I and frequency f: R at the winding temperature, series L,
-|Z|, voltage amplitude |Z| I, copper loss R I²/2, temperature rise P/G (convective surface), and
-the largest current amplitude each limit allows:
-
-    I_current = limits.current_A,  I_voltage = V_max / |Z|,  I_thermal = sqrt(2 G ΔT_max / R).
-
-Rotating field for the worst heading: at the centre axis k needs A_k = B0 sqrt(1 - n_k²)/g_k, so
-the heading ⟂ axis k asks the most of it and the worst-case amplitude is min_k g_k I_max,k (the
-axes within 1e-9 of the minimum are all reported as limiting). The
-total loss at heading n is (B0²/2) Σ c_k (1 - n_k²), c_k = R_k/g_k², largest
-(B0²/2)(Σ c - min c) over unit n, which bounds B0 by the power limit.
+|Z|, voltage amplitude |Z| I, copper loss R I²/2, temperature rise P/G (convective surface),
+and the rotating field the pairs make at that current for the worst heading (at the centre axis
+k needs A_k = B0 sqrt(1 - n_k²)/g_k, so the heading ⟂ axis k asks the most of it and the
+worst-case amplitude at current I is min_k g_k I; the axes within 1e-9 of the minimum are all
+reported). What the voltage, power, temperature and exposure limits then allow is not computed
+here: it is :func:`optimize.physics.field_capacity_T`, the one definition of the limits that
+``evaluate`` and ``optimize`` use (``spiralcap coils`` prints it).
 """
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 from coils.electrical import copper_loss_W, impedance_ohm, temperature_rise_K
@@ -47,14 +43,11 @@ class AxisSizing:
     temperature_rise_K: float
     coil_temperature_C: float
     field_amplitude_T: float
-    max_current_A: float
-    max_current_limited_by: str
-    max_rotating_field_T: float
 
 
 @dataclass(frozen=True)
 class SystemSizing:
-    """Sizing of the three pairs and the worst-heading rotating-field limits."""
+    """Sizing of the three pairs and the worst-heading rotating field at the given current."""
 
     frequency_hz: float
     current_amplitude_A: float
@@ -65,18 +58,12 @@ class SystemSizing:
     total_power_W: float
     current_limited_rotating_field_T: float
     current_limiting_axes: tuple[str, ...]
-    power_limited_rotating_field_T: float
-    max_rotating_field_T: float
-    rotating_field_limiting_axis: str
-    rotating_field_limited_by: str
 
 
 def size_system(system: ThreeAxisHelmholtz, *, frequency_hz: float, current_amplitude_A: float,
                 winding_temperature_C: float, ambient_temperature_C: float,
-                heat_transfer_coefficient_W_m2K: float, voltage_limit_V: float = math.inf,
-                power_limit_W: float = math.inf,
-                coil_temperature_limit_C: float = math.inf) -> SystemSizing:
-    """Evaluate every pair at one current amplitude and frequency, and the field limits.
+                heat_transfer_coefficient_W_m2K: float) -> SystemSizing:
+    """Evaluate every pair at one current amplitude and frequency.
 
     Parameters
     ----------
@@ -92,12 +79,6 @@ def size_system(system: ThreeAxisHelmholtz, *, frequency_hz: float, current_ampl
         Air temperature, °C.
     heat_transfer_coefficient_W_m2K : float
         Convective coefficient from the winding surface, W/(m²·K).
-    voltage_limit_V : float
-        Largest drive-voltage amplitude per pair, V.
-    power_limit_W : float
-        Largest total copper loss of the three pairs, W.
-    coil_temperature_limit_C : float
-        Hottest steady coil temperature, °C.
 
     Returns
     -------
@@ -111,10 +92,6 @@ def size_system(system: ThreeAxisHelmholtz, *, frequency_hz: float, current_ampl
         cond = pair.thermal_conductance_W_per_K(heat_transfer_coefficient_W_m2K)
         power = float(copper_loss_W(r, current_amplitude_A))
         rise = float(temperature_rise_K(power, cond))
-        headroom_K = max(coil_temperature_limit_C - ambient_temperature_C, 0.0)
-        limits = {"current": current_amplitude_A, "voltage": voltage_limit_V / z,
-                  "coil_temperature": math.sqrt(2.0 * cond * headroom_K / r)}
-        by = min(limits, key=limits.__getitem__)
         axes.append(AxisSizing(
             axis=pair.axis, radius_m=pair.radius_m, separation_m=pair.separation_m,
             turns=pair.turns, wire_diameter_m=pair.wire_diameter_m,
@@ -125,24 +102,13 @@ def size_system(system: ThreeAxisHelmholtz, *, frequency_hz: float, current_ampl
             impedance_ohm=z, voltage_amplitude_V=z * current_amplitude_A, power_W=power,
             thermal_conductance_W_per_K=cond, temperature_rise_K=rise,
             coil_temperature_C=ambient_temperature_C + rise,
-            field_amplitude_T=g * current_amplitude_A, max_current_A=limits[by],
-            max_current_limited_by=by, max_rotating_field_T=g * limits[by]))
+            field_amplitude_T=g * current_amplitude_A))
     weakest = min(a.field_amplitude_T for a in axes)
     tied = tuple(a.axis for a in axes if a.field_amplitude_T <= weakest * (1.0 + 1e-9))
-    by_all = min(axes, key=lambda a: a.max_rotating_field_T)
-    c = [a.resistance_ohm / a.field_per_amp_T_per_A**2 for a in axes]
-    power_field = math.sqrt(2.0 * power_limit_W / (sum(c) - min(c)))
-    if power_field < by_all.max_rotating_field_T:
-        best, axis, by = power_field, "all", "power"
-    else:
-        best, axis, by = by_all.max_rotating_field_T, by_all.axis, by_all.max_current_limited_by
     return SystemSizing(
         frequency_hz=frequency_hz, current_amplitude_A=current_amplitude_A,
         winding_temperature_C=winding_temperature_C,
         ambient_temperature_C=ambient_temperature_C,
         heat_transfer_coefficient_W_m2K=heat_transfer_coefficient_W_m2K, axes=tuple(axes),
         total_power_W=sum(a.power_W for a in axes),
-        current_limited_rotating_field_T=weakest, current_limiting_axes=tied,
-        power_limited_rotating_field_T=power_field,
-        max_rotating_field_T=best, rotating_field_limiting_axis=axis,
-        rotating_field_limited_by=by)
+        current_limited_rotating_field_T=weakest, current_limiting_axes=tied)

@@ -129,11 +129,12 @@ KEYS.update({
     "tissue.friction_coefficient": _pos("capsule-mucosa Coulomb friction (overrides preset)",
                                         None),
     "tissue.worst_case_presets": Key(
-        list, [], "a list of preset names from " + ", ".join(TISSUE_PRESETS),
+        list, ["zhou2013-sample3"], "a list of preset names from " + ", ".join(TISSUE_PRESETS),
         lambda v: _is_str_list(v) and all(s in TISSUE_PRESETS for s in v),
-        "further tissue sets the margin must also hold for (worst case over all)"),
+        "further tissue sets the margin must also hold for (worst case over all; by default "
+        "the paper's other intestine sample)"),
     # --- operation and workspace ---------------------------------------------------------------
-    "operation.frequency_hz": _pos("rotation frequency of the field at the operating point", 1.0),
+    "operation.frequency_hz": _pos("rotation frequency of the field at the operating point", 2.0),
     "workspace.radius_m": _nonneg(
         "radius of the region around the coil centre the capsule must work in (0: centre only)",
         0.05),

@@ -114,8 +114,8 @@ def test_cli_json_default(run_cli, capsys) -> None:
     lead = math.pi * 12e-3 * math.tan(math.radians(10.0))
     assert out["pitch_m"] == pytest.approx(lead, rel=1e-12), \
         "pi D_h tan(alpha) with D_h = 12 mm at 10 deg (DESIGN.md 4.2), rel 1e-12"
-    assert out["speed_m_s"] == pytest.approx(0.5 * 1.0 * lead, rel=1e-12), \
-        "slip 0.5 x 1 Hz x lead (schema defaults), rel 1e-12"
+    assert out["speed_m_s"] == pytest.approx(0.5 * 2.0 * lead, rel=1e-12), \
+        "slip 0.5 x 2 Hz x lead (schema defaults), rel 1e-12"
     assert out["full_turn_ok"] is True and out["turns"] == pytest.approx(15e-3 / lead)
     mu = out["friction_coefficient"]
     assert out["thrust_torque_Nm"] == pytest.approx(

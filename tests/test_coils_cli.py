@@ -8,7 +8,6 @@ from pathlib import Path
 
 import pytest
 
-import coils
 import spiralcap
 from spiralcap import cli
 from spiralcap.constants import MU0_T_m_per_A
@@ -111,17 +110,22 @@ def test_text_output(run_cli, capsys) -> None:
         assert needle in out, needle
 
 
-def test_size_system_limits_by_hand() -> None:
-    system = coils.ThreeAxisHelmholtz(coils.HelmholtzPair(0.4, 400, "x"),
-                                      coils.HelmholtzPair(0.35, 350, "y"),
-                                      coils.HelmholtzPair(0.3, 200, "z"))
-    s = coils.size_system(system, frequency_hz=1.0, current_amplitude_A=10.0,
-                          winding_temperature_C=40.0, ambient_temperature_C=25.0,
-                          heat_transfer_coefficient_W_m2K=10.0, voltage_limit_V=20.0)
-    z = s.axes[2]
-    assert z.max_current_A == pytest.approx(20.0 / z.impedance_ohm, rel=1e-14), "V_max/|Z|"
-    assert z.max_current_limited_by == "voltage"
-    assert s.current_limiting_axes == ("z",)
-    assert s.max_rotating_field_T == pytest.approx(
-        min(a.field_per_amp_T_per_A * a.max_current_A for a in s.axes), rel=1e-14), \
-        "worst heading: min_k g_k I_max,k (DESIGN.md 4.1 allocation)"
+def test_limits_by_hand_and_shared_with_evaluate(run_cli, capsys) -> None:
+    """A low voltage limit makes the voltage bind: I_max = V_max/|Z| by hand; and the field
+    within all limits is the same number `spiralcap evaluate` drives the coils at."""
+    sets = ["--set", "limits.voltage_V=20", "--set", "coils.z.turns=200"]
+    assert run_cli(["coils", "--json", *sets]) == 0
+    out = json.loads(capsys.readouterr().out)
+    z = out["axes"]["z"]
+    assert z["max_current_A"] == pytest.approx(20.0 / z["impedance_ohm"], rel=1e-12), \
+        "voltage-limited current amplitude V_max/|Z| (Ohm's law), 1e-12"
+    assert z["max_current_limited_by"] == "voltage"
+    assert out["current_limiting_axes"] == ["z"], "fewest turns per metre: z is weakest"
+    w = out["rotating_field_within_limits"]
+    assert w["max_rotating_field_T"] == pytest.approx(
+        min(out["axes"][a]["max_rotating_field_T"] for a in "xyz"), rel=1e-12), \
+        "worst heading: min_k g_k I_max,k (DESIGN.md 4.1 allocation), power not binding here"
+    assert run_cli(["evaluate", "--json", *sets]) == 0
+    ev = json.loads(capsys.readouterr().out)
+    assert ev["field_amplitude_T"] == pytest.approx(w["max_rotating_field_T"], rel=1e-12), \
+        "coils and evaluate share one definition of the limits (optimize.physics), 1e-12"

@@ -59,8 +59,9 @@ def test_tissue_parameters_validate() -> None:
 def test_build_tissues_default_overrides_and_worst_cases() -> None:
     from spiralcap.assemble.tissue import build_tissues
 
-    (only,) = build_tissues(load_design())
-    assert only == tm.preset("zhou2013-sample2"), "default design: the sample-2 preset"
+    primary, *others = build_tissues(load_design())
+    assert primary == tm.preset("zhou2013-sample2"), "default design: the sample-2 preset"
+    assert others == [tm.preset("zhou2013-sample3")], "default worst case: also sample 3"
     design = load_design(overrides=[
         "tissue.preset=zhou2013-sample3", "tissue.E1_kPa=12.5", "tissue.eta2_kPa_s=3",
         "tissue.lumen_diameter_mm=10.5", "tissue.wall_thickness_mm=1.2",

@@ -114,38 +114,10 @@ def versions() -> dict[str, str]:
 
 
 def coil_sizing_json(design: Design) -> tuple[dict[str, Any], str]:
-    """The dict ``spiralcap coils --json`` prints, and a note on how it was obtained.
+    """The dict ``spiralcap coils --json`` prints for ``design``, and where it came from."""
+    from spiralcap.commands.coils import sizing_payload
 
-    Prefers a payload function of :mod:`spiralcap.commands.coils` (so the report and the CLI
-    share one code path); without one, repeats that command's ``run`` step by step through the
-    ``coils`` package's public :func:`coils.size_system` and the command's uniform-region
-    helper, with the same design keys.
-    """
-    from spiralcap.commands import coils as coils_cmd
-
-    for name in ("sizing_payload", "coils_payload", "payload"):
-        fn = getattr(coils_cmd, name, None)
-        if callable(fn):
-            return dict(fn(design)), f"spiralcap.commands.coils.{name}(design)"
-    from dataclasses import asdict
-
-    from coils import size_system
-    from spiralcap.assemble.coils import build_coils
-
-    system = build_coils(design)
-    sizing = size_system(
-        system, frequency_hz=design["operation.frequency_hz"],
-        current_amplitude_A=design["limits.current_A"],
-        winding_temperature_C=design["coils.winding_temperature_C"],
-        ambient_temperature_C=design["coils.ambient_temperature_C"],
-        heat_transfer_coefficient_W_m2K=design["coils.heat_transfer_coefficient_W_m2K"],
-        voltage_limit_V=design["limits.voltage_V"], power_limit_W=design["limits.power_W"],
-        coil_temperature_limit_C=design["limits.coil_temperature_C"])
-    payload = asdict(sizing)
-    payload["axes"] = {a["axis"]: a for a in payload["axes"]}
-    return ({"design": design.source, **payload,
-             "uniform_region": coils_cmd._uniform(system)},
-            "the steps of spiralcap.commands.coils.run (no payload function exposed)")
+    return sizing_payload(design), "spiralcap.commands.coils.sizing_payload(design)"
 
 
 def _curve(model: Any, alpha: Any, f: Any, x: np.ndarray) -> Curve:

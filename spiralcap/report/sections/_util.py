@@ -55,3 +55,17 @@ class Context:
         """A value in SI ``unit`` at ``path``, shown in its engineering unit (T -> mT)."""
         label, factor = SHOWN_UNITS.get(unit, (unit, 1.0))
         return self.num(path, factor, label)
+
+
+def step_out_parts(ctx: Context, path: str) -> list[Any]:
+    """A step-out frequency as inline content, worded for the two edge cases.
+
+    ``optimize.step_out_frequency_hz`` searches up to 200 Hz: infinity (JSON ``"inf"``) means
+    the margin stays positive that far; 0 means it is negative at every frequency.
+    """
+    value = ctx.value(path)
+    if value == "inf":
+        return ["no frequency up to 200 Hz (the margin stays positive)"]
+    if value == 0:
+        return ["every frequency (the margin is negative even at the lowest)"]
+    return [ctx.num(path, unit="Hz")]

@@ -70,9 +70,9 @@ def build(ctx: Context) -> Section:
         [Strong("Inductance and resistance"), " — mutual inductance of coaxial circles by "
          "Maxwell's elliptic-integral formula [5] averaged over both winding packs; self "
          "inductance by Stefan's formula for a square section [6]; series pair 2L + 2M. DC "
-         "copper resistance at coils.winding_temperature_C (IEC 60028 resistivity and "
-         "temperature coefficient [9]); at these frequencies the skin depth exceeds the wire "
-         "radius. Voltage amplitude |R + j2πfL|·I."],
+         "copper resistance at coils.winding_temperature_C, by default the coil temperature "
+         "limit (IEC 60028 resistivity and temperature coefficient [9]); at these frequencies "
+         "the skin depth exceeds the wire radius. Voltage amplitude |R + j2πfL|·I."],
         [Strong("Heating"), " — steady state, each winding pack isothermal, convection from its "
          "outer surface with coils.heat_transfer_coefficient_W_m2K: ΔT = P / (h·A). No "
          "conduction to the frame, no radiation, no transient (a conservative simplification "

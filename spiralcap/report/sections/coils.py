@@ -104,13 +104,14 @@ def build(ctx: Context) -> Section:
         ctx.num(f"{c}.ambient_temperature_C", unit="°C"), ". All three pairs at that current "
         "dissipate ", ctx.num(f"{c}.total_power_W", unit="W"), ". Inside every limit the "
         "largest rotating field (worst heading) is ",
-        ctx.num(f"{c}.max_rotating_field_T", 1e3, "mT"), ", set by the ",
-        str(ctx.value(f"{c}.rotating_field_limiting_axis")), " pair's ",
-        str(ctx.value(f"{c}.rotating_field_limited_by")).replace("_", " "),
-        " limit (the current limit alone would allow ",
-        ctx.num(f"{c}.current_limited_rotating_field_T", 1e3, "mT"),
-        ", the power limit alone ", ctx.num(f"{c}.power_limited_rotating_field_T", 1e3, "mT"),
-        ")."])
+        ctx.num(f"{c}.rotating_field_within_limits.max_rotating_field_T", 1e3, "mT"),
+        ", set by ", str(ctx.value(f"{c}.rotating_field_within_limits.limited_by")).replace(
+            "_", " "),
+        f" ({ctx.value(f'{c}.rotating_field_within_limits.limit_key')}; the current limit alone "
+        "would allow ", ctx.num(f"{c}.current_limited_rotating_field_T", 1e3, "mT"),
+        ", the power limit alone ",
+        ctx.num(f"{c}.rotating_field_within_limits.per_limit_max_field_T.power", 1e3, "mT"),
+        "). These limits are the ones the evaluation and the optimiser apply."])
     blocks: list[Any] = [intro]
     limit_C = design["limits.coil_temperature_C"]
     hot = [a for a in axes if ctx.value(f"{c}.axes.{a}.coil_temperature_C") > limit_C]

@@ -5,7 +5,7 @@ from __future__ import annotations
 from typing import Any
 
 from spiralcap.report.document import Cell, FigureBlock, Paragraph, Section, Table
-from spiralcap.report.sections._util import SHOWN_UNITS, Context, readable
+from spiralcap.report.sections._util import SHOWN_UNITS, Context, readable, step_out_parts
 
 #: Rows of the operating-point table: (Evaluation JSON field, label, shown unit, factor).
 EVALUATION_ROWS: tuple[tuple[str, str, str, float], ...] = (
@@ -109,8 +109,8 @@ def build(ctx: Context) -> Section:
         "frequency (docs/optimisation.md). It falls with frequency: the tissue torque rises and "
         "the inductive drive voltage and the exposure limit cut the field. At the design's "
         "helical angle the margin reaches zero, and the capsule steps out of synchrony, at ",
-        ctx.num(f"{e}.step_out_frequency_hz", unit="Hz"),
-        "; at the optimum's helical angle at ", ctx.num(f"{o}.step_out_frequency_hz", unit="Hz"),
+        *step_out_parts(ctx, f"{e}.step_out_frequency_hz"),
+        "; at the optimum's helical angle at ", *step_out_parts(ctx, f"{o}.step_out_frequency_hz"),
         "."])
     blocks: list[Any] = [intro]
     if step == 0:

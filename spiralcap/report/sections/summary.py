@@ -6,7 +6,7 @@ from typing import Any
 
 from spiralcap.report.document import Inline, Link, Paragraph, Section, Strong
 from spiralcap.report.numbers import Num
-from spiralcap.report.sections._util import Context, readable
+from spiralcap.report.sections._util import Context, readable, step_out_parts
 
 
 def gain_scale(objective: str, unit: str) -> tuple[float, str]:
@@ -28,15 +28,12 @@ def binding_gain(ctx: Context, limit_index: int) -> tuple[str, Num]:
 
     Mirrors ``spiralcap optimize``: "raising it by 1 W gains 0.01234 mN·m" (``lowering`` for a
     requirement or a lower bound), from the JSON's ``gain_per_unit_relaxed`` and
-    ``relaxing_means`` (older dicts: the signed ``gain_per_unit``).
+    ``relaxing_means``.
     """
     path = f"optimize.binding_limits.{limit_index}"
     b = ctx.value(path)
     scale, label = gain_scale(ctx.value("optimize.objective"), b["unit"])
-    field = next(f for f in ("gain_per_unit_relaxed", "gain_per_unit", "sensitivity_per_unit")
-                 if f in b)
-    verb = b.get("relaxing_means", "raising")
-    return verb, ctx.num(f"{path}.{field}", scale, label)
+    return b["relaxing_means"], ctx.num(f"{path}.gain_per_unit_relaxed", scale, label)
 
 
 def binding_parts(ctx: Context, limit_index: int) -> list[Inline]:
@@ -63,7 +60,7 @@ def build(ctx: Context) -> Section:
         lines.append(Paragraph([
             Strong("Speed:"), " ", ctx.num(f"{o}.speed_m_s", 1e3, "mm/s"),
             " forward; at this helical angle the capsule steps out of synchrony above ",
-            ctx.num(f"{o}.step_out_frequency_hz", unit="Hz"), "."]))
+            *step_out_parts(ctx, f"{o}.step_out_frequency_hz"), "."]))
         binding = ctx.value(f"{o}.binding_limits")
         parts: list[Inline] = [
             Strong("Binding limits:" if len(binding) > 1 else "Binding limit:"), " "]
@@ -80,21 +77,30 @@ def build(ctx: Context) -> Section:
             "meet every requirement inside every limit (", Link("section Optimum", "optimum"),
             ")."], kind="ok")
     else:
-        lines.append(Paragraph([
-            Strong("Margin:"), " NO FEASIBLE DESIGN: ",
-            _without_status(str(ctx.value(f"{o}.message"))).rstrip(".") + "."],
-            kind="alert"))
         shortfalls = ctx.value(f"{o}.shortfalls")
-        parts = [Strong("Speed:"), " "]
+        head: list[Inline] = [Strong("Margin:"), " NO FEASIBLE DESIGN. Out of reach inside the "
+                              "limits: "]
+        for i, sf in enumerate(shortfalls):
+            if i:
+                head.append("; ")
+            head += [f"{readable(sf['name'])} ({sf['key']}) needs ",
+                     ctx.shown(f"{o}.shortfalls.{i}.needed", sf["unit"]), ", the best reachable "
+                     "is ", ctx.shown(f"{o}.shortfalls.{i}.best", sf["unit"])]
+        if not shortfalls:
+            head.append(_without_status(str(ctx.value(f"{o}.message"))).rstrip("."))
+        head.append(".")
+        lines.append(Paragraph(head, kind="alert"))
+        speed_parts: list[Inline] = [Strong("Speed:"), " "]
         speed = [i for i, s in enumerate(shortfalls) if s["name"] == "speed"]
         if speed:
             i = speed[0]
-            parts += ["out of reach: needs ", ctx.shown(f"{o}.shortfalls.{i}.needed", "m/s"),
+            speed_parts += ["out of reach: needs ", ctx.shown(f"{o}.shortfalls.{i}.needed", "m/s"),
                       ", the best reachable inside the limits is ",
                       ctx.shown(f"{o}.shortfalls.{i}.best", "m/s"), "."]
         else:
-            parts += ["closest design reaches ", ctx.num(f"{o}.speed_m_s", 1e3, "mm/s"), "."]
-        lines.append(Paragraph(parts))
+            speed_parts += ["closest design reaches ", ctx.num(f"{o}.speed_m_s", 1e3, "mm/s"),
+                            "."]
+        lines.append(Paragraph(speed_parts))
         lines.append(Paragraph([
             Strong("Binding limit:"), " the hardware and exposure limits are kept hard; what is "
             "out of reach, and by how much, is listed in ", Link("section Optimum", "optimum"),
