@@ -11,21 +11,11 @@ under a second per fit. Prints figures, asserts nothing.
 from __future__ import annotations
 
 import math
-import statistics
-import time
 
 import numpy as np
+from _timing import median_time
 
 import torque_model as tm
-
-
-def _median_time(fn, repeat: int) -> tuple[float, object]:
-    times, out = [], None
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        out = fn()
-        times.append(time.perf_counter() - t0)
-    return statistics.median(times), out
 
 
 def _case(name: str, f: np.ndarray, truth: tm.TissueParameters, noise: float,
@@ -37,7 +27,7 @@ def _case(name: str, f: np.ndarray, truth: tm.TissueParameters, noise: float,
     ref = None
     for jac in ("analytic", "2-point"):
         for profile in (True, False):
-            t, fit = _median_time(lambda jac=jac, profile=profile: tm.identify(
+            t, fit = median_time(lambda jac=jac, profile=profile: tm.identify(
                 f, y, angle, base, jacobian=jac, profile_bounds=profile), repeat)
             ref = ref or t
             print(f"  jacobian {jac:8s} profile {'on ' if profile else 'off'}: "
@@ -50,7 +40,7 @@ def main() -> None:
     _case("capsule No. 2 curve, sample-2 tissue", np.linspace(0.5, 3.0, 11), base, 0.02, base)
     rich = base.replace(E1_Pa=2e4, E2_Pa=5e4, E3_Pa=1e4, eta1_Pa_s=1e4, eta2_Pa_s=2.5e3)
     _case("wide-band curve, identifiable tissue", np.geomspace(0.05, 20.0, 30), rich, 0.002, base)
-    t_model, _ = _median_time(lambda: tm.resistive_torque_Nm(
+    t_model, _ = median_time(lambda: tm.resistive_torque_Nm(
         np.radians(np.linspace(2, 45, 1000))[:, None], np.linspace(0.5, 5, 100), base), 5)
     print(f"model on a 1000 x 100 (angle x frequency) numpy grid: {t_model * 1e3:.1f} ms")
 

@@ -7,10 +7,8 @@ time of a 10^5-point vectorised evaluation sweep (target about a second). Assert
 
 from __future__ import annotations
 
-import statistics
-import time
-
 import numpy as np
+from _timing import median_time
 
 from optimize import margin_grid, optimize_design, prepare
 from optimize import solve as solve_module
@@ -19,26 +17,17 @@ from spiralcap.assemble import build_model
 from spiralcap.design import load_design
 
 
-def _median_time(fn, repeat: int) -> tuple[float, object]:
-    times, out = [], None
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        out = fn()
-        times.append(time.perf_counter() - t0)
-    return statistics.median(times), out
-
-
 def main() -> None:
     design = load_design()
-    t_build, model = _median_time(lambda: prepare(build_model(design)), 3)
-    t_ipopt, res = _median_time(lambda: optimize_design(model), 7)
+    t_build, model = median_time(lambda: prepare(build_model(design)), 3)
+    t_ipopt, res = median_time(lambda: optimize_design(model), 7)
 
     def cold():
         solve_module._SOLVERS.clear()  # rebuild the CasADi graph and the IPOPT instance
         return optimize_design(model)
 
-    t_cold, _ = _median_time(cold, 5)
-    t_slsqp, ref = _median_time(lambda: solve_slsqp(model), 3)
+    t_cold, _ = median_time(cold, 5)
+    t_slsqp, ref = median_time(lambda: solve_slsqp(model), 3)
     alpha, f, _, margin = ref
     print(f"model build (coils, capsule, tissue, constants): {t_build * 1e3:8.1f} ms")
     print(f"IPOPT  (CasADi exact derivatives): {t_ipopt * 1e3:8.1f} ms  "
@@ -74,8 +63,8 @@ def main() -> None:
                          method="SLSQP", bounds=bounds, constraints=cons,
                          options={"ftol": 1e-12, "maxiter": 500}).fun for x0 in starts]
 
-    t_i, f_i = _median_time(ipopt_only, 9)
-    t_s, f_s = _median_time(slsqp_only, 5)
+    t_i, f_i = median_time(ipopt_only, 9)
+    t_s, f_s = median_time(slsqp_only, 5)
     print(f"solves only, {len(starts)} starts each: IPOPT {t_i * 1e3:.2f} ms, SLSQP "
           f"{t_s * 1e3:.2f} ms, ratio {t_s / t_i:.1f}x; best objective "
           f"{min(f_i):.12f} vs {min(f_s):.12f}")
@@ -84,7 +73,7 @@ def main() -> None:
     b = model.bounds
     a = rng.uniform(b.helical_angle_min_rad, b.helical_angle_max_rad, n)
     fr = rng.uniform(b.frequency_min_hz, b.frequency_max_hz, n)
-    t_grid, _ = _median_time(lambda: margin_grid(model, a, fr), 5)
+    t_grid, _ = median_time(lambda: margin_grid(model, a, fr), 5)
     print(f"vectorised evaluation of {n:,} (angle, frequency) points: {t_grid * 1e3:.1f} ms "
           f"(target about 1 s)")
 
