@@ -18,8 +18,9 @@ DEFAULT_FREQUENCIES_HZ = (0.5, 1.0, 1.5, 2.0, 2.5, 3.0)
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_design_arguments(parser)
-    parser.add_argument("--frequency", dest="frequencies", type=float, action="append",
-                        metavar="F", help="rotation frequency in Hz (repeatable; default "
+    parser.add_argument("--frequency", dest="frequencies", type=float, action="extend",
+                        nargs="+", metavar="F",
+                        help="rotation frequencies in Hz (several, or repeat the flag; default "
                         + ", ".join(f"{f:g}" for f in DEFAULT_FREQUENCIES_HZ) + ")")
     parser.add_argument("--plot", metavar="FILE.png",
                         help="also draw torque against frequency (png, pdf or svg)")
