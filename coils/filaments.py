@@ -54,17 +54,6 @@ def gauss_legendre_pack(side_m: float, counts: tuple[int, int]) -> tuple[np.ndar
     return dr.ravel(), dz.ravel(), w.ravel()
 
 
-def _axis_distance(rho_sq: Any) -> Any:
-    """ρ = sqrt(ρ²); on CasADi guarded so its derivative is finite (and exact for B) on the axis.
-
-    The guard only matters for derivatives (numpy's sqrt(0) is 0), so numpy skips its cost.
-    """
-    if not bk.is_casadi(rho_sq):
-        return bk.sqrt(rho_sq)
-    positive = rho_sq > 0.0
-    return bk.where(positive, bk.sqrt(bk.where(positive, rho_sq, 1.0)), 0.0)
-
-
 @dataclass(frozen=True)
 class FilamentSet:
     """Filaments l = 0..L-1 with axis, radius, axial centre, turns and drive column.
@@ -133,7 +122,7 @@ class FilamentSet:
         mats = self._matrices(bk.is_casadi(points))
         zeta = points @ mats["along"]
         rho_sq = (points * points) @ mats["across"]
-        rho = _axis_distance(rho_sq)
+        rho = bk.sqrt_guarded(rho_sq)  # finite derivatives on the axis
         s, b_z = loop_terms(mats["radii"], zeta - mats["centres"], rho, rho_sq)
         return s @ mats["weights"], (b_z - s * zeta) @ mats["weights"]
 

@@ -97,6 +97,19 @@ def fmin(a: Any, b: Any) -> Any:
     return _ca.fmin(a, b) if is_casadi(a, b) else _np.minimum(a, b)
 
 
+def sqrt_guarded(x: Any) -> Any:
+    """``sqrt(x)`` for ``x >= 0`` whose derivative stays finite at ``x = 0`` on the CasADi path.
+
+    CasADi differentiates both branches of ``if_else``, so the argument of the square root is
+    replaced by 1 where ``x <= 0`` and the result by 0 there. numpy's ``sqrt(0)`` is already 0,
+    so the numpy path is a plain square root.
+    """
+    if is_casadi(x):
+        positive = x > 0.0
+        return _ca.if_else(positive, _ca.sqrt(_ca.if_else(positive, x, 1.0)), 0.0)
+    return _np.sqrt(x)
+
+
 def softplus(x: Any, sharpness: float = 1.0) -> Any:
     """Smooth ``max(x, 0)``: ``log(1 + exp(s x)) / s``, overflow-safe on both paths."""
     s = sharpness

@@ -1,5 +1,7 @@
 """The numpy/CasADi backend: both paths agree, and the AGM elliptic integrals are exact."""
 
+import math
+
 import casadi as ca
 import numpy as np
 import pytest
@@ -52,3 +54,13 @@ def test_where_and_minmax_on_both_paths():
 def test_is_casadi_does_not_trip_on_numpy():
     assert not bk.is_casadi(1.0, np.ones(3)), "numpy values take the numpy path"
     assert bk.is_casadi(1.0, ca.SX.sym("x")), "any CasADi argument takes the CasADi path"
+
+
+def test_sqrt_guarded_has_finite_derivative_at_zero():
+    x = ca.SX.sym("x")
+    f = ca.Function("f", [x], [bk.sqrt_guarded(x), ca.jacobian(bk.sqrt_guarded(x), x)])
+    val0, d0 = (float(v) for v in f(0.0))
+    assert val0 == 0.0 and math.isfinite(d0), "guarded sqrt: value 0 and finite slope at 0"
+    val, d = (float(v) for v in f(4.0))
+    assert (val, d) == (2.0, 0.25), "away from 0 it is the plain square root and its slope"
+    assert bk.sqrt_guarded(np.array([0.0, 4.0])).tolist() == [0.0, 2.0], "numpy path"
