@@ -98,7 +98,9 @@ def field_capacity_T(frequency_hz: Any, c: Constants, limits: Limits,
     import numpy as np
 
     unit = limit_terms(frequency_hz, 1.0, c, limits, ambient_temperature_C)
-    caps = [np.asarray(t.allowed / t.value) ** (1.0 / t.power) for t in unit]
+    with np.errstate(divide="ignore"):  # an axis no heading uses carries no current: no cap
+        caps = [np.divide(t.allowed, np.asarray(t.value, dtype=float)) ** (1.0 / t.power)
+                for t in unit]
     return np.minimum.reduce(np.broadcast_arrays(*caps)), caps, unit
 
 

@@ -173,8 +173,7 @@ def _infeasible(model, scales, starts, iterations, t0, status_text, ev=None):
         if c.sense == ">=")
     if not shortfalls:  # the relaxed optimum meets everything: IPOPT failed for another reason
         shortfalls = (Shortfall("solver", "optimize.starts", "", 0.0, 0.0),)
-    names = ", ".join(f"{s.key} (needs {s.needed:.4g} {s.unit}, best {s.best:.4g})"
-                      for s in shortfalls)
+    names = ", ".join(s.key for s in shortfalls)
     return _result(model, "infeasible", ev, (), shortfalls, status_text, iterations, len(starts),
                    t0, f"infeasible: no design inside the limits meets {names}")
 

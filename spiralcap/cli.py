@@ -52,6 +52,9 @@ def main(argv: list[str] | None = None) -> int:
     except SpiralcapError as exc:
         print(f"spiralcap {args.command}: error: {exc}", file=sys.stderr)
         return exc.exit_status
+    except BrokenPipeError:  # output piped into `head` and closed early: not an error
+        sys.stderr.close()
+        return 0
     except KeyboardInterrupt:
         print(f"spiralcap {args.command}: interrupted", file=sys.stderr)
         return 130

@@ -164,3 +164,18 @@ def test_ratio_objective_maximises_safety_factor(model):
     best = np.max(np.where(g["feasible"], g["safety_factor"], -np.inf))
     assert ratio.safety_factor >= best * (1 - 1e-9), \
         "ratio objective beats the 121x121 grid's best safety factor"
+
+
+def test_single_heading_leaves_the_unused_axis_idle(capsys):
+    """A capsule steered only about z needs no z current: the z pair carries none and its
+    limits cannot bind (regression: a zero current once divided by zero)."""
+    assert main(["optimize", "--json", "--set", "workspace.headings=[[0, 0, 1]]"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["status"] == "optimal"
+    assert out["current_amplitudes_A"]["z"] == 0.0, "heading along z: no z current"
+
+
+def test_impossible_margin_is_named(capsys):
+    assert main(["optimize", "--set", "limits.power_W=1"]) == 3
+    out = capsys.readouterr().out
+    assert "falls short of the required torque" in out, "a 1 W budget cannot turn the capsule"

@@ -8,8 +8,8 @@ import math
 from spiralcap.commands._common import add_design_arguments, design_from_args, print_json
 
 #: how to show a sensitivity per SI unit in engineering units: unit -> (label, factor)
-_ENGINEERING = {"A": ("A", 1.0), "V": ("V", 1.0), "W": ("W", 1.0), "K": ("K", 1.0),
-                "T": ("mT", 1e-3), "m/s": ("mm/s", 1e-3), "turns": ("turn", 1.0),
+_ENGINEERING = {"N·m": ("mN·m", 1e-3), "A": ("A", 1.0), "V": ("V", 1.0), "W": ("W", 1.0),
+                "K": ("K", 1.0), "T": ("mT", 1e-3), "m/s": ("mm/s", 1e-3), "turns": ("turn", 1.0),
                 "rad": ("deg", math.pi / 180), "Hz": ("Hz", 1.0)}
 EXIT_INFEASIBLE = 3
 
@@ -46,8 +46,14 @@ def format_result(res) -> str:
     else:
         lines.append(res.message)
         for s in res.shortfalls:
-            lines.append(f"  {s.key}: needs {s.needed:.4g} {s.unit}, best reachable "
-                         f"{s.best:.4g} {s.unit} (short by {s.short_by:.4g})")
+            label, factor = _ENGINEERING.get(s.unit, (s.unit, 1.0))
+            if s.name == "margin":
+                lines.append(f"  the magnet's torque falls short of the required torque by "
+                             f"{s.short_by / factor:.4g} {label} at the best design inside the "
+                             "limits (more field, a stronger magnet or a lighter load would help)")
+            else:
+                lines.append(f"  {s.key}: needs {s.needed / factor:.4g} {label}, best reachable "
+                             f"{s.best / factor:.4g} {label} (short by {s.short_by / factor:.4g})")
     return "\n".join(lines)
 
 
