@@ -159,11 +159,19 @@ def write_text_atomic(path: str | os.PathLike[str], text: str | bytes) -> Path:
     """Write a file all at once: to a temporary file beside it, then rename (no half files).
 
     Parent folders are created as needed.
+
+    Raises
+    ------
+    DataError
+        The folder cannot be created or the file cannot be written (one line, exit 2).
     """
     p = Path(path)
-    p.parent.mkdir(parents=True, exist_ok=True)
     data = text.encode("utf-8") if isinstance(text, str) else text
-    fd, tmp = tempfile.mkstemp(dir=p.parent, prefix=f".{p.name}.", suffix=".part")
+    try:
+        p.parent.mkdir(parents=True, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(dir=p.parent, prefix=f".{p.name}.", suffix=".part")
+    except OSError as exc:
+        raise DataError(f"{p}: cannot write here ({exc.strerror or exc})") from None
     try:
         with os.fdopen(fd, "wb") as fh:
             fh.write(data)
@@ -171,6 +179,9 @@ def write_text_atomic(path: str | os.PathLike[str], text: str | bytes) -> Path:
         os.umask(umask)
         os.chmod(tmp, 0o666 & ~umask)  # mkstemp makes 0600; give the file ordinary permissions
         os.replace(tmp, p)
+    except OSError as exc:
+        Path(tmp).unlink(missing_ok=True)
+        raise DataError(f"{p}: cannot write ({exc.strerror or exc})") from None
     except BaseException:
         Path(tmp).unlink(missing_ok=True)
         raise

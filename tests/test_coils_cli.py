@@ -96,11 +96,14 @@ def test_json_output(run_cli, capsys, tmp_path: Path) -> None:
         assert need <= set(out["axes"][ax]), need - set(out["axes"][ax])
     z = out["axes"]["z"]
     assert z["turns"] == 250
-    assert z["power_W"] == pytest.approx(z["resistance_ohm"] * 15.0**2 / 2, rel=1e-12)
-    assert z["coil_temperature_C"] == pytest.approx(25 + z["temperature_rise_K"], rel=1e-12)
+    assert z["power_W"] == pytest.approx(z["resistance_ohm"] * 15.0**2 / 2, rel=1e-12), \
+        "copper loss of a sinusoidal current R I^2/2, 1e-12"
+    assert z["coil_temperature_C"] == pytest.approx(25 + z["temperature_rise_K"], rel=1e-12), \
+        "coil temperature = ambient + rise, 1e-12"
     assert out["current_limiting_axes"] == ["z"], "fewest turns per metre: z is weakest"
     region = out["uniform_region"]
-    assert region["radius_1pct_m"] < region["radius_5pct_m"] < 0.3
+    assert region["radius_1pct_m"] < region["radius_5pct_m"] < 0.3, \
+        "±1 % region inside the ±5 % one, both inside the coils"
 
 
 def test_text_output(run_cli, capsys) -> None:

@@ -100,7 +100,8 @@ def test_electrical_functions_numpy_and_casadi() -> None:
     r, ind, f, i = 4.0, 0.2, 3.0, 12.0
     z = math.hypot(r, 2 * math.pi * f * ind)
     assert coils.impedance_ohm(r, ind, f) == pytest.approx(z, rel=1e-15), "|R + j w L|"
-    assert coils.voltage_amplitude_V(r, ind, f, i) == pytest.approx(z * i, rel=1e-15)
+    assert coils.voltage_amplitude_V(r, ind, f, i) == pytest.approx(z * i, rel=1e-15), \
+        "voltage amplitude = |Z| I (Ohm's law), 1e-15"
     assert coils.copper_loss_W(r, i) == pytest.approx(r * i * i / 2, rel=1e-15), "R I^2 / 2"
     assert coils.temperature_rise_K(100.0, 4.0) == 25.0, "P / G"
     fs, cs = ca.SX.sym("f"), ca.SX.sym("i")

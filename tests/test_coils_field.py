@@ -123,7 +123,8 @@ def test_numpy_and_casadi_agree() -> None:
         cas = np.array(f(p, currents)).ravel()
         assert np.max(np.abs(cas - b)) <= 1e-12 * np.linalg.norm(b) + 1e-30, \
             "CasADi AGM path vs numpy/scipy path, rel 1e-12 (CONTRIBUTING)"
-        assert np.max(np.abs(system.point_field(p, currents) - b)) <= 1e-12 * np.linalg.norm(b)
+        assert np.max(np.abs(system.point_field(p, currents) - b)) <= 1e-12 * np.linalg.norm(b), \
+        "compiled single-point CasADi field vs numpy field, 1e-12 relative"
     g = system.casadi_field_matrix_function()
     assert np.allclose(np.array(g(pts[3])), system.field_matrix(pts[3:4])[0], rtol=1e-12,
                        atol=0), "G(p) CasADi vs numpy, rel 1e-12"

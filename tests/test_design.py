@@ -89,3 +89,13 @@ def test_init_writes_and_refuses_to_overwrite(tmp_path, capsys):
 def test_nan_is_rejected_not_propagated():
     with pytest.raises(InputError):
         Design({"limits.power_W": math.nan})
+
+
+def test_unwritable_output_is_one_line_exit_2(tmp_path, capsys):
+    blocker = tmp_path / "a_file"
+    blocker.write_text("x")
+    target = blocker / "sub" / "design.toml"  # a folder cannot be made inside a file
+    with pytest.raises(DataError, match="cannot write"):
+        write_text_atomic(target, "x")
+    assert main(["init", str(target)]) == 2, "unwritable path: exit 2, no traceback"
+    assert "cannot write" in capsys.readouterr().err

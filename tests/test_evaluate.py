@@ -49,18 +49,22 @@ def test_step_out_frequency_is_where_the_margin_vanishes():
     m = _model()
     ev = evaluate(m)
     f = ev.step_out_frequency_hz
-    assert 0 < f < math.inf
+    assert 0 < f < math.inf, \
+        "step-out is a finite positive frequency for the built-in design"
     at = float(margin_grid(m, ev.helical_angle_rad, f)["margin_Nm"])
     assert abs(at) < 1e-12, "margin is zero at the step-out frequency (brentq, 1e-12 N·m)"
-    assert float(margin_grid(m, ev.helical_angle_rad, 0.99 * f)["margin_Nm"]) > 0
+    assert float(margin_grid(m, ev.helical_angle_rad, 0.99 * f)["margin_Nm"]) > 0, \
+        "margin is still positive just below the step-out frequency"
 
 
 def test_margin_is_available_minus_required():
     ev = evaluate(_model())
     assert ev.margin_Nm == pytest.approx(ev.magnetic_torque_Nm - ev.required_torque_Nm,
-                                         rel=1e-14)
+                                         rel=1e-14), \
+        "margin = synchronous torque - required torque (definition), 1e-14"
     assert ev.required_torque_Nm == pytest.approx(ev.resistive_torque_Nm + ev.thrust_torque_Nm,
-                                                  rel=1e-14)
+                                                  rel=1e-14), \
+        "required = resistive + thrust (definition), 1e-14"
     assert math.sin(ev.lag_angle_rad) == pytest.approx(
         ev.required_torque_Nm / ev.magnetic_torque_Nm, rel=1e-12), "tau = m B0 sin(delta)"
 

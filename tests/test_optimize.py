@@ -132,7 +132,8 @@ def test_numpy_and_casadi_expressions_agree(model):
     for x0 in ([0.6, 0.8, 0.9, 0.1], [1.4, 2.5, 0.5, -0.3]):
         o_ca, g_ca = fn(x0)
         o_np, g_np, _ = pb.expressions(x0, model, scales)
-        assert abs(float(o_ca) - float(o_np)) <= 1e-12 * max(1, abs(float(o_np)))
+        assert abs(float(o_ca) - float(o_np)) <= 1e-12 * max(1, abs(float(o_np))), \
+        "numpy and CasADi paths of the objective, 1e-12"
         assert np.allclose(np.asarray(g_ca).ravel(), [float(v) for v in g_np], rtol=1e-12,
                            atol=1e-13), "numpy and CasADi paths of every constraint, 1e-12"
 
