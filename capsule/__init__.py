@@ -18,7 +18,7 @@ from capsule.magnet import (
     remanence_for_grade,
 )
 from capsule.model import Capsule, CapsuleFigures, geometry_problems
-from capsule.propulsion import forward_speed_m_s, thrust_torque_Nm
+from capsule.propulsion import forward_speed_m_s, self_lock_margin_rad, thrust_torque_Nm
 from capsule.spiral import (
     MAX_WIRE_TO_BODY_DIAMETER,
     Spiral,
@@ -61,5 +61,6 @@ __all__ = [
     "remanence_for_grade",
     "spiral_turns",
     "synchronous_torque_Nm",
+    "self_lock_margin_rad",
     "thrust_torque_Nm",
 ]

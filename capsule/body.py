@@ -46,12 +46,18 @@ class Body:
         for name in ("diameter_m", "length_m", "shell_thickness_m"):
             object.__setattr__(self, name, check_positive(name, getattr(self, name)))
         if self.length_m <= self.diameter_m:
-            raise InputError("length_m", self.length_m,
-                             f"more than the diameter {self.diameter_m:g} m "
-                             "(two hemispherical ends need at least a full diameter)")
+            raise InputError(
+                "length_m",
+                self.length_m,
+                f"more than the diameter {self.diameter_m:g} m "
+                "(two hemispherical ends need at least a full diameter)",
+            )
         if self.shell_thickness_m >= self.radius_m:
-            raise InputError("shell_thickness_m", self.shell_thickness_m,
-                             f"less than the outer radius {self.radius_m:g} m")
+            raise InputError(
+                "shell_thickness_m",
+                self.shell_thickness_m,
+                f"less than the outer radius {self.radius_m:g} m",
+            )
 
     @property
     def radius_m(self) -> float:

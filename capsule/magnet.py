@@ -89,8 +89,9 @@ class Magnet:
             object.__setattr__(self, name, check_positive(name, getattr(self, name)))
         bore = check_positive("inner_diameter_m", self.inner_diameter_m, allow_zero=True)
         if bore >= self.diameter_m:
-            raise InputError("inner_diameter_m", bore,
-                             f"less than the outer diameter {self.diameter_m:g} m")
+            raise InputError(
+                "inner_diameter_m", bore, f"less than the outer diameter {self.diameter_m:g} m"
+            )
         object.__setattr__(self, "inner_diameter_m", bore)
 
     @property
@@ -137,13 +138,19 @@ def magnet_fit_check(body: Body, magnet: Magnet) -> tuple[str, str] | None:
     r_in = body.inner_radius_m
     half_d = 0.5 * magnet.diameter_m
     if half_d > r_in * (1.0 + GEOMETRY_RTOL):
-        return ("diameter_m", f"magnet diameter {magnet.diameter_m * 1e3:g} mm exceeds the "
-                f"shell's inner diameter {2e3 * r_in:g} mm")
+        return (
+            "diameter_m",
+            f"magnet diameter {magnet.diameter_m * 1e3:g} mm exceeds the "
+            f"shell's inner diameter {2e3 * r_in:g} mm",
+        )
     half_l_max = 0.5 * body.cylinder_length_m + math.sqrt(max(r_in**2 - half_d**2, 0.0))
     if 0.5 * magnet.length_m > half_l_max * (1.0 + GEOMETRY_RTOL):
-        return ("length_m", f"magnet length {magnet.length_m * 1e3:g} mm exceeds the "
-                f"{2e3 * half_l_max:.4g} mm that fits between the shell's hemispherical ends "
-                f"at that width")
+        return (
+            "length_m",
+            f"magnet length {magnet.length_m * 1e3:g} mm exceeds the "
+            f"{2e3 * half_l_max:.4g} mm that fits between the shell's hemispherical ends "
+            f"at that width",
+        )
     return None
 
 

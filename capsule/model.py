@@ -44,26 +44,44 @@ def geometry_problems(body: Body, spiral: Spiral, magnet: Magnet) -> list[tuple[
         out.append((f"magnet.{fit[0]}", fit[1]))
     wire_max = MAX_WIRE_TO_BODY_DIAMETER * body.diameter_m
     if spiral.wire_diameter_m > wire_max * (1.0 + GEOMETRY_RTOL):
-        out.append(("spiral.wire_diameter_m",
-                    f"at most {wire_max * 1e3:g} mm: {MAX_WIRE_TO_BODY_DIAMETER:.0%} of the body "
-                    f"diameter {body.diameter_m * 1e3:g} mm (a plausibility bound of this tool)"))
+        out.append(
+            (
+                "spiral.wire_diameter_m",
+                f"at most {wire_max * 1e3:g} mm: {MAX_WIRE_TO_BODY_DIAMETER:.0%} of the body "
+                f"diameter {body.diameter_m * 1e3:g} mm (a plausibility bound of this tool)",
+            )
+        )
     if spiral.wound_length_m > body.cylinder_length_m * (1.0 + GEOMETRY_RTOL):
-        out.append(("spiral.wound_length_m",
-                    f"at most the cylindrical part's length {body.cylinder_length_m * 1e3:g} mm "
-                    "(length - diameter); the spiral is wound on the cylinder only"))
+        out.append(
+            (
+                "spiral.wound_length_m",
+                f"at most the cylindrical part's length {body.cylinder_length_m * 1e3:g} mm "
+                "(length - diameter); the spiral is wound on the cylinder only",
+            )
+        )
     d_h = spiral.helix_diameter_m(body)
     if spiral.starts * spiral.wire_diameter_m < math.pi * d_h:
-        a_min = float(min_helical_angle_for_clearance_rad(d_h, spiral.wire_diameter_m,
-                                                          spiral.starts))
+        a_min = float(
+            min_helical_angle_for_clearance_rad(d_h, spiral.wire_diameter_m, spiral.starts)
+        )
         if spiral.helical_angle_rad < a_min * (1.0 - GEOMETRY_RTOL):
-            out.append(("spiral.helical_angle_rad",
-                        f"at least {math.degrees(a_min):.3g} deg, else neighbouring turns of the "
-                        f"{spiral.wire_diameter_m * 1e3:g} mm wire ({spiral.starts} start(s)) "
-                        "overlap"))
+            out.append(
+                (
+                    "spiral.helical_angle_rad",
+                    f"at least {math.degrees(a_min):.3g} deg, else neighbouring turns of the "
+                    f"{spiral.wire_diameter_m * 1e3:g} mm wire ({spiral.starts} start(s)) "
+                    "overlap",
+                )
+            )
     else:
         n_max = math.pi * d_h / spiral.wire_diameter_m
-        out.append(("spiral.starts", f"fewer than pi D_h / d_w = {n_max:.3g} starts, else the "
-                    "wires cannot all fit round the circumference"))
+        out.append(
+            (
+                "spiral.starts",
+                f"fewer than pi D_h / d_w = {n_max:.3g} starts, else the "
+                "wires cannot all fit round the circumference",
+            )
+        )
     return out
 
 
@@ -191,8 +209,14 @@ class Capsule:
         """Magnet moment, A·m^2."""
         return self.magnet.moment_Am2
 
-    def figures(self, frequency_hz: float, axial_load_N: float, friction_coefficient: float,
-                slip_efficiency: float = 1.0, min_turns: float = 1.0) -> CapsuleFigures:
+    def figures(
+        self,
+        frequency_hz: float,
+        axial_load_N: float,
+        friction_coefficient: float,
+        slip_efficiency: float = 1.0,
+        min_turns: float = 1.0,
+    ) -> CapsuleFigures:
         """The capsule's figures at an operating point.
 
         Parameters
@@ -226,16 +250,17 @@ class Capsule:
             turns=turns,
             min_turns=float(min_turns),
             full_turn_ok=bool(turns >= min_turns),
-            max_helical_angle_for_min_turns_deg=math.degrees(float(
-                max_helical_angle_for_turns_rad(d_h, s.wound_length_m, float(min_turns)))),
+            max_helical_angle_for_min_turns_deg=math.degrees(
+                float(max_helical_angle_for_turns_rad(d_h, s.wound_length_m, float(min_turns)))
+            ),
             footprint_width_m=s.footprint_width_m,
             frequency_hz=float(frequency_hz),
             slip_efficiency=float(slip_efficiency),
             speed_m_s=float(forward_speed_m_s(frequency_hz, lead, slip_efficiency)),
             axial_load_N=float(axial_load_N),
             friction_coefficient=float(friction_coefficient),
-            thrust_torque_Nm=float(thrust_torque_Nm(axial_load_N, d_h, s.helical_angle_rad,
-                                                    friction_coefficient)),
-            synchronous_torque_per_mT_Nm=float(max_synchronous_torque_Nm(self.moment_Am2,
-                                                                         1e-3)),
+            thrust_torque_Nm=float(
+                thrust_torque_Nm(axial_load_N, d_h, s.helical_angle_rad, friction_coefficient)
+            ),
+            synchronous_torque_per_mT_Nm=float(max_synchronous_torque_Nm(self.moment_Am2, 1e-3)),
         )

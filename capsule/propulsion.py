@@ -40,8 +40,9 @@ def forward_speed_m_s(frequency_hz: Any, lead_m: Any, slip_efficiency: Any) -> A
     return slip_efficiency * frequency_hz * lead_m
 
 
-def thrust_torque_Nm(axial_load_N: Any, helix_diameter_m: Any, helical_angle_rad: Any,
-                     friction_coefficient: Any) -> Any:
+def thrust_torque_Nm(
+    axial_load_N: Any, helix_diameter_m: Any, helical_angle_rad: Any, friction_coefficient: Any
+) -> Any:
     """Torque to drive the screw against an axial load, ``F (D_h / 2) tan(alpha + atan(mu))``.
 
     Parameters
@@ -70,5 +71,33 @@ def thrust_torque_Nm(axial_load_N: Any, helix_diameter_m: Any, helical_angle_rad
     section 8-2 (power screws), eq. (8-1) rewritten with ``tan(lambda) = l / (pi d_m)``. The
     paper's helical angle is that lead angle.
     """
-    return (0.5 * axial_load_N * helix_diameter_m
-            * bk.tan(helical_angle_rad + bk.arctan(friction_coefficient)))
+    return (
+        0.5
+        * axial_load_N
+        * helix_diameter_m
+        * bk.tan(helical_angle_rad + bk.arctan(friction_coefficient))
+    )
+
+
+def self_lock_margin_rad(helical_angle_rad: Any, friction_coefficient: Any) -> Any:
+    """How far the screw is from self-locking, ``pi/2 - (alpha + atan(mu))``, rad.
+
+    Parameters
+    ----------
+    helical_angle_rad : float, array or CasADi
+        Helical (lead) angle ``alpha``, rad.
+    friction_coefficient : float, array or CasADi
+        Coulomb friction coefficient ``mu`` between wire and tissue.
+
+    Returns
+    -------
+    float, array or CasADi
+        Positive while turning the screw can push the load; at zero or below the screw
+        self-locks and :func:`thrust_torque_Nm` (``tan(alpha + atan(mu))``) has no meaning.
+
+    Notes
+    -----
+    Shigley's power-screw relation (see :func:`thrust_torque_Nm`) holds for
+    ``lambda + phi < 90°``; beyond it no torque advances the load.
+    """
+    return 0.5 * bk.pi - helical_angle_rad - bk.arctan(friction_coefficient)

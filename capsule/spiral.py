@@ -120,8 +120,9 @@ def footprint_width_m(helical_angle_rad: Any, wire_diameter_m: Any) -> Any:
     return wire_diameter_m / bk.sin(helical_angle_rad)
 
 
-def max_helical_angle_for_turns_rad(helix_diameter_m: Any, wound_length_m: Any,
-                                    min_turns: Any) -> Any:
+def max_helical_angle_for_turns_rad(
+    helix_diameter_m: Any, wound_length_m: Any, min_turns: Any
+) -> Any:
     """Largest helical angle that still winds ``min_turns`` over the wound length.
 
     ``atan(L_w / (min_turns pi D_h))``, evaluated as ``atan2`` so that ``min_turns = 0`` (rule
@@ -144,8 +145,9 @@ def max_helical_angle_for_turns_rad(helix_diameter_m: Any, wound_length_m: Any,
     return bk.arctan2(wound_length_m, min_turns * bk.pi * helix_diameter_m)
 
 
-def min_helical_angle_for_clearance_rad(helix_diameter_m: Any, wire_diameter_m: Any,
-                                        starts: Any = 1) -> Any:
+def min_helical_angle_for_clearance_rad(
+    helix_diameter_m: Any, wire_diameter_m: Any, starts: Any = 1
+) -> Any:
     """Smallest helical angle at which neighbouring wires do not overlap.
 
     Neighbouring wires are ``lead / n`` apart along the axis, i.e. ``(lead / n) cos(alpha)``
@@ -235,5 +237,6 @@ class Spiral:
 
     def turns(self, body: Body) -> float:
         """Turns each start makes over the wound length on ``body`` (dimensionless)."""
-        return float(spiral_turns(self.helical_angle_rad, self.helix_diameter_m(body),
-                                  self.wound_length_m))
+        return float(
+            spiral_turns(self.helical_angle_rad, self.helix_diameter_m(body), self.wound_length_m)
+        )

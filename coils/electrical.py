@@ -33,7 +33,8 @@ def copper_resistivity_ohm_m(temperature_C: Any) -> Any:
         Copper temperature, °C.
     """
     return COPPER_RESISTIVITY_20C_ohm_m * (
-        1.0 + COPPER_TEMPERATURE_COEFFICIENT_per_K * (temperature_C - 20.0))
+        1.0 + COPPER_TEMPERATURE_COEFFICIENT_per_K * (temperature_C - 20.0)
+    )
 
 
 def impedance_ohm(resistance_ohm: Any, inductance_H: Any, frequency_hz: Any) -> Any:
@@ -52,8 +53,9 @@ def impedance_ohm(resistance_ohm: Any, inductance_H: Any, frequency_hz: Any) -> 
     return bk.sqrt(resistance_ohm * resistance_ohm + reactance * reactance)
 
 
-def voltage_amplitude_V(resistance_ohm: Any, inductance_H: Any, frequency_hz: Any,
-                        current_amplitude_A: Any) -> Any:
+def voltage_amplitude_V(
+    resistance_ohm: Any, inductance_H: Any, frequency_hz: Any, current_amplitude_A: Any
+) -> Any:
     """Drive-voltage amplitude |Z| I for a sinusoidal current of amplitude I, V.
 
     Parameters

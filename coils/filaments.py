@@ -96,9 +96,14 @@ class FilamentSet:
             weights[np.arange(L), self.columns] = self.turns
             direction = np.zeros((ncol, 3))
             direction[np.arange(ncol), self.column_axes] = 1.0
-            mats = {"along": along, "across": 1.0 - along, "weights": weights,
-                    "radii": self.radii_m[None, :], "centres": self.centres_m[None, :],
-                    "direction": direction}
+            mats = {
+                "along": along,
+                "across": 1.0 - along,
+                "weights": weights,
+                "radii": self.radii_m[None, :],
+                "centres": self.centres_m[None, :],
+                "direction": direction,
+            }
             if casadi:
                 import casadi as ca
 
@@ -162,8 +167,9 @@ class FilamentSet:
         out = np.empty((len(points), 3, self.n_currents))
         direction = self._matrices(False)["direction"]
         for start in range(0, len(points), CHUNK_POINTS):
-            p = points[start:start + CHUNK_POINTS]
+            p = points[start : start + CHUNK_POINTS]
             S, T = self.terms(p)
-            out[start:start + CHUNK_POINTS] = (p[:, :, None] * S[:, None, :]
-                                               + T[:, None, :] * direction.T[None, :, :])
+            out[start : start + CHUNK_POINTS] = (
+                p[:, :, None] * S[:, None, :] + T[:, None, :] * direction.T[None, :, :]
+            )
         return out

@@ -95,13 +95,19 @@ class HelmholtzPair:
         set_(self, "filaments", tuple(_check_count("filaments", n) for n in self.filaments))
         side = self.winding_pack_side_m
         if side >= self.radius_m:
-            raise InputError("wire_diameter_m", self.wire_diameter_m,
-                             f"a wire thin enough that the winding pack side (now {side:.4g} m "
-                             f"for {self.turns} turns) is below radius_m = {self.radius_m:.4g} m")
+            raise InputError(
+                "wire_diameter_m",
+                self.wire_diameter_m,
+                f"a wire thin enough that the winding pack side (now {side:.4g} m "
+                f"for {self.turns} turns) is below radius_m = {self.radius_m:.4g} m",
+            )
         if side >= self.separation_m:
-            raise InputError("separation_m", self.separation_m,
-                             f"a separation larger than the winding pack side {side:.4g} m "
-                             "(else the two coils overlap)")
+            raise InputError(
+                "separation_m",
+                self.separation_m,
+                f"a separation larger than the winding pack side {side:.4g} m "
+                "(else the two coils overlap)",
+            )
 
     # --- geometry ------------------------------------------------------------------------------
     @property
@@ -136,10 +142,13 @@ class HelmholtzPair:
         half = 0.5 * self.separation_m
         n = len(w)
         return FilamentSet(
-            axes=np.full(2 * n, self.axis_index), radii_m=np.tile(self.radius_m + dr, 2),
+            axes=np.full(2 * n, self.axis_index),
+            radii_m=np.tile(self.radius_m + dr, 2),
             centres_m=np.concatenate([-half + dz, half + dz]),
-            turns=np.tile(self.turns * w, 2), columns=np.zeros(2 * n, dtype=int),
-            column_axes=(self.axis_index,))
+            turns=np.tile(self.turns * w, 2),
+            columns=np.zeros(2 * n, dtype=int),
+            column_axes=(self.axis_index,),
+        )
 
     # --- field ---------------------------------------------------------------------------------
     def field(self, points_m: np.ndarray, current_A: float) -> np.ndarray:
@@ -183,8 +192,9 @@ class HelmholtzPair:
         temperature_C : float
             Copper temperature, °C.
         """
-        return float(copper_resistivity_ohm_m(temperature_C) * self.wire_length_m
-                     / self.wire_area_m2)
+        return float(
+            copper_resistivity_ohm_m(temperature_C) * self.wire_length_m / self.wire_area_m2
+        )
 
     @cached_property
     def self_inductance_H(self) -> float:
@@ -203,8 +213,11 @@ class HelmholtzPair:
         """
         a, c = self.radius_m, self.winding_pack_side_m
         d = math.sqrt(2.0) * c
-        bracket = ((1.0 + 4.0 * c * c / (96.0 * a * a)) * math.log(8.0 * a / d) - _STEFAN_Y1
-                   + c * c / (16.0 * a * a) * _STEFAN_Y2)
+        bracket = (
+            (1.0 + 4.0 * c * c / (96.0 * a * a)) * math.log(8.0 * a / d)
+            - _STEFAN_Y1
+            + c * c / (16.0 * a * a) * _STEFAN_Y2
+        )
         return MU0_T_m_per_A * a * self.turns**2 * bracket
 
     @cached_property

@@ -44,8 +44,9 @@ def heading_frame(heading: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarr
     return n, u, np.cross(n, u)
 
 
-def allocation(field_matrix_T_per_A: np.ndarray, heading: np.ndarray,
-               amplitude_T: float) -> tuple[np.ndarray, np.ndarray]:
+def allocation(
+    field_matrix_T_per_A: np.ndarray, heading: np.ndarray, amplitude_T: float
+) -> tuple[np.ndarray, np.ndarray]:
     """Current amplitudes and phases that make the rotating field where G applies.
 
     Parameters
@@ -70,8 +71,9 @@ def allocation(field_matrix_T_per_A: np.ndarray, heading: np.ndarray,
     return np.hypot(a, b), np.arctan2(-b, a)
 
 
-def ellipse_semi_axes(field_cos_T: np.ndarray, field_sin_T: np.ndarray,
-                      heading: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def ellipse_semi_axes(
+    field_cos_T: np.ndarray, field_sin_T: np.ndarray, heading: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
     """Semi-axes of the ellipse P cos ωt + Q sin ωt projected onto the plane ⟂ heading.
 
     The squared semi-axes are the eigenvalues of the 2 x 2 Gram matrix of the projected P, Q;

@@ -60,9 +60,15 @@ class SystemSizing:
     current_limiting_axes: tuple[str, ...]
 
 
-def size_system(system: ThreeAxisHelmholtz, *, frequency_hz: float, current_amplitude_A: float,
-                winding_temperature_C: float, ambient_temperature_C: float,
-                heat_transfer_coefficient_W_m2K: float) -> SystemSizing:
+def size_system(
+    system: ThreeAxisHelmholtz,
+    *,
+    frequency_hz: float,
+    current_amplitude_A: float,
+    winding_temperature_C: float,
+    ambient_temperature_C: float,
+    heat_transfer_coefficient_W_m2K: float,
+) -> SystemSizing:
     """Evaluate every pair at one current amplitude and frequency.
 
     Parameters
@@ -92,23 +98,39 @@ def size_system(system: ThreeAxisHelmholtz, *, frequency_hz: float, current_ampl
         cond = pair.thermal_conductance_W_per_K(heat_transfer_coefficient_W_m2K)
         power = float(copper_loss_W(r, current_amplitude_A))
         rise = float(temperature_rise_K(power, cond))
-        axes.append(AxisSizing(
-            axis=pair.axis, radius_m=pair.radius_m, separation_m=pair.separation_m,
-            turns=pair.turns, wire_diameter_m=pair.wire_diameter_m,
-            winding_pack_side_m=pair.winding_pack_side_m, wire_length_m=pair.wire_length_m,
-            field_per_amp_T_per_A=g, resistance_ohm=r,
-            self_inductance_H=pair.self_inductance_H,
-            mutual_inductance_H=pair.mutual_inductance_H, inductance_H=pair.series_inductance_H,
-            impedance_ohm=z, voltage_amplitude_V=z * current_amplitude_A, power_W=power,
-            thermal_conductance_W_per_K=cond, temperature_rise_K=rise,
-            coil_temperature_C=ambient_temperature_C + rise,
-            field_amplitude_T=g * current_amplitude_A))
+        axes.append(
+            AxisSizing(
+                axis=pair.axis,
+                radius_m=pair.radius_m,
+                separation_m=pair.separation_m,
+                turns=pair.turns,
+                wire_diameter_m=pair.wire_diameter_m,
+                winding_pack_side_m=pair.winding_pack_side_m,
+                wire_length_m=pair.wire_length_m,
+                field_per_amp_T_per_A=g,
+                resistance_ohm=r,
+                self_inductance_H=pair.self_inductance_H,
+                mutual_inductance_H=pair.mutual_inductance_H,
+                inductance_H=pair.series_inductance_H,
+                impedance_ohm=z,
+                voltage_amplitude_V=z * current_amplitude_A,
+                power_W=power,
+                thermal_conductance_W_per_K=cond,
+                temperature_rise_K=rise,
+                coil_temperature_C=ambient_temperature_C + rise,
+                field_amplitude_T=g * current_amplitude_A,
+            )
+        )
     weakest = min(a.field_amplitude_T for a in axes)
     tied = tuple(a.axis for a in axes if a.field_amplitude_T <= weakest * (1.0 + 1e-9))
     return SystemSizing(
-        frequency_hz=frequency_hz, current_amplitude_A=current_amplitude_A,
+        frequency_hz=frequency_hz,
+        current_amplitude_A=current_amplitude_A,
         winding_temperature_C=winding_temperature_C,
         ambient_temperature_C=ambient_temperature_C,
-        heat_transfer_coefficient_W_m2K=heat_transfer_coefficient_W_m2K, axes=tuple(axes),
+        heat_transfer_coefficient_W_m2K=heat_transfer_coefficient_W_m2K,
+        axes=tuple(axes),
         total_power_W=sum(a.power_W for a in axes),
-        current_limited_rotating_field_T=weakest, current_limiting_axes=tied)
+        current_limited_rotating_field_T=weakest,
+        current_limiting_axes=tied,
+    )

@@ -93,10 +93,13 @@ class ThreeAxisHelmholtz:
         sets = [p.filament_set for p in self.pairs]
         cat = np.concatenate
         return FilamentSet(
-            axes=cat([s.axes for s in sets]), radii_m=cat([s.radii_m for s in sets]),
-            centres_m=cat([s.centres_m for s in sets]), turns=cat([s.turns for s in sets]),
+            axes=cat([s.axes for s in sets]),
+            radii_m=cat([s.radii_m for s in sets]),
+            centres_m=cat([s.centres_m for s in sets]),
+            turns=cat([s.turns for s in sets]),
             columns=cat([np.full(len(s.turns), k) for k, s in enumerate(sets)]),
-            column_axes=(0, 1, 2))
+            column_axes=(0, 1, 2),
+        )
 
     # --- field ---------------------------------------------------------------------------------
     def field(self, points_m: Any, currents_A: Any) -> np.ndarray:
@@ -157,16 +160,22 @@ class ThreeAxisHelmholtz:
 
         p, i, b = self._casadi_symbols
         jac = ca.densify(ca.jacobian(b, p))
-        return ca.Function("coil_field_jacobian", [p, i], [b, jac],
-                           ["point_m", "currents_A"], ["field_T", "dfield_dpoint_T_per_m"])
+        return ca.Function(
+            "coil_field_jacobian",
+            [p, i],
+            [b, jac],
+            ["point_m", "currents_A"],
+            ["field_T", "dfield_dpoint_T_per_m"],
+        )
 
     def casadi_field_matrix_function(self) -> Any:
         """CasADi Function ``coil_field_matrix(point_m[3]) -> G_T_per_A[3x3]`` with B = G I."""
         import casadi as ca
 
         p, i, b = self._casadi_symbols
-        return ca.Function("coil_field_matrix", [p], [ca.densify(ca.jacobian(b, i))],
-                           ["point_m"], ["G_T_per_A"])
+        return ca.Function(
+            "coil_field_matrix", [p], [ca.densify(ca.jacobian(b, i))], ["point_m"], ["G_T_per_A"]
+        )
 
     @cached_property
     def point_field(self) -> PointEvaluator:
@@ -187,8 +196,9 @@ class ThreeAxisHelmholtz:
         """
         return self.rotating_allocation(heading, 1.0)[0]
 
-    def rotating_allocation(self, heading: Any, amplitude_T: float
-                            ) -> tuple[np.ndarray, np.ndarray]:
+    def rotating_allocation(
+        self, heading: Any, amplitude_T: float
+    ) -> tuple[np.ndarray, np.ndarray]:
         """Currents making at the centre a field of amplitude B0 turning about ``heading``.
 
         Parameters
@@ -205,8 +215,9 @@ class ThreeAxisHelmholtz:
         """
         return allocation(np.diag(self.centre_gains_T_per_A), heading, amplitude_T)
 
-    def rotating_allocation_at(self, point_m: Any, heading: Any, amplitude_T: float
-                               ) -> tuple[np.ndarray, np.ndarray]:
+    def rotating_allocation_at(
+        self, point_m: Any, heading: Any, amplitude_T: float
+    ) -> tuple[np.ndarray, np.ndarray]:
         """As :meth:`rotating_allocation` but exact at ``point_m``, solving with the full G(p).
 
         Parameters
@@ -220,8 +231,9 @@ class ThreeAxisHelmholtz:
         """
         return allocation(self.field_matrix(point_m)[0], heading, amplitude_T)
 
-    def rotating_currents(self, heading: Any, amplitude_T: float, frequency_hz: float,
-                          t_s: Any) -> np.ndarray:
+    def rotating_currents(
+        self, heading: Any, amplitude_T: float, frequency_hz: float, t_s: Any
+    ) -> np.ndarray:
         """Currents of the centre allocation at times ``t_s``, shape (len(t), 3), A.
 
         Parameters
@@ -239,8 +251,9 @@ class ThreeAxisHelmholtz:
         t = np.atleast_1d(np.asarray(t_s, dtype=float))
         return amps * np.cos(2.0 * np.pi * frequency_hz * t[:, None] + phases)
 
-    def rotating_field_semi_axes_T(self, points_m: Any, heading: Any, amplitude_T: float
-                                   ) -> tuple[np.ndarray, np.ndarray]:
+    def rotating_field_semi_axes_T(
+        self, points_m: Any, heading: Any, amplitude_T: float
+    ) -> tuple[np.ndarray, np.ndarray]:
         """Field ellipse ⟂ heading at each point under the *centre* allocation, T.
 
         Parameters
@@ -260,5 +273,4 @@ class ThreeAxisHelmholtz:
         """
         amps, phases = self.rotating_allocation(heading, amplitude_T)
         G = self.field_matrix(points_m)
-        return ellipse_semi_axes(G @ (amps * np.cos(phases)), G @ (-amps * np.sin(phases)),
-                                 heading)
+        return ellipse_semi_axes(G @ (amps * np.cos(phases)), G @ (-amps * np.sin(phases)), heading)

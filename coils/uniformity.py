@@ -23,8 +23,23 @@ __all__ = ["UniformRegion", "uniform_region", "uniform_region_radius_m", "unifor
 
 #: The axes, the six face diagonals and the four body diagonals (up to sign).
 _SYMMETRY_DIRECTIONS = np.array(
-    [[1, 0, 0], [0, 1, 0], [0, 0, 1], [1, 1, 0], [1, -1, 0], [1, 0, 1], [1, 0, -1], [0, 1, 1],
-     [0, 1, -1], [1, 1, 1], [1, 1, -1], [1, -1, 1], [-1, 1, 1]], dtype=float)
+    [
+        [1, 0, 0],
+        [0, 1, 0],
+        [0, 0, 1],
+        [1, 1, 0],
+        [1, -1, 0],
+        [1, 0, 1],
+        [1, 0, -1],
+        [0, 1, 1],
+        [0, 1, -1],
+        [1, 1, 1],
+        [1, 1, -1],
+        [1, -1, 1],
+        [-1, 1, 1],
+    ],
+    dtype=float,
+)
 _SYMMETRY_DIRECTIONS /= np.linalg.norm(_SYMMETRY_DIRECTIONS, axis=1, keepdims=True)
 _FIBONACCI_RAYS = 400
 _RADIAL_STEPS = 200
@@ -78,8 +93,9 @@ def uniformity(system: Any, points_m: Any, currents_A: Any = None) -> np.ndarray
     return _deviation(_field_function(system, currents_A), points)
 
 
-def _first_crossing(field: Callable[[np.ndarray], np.ndarray], tolerance: float,
-                    r_max: float, rays: np.ndarray) -> np.ndarray:
+def _first_crossing(
+    field: Callable[[np.ndarray], np.ndarray], tolerance: float, r_max: float, rays: np.ndarray
+) -> np.ndarray:
     """First radius along each ray where |deviation| > tolerance (r_max if none), m."""
     radii = np.linspace(0.0, r_max, _RADIAL_STEPS + 1)[1:]
     pts = (radii[None, :, None] * rays[:, None, :]).reshape(-1, 3)
@@ -96,8 +112,9 @@ def _first_crossing(field: Callable[[np.ndarray], np.ndarray], tolerance: float,
     return lo
 
 
-def _radius(field: Callable[[np.ndarray], np.ndarray], tolerance: float, r_max: float,
-            refine: bool = True) -> tuple[float, np.ndarray]:
+def _radius(
+    field: Callable[[np.ndarray], np.ndarray], tolerance: float, r_max: float, refine: bool = True
+) -> tuple[float, np.ndarray]:
     """Smallest first-crossing radius over the rays (m) and the ray where it occurs.
 
     With ``refine`` the crossing radius is then minimised over directions near the worst
@@ -121,9 +138,16 @@ def _radius(field: Callable[[np.ndarray], np.ndarray], tolerance: float, r_max: 
     def crossing_at(ab: np.ndarray) -> float:
         return float(_first_crossing(field, tolerance, r_max, ray(ab)[None, :])[0])
 
-    res = minimize(crossing_at, np.zeros(2), method="Nelder-Mead",
-                   options={"initial_simplex": [[0, 0], [0.1, 0], [0, 0.1]],
-                            "xatol": 1e-4, "fatol": 1e-9 * r_max})
+    res = minimize(
+        crossing_at,
+        np.zeros(2),
+        method="Nelder-Mead",
+        options={
+            "initial_simplex": [[0, 0], [0.1, 0], [0, 0.1]],
+            "xatol": 1e-4,
+            "fatol": 1e-9 * r_max,
+        },
+    )
     if res.fun < crossing[best]:
         return float(res.fun), ray(res.x)
     return float(crossing[best]), u0
@@ -151,8 +175,9 @@ class UniformRegion:
     field_direction: np.ndarray
 
 
-def uniform_region(system_or_pair: Any, tolerance: float, currents_A: Any = None,
-                   direction: Any = None) -> UniformRegion:
+def uniform_region(
+    system_or_pair: Any, tolerance: float, currents_A: Any = None, direction: Any = None
+) -> UniformRegion:
     """The largest centred sphere in which | |B|/|B(0)| - 1 | <= tolerance, and where it ends.
 
     Parameters
@@ -180,8 +205,9 @@ def uniform_region(system_or_pair: Any, tolerance: float, currents_A: Any = None
         radius, ray = _radius(field, tol, system_or_pair.radius_m)
         return UniformRegion(radius, tol, ray, np.eye(3)[system_or_pair.axis_index])
     if not isinstance(system_or_pair, ThreeAxisHelmholtz):
-        raise InputError("system_or_pair", type(system_or_pair).__name__,
-                         "a HelmholtzPair or ThreeAxisHelmholtz")
+        raise InputError(
+            "system_or_pair", type(system_or_pair).__name__, "a HelmholtzPair or ThreeAxisHelmholtz"
+        )
     r_max = min(p.radius_m for p in system_or_pair.pairs)
     gains = system_or_pair.centre_gains_T_per_A
     if currents_A is not None:
@@ -208,15 +234,17 @@ def uniform_region(system_or_pair: Any, tolerance: float, currents_A: Any = None
             coarse.append(radii[first].min())
         step = radii[0]
         candidates = [k for k, r in enumerate(coarse) if r <= min(coarse) + step]
-    results = [(*_radius(_field_function(system_or_pair, currents[k]), tol, r_max), k)
-               for k in candidates]
+    results = [
+        (*_radius(_field_function(system_or_pair, currents[k]), tol, r_max), k) for k in candidates
+    ]
     radius, ray, worst = min(results, key=lambda x: x[0])
     b0 = currents[worst] * gains
     return UniformRegion(radius, tol, ray, b0 / np.linalg.norm(b0))
 
 
-def uniform_region_radius_m(system_or_pair: Any, tolerance: float, currents_A: Any = None,
-                            direction: Any = None) -> float:
+def uniform_region_radius_m(
+    system_or_pair: Any, tolerance: float, currents_A: Any = None, direction: Any = None
+) -> float:
     """Radius of the largest centred sphere in which | |B|/|B(0)| - 1 | <= tolerance, m.
 
     See :func:`uniform_region` (same parameters) for the search and the defaults; for a

@@ -12,7 +12,21 @@ from optimize.solve import optimize_design, with_operating_point
 from optimize.system import Bounds, DesignModel, Limits, Requirements, prepare
 
 __all__ = [
-    "ICNIRP2010_LEVELS_T", "BindingLimit", "Bounds", "Check", "DesignModel", "Evaluation",
-    "Limits", "OptimizationResult", "Requirements", "Shortfall", "evaluate", "exposure_level_T",
-    "margin_grid", "optimize_design", "prepare", "step_out_frequency_hz", "with_operating_point",
+    "ICNIRP2010_LEVELS_T",
+    "BindingLimit",
+    "Bounds",
+    "Check",
+    "DesignModel",
+    "Evaluation",
+    "Limits",
+    "OptimizationResult",
+    "Requirements",
+    "Shortfall",
+    "evaluate",
+    "exposure_level_T",
+    "margin_grid",
+    "optimize_design",
+    "prepare",
+    "step_out_frequency_hz",
+    "with_operating_point",
 ]

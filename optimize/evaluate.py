@@ -92,16 +92,24 @@ def margin_grid(model: DesignModel, alpha_rad, frequency_hz) -> dict[str, np.nda
     speed = np.asarray(ph.speed_m_s(alpha, f, c, model.requirements), dtype=float)
     turns = np.asarray(ph.spiral_turns(alpha, c), dtype=float)
     req = model.requirements
-    ok = (avail - required >= -FEASIBILITY_RTOL * required) \
-        & (speed >= req.min_speed_m_s * (1 - FEASIBILITY_RTOL)) \
+    ok = (
+        (avail - required >= -FEASIBILITY_RTOL * required)
+        & (speed >= req.min_speed_m_s * (1 - FEASIBILITY_RTOL))
         & (turns >= req.min_spiral_turns * (1 - FEASIBILITY_RTOL))
-    return {"margin_Nm": avail - required, "safety_factor": avail / required,
-            "field_amplitude_T": field, "speed_m_s": speed, "spiral_turns": turns,
-            "feasible": ok}
+    )
+    return {
+        "margin_Nm": avail - required,
+        "safety_factor": avail / required,
+        "field_amplitude_T": field,
+        "speed_m_s": speed,
+        "spiral_turns": turns,
+        "feasible": ok,
+    }
 
 
-def step_out_frequency_hz(model: DesignModel, alpha_rad: float,
-                          f_lo: float = 0.01, f_hi: float = 200.0) -> float:
+def step_out_frequency_hz(
+    model: DesignModel, alpha_rad: float, f_lo: float = 0.01, f_hi: float = 200.0
+) -> float:
     """Lowest frequency at which the margin reaches zero at this helical angle (inf if none).
 
     The field the coils can make falls with frequency (inductive voltage, exposure) while the
@@ -116,17 +124,28 @@ def step_out_frequency_hz(model: DesignModel, alpha_rad: float,
     if below.size == 0:
         return float("inf")
     i = below[0]
-    return float(brentq(lambda f: float(margin_grid(model, alpha_rad, f)["margin_Nm"]),
-                        grid[i - 1], grid[i], xtol=1e-10, rtol=1e-12))
+    return float(
+        brentq(
+            lambda f: float(margin_grid(model, alpha_rad, f)["margin_Nm"]),
+            grid[i - 1],
+            grid[i],
+            xtol=1e-10,
+            rtol=1e-12,
+        )
+    )
 
 
-def evaluate(model: DesignModel, helical_angle_rad: float | None = None,
-             frequency_hz: float | None = None) -> Evaluation:
+def evaluate(
+    model: DesignModel, helical_angle_rad: float | None = None, frequency_hz: float | None = None
+) -> Evaluation:
     """Evaluate the design at its operating point (or at the given angle and frequency)."""
     model = prepare(model)
     c, req = model.constants, model.requirements
-    alpha = model.capsule.spiral.helical_angle_rad if helical_angle_rad is None \
+    alpha = (
+        model.capsule.spiral.helical_angle_rad
+        if helical_angle_rad is None
         else float(helical_angle_rad)
+    )
     f = model.frequency_hz if frequency_hz is None else float(frequency_hz)
     field, caps, unit_terms = ph.field_capacity_T(f, c, model.limits, model.ambient_temperature_C)
     field = float(field)
@@ -139,28 +158,63 @@ def evaluate(model: DesignModel, helical_angle_rad: float | None = None,
     checks = _checks(model, f, field, margin, required, speed, turns)
     lag = float(np.arcsin(required / avail)) if 0 < required <= avail else float("nan")
     return Evaluation(
-        helical_angle_rad=alpha, frequency_hz=f, field_amplitude_T=field,
-        field_limited_by=binding, workspace_factor=c.workspace_factor,
+        helical_angle_rad=alpha,
+        frequency_hz=f,
+        field_amplitude_T=field,
+        field_limited_by=binding,
+        workspace_factor=c.workspace_factor,
         current_amplitudes_A=tuple(float(x) for x in field * c.current_per_tesla_A_per_T),
-        magnetic_torque_Nm=avail, resistive_torque_Nm=res, thrust_torque_Nm=thr,
-        required_torque_Nm=required, worst_tissue=model.tissues[int(worst)].name,
-        margin_Nm=margin, safety_factor=avail / required, lag_angle_rad=lag,
-        step_out_frequency_hz=step_out_frequency_hz(model, alpha), speed_m_s=speed,
-        spiral_turns=turns, checks=tuple(checks), feasible=all(ch.ok for ch in checks))
+        magnetic_torque_Nm=avail,
+        resistive_torque_Nm=res,
+        thrust_torque_Nm=thr,
+        required_torque_Nm=required,
+        worst_tissue=model.tissues[int(worst)].name,
+        margin_Nm=margin,
+        safety_factor=avail / required,
+        lag_angle_rad=lag,
+        step_out_frequency_hz=step_out_frequency_hz(model, alpha),
+        speed_m_s=speed,
+        spiral_turns=turns,
+        checks=tuple(checks),
+        feasible=all(ch.ok for ch in checks),
+    )
 
 
-def _checks(model: DesignModel, f: float, field: float, margin: float, required: float,
-            speed: float, turns: float) -> list[Check]:
+def _checks(
+    model: DesignModel,
+    f: float,
+    field: float,
+    margin: float,
+    required: float,
+    speed: float,
+    turns: float,
+) -> list[Check]:
     req, tol = model.requirements, FEASIBILITY_RTOL
-    out = [Check("margin", "margin_Nm", "N·m", margin, 0.0, ">=", margin >= -tol * required),
-           Check("speed", "requirements.min_speed_mm_s", "m/s", speed, req.min_speed_m_s, ">=",
-                 speed >= req.min_speed_m_s * (1 - tol))]
+    out = [
+        Check("margin", "margin_Nm", "N·m", margin, 0.0, ">=", margin >= -tol * required),
+        Check(
+            "speed",
+            "requirements.min_speed_mm_s",
+            "m/s",
+            speed,
+            req.min_speed_m_s,
+            ">=",
+            speed >= req.min_speed_m_s * (1 - tol),
+        ),
+    ]
     if req.min_spiral_turns > 0:
-        out.append(Check("spiral_turns", "requirements.min_spiral_turns", "turns", turns,
-                         req.min_spiral_turns, ">=", turns >= req.min_spiral_turns * (1 - tol)))
-    for t in ph.limit_terms(f, field, model.constants, model.limits,
-                            model.ambient_temperature_C):
+        out.append(
+            Check(
+                "spiral_turns",
+                "requirements.min_spiral_turns",
+                "turns",
+                turns,
+                req.min_spiral_turns,
+                ">=",
+                turns >= req.min_spiral_turns * (1 - tol),
+            )
+        )
+    for t in ph.limit_terms(f, field, model.constants, model.limits, model.ambient_temperature_C):
         value, allowed = float(t.value), float(t.allowed)
-        out.append(Check(t.name, t.key, t.unit, value, allowed, "<=",
-                         value <= allowed * (1 + tol)))
+        out.append(Check(t.name, t.key, t.unit, value, allowed, "<=", value <= allowed * (1 + tol)))
     return out

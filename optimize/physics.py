@@ -59,8 +59,9 @@ class LimitTerm:
 _AXES = ("x", "y", "z")
 
 
-def limit_terms(frequency_hz: Any, field_T: Any, c: Constants, limits: Limits,
-                ambient_temperature_C: float) -> list[LimitTerm]:
+def limit_terms(
+    frequency_hz: Any, field_T: Any, c: Constants, limits: Limits, ambient_temperature_C: float
+) -> list[LimitTerm]:
     """Every hardware and exposure limit at rotation frequency ``f`` and centre field ``B0``.
 
     Per axis k the worst-heading current amplitude is ``I_k = B0 * current_per_tesla[k]``; its
@@ -75,32 +76,62 @@ def limit_terms(frequency_hz: Any, field_T: Any, c: Constants, limits: Limits,
     for k, ax in enumerate(_AXES):
         current = field_T * float(c.current_per_tesla_A_per_T[k])
         r, ind = float(c.resistance_ohm[k]), float(c.inductance_H[k])
-        terms.append(LimitTerm(f"current_{ax}", "limits.current_A", "A", current,
-                               limits.current_A, 1))
-        terms.append(LimitTerm(f"voltage_{ax}", "limits.voltage_V", "V",
-                               coils.voltage_amplitude_V(r, ind, frequency_hz, current),
-                               limits.voltage_V, 1))
-        rise = coils.temperature_rise_K(coils.copper_loss_W(r, current),
-                                        float(c.conductance_W_per_K[k]))
-        terms.append(LimitTerm(f"temperature_rise_{ax}", "limits.coil_temperature_C", "K", rise,
-                               rise_allowed, 2))
-    terms.append(LimitTerm("power", "limits.power_W", "W",
-                           field_T * field_T * c.power_per_tesla2_W_per_T2, limits.power_W, 2))
+        terms.append(
+            LimitTerm(f"current_{ax}", "limits.current_A", "A", current, limits.current_A, 1)
+        )
+        terms.append(
+            LimitTerm(
+                f"voltage_{ax}",
+                "limits.voltage_V",
+                "V",
+                coils.voltage_amplitude_V(r, ind, frequency_hz, current),
+                limits.voltage_V,
+                1,
+            )
+        )
+        rise = coils.temperature_rise_K(
+            coils.copper_loss_W(r, current), float(c.conductance_W_per_K[k])
+        )
+        terms.append(
+            LimitTerm(
+                f"temperature_rise_{ax}", "limits.coil_temperature_C", "K", rise, rise_allowed, 2
+            )
+        )
+    terms.append(
+        LimitTerm(
+            "power",
+            "limits.power_W",
+            "W",
+            field_T * field_T * c.power_per_tesla2_W_per_T2,
+            limits.power_W,
+            2,
+        )
+    )
     if limits.field_exposure != "off":
-        terms.append(LimitTerm("field_exposure", "limits.field_exposure", "T", field_T,
-                               exposure_level_T(frequency_hz, limits.field_exposure), 1))
+        terms.append(
+            LimitTerm(
+                "field_exposure",
+                "limits.field_exposure",
+                "T",
+                field_T,
+                exposure_level_T(frequency_hz, limits.field_exposure),
+                1,
+            )
+        )
     return terms
 
 
-def field_capacity_T(frequency_hz: Any, c: Constants, limits: Limits,
-                     ambient_temperature_C: float) -> tuple[Any, list[Any], list[LimitTerm]]:
+def field_capacity_T(
+    frequency_hz: Any, c: Constants, limits: Limits, ambient_temperature_C: float
+) -> tuple[Any, list[Any], list[LimitTerm]]:
     """Largest centre field each limit allows at ``f`` (numpy only): (min, caps, unit terms)."""
     import numpy as np
 
     unit = limit_terms(frequency_hz, 1.0, c, limits, ambient_temperature_C)
     with np.errstate(divide="ignore"):  # an axis no heading uses carries no current: no cap
-        caps = [np.divide(t.allowed, np.asarray(t.value, dtype=float)) ** (1.0 / t.power)
-                for t in unit]
+        caps = [
+            np.divide(t.allowed, np.asarray(t.value, dtype=float)) ** (1.0 / t.power) for t in unit
+        ]
     return np.minimum.reduce(np.broadcast_arrays(*caps)), caps, unit
 
 
@@ -109,8 +140,9 @@ def available_torque_Nm(field_T: Any, c: Constants) -> Any:
     return cap.max_synchronous_torque_Nm(c.moment_Am2, field_T * c.workspace_factor)
 
 
-def required_torques_Nm(helical_angle_rad: Any, frequency_hz: Any, c: Constants, tissues: tuple,
-                        req: Requirements) -> list[tuple[Any, Any]]:
+def required_torques_Nm(
+    helical_angle_rad: Any, frequency_hz: Any, c: Constants, tissues: tuple, req: Requirements
+) -> list[tuple[Any, Any]]:
     """(resistive, thrust) torque for every tissue set, N·m.
 
     Resistive: the Zhou 2013 tissue model (torque_model.resistive_torque_Nm). Thrust: the screw
@@ -119,20 +151,27 @@ def required_torques_Nm(helical_angle_rad: Any, frequency_hz: Any, c: Constants,
     out = []
     for tissue in tissues:
         res = tm.resistive_torque_Nm(
-            helical_angle_rad, frequency_hz, tissue, body_diameter_m=c.body_diameter_m,
-            body_length_m=c.body_length_m, wire_diameter_m=c.wire_diameter_m,
-            wound_length_m=c.wound_length_m, starts=c.starts)
-        thr = cap.thrust_torque_Nm(req.axial_load_N, c.helix_diameter_m, helical_angle_rad,
-                                   tissue.friction_coefficient)
+            helical_angle_rad,
+            frequency_hz,
+            tissue,
+            body_diameter_m=c.body_diameter_m,
+            body_length_m=c.body_length_m,
+            wire_diameter_m=c.wire_diameter_m,
+            wound_length_m=c.wound_length_m,
+            starts=c.starts,
+        )
+        thr = cap.thrust_torque_Nm(
+            req.axial_load_N, c.helix_diameter_m, helical_angle_rad, tissue.friction_coefficient
+        )
         out.append((res, thr))
     return out
 
 
-def speed_m_s(helical_angle_rad: Any, frequency_hz: Any, c: Constants,
-              req: Requirements) -> Any:
+def speed_m_s(helical_angle_rad: Any, frequency_hz: Any, c: Constants, req: Requirements) -> Any:
     """Forward speed: slip efficiency × frequency × spiral lead (capsule.forward_speed_m_s)."""
-    return cap.forward_speed_m_s(frequency_hz, cap.lead_m(helical_angle_rad, c.helix_diameter_m),
-                                 req.slip_efficiency)
+    return cap.forward_speed_m_s(
+        frequency_hz, cap.lead_m(helical_angle_rad, c.helix_diameter_m), req.slip_efficiency
+    )
 
 
 def spiral_turns(helical_angle_rad: Any, c: Constants) -> Any:

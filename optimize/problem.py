@@ -32,9 +32,9 @@ class ConstraintInfo:
     name: str
     key: str
     unit: str
-    kind: str          # "margin", "limit", "requirement"
-    allowed: float     # allowed value (limits, requirements) in SI; 0 for margin rows
-    sign: float        # +1: relaxing the key raises the allowed value; -1: it lowers the need
+    kind: str  # "margin", "limit", "requirement"
+    allowed: float  # allowed value (limits, requirements) in SI; 0 for margin rows
+    sign: float  # +1: relaxing the key raises the allowed value; -1: it lowers the need
 
 
 @dataclass(frozen=True)
@@ -45,8 +45,9 @@ class Scales:
     torque_Nm: float
 
 
-def expressions(x: Any, model: DesignModel, scales: Scales, *, relax: Any = None,
-                objective: str | None = None) -> tuple[Any, list[Any], list[ConstraintInfo]]:
+def expressions(
+    x: Any, model: DesignModel, scales: Scales, *, relax: Any = None, objective: str | None = None
+) -> tuple[Any, list[Any], list[ConstraintInfo]]:
     """Objective (to minimise) and constraints ``g <= 0`` for scaled variables ``x``.
 
     ``x`` is indexable with 4 entries (a, r, b, t): CasADi SX or floats. With ``relax`` (3 slack
@@ -59,8 +60,9 @@ def expressions(x: Any, model: DesignModel, scales: Scales, *, relax: Any = None
     rows: list[Any] = []
     info: list[ConstraintInfo] = []
     objective = objective or model.bounds.objective
-    for tissue, (res, thr) in zip(model.tissues, ph.required_torques_Nm(alpha, f, c,
-                                                                     model.tissues, req)):
+    for tissue, (res, thr) in zip(
+        model.tissues, ph.required_torques_Nm(alpha, f, c, model.tissues, req)
+    ):
         need = res + thr
         if relax is not None:
             rows.append((need - avail) / scales.torque_Nm - relax[2])
@@ -68,8 +70,9 @@ def expressions(x: Any, model: DesignModel, scales: Scales, *, relax: Any = None
             rows.append((t * need - avail) / scales.torque_Nm)
         else:
             rows.append(t - (avail - need) / scales.torque_Nm)
-        info.append(ConstraintInfo(f"margin[{tissue.name}]", "margin_Nm", "N·m", "margin", 0.0,
-                                   1.0))
+        info.append(
+            ConstraintInfo(f"margin[{tissue.name}]", "margin_Nm", "N·m", "margin", 0.0, 1.0)
+        )
     for term in ph.limit_terms(f, field, c, lim, model.ambient_temperature_C):
         rows.append(term.value / term.allowed - 1.0)
         allowed = term.allowed if isinstance(term.allowed, float) else float("nan")
@@ -77,13 +80,29 @@ def expressions(x: Any, model: DesignModel, scales: Scales, *, relax: Any = None
     if req.min_speed_m_s > 0:
         slack = relax[0] if relax is not None else 0.0
         rows.append(1.0 - ph.speed_m_s(alpha, f, c, req) / req.min_speed_m_s - slack)
-        info.append(ConstraintInfo("speed", "requirements.min_speed_mm_s", "m/s", "requirement",
-                                   req.min_speed_m_s, -1.0))
+        info.append(
+            ConstraintInfo(
+                "speed",
+                "requirements.min_speed_mm_s",
+                "m/s",
+                "requirement",
+                req.min_speed_m_s,
+                -1.0,
+            )
+        )
     if req.min_spiral_turns > 0:
         slack = relax[1] if relax is not None else 0.0
         rows.append(req.min_spiral_turns / ph.spiral_turns(alpha, c) - 1.0 - slack)
-        info.append(ConstraintInfo("spiral_turns", "requirements.min_spiral_turns", "turns",
-                                   "requirement", req.min_spiral_turns, -1.0))
+        info.append(
+            ConstraintInfo(
+                "spiral_turns",
+                "requirements.min_spiral_turns",
+                "turns",
+                "requirement",
+                req.min_spiral_turns,
+                -1.0,
+            )
+        )
     if relax is not None:
         obj = relax[0] + relax[1] + relax[2]
     else:

@@ -23,8 +23,10 @@ def solve_slsqp(model: DesignModel) -> tuple[float, float, float, float]:
     model = prepare(model)
     scales = scales_for(model)
     lo, hi = pb.variable_bounds(model, scales)
-    bounds = [(lo_i if np.isfinite(lo_i) else None, hi_i if np.isfinite(hi_i) else None)
-              for lo_i, hi_i in zip(lo, hi)]
+    bounds = [
+        (lo_i if np.isfinite(lo_i) else None, hi_i if np.isfinite(hi_i) else None)
+        for lo_i, hi_i in zip(lo, hi)
+    ]
 
     def fun(x):
         return float(pb.expressions(x, model, scales)[0])
@@ -34,9 +36,14 @@ def solve_slsqp(model: DesignModel) -> tuple[float, float, float, float]:
 
     best = None
     for x0 in initial_points(model, scales, model.bounds.starts):
-        res = minimize(fun, np.asarray(x0), method="SLSQP", bounds=bounds,
-                       constraints=[{"type": "ineq", "fun": cons}],
-                       options={"ftol": 1e-12, "maxiter": 500})
+        res = minimize(
+            fun,
+            np.asarray(x0),
+            method="SLSQP",
+            bounds=bounds,
+            constraints=[{"type": "ineq", "fun": cons}],
+            options={"ftol": 1e-12, "maxiter": 500},
+        )
         feasible = np.all(cons(res.x) >= -1e-8)
         if feasible and (best is None or res.fun < best.fun):
             best = res

@@ -21,10 +21,16 @@ from optimize.evaluate import evaluate, margin_grid, worst_required
 from optimize.result import BindingLimit, OptimizationResult, Shortfall
 from optimize.system import DesignModel, prepare
 
-_IPOPT_OPTIONS = {"ipopt.print_level": 0, "print_time": False, "ipopt.sb": "yes",
-                  "ipopt.tol": 1e-10, "ipopt.constr_viol_tol": 1e-10, "ipopt.max_iter": 300,
-                  # the starts are good grid points: a smaller initial barrier saves iterations
-                  "ipopt.mu_init": 1e-3}
+_IPOPT_OPTIONS = {
+    "ipopt.print_level": 0,
+    "print_time": False,
+    "ipopt.sb": "yes",
+    "ipopt.tol": 1e-10,
+    "ipopt.constr_viol_tol": 1e-10,
+    "ipopt.max_iter": 300,
+    # the starts are good grid points: a smaller initial barrier saves iterations
+    "ipopt.mu_init": 1e-3,
+}
 _SUCCESS = {"Solve_Succeeded", "Solved_To_Acceptable_Level"}
 
 
@@ -53,8 +59,14 @@ def initial_points(model: DesignModel, scales: pb.Scales, starts: int) -> list[l
         i, j = np.unravel_index(np.argmax(sub), sub.shape)
         a, f = A[band][i, j], F[band][i, j]
         t0 = score[band][i, j] / (1.0 if model.bounds.objective == "ratio" else scales.torque_Nm)
-        out.append([a / pb.ALPHA_REF_rad, f / pb.F_REF_hz,
-                    float(g["field_amplitude_T"][band][i, j]) / scales.field_T, float(t0)])
+        out.append(
+            [
+                a / pb.ALPHA_REF_rad,
+                f / pb.F_REF_hz,
+                float(g["field_amplitude_T"][band][i, j]) / scales.field_T,
+                float(t0),
+            ]
+        )
     return out
 
 
@@ -69,8 +81,15 @@ def build_solver(model: DesignModel, scales: pb.Scales, relaxed: bool = False):
     more than the solve; a solver is therefore kept for the model it was built for (the same
     :class:`Constants` object and options), so re-solves — starts, sweeps, benchmarks — reuse it.
     """
-    key = (id(model.constants), id(model.tissues), model.limits, model.requirements,
-           model.bounds.objective, scales, relaxed)
+    key = (
+        id(model.constants),
+        id(model.tissues),
+        model.limits,
+        model.requirements,
+        model.bounds.objective,
+        scales,
+        relaxed,
+    )
     hit = _SOLVERS.get(key)
     if hit is not None and hit[0] is model.constants and hit[1] is model.tissues:
         return hit[2], hit[3]
@@ -116,8 +135,18 @@ def optimize_design(model: DesignModel) -> OptimizationResult:
     if not ev.feasible:
         return _infeasible(model, scales, starts, iterations, t0, status_text, ev)
     binding = _binding(model, scales, info, sol, xs)
-    return _result(model, "optimal", ev, binding, (), status_text, iterations, len(starts), t0,
-                   "optimal: every requirement met inside every limit")
+    return _result(
+        model,
+        "optimal",
+        ev,
+        binding,
+        (),
+        status_text,
+        iterations,
+        len(starts),
+        t0,
+        "optimal: every requirement met inside every limit",
+    )
 
 
 def _binding(model, scales, info, sol, xs) -> tuple[BindingLimit, ...]:
@@ -133,23 +162,52 @@ def _binding(model, scales, info, sol, xs) -> tuple[BindingLimit, ...]:
         if row.name == "field_exposure":
             allowed = pb.exposure_allowed_T(model, xs[1] * pb.F_REF_hz)
         value = allowed * (1.0 + gi) if row.kind == "limit" else allowed
-        out.append(BindingLimit(row.name, row.key, row.unit, float(value), float(allowed),
-                                float(row.sign * lam * obj_scale / allowed), row.sign))
+        out.append(
+            BindingLimit(
+                row.name,
+                row.key,
+                row.unit,
+                float(value),
+                float(allowed),
+                float(row.sign * lam * obj_scale / allowed),
+                row.sign,
+            )
+        )
     lam_x = np.asarray(sol["lam_x"]).ravel()
     lo, hi = pb.variable_bounds(model, scales)
-    for i, (name, key_lo, key_hi, unit, ref) in enumerate((
-            ("helical_angle", "optimize.helical_angle_min_deg", "optimize.helical_angle_max_deg",
-             "rad", pb.ALPHA_REF_rad),
-            ("frequency", "optimize.frequency_min_hz", "optimize.frequency_max_hz", "Hz",
-             pb.F_REF_hz))):
+    for i, (name, key_lo, key_hi, unit, ref) in enumerate(
+        (
+            (
+                "helical_angle",
+                "optimize.helical_angle_min_deg",
+                "optimize.helical_angle_max_deg",
+                "rad",
+                pb.ALPHA_REF_rad,
+            ),
+            (
+                "frequency",
+                "optimize.frequency_min_hz",
+                "optimize.frequency_max_hz",
+                "Hz",
+                pb.F_REF_hz,
+            ),
+        )
+    ):
         if abs(lam_x[i]) < 1e-9:
             continue
         at_hi = abs(xs[i] - hi[i]) < abs(xs[i] - lo[i])
         bound = (hi if at_hi else lo)[i] * ref
-        out.append(BindingLimit(f"{name}_{'max' if at_hi else 'min'}",
-                                key_hi if at_hi else key_lo, unit, float(xs[i] * ref),
-                                float(bound), float(lam_x[i] * obj_scale / ref),
-                                1.0 if at_hi else -1.0))
+        out.append(
+            BindingLimit(
+                f"{name}_{'max' if at_hi else 'min'}",
+                key_hi if at_hi else key_lo,
+                unit,
+                float(xs[i] * ref),
+                float(bound),
+                float(lam_x[i] * obj_scale / ref),
+                1.0 if at_hi else -1.0,
+            )
+        )
     return tuple(out)
 
 
@@ -160,8 +218,13 @@ def _infeasible(model, scales, starts, iterations, t0, status_text, ev=None):
     best = None
     for x0 in starts:
         x0 = [*x0[:3], 0.0, 1.0, 1.0, 1.0]
-        sol = solver(x0=x0, lbx=[*lo[:3], 0.0, 0.0, 0.0, 0.0],
-                     ubx=[*hi[:3], 0.0, np.inf, np.inf, np.inf], lbg=-np.inf, ubg=0.0)
+        sol = solver(
+            x0=x0,
+            lbx=[*lo[:3], 0.0, 0.0, 0.0, 0.0],
+            ubx=[*hi[:3], 0.0, np.inf, np.inf, np.inf],
+            lbg=-np.inf,
+            ubg=0.0,
+        )
         iterations += int(solver.stats().get("iter_count", 0))
         if best is None or float(sol["f"]) < best[0]:
             best = (float(sol["f"]), sol)
@@ -169,35 +232,59 @@ def _infeasible(model, scales, starts, iterations, t0, status_text, ev=None):
     alpha, f = xs[0] * pb.ALPHA_REF_rad, xs[1] * pb.F_REF_hz
     ev = evaluate(model, alpha, f)
     shortfalls = tuple(
-        Shortfall(c.name, c.key, c.unit, c.allowed, c.value) for c in ev.failed()
-        if c.sense == ">=")
+        Shortfall(c.name, c.key, c.unit, c.allowed, c.value) for c in ev.failed() if c.sense == ">="
+    )
     if not shortfalls:  # the relaxed optimum meets everything: IPOPT failed for another reason
         shortfalls = (Shortfall("solver", "optimize.starts", "", 0.0, 0.0),)
     names = ", ".join(s.key for s in shortfalls)
-    return _result(model, "infeasible", ev, (), shortfalls, status_text, iterations, len(starts),
-                   t0, f"infeasible: no design inside the limits meets {names}")
+    return _result(
+        model,
+        "infeasible",
+        ev,
+        (),
+        shortfalls,
+        status_text,
+        iterations,
+        len(starts),
+        t0,
+        f"infeasible: no design inside the limits meets {names}",
+    )
 
 
-def _result(model, status, ev, binding, shortfalls, solver_status, iterations, starts, t0,
-            message) -> OptimizationResult:
+def _result(
+    model, status, ev, binding, shortfalls, solver_status, iterations, starts, t0, message
+) -> OptimizationResult:
     allocations = []
     for h in model.headings:
         amps, phases = model.coils.rotating_allocation(h, ev.field_amplitude_T)
         allocations.append((tuple(float(a) for a in amps), tuple(float(p) for p in phases)))
     return OptimizationResult(
-        status=status, objective=model.bounds.objective, helical_angle_rad=ev.helical_angle_rad,
-        frequency_hz=ev.frequency_hz, field_amplitude_T=ev.field_amplitude_T,
-        margin_Nm=ev.margin_Nm, safety_factor=ev.safety_factor,
-        current_amplitudes_A=ev.current_amplitudes_A, current_phases_rad=tuple(allocations),
+        status=status,
+        objective=model.bounds.objective,
+        helical_angle_rad=ev.helical_angle_rad,
+        frequency_hz=ev.frequency_hz,
+        field_amplitude_T=ev.field_amplitude_T,
+        margin_Nm=ev.margin_Nm,
+        safety_factor=ev.safety_factor,
+        current_amplitudes_A=ev.current_amplitudes_A,
+        current_phases_rad=tuple(allocations),
         headings=tuple(tuple(float(c) for c in h) for h in model.headings),
-        speed_m_s=ev.speed_m_s, step_out_frequency_hz=ev.step_out_frequency_hz,
-        binding_limits=binding, shortfalls=shortfalls, solver_status=solver_status,
-        iterations=iterations, starts=starts, solve_time_s=time.perf_counter() - t0,
-        evaluation=ev, message=message)
+        speed_m_s=ev.speed_m_s,
+        step_out_frequency_hz=ev.step_out_frequency_hz,
+        binding_limits=binding,
+        shortfalls=shortfalls,
+        solver_status=solver_status,
+        iterations=iterations,
+        starts=starts,
+        solve_time_s=time.perf_counter() - t0,
+        evaluation=ev,
+        message=message,
+    )
 
 
 def with_operating_point(model: DesignModel, result: OptimizationResult) -> DesignModel:
     """The model moved to the optimum's helical angle and frequency."""
     spiral = replace(model.capsule.spiral, helical_angle_rad=result.helical_angle_rad)
-    return replace(model, capsule=replace(model.capsule, spiral=spiral),
-                   frequency_hz=result.frequency_hz)
+    return replace(
+        model, capsule=replace(model.capsule, spiral=spiral), frequency_hz=result.frequency_hz
+    )

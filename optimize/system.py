@@ -15,9 +15,23 @@ import numpy as np
 
 #: The 13 symmetry directions of a cube: 3 axes, 6 face diagonals, 4 body diagonals.
 _CUBE_DIRECTIONS = np.array(
-    [[1, 0, 0], [0, 1, 0], [0, 0, 1],
-     [1, 1, 0], [1, -1, 0], [1, 0, 1], [1, 0, -1], [0, 1, 1], [0, 1, -1],
-     [1, 1, 1], [1, 1, -1], [1, -1, 1], [-1, 1, 1]], dtype=float)
+    [
+        [1, 0, 0],
+        [0, 1, 0],
+        [0, 0, 1],
+        [1, 1, 0],
+        [1, -1, 0],
+        [1, 0, 1],
+        [1, 0, -1],
+        [0, 1, 1],
+        [0, 1, -1],
+        [1, 1, 1],
+        [1, 1, -1],
+        [1, -1, 1],
+        [-1, 1, 1],
+    ],
+    dtype=float,
+)
 
 
 def default_headings() -> np.ndarray:
@@ -35,8 +49,13 @@ def workspace_points(radius_m: float) -> np.ndarray:
     if radius_m <= 0:
         return np.zeros((1, 3))
     corners = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)])
-    pts = np.vstack([np.zeros((1, 3)), radius_m * np.vstack([np.eye(3), -np.eye(3)]),
-                     radius_m * corners / np.sqrt(3.0)])
+    pts = np.vstack(
+        [
+            np.zeros((1, 3)),
+            radius_m * np.vstack([np.eye(3), -np.eye(3)]),
+            radius_m * corners / np.sqrt(3.0),
+        ]
+    )
     return pts
 
 
@@ -148,24 +167,34 @@ def precompute(model: DesignModel) -> Constants:
     g = np.asarray(model.coils.centre_gains_T_per_A, dtype=float)
     r = np.array([p.resistance_ohm(model.winding_temperature_C) for p in pairs])
     ind = np.array([p.series_inductance_H for p in pairs])
-    cond = np.array([p.thermal_conductance_W_per_K(model.heat_transfer_coefficient_W_m2K)
-                     for p in pairs])
-    n2 = np.asarray(model.headings, dtype=float) ** 2               # (h, 3)
-    s = np.sqrt(np.clip(1.0 - n2, 0.0, 1.0))                         # (h, 3)
+    cond = np.array(
+        [p.thermal_conductance_W_per_K(model.heat_transfer_coefficient_W_m2K) for p in pairs]
+    )
+    n2 = np.asarray(model.headings, dtype=float) ** 2  # (h, 3)
+    s = np.sqrt(np.clip(1.0 - n2, 0.0, 1.0))  # (h, 3)
     current_per_T = np.max(s / g, axis=0)
     power_per_T2 = float(np.max(np.sum(s**2 * r / (2.0 * g**2), axis=1)))
     factor = min(
         float(np.min(model.coils.rotating_field_semi_axes_T(model.points_m, h, 1.0)[0]))
-        for h in model.headings)
+        for h in model.headings
+    )
     body, spiral = model.capsule.body, model.capsule.spiral
     return Constants(
-        gains_T_per_A=g, resistance_ohm=r, inductance_H=ind, conductance_W_per_K=cond,
-        current_per_tesla_A_per_T=current_per_T, power_per_tesla2_W_per_T2=power_per_T2,
-        workspace_factor=factor, moment_Am2=float(model.capsule.magnet.moment_Am2),
-        body_diameter_m=body.diameter_m, body_length_m=body.length_m,
-        wire_diameter_m=spiral.wire_diameter_m, wound_length_m=spiral.wound_length_m,
+        gains_T_per_A=g,
+        resistance_ohm=r,
+        inductance_H=ind,
+        conductance_W_per_K=cond,
+        current_per_tesla_A_per_T=current_per_T,
+        power_per_tesla2_W_per_T2=power_per_T2,
+        workspace_factor=factor,
+        moment_Am2=float(model.capsule.magnet.moment_Am2),
+        body_diameter_m=body.diameter_m,
+        body_length_m=body.length_m,
+        wire_diameter_m=spiral.wire_diameter_m,
+        wound_length_m=spiral.wound_length_m,
         helix_diameter_m=float(cap.helix_diameter_m(body.diameter_m, spiral.wire_diameter_m)),
-        starts=int(spiral.starts))
+        starts=int(spiral.starts),
+    )
 
 
 def prepare(model: DesignModel) -> DesignModel:

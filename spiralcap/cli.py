@@ -32,7 +32,8 @@ def build_parser() -> argparse.ArgumentParser:
     """The full parser; subcommand modules add their own arguments."""
     parser = argparse.ArgumentParser(
         prog="spiralcap",
-        description="Design tool for magnetically actuated spiral-type capsule endoscopes.")
+        description="Design tool for magnetically actuated spiral-type capsule endoscopes.",
+    )
     parser.add_argument("--version", action="version", version=f"spiralcap {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     for name, (module, help_) in COMMANDS.items():

@@ -83,8 +83,9 @@ def parse_set(expr: str) -> tuple[str, Any]:
     return key, value
 
 
-def load_design(path: str | os.PathLike[str] | None = None,
-                overrides: Iterable[str] = ()) -> Design:
+def load_design(
+    path: str | os.PathLike[str] | None = None, overrides: Iterable[str] = ()
+) -> Design:
     """Read a design file (the built-in example when ``path`` is None) and apply overrides.
 
     Raises
@@ -147,11 +148,13 @@ def _to_toml(values: Mapping[str, Any], comments: bool = False) -> str:
 
 def example_toml() -> str:
     """The built-in example design as commented TOML (what ``spiralcap init`` writes)."""
-    head = ("# spiralcap design file. SI-style units are in every key name.\n"
-            "# Any key left out takes the default shown here.\n"
-            "# Built-in example: nested three-axis Helmholtz coils around a human abdomen,\n"
-            "# a PillCam SB2-size capsule with a 10 deg spiral, Zhou et al. 2013 sample-2\n"
-            "# tissue.\n\n")
+    head = (
+        "# spiralcap design file. SI-style units are in every key name.\n"
+        "# Any key left out takes the default shown here.\n"
+        "# Built-in example: nested three-axis Helmholtz coils around a human abdomen,\n"
+        "# a PillCam SB2-size capsule with a 10 deg spiral, Zhou et al. 2013 sample-2\n"
+        "# tissue.\n\n"
+    )
     return head + _to_toml(defaults(), comments=True)
 
 

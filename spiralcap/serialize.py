@@ -9,8 +9,18 @@ _AXES = ("x", "y", "z")
 
 
 def _checks(checks) -> list[dict[str, Any]]:
-    return [{"name": c.name, "key": c.key, "unit": c.unit, "value": c.value,
-             "allowed": c.allowed, "sense": c.sense, "ok": c.ok} for c in checks]
+    return [
+        {
+            "name": c.name,
+            "key": c.key,
+            "unit": c.unit,
+            "value": c.value,
+            "allowed": c.allowed,
+            "sense": c.sense,
+            "ok": c.ok,
+        }
+        for c in checks
+    ]
 
 
 def evaluation_to_dict(ev) -> dict[str, Any]:
@@ -51,21 +61,40 @@ def optimization_to_dict(res) -> dict[str, Any]:
         "safety_factor": res.safety_factor,
         "current_amplitudes_A": dict(zip(_AXES, res.current_amplitudes_A)),
         "current_allocation": [
-            {"heading": list(h), "amplitudes_A": dict(zip(_AXES, a)),
-             "phases_deg": dict(zip(_AXES, (math.degrees(p) for p in ph)))}
-            for h, (a, ph) in zip(res.headings, res.current_phases_rad)],
+            {
+                "heading": list(h),
+                "amplitudes_A": dict(zip(_AXES, a)),
+                "phases_deg": dict(zip(_AXES, (math.degrees(p) for p in ph))),
+            }
+            for h, (a, ph) in zip(res.headings, res.current_phases_rad)
+        ],
         "speed_m_s": res.speed_m_s,
         "step_out_frequency_hz": res.step_out_frequency_hz,
         "binding_limits": [
-            {"name": b.name, "key": b.key, "unit": b.unit, "value": b.value,
-             "allowed": b.allowed, "sensitivity_per_unit": b.sensitivity,
-             "gain_per_unit_relaxed": b.gain_per_unit_relaxed,
-             "relaxing_means": "raising" if b.relax_sign > 0 else "lowering",
-             "gain_unit": ("N·m/" if res.objective == "margin" else "1/") + b.unit}
-            for b in res.binding_limits],
+            {
+                "name": b.name,
+                "key": b.key,
+                "unit": b.unit,
+                "value": b.value,
+                "allowed": b.allowed,
+                "sensitivity_per_unit": b.sensitivity,
+                "gain_per_unit_relaxed": b.gain_per_unit_relaxed,
+                "relaxing_means": "raising" if b.relax_sign > 0 else "lowering",
+                "gain_unit": ("N·m/" if res.objective == "margin" else "1/") + b.unit,
+            }
+            for b in res.binding_limits
+        ],
         "shortfalls": [
-            {"name": s.name, "key": s.key, "unit": s.unit, "needed": s.needed, "best": s.best,
-             "short_by": s.short_by} for s in res.shortfalls],
+            {
+                "name": s.name,
+                "key": s.key,
+                "unit": s.unit,
+                "needed": s.needed,
+                "best": s.best,
+                "short_by": s.short_by,
+            }
+            for s in res.shortfalls
+        ],
         "solver_status": res.solver_status,
         "iterations": res.iterations,
         "starts": res.starts,

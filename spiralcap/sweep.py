@@ -34,8 +34,15 @@ _VECTOR_KEYS: dict[str, tuple[str, str, float]] = {
     "requirements.min_spiral_turns": ("requirements", "min_spiral_turns", 1.0),
 }
 EVALUATE_COLUMNS = ("margin_Nm", "safety_factor", "field_amplitude_T", "speed_m_s", "feasible")
-OPTIMIZE_COLUMNS = ("status", "helical_angle_deg", "frequency_hz", "margin_Nm", "safety_factor",
-                    "field_amplitude_T", "binding_limits")
+OPTIMIZE_COLUMNS = (
+    "status",
+    "helical_angle_deg",
+    "frequency_hz",
+    "margin_Nm",
+    "safety_factor",
+    "field_amplitude_T",
+    "binding_limits",
+)
 
 
 @dataclass(frozen=True)
@@ -86,8 +93,14 @@ def _grid(axes: Sequence[Axis]) -> dict[str, np.ndarray]:
     return {a.key: m.ravel() for a, m in zip(axes, mesh)}
 
 
-def sweep(design: Design, axes: Sequence[Axis], *, optimize: bool = False, workers: int = 1,
-          progress: Callable[[int, int], None] | None = None) -> SweepResult:
+def sweep(
+    design: Design,
+    axes: Sequence[Axis],
+    *,
+    optimize: bool = False,
+    workers: int = 1,
+    progress: Callable[[int, int], None] | None = None,
+) -> SweepResult:
     """Evaluate (or re-optimise) ``design`` at every point of the grid spanned by ``axes``."""
     inputs = _grid(axes)
     if optimize:
@@ -118,8 +131,11 @@ def _evaluate_vectorised(design: Design, inputs: dict[str, np.ndarray]) -> dict[
             f = values * factor
         else:
             groups[where][attr] = values * factor
-    model = replace(model, limits=replace(model.limits, **groups["limits"]),
-                    requirements=replace(model.requirements, **groups["requirements"]))
+    model = replace(
+        model,
+        limits=replace(model.limits, **groups["limits"]),
+        requirements=replace(model.requirements, **groups["requirements"]),
+    )
     n = len(next(iter(inputs.values())))
     out = margin_grid(model, np.broadcast_to(alpha, (n,)), np.broadcast_to(f, (n,)))
     return {k: np.asarray(out[k]) for k in EVALUATE_COLUMNS}
@@ -133,8 +149,9 @@ def _evaluate_points(design, inputs, progress) -> dict[str, np.ndarray]:
     rows = []
     for i in range(n):
         ev = evaluate(build_model(_at(design, inputs, i)))
-        rows.append((ev.margin_Nm, ev.safety_factor, ev.field_amplitude_T, ev.speed_m_s,
-                     ev.feasible))
+        rows.append(
+            (ev.margin_Nm, ev.safety_factor, ev.field_amplitude_T, ev.speed_m_s, ev.feasible)
+        )
         if progress:
             progress(i + 1, n)
     return {k: np.array([r[j] for r in rows]) for j, k in enumerate(EVALUATE_COLUMNS)}
@@ -152,8 +169,15 @@ def _optimize_one(design: Design) -> tuple:
     from spiralcap.assemble import build_model
 
     r = optimize_design(build_model(design))
-    return (r.status, r.helical_angle_deg, r.frequency_hz, r.margin_Nm, r.safety_factor,
-            r.field_amplitude_T, ";".join(b.name for b in r.binding_limits))
+    return (
+        r.status,
+        r.helical_angle_deg,
+        r.frequency_hz,
+        r.margin_Nm,
+        r.safety_factor,
+        r.field_amplitude_T,
+        ";".join(b.name for b in r.binding_limits),
+    )
 
 
 def _optimize_points(design, inputs, workers, progress) -> dict[str, np.ndarray]:

@@ -14,10 +14,12 @@ from spiralcap import backend as bk
 def test_agm_matches_scipy(m):
     x = ca.SX.sym("m")
     k, e = ca.Function("ke", [x], [bk.ellipk(x), bk.ellipe(x)])(m)
-    assert abs(float(k) - special.ellipk(m)) < 1e-13 * special.ellipk(m), \
+    assert abs(float(k) - special.ellipk(m)) < 1e-13 * special.ellipk(m), (
         "AGM K(m) vs scipy.special.ellipk: tolerance 1e-13 relative"
-    assert abs(float(e) - special.ellipe(m)) < 1e-13, \
+    )
+    assert abs(float(e) - special.ellipe(m)) < 1e-13, (
         "AGM E(m) vs scipy.special.ellipe: tolerance 1e-13"
+    )
 
 
 def test_agm_derivative_matches_legendre_relation():
@@ -26,20 +28,23 @@ def test_agm_derivative_matches_legendre_relation():
     dk = ca.Function("dk", [x], [ca.jacobian(bk.ellipk(x), x)])
     for m in (0.2, 0.7, 0.95):
         ref = (special.ellipe(m) - (1 - m) * special.ellipk(m)) / (2 * m * (1 - m))
-        assert abs(float(dk(m)) - ref) < 1e-11 * abs(ref), \
+        assert abs(float(dk(m)) - ref) < 1e-11 * abs(ref), (
             "d K/dm from AGM vs DLMF 19.4.1: tolerance 1e-11 relative"
+        )
 
 
-@pytest.mark.parametrize("name", ["sin", "cos", "tan", "arctan", "exp", "sqrt", "log", "abs",
-                                  "square", "softplus"])
+@pytest.mark.parametrize(
+    "name", ["sin", "cos", "tan", "arctan", "exp", "sqrt", "log", "abs", "square", "softplus"]
+)
 def test_unary_paths_agree(name):
     fn = getattr(bk, name)
     xs = np.array([0.1, 0.7, 1.3, 2.9])
     x = ca.SX.sym("x")
     f = ca.Function("f", [x], [fn(x)])
     got = np.array([float(f(v)) for v in xs])
-    assert np.allclose(got, fn(xs), rtol=1e-14, atol=0), \
+    assert np.allclose(got, fn(xs), rtol=1e-14, atol=0), (
         f"backend.{name}: numpy and CasADi paths agree to 1e-14"
+    )
 
 
 def test_where_and_minmax_on_both_paths():

@@ -42,8 +42,9 @@ def test_default_design_builds_in_si(assemble: types.ModuleType) -> None:
     assert cap.body.diameter_m == pytest.approx(11e-3, rel=1e-15), "11 mm -> m, rel 1e-15"
     assert cap.spiral.helical_angle_rad == pytest.approx(math.radians(10.0), rel=1e-15)
     assert cap.spiral.wound_length_m == pytest.approx(15e-3, rel=1e-15)
-    assert cap.magnet.remanence_T == pytest.approx(1.345, rel=1e-15), \
+    assert cap.magnet.remanence_T == pytest.approx(1.345, rel=1e-15), (
         "N45 nominal mid-band 1.32-1.37 T (Shanghai Magnet grade table), rel 1e-15"
+    )
     assert cap.magnet.shape == "cylinder"
 
 
@@ -58,23 +59,31 @@ def test_ring_builds(assemble: types.ModuleType) -> None:
     assert cap.magnet.inner_diameter_m == pytest.approx(2e-3) and cap.magnet.shape == "ring"
 
 
-@pytest.mark.parametrize(("overrides", "key"), [
-    (("capsule.magnet.diameter_mm=20",), "capsule.magnet.diameter_mm"),
-    (("capsule.magnet.length_mm=30",), "capsule.magnet.length_mm"),
-    (("capsule.magnet.shape=ring",), "capsule.magnet.inner_diameter_mm"),
-    (("capsule.magnet.inner_diameter_mm=2",), "capsule.magnet.inner_diameter_mm"),
-    (("capsule.magnet.shape=ring", "capsule.magnet.inner_diameter_mm=6"),
-     "capsule.magnet.inner_diameter_mm"),
-    (("capsule.spiral.wire_diameter_mm=3",), "capsule.spiral.wire_diameter_mm"),
-    (("capsule.spiral.wound_length_mm=16",), "capsule.spiral.wound_length_mm"),
-    (("capsule.shell_thickness_mm=5.5",), "capsule.shell_thickness_mm"),
-    (("capsule.length_mm=11",), "capsule.length_mm"),
-    (("capsule.spiral.helical_angle_deg=1",), "capsule.spiral.helical_angle_deg"),
-    (("capsule.spiral.starts=4", "capsule.spiral.helical_angle_deg=5"),
-     "capsule.spiral.helical_angle_deg"),
-])
-def test_cross_key_problems_name_the_key(assemble: types.ModuleType, overrides: tuple,
-                                         key: str) -> None:
+@pytest.mark.parametrize(
+    ("overrides", "key"),
+    [
+        (("capsule.magnet.diameter_mm=20",), "capsule.magnet.diameter_mm"),
+        (("capsule.magnet.length_mm=30",), "capsule.magnet.length_mm"),
+        (("capsule.magnet.shape=ring",), "capsule.magnet.inner_diameter_mm"),
+        (("capsule.magnet.inner_diameter_mm=2",), "capsule.magnet.inner_diameter_mm"),
+        (
+            ("capsule.magnet.shape=ring", "capsule.magnet.inner_diameter_mm=6"),
+            "capsule.magnet.inner_diameter_mm",
+        ),
+        (("capsule.spiral.wire_diameter_mm=3",), "capsule.spiral.wire_diameter_mm"),
+        (("capsule.spiral.wound_length_mm=16",), "capsule.spiral.wound_length_mm"),
+        (("capsule.shell_thickness_mm=5.5",), "capsule.shell_thickness_mm"),
+        (("capsule.length_mm=11",), "capsule.length_mm"),
+        (("capsule.spiral.helical_angle_deg=1",), "capsule.spiral.helical_angle_deg"),
+        (
+            ("capsule.spiral.starts=4", "capsule.spiral.helical_angle_deg=5"),
+            "capsule.spiral.helical_angle_deg",
+        ),
+    ],
+)
+def test_cross_key_problems_name_the_key(
+    assemble: types.ModuleType, overrides: tuple, key: str
+) -> None:
     with pytest.raises(InputError) as err:
         _build(assemble, *overrides)
     assert err.value.key == key, f"{overrides}: expected the error to name {key}, got {err.value}"
@@ -93,12 +102,20 @@ def test_cli_magnet_too_wide_exits_2_naming_the_key(run_cli, capsys) -> None:
     assert "capsule.magnet.diameter_mm" in err and err.count("\n") == 1, err
 
 
-@pytest.mark.parametrize("override", [
-    "capsule.diameter_mm=0", "capsule.length_mm=-26", "capsule.shell_thickness_mm=0",
-    "capsule.magnet.diameter_mm=0", "capsule.magnet.length_mm=-1",
-    "capsule.spiral.wire_diameter_mm=0", "capsule.spiral.wound_length_mm=0",
-    "capsule.spiral.helical_angle_deg=0", "capsule.spiral.starts=0",
-])
+@pytest.mark.parametrize(
+    "override",
+    [
+        "capsule.diameter_mm=0",
+        "capsule.length_mm=-26",
+        "capsule.shell_thickness_mm=0",
+        "capsule.magnet.diameter_mm=0",
+        "capsule.magnet.length_mm=-1",
+        "capsule.spiral.wire_diameter_mm=0",
+        "capsule.spiral.wound_length_mm=0",
+        "capsule.spiral.helical_angle_deg=0",
+        "capsule.spiral.starts=0",
+    ],
+)
 def test_cli_non_positive_sizes_exit_2(run_cli, capsys, override: str) -> None:
     assert run_cli(["capsule", "--set", override]) == 2
     assert override.split("=")[0] in capsys.readouterr().err
@@ -107,43 +124,69 @@ def test_cli_non_positive_sizes_exit_2(run_cli, capsys, override: str) -> None:
 def test_cli_json_default(run_cli, capsys) -> None:
     assert run_cli(["capsule", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
-    for key in ("magnet_moment_Am2", "pitch_m", "lead_m", "helix_diameter_m", "turns",
-                "thrust_torque_Nm", "speed_m_s", "footprint_width_m",
-                "synchronous_torque_per_mT_Nm", "full_turn_ok"):
+    for key in (
+        "magnet_moment_Am2",
+        "pitch_m",
+        "lead_m",
+        "helix_diameter_m",
+        "turns",
+        "thrust_torque_Nm",
+        "speed_m_s",
+        "footprint_width_m",
+        "synchronous_torque_per_mT_Nm",
+        "full_turn_ok",
+    ):
         assert key in out, f"JSON must carry {key}"
     lead = math.pi * 12e-3 * math.tan(math.radians(10.0))
-    assert out["pitch_m"] == pytest.approx(lead, rel=1e-12), \
+    assert out["pitch_m"] == pytest.approx(lead, rel=1e-12), (
         "pi D_h tan(alpha) with D_h = 12 mm at 10 deg (DESIGN.md 4.2), rel 1e-12"
-    assert out["speed_m_s"] == pytest.approx(0.5 * 2.0 * lead, rel=1e-12), \
+    )
+    assert out["speed_m_s"] == pytest.approx(0.5 * 2.0 * lead, rel=1e-12), (
         "slip 0.5 x 2 Hz x lead (schema defaults), rel 1e-12"
+    )
     assert out["full_turn_ok"] is True and out["turns"] == pytest.approx(15e-3 / lead)
     mu = out["friction_coefficient"]
     assert out["thrust_torque_Nm"] == pytest.approx(
-        0.05 * 6e-3 * math.tan(math.radians(10.0) + math.atan(mu)), rel=1e-12), \
-        "50 mN x 6 mm x tan(alpha + atan mu) (Shigley power screw), rel 1e-12"
+        0.05 * 6e-3 * math.tan(math.radians(10.0) + math.atan(mu)), rel=1e-12
+    ), "50 mN x 6 mm x tan(alpha + atan mu) (Shigley power screw), rel 1e-12"
     assert out["synchronous_torque_per_mT_Nm"] == pytest.approx(
-        out["magnet_moment_Am2"] * 1e-3, rel=1e-15), "m x 1 mT, rel 1e-15"
+        out["magnet_moment_Am2"] * 1e-3, rel=1e-15
+    ), "m x 1 mT, rel 1e-15"
 
 
 def test_cli_uses_tissue_friction(run_cli, capsys, assemble) -> None:
     expected = assemble.build_tissues(load_design())[0].friction_coefficient
     assert run_cli(["capsule", "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["friction_coefficient"] == expected
-    assert expected == pytest.approx(_SAMPLE2_MU), \
+    assert expected == pytest.approx(_SAMPLE2_MU), (
         "default preset zhou2013-sample2: mu = 0.28 (Zhou et al. 2013 II.C), rel 1e-6"
+    )
 
 
 def test_cli_flags_less_than_one_turn(run_cli, capsys) -> None:
     assert run_cli(["capsule", "--set", "capsule.spiral.helical_angle_deg=30"]) == 0
     text = capsys.readouterr().out
-    assert re.search(r"^warning: the spiral makes 0\.689 turns", text, re.M), \
+    assert re.search(r"^warning: the spiral makes 0\.689 turns", text, re.M), (
         f"15 mm / (pi 12 mm tan 30 deg) = 0.689 turns < 1 must be flagged:\n{text}"
+    )
     assert run_cli(["capsule", "--json", "--set", "capsule.spiral.helical_angle_deg=30"]) == 0
     out = json.loads(capsys.readouterr().out)
-    assert out["full_turn_ok"] is False and out["turns"] == pytest.approx(0.68916, rel=1e-4), \
+    assert out["full_turn_ok"] is False and out["turns"] == pytest.approx(0.68916, rel=1e-4), (
         "hand value 15 / 21.766 = 0.68916 turns at 30 deg, rel 1e-4"
-    assert run_cli(["capsule", "--json", "--set", "capsule.spiral.helical_angle_deg=30",
-                    "--set", "requirements.min_spiral_turns=0"]) == 0
+    )
+    assert (
+        run_cli(
+            [
+                "capsule",
+                "--json",
+                "--set",
+                "capsule.spiral.helical_angle_deg=30",
+                "--set",
+                "requirements.min_spiral_turns=0",
+            ]
+        )
+        == 0
+    )
     assert json.loads(capsys.readouterr().out)["full_turn_ok"] is True, "0 switches the rule off"
 
 

@@ -22,6 +22,7 @@ from spiralcap.errors import InputError
 def neumann_mutual_H(a: float, b: float, d: float) -> float:
     """Neumann's double integral for coaxial circles, reduced by symmetry to one quadrature
     over [0, pi] (the integrand is even about pi)."""
+
     def integrand(phi: float) -> float:
         return math.cos(phi) / math.sqrt(a * a + b * b + d * d - 2 * a * b * math.cos(phi))
 
@@ -45,42 +46,54 @@ def volume_self_inductance_H(radius: float, side: float, turns: int, n: int) -> 
 def test_maxwell_mutual_matches_neumann_integral() -> None:
     for a, b, d in ((0.3, 0.3, 0.3), (0.2, 0.35, 0.1), (0.4, 0.38, 0.02), (0.1, 0.5, 1.0)):
         assert coils.coaxial_mutual_inductance_H(a, b, d) == pytest.approx(
-            neumann_mutual_H(a, b, d), rel=1e-10), "Neumann integral (quad), rel 1e-10"
+            neumann_mutual_H(a, b, d), rel=1e-10
+        ), "Neumann integral (quad), rel 1e-10"
 
 
 @pytest.mark.parametrize(("radius", "turns", "wire_mm"), [(0.4, 400, 2.5), (0.1, 60, 3.0)])
-def test_self_inductance_stefan_vs_volume_integral(radius: float, turns: int,
-                                                   wire_mm: float) -> None:
+def test_self_inductance_stefan_vs_volume_integral(
+    radius: float, turns: int, wire_mm: float
+) -> None:
     pair = coils.HelmholtzPair(radius, turns, wire_diameter_m=wire_mm * 1e-3)
     side = pair.winding_pack_side_m
     coarse, fine = (volume_self_inductance_H(radius, side, turns, n) for n in (16, 32))
     reference = (4 * fine - coarse) / 3  # Richardson on the 1/n^2 error
-    assert pair.self_inductance_H == pytest.approx(reference, rel=2e-5), \
+    assert pair.self_inductance_H == pytest.approx(reference, rel=2e-5), (
         f"filament-sum volume integral (Richardson 16/32), rel 2e-5 at c/R = {side / radius:.2f}"
+    )
 
 
 def test_self_inductance_near_wheeler() -> None:
     pair = coils.HelmholtzPair(0.4, 400, wire_diameter_m=2.5e-3)
     a, c = pair.radius_m / 0.0254, pair.winding_pack_side_m / 0.0254
     wheeler = 0.8e-6 * a * a * pair.turns**2 / (6 * a + 9 * c + 10 * c)
-    assert pair.self_inductance_H == pytest.approx(wheeler, rel=0.02), \
+    assert pair.self_inductance_H == pytest.approx(wheeler, rel=0.02), (
         "Wheeler 1928 multilayer formula (inches, uH; ~1 % claimed), rel 2 %"
+    )
 
 
 def test_pair_mutual_and_series_inductance() -> None:
     pair = coils.HelmholtzPair(0.35, 350, "y", wire_diameter_m=2.5e-3)
     dr, dz, w = gauss_legendre_pack(pair.winding_pack_side_m, (8, 8))
-    dense = pair.turns**2 * np.sum(w[:, None] * w[None, :] * coils.coaxial_mutual_inductance_H(
-        pair.radius_m + dr[:, None], pair.radius_m + dr[None, :],
-        pair.separation_m + dz[:, None] - dz[None, :]))
-    assert pair.mutual_inductance_H == pytest.approx(dense, rel=1e-9), \
+    dense = pair.turns**2 * np.sum(
+        w[:, None]
+        * w[None, :]
+        * coils.coaxial_mutual_inductance_H(
+            pair.radius_m + dr[:, None],
+            pair.radius_m + dr[None, :],
+            pair.separation_m + dz[:, None] - dz[None, :],
+        )
+    )
+    assert pair.mutual_inductance_H == pytest.approx(dense, rel=1e-9), (
         "4x4 Gauss-Legendre pack average converged vs 8x8, rel 1e-9"
+    )
     filament = pair.turns**2 * neumann_mutual_H(pair.radius_m, pair.radius_m, pair.separation_m)
-    assert pair.mutual_inductance_H == pytest.approx(filament, rel=(pair.winding_pack_side_m
-                                                                    / pair.separation_m) ** 2), \
-        "pack average vs N^2 x Neumann filament value, within (c/s)^2"
+    assert pair.mutual_inductance_H == pytest.approx(
+        filament, rel=(pair.winding_pack_side_m / pair.separation_m) ** 2
+    ), "pack average vs N^2 x Neumann filament value, within (c/s)^2"
     assert pair.series_inductance_H == pytest.approx(
-        2 * pair.self_inductance_H + 2 * pair.mutual_inductance_H, rel=1e-15), "2L + 2M"
+        2 * pair.self_inductance_H + 2 * pair.mutual_inductance_H, rel=1e-15
+    ), "2L + 2M"
 
 
 def test_geometry_resistance_and_conductance_by_hand() -> None:
@@ -90,25 +103,34 @@ def test_geometry_resistance_and_conductance_by_hand() -> None:
     length = 2 * 300 * 2 * math.pi * 0.3
     assert pair.wire_length_m == pytest.approx(length, rel=1e-15), "2 N 2 pi R"
     rho_60 = COPPER_RESISTIVITY_20C_ohm_m * (1 + COPPER_TEMPERATURE_COEFFICIENT_per_K * 40)
-    assert pair.resistance_ohm(60.0) == pytest.approx(rho_60 * length / (math.pi * 1e-6),
-                                                      rel=1e-14), "IEC 60028 rho(T) l / A"
+    assert pair.resistance_ohm(60.0) == pytest.approx(
+        rho_60 * length / (math.pi * 1e-6), rel=1e-14
+    ), "IEC 60028 rho(T) l / A"
     assert pair.thermal_conductance_W_per_K(12.0) == pytest.approx(
-        12.0 * 2 * 4 * side * 2 * math.pi * 0.3, rel=1e-14), "h x 2 coils x 4c x 2 pi R"
+        12.0 * 2 * 4 * side * 2 * math.pi * 0.3, rel=1e-14
+    ), "h x 2 coils x 4c x 2 pi R"
 
 
 def test_electrical_functions_numpy_and_casadi() -> None:
     r, ind, f, i = 4.0, 0.2, 3.0, 12.0
     z = math.hypot(r, 2 * math.pi * f * ind)
     assert coils.impedance_ohm(r, ind, f) == pytest.approx(z, rel=1e-15), "|R + j w L|"
-    assert coils.voltage_amplitude_V(r, ind, f, i) == pytest.approx(z * i, rel=1e-15), \
+    assert coils.voltage_amplitude_V(r, ind, f, i) == pytest.approx(z * i, rel=1e-15), (
         "voltage amplitude = |Z| I (Ohm's law), 1e-15"
+    )
     assert coils.copper_loss_W(r, i) == pytest.approx(r * i * i / 2, rel=1e-15), "R I^2 / 2"
     assert coils.temperature_rise_K(100.0, 4.0) == 25.0, "P / G"
     fs, cs = ca.SX.sym("f"), ca.SX.sym("i")
-    fn = ca.Function("e", [fs, cs], [coils.impedance_ohm(r, ind, fs),
-                                     coils.voltage_amplitude_V(r, ind, fs, cs),
-                                     coils.copper_loss_W(r, cs),
-                                     coils.temperature_rise_K(coils.copper_loss_W(r, cs), 4.0)])
+    fn = ca.Function(
+        "e",
+        [fs, cs],
+        [
+            coils.impedance_ohm(r, ind, fs),
+            coils.voltage_amplitude_V(r, ind, fs, cs),
+            coils.copper_loss_W(r, cs),
+            coils.temperature_rise_K(coils.copper_loss_W(r, cs), 4.0),
+        ],
+    )
     got = [float(v) for v in fn(f, i)]
     want = [z, z * i, r * i * i / 2, r * i * i / 8]
     assert np.allclose(got, want, rtol=1e-12, atol=0), "CasADi vs numpy, rel 1e-12"
@@ -116,14 +138,24 @@ def test_electrical_functions_numpy_and_casadi() -> None:
     assert arr.shape == (2,), "broadcasts over numpy arrays"
 
 
-@pytest.mark.parametrize(("kwargs", "key"), [
-    ({"radius_m": float("nan")}, "radius_m"), ({"radius_m": -1.0}, "radius_m"),
-    ({"turns": 0}, "turns"), ({"turns": 2.5}, "turns"), ({"turns": True}, "turns"),
-    ({"axis": "w"}, "axis"), ({"separation_m": 0.0}, "separation_m"),
-    ({"wire_diameter_m": 0.0}, "wire_diameter_m"), ({"packing_factor": 0.95}, "packing_factor"),
-    ({"wire_diameter_m": 0.03}, "wire_diameter_m"), ({"separation_m": 0.04}, "separation_m"),
-    ({"filaments": (0, 2)}, "filaments"), ({"filaments": 3}, "filaments"),
-])
+@pytest.mark.parametrize(
+    ("kwargs", "key"),
+    [
+        ({"radius_m": float("nan")}, "radius_m"),
+        ({"radius_m": -1.0}, "radius_m"),
+        ({"turns": 0}, "turns"),
+        ({"turns": 2.5}, "turns"),
+        ({"turns": True}, "turns"),
+        ({"axis": "w"}, "axis"),
+        ({"separation_m": 0.0}, "separation_m"),
+        ({"wire_diameter_m": 0.0}, "wire_diameter_m"),
+        ({"packing_factor": 0.95}, "packing_factor"),
+        ({"wire_diameter_m": 0.03}, "wire_diameter_m"),
+        ({"separation_m": 0.04}, "separation_m"),
+        ({"filaments": (0, 2)}, "filaments"),
+        ({"filaments": 3}, "filaments"),
+    ],
+)
 def test_pair_rejects_bad_parameters(kwargs: dict, key: str) -> None:
     args = {"radius_m": 0.3, "turns": 300, **kwargs}
     with pytest.raises(InputError) as err:

@@ -15,8 +15,11 @@ from spiralcap.constants import MU0_T_m_per_A
 
 #: magpylib uses scipy's mu_0 (CODATA 2022); we use CODATA 2018. Rescale to compare geometry.
 MU0_RATIO = MU0_T_m_per_A / scipy.constants.mu_0
-_TURN_TO = {"x": Rotation.from_euler("y", 90, degrees=True),
-            "y": Rotation.from_euler("x", -90, degrees=True), "z": None}
+_TURN_TO = {
+    "x": Rotation.from_euler("y", 90, degrees=True),
+    "y": Rotation.from_euler("x", -90, degrees=True),
+    "z": None,
+}
 
 
 def magpylib_system(system: coils.ThreeAxisHelmholtz, currents_A) -> magpylib.Collection:
@@ -25,9 +28,14 @@ def magpylib_system(system: coils.ThreeAxisHelmholtz, currents_A) -> magpylib.Co
     for pair, current in zip(system.pairs, currents_A, strict=True):
         e = np.eye(3)[pair.axis_index]
         for sign in (-0.5, 0.5):
-            loops.append(magpylib.current.Circle(
-                current=pair.turns * current, diameter=2.0 * pair.radius_m,
-                position=sign * pair.separation_m * e, orientation=_TURN_TO[pair.axis]))
+            loops.append(
+                magpylib.current.Circle(
+                    current=pair.turns * current,
+                    diameter=2.0 * pair.radius_m,
+                    position=sign * pair.separation_m * e,
+                    orientation=_TURN_TO[pair.axis],
+                )
+            )
     return magpylib.Collection(*loops)
 
 
@@ -36,10 +44,16 @@ def random_system(rng: np.random.Generator) -> coils.ThreeAxisHelmholtz:
     r_z = rng.uniform(0.15, 0.35)
     radii = {"z": r_z, "y": r_z * rng.uniform(1.1, 1.3)}
     radii["x"] = radii["y"] * rng.uniform(1.1, 1.3)
-    pairs = {ax: coils.HelmholtzPair(radii[ax], int(rng.integers(50, 500)), ax,
-                                     separation_m=radii[ax] * rng.uniform(0.8, 1.2),
-                                     wire_diameter_m=1e-3)
-             for ax in "xyz"}
+    pairs = {
+        ax: coils.HelmholtzPair(
+            radii[ax],
+            int(rng.integers(50, 500)),
+            ax,
+            separation_m=radii[ax] * rng.uniform(0.8, 1.2),
+            wire_diameter_m=1e-3,
+        )
+        for ax in "xyz"
+    }
     return coils.ThreeAxisHelmholtz(**pairs)
 
 
@@ -47,11 +61,13 @@ def test_pair_centre_field_is_helmholtz_closed_form() -> None:
     for radius, turns in ((0.3, 300), (0.123, 77), (1.7, 1)):
         pair = coils.HelmholtzPair(radius, turns, wire_diameter_m=1e-4)
         expected = (4 / 5) ** 1.5 * MU0_T_m_per_A * turns / radius
-        assert pair.centre_field_per_amp_T_per_A == pytest.approx(expected, rel=1e-12), \
+        assert pair.centre_field_per_amp_T_per_A == pytest.approx(expected, rel=1e-12), (
             "(4/5)^{3/2} mu0 N / R (Helmholtz 1849 / any textbook), rel 1e-12"
+        )
         b = pair.field(np.zeros(3), 2.5)
-        assert b[2] == pytest.approx(2.5 * expected, rel=1e-12) and b[0] == b[1] == 0.0, \
+        assert b[2] == pytest.approx(2.5 * expected, rel=1e-12) and b[0] == b[1] == 0.0, (
             "field() at the centre = g I along the axis, rel 1e-12"
+        )
 
 
 @pytest.mark.parametrize("seed", range(5))
@@ -70,8 +86,9 @@ def test_system_field_matches_magpylib(seed: int) -> None:
     ours = system.field(points, currents)
     ref = magpylib_system(system, currents).getB(points) * MU0_RATIO
     rel = np.linalg.norm(ours - ref, axis=1) / np.linalg.norm(ref, axis=1)
-    assert rel.max() < 1e-9, \
+    assert rel.max() < 1e-9, (
         f"magpylib 6 Circle (Ortner et al. 2023), |dB|/|B| < 1e-9; worst {rel.max():.2e}"
+    )
 
 
 def test_loop_field_matches_magpylib_on_and_off_axis() -> None:
@@ -83,8 +100,10 @@ def test_loop_field_matches_magpylib_on_and_off_axis() -> None:
     loop = magpylib.current.Circle(current=1.0, diameter=2 * radius, position=(0, 0, z0))
     ref = loop.getB(np.column_stack([rho, np.zeros_like(rho), z])) * MU0_RATIO
     scale = np.hypot(ref[:, 0], ref[:, 2])
-    assert np.max(np.abs(b_rho - ref[:, 0]) / scale) < 1e-9 and \
-        np.max(np.abs(b_z - ref[:, 2]) / scale) < 1e-9, "magpylib Circle, rel 1e-9 of |B|"
+    assert (
+        np.max(np.abs(b_rho - ref[:, 0]) / scale) < 1e-9
+        and np.max(np.abs(b_z - ref[:, 2]) / scale) < 1e-9
+    ), "magpylib Circle, rel 1e-9 of |B|"
     assert np.all(b_rho[:20] == 0.0), "B_rho exactly 0 on the axis (symmetry)"
 
 
@@ -92,8 +111,9 @@ def test_loop_on_axis_is_biot_savart_closed_form() -> None:
     z = np.linspace(-1.0, 1.0, 41)
     b_rho, b_z = coils.loop_field(0.3, 0.1, 0.0, z)
     expected = MU0_T_m_per_A * 0.3**2 / (2 * (0.3**2 + (z - 0.1) ** 2) ** 1.5)
-    assert np.allclose(b_z, expected, rtol=1e-13, atol=0), \
+    assert np.allclose(b_z, expected, rtol=1e-13, atol=0), (
         "on-axis mu0 R^2 / (2 (R^2 + z^2)^{3/2}) (Biot-Savart), rel 1e-13"
+    )
     assert np.all(b_rho == 0.0), "B_rho exactly 0 on the axis (symmetry)"
 
 
@@ -104,11 +124,13 @@ def test_filament_pack_converges_to_itself_and_near_thin_coil() -> None:
     p6 = coils.HelmholtzPair(**kw, filaments=(6, 6))
     pts = np.array([[0.0, 0.0, 0.0], [0.05, 0.02, 0.08], [0.1, 0.0, 0.0]])
     b4, b6 = p4.field(pts, 1.0), p6.field(pts, 1.0)
-    assert np.max(np.abs(b4 - b6)) < 1e-10 * np.abs(b6).max(), \
+    assert np.max(np.abs(b4 - b6)) < 1e-10 * np.abs(b6).max(), (
         "Gauss-Legendre pack quadrature 4x4 vs 6x6 converged, rel 1e-10"
+    )
     c_over_r = thin.winding_pack_side_m / thin.radius_m
-    assert np.max(np.abs(thin.field(pts, 1.0) - b6)) < c_over_r**2 * np.abs(b6).max(), \
+    assert np.max(np.abs(thin.field(pts, 1.0) - b6)) < c_over_r**2 * np.abs(b6).max(), (
         "thin-filament vs real pack differ at order (c/R)^2 (multipole expansion)"
+    )
 
 
 def test_numpy_and_casadi_agree() -> None:
@@ -116,38 +138,48 @@ def test_numpy_and_casadi_agree() -> None:
     system = random_system(rng)
     f = system.casadi_field_function()
     currents = rng.uniform(-2, 2, 3)
-    pts = np.vstack([rng.uniform(-0.5, 0.5, (40, 3)) * system.z.radius_m, np.zeros((1, 3)),
-                     [[0, 0, 0.05], [0.05, 0, 0], [1e-9, 0, 0.03]]])
+    pts = np.vstack(
+        [
+            rng.uniform(-0.5, 0.5, (40, 3)) * system.z.radius_m,
+            np.zeros((1, 3)),
+            [[0, 0, 0.05], [0.05, 0, 0], [1e-9, 0, 0.03]],
+        ]
+    )
     ref = system.field(pts, currents)
     for p, b in zip(pts, ref, strict=True):
         cas = np.array(f(p, currents)).ravel()
-        assert np.max(np.abs(cas - b)) <= 1e-12 * np.linalg.norm(b) + 1e-30, \
+        assert np.max(np.abs(cas - b)) <= 1e-12 * np.linalg.norm(b) + 1e-30, (
             "CasADi AGM path vs numpy/scipy path, rel 1e-12 (CONTRIBUTING)"
-        assert np.max(np.abs(system.point_field(p, currents) - b)) <= 1e-12 * np.linalg.norm(b), \
-        "compiled single-point CasADi field vs numpy field, 1e-12 relative"
+        )
+        assert np.max(np.abs(system.point_field(p, currents) - b)) <= 1e-12 * np.linalg.norm(b), (
+            "compiled single-point CasADi field vs numpy field, 1e-12 relative"
+        )
     g = system.casadi_field_matrix_function()
-    assert np.allclose(np.array(g(pts[3])), system.field_matrix(pts[3:4])[0], rtol=1e-12,
-                       atol=0), "G(p) CasADi vs numpy, rel 1e-12"
+    assert np.allclose(np.array(g(pts[3])), system.field_matrix(pts[3:4])[0], rtol=1e-12, atol=0), (
+        "G(p) CasADi vs numpy, rel 1e-12"
+    )
     m = np.concatenate([np.linspace(0, 0.99, 50), [0.999999]])
     sym = ca.SX.sym("m")
     agm = ca.Function("ke", [sym], list(bk.ellipke(sym)))
     k_ca, e_ca = (np.array(v).ravel() for v in agm.map(m.size)(m))
     k_np, e_np = bk.ellipke(m)
-    assert np.allclose(k_ca, k_np, rtol=1e-12, atol=0) and np.allclose(e_ca, e_np, rtol=1e-12,
-                                                                       atol=0), \
-        "AGM (7 steps) vs scipy ellipk/ellipe, rel 1e-12"
+    assert np.allclose(k_ca, k_np, rtol=1e-12, atol=0) and np.allclose(
+        e_ca, e_np, rtol=1e-12, atol=0
+    ), "AGM (7 steps) vs scipy ellipk/ellipe, rel 1e-12"
 
 
 def test_loop_field_runs_on_casadi_symbols() -> None:
     rho, z = ca.SX.sym("rho"), ca.SX.sym("z")
     b_rho, b_z = coils.loop_field(0.2, 0.0, rho, z)
-    f = ca.Function("f", [rho, z], [b_rho, b_z, ca.jacobian(ca.vertcat(b_rho, b_z),
-                                                            ca.vertcat(rho, z))])
+    f = ca.Function(
+        "f", [rho, z], [b_rho, b_z, ca.jacobian(ca.vertcat(b_rho, b_z), ca.vertcat(rho, z))]
+    )
     for r in (0.0, 1e-12, 1e-6, 0.05):
         br, bz, jac = f(r, 0.07)
         ref = coils.loop_field(0.2, 0.0, r, 0.07)
-        assert abs(float(br) - ref[0]) <= 1e-12 * abs(ref[1]) and \
-            float(bz) == pytest.approx(ref[1], rel=1e-12), "CasADi vs numpy loop_field, 1e-12"
+        assert abs(float(br) - ref[0]) <= 1e-12 * abs(ref[1]) and float(bz) == pytest.approx(
+            ref[1], rel=1e-12
+        ), "CasADi vs numpy loop_field, 1e-12"
         assert np.all(np.isfinite(np.array(jac))), f"finite Jacobian at rho = {r} (guarded)"
 
 
@@ -157,16 +189,23 @@ def test_div_and_curl_vanish_inside_workspace() -> None:
     fj = system.casadi_field_jacobian_function()
     currents = rng.uniform(-2, 2, 3)
     r_min = system.z.radius_m
-    pts = np.vstack([rng.uniform(-0.5, 0.5, (30, 3)) * r_min, [[0, 0, 0.3 * r_min]],
-                     [[1e-10, 0, 0.2 * r_min]]])
+    pts = np.vstack(
+        [rng.uniform(-0.5, 0.5, (30, 3)) * r_min, [[0, 0, 0.3 * r_min]], [[1e-10, 0, 0.2 * r_min]]]
+    )
     for p in pts:
         b, jac = (np.array(v) for v in fj(p, currents))
         scale = np.linalg.norm(b) / r_min
         assert abs(np.trace(jac)) < 1e-9 * scale, "div B = 0 (Maxwell), < 1e-9 |B|/R"
-        assert np.max(np.abs(jac - jac.T)) < 1e-9 * scale, \
+        assert np.max(np.abs(jac - jac.T)) < 1e-9 * scale, (
             "curl B = 0 in free space (Ampere), antisymmetric part < 1e-9 |B|/R"
+        )
         h = 1e-5 * r_min
-        fd = np.column_stack([(system.field(p + h * e, currents) - system.field(p - h * e,
-                              currents))[0] / (2 * h) for e in np.eye(3)])
-        assert np.max(np.abs(fd - jac)) < 1e-6 * scale, \
+        fd = np.column_stack(
+            [
+                (system.field(p + h * e, currents) - system.field(p - h * e, currents))[0] / (2 * h)
+                for e in np.eye(3)
+            ]
+        )
+        assert np.max(np.abs(fd - jac)) < 1e-6 * scale, (
             "exact CasADi Jacobian vs central differences of the numpy field, 1e-6 |B|/R"
+        )

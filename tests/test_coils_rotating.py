@@ -14,9 +14,11 @@ B0_T = 8e-3
 
 @pytest.fixture(scope="module")
 def system() -> coils.ThreeAxisHelmholtz:
-    return coils.ThreeAxisHelmholtz(coils.HelmholtzPair(0.4, 400, "x"),
-                                    coils.HelmholtzPair(0.35, 300, "y"),
-                                    coils.HelmholtzPair(0.3, 320, "z"))
+    return coils.ThreeAxisHelmholtz(
+        coils.HelmholtzPair(0.4, 400, "x"),
+        coils.HelmholtzPair(0.35, 300, "y"),
+        coils.HelmholtzPair(0.3, 320, "z"),
+    )
 
 
 def _fields_over_a_turn(system, currents):
@@ -42,10 +44,12 @@ def test_centre_allocation_makes_the_rotating_field(system, heading) -> None:
     amps, _ = system.rotating_allocation(heading, B0_T)
     n = np.asarray(heading, float) / np.linalg.norm(heading)
     want = B0_T * np.sqrt(1 - n**2) / system.centre_gains_T_per_A
-    assert np.allclose(amps, want, rtol=1e-12, atol=1e-18), \
+    assert np.allclose(amps, want, rtol=1e-12, atol=1e-18), (
         "A_k = B0 sqrt(1 - n_k^2) / g_k (DESIGN.md 4.1), rel 1e-12"
-    assert np.allclose(system.rotating_current_per_tesla_A_per_T(heading) * B0_T, amps,
-                       rtol=1e-14, atol=0)
+    )
+    assert np.allclose(
+        system.rotating_current_per_tesla_A_per_T(heading) * B0_T, amps, rtol=1e-14, atol=0
+    )
 
 
 @pytest.mark.parametrize("heading", HEADINGS[3:])
@@ -63,9 +67,9 @@ def test_off_centre_allocation_reproduces_the_field_there(system, heading) -> No
 def test_semi_axes(system) -> None:
     heading = [0.2, 0.5, -0.8]
     minor, major = system.rotating_field_semi_axes_T(np.zeros((1, 3)), heading, B0_T)
-    assert minor[0] == pytest.approx(B0_T, rel=1e-12) and major[0] == pytest.approx(B0_T,
-                                                                                    rel=1e-12), \
-        "centre: a circle of radius B0, rel 1e-12"
+    assert minor[0] == pytest.approx(B0_T, rel=1e-12) and major[0] == pytest.approx(
+        B0_T, rel=1e-12
+    ), "centre: a circle of radius B0, rel 1e-12"
     rng = np.random.default_rng(5)
     pts = rng.uniform(-0.12, 0.12, (20, 3))
     minor, major = system.rotating_field_semi_axes_T(pts, heading, B0_T)
@@ -78,12 +82,12 @@ def test_semi_axes(system) -> None:
         # P' and Q' are the projected fields at wt = 0 and wt = pi/2 (sample 50000).
         svals = np.linalg.svd(b_perp[:, [0, 50000]], compute_uv=False)
         mags = np.linalg.norm(b_perp, axis=0)
-        assert lo == pytest.approx(svals[1], rel=1e-10) and hi == pytest.approx(svals[0],
-                                                                                rel=1e-10), \
-            "singular values of [P', Q'] (SVD), rel 1e-10"
-        assert lo == pytest.approx(mags.min(), rel=1e-9) and hi == pytest.approx(mags.max(),
-                                                                                 rel=1e-9), \
-            "min/max of |B_perp(t)| sampled at 2e5 phases, rel 1e-9"
+        assert lo == pytest.approx(svals[1], rel=1e-10) and hi == pytest.approx(
+            svals[0], rel=1e-10
+        ), "singular values of [P', Q'] (SVD), rel 1e-10"
+        assert lo == pytest.approx(mags.min(), rel=1e-9) and hi == pytest.approx(
+            mags.max(), rel=1e-9
+        ), "min/max of |B_perp(t)| sampled at 2e5 phases, rel 1e-9"
         assert lo <= hi
 
 

@@ -11,8 +11,10 @@ import coils
 
 def on_axis_deviation(z_over_r: float) -> float:
     """B_z(z)/B_z(0) - 1 on the axis of an ideal pair (R = 1, s = 1), Biot-Savart closed form."""
+
     def bz(z: float) -> float:
         return (1 + (z - 0.5) ** 2) ** -1.5 + (1 + (z + 0.5) ** 2) ** -1.5
+
     return bz(z_over_r) / bz(0.0) - 1
 
 
@@ -25,11 +27,13 @@ def ideal() -> coils.HelmholtzPair:
 def test_ideal_pair_region_is_set_on_the_axis(ideal, tolerance: float, design_md: float) -> None:
     region = coils.uniform_region(ideal, tolerance)
     axis_root = brentq(lambda z: on_axis_deviation(z) + tolerance, 0.05, 0.9, xtol=1e-14)
-    assert region.radius_m == pytest.approx(axis_root, rel=1e-9), \
+    assert region.radius_m == pytest.approx(axis_root, rel=1e-9), (
         "on-axis Biot-Savart closed form root (brentq), rel 1e-9"
+    )
     assert abs(region.limiting_ray[2]) == pytest.approx(1.0, abs=1e-9), "limited on the axis"
-    assert region.radius_m == pytest.approx(design_md, abs=0.005), \
+    assert region.radius_m == pytest.approx(design_md, abs=0.005), (
         f"DESIGN.md 4.1 claims about {design_md} R; within 0.005 R"
+    )
 
 
 def test_ideal_pair_midplane_is_more_uniform(ideal) -> None:
@@ -41,27 +45,35 @@ def test_ideal_pair_midplane_is_more_uniform(ideal) -> None:
 
 
 def test_system_region_depends_on_field_direction() -> None:
-    system = coils.ThreeAxisHelmholtz(coils.HelmholtzPair(0.4, 400, "x"),
-                                      coils.HelmholtzPair(0.35, 350, "y"),
-                                      coils.HelmholtzPair(0.3, 300, "z"))
+    system = coils.ThreeAxisHelmholtz(
+        coils.HelmholtzPair(0.4, 400, "x"),
+        coils.HelmholtzPair(0.35, 350, "y"),
+        coils.HelmholtzPair(0.3, 300, "z"),
+    )
     per_axis = [coils.uniform_region_radius_m(system, 0.01, direction=e) for e in np.eye(3)]
     alone = [coils.uniform_region_radius_m(p, 0.01) for p in system.pairs]
-    assert np.allclose(per_axis, alone, rtol=1e-9), \
+    assert np.allclose(per_axis, alone, rtol=1e-9), (
         "one pair driven: the system's region is that pair's alone, rel 1e-9"
-    assert np.allclose(np.array(alone) / [0.4, 0.35, 0.3], alone[0] / 0.4, rtol=1e-9), \
+    )
+    assert np.allclose(np.array(alone) / [0.4, 0.35, 0.3], alone[0] / 0.4, rtol=1e-9), (
         "scale invariance of a thin pair: radius / R is the same, rel 1e-9"
+    )
     worst = coils.uniform_region(system, 0.01)
-    assert worst.radius_m == pytest.approx(per_axis[2], rel=1e-12) and \
-        np.allclose(np.abs(worst.field_direction), [0, 0, 1]), \
-        "worst static direction is along the smallest pair (z)"
-    diag = [coils.uniform_region_radius_m(system, 0.01, direction=d)
-            for d in ([1, 1, 0], [1, -1, 0])]
-    assert diag[0] == pytest.approx(diag[1], rel=1e-6), \
+    assert worst.radius_m == pytest.approx(per_axis[2], rel=1e-12) and np.allclose(
+        np.abs(worst.field_direction), [0, 0, 1]
+    ), "worst static direction is along the smallest pair (z)"
+    diag = [
+        coils.uniform_region_radius_m(system, 0.01, direction=d) for d in ([1, 1, 0], [1, -1, 0])
+    ]
+    assert diag[0] == pytest.approx(diag[1], rel=1e-6), (
         "mirror symmetry y -> -y: same radius, rel 1e-6 (refined ray search)"
+    )
     currents = np.array([1.0, 1.0, 0.0]) / system.centre_gains_T_per_A
     assert coils.uniform_region_radius_m(system, 0.01, currents_A=currents) == pytest.approx(
-        diag[0], rel=1e-9), "currents n_k/g_k are what direction= uses"
+        diag[0], rel=1e-9
+    ), "currents n_k/g_k are what direction= uses"
     pts = np.random.default_rng(2).normal(size=(200, 3))
     pts *= 0.999 * worst.radius_m / np.linalg.norm(pts, axis=1, keepdims=True)
-    assert np.all(np.abs(coils.uniformity(system, pts, [0, 0, 1.0])) <= 0.01), \
+    assert np.all(np.abs(coils.uniformity(system, pts, [0, 0, 1.0])) <= 0.01), (
         "every point inside the reported sphere is within tolerance"
+    )

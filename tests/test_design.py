@@ -13,8 +13,9 @@ from spiralcap.schema import KEYS, defaults
 def test_example_file_round_trips_to_the_defaults(tmp_path):
     path = tmp_path / "d.toml"
     path.write_text(example_toml())
-    assert dict(load_design(path)) == dict(Design({})), \
+    assert dict(load_design(path)) == dict(Design({})), (
         "spiralcap init's file must load to exactly the built-in design"
+    )
 
 
 def test_to_toml_round_trips(tmp_path):
@@ -25,17 +26,20 @@ def test_to_toml_round_trips(tmp_path):
     assert load_design(path).sha256() == d.sha256(), "same design, same hash"
 
 
-@pytest.mark.parametrize("expr, key", [
-    ("coils.x.radius_mmm=1", "coils.x.radius_mmm"),
-    ("coils.x.turns=-3", "coils.x.turns"),
-    ("coils.x.turns=2.5", "coils.x.turns"),
-    ("coils.x.radius_m=nan", "coils.x.radius_m"),
-    ("coils.x.radius_m=0", "coils.x.radius_m"),
-    ("capsule.spiral.helical_angle_deg=90", "capsule.spiral.helical_angle_deg"),
-    ("capsule.spiral.helical_angle_deg=0", "capsule.spiral.helical_angle_deg"),
-    ("limits.field_exposure=sometimes", "limits.field_exposure"),
-    ("capsule.diameter_mm=true", "capsule.diameter_mm"),
-])
+@pytest.mark.parametrize(
+    "expr, key",
+    [
+        ("coils.x.radius_mmm=1", "coils.x.radius_mmm"),
+        ("coils.x.turns=-3", "coils.x.turns"),
+        ("coils.x.turns=2.5", "coils.x.turns"),
+        ("coils.x.radius_m=nan", "coils.x.radius_m"),
+        ("coils.x.radius_m=0", "coils.x.radius_m"),
+        ("capsule.spiral.helical_angle_deg=90", "capsule.spiral.helical_angle_deg"),
+        ("capsule.spiral.helical_angle_deg=0", "capsule.spiral.helical_angle_deg"),
+        ("limits.field_exposure=sometimes", "limits.field_exposure"),
+        ("capsule.diameter_mm=true", "capsule.diameter_mm"),
+    ],
+)
 def test_bad_values_name_the_key(expr, key):
     with pytest.raises(InputError) as err:
         load_design(None, [expr])

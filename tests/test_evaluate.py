@@ -18,63 +18,81 @@ def _model(*overrides):
 
 
 def test_current_limited_field_by_hand():
-    m = _model("limits.voltage_V=1e9", "limits.power_W=1e9", "limits.coil_temperature_C=1e6",
-               "limits.field_exposure=off")
+    m = _model(
+        "limits.voltage_V=1e9",
+        "limits.power_W=1e9",
+        "limits.coil_temperature_C=1e6",
+        "limits.field_exposure=off",
+    )
     ev = evaluate(m)
     g = np.asarray(m.coils.centre_gains_T_per_A)
     expected = m.limits.current_A * g.min()  # every heading: h_k = 1 (DESIGN.md 4.1)
-    assert ev.field_amplitude_T == pytest.approx(expected, rel=1e-12), \
+    assert ev.field_amplitude_T == pytest.approx(expected, rel=1e-12), (
         "only the current binds: B0 = min_k g_k I_max (centre allocation), 1e-12"
+    )
     assert ev.field_limited_by.startswith("current_")
 
 
 def test_public_exposure_binds_at_4_hz():
     m = _model("limits.field_exposure=public", "operation.frequency_hz=4")
     ev = evaluate(m)
-    assert ev.field_amplitude_T == pytest.approx(0.04 / 16, rel=1e-12), \
+    assert ev.field_amplitude_T == pytest.approx(0.04 / 16, rel=1e-12), (
         "ICNIRP 2010 general public, 1-8 Hz: 4e-2/f^2 T rms = 2.5 mT at 4 Hz, 1e-12"
+    )
     assert ev.field_limited_by == "field_exposure"
 
 
-@pytest.mark.parametrize("kind, f, level", [
-    ("occupational", 0.5, 0.2), ("occupational", 2.0, 0.05), ("occupational", 8.0, 3.125e-3),
-    ("occupational", 10.0, 2.5e-3), ("occupational", 100.0, 1e-3),
-    ("public", 2.0, 0.01), ("public", 10.0, 5e-4), ("public", 40.0, 2e-4)])
+@pytest.mark.parametrize(
+    "kind, f, level",
+    [
+        ("occupational", 0.5, 0.2),
+        ("occupational", 2.0, 0.05),
+        ("occupational", 8.0, 3.125e-3),
+        ("occupational", 10.0, 2.5e-3),
+        ("occupational", 100.0, 1e-3),
+        ("public", 2.0, 0.01),
+        ("public", 10.0, 5e-4),
+        ("public", 40.0, 2e-4),
+    ],
+)
 def test_icnirp_2010_reference_levels(kind, f, level):
-    assert float(exposure_level_T(f, kind)) == pytest.approx(level, rel=1e-12), \
+    assert float(exposure_level_T(f, kind)) == pytest.approx(level, rel=1e-12), (
         "ICNIRP 2010 Tables 3-4 (held at the 1 Hz value below 1 Hz), 1e-12"
+    )
 
 
 def test_step_out_frequency_is_where_the_margin_vanishes():
     m = _model()
     ev = evaluate(m)
     f = ev.step_out_frequency_hz
-    assert 0 < f < math.inf, \
-        "step-out is a finite positive frequency for the built-in design"
+    assert 0 < f < math.inf, "step-out is a finite positive frequency for the built-in design"
     at = float(margin_grid(m, ev.helical_angle_rad, f)["margin_Nm"])
     assert abs(at) < 1e-12, "margin is zero at the step-out frequency (brentq, 1e-12 N·m)"
-    assert float(margin_grid(m, ev.helical_angle_rad, 0.99 * f)["margin_Nm"]) > 0, \
+    assert float(margin_grid(m, ev.helical_angle_rad, 0.99 * f)["margin_Nm"]) > 0, (
         "margin is still positive just below the step-out frequency"
+    )
 
 
 def test_margin_is_available_minus_required():
     ev = evaluate(_model())
-    assert ev.margin_Nm == pytest.approx(ev.magnetic_torque_Nm - ev.required_torque_Nm,
-                                         rel=1e-14), \
-        "margin = synchronous torque - required torque (definition), 1e-14"
-    assert ev.required_torque_Nm == pytest.approx(ev.resistive_torque_Nm + ev.thrust_torque_Nm,
-                                                  rel=1e-14), \
-        "required = resistive + thrust (definition), 1e-14"
+    assert ev.margin_Nm == pytest.approx(
+        ev.magnetic_torque_Nm - ev.required_torque_Nm, rel=1e-14
+    ), "margin = synchronous torque - required torque (definition), 1e-14"
+    assert ev.required_torque_Nm == pytest.approx(
+        ev.resistive_torque_Nm + ev.thrust_torque_Nm, rel=1e-14
+    ), "required = resistive + thrust (definition), 1e-14"
     assert math.sin(ev.lag_angle_rad) == pytest.approx(
-        ev.required_torque_Nm / ev.magnetic_torque_Nm, rel=1e-12), "tau = m B0 sin(delta)"
+        ev.required_torque_Nm / ev.magnetic_torque_Nm, rel=1e-12
+    ), "tau = m B0 sin(delta)"
 
 
 def test_worst_tissue_is_taken():
     m = _model()
     both = evaluate(m)
     alone = [evaluate(replace(m, tissues=(t,), constants=m.constants)) for t in m.tissues]
-    assert both.margin_Nm == pytest.approx(min(e.margin_Nm for e in alone), rel=1e-14), \
+    assert both.margin_Nm == pytest.approx(min(e.margin_Nm for e in alone), rel=1e-14), (
         "worst case over tissue sets = the smallest single-set margin"
+    )
 
 
 def test_failing_requirement_is_reported(capsys):
@@ -83,6 +101,13 @@ def test_failing_requirement_is_reported(capsys):
     assert out["feasible"] is False
     failed = [c["key"] for c in out["checks"] if not c["ok"]]
     assert failed == ["requirements.min_speed_mm_s"], "only the speed requirement fails"
-    for key in ("field_amplitude_T", "magnetic_torque_Nm", "resistive_torque_Nm",
-                "thrust_torque_Nm", "margin_Nm", "step_out_frequency_hz", "speed_m_s"):
+    for key in (
+        "field_amplitude_T",
+        "magnetic_torque_Nm",
+        "resistive_torque_Nm",
+        "thrust_torque_Nm",
+        "margin_Nm",
+        "step_out_frequency_hz",
+        "speed_m_s",
+    ):
         assert isinstance(out[key], float), f"evaluate --json has {key} (issue 4)"

@@ -39,34 +39,57 @@ def test_builtin_design_is_optimal(result):
 
 def test_optimum_beats_a_dense_grid(model, result):
     b = model.bounds
-    A, F = np.meshgrid(np.linspace(b.helical_angle_min_rad, b.helical_angle_max_rad, 181),
-                       np.linspace(b.frequency_min_hz, b.frequency_max_hz, 181), indexing="ij")
+    A, F = np.meshgrid(
+        np.linspace(b.helical_angle_min_rad, b.helical_angle_max_rad, 181),
+        np.linspace(b.frequency_min_hz, b.frequency_max_hz, 181),
+        indexing="ij",
+    )
     g = margin_grid(model, A, F)
     best = np.max(np.where(g["feasible"], g["margin_Nm"], -np.inf))
-    assert result.margin_Nm >= best - 1e-9 * abs(best), \
+    assert result.margin_Nm >= best - 1e-9 * abs(best), (
         f"IPOPT optimum {result.margin_Nm:.6e} must match or beat the 181x181 grid's {best:.6e}"
+    )
 
 
 def test_evaluate_reports_the_optimisers_margin(model, result):
     ev = evaluate(model, result.helical_angle_rad, result.frequency_hz)
     assert ev.feasible, f"evaluate at the optimum must be feasible: {ev.failed()}"
-    assert math.isclose(ev.margin_Nm, result.margin_Nm, rel_tol=1e-9), \
+    assert math.isclose(ev.margin_Nm, result.margin_Nm, rel_tol=1e-9), (
         "evaluate and optimize share one margin definition (1e-9 relative)"
+    )
 
 
 def test_cli_round_trip_optimize_then_evaluate(capsys):
     assert main(["optimize", "--json"]) == 0
     opt = json.loads(capsys.readouterr().out)
-    for key in ("status", "helical_angle_deg", "frequency_hz", "margin_Nm",
-                "current_amplitudes_A", "binding_limits", "solve_time_s"):
+    for key in (
+        "status",
+        "helical_angle_deg",
+        "frequency_hz",
+        "margin_Nm",
+        "current_amplitudes_A",
+        "binding_limits",
+        "solve_time_s",
+    ):
         assert key in opt, f"optimize --json has {key} (issue 5)"
-    assert main(["evaluate", "--json",
-                 "--set", f"capsule.spiral.helical_angle_deg={opt['helical_angle_deg']!r}",
-                 "--set", f"operation.frequency_hz={opt['frequency_hz']!r}"]) == 0
+    assert (
+        main(
+            [
+                "evaluate",
+                "--json",
+                "--set",
+                f"capsule.spiral.helical_angle_deg={opt['helical_angle_deg']!r}",
+                "--set",
+                f"operation.frequency_hz={opt['frequency_hz']!r}",
+            ]
+        )
+        == 0
+    )
     ev = json.loads(capsys.readouterr().out)
     assert ev["feasible"] is True, "evaluate at the returned point: feasible: true (issue 5)"
-    assert math.isclose(ev["margin_Nm"], opt["margin_Nm"], rel_tol=1e-9), \
+    assert math.isclose(ev["margin_Nm"], opt["margin_Nm"], rel_tol=1e-9), (
         "evaluate --json margin equals optimize --json margin (1e-9 relative)"
+    )
 
 
 def test_analytic_case_single_current_limit(model):
@@ -74,54 +97,77 @@ def test_analytic_case_single_current_limit(model):
     and the angle minimises the required torque (found independently by scipy's bounded Brent)."""
     f0 = 1.3
     big = 1e9
-    m = replace(model, constants=None,
-                limits=replace(model.limits, voltage_V=big, power_W=big, coil_temperature_C=big,
-                               field_exposure="off"),
-                requirements=replace(model.requirements, min_speed_m_s=0.0, min_spiral_turns=0.0),
-                bounds=replace(model.bounds, frequency_min_hz=f0, frequency_max_hz=f0))
+    m = replace(
+        model,
+        constants=None,
+        limits=replace(
+            model.limits, voltage_V=big, power_W=big, coil_temperature_C=big, field_exposure="off"
+        ),
+        requirements=replace(model.requirements, min_speed_m_s=0.0, min_spiral_turns=0.0),
+        bounds=replace(model.bounds, frequency_min_hz=f0, frequency_max_hz=f0),
+    )
     m = prepare(m)
     c = m.constants
     field = min(m.limits.current_A / c.current_per_tesla_A_per_T)
 
     def need(a):
-        return max(float(r + t) for r, t in ph.required_torques_Nm(a, f0, c, m.tissues,
-                                                                  m.requirements))
+        return max(
+            float(r + t) for r, t in ph.required_torques_Nm(a, f0, c, m.tissues, m.requirements)
+        )
 
     b = m.bounds
-    best = minimize_scalar(need, bounds=(b.helical_angle_min_rad, b.helical_angle_max_rad),
-                           method="bounded", options={"xatol": 1e-12})
+    best = minimize_scalar(
+        need,
+        bounds=(b.helical_angle_min_rad, b.helical_angle_max_rad),
+        method="bounded",
+        options={"xatol": 1e-12},
+    )
     expected = c.moment_Am2 * c.workspace_factor * field - best.fun
     res = optimize_design(m)
     assert res.status == "optimal"
-    assert math.isclose(res.field_amplitude_T, field, rel_tol=1e-6), \
+    assert math.isclose(res.field_amplitude_T, field, rel_tol=1e-6), (
         "B0 at the single binding current limit: g I_max / h, 1e-6 relative"
-    assert math.isclose(res.margin_Nm, expected, rel_tol=1e-6), \
+    )
+    assert math.isclose(res.margin_Nm, expected, rel_tol=1e-6), (
         "margin equals m κ B0* - min_alpha tau(alpha), 1e-6 relative"
-    assert {bl.key for bl in res.binding_limits if bl.key.startswith("limits.")} == \
-        {"limits.current_A"}, "the current limit is the only binding hardware limit"
+    )
+    assert {bl.key for bl in res.binding_limits if bl.key.startswith("limits.")} == {
+        "limits.current_A"
+    }, "the current limit is the only binding hardware limit"
 
 
 def test_ipopt_and_slsqp_agree(model, result):
     alpha, f, _, margin = solve_slsqp(model)
-    assert math.isclose(margin, result.margin_Nm, rel_tol=1e-5), \
+    assert math.isclose(margin, result.margin_Nm, rel_tol=1e-5), (
         "SLSQP (finite differences) and IPOPT (exact derivatives) reach the same margin, 1e-5"
-    assert math.isclose(alpha, result.helical_angle_rad, rel_tol=1e-3), \
+    )
+    assert math.isclose(alpha, result.helical_angle_rad, rel_tol=1e-3), (
         "same optimal helical angle, 1e-3 relative"
+    )
     assert math.isclose(f, result.frequency_hz, rel_tol=1e-3), "same frequency, 1e-3 relative"
 
 
 def test_multipliers_predict_a_relaxed_limit(model, result):
-    top = max((b for b in result.binding_limits if b.key.startswith("limits.")),
-              key=lambda b: abs(b.sensitivity * b.allowed))
-    field = {"limits.current_A": "current_A", "limits.voltage_V": "voltage_V",
-             "limits.power_W": "power_W", "limits.coil_temperature_C": "coil_temperature_C"}[
-        top.key]
+    top = max(
+        (b for b in result.binding_limits if b.key.startswith("limits.")),
+        key=lambda b: abs(b.sensitivity * b.allowed),
+    )
+    field = {
+        "limits.current_A": "current_A",
+        "limits.voltage_V": "voltage_V",
+        "limits.power_W": "power_W",
+        "limits.coil_temperature_C": "coil_temperature_C",
+    }[top.key]
     step = 1e-3 * top.allowed  # for the temperature: 0.1 % of the allowed rise, in kelvin
-    relaxed = replace(model, constants=None,
-                      limits=replace(model.limits, **{field: getattr(model.limits, field) + step}))
+    relaxed = replace(
+        model,
+        constants=None,
+        limits=replace(model.limits, **{field: getattr(model.limits, field) + step}),
+    )
     gained = optimize_design(relaxed).margin_Nm - result.margin_Nm
-    assert math.isclose(gained, top.sensitivity * step, rel_tol=0.02), \
+    assert math.isclose(gained, top.sensitivity * step, rel_tol=0.02), (
         f"multiplier of {top.key} predicts the margin gained by a 0.1 % relaxation (2 %)"
+    )
 
 
 def test_numpy_and_casadi_expressions_agree(model):
@@ -132,10 +178,12 @@ def test_numpy_and_casadi_expressions_agree(model):
     for x0 in ([0.6, 0.8, 0.9, 0.1], [1.4, 2.5, 0.5, -0.3]):
         o_ca, g_ca = fn(x0)
         o_np, g_np, _ = pb.expressions(x0, model, scales)
-        assert abs(float(o_ca) - float(o_np)) <= 1e-12 * max(1, abs(float(o_np))), \
-        "numpy and CasADi paths of the objective, 1e-12"
-        assert np.allclose(np.asarray(g_ca).ravel(), [float(v) for v in g_np], rtol=1e-12,
-                           atol=1e-13), "numpy and CasADi paths of every constraint, 1e-12"
+        assert abs(float(o_ca) - float(o_np)) <= 1e-12 * max(1, abs(float(o_np))), (
+            "numpy and CasADi paths of the objective, 1e-12"
+        )
+        assert np.allclose(
+            np.asarray(g_ca).ravel(), [float(v) for v in g_np], rtol=1e-12, atol=1e-13
+        ), "numpy and CasADi paths of every constraint, 1e-12"
 
 
 def test_impossible_speed_is_infeasible_and_named(capsys):
@@ -143,8 +191,9 @@ def test_impossible_speed_is_infeasible_and_named(capsys):
     out = json.loads(capsys.readouterr().out)
     assert code == 3, "infeasible design: exit status 3 (issue 5)"
     assert out["status"] == "infeasible"
-    assert "requirements.min_speed_mm_s" in [s["key"] for s in out["shortfalls"]], \
+    assert "requirements.min_speed_mm_s" in [s["key"] for s in out["shortfalls"]], (
         "the shortfall names the speed requirement"
+    )
     best = next(s for s in out["shortfalls"] if s["key"] == "requirements.min_speed_mm_s")
     assert 0 < best["best"] < 0.5, "best reachable speed is positive and below 500 mm/s"
 
@@ -159,12 +208,16 @@ def test_ratio_objective_maximises_safety_factor(model):
     ratio = optimize_design(replace(model, bounds=replace(model.bounds, objective="ratio")))
     assert ratio.status == "optimal"
     b = model.bounds
-    A, F = np.meshgrid(np.linspace(b.helical_angle_min_rad, b.helical_angle_max_rad, 121),
-                       np.linspace(b.frequency_min_hz, b.frequency_max_hz, 121), indexing="ij")
+    A, F = np.meshgrid(
+        np.linspace(b.helical_angle_min_rad, b.helical_angle_max_rad, 121),
+        np.linspace(b.frequency_min_hz, b.frequency_max_hz, 121),
+        indexing="ij",
+    )
     g = margin_grid(model, A, F)
     best = np.max(np.where(g["feasible"], g["safety_factor"], -np.inf))
-    assert ratio.safety_factor >= best * (1 - 1e-9), \
+    assert ratio.safety_factor >= best * (1 - 1e-9), (
         "ratio objective beats the 121x121 grid's best safety factor"
+    )
 
 
 def test_single_heading_leaves_the_unused_axis_idle(capsys):

@@ -47,20 +47,31 @@ def report(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Any]:
     with contextlib.redirect_stdout(buf):
         status = main(["report", "-o", str(html_path), "--pdf", str(pdf_path)])
     text = html_path.read_text(encoding="utf-8")
-    match = re.search(r'<script type="application/json" id="spiralcap-data">\s*(.*?)\s*'
-                      r"</script>", text, re.S)
+    match = re.search(
+        r'<script type="application/json" id="spiralcap-data">\s*(.*?)\s*'
+        r"</script>",
+        text,
+        re.S,
+    )
     assert match, "the HTML embeds its numbers as JSON in <script id='spiralcap-data'>"
-    return {"status": status, "stdout": buf.getvalue(), "html_path": html_path,
-            "pdf_path": pdf_path, "html": text,
-            "data": json.loads(match.group(1).replace("<\\/", "</"))}
+    return {
+        "status": status,
+        "stdout": buf.getvalue(),
+        "html_path": html_path,
+        "pdf_path": pdf_path,
+        "html": text,
+        "data": json.loads(match.group(1).replace("<\\/", "</")),
+    }
 
 
 @pytest.fixture(scope="module")
 def cli() -> dict[str, Any]:
     """What the CLI prints for the built-in design."""
-    return {"evaluate": _cli_json(["evaluate", "--json"]),
-            "optimize": _cli_json(["optimize", "--json"]),
-            "coils": _cli_json(["coils", "--json"])}
+    return {
+        "evaluate": _cli_json(["evaluate", "--json"]),
+        "optimize": _cli_json(["optimize", "--json"]),
+        "coils": _cli_json(["coils", "--json"]),
+    }
 
 
 class _Collector(HTMLParser):
@@ -97,23 +108,29 @@ def parsed(report: dict[str, Any]) -> _Collector:
 
 def test_report_command_succeeds_and_writes_both_files(report: dict[str, Any]) -> None:
     assert report["status"] == 0, "built-in design is feasible, so the report exits 0"
-    assert report["html_path"].is_file() and report["pdf_path"].is_file(), \
+    assert report["html_path"].is_file() and report["pdf_path"].is_file(), (
         "-o and --pdf written, parent folders created"
+    )
     assert "wrote" in report["stdout"]
-    leftovers = [p.name for p in report["html_path"].parent.iterdir()
-                 if p.name not in ("report.html", "report.pdf")]
+    leftovers = [
+        p.name
+        for p in report["html_path"].parent.iterdir()
+        if p.name not in ("report.html", "report.pdf")
+    ]
     assert leftovers == [], "atomic writes leave no temporary files behind"
 
 
 def test_html_is_self_contained(report: dict[str, Any], parsed: _Collector) -> None:
     text = report["html"]
     assert not re.search(r"https?://", text, re.I), "no URL anywhere: nothing to fetch"
-    assert "<style>" in text and not any(t == "link" for t, _ in parsed.tags), \
+    assert "<style>" in text and not any(t == "link" for t, _ in parsed.tags), (
         "CSS inline, no <link> elements"
+    )
     for tag, attrs in parsed.tags:
         if tag == "script":
-            assert "src" not in attrs and attrs.get("type") == "application/json", \
+            assert "src" not in attrs and attrs.get("type") == "application/json", (
                 "the only script is the JSON data block; nothing executes or loads"
+            )
         for name in ("src", "href"):
             value = attrs.get(name)
             if value is None:
@@ -142,8 +159,7 @@ def test_embedded_json_is_the_cli_json(report: dict[str, Any], cli: dict[str, An
     assert data["coils"] == cli["coils"], "report 'coils' == spiralcap coils --json"
 
 
-def test_every_shown_number_equals_the_cli_number(parsed: _Collector,
-                                                  cli: dict[str, Any]) -> None:
+def test_every_shown_number_equals_the_cli_number(parsed: _Collector, cli: dict[str, Any]) -> None:
     """Each <span data-key> shows fmt(CLI value x scale), 4 significant figures."""
     keyed = [n for n in parsed.numbers if n["key"].split(".")[0] in cli]
     assert len(keyed) > 100, "the report ties its numbers to the CLI JSON"
@@ -151,37 +167,60 @@ def test_every_shown_number_equals_the_cli_number(parsed: _Collector,
         value = lookup(cli, n["key"])
         if n["key"].endswith("solve_time_s"):
             continue
-        shown = value * n["scale"] if isinstance(value, (int, float)) \
-            and not isinstance(value, bool) and n["scale"] != 1.0 else value
-        assert html.unescape(n["text"]) == fmt(shown), \
+        shown = (
+            value * n["scale"]
+            if isinstance(value, (int, float)) and not isinstance(value, bool) and n["scale"] != 1.0
+            else value
+        )
+        assert html.unescape(n["text"]) == fmt(shown), (
             f"{n['key']}: report shows {n['text']!r}, CLI gives {value!r} (x{n['scale']})"
+        )
 
 
-def test_all_keyed_numbers_resolve_in_embedded_json(report: dict[str, Any],
-                                                    parsed: _Collector) -> None:
+def test_all_keyed_numbers_resolve_in_embedded_json(
+    report: dict[str, Any], parsed: _Collector
+) -> None:
     for n in parsed.numbers:
         value = lookup(report["data"], n["key"])
-        shown = value * n["scale"] if isinstance(value, (int, float)) \
-            and not isinstance(value, bool) and n["scale"] != 1.0 else value
+        shown = (
+            value * n["scale"]
+            if isinstance(value, (int, float)) and not isinstance(value, bool) and n["scale"] != 1.0
+            else value
+        )
         assert html.unescape(n["text"]) == fmt(shown), n["key"]
 
 
 def test_sections_and_summary(report: dict[str, Any]) -> None:
     text = report["html"]
-    for title in ("Summary", "Design inputs", "Coil sizing", "Tissue resistive torque",
-                  "Torque margin and step-out", "Optimum and binding limits", "Trade-offs",
-                  "Assumptions and sources", "Reproducibility"):
+    for title in (
+        "Summary",
+        "Design inputs",
+        "Coil sizing",
+        "Tissue resistive torque",
+        "Torque margin and step-out",
+        "Optimum and binding limits",
+        "Trade-offs",
+        "Assumptions and sources",
+        "Reproducibility",
+    ):
         assert title in text, f"section {title!r} present"
-    summary = text[text.index('id="summary"'):text.index('id="inputs"')]
+    summary = text[text.index('id="summary"') : text.index('id="inputs"')]
     for word in ("Margin", "Speed", "Binding limit"):
         assert re.search(f"<strong>{word}s?:</strong>", summary), f"summary line {word!r}"
     from spiralcap.schema import KEYS
 
-    inputs = text[text.index('id="inputs"'):text.index('id="coils"')]
+    inputs = text[text.index('id="inputs"') : text.index('id="coils"')]
     missing = [k for k in KEYS if f"<td>{k}</td>" not in inputs]
     assert missing == [], "every design key is in the inputs table"
-    for cite in ("Zhou", "ICNIRP", "Smythe", "Simpson", "Maxwell", "power screw",
-                 "calibration factor"):
+    for cite in (
+        "Zhou",
+        "ICNIRP",
+        "Smythe",
+        "Simpson",
+        "Maxwell",
+        "power screw",
+        "calibration factor",
+    ):
         assert cite.lower() in text.lower(), f"assumptions cite {cite}"
     data = report["data"]
     assert data["design"]["sha256"] in text, "the design hash is printed"
@@ -201,18 +240,34 @@ def _chromium() -> str | None:
 def test_chromium_renders_a_non_blank_page(report: dict[str, Any], tmp_path: Path) -> None:
     browser = _chromium()
     if browser is None:
-        pytest.skip("no headless Chromium on PATH (Debian: apt-get install chromium); "
-                    ".ci/run installs it")
+        pytest.skip(
+            "no headless Chromium on PATH (Debian: apt-get install chromium); .ci/run installs it"
+        )
     shot = tmp_path / "shot.png"
-    cmd = [browser, "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic",
-           "--no-first-run", "--disable-background-networking", "--disable-component-update",
-           "--disable-sync", f"--user-data-dir={tmp_path / 'profile'}",
-           "--enable-logging=stderr", "--v=0", f"--screenshot={shot}",
-           "--window-size=1280,2000", report["html_path"].resolve().as_uri()]
+    cmd = [
+        browser,
+        "--headless",
+        "--no-sandbox",
+        "--disable-gpu",
+        "--disable-quic",
+        "--no-first-run",
+        "--disable-background-networking",
+        "--disable-component-update",
+        "--disable-sync",
+        f"--user-data-dir={tmp_path / 'profile'}",
+        "--enable-logging=stderr",
+        "--v=0",
+        f"--screenshot={shot}",
+        "--window-size=1280,2000",
+        report["html_path"].resolve().as_uri(),
+    ]
     proc = subprocess.run(cmd, capture_output=True, text=True, timeout=180, check=False)
     assert shot.is_file(), f"Chromium wrote no screenshot: {proc.stderr[-2000:]}"
-    failed = [ln for ln in proc.stderr.splitlines()
-              if re.search(r"net::ERR_|Failed to load resource|Not allowed to load", ln)]
+    failed = [
+        ln
+        for ln in proc.stderr.splitlines()
+        if re.search(r"net::ERR_|Failed to load resource|Not allowed to load", ln)
+    ]
     assert failed == [], f"a resource failed to load: {failed}"
     import numpy as np
     from PIL import Image
@@ -228,8 +283,9 @@ def test_chromium_renders_a_non_blank_page(report: dict[str, Any], tmp_path: Pat
 
 def _pdf_pages(path: Path) -> int:
     if shutil.which("pdfinfo"):
-        out = subprocess.run(["pdfinfo", str(path)], capture_output=True, text=True,
-                             check=True, timeout=60).stdout
+        out = subprocess.run(
+            ["pdfinfo", str(path)], capture_output=True, text=True, check=True, timeout=60
+        ).stdout
         return int(re.search(r"^Pages:\s+(\d+)", out, re.M).group(1))
     return len(re.findall(rb"/Type\s*/Page\b", path.read_bytes()))
 

@@ -22,16 +22,20 @@ def _run(argv: list[str]) -> tuple[int, str, str]:
     return status, out.getvalue(), err.getvalue()
 
 
-@pytest.mark.parametrize(("extra", "needle"), [
-    (["--set", "coils.x.turnz=3"], "coils.x.turnz"),
-    (["--set", "limits.power_W=-5"], "limits.power_W"),
-    (["--set", "optimize.frequency_min_hz=9"], "optimize.frequency_max_hz"),
-    (["--workers", "0"], "--workers"),
-    (["--pdf", "out/report.txt"], "--pdf"),
-    (["no-such-design.toml"], "no-such-design.toml"),
-])
-def test_bad_input_exits_2_and_writes_nothing(tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
-                                              extra: list[str], needle: str) -> None:
+@pytest.mark.parametrize(
+    ("extra", "needle"),
+    [
+        (["--set", "coils.x.turnz=3"], "coils.x.turnz"),
+        (["--set", "limits.power_W=-5"], "limits.power_W"),
+        (["--set", "optimize.frequency_min_hz=9"], "optimize.frequency_max_hz"),
+        (["--workers", "0"], "--workers"),
+        (["--pdf", "out/report.txt"], "--pdf"),
+        (["no-such-design.toml"], "no-such-design.toml"),
+    ],
+)
+def test_bad_input_exits_2_and_writes_nothing(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, extra: list[str], needle: str
+) -> None:
     monkeypatch.chdir(tmp_path)
     status, _, err = _run(["report", *extra, "-o", "out/report.html"])
     assert status == 2, f"bad input exits 2 (got {status}; {err})"
@@ -42,8 +46,9 @@ def test_bad_input_exits_2_and_writes_nothing(tmp_path: Path, monkeypatch: pytes
 
 
 @pytest.mark.parametrize("output", ["report.txt", "report", "folder.html"])
-def test_output_path_must_be_an_html_file(tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
-                                          output: str) -> None:
+def test_output_path_must_be_an_html_file(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, output: str
+) -> None:
     monkeypatch.chdir(tmp_path)
     (tmp_path / "folder.html").mkdir()
     status, _, err = _run(["report", "-o", output])
@@ -64,12 +69,18 @@ def test_pdf_and_html_must_differ(tmp_path: Path) -> None:
         report_cmd.check_output_paths(str(tmp_path / "r.html"), str(tmp_path / "r.html"), None)
 
 
-def test_infeasible_design_writes_the_report_and_exits_3(tmp_path: Path,
-                                                         monkeypatch: pytest.MonkeyPatch) -> None:
+def test_infeasible_design_writes_the_report_and_exits_3(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
     """The exit status mirrors `spiralcap optimize` (3); the file is still written."""
-    fake = SimpleNamespace(html="<!DOCTYPE html><p>NO FEASIBLE DESIGN</p>", pdf=b"%PDF-1.4",
-                           page_count=1, figure_count=0, feasible=False,
-                           status_message="infeasible: requirements.min_speed_mm_s")
+    fake = SimpleNamespace(
+        html="<!DOCTYPE html><p>NO FEASIBLE DESIGN</p>",
+        pdf=b"%PDF-1.4",
+        page_count=1,
+        figure_count=0,
+        feasible=False,
+        status_message="infeasible: requirements.min_speed_mm_s",
+    )
     import spiralcap.report
 
     monkeypatch.setattr(spiralcap.report, "build_report", lambda *a, **k: fake)
@@ -93,8 +104,10 @@ def test_infeasible_sections_say_so_plainly() -> None:
     from spiralcap.report.sections import Context, optimum, summary
 
     overrides = ["--set", "requirements.min_speed_mm_s=50"]
-    payload = {"evaluate": _json(["evaluate", "--json", *overrides]),
-               "optimize": _json(["optimize", "--json", *overrides])}
+    payload = {
+        "evaluate": _json(["evaluate", "--json", *overrides]),
+        "optimize": _json(["optimize", "--json", *overrides]),
+    }
     assert payload["optimize"]["status"] == "infeasible", "50 mm/s is out of reach"
     ctx = Context(SimpleNamespace(optimize_json=payload["optimize"]), payload)
     sections = [summary.build(ctx), optimum.build(ctx)]

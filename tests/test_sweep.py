@@ -11,14 +11,17 @@ from spiralcap.sweep import parse_over, sweep
 
 def test_vectorised_equals_point_by_point():
     design = load_design()
-    axes = [parse_over("capsule.spiral.helical_angle_deg=5:20:4"),
-            parse_over("limits.power_W=300:2000:3")]
+    axes = [
+        parse_over("capsule.spiral.helical_angle_deg=5:20:4"),
+        parse_over("limits.power_W=300:2000:3"),
+    ]
     fast = sweep(design, axes)
     assert fast.mode.startswith("evaluate (vectorised")
     # force the slow path by adding a key that needs a rebuild, held at its default
     slow = sweep(design, [*axes, parse_over("coils.x.turns=400:400:1")])
-    assert np.allclose(fast.outputs["margin_Nm"], slow.outputs["margin_Nm"], rtol=1e-12), \
+    assert np.allclose(fast.outputs["margin_Nm"], slow.outputs["margin_Nm"], rtol=1e-12), (
         "vectorised sweep equals evaluate() point by point (1e-12 relative)"
+    )
     assert (fast.outputs["feasible"] == slow.outputs["feasible"]).all()
 
 

@@ -30,13 +30,16 @@ def _json(capsys: pytest.CaptureFixture[str], *argv: str) -> dict:
     return json.loads(out)
 
 
-def _write_csv(path: Path, freq: np.ndarray, torque_mNm: np.ndarray,
-               angle_deg: np.ndarray | None = None) -> Path:
+def _write_csv(
+    path: Path, freq: np.ndarray, torque_mNm: np.ndarray, angle_deg: np.ndarray | None = None
+) -> Path:
     head = "frequency_hz,torque_mNm" + (",helical_angle_deg" if angle_deg is not None else "")
     rows = [head]
     for i, (f, t) in enumerate(zip(freq, torque_mNm, strict=True)):
-        rows.append(f"{float(f)!r},{float(t)!r}"
-                    + (f",{float(angle_deg[i])!r}" if angle_deg is not None else ""))
+        rows.append(
+            f"{float(f)!r},{float(t)!r}"
+            + (f",{float(angle_deg[i])!r}" if angle_deg is not None else "")
+        )
     path.write_text("\n".join(rows) + "\n", encoding="utf-8")
     return path
 
@@ -51,14 +54,24 @@ def test_torque_json_matches_model(capsys) -> None:
 
 
 def test_torque_options(capsys) -> None:
-    five = _json(capsys, "torque", "--set", "capsule.spiral.helical_angle_deg=5",
-                 "--frequency", "3", "--set", 'tissue.worst_case_presets=["zhou2013-sample3"]')
+    five = _json(
+        capsys,
+        "torque",
+        "--set",
+        "capsule.spiral.helical_angle_deg=5",
+        "--frequency",
+        "3",
+        "--set",
+        'tissue.worst_case_presets=["zhou2013-sample3"]',
+    )
     assert five["frequency_hz"] == [3.0]
     assert five["torque_mNm"][0] == pytest.approx(2.843, rel=1e-3), (
-        "capsule No. 1 at 3 Hz, docs/torque-model.md section 4 table")
+        "capsule No. 1 at 3 Hz, docs/torque-model.md section 4 table"
+    )
     assert five["worst_case"][0]["tissue"] == "zhou2013-sample3"
     assert five["worst_case"][0]["torque_mNm"][0] == pytest.approx(2.632, rel=1e-3), (
-        "sample 3, No. 1, 3 Hz: docs section 4")
+        "sample 3, No. 1, 3 Hz: docs section 4"
+    )
     code, out, _ = _run(capsys, "torque")
     assert code == 0 and "0.5719" in out and "mN" in out, "text table in mN·m"
 
@@ -89,8 +102,16 @@ def test_fit_round_trip_through_set(tmp_path: Path, capsys) -> None:
     design_args = ["--set", "tissue.friction_coefficient=0.3"]
     fit = _json(capsys, "fit", str(csv_path), *design_args)
     table = fit["tissue"]
-    assert set(table) == {"E1_kPa", "E2_kPa", "E3_kPa", "eta1_kPa_s", "eta2_kPa_s",
-                          "lumen_diameter_mm", "wall_thickness_mm", "friction_coefficient"}
+    assert set(table) == {
+        "E1_kPa",
+        "E2_kPa",
+        "E3_kPa",
+        "eta1_kPa_s",
+        "eta2_kPa_s",
+        "lumen_diameter_mm",
+        "wall_thickness_mm",
+        "friction_coefficient",
+    }
     assert table["friction_coefficient"] == 0.3, "friction fixed from the design"
     sets = [f"tissue.{k}={float(v)!r}" for k, v in table.items()]
     design = load_design(overrides=sets)
@@ -99,11 +120,13 @@ def test_fit_round_trip_through_set(tmp_path: Path, capsys) -> None:
     angle = np.radians(fit["data"]["helical_angle_deg"])
     again = np.asarray(tm.resistive_torque_Nm(angle, freq, tissue)) * 1e3
     assert np.allclose(again, fit["data"]["fitted_torque_mNm"], rtol=1e-12), (
-        "--set tissue.KEY=VALUE for each fitted key reproduces the fitted curve (1e-12)")
+        "--set tissue.KEY=VALUE for each fitted key reproduces the fitted curve (1e-12)"
+    )
     set_args = [arg for s in sets for arg in ("--set", s)]
     torque = _json(capsys, "torque", *set_args, "--frequency", "1.25")
     assert torque["torque_mNm"][0] == pytest.approx(
-        float(tm.resistive_torque_Nm(math.radians(10), 1.25, tissue)) * 1e3, rel=1e-12)
+        float(tm.resistive_torque_Nm(math.radians(10), 1.25, tissue)) * 1e3, rel=1e-12
+    )
 
 
 def test_fit_output_toml_and_plot(tmp_path: Path, capsys) -> None:
@@ -115,14 +138,15 @@ def test_fit_output_toml_and_plot(tmp_path: Path, capsys) -> None:
     fit = _json(capsys, "fit", str(csv_path))
     tissue = build_tissues(load_design(out_toml))[0]
     assert tissue.as_design_table() == pytest.approx(fit["tissue"], rel=1e-15), (
-        "-o TOML loaded as a design file gives the fitted tissue")
+        "-o TOML loaded as a design file gives the fitted tissue"
+    )
     assert png.read_bytes()[:4] == b"\x89PNG"
 
 
 def test_fit_example_file(capsys) -> None:
     fit = _json(capsys, "fit", str(EXAMPLES / "bench_synthetic_sample2.csv"))
     rel = np.asarray(fit["data"]["relative_residual"])
-    assert np.sqrt(np.mean(rel ** 2)) < 0.04, "example made with 3 % noise fits to the noise"
+    assert np.sqrt(np.mean(rel**2)) < 0.04, "example made with 3 % noise fits to the noise"
     assert fit["not_pinned_down"], "a 0.5-3 Hz curve cannot pin all five down (docs section 5)"
     for entry in fit["parameters"].values():
         assert entry["pinned_down"] == (not entry["flags"])
@@ -136,8 +160,7 @@ BAD = [
     ("frequency_hz,torque_mNm\n0.5,-0.6\n", "line 2 (data row 1), column torque_mNm"),
     ("frequency_hz,torque_mNm\n0.5,\n", "column torque_mNm: empty cell"),
     ("# c\nfrequency_hz,torque\n0.5,0.6\n", "line 2: missing column 'torque_mNm'"),
-    ("frequency_hz,torque_mNm,helical_angle_deg\n0.5,0.6,95\n",
-     "column helical_angle_deg"),
+    ("frequency_hz,torque_mNm,helical_angle_deg\n0.5,0.6,95\n", "column helical_angle_deg"),
     ("frequency_hz,torque_mNm\n0.5,0.6\n1,0.8\n2,1.2\n3,1.8\n", "4 data rows for 5 parameters"),
     ("", "no header row"),
     ("frequency_hz,torque_mNm\n", "no data rows"),
@@ -157,8 +180,13 @@ def test_fit_bad_data(tmp_path: Path, capsys, text: str, message: str) -> None:
 def test_fit_missing_file_and_bad_plot_name(tmp_path: Path, capsys) -> None:
     code, _, err = _run(capsys, "fit", str(tmp_path / "nope.csv"))
     assert code == 2 and "nope.csv" in err and "cannot read" in err
-    code, _, err = _run(capsys, "fit", str(EXAMPLES / "bench_synthetic_sample2.csv"),
-                        "--plot", str(tmp_path / "x.gif"))
+    code, _, err = _run(
+        capsys,
+        "fit",
+        str(EXAMPLES / "bench_synthetic_sample2.csv"),
+        "--plot",
+        str(tmp_path / "x.gif"),
+    )
     assert code == 2 and "--plot" in err
 
 

@@ -18,8 +18,9 @@ def test_plot_torque_vs_frequency_returns_artists() -> None:
     assert len(drawn["points"]) == len(tm.PAPER_POINTS), "the paper's sample-2 points overlaid"
     assert "Hz" in ax.get_xlabel() and "mN" in ax.get_ylabel(), "units on the axes"
     x, y = drawn["curves"][1].get_data()
-    expected = np.asarray(tm.resistive_torque_Nm(math.radians(10), x,
-                                                 tm.preset("zhou2013-sample2"))) * 1e3
+    expected = (
+        np.asarray(tm.resistive_torque_Nm(math.radians(10), x, tm.preset("zhou2013-sample2"))) * 1e3
+    )
     assert np.allclose(y, expected), "curve is the model in mN·m"
 
 

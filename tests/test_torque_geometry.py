@@ -21,8 +21,9 @@ def _hull_diameter(radius: float, bump: np.ndarray) -> float:
     return float(np.sum(np.linalg.norm(np.roll(v, -1, axis=0) - v, axis=1)) / np.pi)
 
 
-def _wrapped_ellipse(R: float, r_w: float, alpha: float, centre_radius: float,
-                     starts: int = 1, n: int = 20_001) -> np.ndarray:
+def _wrapped_ellipse(
+    R: float, r_w: float, alpha: float, centre_radius: float, starts: int = 1, n: int = 20_001
+) -> np.ndarray:
     psi_m = r_w / (centre_radius * math.sin(alpha))
     u = np.linspace(-1.0, 1.0, n)
     rho = R + r_w + r_w * np.sqrt(np.clip(1.0 - u * u, 0.0, None))
@@ -40,18 +41,24 @@ def _tube_section(R: float, r_w: float, alpha: float, n: int = 240) -> np.ndarra
 
     def dist(r: float, psi: float) -> float:
         def sq(s: float) -> float:
-            return ((r * math.cos(psi) - R_h * math.cos(s)) ** 2
-                    + (r * math.sin(psi) - R_h * math.sin(s)) ** 2 + (lead_per_rad * s) ** 2)
-        return math.sqrt(optimize.minimize_scalar(sq, bracket=(psi - 0.5, psi, psi + 0.5),
-                                                  tol=1e-14).fun)
+            return (
+                (r * math.cos(psi) - R_h * math.cos(s)) ** 2
+                + (r * math.sin(psi) - R_h * math.sin(s)) ** 2
+                + (lead_per_rad * s) ** 2
+            )
+
+        return math.sqrt(
+            optimize.minimize_scalar(sq, bracket=(psi - 0.5, psi, psi + 0.5), tol=1e-14).fun
+        )
 
     psi_max = 1.5 * r_w / (R_h * math.sin(alpha))
     pts = []
     for psi in np.linspace(-psi_max, psi_max, n):
         if dist(R_h, psi) >= r_w:
             continue
-        r = optimize.brentq(lambda r, psi=psi: dist(r, psi) - r_w, R_h, R_h + 1.01 * r_w,
-                            xtol=1e-14)
+        r = optimize.brentq(
+            lambda r, psi=psi: dist(r, psi) - r_w, R_h, R_h + 1.01 * r_w, xtol=1e-14
+        )
         pts.append((r * math.sin(psi), r * math.cos(psi)))
     return np.array(pts)
 
@@ -63,21 +70,35 @@ def test_d_prime_matches_convex_hull_of_exact_tube_section(alpha_deg: float) -> 
     model = float(equivalent_diameter_m(alpha, 11.0, 1.0))
     assert model == pytest.approx(reference, rel=1e-4), (
         f"D' at {alpha_deg} deg vs scipy ConvexHull of the exact tube section (wrapped-ellipse "
-        "approximation, tolerance 1e-4 relative)")
+        "approximation, tolerance 1e-4 relative)"
+    )
 
 
-@pytest.mark.parametrize(("alpha_deg", "D", "d_w", "starts"), [
-    (1.8, 11.0, 1.0, 1), (3.0, 11.0, 1.0, 1), (5.0, 11.0, 1.0, 1), (12.0, 11.0, 1.0, 1),
-    (30.0, 11.0, 1.0, 1), (80.0, 11.0, 1.0, 1), (8.0, 6.0, 0.3, 1), (8.0, 14.0, 2.0, 1),
-    (10.0, 11.0, 1.0, 2), (20.0, 11.0, 1.0, 3)])
+@pytest.mark.parametrize(
+    ("alpha_deg", "D", "d_w", "starts"),
+    [
+        (1.8, 11.0, 1.0, 1),
+        (3.0, 11.0, 1.0, 1),
+        (5.0, 11.0, 1.0, 1),
+        (12.0, 11.0, 1.0, 1),
+        (30.0, 11.0, 1.0, 1),
+        (80.0, 11.0, 1.0, 1),
+        (8.0, 6.0, 0.3, 1),
+        (8.0, 14.0, 2.0, 1),
+        (10.0, 11.0, 1.0, 2),
+        (20.0, 11.0, 1.0, 3),
+    ],
+)
 def test_d_prime_closed_form_is_exact_for_wrapped_ellipse(alpha_deg, D, d_w, starts) -> None:
     alpha = math.radians(alpha_deg)
-    reference = _hull_diameter(D / 2, _wrapped_ellipse(D / 2, d_w / 2, alpha, (D + d_w) / 2,
-                                                       starts))
+    reference = _hull_diameter(
+        D / 2, _wrapped_ellipse(D / 2, d_w / 2, alpha, (D + d_w) / 2, starts)
+    )
     model = float(equivalent_diameter_m(alpha, D, d_w, starts))
     assert model == pytest.approx(reference, rel=2e-7), (
         "closed-form hull perimeter vs scipy ConvexHull of the sampled wrapped ellipse "
-        "(sampling error only, tolerance 2e-7 relative)")
+        "(sampling error only, tolerance 2e-7 relative)"
+    )
 
 
 def test_design_md_figures_come_from_the_capsule_radius_variant() -> None:
@@ -86,9 +107,11 @@ def test_design_md_figures_come_from_the_capsule_radius_variant() -> None:
         a = math.radians(deg)
         variant = _hull_diameter(5.5, _wrapped_ellipse(5.5, 0.5, a, centre_radius=5.5))
         assert variant == pytest.approx(value, abs=0.006), (
-            "DESIGN.md 4.3 D' figures = hull with the cut's width laid on radius R (2 decimals)")
+            "DESIGN.md 4.3 D' figures = hull with the cut's width laid on radius R (2 decimals)"
+        )
         assert float(equivalent_diameter_m(a, 11e-3, 1e-3)) * 1e3 < value, (
-            "the tube-centre (R_h) construction gives a smaller D' than DESIGN.md's figures")
+            "the tube-centre (R_h) construction gives a smaller D' than DESIGN.md's figures"
+        )
 
 
 def test_d_prime_derivative_casadi_matches_finite_difference() -> None:
@@ -99,15 +122,17 @@ def test_d_prime_derivative_casadi_matches_finite_difference() -> None:
         h = 1e-6
         fd = (equivalent_diameter_m(x + h) - equivalent_diameter_m(x - h)) / (2 * h)
         assert float(fn(x)) == pytest.approx(fd, rel=1e-6), (
-            "CasADi dD'/dalpha vs central difference of the numpy path (tolerance 1e-6)")
+            "CasADi dD'/dalpha vs central difference of the numpy path (tolerance 1e-6)"
+        )
 
 
 def test_d_prime_numpy_and_casadi_agree() -> None:
     a = ca.SX.sym("a")
     fn = ca.Function("D", [a], [equivalent_diameter_m(a, 11e-3, 1e-3)])
     for x in np.radians([1.6, 5.0, 10.0, 20.0, 60.0]):
-        assert float(fn(x)) == pytest.approx(float(equivalent_diameter_m(x)), rel=1e-12,
-                                             abs=0), "numpy vs CasADi SX D' (1e-12)"
+        assert float(fn(x)) == pytest.approx(float(equivalent_diameter_m(x)), rel=1e-12, abs=0), (
+            "numpy vs CasADi SX D' (1e-12)"
+        )
 
 
 def test_d_prime_limits() -> None:
@@ -127,9 +152,11 @@ def test_end_contact_closed_form_matches_quadrature(lumen_mm: float) -> None:
     zc = math.sqrt(R * R - Db * Db / 4)
     ref, _ = integrate.quad(integrand, 0.0, zc, epsabs=0, epsrel=1e-12)
     assert float(end_contact_moment_m2(2 * R, Db, d)) == pytest.approx(ref, rel=1e-9), (
-        "end contact integral vs scipy quad of eq. 6 x D_after/2 over the hemisphere (1e-9)")
+        "end contact integral vs scipy quad of eq. 6 x D_after/2 over the hemisphere (1e-9)"
+    )
 
 
 def test_no_end_contact_when_lumen_is_wider() -> None:
     assert float(end_contact_moment_m2(11e-3, 11.1e-3, 1e-3)) == 0.0, (
-        "sample 3 (11.1 mm lumen > 11 mm capsule): the ends do not touch (paper section III-B)")
+        "sample 3 (11.1 mm lumen > 11 mm capsule): the ends do not touch (paper section III-B)"
+    )

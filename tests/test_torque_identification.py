@@ -15,8 +15,9 @@ BASE = tm.preset("zhou2013-sample2")
 RICH_TRUTH = BASE.replace(E1_Pa=2e4, E2_Pa=5e4, E3_Pa=1e4, eta1_Pa_s=1e4, eta2_Pa_s=2.5e3)
 
 
-def _synthetic(truth: tm.TissueParameters, f: np.ndarray, angle: np.ndarray | float,
-               noise: float, seed: int) -> np.ndarray:
+def _synthetic(
+    truth: tm.TissueParameters, f: np.ndarray, angle: np.ndarray | float, noise: float, seed: int
+) -> np.ndarray:
     clean = np.asarray(tm.resistive_torque_Nm(angle, f, truth))
     return clean * (1.0 + noise * np.random.default_rng(seed).normal(size=clean.shape))
 
@@ -25,8 +26,9 @@ def test_predicts_unseen_frequencies_and_angles() -> None:
     f = np.tile(np.linspace(0.5, 3.0, 11), 2)
     angle = np.repeat(np.radians([5.0, 10.0]), 11)
     y = _synthetic(BASE, f, angle, noise=0.02, seed=7)
-    fit = tm.identify(f, y, angle, BASE.replace(E1_Pa=1e3, E2_Pa=1e3, E3_Pa=1e3,
-                                                eta1_Pa_s=1e3, eta2_Pa_s=1e3))
+    fit = tm.identify(
+        f, y, angle, BASE.replace(E1_Pa=1e3, E2_Pa=1e3, E3_Pa=1e3, eta1_Pa_s=1e3, eta2_Pa_s=1e3)
+    )
     f_new = np.array([0.6, 1.1, 1.9, 2.6, 2.9])
     for deg in (5.0, 10.0, 15.0):
         a = math.radians(deg)
@@ -34,7 +36,8 @@ def test_predicts_unseen_frequencies_and_angles() -> None:
         true = np.asarray(tm.resistive_torque_Nm(a, f_new, BASE))
         assert np.allclose(pred, true, rtol=0.03), (
             f"fitted model at unseen frequencies, {deg} deg, vs the model that made the data "
-            "(2 % noise, tolerance 3 %)")
+            "(2 % noise, tolerance 3 %)"
+        )
     assert fit.residual_std == pytest.approx(0.02, rel=0.5), "s estimates the 2 % noise"
     assert fit.tissue.lumen_diameter_m == BASE.lumen_diameter_m, "lumen fixed"
     assert fit.tissue.friction_coefficient == BASE.friction_coefficient, "friction fixed"
@@ -45,7 +48,8 @@ def test_says_which_parameters_the_data_cannot_pin_down() -> None:
     fit = tm.identify(f, _synthetic(BASE, f, 0.17, 0.03, 3), 0.17, BASE)
     assert set(fit.not_pinned_down) >= {"E1_Pa", "E3_Pa", "eta1_Pa_s"}, (
         "sample-2-like curve: arm 1 acts as a spring, so E1, E3 (only E1 + E3 is seen) and "
-        "eta1 are flagged (docs/torque-model.md section 5)")
+        "eta1 are flagged (docs/torque-model.md section 5)"
+    )
     for name in fit.not_pinned_down:
         assert fit.flags[name], "every unpinned parameter says why"
 
@@ -54,7 +58,8 @@ def test_one_frequency_only_is_singular() -> None:
     f = np.full(6, 1.0)
     fit = tm.identify(f, _synthetic(BASE, f, 0.17, 0.01, 1), 0.17, BASE)
     assert set(fit.not_pinned_down) == set(tm.PARAMETER_NAMES), (
-        "six points at one frequency fix one number: all five parameters unpinned")
+        "six points at one frequency fix one number: all five parameters unpinned"
+    )
     assert fit.condition_number > 1e12 or not np.isfinite(fit.condition_number)
 
 
@@ -63,14 +68,18 @@ def test_rich_data_pin_everything_down() -> None:
     y = _synthetic(RICH_TRUTH, f, 0.17, noise=0.002, seed=11)
     fit = tm.identify(f, y, 0.17, BASE)
     assert fit.not_pinned_down == (), (
-        "relaxation times 0.5 s and 0.05 s inside 0.05-20 Hz at 0.2 % noise: all identifiable")
+        "relaxation times 0.5 s and 0.05 s inside 0.05-20 Hz at 0.2 % noise: all identifiable"
+    )
     for name in tm.PARAMETER_NAMES:
         true = getattr(RICH_TRUTH, name)
         assert abs(fit.values[name] - true) < 3.0 * fit.standard_errors[name], (
-            f"{name}: within 3 standard errors of the true value (99.7 % if s(J^T J)^-1 holds)")
+            f"{name}: within 3 standard errors of the true value (99.7 % if s(J^T J)^-1 holds)"
+        )
         assert fit.values[name] == pytest.approx(true, rel=0.1), f"{name} recovered within 10 %"
-    assert fit.values["eta1_Pa_s"] / fit.values["E1_Pa"] >= \
-        fit.values["eta2_Pa_s"] / fit.values["E2_Pa"], "arms ordered slow first (Tables I-II)"
+    assert (
+        fit.values["eta1_Pa_s"] / fit.values["E1_Pa"]
+        >= fit.values["eta2_Pa_s"] / fit.values["E2_Pa"]
+    ), "arms ordered slow first (Tables I-II)"
 
 
 def test_fitted_tissue_reproduces_predictions() -> None:
@@ -78,7 +87,8 @@ def test_fitted_tissue_reproduces_predictions() -> None:
     fit = tm.identify(f, _synthetic(BASE, f, 0.17, 0.02, 5), 0.17, BASE)
     direct = np.asarray(tm.resistive_torque_Nm(0.17, f, fit.tissue))
     assert np.allclose(direct, fit.predicted_Nm, rtol=1e-12), (
-        "G(alpha) I(omega) factorisation in identify = resistive_torque_Nm (1e-12)")
+        "G(alpha) I(omega) factorisation in identify = resistive_torque_Nm (1e-12)"
+    )
     assert np.allclose(fit.residuals, (fit.predicted_Nm - fit.torque_Nm) / fit.torque_Nm)
 
 
@@ -91,10 +101,13 @@ def test_analytic_jacobian_matches_finite_differences() -> None:
         up, dn = p.copy(), p.copy()
         up[j] *= math.exp(h)
         dn[j] *= math.exp(-h)
-        fd = (_relaxation_integral_and_gradient(f, up)[0]
-              - _relaxation_integral_and_gradient(f, dn)[0]) / (2 * h)
+        fd = (
+            _relaxation_integral_and_gradient(f, up)[0]
+            - _relaxation_integral_and_gradient(f, dn)[0]
+        ) / (2 * h)
         assert np.allclose(grad[:, j], fd, rtol=1e-6, atol=1e-9 * np.abs(fd).max()), (
-            f"dI/dlog p[{j}] vs central difference (1e-6)")
+            f"dI/dlog p[{j}] vs central difference (1e-6)"
+        )
 
 
 def test_finite_difference_jacobian_gives_same_fit() -> None:
@@ -110,12 +123,15 @@ def test_refuses_fewer_points_than_parameters() -> None:
         tm.identify([0.5, 1, 2, 3], [1e-3, 1.2e-3, 1.5e-3, 1.8e-3], 0.17, BASE)
 
 
-@pytest.mark.parametrize(("freq", "torque", "match"), [
-    ([0.5, 1, 2, 3, float("nan")], [1e-3] * 5, "point 5: frequency_hz"),
-    ([0.5, 1, 2, 3, 0.0], [1e-3] * 5, "point 5: frequency_hz"),
-    ([0.5, 1, 2, 3, 4], [1e-3, -1e-3, 1e-3, 1e-3, 1e-3], "point 2: torque_Nm"),
-    ([0.5, 1, 2, 3, 4], [1e-3] * 4, "4 values for 5"),
-])
+@pytest.mark.parametrize(
+    ("freq", "torque", "match"),
+    [
+        ([0.5, 1, 2, 3, float("nan")], [1e-3] * 5, "point 5: frequency_hz"),
+        ([0.5, 1, 2, 3, 0.0], [1e-3] * 5, "point 5: frequency_hz"),
+        ([0.5, 1, 2, 3, 4], [1e-3, -1e-3, 1e-3, 1e-3, 1e-3], "point 2: torque_Nm"),
+        ([0.5, 1, 2, 3, 4], [1e-3] * 4, "4 values for 5"),
+    ],
+)
 def test_bad_points_named(freq, torque, match) -> None:
     with pytest.raises(DataError, match=match):
         tm.identify(freq, torque, 0.17, BASE)

@@ -17,15 +17,23 @@ SAMPLE2 = tm.preset("zhou2013-sample2")
 SAMPLE3 = tm.preset("zhou2013-sample3")
 
 
-@pytest.mark.parametrize("point", tm.PAPER_POINTS,
-                         ids=lambda p: f"No{p.capsule}-{p.frequency_hz}Hz")
+@pytest.mark.parametrize(
+    "point", tm.PAPER_POINTS, ids=lambda p: f"No{p.capsule}-{p.frequency_hz}Hz"
+)
 def test_paper_points_sample2(point: tm.PaperPoint) -> None:
     tol = 0.15 if point.role == "calibration" else 0.25
-    model = float(tm.resistive_torque_Nm(math.radians(point.helical_angle_deg),
-                                         point.frequency_hz, SAMPLE2)) * 1e3
+    model = (
+        float(
+            tm.resistive_torque_Nm(
+                math.radians(point.helical_angle_deg), point.frequency_hz, SAMPLE2
+            )
+        )
+        * 1e3
+    )
     assert model == pytest.approx(point.torque_mNm, rel=tol), (
         f"capsule No. {point.capsule} at {point.frequency_hz} Hz vs {point.source} "
-        f"({point.role}, tolerance {tol:.0%})")
+        f"({point.role}, tolerance {tol:.0%})"
+    )
 
 
 def test_validation_points_never_enter_the_calibration() -> None:
@@ -33,12 +41,14 @@ def test_validation_points_never_enter_the_calibration() -> None:
 
     pts = calibration_points()
     assert pts and all(p.capsule == 2 and p.role == "calibration" for p in pts), (
-        "calibration uses sample 2 capsule No. 2 only (paper section III-C identification case)")
+        "calibration uses sample 2 capsule No. 2 only (paper section III-C identification case)"
+    )
 
 
 def test_stored_factor_is_the_least_squares_factor() -> None:
     assert zhou2013.CALIBRATION_FACTOR == pytest.approx(fit_calibration_factor(), rel=1e-4), (
-        "CALIBRATION_FACTOR vs least squares on the paper's No. 2 points (docs, 1e-4)")
+        "CALIBRATION_FACTOR vs least squares on the paper's No. 2 points (docs, 1e-4)"
+    )
 
 
 def test_literal_reading_arithmetic() -> None:
@@ -46,7 +56,8 @@ def test_literal_reading_arithmetic() -> None:
     a = math.radians(10)
     for f, expected in ((0.5, 1.602e-6), (3.0, 5.258e-6)):
         assert float(tm.resistive_torque_Nm(a, f, p)) == pytest.approx(expected, rel=1e-3), (
-            "Table I read literally in SI: docs/torque-model.md section 2 table (1e-3)")
+            "Table I read literally in SI: docs/torque-model.md section 2 table (1e-3)"
+        )
 
 
 def test_factor_scales_torque_and_keeps_shape() -> None:
@@ -54,14 +65,16 @@ def test_factor_scales_torque_and_keeps_shape() -> None:
     f = np.array([0.5, 1.0, 2.0, 3.0])
     ratio = tm.resistive_torque_Nm(0.2, f, SAMPLE2) / tm.resistive_torque_Nm(0.2, f, p)
     assert np.allclose(ratio, zhou2013.CALIBRATION_FACTOR, rtol=1e-12), (
-        "torque is linear in a common factor on E1..eta2 (eqs. 2-8: exponents hold E/eta only)")
+        "torque is linear in a common factor on E1..eta2 (eqs. 2-8: exponents hold E/eta only)"
+    )
 
 
 def test_frequency_shape_matches_paper() -> None:
     a = math.radians(10)
     shape = float(tm.resistive_torque_Nm(a, 3.0, SAMPLE2) / tm.resistive_torque_Nm(a, 0.5, SAMPLE2))
     assert shape == pytest.approx(1.8 / 0.6, rel=0.12), (
-        "tau(3 Hz)/tau(0.5 Hz) vs the paper's 1.8/0.6 for capsule No. 2 (section II-C, 12 %)")
+        "tau(3 Hz)/tau(0.5 Hz) vs the paper's 1.8/0.6 for capsule No. 2 (section II-C, 12 %)"
+    )
 
 
 def test_torque_rises_with_frequency_and_falls_with_angle() -> None:
@@ -71,18 +84,27 @@ def test_torque_rises_with_frequency_and_falls_with_angle() -> None:
         tau = np.asarray(tm.resistive_torque_Nm(a, f, tissue))
         assert tau.shape == (20, 25), "alpha (20, 1) and f (25,) broadcast to (20, 25)"
         assert np.all(np.diff(tau, axis=1) > 0), (
-            f"{tissue.name}: torque rises with frequency (paper section II-C, Figs. 4-5)")
+            f"{tissue.name}: torque rises with frequency (paper section II-C, Figs. 4-5)"
+        )
         assert np.all(np.diff(tau, axis=0) < 0), (
-            f"{tissue.name}: torque falls as the helical angle grows (paper section II-C)")
+            f"{tissue.name}: torque falls as the helical angle grows (paper section II-C)"
+        )
 
 
 @pytest.mark.parametrize("tissue", [SAMPLE2, SAMPLE3], ids=lambda t: t.name)
 @pytest.mark.parametrize("f", [0.3, 1.0, 3.0, 8.0])
 def test_relaxation_integral_closed_form(tissue: tm.TissueParameters, f: float) -> None:
-    ref, _ = integrate.quad(lambda th: float(tm.stress_Pa(th, f, 1.0, tissue)), 0.0, 2 * math.pi,
-                            epsabs=0, epsrel=1e-12, limit=200)
+    ref, _ = integrate.quad(
+        lambda th: float(tm.stress_Pa(th, f, 1.0, tissue)),
+        0.0,
+        2 * math.pi,
+        epsabs=0,
+        epsrel=1e-12,
+        limit=200,
+    )
     assert float(tm.relaxation_integral_Pa(f, tissue)) == pytest.approx(ref, rel=1e-9), (
-        "closed-form theta integral of eq. 4 over one turn vs scipy quad (1e-9)")
+        "closed-form theta integral of eq. 4 over one turn vs scipy quad (1e-9)"
+    )
 
 
 def test_normal_load_is_pressure_integrated_over_the_arc() -> None:
@@ -95,16 +117,19 @@ def test_normal_load_is_pressure_integrated_over_the_arc() -> None:
     ref, _ = integrate.quad(arc_load, 0.0, 2 * math.pi, epsrel=1e-12, limit=200)
     got = float(tm.normal_load_per_length_N_m(f, eps, SAMPLE2))
     assert got == pytest.approx(ref, rel=1e-9), (
-        "int p(theta) D/2 dtheta with eq. 3 = d eps I (hoop tension), scipy quad (1e-9)")
+        "int p(theta) D/2 dtheta with eq. 3 = d eps I (hoop tension), scipy quad (1e-9)"
+    )
 
 
 def test_breakdown_sums_and_ends_are_small() -> None:
     parts = tm.torque_breakdown_Nm(math.radians(10), 1.0, SAMPLE2)
     assert float(parts["total"]) == pytest.approx(
-        float(parts["wound"] + parts["cylinder"] + parts["ends"]), rel=1e-14), "parts sum"
+        float(parts["wound"] + parts["cylinder"] + parts["ends"]), rel=1e-14
+    ), "parts sum"
     assert float(parts["cylinder"]) == 0.0, "26 mm capsule: cylinder (15 mm) = wound length"
     assert 0 < float(parts["ends"]) < 0.02 * float(parts["total"]), (
-        "ends touch over 0.74 mm only (z_c = sqrt(5.5^2 - 5.45^2) mm): < 2 % of the torque")
+        "ends touch over 0.74 mm only (z_c = sqrt(5.5^2 - 5.45^2) mm): < 2 % of the torque"
+    )
     longer = tm.torque_breakdown_Nm(math.radians(10), 1.0, SAMPLE2, body_length_m=30e-3)
     assert float(longer["cylinder"]) > 0, "a 4 mm unwound cylinder at D > lumen adds torque"
 
@@ -120,12 +145,17 @@ def test_numpy_and_casadi_agree() -> None:
                 val, da, df = (float(v) for v in fn(x, hz))
                 ref = float(tm.resistive_torque_Nm(x, hz, tissue))
                 assert val == pytest.approx(ref, rel=1e-12, abs=0), (
-                    "numpy vs CasADi SX resistive torque (CONTRIBUTING: 1e-12)")
+                    "numpy vs CasADi SX resistive torque (CONTRIBUTING: 1e-12)"
+                )
                 h = 1e-6
-                fd_a = (tm.resistive_torque_Nm(x + h, hz, tissue)
-                        - tm.resistive_torque_Nm(x - h, hz, tissue)) / (2 * h)
-                fd_f = (tm.resistive_torque_Nm(x, hz + h, tissue)
-                        - tm.resistive_torque_Nm(x, hz - h, tissue)) / (2 * h)
+                fd_a = (
+                    tm.resistive_torque_Nm(x + h, hz, tissue)
+                    - tm.resistive_torque_Nm(x - h, hz, tissue)
+                ) / (2 * h)
+                fd_f = (
+                    tm.resistive_torque_Nm(x, hz + h, tissue)
+                    - tm.resistive_torque_Nm(x, hz - h, tissue)
+                ) / (2 * h)
                 assert da == pytest.approx(fd_a, rel=1e-6), "d tau/d alpha vs central difference"
                 assert df == pytest.approx(fd_f, rel=1e-6), "d tau/d f vs central difference"
 
@@ -133,8 +163,9 @@ def test_numpy_and_casadi_agree() -> None:
 def test_casadi_mx_path() -> None:
     a, f = ca.MX.sym("alpha"), ca.MX.sym("f")
     fn = ca.Function("tau", [a, f], [tm.resistive_torque_Nm(a, f, SAMPLE2)])
-    assert float(fn(0.2, 2.0)) == pytest.approx(float(tm.resistive_torque_Nm(0.2, 2.0, SAMPLE2)),
-                                               rel=1e-12), "numpy vs CasADi MX (1e-12)"
+    assert float(fn(0.2, 2.0)) == pytest.approx(
+        float(tm.resistive_torque_Nm(0.2, 2.0, SAMPLE2)), rel=1e-12
+    ), "numpy vs CasADi MX (1e-12)"
 
 
 def test_sample3_same_order_as_sample2() -> None:
@@ -142,7 +173,8 @@ def test_sample3_same_order_as_sample2() -> None:
     for deg in (5.0, 10.0, 15.0, 20.0):
         tau3 = np.asarray(tm.resistive_torque_Nm(math.radians(deg), f, SAMPLE3)) * 1e3
         assert np.all((tau3 > 0.2) & (tau3 < 5.0)), (
-            "sample 3: 'the same order of magnitude' as sample 2's 0.6-2.3 mN·m (section II-C)")
+            "sample 3: 'the same order of magnitude' as sample 2's 0.6-2.3 mN·m (section II-C)"
+        )
     parts = tm.torque_breakdown_Nm(math.radians(15), 1.0, SAMPLE3)
     assert float(parts["ends"]) == 0.0, "11.1 mm lumen > 11 mm capsule: ends do not touch"
 
@@ -150,4 +182,5 @@ def test_sample3_same_order_as_sample2() -> None:
 def test_no_contact_no_torque() -> None:
     wide = SAMPLE2.replace(lumen_diameter_m=13e-3)
     assert float(tm.resistive_torque_Nm(math.radians(10), 1.0, wide)) == 0.0, (
-        "a lumen wider than D' is not strained (eq. 6 clipped at zero)")
+        "a lumen wider than D' is not strained (eq. 6 clipped at zero)"
+    )

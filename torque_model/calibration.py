@@ -44,6 +44,11 @@ def fit_calibration_factor() -> float:
     """
     tissue = published_tissue(2)
     pts = calibration_points()
-    r = np.array([float(resistive_torque_Nm(math.radians(p.helical_angle_deg), p.frequency_hz,
-                                            tissue)) / (p.torque_mNm * 1e-3) for p in pts])
+    r = np.array(
+        [
+            float(resistive_torque_Nm(math.radians(p.helical_angle_deg), p.frequency_hz, tissue))
+            / (p.torque_mNm * 1e-3)
+            for p in pts
+        ]
+    )
     return float(r.sum() / (r * r).sum())

@@ -81,14 +81,21 @@ def _tangency_cos(psi_m: Any, R: Any, r_w: Any, R_h: Any) -> Any:
         rho2 = rho * rho
         F = psi2 * c * c * rho2 * (rho2 - R2) - q * (1.0 - c * c)
         # d/dc of c^2 rho^2 (rho^2 - R^2) = 2c rho^2 (rho^2-R^2) + c^2 (4 rho^3 - 2 rho R^2) r_w
-        dF = psi2 * (2.0 * c * rho2 * (rho2 - R2)
-                     + c * c * r_w * (4.0 * rho2 * rho - 2.0 * rho * R2)) + 2.0 * q * c
+        dF = (
+            psi2
+            * (2.0 * c * rho2 * (rho2 - R2) + c * c * r_w * (4.0 * rho2 * rho - 2.0 * rho * R2))
+            + 2.0 * q * c
+        )
         c = c - F / dF
     return c
 
 
-def equivalent_diameter_m(helical_angle_rad: Any, body_diameter_m: Any = 11e-3,
-                          wire_diameter_m: Any = 1e-3, starts: int = 1) -> Any:
+def equivalent_diameter_m(
+    helical_angle_rad: Any,
+    body_diameter_m: Any = 11e-3,
+    wire_diameter_m: Any = 1e-3,
+    starts: int = 1,
+) -> Any:
     """Diameter D' of the circle with the perimeter of the deformed lumen (Zhou 2013, Fig. 8).
 
     Parameters
@@ -138,8 +145,9 @@ def equivalent_diameter_m(helical_angle_rad: Any, body_diameter_m: Any = 11e-3,
     return 2.0 * R + (2.0 * starts / bk.pi) * (tangent + arc - R * phi_t)
 
 
-def end_contact_moment_m2(body_diameter_m: Any, lumen_diameter_m: Any,
-                          wall_thickness_m: Any) -> Any:
+def end_contact_moment_m2(
+    body_diameter_m: Any, lumen_diameter_m: Any, wall_thickness_m: Any
+) -> Any:
     """Integral of strain x moment arm over one hemispherical end: int eps(z) D_after(z)/2 dz.
 
     The end is a hemisphere of radius R = D/2 (Zhou 2013, section III-B: "the spherical radius,
@@ -171,6 +179,8 @@ def end_contact_moment_m2(body_diameter_m: Any, lumen_diameter_m: Any,
     zc = bk.sqrt(bk.fmax(R * R - 0.25 * lumen_diameter_m * lumen_diameter_m, 0.0))
     rc = bk.sqrt(R * R - zc * zc)
     ratio = bk.fmin(zc / R, 1.0)
-    integral = (2.0 * (R * R * zc - zc * zc * zc / 3.0)
-                - lumen_diameter_m * (zc * rc + R * R * bk.arcsin(ratio)) / 2.0)
+    integral = (
+        2.0 * (R * R * zc - zc * zc * zc / 3.0)
+        - lumen_diameter_m * (zc * rc + R * R * bk.arcsin(ratio)) / 2.0
+    )
     return integral / (lumen_diameter_m + wall_thickness_m)

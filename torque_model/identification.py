@@ -45,8 +45,11 @@ PARAMETER_NAMES = VISCOELASTIC_FIELDS
 
 #: Default bounds (SI): moduli 1 Pa - 1 GPa, viscosities 1 Pa·s - 10 GPa·s.
 DEFAULT_BOUNDS: dict[str, tuple[float, float]] = {
-    "E1_Pa": (1.0, 1e9), "E2_Pa": (1.0, 1e9), "E3_Pa": (1.0, 1e9),
-    "eta1_Pa_s": (1.0, 1e10), "eta2_Pa_s": (1.0, 1e10),
+    "E1_Pa": (1.0, 1e9),
+    "E2_Pa": (1.0, 1e9),
+    "E3_Pa": (1.0, 1e9),
+    "eta1_Pa_s": (1.0, 1e10),
+    "eta2_Pa_s": (1.0, 1e10),
 }
 
 REL_CI_LIMIT = 1.0
@@ -131,8 +134,9 @@ class FitResult:
         return resistive_torque_Nm(helical_angle_rad, frequency_hz, self.tissue, **self.geometry)
 
 
-def _relaxation_integral_and_gradient(freq: np.ndarray, p: np.ndarray
-                                      ) -> tuple[np.ndarray, np.ndarray]:
+def _relaxation_integral_and_gradient(
+    freq: np.ndarray, p: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
     """I(omega) of eq. 4 over one turn and dI/dlog(p) (n x 5), p = (E1, E2, E3, eta1, eta2)."""
     E1, E2, E3, eta1, eta2 = p
     omega = 2.0 * math.pi * freq
@@ -143,8 +147,8 @@ def _relaxation_integral_and_gradient(freq: np.ndarray, p: np.ndarray
         x = 2.0 * math.pi * E / (omega * eta)
         one_minus = -np.expm1(-x)
         value = value + omega * eta * one_minus
-        grad[:, iE] = E * 2.0 * math.pi * np.exp(-x)                     # E dI/dE
-        grad[:, ieta] = eta * omega * (one_minus - x * np.exp(-x))       # eta dI/deta
+        grad[:, iE] = E * 2.0 * math.pi * np.exp(-x)  # E dI/dE
+        grad[:, ieta] = eta * omega * (one_minus - x * np.exp(-x))  # eta dI/deta
     return value, grad
 
 
@@ -158,8 +162,11 @@ def _as_points(name: str, values: Any, n: int | None) -> np.ndarray:
 
 
 def _check_data(freq: np.ndarray, torque: np.ndarray, angle: np.ndarray) -> None:
-    for name, arr, positive in (("frequency_hz", freq, True), ("torque_Nm", torque, True),
-                                ("helical_angle_rad", angle, True)):
+    for name, arr, positive in (
+        ("frequency_hz", freq, True),
+        ("torque_Nm", torque, True),
+        ("helical_angle_rad", angle, True),
+    ):
         for i, v in enumerate(arr):
             if not math.isfinite(v) or (positive and v <= 0):
                 raise DataError(f"point {i + 1}: {name} = {v!r}: a finite number > 0")
@@ -168,13 +175,22 @@ def _check_data(freq: np.ndarray, torque: np.ndarray, angle: np.ndarray) -> None
         raise DataError(f"point {bad[0] + 1}: helical_angle_rad = {angle[bad[0]]!r}: below pi/2")
 
 
-def identify(frequency_hz: Sequence[float] | np.ndarray, torque_Nm: Sequence[float] | np.ndarray,
-             helical_angle_rad: float | Sequence[float] | np.ndarray,
-             base_tissue: TissueParameters, *, body_diameter_m: float = 11e-3,
-             body_length_m: float = 26e-3, wire_diameter_m: float = 1e-3,
-             wound_length_m: float = 15e-3, starts: int = 1, relative: bool = True,
-             bounds: Mapping[str, tuple[float, float]] | None = None,
-             jacobian: str = "analytic", profile_bounds: bool = True) -> FitResult:
+def identify(
+    frequency_hz: Sequence[float] | np.ndarray,
+    torque_Nm: Sequence[float] | np.ndarray,
+    helical_angle_rad: float | Sequence[float] | np.ndarray,
+    base_tissue: TissueParameters,
+    *,
+    body_diameter_m: float = 11e-3,
+    body_length_m: float = 26e-3,
+    wire_diameter_m: float = 1e-3,
+    wound_length_m: float = 15e-3,
+    starts: int = 1,
+    relative: bool = True,
+    bounds: Mapping[str, tuple[float, float]] | None = None,
+    jacobian: str = "analytic",
+    profile_bounds: bool = True,
+) -> FitResult:
     """Fit E1, E2, E3, eta1, eta2 to measured torque against frequency (bounded TRF).
 
     Parameters
@@ -221,20 +237,28 @@ def identify(frequency_hz: Sequence[float] | np.ndarray, torque_Nm: Sequence[flo
     angle = _as_points("helical_angle_rad", helical_angle_rad, n)
     n_par = len(PARAMETER_NAMES)
     if n < n_par:
-        raise DataError(f"{n} data points for {n_par} parameters ({', '.join(PARAMETER_NAMES)}):"
-                        f" need at least {n_par}")
+        raise DataError(
+            f"{n} data points for {n_par} parameters ({', '.join(PARAMETER_NAMES)}):"
+            f" need at least {n_par}"
+        )
     _check_data(freq, torque, angle)
     if jacobian not in ("analytic", "2-point", "3-point"):
         raise InputError("jacobian", jacobian, "'analytic', '2-point' or '3-point'")
     lo, hi = _bounds(bounds)
-    geometry = {"body_diameter_m": body_diameter_m, "body_length_m": body_length_m,
-                "wire_diameter_m": wire_diameter_m, "wound_length_m": wound_length_m,
-                "starts": starts}
+    geometry = {
+        "body_diameter_m": body_diameter_m,
+        "body_length_m": body_length_m,
+        "wire_diameter_m": wire_diameter_m,
+        "wound_length_m": wound_length_m,
+        "starts": starts,
+    }
     G = np.asarray(contact_factor_m3(angle, base_tissue, **geometry), dtype=float)
     if np.any(G <= 0):
         i = int(np.flatnonzero(G <= 0)[0])
-        raise DataError(f"point {i + 1}: the capsule does not touch a lumen of "
-                        f"{base_tissue.lumen_diameter_m * 1e3:g} mm: no torque to fit")
+        raise DataError(
+            f"point {i + 1}: the capsule does not touch a lumen of "
+            f"{base_tissue.lumen_diameter_m * 1e3:g} mm: no torque to fit"
+        )
     scale = 1.0 / torque if relative else np.full(n, 1.0 / np.median(torque))
 
     def residuals(q: np.ndarray) -> np.ndarray:
@@ -255,13 +279,35 @@ def identify(frequency_hz: Sequence[float] | np.ndarray, torque_Nm: Sequence[flo
     order = _slow_arm_first(best.x, lo, hi)
     best.x, best.active_mask = best.x[order], best.active_mask[order]
     profile = _profile_to_bounds(residuals, fit_jac, best, lo, hi, n) if profile_bounds else None
-    return _result(best, freq, angle, torque, G, scale, relative, lo, hi, base_tissue, geometry,
-                   jac(best.x), profile)
+    return _result(
+        best,
+        freq,
+        angle,
+        torque,
+        G,
+        scale,
+        relative,
+        lo,
+        hi,
+        base_tissue,
+        geometry,
+        jac(best.x),
+        profile,
+    )
 
 
 def _solve(fun: Any, jac: Any, q0: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> Any:
-    return optimize.least_squares(fun, q0, jac=jac, bounds=(lo, hi), method="trf",
-                                  xtol=1e-9, ftol=1e-9, gtol=1e-9, max_nfev=_MAX_NFEV)
+    return optimize.least_squares(
+        fun,
+        q0,
+        jac=jac,
+        bounds=(lo, hi),
+        method="trf",
+        xtol=1e-9,
+        ftol=1e-9,
+        gtol=1e-9,
+        max_nfev=_MAX_NFEV,
+    )
 
 
 def _slow_arm_first(q: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> list[int]:
@@ -276,8 +322,9 @@ def _slow_arm_first(q: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> list[int]:
     return [0, 1, 2, 3, 4] if slow_first or not inside else swap
 
 
-def _profile_to_bounds(fun: Any, jac: Any, best: Any, lo: np.ndarray, hi: np.ndarray,
-                       n: int) -> dict[int, list[str]]:
+def _profile_to_bounds(
+    fun: Any, jac: Any, best: Any, lo: np.ndarray, hi: np.ndarray, n: int
+) -> dict[int, list[str]]:
     """For each parameter, the bounds the data cannot exclude (profile F-test, 95 %).
 
     The parameter is held at a bound and the other four re-fitted (from the best fit); if the
@@ -331,8 +378,15 @@ def _bounds(bounds: Mapping[str, tuple[float, float]] | None) -> tuple[np.ndarra
     return np.log(lo), np.log(hi)
 
 
-def _starts(base: TissueParameters, freq: np.ndarray, torque: np.ndarray, G: np.ndarray,
-            scale: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> list[np.ndarray]:
+def _starts(
+    base: TissueParameters,
+    freq: np.ndarray,
+    torque: np.ndarray,
+    G: np.ndarray,
+    scale: np.ndarray,
+    lo: np.ndarray,
+    hi: np.ndarray,
+) -> list[np.ndarray]:
     """The base set rescaled by the best common factor, then fixed log-perturbations of it."""
     p0 = np.array([max(getattr(base, k), 1e-3) for k in PARAMETER_NAMES])
     value, _ = _relaxation_integral_and_gradient(freq, p0)
@@ -346,10 +400,21 @@ def _starts(base: TissueParameters, freq: np.ndarray, torque: np.ndarray, G: np.
     return [np.clip(q, lo + pad, hi - pad) for q in starts]
 
 
-def _result(sol: Any, freq: np.ndarray, angle: np.ndarray, torque: np.ndarray, G: np.ndarray,
-            scale: np.ndarray, relative: bool, lo: np.ndarray, hi: np.ndarray,
-            base: TissueParameters, geometry: dict[str, float], J: np.ndarray,
-            profile: dict[int, list[str]] | None) -> FitResult:
+def _result(
+    sol: Any,
+    freq: np.ndarray,
+    angle: np.ndarray,
+    torque: np.ndarray,
+    G: np.ndarray,
+    scale: np.ndarray,
+    relative: bool,
+    lo: np.ndarray,
+    hi: np.ndarray,
+    base: TissueParameters,
+    geometry: dict[str, float],
+    J: np.ndarray,
+    profile: dict[int, list[str]] | None,
+) -> FitResult:
     n, n_par = J.shape
     p = np.exp(sol.x)
     resid = sol.fun if relative else sol.fun / scale
@@ -371,8 +436,9 @@ def _result(sol: Any, freq: np.ndarray, angle: np.ndarray, torque: np.ndarray, G
     t = float(stats.t.ppf(0.975, dof)) if dof > 0 else math.nan
     se = p * se_log
     cond = float((sv_max / sv[-1]) ** 2) if sv[-1] > 0 else math.inf
-    at_bound = (sol.active_mask != 0) | (sol.x - lo < 1e-6 * (hi - lo)) | \
-               (hi - sol.x < 1e-6 * (hi - lo))
+    at_bound = (
+        (sol.active_mask != 0) | (sol.x - lo < 1e-6 * (hi - lo)) | (hi - sol.x < 1e-6 * (hi - lo))
+    )
     flags: dict[str, tuple[str, ...]] = {}
     for i, name in enumerate(PARAMETER_NAMES):
         why = []
@@ -386,10 +452,14 @@ def _result(sol: Any, freq: np.ndarray, angle: np.ndarray, torque: np.ndarray, G
             why.append("at a bound")
         sides = (profile or {}).get(i, [])
         if sides:
-            why.append(f"profile reaches the {' and '.join(sides)} bound"
-                       f"{'s' if len(sides) > 1 else ''}")
-        partners = [PARAMETER_NAMES[j] for j in range(n_par)
-                    if j != i and abs(corr[i, j]) > CORRELATION_LIMIT]
+            why.append(
+                f"profile reaches the {' and '.join(sides)} bound{'s' if len(sides) > 1 else ''}"
+            )
+        partners = [
+            PARAMETER_NAMES[j]
+            for j in range(n_par)
+            if j != i and abs(corr[i, j]) > CORRELATION_LIMIT
+        ]
         if partners:
             why.append("|correlation| > 0.99 with " + ", ".join(partners))
         flags[name] = tuple(why)
@@ -397,12 +467,23 @@ def _result(sol: Any, freq: np.ndarray, angle: np.ndarray, torque: np.ndarray, G
     tissue = base.replace(name="fit", **values)
     pred = G * _relaxation_integral_and_gradient(freq, p)[0]
     return FitResult(
-        tissue=tissue, values=values,
+        tissue=tissue,
+        values=values,
         standard_errors=dict(zip(PARAMETER_NAMES, se.tolist(), strict=True)),
-        ci95={k: (v - t * e, v + t * e) for k, v, e in zip(PARAMETER_NAMES, p, se,
-                                                                  strict=True)},
-        flags=flags, correlation=corr, frequency_hz=freq, helical_angle_rad=angle,
-        torque_Nm=torque, predicted_Nm=pred, residuals=resid, relative=relative,
-        residual_std=math.sqrt(s2) if dof > 0 else math.nan, dof=dof, condition_number=cond,
-        cost=float(sol.cost), success=bool(sol.success), message=str(sol.message),
-        geometry=geometry)
+        ci95={k: (v - t * e, v + t * e) for k, v, e in zip(PARAMETER_NAMES, p, se, strict=True)},
+        flags=flags,
+        correlation=corr,
+        frequency_hz=freq,
+        helical_angle_rad=angle,
+        torque_Nm=torque,
+        predicted_Nm=pred,
+        residuals=resid,
+        relative=relative,
+        residual_std=math.sqrt(s2) if dof > 0 else math.nan,
+        dof=dof,
+        condition_number=cond,
+        cost=float(sol.cost),
+        success=bool(sol.success),
+        message=str(sol.message),
+        geometry=geometry,
+    )

@@ -74,12 +74,14 @@ def strain(diameter_after_m: Any, lumen_diameter_m: Any, wall_thickness_m: Any) 
 def relaxation_modulus_Pa(time_s: Any, tissue: TissueParameters) -> Any:
     """Eq. 2 bracket: E1 exp(-t E1/eta1) + E2 exp(-t E2/eta2) + E3, Pa, at time t (s)."""
     t = tissue
-    return (t.E1_Pa * bk.exp(-time_s * t.E1_Pa / t.eta1_Pa_s)
-            + t.E2_Pa * bk.exp(-time_s * t.E2_Pa / t.eta2_Pa_s) + t.E3_Pa)
+    return (
+        t.E1_Pa * bk.exp(-time_s * t.E1_Pa / t.eta1_Pa_s)
+        + t.E2_Pa * bk.exp(-time_s * t.E2_Pa / t.eta2_Pa_s)
+        + t.E3_Pa
+    )
 
 
-def stress_Pa(azimuth_rad: Any, frequency_hz: Any, strain_: Any,
-              tissue: TissueParameters) -> Any:
+def stress_Pa(azimuth_rad: Any, frequency_hz: Any, strain_: Any, tissue: TissueParameters) -> Any:
     """Eq. 4: hoop stress at azimuth theta (rad) behind first contact, Pa.
 
     The tissue at azimuth theta has been strained for t = theta / omega (section III-B).
@@ -101,8 +103,11 @@ def relaxation_integral_Pa(frequency_hz: Any, tissue: TissueParameters) -> Any:
     t = tissue
     w1 = omega * t.eta1_Pa_s
     w2 = omega * t.eta2_Pa_s
-    return (w1 * (1.0 - bk.exp(-2.0 * bk.pi * t.E1_Pa / w1))
-            + w2 * (1.0 - bk.exp(-2.0 * bk.pi * t.E2_Pa / w2)) + 2.0 * bk.pi * t.E3_Pa)
+    return (
+        w1 * (1.0 - bk.exp(-2.0 * bk.pi * t.E1_Pa / w1))
+        + w2 * (1.0 - bk.exp(-2.0 * bk.pi * t.E2_Pa / w2))
+        + 2.0 * bk.pi * t.E3_Pa
+    )
 
 
 def hoop_pressure_Pa(stress: Any, wall_thickness_m: Any, diameter_after_m: Any) -> Any:
@@ -110,8 +115,7 @@ def hoop_pressure_Pa(stress: Any, wall_thickness_m: Any, diameter_after_m: Any) 
     return 2.0 * stress * wall_thickness_m / diameter_after_m
 
 
-def normal_load_per_length_N_m(frequency_hz: Any, strain_: Any,
-                               tissue: TissueParameters) -> Any:
+def normal_load_per_length_N_m(frequency_hz: Any, strain_: Any, tissue: TissueParameters) -> Any:
     """Normal load per unit axial length of one cross-section, N/m.
 
     int_0^{2 pi} p(theta) (D_after/2) dtheta with eq. 3 = d eps I(omega): the diameter cancels.
@@ -124,8 +128,9 @@ def friction_per_length_N_m(frequency_hz: Any, strain_: Any, tissue: TissueParam
     return tissue.friction_coefficient * normal_load_per_length_N_m(frequency_hz, strain_, tissue)
 
 
-def section_torque_per_length_N(frequency_hz: Any, diameter_after_m: Any,
-                                tissue: TissueParameters) -> Any:
+def section_torque_per_length_N(
+    frequency_hz: Any, diameter_after_m: Any, tissue: TissueParameters
+) -> Any:
     """Eq. 8 per unit axial length: friction x D_after/2, N·m/m, for a section of diameter D_after.
 
     The strain is clipped at zero (a section narrower than the lumen does not touch).
@@ -134,28 +139,47 @@ def section_torque_per_length_N(frequency_hz: Any, diameter_after_m: Any,
     return friction_per_length_N_m(frequency_hz, eps, tissue) * 0.5 * diameter_after_m
 
 
-def torque_breakdown_Nm(helical_angle_rad: Any, frequency_hz: Any, tissue: TissueParameters, *,
-                        body_diameter_m: float = 11e-3, body_length_m: float = 26e-3,
-                        wire_diameter_m: float = 1e-3,
-                        wound_length_m: float = 15e-3, starts: int = 1) -> dict[str, Any]:
+def torque_breakdown_Nm(
+    helical_angle_rad: Any,
+    frequency_hz: Any,
+    tissue: TissueParameters,
+    *,
+    body_diameter_m: float = 11e-3,
+    body_length_m: float = 26e-3,
+    wire_diameter_m: float = 1e-3,
+    wound_length_m: float = 15e-3,
+    starts: int = 1,
+) -> dict[str, Any]:
     """The resistive torque split into wound section, unwound cylinder and both ends, N·m.
 
     Same arguments as :func:`resistive_torque_Nm`; returns a dict with ``"wound"``,
     ``"cylinder"``, ``"ends"`` and ``"total"``.
     """
-    parts = contact_factors_m3(helical_angle_rad, tissue, body_diameter_m=body_diameter_m,
-                               body_length_m=body_length_m, wire_diameter_m=wire_diameter_m,
-                               wound_length_m=wound_length_m, starts=starts)
+    parts = contact_factors_m3(
+        helical_angle_rad,
+        tissue,
+        body_diameter_m=body_diameter_m,
+        body_length_m=body_length_m,
+        wire_diameter_m=wire_diameter_m,
+        wound_length_m=wound_length_m,
+        starts=starts,
+    )
     integral = relaxation_integral_Pa(frequency_hz, tissue)
     out = {k: v * integral for k, v in parts.items()}
     out["total"] = out["wound"] + out["cylinder"] + out["ends"]
     return out
 
 
-def contact_factors_m3(helical_angle_rad: Any, tissue: TissueParameters, *,
-                       body_diameter_m: float = 11e-3, body_length_m: float = 26e-3,
-                       wire_diameter_m: float = 1e-3,
-                       wound_length_m: float = 15e-3, starts: int = 1) -> dict[str, Any]:
+def contact_factors_m3(
+    helical_angle_rad: Any,
+    tissue: TissueParameters,
+    *,
+    body_diameter_m: float = 11e-3,
+    body_length_m: float = 26e-3,
+    wire_diameter_m: float = 1e-3,
+    wound_length_m: float = 15e-3,
+    starts: int = 1,
+) -> dict[str, Any]:
     """Geometric factors G with torque = G x I(omega), m^3, for each part of the contact.
 
     G = mu d int eps(z) D_after(z)/2 dz over the part: ``"wound"`` (D_after = D', length
@@ -168,31 +192,40 @@ def contact_factors_m3(helical_angle_rad: Any, tissue: TissueParameters, *,
     mu_d = tissue.friction_coefficient * tissue.wall_thickness_m
 
     def per_length(diameter_after: Any) -> Any:
-        eps = bk.fmax(strain(diameter_after, tissue.lumen_diameter_m, tissue.wall_thickness_m),
-                      0.0)
+        eps = bk.fmax(strain(diameter_after, tissue.lumen_diameter_m, tissue.wall_thickness_m), 0.0)
         return mu_d * eps * 0.5 * diameter_after
 
-    d_prime = equivalent_diameter_m(helical_angle_rad, body_diameter_m, wire_diameter_m,
-                                    starts)
+    d_prime = equivalent_diameter_m(helical_angle_rad, body_diameter_m, wire_diameter_m, starts)
     cylinder_length = bk.fmax(body_length_m - body_diameter_m - wound_length_m, 0.0)
-    ends = 2.0 * mu_d * end_contact_moment_m2(body_diameter_m, tissue.lumen_diameter_m,
-                                              tissue.wall_thickness_m)
-    return {"wound": per_length(d_prime) * wound_length_m,
-            "cylinder": per_length(body_diameter_m) * cylinder_length,
-            "ends": ends}
+    ends = (
+        2.0
+        * mu_d
+        * end_contact_moment_m2(body_diameter_m, tissue.lumen_diameter_m, tissue.wall_thickness_m)
+    )
+    return {
+        "wound": per_length(d_prime) * wound_length_m,
+        "cylinder": per_length(body_diameter_m) * cylinder_length,
+        "ends": ends,
+    }
 
 
-def contact_factor_m3(helical_angle_rad: Any, tissue: TissueParameters,
-                      **geometry: float) -> Any:
+def contact_factor_m3(helical_angle_rad: Any, tissue: TissueParameters, **geometry: float) -> Any:
     """Sum of :func:`contact_factors_m3`: torque = contact_factor_m3 x relaxation_integral_Pa."""
     parts = contact_factors_m3(helical_angle_rad, tissue, **geometry)
     return parts["wound"] + parts["cylinder"] + parts["ends"]
 
 
-def resistive_torque_Nm(helical_angle_rad: Any, frequency_hz: Any, tissue: TissueParameters,
-                        *, body_diameter_m: float = 11e-3, body_length_m: float = 26e-3,
-                        wire_diameter_m: float = 1e-3, wound_length_m: float = 15e-3,
-                        starts: int = 1) -> Any:
+def resistive_torque_Nm(
+    helical_angle_rad: Any,
+    frequency_hz: Any,
+    tissue: TissueParameters,
+    *,
+    body_diameter_m: float = 11e-3,
+    body_length_m: float = 26e-3,
+    wire_diameter_m: float = 1e-3,
+    wound_length_m: float = 15e-3,
+    starts: int = 1,
+) -> Any:
     """Torque the intestine resists a spiral capsule's rotation with (Zhou 2013 eqs. 2-8), N·m.
 
     Parameters
@@ -220,7 +253,13 @@ def resistive_torque_Nm(helical_angle_rad: Any, frequency_hz: Any, tissue: Tissu
         The resistive torque, N·m: wound section (D_after = D'), unwound cylinder and the two
         hemispherical ends (D_after(z) where wider than the lumen).
     """
-    return torque_breakdown_Nm(helical_angle_rad, frequency_hz, tissue,
-                               body_diameter_m=body_diameter_m, body_length_m=body_length_m,
-                               wire_diameter_m=wire_diameter_m,
-                               wound_length_m=wound_length_m, starts=starts)["total"]
+    return torque_breakdown_Nm(
+        helical_angle_rad,
+        frequency_hz,
+        tissue,
+        body_diameter_m=body_diameter_m,
+        body_length_m=body_length_m,
+        wire_diameter_m=wire_diameter_m,
+        wound_length_m=wound_length_m,
+        starts=starts,
+    )["total"]

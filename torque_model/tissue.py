@@ -72,14 +72,18 @@ class TissueParameters:
         shape of torque against frequency is unchanged (the exponents hold E/eta ratios only).
         """
         factor = check_positive("factor", factor)
-        return self.replace(name=name or self.name,
-                            **{k: getattr(self, k) * factor for k in VISCOELASTIC_FIELDS})
+        return self.replace(
+            name=name or self.name, **{k: getattr(self, k) * factor for k in VISCOELASTIC_FIELDS}
+        )
 
     def as_design_table(self) -> dict[str, float]:
         """The set as ``tissue.*`` design-key values (kPa, kPa·s, mm): the keys without prefix."""
         return {
-            "E1_kPa": self.E1_Pa / 1e3, "E2_kPa": self.E2_Pa / 1e3, "E3_kPa": self.E3_Pa / 1e3,
-            "eta1_kPa_s": self.eta1_Pa_s / 1e3, "eta2_kPa_s": self.eta2_Pa_s / 1e3,
+            "E1_kPa": self.E1_Pa / 1e3,
+            "E2_kPa": self.E2_Pa / 1e3,
+            "E3_kPa": self.E3_Pa / 1e3,
+            "eta1_kPa_s": self.eta1_Pa_s / 1e3,
+            "eta2_kPa_s": self.eta2_Pa_s / 1e3,
             "lumen_diameter_mm": self.lumen_diameter_m * 1e3,
             "wall_thickness_mm": self.wall_thickness_m * 1e3,
             "friction_coefficient": self.friction_coefficient,
@@ -91,19 +95,32 @@ class TissueParameters:
         missing = [k for k in _DESIGN_KEYS if k not in table]
         unknown = [k for k in table if k not in _DESIGN_KEYS]
         if missing or unknown:
-            raise InputError("tissue", sorted(missing + unknown),
-                             "exactly the keys " + ", ".join(_DESIGN_KEYS))
+            raise InputError(
+                "tissue", sorted(missing + unknown), "exactly the keys " + ", ".join(_DESIGN_KEYS)
+            )
         return cls(
-            E1_Pa=table["E1_kPa"] * 1e3, E2_Pa=table["E2_kPa"] * 1e3,
-            E3_Pa=table["E3_kPa"] * 1e3, eta1_Pa_s=table["eta1_kPa_s"] * 1e3,
+            E1_Pa=table["E1_kPa"] * 1e3,
+            E2_Pa=table["E2_kPa"] * 1e3,
+            E3_Pa=table["E3_kPa"] * 1e3,
+            eta1_Pa_s=table["eta1_kPa_s"] * 1e3,
             eta2_Pa_s=table["eta2_kPa_s"] * 1e3,
             lumen_diameter_m=table["lumen_diameter_mm"] * 1e-3,
             wall_thickness_m=table["wall_thickness_mm"] * 1e-3,
-            friction_coefficient=table["friction_coefficient"], name=name)
+            friction_coefficient=table["friction_coefficient"],
+            name=name,
+        )
 
 
-_DESIGN_KEYS = ("E1_kPa", "E2_kPa", "E3_kPa", "eta1_kPa_s", "eta2_kPa_s", "lumen_diameter_mm",
-                "wall_thickness_mm", "friction_coefficient")
+_DESIGN_KEYS = (
+    "E1_kPa",
+    "E2_kPa",
+    "E3_kPa",
+    "eta1_kPa_s",
+    "eta2_kPa_s",
+    "lumen_diameter_mm",
+    "wall_thickness_mm",
+    "friction_coefficient",
+)
 
 
 def _registry() -> dict[str, Any]:

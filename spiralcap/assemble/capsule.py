@@ -92,35 +92,55 @@ def build_capsule(design: Mapping[str, Any]) -> Capsule:
 
     diameter, length = d["capsule.diameter_mm"], d["capsule.length_mm"]
     if length <= diameter:
-        raise InputError("capsule.length_mm", length,
-                         f"more than capsule.diameter_mm = {diameter:g} "
-                         "(two hemispherical ends need a full diameter)")
+        raise InputError(
+            "capsule.length_mm",
+            length,
+            f"more than capsule.diameter_mm = {diameter:g} "
+            "(two hemispherical ends need a full diameter)",
+        )
     shell = d["capsule.shell_thickness_mm"]
     if shell >= 0.5 * diameter:
-        raise InputError("capsule.shell_thickness_mm", shell,
-                         f"less than the capsule radius {0.5 * diameter:g} mm")
+        raise InputError(
+            "capsule.shell_thickness_mm",
+            shell,
+            f"less than the capsule radius {0.5 * diameter:g} mm",
+        )
     with _named(design, "body"):
-        body = cap.Body(diameter_m=_mm(diameter), length_m=_mm(length),
-                        shell_thickness_m=_mm(shell))
+        body = cap.Body(
+            diameter_m=_mm(diameter), length_m=_mm(length), shell_thickness_m=_mm(shell)
+        )
 
     shape, bore = d["capsule.magnet.shape"], d["capsule.magnet.inner_diameter_mm"]
     outer = d["capsule.magnet.diameter_mm"]
     if shape == "ring" and not bore:
-        raise InputError("capsule.magnet.inner_diameter_mm", bore,
-                         "a bore > 0 for a ring magnet (or set capsule.magnet.shape=cylinder)")
+        raise InputError(
+            "capsule.magnet.inner_diameter_mm",
+            bore,
+            "a bore > 0 for a ring magnet (or set capsule.magnet.shape=cylinder)",
+        )
     if shape == "cylinder" and bore:
-        raise InputError("capsule.magnet.inner_diameter_mm", bore,
-                         "0 for a cylinder magnet (or set capsule.magnet.shape=ring)")
+        raise InputError(
+            "capsule.magnet.inner_diameter_mm",
+            bore,
+            "0 for a cylinder magnet (or set capsule.magnet.shape=ring)",
+        )
     if bore >= outer:
-        raise InputError("capsule.magnet.inner_diameter_mm", bore,
-                         f"less than capsule.magnet.diameter_mm = {outer:g}")
+        raise InputError(
+            "capsule.magnet.inner_diameter_mm",
+            bore,
+            f"less than capsule.magnet.diameter_mm = {outer:g}",
+        )
     remanence = d["capsule.magnet.remanence_T"]
     if remanence is None:
         with _named(design, "magnet"):
             remanence = cap.remanence_for_grade(d["capsule.magnet.grade"])
     with _named(design, "magnet"):
-        magnet = cap.Magnet(diameter_m=_mm(outer), length_m=_mm(d["capsule.magnet.length_mm"]),
-                            remanence_T=remanence, inner_diameter_m=_mm(bore))
+        magnet = cap.Magnet(
+            diameter_m=_mm(outer),
+            length_m=_mm(d["capsule.magnet.length_mm"]),
+            remanence_T=remanence,
+            inner_diameter_m=_mm(bore),
+        )
 
     angle = d["capsule.spiral.helical_angle_deg"]
     with _named(design, "spiral"):
@@ -128,7 +148,8 @@ def build_capsule(design: Mapping[str, Any]) -> Capsule:
             helical_angle_rad=math.radians(angle),
             wire_diameter_m=_mm(d["capsule.spiral.wire_diameter_mm"]),
             wound_length_m=_mm(d["capsule.spiral.wound_length_mm"]),
-            starts=d["capsule.spiral.starts"])
+            starts=d["capsule.spiral.starts"],
+        )
 
     problems = cap.geometry_problems(body, spiral, magnet)
     if problems:

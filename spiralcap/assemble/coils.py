@@ -24,8 +24,9 @@ def _ring_points(axis: int, radius_m: float, centre_m: float, n: int) -> np.ndar
     return pts
 
 
-def _distance_to_ring(points: np.ndarray, axis: int, radius_m: float, centre_m: float
-                      ) -> np.ndarray:
+def _distance_to_ring(
+    points: np.ndarray, axis: int, radius_m: float, centre_m: float
+) -> np.ndarray:
     radial = np.sqrt(np.sum(np.delete(points, axis, axis=1) ** 2, axis=1))
     return np.hypot(radial - radius_m, points[:, axis] - centre_m)
 
@@ -49,10 +50,10 @@ def pack_clearance_m(pair_a: Any, pair_b: Any) -> float:
     """
     gaps = []
     for sa, sb in itertools.product((-0.5, 0.5), repeat=2):
-        pts = _ring_points(pair_a.axis_index, pair_a.radius_m, sa * pair_a.separation_m,
-                           _RING_SAMPLES)
-        dist = _distance_to_ring(pts, pair_b.axis_index, pair_b.radius_m,
-                                 sb * pair_b.separation_m)
+        pts = _ring_points(
+            pair_a.axis_index, pair_a.radius_m, sa * pair_a.separation_m, _RING_SAMPLES
+        )
+        dist = _distance_to_ring(pts, pair_b.axis_index, pair_b.radius_m, sb * pair_b.separation_m)
         gaps.append(dist.min())
     return float(min(gaps)) - 0.5 * (pair_a.winding_pack_side_m + pair_b.winding_pack_side_m)
 
@@ -89,22 +90,37 @@ def build_coils(design: Mapping[str, Any]) -> Any:
         separation = design.get(key + "separation_m") or radius
         side = math.sqrt(turns * math.pi * (wire_mm * 1e-3) ** 2 / 4.0 / packing)
         if side >= radius:
-            raise InputError(key + "wire_diameter_mm", wire_mm,
-                             f"a wire thin enough that the winding pack side (now {side:.4g} m "
-                             f"for {turns} turns at packing factor {packing:g}) is below "
-                             f"{key}radius_m = {radius:g} m")
+            raise InputError(
+                key + "wire_diameter_mm",
+                wire_mm,
+                f"a wire thin enough that the winding pack side (now {side:.4g} m "
+                f"for {turns} turns at packing factor {packing:g}) is below "
+                f"{key}radius_m = {radius:g} m",
+            )
         if side >= separation:
-            raise InputError(key + "separation_m", separation,
-                             f"more than the winding pack side {side:.4g} m, else the two "
-                             "coils of the pair overlap")
-        pairs[ax] = HelmholtzPair(radius_m=radius, turns=turns, axis=ax, separation_m=separation,
-                                  wire_diameter_m=wire_mm * 1e-3, packing_factor=packing)
+            raise InputError(
+                key + "separation_m",
+                separation,
+                f"more than the winding pack side {side:.4g} m, else the two "
+                "coils of the pair overlap",
+            )
+        pairs[ax] = HelmholtzPair(
+            radius_m=radius,
+            turns=turns,
+            axis=ax,
+            separation_m=separation,
+            wire_diameter_m=wire_mm * 1e-3,
+            packing_factor=packing,
+        )
     for a, b in itertools.combinations("xyz", 2):
         gap = pack_clearance_m(pairs[a], pairs[b])
         if gap < 0.0:
             inner = min((a, b), key=lambda k: pairs[k].radius_m)
-            raise InputError(f"coils.{inner}.radius_m", pairs[inner].radius_m,
-                             f"a radius at which the {a} and {b} winding packs do not intersect "
-                             f"(they overlap by {-gap:.3g} m; nest the pairs with distinct "
-                             "radii)")
+            raise InputError(
+                f"coils.{inner}.radius_m",
+                pairs[inner].radius_m,
+                f"a radius at which the {a} and {b} winding packs do not intersect "
+                f"(they overlap by {-gap:.3g} m; nest the pairs with distinct "
+                "radii)",
+            )
     return ThreeAxisHelmholtz(**pairs)

@@ -37,27 +37,33 @@ def run(args: argparse.Namespace) -> int:
         min_turns=design["requirements.min_spiral_turns"],
     )
     if args.json:
-        payload = {"design_source": design.source,
-                   "tissue": getattr(tissue, "name", None),
-                   "magnet_shape": cap.magnet.shape,
-                   "spiral_starts": cap.spiral.starts,
-                   "wound_length_m": cap.spiral.wound_length_m,
-                   "wire_diameter_m": cap.spiral.wire_diameter_m,
-                   **fig.to_dict()}
+        payload = {
+            "design_source": design.source,
+            "tissue": getattr(tissue, "name", None),
+            "magnet_shape": cap.magnet.shape,
+            "spiral_starts": cap.spiral.starts,
+            "wound_length_m": cap.spiral.wound_length_m,
+            "wire_diameter_m": cap.spiral.wire_diameter_m,
+            **fig.to_dict(),
+        }
         print_json(payload)
         return 0
 
     b, s, m = cap.body, cap.spiral, cap.magnet
     print(f"design: {design.source}")
-    print(f"body {b.diameter_m * 1e3:g} x {b.length_m * 1e3:g} mm (shell "
-          f"{b.shell_thickness_m * 1e3:g} mm); spiral {s.helical_angle_deg:g} deg, "
-          f"{s.wire_diameter_m * 1e3:g} mm wire over {s.wound_length_m * 1e3:g} mm, "
-          f"{s.starts} start(s); {m.shape} magnet {m.diameter_m * 1e3:g}"
-          + (f"/{m.inner_diameter_m * 1e3:g}" if m.inner_diameter_m else "")
-          + f" x {m.length_m * 1e3:g} mm, B_r {m.remanence_T:g} T")
-    print(f"at {fig.frequency_hz:g} Hz, axial load {fig.axial_load_N * 1e3:g} mN, slip "
-          f"efficiency {fig.slip_efficiency:g}, friction coefficient "
-          f"{fig.friction_coefficient:g} (tissue {getattr(tissue, 'name', '?')})")
+    print(
+        f"body {b.diameter_m * 1e3:g} x {b.length_m * 1e3:g} mm (shell "
+        f"{b.shell_thickness_m * 1e3:g} mm); spiral {s.helical_angle_deg:g} deg, "
+        f"{s.wire_diameter_m * 1e3:g} mm wire over {s.wound_length_m * 1e3:g} mm, "
+        f"{s.starts} start(s); {m.shape} magnet {m.diameter_m * 1e3:g}"
+        + (f"/{m.inner_diameter_m * 1e3:g}" if m.inner_diameter_m else "")
+        + f" x {m.length_m * 1e3:g} mm, B_r {m.remanence_T:g} T"
+    )
+    print(
+        f"at {fig.frequency_hz:g} Hz, axial load {fig.axial_load_N * 1e3:g} mN, slip "
+        f"efficiency {fig.slip_efficiency:g}, friction coefficient "
+        f"{fig.friction_coefficient:g} (tissue {getattr(tissue, 'name', '?')})"
+    )
     print()
     rows = [
         ("magnet moment", fig.magnet_moment_Am2, "A·m²"),
@@ -73,10 +79,12 @@ def run(args: argparse.Namespace) -> int:
     print(format_table(("quantity", "value", "unit"), rows))
     if not fig.full_turn_ok:
         angle = fig.max_helical_angle_for_min_turns_deg
-        print(f"warning: the spiral makes {fig.turns:.3g} turns over the "
-              f"{s.wound_length_m * 1e3:g} mm wound length, fewer than "
-              f"requirements.min_spiral_turns = {fig.min_turns:g} (needs a helical angle <= "
-              f"{angle:.3g} deg); allowed, but flagged as hard to manufacture")
+        print(
+            f"warning: the spiral makes {fig.turns:.3g} turns over the "
+            f"{s.wound_length_m * 1e3:g} mm wound length, fewer than "
+            f"requirements.min_spiral_turns = {fig.min_turns:g} (needs a helical angle <= "
+            f"{angle:.3g} deg); allowed, but flagged as hard to manufacture"
+        )
     else:
         print(f"spiral turns >= requirements.min_spiral_turns = {fig.min_turns:g}: ok")
     return 0

@@ -33,7 +33,8 @@ def _uniform(system: Any) -> dict[str, Any]:
         out[f"limiting_ray_{name}"] = region.limiting_ray
         for pair in system.pairs:
             out.setdefault("per_axis", {}).setdefault(pair.axis, {})[f"radius_{name}_m"] = (
-                uniform_region(pair, tol).radius_m)
+                uniform_region(pair, tol).radius_m
+            )
     return out
 
 
@@ -54,20 +55,27 @@ def _within_limits(design: Any) -> dict[str, Any]:
 
     model = prepare(build_model(design))
     c = model.constants
-    best, caps, terms = physics.field_capacity_T(model.frequency_hz, c, model.limits,
-                                                 model.ambient_temperature_C)
+    best, caps, terms = physics.field_capacity_T(
+        model.frequency_hz, c, model.limits, model.ambient_temperature_C
+    )
     caps = [float(x) for x in caps]
     binding = terms[caps.index(min(caps))]
     per_axis = {}
     for k, ax in enumerate("xyz"):
         own = [(cap, t.name) for cap, t in zip(caps, terms) if t.name.endswith(f"_{ax}")]
         cap, name = min(own)
-        per_axis[ax] = {"max_rotating_field_T": cap,
-                        "max_current_A": cap * float(c.current_per_tesla_A_per_T[k]),
-                        "max_current_limited_by": name[: -len(f"_{ax}")]}
-    return {"max_rotating_field_T": float(best), "limited_by": binding.name,
-            "limit_key": binding.key, "per_limit_max_field_T": {
-                t.name: cap for t, cap in zip(terms, caps)}, "axes": per_axis}
+        per_axis[ax] = {
+            "max_rotating_field_T": cap,
+            "max_current_A": cap * float(c.current_per_tesla_A_per_T[k]),
+            "max_current_limited_by": name[: -len(f"_{ax}")],
+        }
+    return {
+        "max_rotating_field_T": float(best),
+        "limited_by": binding.name,
+        "limit_key": binding.key,
+        "per_limit_max_field_T": {t.name: cap for t, cap in zip(terms, caps)},
+        "axes": per_axis,
+    }
 
 
 def sizing_payload(design: Any) -> dict[str, Any]:
@@ -77,11 +85,13 @@ def sizing_payload(design: Any) -> dict[str, Any]:
 
     system = build_coils(design)
     sizing = size_system(
-        system, frequency_hz=design["operation.frequency_hz"],
+        system,
+        frequency_hz=design["operation.frequency_hz"],
         current_amplitude_A=design["limits.current_A"],
         winding_temperature_C=winding_temperature_C(design),
         ambient_temperature_C=design["coils.ambient_temperature_C"],
-        heat_transfer_coefficient_W_m2K=design["coils.heat_transfer_coefficient_W_m2K"])
+        heat_transfer_coefficient_W_m2K=design["coils.heat_transfer_coefficient_W_m2K"],
+    )
     payload = asdict(sizing)
     limits = _within_limits(design)
     payload["axes"] = {a["axis"]: {**a, **limits["axes"][a["axis"]]} for a in payload["axes"]}
@@ -92,21 +102,61 @@ def sizing_payload(design: Any) -> dict[str, Any]:
 
 def _text(p: dict[str, Any]) -> str:
     axes = [p["axes"][ax] for ax in "xyz"]
-    rows = [[a["axis"], a["radius_m"], a["turns"], a["wire_diameter_m"] * 1e3,
-             a["winding_pack_side_m"] * 1e3, a["wire_length_m"],
-             a["field_per_amp_T_per_A"] * 1e3, a["resistance_ohm"], a["inductance_H"] * 1e3,
-             a["impedance_ohm"], a["voltage_amplitude_V"], a["power_W"],
-             a["temperature_rise_K"], a["coil_temperature_C"], a["field_amplitude_T"] * 1e3]
-            for a in axes]
+    rows = [
+        [
+            a["axis"],
+            a["radius_m"],
+            a["turns"],
+            a["wire_diameter_m"] * 1e3,
+            a["winding_pack_side_m"] * 1e3,
+            a["wire_length_m"],
+            a["field_per_amp_T_per_A"] * 1e3,
+            a["resistance_ohm"],
+            a["inductance_H"] * 1e3,
+            a["impedance_ohm"],
+            a["voltage_amplitude_V"],
+            a["power_W"],
+            a["temperature_rise_K"],
+            a["coil_temperature_C"],
+            a["field_amplitude_T"] * 1e3,
+        ]
+        for a in axes
+    ]
     table = format_table(
-        ["axis", "radius_m", "turns", "wire_mm", "pack_mm", "wire_m", "mT_per_A", "R_ohm",
-         "L_mH", "Z_ohm", "V_amp_V", "P_W", "rise_K", "coil_C", "B_mT"], rows)
+        [
+            "axis",
+            "radius_m",
+            "turns",
+            "wire_mm",
+            "pack_mm",
+            "wire_m",
+            "mT_per_A",
+            "R_ohm",
+            "L_mH",
+            "Z_ohm",
+            "V_amp_V",
+            "P_W",
+            "rise_K",
+            "coil_C",
+            "B_mT",
+        ],
+        rows,
+    )
     uniform = p["uniform_region"]
     limits = format_table(
         ["axis", "I_max_A", "limited_by", "B_rot_max_mT", "uniform_1pct_m", "uniform_5pct_m"],
-        [[a["axis"], a["max_current_A"], a["max_current_limited_by"],
-          a["max_rotating_field_T"] * 1e3, uniform["per_axis"][a["axis"]]["radius_1pct_m"],
-          uniform["per_axis"][a["axis"]]["radius_5pct_m"]] for a in axes])
+        [
+            [
+                a["axis"],
+                a["max_current_A"],
+                a["max_current_limited_by"],
+                a["max_rotating_field_T"] * 1e3,
+                uniform["per_axis"][a["axis"]]["radius_1pct_m"],
+                uniform["per_axis"][a["axis"]]["radius_5pct_m"],
+            ]
+            for a in axes
+        ],
+    )
     w = p["rotating_field_within_limits"]
     lines = [
         f"design: {p['design']}",
@@ -133,9 +183,11 @@ def _text(p: dict[str, Any]) -> str:
     ]
     hottest = max(axes, key=lambda a: a["coil_temperature_C"])
     if hottest["coil_temperature_C"] > p["winding_temperature_C"]:
-        lines.append(f"note: at {p['current_amplitude_A']:g} A the {hottest['axis']} coils would "
-                     f"reach {hottest['coil_temperature_C']:.4g} °C, above the "
-                     f"{p['winding_temperature_C']:g} °C at which R was evaluated")
+        lines.append(
+            f"note: at {p['current_amplitude_A']:g} A the {hottest['axis']} coils would "
+            f"reach {hottest['coil_temperature_C']:.4g} °C, above the "
+            f"{p['winding_temperature_C']:g} °C at which R was evaluated"
+        )
     return "\n".join(lines)
 
 

@@ -21,22 +21,32 @@ def format_evaluation(ev) -> str:
         f"{ev.frequency_hz:.4g} Hz",
         f"rotating field      {ev.field_amplitude_T * 1e3:.4g} mT at the centre "
         f"(limited by {ev.field_limited_by}); weakest over workspace x{ev.workspace_factor:.4f}",
-        "currents            " + ", ".join(
-            f"{ax} {i:.4g} A" for ax, i in zip("xyz", ev.current_amplitudes_A)),
+        "currents            "
+        + ", ".join(f"{ax} {i:.4g} A" for ax, i in zip("xyz", ev.current_amplitudes_A)),
         f"magnetic torque     {ev.magnetic_torque_Nm * mnm:.4g} mN·m (synchronous, worst point)",
         f"resistive torque    {ev.resistive_torque_Nm * mnm:.4g} mN·m ({ev.worst_tissue})",
         f"thrust torque       {ev.thrust_torque_Nm * mnm:.4g} mN·m",
-        f"margin              {ev.margin_Nm * mnm:.4g} mN·m (safety factor "
-        f"{ev.safety_factor:.3g})",
+        f"margin              {ev.margin_Nm * mnm:.4g} mN·m (safety factor {ev.safety_factor:.3g})",
         f"step-out frequency  {ev.step_out_frequency_hz:.4g} Hz",
         f"forward speed       {ev.speed_m_s * 1e3:.4g} mm/s, spiral turns {ev.spiral_turns:.3g}",
         "",
-        format_table(["check", "key", "value", "allowed", "unit", "ok"],
-                     [[c.name, c.key, c.value, f"{c.sense} {c.allowed:.4g}", c.unit,
-                       "yes" if c.ok else "NO"] for c in ev.checks]),
+        format_table(
+            ["check", "key", "value", "allowed", "unit", "ok"],
+            [
+                [
+                    c.name,
+                    c.key,
+                    c.value,
+                    f"{c.sense} {c.allowed:.4g}",
+                    c.unit,
+                    "yes" if c.ok else "NO",
+                ]
+                for c in ev.checks
+            ],
+        ),
         "",
-        "feasible: " + ("yes" if ev.feasible else "NO (" + ", ".join(
-            c.name for c in ev.failed()) + ")"),
+        "feasible: "
+        + ("yes" if ev.feasible else "NO (" + ", ".join(c.name for c in ev.failed()) + ")"),
     ]
     return "\n".join(lines)
 

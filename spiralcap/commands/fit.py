@@ -29,20 +29,30 @@ OPTIONAL = ("helical_angle_deg",)
 
 #: SI field -> (design key without "tissue.", factor SI -> design unit, unit text)
 _DISPLAY = {
-    "E1_Pa": ("E1_kPa", 1e-3, "kPa"), "E2_Pa": ("E2_kPa", 1e-3, "kPa"),
-    "E3_Pa": ("E3_kPa", 1e-3, "kPa"), "eta1_Pa_s": ("eta1_kPa_s", 1e-3, "kPa·s"),
+    "E1_Pa": ("E1_kPa", 1e-3, "kPa"),
+    "E2_Pa": ("E2_kPa", 1e-3, "kPa"),
+    "E3_Pa": ("E3_kPa", 1e-3, "kPa"),
+    "eta1_Pa_s": ("eta1_kPa_s", 1e-3, "kPa·s"),
     "eta2_Pa_s": ("eta2_kPa_s", 1e-3, "kPa·s"),
 }
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("data", metavar="DATA.csv",
-                        help="bench data: columns frequency_hz, torque_mNm [, helical_angle_deg]")
+    parser.add_argument(
+        "data",
+        metavar="DATA.csv",
+        help="bench data: columns frequency_hz, torque_mNm [, helical_angle_deg]",
+    )
     add_design_arguments(parser, positional=False)
-    parser.add_argument("-o", "--output", metavar="FILE.toml",
-                        help="write the fitted [tissue] table as TOML (a design-file fragment)")
-    parser.add_argument("--plot", metavar="FILE.png",
-                        help="draw the data and the fitted curves (png, pdf or svg)")
+    parser.add_argument(
+        "-o",
+        "--output",
+        metavar="FILE.toml",
+        help="write the fitted [tissue] table as TOML (a design-file fragment)",
+    )
+    parser.add_argument(
+        "--plot", metavar="FILE.png", help="draw the data and the fitted curves (png, pdf or svg)"
+    )
 
 
 def read_bench_csv(path: str | Path) -> dict[str, list[float]]:
@@ -60,16 +70,21 @@ def read_bench_csv(path: str | Path) -> dict[str, list[float]]:
         text = p.read_text(encoding="utf-8-sig")
     except OSError as exc:
         raise DataError(f"{p}: cannot read the data file ({exc.strerror or exc})") from None
-    lines = [(i + 1, line) for i, line in enumerate(text.splitlines())
-             if line.strip() and not line.lstrip().startswith("#")]
+    lines = [
+        (i + 1, line)
+        for i, line in enumerate(text.splitlines())
+        if line.strip() and not line.lstrip().startswith("#")
+    ]
     if not lines:
         raise DataError(f"{p}: no header row (expected columns {', '.join(REQUIRED)})")
     header_line, header_text = lines[0]
     header = [h.strip() for h in next(csv.reader([header_text]))]
     for col in REQUIRED:
         if col not in header:
-            raise DataError(f"{p} line {header_line}: missing column {col!r} "
-                            f"(header has {', '.join(repr(h) for h in header)})")
+            raise DataError(
+                f"{p} line {header_line}: missing column {col!r} "
+                f"(header has {', '.join(repr(h) for h in header)})"
+            )
     wanted = [c for c in REQUIRED + OPTIONAL if c in header]
     out: dict[str, list[float]] = {c: [] for c in wanted}
     for row_no, (line_no, line) in enumerate(lines[1:], start=1):
@@ -96,8 +111,9 @@ def _cell(raw: str, col: str, where: str) -> float:
     if col == "frequency_hz" and value <= 0:
         raise DataError(f"{where}, column {col}: {raw} Hz; the frequency must be > 0")
     if col == "torque_mNm" and value <= 0:
-        raise DataError(f"{where}, column {col}: {raw} mN·m; the torque must be > 0 "
-                        "(relative residuals)")
+        raise DataError(
+            f"{where}, column {col}: {raw} mN·m; the torque must be > 0 (relative residuals)"
+        )
     if col == "helical_angle_deg" and not 0 < value < 90:
         raise DataError(f"{where}, column {col}: {raw} deg; must be in (0, 90)")
     return value
@@ -117,13 +133,21 @@ def run(args: argparse.Namespace) -> int:
     n = len(data["frequency_hz"])
     n_par = len(tm.PARAMETER_NAMES)
     if n < n_par:
-        raise DataError(f"{args.data}: {n} data rows for {n_par} parameters (E1, E2, E3, eta1, "
-                        f"eta2); need at least {n_par}")
-    angle_deg = np.asarray(data.get("helical_angle_deg",
-                                    [design["capsule.spiral.helical_angle_deg"]] * n), dtype=float)
+        raise DataError(
+            f"{args.data}: {n} data rows for {n_par} parameters (E1, E2, E3, eta1, "
+            f"eta2); need at least {n_par}"
+        )
+    angle_deg = np.asarray(
+        data.get("helical_angle_deg", [design["capsule.spiral.helical_angle_deg"]] * n), dtype=float
+    )
     base = build_tissues(design)[0]
-    result = tm.identify(np.asarray(data["frequency_hz"]), np.asarray(data["torque_mNm"]) * 1e-3,
-                         np.radians(angle_deg), base, **geometry_from_design(design))
+    result = tm.identify(
+        np.asarray(data["frequency_hz"]),
+        np.asarray(data["torque_mNm"]) * 1e-3,
+        np.radians(angle_deg),
+        base,
+        **geometry_from_design(design),
+    )
     table = result.tissue.as_design_table()
     if args.output:
         from spiralcap.design import write_text_atomic
@@ -143,75 +167,120 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def fit_payload(result: Any, table: dict[str, float], data_path: str,
-                design_source: str) -> dict[str, Any]:
+def fit_payload(
+    result: Any, table: dict[str, float], data_path: str, design_source: str
+) -> dict[str, Any]:
     """The fit as a JSON-ready mapping (design units: kPa, kPa·s, mm, mN·m)."""
     params = {}
     for name in result.values:
         key, factor, unit = _DISPLAY[name]
         lo, hi = result.ci95[name]
-        params[key] = {"value": result.values[name] * factor, "unit": unit,
-                       "standard_error": result.standard_errors[name] * factor,
-                       "ci95": [lo * factor, hi * factor],
-                       "pinned_down": not result.flags[name], "flags": list(result.flags[name])}
+        params[key] = {
+            "value": result.values[name] * factor,
+            "unit": unit,
+            "standard_error": result.standard_errors[name] * factor,
+            "ci95": [lo * factor, hi * factor],
+            "pinned_down": not result.flags[name],
+            "flags": list(result.flags[name]),
+        }
     return {
         "tissue": table,
         "parameters": params,
         "not_pinned_down": [_DISPLAY[n][0] for n in result.not_pinned_down],
-        "data": {"frequency_hz": result.frequency_hz,
-                 "helical_angle_deg": [math.degrees(a) for a in result.helical_angle_rad],
-                 "torque_mNm": result.torque_Nm * 1e3,
-                 "fitted_torque_mNm": result.predicted_Nm * 1e3,
-                 "relative_residual": (result.predicted_Nm - result.torque_Nm) / result.torque_Nm},
-        "residual_std": result.residual_std, "relative_residuals": result.relative,
-        "dof": result.dof, "condition_number": result.condition_number,
-        "success": result.success, "message": result.message,
-        "data_file": str(data_path), "design": design_source,
+        "data": {
+            "frequency_hz": result.frequency_hz,
+            "helical_angle_deg": [math.degrees(a) for a in result.helical_angle_rad],
+            "torque_mNm": result.torque_Nm * 1e3,
+            "fitted_torque_mNm": result.predicted_Nm * 1e3,
+            "relative_residual": (result.predicted_Nm - result.torque_Nm) / result.torque_Nm,
+        },
+        "residual_std": result.residual_std,
+        "relative_residuals": result.relative,
+        "dof": result.dof,
+        "condition_number": result.condition_number,
+        "success": result.success,
+        "message": result.message,
+        "data_file": str(data_path),
+        "design": design_source,
     }
 
 
 def tissue_toml(table: dict[str, float], data_path: str, result: Any) -> str:
     """The fitted tissue as a design-file ``[tissue]`` table, with provenance comments."""
     loose = ", ".join(_DISPLAY[n][0] for n in result.not_pinned_down) or "none"
-    lines = [f"# spiralcap fit of {data_path}: {result.frequency_hz.size} points, "
-             f"residual std {result.residual_std:.3g} (relative)",
-             f"# not pinned down by the data: {loose}", "", "[tissue]"]
+    lines = [
+        f"# spiralcap fit of {data_path}: {result.frequency_hz.size} points, "
+        f"residual std {result.residual_std:.3g} (relative)",
+        f"# not pinned down by the data: {loose}",
+        "",
+        "[tissue]",
+    ]
     lines += [f"{k} = {float(v)!r}" for k, v in table.items()]
     return "\n".join(lines) + "\n"
 
 
 def _print_text(result: Any, data_path: str, design_source: str, base_name: str) -> None:
-    print(f"tissue identification from {data_path} ({result.frequency_hz.size} points, "
-          f"{result.dof} residual degrees of freedom; lumen, wall and friction from "
-          f"{base_name}, design: {design_source})")
+    print(
+        f"tissue identification from {data_path} ({result.frequency_hz.size} points, "
+        f"{result.dof} residual degrees of freedom; lumen, wall and friction from "
+        f"{base_name}, design: {design_source})"
+    )
     rows = []
     for name in result.values:
         key, factor, unit = _DISPLAY[name]
         lo, hi = result.ci95[name]
-        rows.append([key, result.values[name] * factor, unit,
-                     result.standard_errors[name] * factor,
-                     f"[{lo * factor:.4g}, {hi * factor:.4g}]",
-                     "NOT pinned down" if result.flags[name] else "pinned down"])
-    print(format_table(["parameter", "value", "unit", "std error", "95 % interval", "status"],
-                       rows))
+        rows.append(
+            [
+                key,
+                result.values[name] * factor,
+                unit,
+                result.standard_errors[name] * factor,
+                f"[{lo * factor:.4g}, {hi * factor:.4g}]",
+                "NOT pinned down" if result.flags[name] else "pinned down",
+            ]
+        )
+    print(
+        format_table(["parameter", "value", "unit", "std error", "95 % interval", "status"], rows)
+    )
     for name in result.not_pinned_down:
         print(f"  {_DISPLAY[name][0]}: " + "; ".join(result.flags[name]))
     fixed = result.tissue.as_design_table()
-    print(f"fixed: lumen_diameter_mm = {fixed['lumen_diameter_mm']:.4g}, wall_thickness_mm = "
-          f"{fixed['wall_thickness_mm']:.4g}, friction_coefficient = "
-          f"{fixed['friction_coefficient']:.4g}")
+    print(
+        f"fixed: lumen_diameter_mm = {fixed['lumen_diameter_mm']:.4g}, wall_thickness_mm = "
+        f"{fixed['wall_thickness_mm']:.4g}, friction_coefficient = "
+        f"{fixed['friction_coefficient']:.4g}"
+    )
     loose = [_DISPLAY[n][0] for n in result.not_pinned_down]
     if loose:
-        print(f"NOT PINNED DOWN by these data: {', '.join(loose)} -- the values above reproduce "
-              "the measured curve but are not unique; do not read them as tissue properties.")
-    res_rows = [[i + 1, float(f), math.degrees(float(a)), float(y) * 1e3, float(m) * 1e3,
-                 100.0 * (float(m) - float(y)) / float(y)]
-                for i, (f, a, y, m) in enumerate(zip(result.frequency_hz, result.helical_angle_rad,
-                                                      result.torque_Nm, result.predicted_Nm,
-                                                      strict=True))]
+        print(
+            f"NOT PINNED DOWN by these data: {', '.join(loose)} -- the values above reproduce "
+            "the measured curve but are not unique; do not read them as tissue properties."
+        )
+    res_rows = [
+        [
+            i + 1,
+            float(f),
+            math.degrees(float(a)),
+            float(y) * 1e3,
+            float(m) * 1e3,
+            100.0 * (float(m) - float(y)) / float(y),
+        ]
+        for i, (f, a, y, m) in enumerate(
+            zip(
+                result.frequency_hz,
+                result.helical_angle_rad,
+                result.torque_Nm,
+                result.predicted_Nm,
+                strict=True,
+            )
+        )
+    ]
     print()
-    print(format_table(["row", "frequency_hz", "helical_angle_deg", "torque_mNm",
-                        "fitted_mNm", "residual_%"], res_rows))
-    print(f"residual std {100 * result.residual_std:.3g} % (relative); optimiser: "
-          f"{result.message}")
+    print(
+        format_table(
+            ["row", "frequency_hz", "helical_angle_deg", "torque_mNm", "fitted_mNm", "residual_%"],
+            res_rows,
+        )
+    )
+    print(f"residual std {100 * result.residual_std:.3g} % (relative); optimiser: {result.message}")
     print("to use: --set tissue.KEY=VALUE for each key of the JSON 'tissue' table, or -o FILE")

@@ -31,18 +31,31 @@ _HTML_SUFFIXES = (".html", ".htm")
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """DESIGN, --set, -o/--output (required), --pdf, --workers, --quiet."""
     add_design_arguments(parser, json_flag=False)
-    parser.add_argument("-o", "--output", required=True, metavar="REPORT.html",
-                        help="where to write the self-contained HTML report (folders are "
-                             "created as needed)")
-    parser.add_argument("--pdf", metavar="REPORT.pdf",
-                        help="also write the report as PDF (matplotlib only; no external tools)")
-    parser.add_argument("--workers", type=int, default=1, metavar="N",
-                        help="worker processes for the power-budget re-optimisation sweep "
-                             "(default 1)")
+    parser.add_argument(
+        "-o",
+        "--output",
+        required=True,
+        metavar="REPORT.html",
+        help="where to write the self-contained HTML report (folders are created as needed)",
+    )
+    parser.add_argument(
+        "--pdf",
+        metavar="REPORT.pdf",
+        help="also write the report as PDF (matplotlib only; no external tools)",
+    )
+    parser.add_argument(
+        "--workers",
+        type=int,
+        default=1,
+        metavar="N",
+        help="worker processes for the power-budget re-optimisation sweep (default 1)",
+    )
     parser.add_argument("--quiet", action="store_true", help="print nothing on success")
-    parser.epilog = ("exit status: 0 report written, design feasible; 3 report written, but no "
-                     "design meets every requirement inside the limits (as `spiralcap "
-                     "optimize`); 2 bad input, nothing written")
+    parser.epilog = (
+        "exit status: 0 report written, design feasible; 3 report written, but no "
+        "design meets every requirement inside the limits (as `spiralcap "
+        "optimize`); 2 bad input, nothing written"
+    )
 
 
 def check_output_paths(output: str, pdf: str | None, design_path: str | None) -> None:
@@ -85,8 +98,9 @@ def run(args: argparse.Namespace) -> int:
     from spiralcap.design import write_text_atomic
     from spiralcap.report import build_report
 
-    report = build_report(design, pdf=args.pdf is not None, workers=args.workers,
-                          command=_command_line(args))
+    report = build_report(
+        design, pdf=args.pdf is not None, workers=args.workers, command=_command_line(args)
+    )
     written = [write_text_atomic(args.output, report.html)]
     if args.pdf is not None:
         written.append(write_text_atomic(args.pdf, report.pdf))
@@ -94,13 +108,18 @@ def run(args: argparse.Namespace) -> int:
         _shareable(path)
     elapsed = time.perf_counter() - t0
     if not args.quiet:
-        print(f"wrote {args.output} ({report.figure_count} figures, "
-              f"{len(report.html) / 1e6:.2f} MB) in {elapsed:.1f} s")
+        print(
+            f"wrote {args.output} ({report.figure_count} figures, "
+            f"{len(report.html) / 1e6:.2f} MB) in {elapsed:.1f} s"
+        )
         if args.pdf is not None:
             print(f"wrote {args.pdf} ({report.page_count} pages)")
     if not report.feasible:
-        print(f"spiralcap report: no feasible design: {report.status_message}; the report "
-              "says so (exit status 3)", file=sys.stderr)
+        print(
+            f"spiralcap report: no feasible design: {report.status_message}; the report "
+            "says so (exit status 3)",
+            file=sys.stderr,
+        )
         return EXIT_INFEASIBLE
     return 0
 

@@ -13,12 +13,25 @@ from spiralcap.errors import InputError
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_design_arguments(parser)
-    parser.add_argument("--over", action="append", required=True, metavar="KEY=START:STOP:N",
-                        help="sweep a numeric design key over N values (repeat for a grid)")
-    parser.add_argument("--optimize", action="store_true",
-                        help="re-optimise at every grid point instead of evaluating")
-    parser.add_argument("--workers", type=int, default=1, metavar="N",
-                        help="worker processes for --optimize sweeps (default 1)")
+    parser.add_argument(
+        "--over",
+        action="append",
+        required=True,
+        metavar="KEY=START:STOP:N",
+        help="sweep a numeric design key over N values (repeat for a grid)",
+    )
+    parser.add_argument(
+        "--optimize",
+        action="store_true",
+        help="re-optimise at every grid point instead of evaluating",
+    )
+    parser.add_argument(
+        "--workers",
+        type=int,
+        default=1,
+        metavar="N",
+        help="worker processes for --optimize sweeps (default 1)",
+    )
     parser.add_argument("--csv", metavar="FILE", help="write the table as CSV to FILE")
 
 
@@ -34,8 +47,9 @@ def _progress(done: int, total: int) -> None:
 def _rows(result) -> tuple[list[str], list[list]]:
     header = [*result.inputs, *result.outputs]
     cols = [*result.inputs.values(), *result.outputs.values()]
-    return header, [[c[i].item() if hasattr(c[i], "item") else c[i] for c in cols]
-                    for i in range(len(cols[0]))]
+    return header, [
+        [c[i].item() if hasattr(c[i], "item") else c[i] for c in cols] for i in range(len(cols[0]))
+    ]
 
 
 def run(args: argparse.Namespace) -> int:
@@ -58,9 +72,14 @@ def run(args: argparse.Namespace) -> int:
         writer.writerows(rows)
         write_text_atomic(args.csv, buf.getvalue())
     if args.json:
-        print_json({"design": design.source, "mode": result.mode,
-                    "over": {a.key: a.values for a in axes},
-                    "points": [dict(zip(header, r)) for r in rows]})
+        print_json(
+            {
+                "design": design.source,
+                "mode": result.mode,
+                "over": {a.key: a.values for a in axes},
+                "points": [dict(zip(header, r)) for r in rows],
+            }
+        )
     elif not args.csv:
         from spiralcap.commands._common import format_table
 

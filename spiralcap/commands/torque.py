@@ -18,21 +18,31 @@ DEFAULT_FREQUENCIES_HZ = (0.5, 1.0, 1.5, 2.0, 2.5, 3.0)
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_design_arguments(parser)
-    parser.add_argument("--frequency", dest="frequencies", type=float, action="extend",
-                        nargs="+", metavar="F",
-                        help="rotation frequencies in Hz (several, or repeat the flag; default "
-                        + ", ".join(f"{f:g}" for f in DEFAULT_FREQUENCIES_HZ) + ")")
-    parser.add_argument("--plot", metavar="FILE.png",
-                        help="also draw torque against frequency (png, pdf or svg)")
+    parser.add_argument(
+        "--frequency",
+        dest="frequencies",
+        type=float,
+        action="extend",
+        nargs="+",
+        metavar="F",
+        help="rotation frequencies in Hz (several, or repeat the flag; default "
+        + ", ".join(f"{f:g}" for f in DEFAULT_FREQUENCIES_HZ)
+        + ")",
+    )
+    parser.add_argument(
+        "--plot", metavar="FILE.png", help="also draw torque against frequency (png, pdf or svg)"
+    )
 
 
 def geometry_from_design(design) -> dict[str, float]:
     """The capsule geometry keyword arguments of torque_model.resistive_torque_Nm, SI."""
-    return {"body_diameter_m": design["capsule.diameter_mm"] * 1e-3,
-            "body_length_m": design["capsule.length_mm"] * 1e-3,
-            "wire_diameter_m": design["capsule.spiral.wire_diameter_mm"] * 1e-3,
-            "wound_length_m": design["capsule.spiral.wound_length_mm"] * 1e-3,
-            "starts": int(design["capsule.spiral.starts"])}
+    return {
+        "body_diameter_m": design["capsule.diameter_mm"] * 1e-3,
+        "body_length_m": design["capsule.length_mm"] * 1e-3,
+        "wire_diameter_m": design["capsule.spiral.wire_diameter_mm"] * 1e-3,
+        "wound_length_m": design["capsule.spiral.wound_length_mm"] * 1e-3,
+        "starts": int(design["capsule.spiral.starts"]),
+    }
 
 
 def run(args: argparse.Namespace) -> int:
@@ -52,28 +62,49 @@ def run(args: argparse.Namespace) -> int:
     angle_deg = float(design["capsule.spiral.helical_angle_deg"])
     geometry = geometry_from_design(design)
     tissues = build_tissues(design)
-    d_prime = float(tm.equivalent_diameter_m(math.radians(angle_deg),
-                                             geometry["body_diameter_m"],
-                                             geometry["wire_diameter_m"], geometry["starts"]))
+    d_prime = float(
+        tm.equivalent_diameter_m(
+            math.radians(angle_deg),
+            geometry["body_diameter_m"],
+            geometry["wire_diameter_m"],
+            geometry["starts"],
+        )
+    )
     rows = []
     for tissue in tissues:
-        tau = np.asarray(tm.resistive_torque_Nm(math.radians(angle_deg), f, tissue, **geometry),
-                         dtype=float)
-        rows.append({"tissue": tissue.name, "torque_Nm": tau.tolist(),
-                     "torque_mNm": (tau * 1e3).tolist()})
+        tau = np.asarray(
+            tm.resistive_torque_Nm(math.radians(angle_deg), f, tissue, **geometry), dtype=float
+        )
+        rows.append(
+            {"tissue": tissue.name, "torque_Nm": tau.tolist(), "torque_mNm": (tau * 1e3).tolist()}
+        )
     if args.plot:
         from spiralcap.figures.torque import plot_torque_vs_frequency, save_figure
 
-        save_figure(plot_torque_vs_frequency, args.plot, tissues[0], (angle_deg,),
-                    frequency_hz=np.linspace(min(f.min(), 0.5), max(f.max(), 3.0), 60),
-                    geometry=geometry)
+        save_figure(
+            plot_torque_vs_frequency,
+            args.plot,
+            tissues[0],
+            (angle_deg,),
+            frequency_hz=np.linspace(min(f.min(), 0.5), max(f.max(), 3.0), 60),
+            geometry=geometry,
+        )
     if args.json:
-        print_json({"frequency_hz": f.tolist(), **rows[0], "helical_angle_deg": angle_deg,
-                    "equivalent_diameter_mm": d_prime * 1e3,
-                    "worst_case": rows[1:], "design": design.source})
+        print_json(
+            {
+                "frequency_hz": f.tolist(),
+                **rows[0],
+                "helical_angle_deg": angle_deg,
+                "equivalent_diameter_mm": d_prime * 1e3,
+                "worst_case": rows[1:],
+                "design": design.source,
+            }
+        )
         return 0
-    print(f"resistive torque, helical angle {angle_deg:g} deg, D' = {d_prime * 1e3:.4g} mm "
-          f"(design: {design.source})")
+    print(
+        f"resistive torque, helical angle {angle_deg:g} deg, D' = {d_prime * 1e3:.4g} mm "
+        f"(design: {design.source})"
+    )
     headers = ["frequency_hz"] + [f"torque_mNm [{r['tissue']}]" for r in rows]
     table = [[float(fi)] + [r["torque_mNm"][i] for r in rows] for i, fi in enumerate(f)]
     print(format_table(headers, table))

@@ -23,14 +23,21 @@ DEVIATION_LEVELS_PERCENT = (0.0, 0.1, 0.25, 0.5, 1.0, 2.0, 5.0, 10.0, 20.0, 50.0
 _TOLERANCE_STYLES = {0.01: ("-", 2.0), 0.05: ("--", 2.0)}
 
 
-def plot_field_deviation_map(ax: Axes, u_m: Any, v_m: Any, deviation: Any, *,
-                             axis_labels: tuple[str, str] = ("x", "z"),
-                             tolerances: tuple[float, ...] = (0.01, 0.05),
-                             uniform_radii_m: Mapping[float, float] | None = None,
-                             workspace_radius_m: float | None = None,
-                             title: str | None = None, colorbar: bool = True,
-                             legend: bool = True, label_contours: bool = True
-                             ) -> dict[str, Any]:
+def plot_field_deviation_map(
+    ax: Axes,
+    u_m: Any,
+    v_m: Any,
+    deviation: Any,
+    *,
+    axis_labels: tuple[str, str] = ("x", "z"),
+    tolerances: tuple[float, ...] = (0.01, 0.05),
+    uniform_radii_m: Mapping[float, float] | None = None,
+    workspace_radius_m: float | None = None,
+    title: str | None = None,
+    colorbar: bool = True,
+    legend: bool = True,
+    label_contours: bool = True,
+) -> dict[str, Any]:
     """Map of |B| deviation from the centre value on a plane through the coil centre.
 
     Parameters
@@ -72,28 +79,41 @@ def plot_field_deviation_map(ax: Axes, u_m: Any, v_m: Any, deviation: Any, *,
     v = np.asarray(v_m, dtype=float)
     dev = 100.0 * np.abs(np.asarray(deviation, dtype=float))
     top = float(np.nanmax(dev))
-    filled = ax.contourf(u, v, dev, levels=list(DEVIATION_LEVELS_PERCENT), cmap="Blues",
-                         extend="max")
+    filled = ax.contourf(
+        u, v, dev, levels=list(DEVIATION_LEVELS_PERCENT), cmap="Blues", extend="max"
+    )
     contours = {}
     for tol in tolerances:
         ls, lw = _TOLERANCE_STYLES.get(tol, (":", 1.6))
         if np.nanmin(dev) < 100 * tol < top:
-            cs = ax.contour(u, v, dev, levels=[100 * tol], colors="black", linestyles=ls,
-                            linewidths=lw)
+            cs = ax.contour(
+                u, v, dev, levels=[100 * tol], colors="black", linestyles=ls, linewidths=lw
+            )
             if label_contours:
                 ax.clabel(cs, fmt={100 * tol: f"±{100 * tol:g} %"}, fontsize=8)
             contours[tol] = cs
     circles = []
     t = np.linspace(0, 2 * np.pi, 241)
     for tol, r in (uniform_radii_m or {}).items():
-        (c,) = ax.plot(r * np.cos(t), r * np.sin(t), color="#D55E00", linestyle=":",
-                       linewidth=1.8,
-                       label=f"±{100 * tol:g} % sphere, r = {r * 1e3:.4g} mm")
+        (c,) = ax.plot(
+            r * np.cos(t),
+            r * np.sin(t),
+            color="#D55E00",
+            linestyle=":",
+            linewidth=1.8,
+            label=f"±{100 * tol:g} % sphere, r = {r * 1e3:.4g} mm",
+        )
         circles.append(c)
     if workspace_radius_m:
         r = workspace_radius_m
-        (c,) = ax.plot(r * np.cos(t), r * np.sin(t), color="black", linestyle="-.",
-                       linewidth=1.6, label=f"workspace, r = {r * 1e3:.4g} mm")
+        (c,) = ax.plot(
+            r * np.cos(t),
+            r * np.sin(t),
+            color="black",
+            linestyle="-.",
+            linewidth=1.6,
+            label=f"workspace, r = {r * 1e3:.4g} mm",
+        )
         circles.append(c)
     ax.set_aspect("equal")
     ax.set_xlabel(f"{axis_labels[0]} (m)")
@@ -105,13 +125,17 @@ def plot_field_deviation_map(ax: Axes, u_m: Any, v_m: Any, deviation: Any, *,
         ax.legend(loc="lower left", fontsize=7)
     cbar = None
     if colorbar:
-        cbar = ax.figure.colorbar(filled, ax=ax, label="|B| deviation from centre (%)",
-                                  shrink=0.9)
+        cbar = ax.figure.colorbar(filled, ax=ax, label="|B| deviation from centre (%)", shrink=0.9)
     return {"filled": filled, "contours": contours, "circles": circles, "colorbar": cbar}
 
 
-def plot_uniformity_profile(ax: Axes, distance_m: Any, deviations: Mapping[str, Any], *,
-                            tolerances: tuple[float, ...] = (0.01, 0.05)) -> dict[str, Any]:
+def plot_uniformity_profile(
+    ax: Axes,
+    distance_m: Any,
+    deviations: Mapping[str, Any],
+    *,
+    tolerances: tuple[float, ...] = (0.01, 0.05),
+) -> dict[str, Any]:
     """Deviation of |B| from the centre value along lines through the centre.
 
     Parameters
@@ -133,14 +157,17 @@ def plot_uniformity_profile(ax: Axes, distance_m: Any, deviations: Mapping[str, 
     d = np.asarray(distance_m, dtype=float)
     lines = []
     for k, (label, dev) in enumerate(deviations.items()):
-        (ln,) = ax.plot(d, 100.0 * np.asarray(dev, dtype=float), label=label,
-                        **series_style(k, markevery=max(1, len(d) // 12)))
+        (ln,) = ax.plot(
+            d,
+            100.0 * np.asarray(dev, dtype=float),
+            label=label,
+            **series_style(k, markevery=max(1, len(d) // 12)),
+        )
         lines.append(ln)
     bands = []
     for tol, ls in zip(tolerances, ("--", ":", "-."), strict=False):
         for sign in (1, -1):
-            bands.append(ax.axhline(sign * 100 * tol, color="black", linestyle=ls,
-                                    linewidth=1.0))
+            bands.append(ax.axhline(sign * 100 * tol, color="black", linestyle=ls, linewidth=1.0))
     ax.set_xlabel("distance from the centre (m)")
     ax.set_ylabel("|B| deviation from centre (%)")
     ax.legend(loc="best")

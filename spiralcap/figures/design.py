@@ -17,8 +17,13 @@ from matplotlib.ticker import NullFormatter
 
 from spiralcap.figures.style import COLOURS, HATCHES, series_style
 
-__all__ = ["plot_limit_utilisation", "plot_margin_vs_angle", "plot_margin_vs_frequency",
-           "plot_margin_vs_power", "plot_torque_budget"]
+__all__ = [
+    "plot_limit_utilisation",
+    "plot_margin_vs_angle",
+    "plot_margin_vs_frequency",
+    "plot_margin_vs_power",
+    "plot_torque_budget",
+]
 
 _MNM = 1e3  # N·m -> mN·m
 _MARGIN_LABEL = "worst-case torque margin (mN·m)"
@@ -38,16 +43,33 @@ def _shade_infeasible(ax: Axes, x: np.ndarray, feasible: Any, label: str) -> Any
     bad = ~np.asarray(feasible, dtype=bool)
     if not bad.any():
         return None
-    return ax.fill_between(x, 0, 1, where=bad, transform=ax.get_xaxis_transform(),
-                           facecolor="none", edgecolor="0.6", hatch="//", linewidth=0.0,
-                           label=label, step="mid")
+    return ax.fill_between(
+        x,
+        0,
+        1,
+        where=bad,
+        transform=ax.get_xaxis_transform(),
+        facecolor="none",
+        edgecolor="0.6",
+        hatch="//",
+        linewidth=0.0,
+        label=label,
+        step="mid",
+    )
 
 
-def plot_margin_vs_frequency(ax: Axes, frequency_hz: Any, margin_Nm: Any, *,
-                             feasible: Any = None, step_out_frequency_hz: float | None = None,
-                             operating_frequency_hz: float | None = None,
-                             label: str = "margin", style_index: int = 0,
-                             shade: bool = True) -> dict[str, Any]:
+def plot_margin_vs_frequency(
+    ax: Axes,
+    frequency_hz: Any,
+    margin_Nm: Any,
+    *,
+    feasible: Any = None,
+    step_out_frequency_hz: float | None = None,
+    operating_frequency_hz: float | None = None,
+    label: str = "margin",
+    style_index: int = 0,
+    shade: bool = True,
+) -> dict[str, Any]:
     """Worst-case torque margin against rotation frequency at one helical angle.
 
     Parameters
@@ -84,32 +106,57 @@ def plot_margin_vs_frequency(ax: Axes, frequency_hz: Any, margin_Nm: Any, *,
     style = series_style(style_index, markevery=max(1, len(f) // 10))
     (line,) = ax.plot(f, m, label=label, **style)
     zero = ax.axhline(0.0, color="black", linewidth=1.0)
-    out: dict[str, Any] = {"line": line, "zero": zero, "step_out": None, "operating": None,
-                           "infeasible": None}
+    out: dict[str, Any] = {
+        "line": line,
+        "zero": zero,
+        "step_out": None,
+        "operating": None,
+        "infeasible": None,
+    }
     if shade:
         out["infeasible"] = _shade_infeasible(ax, f, feasible, "a requirement not met")
-    if step_out_frequency_hz is not None and np.isfinite(step_out_frequency_hz) \
-            and step_out_frequency_hz > 0:
-        out["step_out"] = ax.axvline(step_out_frequency_hz, color=style["color"],
-                                     linestyle=(0, (1, 1.5)), linewidth=1.6,
-                                     label=f"step-out, {step_out_frequency_hz:.4g} Hz")
+    if (
+        step_out_frequency_hz is not None
+        and np.isfinite(step_out_frequency_hz)
+        and step_out_frequency_hz > 0
+    ):
+        out["step_out"] = ax.axvline(
+            step_out_frequency_hz,
+            color=style["color"],
+            linestyle=(0, (1, 1.5)),
+            linewidth=1.6,
+            label=f"step-out, {step_out_frequency_hz:.4g} Hz",
+        )
     if operating_frequency_hz is not None:
         y = float(np.interp(operating_frequency_hz, f, m))
-        (out["operating"],) = ax.plot([operating_frequency_hz], [y], linestyle="none",
-                                      marker="*", markersize=13, color=style["color"],
-                                      markeredgecolor="black",
-                                      label=f"operating point, {operating_frequency_hz:.4g} Hz")
+        (out["operating"],) = ax.plot(
+            [operating_frequency_hz],
+            [y],
+            linestyle="none",
+            marker="*",
+            markersize=13,
+            color=style["color"],
+            markeredgecolor="black",
+            label=f"operating point, {operating_frequency_hz:.4g} Hz",
+        )
     ax.set_xlabel("rotation frequency f (Hz)")
     ax.set_ylabel(_MARGIN_LABEL)
     ax.legend(loc="best")
     return out
 
 
-def plot_margin_vs_angle(ax: Axes, helical_angle_deg: Any, margin_Nm: Any, *,
-                         feasible: Any = None, optimum_deg: float | None = None,
-                         optimum_margin_Nm: float | None = None,
-                         design_angle_deg: float | None = None,
-                         label: str = "margin", style_index: int = 0) -> dict[str, Any]:
+def plot_margin_vs_angle(
+    ax: Axes,
+    helical_angle_deg: Any,
+    margin_Nm: Any,
+    *,
+    feasible: Any = None,
+    optimum_deg: float | None = None,
+    optimum_margin_Nm: float | None = None,
+    design_angle_deg: float | None = None,
+    label: str = "margin",
+    style_index: int = 0,
+) -> dict[str, Any]:
     """Worst-case torque margin against the spiral's helical angle at one frequency.
 
     Parameters
@@ -140,27 +187,48 @@ def plot_margin_vs_angle(ax: Axes, helical_angle_deg: Any, margin_Nm: Any, *,
     m = np.asarray(margin_Nm, dtype=float) * _MNM
     style = series_style(style_index, markevery=max(1, len(a) // 10))
     (line,) = ax.plot(a, m, label=label, **style)
-    out: dict[str, Any] = {"line": line, "zero": ax.axhline(0.0, color="black", linewidth=1.0),
-                           "optimum": None, "design": None, "infeasible": None}
+    out: dict[str, Any] = {
+        "line": line,
+        "zero": ax.axhline(0.0, color="black", linewidth=1.0),
+        "optimum": None,
+        "design": None,
+        "infeasible": None,
+    }
     out["infeasible"] = _shade_infeasible(ax, a, feasible, "a requirement not met")
     if design_angle_deg is not None:
-        out["design"] = ax.axvline(design_angle_deg, color="0.3", linestyle="--", linewidth=1.3,
-                                   label=f"design as entered, {design_angle_deg:.4g}°")
+        out["design"] = ax.axvline(
+            design_angle_deg,
+            color="0.3",
+            linestyle="--",
+            linewidth=1.3,
+            label=f"design as entered, {design_angle_deg:.4g}°",
+        )
     if optimum_deg is not None and optimum_margin_Nm is not None:
-        (out["optimum"],) = ax.plot([optimum_deg], [optimum_margin_Nm * _MNM], linestyle="none",
-                                    marker="*", markersize=14, color=COLOURS[1],
-                                    markeredgecolor="black",
-                                    label=f"optimum, {optimum_deg:.4g}°, "
-                                          f"{optimum_margin_Nm * _MNM:.4g} mN·m")
+        (out["optimum"],) = ax.plot(
+            [optimum_deg],
+            [optimum_margin_Nm * _MNM],
+            linestyle="none",
+            marker="*",
+            markersize=14,
+            color=COLOURS[1],
+            markeredgecolor="black",
+            label=f"optimum, {optimum_deg:.4g}°, {optimum_margin_Nm * _MNM:.4g} mN·m",
+        )
     ax.set_xlabel("helical angle α (deg)")
     ax.set_ylabel(_MARGIN_LABEL)
     ax.legend(loc="best")
     return out
 
 
-def plot_margin_vs_power(ax: Axes, power_W: Any, margin_Nm: Any, *, optimal: Any = None,
-                         design_power_W: float | None = None,
-                         binding: Sequence[str] | None = None) -> dict[str, Any]:
+def plot_margin_vs_power(
+    ax: Axes,
+    power_W: Any,
+    margin_Nm: Any,
+    *,
+    optimal: Any = None,
+    design_power_W: float | None = None,
+    binding: Sequence[str] | None = None,
+) -> dict[str, Any]:
     """Best achievable margin against the copper-power budget (a Pareto front).
 
     Parameters
@@ -190,23 +258,41 @@ def plot_margin_vs_power(ax: Axes, power_W: Any, margin_Nm: Any, *, optimal: Any
     m = np.asarray(margin_Nm, dtype=float) * _MNM
     ok = np.ones(p.shape, bool) if optimal is None else np.asarray(optimal, dtype=bool)
     out: dict[str, Any] = {"infeasible": None, "design": None, "labels": []}
-    (out["front"],) = ax.plot(p[ok], m[ok], label="optimum at each power budget",
-                              **series_style(0))
+    (out["front"],) = ax.plot(p[ok], m[ok], label="optimum at each power budget", **series_style(0))
     if (~ok).any():
-        (out["infeasible"],) = ax.plot(p[~ok], np.nan_to_num(m[~ok]), linestyle="none",
-                                       marker="x", markersize=9, color=COLOURS[1],
-                                       markeredgewidth=2, label="no feasible design")
+        (out["infeasible"],) = ax.plot(
+            p[~ok],
+            np.nan_to_num(m[~ok]),
+            linestyle="none",
+            marker="x",
+            markersize=9,
+            color=COLOURS[1],
+            markeredgewidth=2,
+            label="no feasible design",
+        )
     if design_power_W is not None:
-        out["design"] = ax.axvline(design_power_W, color="0.3", linestyle="--", linewidth=1.3,
-                                   label=f"design budget, {design_power_W:.4g} W")
+        out["design"] = ax.axvline(
+            design_power_W,
+            color="0.3",
+            linestyle="--",
+            linewidth=1.3,
+            label=f"design budget, {design_power_W:.4g} W",
+        )
     if binding is not None:
         previous = None
         for x, y, text in zip(p, m, binding, strict=True):
             changed, previous = text != previous, text
             if text and changed and np.isfinite(y):
-                out["labels"].append(ax.annotate(text.replace(";", ", "), (x, y),
-                                                 textcoords="offset points", xytext=(4, -11),
-                                                 fontsize=7, color="0.25"))
+                out["labels"].append(
+                    ax.annotate(
+                        text.replace(";", ", "),
+                        (x, y),
+                        textcoords="offset points",
+                        xytext=(4, -11),
+                        fontsize=7,
+                        color="0.25",
+                    )
+                )
     ax.axhline(0.0, color="black", linewidth=1.0)
     ax.set_xscale("log")
     ax.set_xticks(p, [f"{v:.4g}" for v in p])
@@ -217,8 +303,9 @@ def plot_margin_vs_power(ax: Axes, power_W: Any, margin_Nm: Any, *, optimal: Any
     return out
 
 
-def plot_limit_utilisation(ax: Axes, checks: Sequence[Any], *,
-                           labels: Mapping[str, str] | None = None) -> dict[str, Any]:
+def plot_limit_utilisation(
+    ax: Axes, checks: Sequence[Any], *, labels: Mapping[str, str] | None = None
+) -> dict[str, Any]:
     """How close each limit and requirement is to binding, as a horizontal bar chart.
 
     Parameters
@@ -249,17 +336,27 @@ def plot_limit_utilisation(ax: Axes, checks: Sequence[Any], *,
     y = np.arange(len(names))[::-1]
     shown = np.minimum(np.asarray(util), 150.0)
     binding = np.abs(np.asarray(util) - 100.0) < 0.1
-    colours = [COLOURS[1] if b else (COLOURS[0] if o else "#a4161a")
-               for b, o in zip(binding, ok, strict=True)]
+    colours = [
+        COLOURS[1] if b else (COLOURS[0] if o else "#a4161a")
+        for b, o in zip(binding, ok, strict=True)
+    ]
     bars = ax.barh(y, shown, color=colours, edgecolor="black", linewidth=0.6)
     for bar, b, o in zip(bars, binding, ok, strict=True):
         bar.set_hatch(HATCHES[1] if b else ("xx" if not o else ""))
     texts = []
     for yi, u, b, o in zip(y, util, binding, ok, strict=True):
         tag = " binding" if b else ("  EXCEEDED" if not o else "")
-        texts.append(ax.text(min(u, 150.0) + 2, yi, f"{u:.4g} %{tag}", va="center",
-                             fontsize=8, zorder=4,
-                             bbox={"facecolor": "white", "edgecolor": "none", "pad": 0.8}))
+        texts.append(
+            ax.text(
+                min(u, 150.0) + 2,
+                yi,
+                f"{u:.4g} %{tag}",
+                va="center",
+                fontsize=8,
+                zorder=4,
+                bbox={"facecolor": "white", "edgecolor": "none", "pad": 0.8},
+            )
+        )
     limit = ax.axvline(100.0, color="black", linewidth=1.4, linestyle="--")
     ax.set_yticks(y, names)
     ax.set_xlim(0, 175)
@@ -291,17 +388,46 @@ def plot_torque_budget(ax: Axes, evaluations: Sequence[tuple[str, Any]]) -> dict
     mag = np.array([_get(e, "magnetic_torque_Nm") for _, e in evaluations]) * _MNM
     res = np.array([_get(e, "resistive_torque_Nm") for _, e in evaluations]) * _MNM
     thr = np.array([_get(e, "thrust_torque_Nm") for _, e in evaluations]) * _MNM
-    b_mag = ax.bar(x - w / 2, mag, w, color=COLOURS[0], edgecolor="black", hatch="",
-                   label="magnetic torque available (m·B, worst point)")
-    b_res = ax.bar(x + w / 2, res, w, color=COLOURS[1], edgecolor="black", hatch="///",
-                   label="tissue resistive torque")
-    b_thr = ax.bar(x + w / 2, thr, w, bottom=res, color=COLOURS[4], edgecolor="black",
-                   hatch="...", label="thrust torque (axial load)")
+    b_mag = ax.bar(
+        x - w / 2,
+        mag,
+        w,
+        color=COLOURS[0],
+        edgecolor="black",
+        hatch="",
+        label="magnetic torque available (m·B, worst point)",
+    )
+    b_res = ax.bar(
+        x + w / 2,
+        res,
+        w,
+        color=COLOURS[1],
+        edgecolor="black",
+        hatch="///",
+        label="tissue resistive torque",
+    )
+    b_thr = ax.bar(
+        x + w / 2,
+        thr,
+        w,
+        bottom=res,
+        color=COLOURS[4],
+        edgecolor="black",
+        hatch="...",
+        label="thrust torque (axial load)",
+    )
     margins = []
     for xi, a, r, t in zip(x, mag, res, thr, strict=True):
-        margins.append(ax.annotate(f"margin {a - r - t:.4g} mN·m", (xi, max(a, r + t)),
-                                   textcoords="offset points", xytext=(0, 4), ha="center",
-                                   fontsize=8.5))
+        margins.append(
+            ax.annotate(
+                f"margin {a - r - t:.4g} mN·m",
+                (xi, max(a, r + t)),
+                textcoords="offset points",
+                xytext=(0, 4),
+                ha="center",
+                fontsize=8.5,
+            )
+        )
     ax.set_xticks(x, [lab for lab, _ in evaluations])
     ax.set_ylabel("torque (mN·m)")
     ax.set_ylim(0, 1.12 * max(float(np.max(mag)), float(np.max(res + thr))))

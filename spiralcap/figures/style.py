@@ -40,9 +40,11 @@ HATCHES = ("", "///", "...", "xx", "\\\\", "++")
 
 def series_style(k: int, *, markevery: int | None = None) -> dict[str, Any]:
     """Keyword arguments for ``ax.plot`` of the k-th series (colour, line style, marker)."""
-    style: dict[str, Any] = {"color": COLOURS[k % len(COLOURS)],
-                             "linestyle": LINESTYLES[k % len(LINESTYLES)],
-                             "marker": MARKERS[k % len(MARKERS)]}
+    style: dict[str, Any] = {
+        "color": COLOURS[k % len(COLOURS)],
+        "linestyle": LINESTYLES[k % len(LINESTYLES)],
+        "marker": MARKERS[k % len(MARKERS)],
+    }
     if markevery is not None:
         style["markevery"] = markevery
     return style

@@ -18,11 +18,15 @@ _FREQ_LABEL = "rotation frequency f (Hz)"
 _TORQUE_LABEL = "resistive torque (mN·m)"
 
 
-def plot_torque_vs_frequency(ax: Axes, tissue: Any = None,
-                             helical_angles_deg: Sequence[float] = (5.0, 10.0, 15.0, 20.0), *,
-                             frequency_hz: Sequence[float] | None = None,
-                             paper_points: Iterable[Any] | None = None,
-                             geometry: dict[str, float] | None = None) -> dict[str, list[Any]]:
+def plot_torque_vs_frequency(
+    ax: Axes,
+    tissue: Any = None,
+    helical_angles_deg: Sequence[float] = (5.0, 10.0, 15.0, 20.0),
+    *,
+    frequency_hz: Sequence[float] | None = None,
+    paper_points: Iterable[Any] | None = None,
+    geometry: dict[str, float] | None = None,
+) -> dict[str, list[Any]]:
     """Model torque against frequency for several helical angles, with the paper's points.
 
     Parameters
@@ -49,8 +53,9 @@ def plot_torque_vs_frequency(ax: Axes, tissue: Any = None,
     import torque_model as tm
 
     tissue = tissue if tissue is not None else tm.preset("zhou2013-sample2")
-    f = np.asarray(frequency_hz if frequency_hz is not None else np.linspace(0.25, 3.5, 66),
-                   dtype=float)
+    f = np.asarray(
+        frequency_hz if frequency_hz is not None else np.linspace(0.25, 3.5, 66), dtype=float
+    )
     if paper_points is None:
         sample = {"zhou2013-sample2": 2, "zhou2013-sample3": 3}.get(tissue.name)
         paper_points = [p for p in tm.PAPER_POINTS if p.sample == sample]
@@ -64,9 +69,17 @@ def plot_torque_vs_frequency(ax: Axes, tissue: Any = None,
     for p in paper_points:
         colour = colours.get(float(p.helical_angle_deg), "k")
         marker = "o" if p.role == "calibration" else "s"
-        points.append(ax.scatter([p.frequency_hz], [p.torque_mNm], color=colour, marker=marker,
-                                 zorder=3, edgecolors="k",
-                                 label=f"paper, No. {p.capsule} ({p.role})"))
+        points.append(
+            ax.scatter(
+                [p.frequency_hz],
+                [p.torque_mNm],
+                color=colour,
+                marker=marker,
+                zorder=3,
+                edgecolors="k",
+                label=f"paper, No. {p.capsule} ({p.role})",
+            )
+        )
     ax.set_xlabel(_FREQ_LABEL)
     ax.set_ylabel(_TORQUE_LABEL)
     ax.set_title(f"tissue {tissue.name}")
@@ -74,8 +87,9 @@ def plot_torque_vs_frequency(ax: Axes, tissue: Any = None,
     return {"curves": curves, "points": points}
 
 
-def plot_fit(ax: Axes, fit_result: Any, *, frequency_hz: Sequence[float] | None = None
-             ) -> dict[str, list[Any]]:
+def plot_fit(
+    ax: Axes, fit_result: Any, *, frequency_hz: Sequence[float] | None = None
+) -> dict[str, list[Any]]:
     """Measured points and the fitted model curve for each helical angle in a fit.
 
     Parameters
@@ -94,16 +108,23 @@ def plot_fit(ax: Axes, fit_result: Any, *, frequency_hz: Sequence[float] | None 
     """
     r = fit_result
     fmin, fmax = float(np.min(r.frequency_hz)), float(np.max(r.frequency_hz))
-    f = np.asarray(frequency_hz if frequency_hz is not None
-                   else np.linspace(0.9 * fmin, 1.1 * fmax, 80), dtype=float)
+    f = np.asarray(
+        frequency_hz if frequency_hz is not None else np.linspace(0.9 * fmin, 1.1 * fmax, 80),
+        dtype=float,
+    )
     curves, points = [], []
     for angle in np.unique(r.helical_angle_rad):
         sel = r.helical_angle_rad == angle
         deg = math.degrees(float(angle))
-        pts = ax.scatter(r.frequency_hz[sel], r.torque_Nm[sel] * 1e3, zorder=3,
-                         label=f"measured, α = {deg:.4g}°")
-        (line,) = ax.plot(f, np.asarray(r.predict_Nm(f, float(angle))) * 1e3,
-                          color=pts.get_facecolor()[0], label=f"fit, α = {deg:.4g}°")
+        pts = ax.scatter(
+            r.frequency_hz[sel], r.torque_Nm[sel] * 1e3, zorder=3, label=f"measured, α = {deg:.4g}°"
+        )
+        (line,) = ax.plot(
+            f,
+            np.asarray(r.predict_Nm(f, float(angle))) * 1e3,
+            color=pts.get_facecolor()[0],
+            label=f"fit, α = {deg:.4g}°",
+        )
         points.append(pts)
         curves.append(line)
     ax.set_xlabel(_FREQ_LABEL)

@@ -38,23 +38,30 @@ def report_payload(data: Any) -> dict[str, Any]:
     from spiralcap.report.sections.tradeoffs import power_sweep_payload
 
     design = data.design
-    return _jsonable({
-        "format": DATA_FORMAT,
-        "spiralcap_version": __version__,
-        "design": {"source": design.source, "sha256": design.sha256(), "values": dict(design)},
-        "evaluate": data.evaluate_json,
-        "optimize": data.optimize_json,
-        "coils": data.coils_json,
-        "coils_source": data.coils_note,
-        "tissue": tissue_payload(data),
-        "tradeoffs": {"power_sweep": power_sweep_payload(data)},
-        "versions": data.versions,
-    })
+    return _jsonable(
+        {
+            "format": DATA_FORMAT,
+            "spiralcap_version": __version__,
+            "design": {"source": design.source, "sha256": design.sha256(), "values": dict(design)},
+            "evaluate": data.evaluate_json,
+            "optimize": data.optimize_json,
+            "coils": data.coils_json,
+            "coils_source": data.coils_note,
+            "tissue": tissue_payload(data),
+            "tradeoffs": {"power_sweep": power_sweep_payload(data)},
+            "versions": data.versions,
+        }
+    )
 
 
-def build_report(design: Design, *, pdf: bool = False, workers: int = 1,
-                 command: str = "spiralcap report",
-                 progress: Callable[[str], None] | None = None) -> Report:
+def build_report(
+    design: Design,
+    *,
+    pdf: bool = False,
+    workers: int = 1,
+    command: str = "spiralcap report",
+    progress: Callable[[str], None] | None = None,
+) -> Report:
     """Analyse ``design`` and render its report.
 
     Parameters
@@ -87,19 +94,32 @@ def build_report(design: Design, *, pdf: bool = False, workers: int = 1,
     sections = build_sections(Context(data, payload), command)
     stamp = _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
     sha = payload["design"]["sha256"]
-    subtitle = (f"Design: {design.source} · SHA-256 {sha[:16]}… · made {stamp} with "
-                f"spiralcap {payload['spiralcap_version']}")
+    subtitle = (
+        f"Design: {design.source} · SHA-256 {sha[:16]}… · made {stamp} with "
+        f"spiralcap {payload['spiralcap_version']}"
+    )
     footer = f"{TITLE} · design {design.source} · SHA-256 {sha[:16]}…"
     html = render_html(TITLE, subtitle, sections, payload, footer)
     pdf_bytes, pages = None, 0
     if pdf:
         from spiralcap.report.pdf import render_pdf
 
-        pdf_bytes, pages = render_pdf(TITLE, subtitle, sections, footer,
-                                      metadata={"Subject": f"design {design.source}",
-                                                "Keywords": f"sha256 {sha}"})
+        pdf_bytes, pages = render_pdf(
+            TITLE,
+            subtitle,
+            sections,
+            footer,
+            metadata={"Subject": f"design {design.source}", "Keywords": f"sha256 {sha}"},
+        )
     figures = sum(isinstance(b, FigureBlock) for s in sections for b in s.blocks)
     res = data.optimization
-    return Report(html=html, pdf=pdf_bytes, page_count=pages, figure_count=figures,
-                  feasible=res.status == "optimal", status_message=res.message,
-                  payload=payload, sections=tuple(sections))
+    return Report(
+        html=html,
+        pdf=pdf_bytes,
+        page_count=pages,
+        figure_count=figures,
+        feasible=res.status == "optimal",
+        status_message=res.message,
+        payload=payload,
+        sections=tuple(sections),
+    )

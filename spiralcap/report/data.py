@@ -124,8 +124,9 @@ def _curve(model: Any, alpha: Any, f: Any, x: np.ndarray) -> Curve:
     from optimize import margin_grid
 
     g = margin_grid(model, alpha, f)
-    return Curve(x=x, margin_Nm=np.asarray(g["margin_Nm"], float),
-                 feasible=np.asarray(g["feasible"], bool))
+    return Curve(
+        x=x, margin_Nm=np.asarray(g["margin_Nm"], float), feasible=np.asarray(g["feasible"], bool)
+    )
 
 
 def frequency_range_hz(model: Any, step_out_hz: float) -> np.ndarray:
@@ -167,8 +168,9 @@ def field_maps(system: Any, uniform: dict[str, Any]) -> tuple[FieldMap, ...]:
     return tuple(maps)
 
 
-def uniformity_profiles(system: Any, half_width_m: float, n: int = 121
-                        ) -> tuple[np.ndarray, dict[str, np.ndarray]]:
+def uniformity_profiles(
+    system: Any, half_width_m: float, n: int = 121
+) -> tuple[np.ndarray, dict[str, np.ndarray]]:
     """|B| deviation along each pair's axis and across it, that pair driven alone."""
     import coils
 
@@ -181,12 +183,18 @@ def uniformity_profiles(system: Any, half_width_m: float, n: int = 121
             pts = np.zeros((n, 3))
             pts[:, j] = d
             out[f"{_AXES[k]} pair, {words}"] = np.asarray(
-                coils.uniformity(system, pts, np.eye(3)[k] / gains))
+                coils.uniformity(system, pts, np.eye(3)[k] / gains)
+            )
     return d, out
 
 
-def collect(design: Design, *, power_factors: tuple[float, ...] = POWER_FACTORS,
-            workers: int = 1, progress: Callable[[str], None] | None = None) -> ReportData:
+def collect(
+    design: Design,
+    *,
+    power_factors: tuple[float, ...] = POWER_FACTORS,
+    workers: int = 1,
+    progress: Callable[[str], None] | None = None,
+) -> ReportData:
     """Evaluate and optimise ``design`` and run the sweeps and field maps the report shows.
 
     Parameters
@@ -245,8 +253,9 @@ def collect(design: Design, *, power_factors: tuple[float, ...] = POWER_FACTORS,
     if res.status == "optimal":
         f_grid = np.union1d(f_grid, frequency_range_hz(model, res.step_out_frequency_hz))
     freq_design = _curve(model, ev.helical_angle_rad, f_grid, f_grid)
-    freq_opt = (_curve(model, res.helical_angle_rad, f_grid, f_grid)
-                if res.status == "optimal" else None)
+    freq_opt = (
+        _curve(model, res.helical_angle_rad, f_grid, f_grid) if res.status == "optimal" else None
+    )
     b = model.bounds
     lo = min(b.helical_angle_min_rad, ev.helical_angle_rad, res.helical_angle_rad)
     hi = max(b.helical_angle_max_rad, ev.helical_angle_rad, res.helical_angle_rad)
@@ -256,18 +265,31 @@ def collect(design: Design, *, power_factors: tuple[float, ...] = POWER_FACTORS,
 
     say("power sweep")
     powers = design["limits.power_W"] * np.asarray(power_factors, dtype=float)
-    power_sweep = sweep(design, [Axis("limits.power_W", powers)], optimize=True,
-                        workers=workers)
+    power_sweep = sweep(design, [Axis("limits.power_W", powers)], optimize=True, workers=workers)
     lap("power sweep")
 
     say("field maps")
     maps = field_maps(model.coils, coils_json["uniform_region"])
-    profile = uniformity_profiles(model.coils, MAP_EXTENT * min(
-        p.radius_m for p in model.coils.pairs))
+    profile = uniformity_profiles(
+        model.coils, MAP_EXTENT * min(p.radius_m for p in model.coils.pairs)
+    )
     lap("field maps")
     return ReportData(
-        design=design, model=model, evaluation=ev, optimization=res,
-        evaluate_json=evaluate_json, optimize_json=optimize_json, coils_json=coils_json,
-        coils_note=coils_note, freq_design=freq_design, freq_optimum=freq_opt,
-        angle_optimum=angle_opt, power_sweep=power_sweep, power_values_W=powers,
-        field_maps=maps, profile=profile, versions=versions(), timings_s=timings)
+        design=design,
+        model=model,
+        evaluation=ev,
+        optimization=res,
+        evaluate_json=evaluate_json,
+        optimize_json=optimize_json,
+        coils_json=coils_json,
+        coils_note=coils_note,
+        freq_design=freq_design,
+        freq_optimum=freq_opt,
+        angle_optimum=angle_opt,
+        power_sweep=power_sweep,
+        power_values_W=powers,
+        field_maps=maps,
+        profile=profile,
+        versions=versions(),
+        timings_s=timings,
+    )

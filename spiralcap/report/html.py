@@ -118,8 +118,11 @@ def _table(t: Table) -> str:
     ident = f' id="{html.escape(t.id)}"' if t.id else ""
     cap = f"<caption>{html.escape(t.caption)}</caption>" if t.caption else ""
     head = "".join(f"<th>{html.escape(h)}</th>" for h in t.headers)
-    return (f"<table{ident}>{cap}<thead><tr>{head}</tr></thead><tbody>"
-            + "\n".join(rows) + "</tbody></table>")
+    return (
+        f"<table{ident}>{cap}<thead><tr>{head}</tr></thead><tbody>"
+        + "\n".join(rows)
+        + "</tbody></table>"
+    )
 
 
 def figure_png(block: FigureBlock, dpi: int = PNG_DPI) -> bytes:
@@ -135,8 +138,13 @@ def figure_png(block: FigureBlock, dpi: int = PNG_DPI) -> bytes:
         FigureCanvasAgg(fig)
         block.draw(fig)
         buf = io.BytesIO()
-        fig.savefig(buf, format="png", dpi=dpi, facecolor="white",
-                    metadata={"Software": "spiralcap (matplotlib)"})
+        fig.savefig(
+            buf,
+            format="png",
+            dpi=dpi,
+            facecolor="white",
+            metadata={"Software": "spiralcap (matplotlib)"},
+        )
     return buf.getvalue()
 
 
@@ -144,9 +152,11 @@ def _figure(block: FigureBlock, number: int) -> str:
     data = base64.b64encode(figure_png(block)).decode("ascii")
     cap = html.escape(block.caption)
     alt = html.escape(block.caption.split(". ")[0])
-    return (f'<figure id="{html.escape(block.id)}"><img alt="{alt}" '
-            f'src="data:image/png;base64,{data}">'
-            f"<figcaption><strong>Figure {number}.</strong> {cap}</figcaption></figure>")
+    return (
+        f'<figure id="{html.escape(block.id)}"><img alt="{alt}" '
+        f'src="data:image/png;base64,{data}">'
+        f"<figcaption><strong>Figure {number}.</strong> {cap}</figcaption></figure>"
+    )
 
 
 def _block(block: Any, counter: list[int]) -> str:
@@ -172,8 +182,13 @@ def _json_script(data: Mapping[str, Any]) -> str:
     return f'<script type="application/json" id="spiralcap-data">\n{text}\n</script>'
 
 
-def render_html(title: str, subtitle: str, sections: Sequence[Section],
-                data: Mapping[str, Any], footer: str = "") -> str:
+def render_html(
+    title: str,
+    subtitle: str,
+    sections: Sequence[Section],
+    data: Mapping[str, Any],
+    footer: str = "",
+) -> str:
     """The whole report as one HTML document (a string).
 
     Parameters
@@ -190,32 +205,37 @@ def render_html(title: str, subtitle: str, sections: Sequence[Section],
         Plain text for the page foot.
     """
     counter = [0]
-    toc = "".join(f'<li><a href="#{html.escape(s.id)}">{html.escape(s.title)}</a></li>'
-                  for s in sections)
+    toc = "".join(
+        f'<li><a href="#{html.escape(s.id)}">{html.escape(s.title)}</a></li>' for s in sections
+    )
     body = []
     for i, s in enumerate(sections, 1):
         inner = "\n".join(_block(b, counter) for b in s.blocks)
         cls = ' class="summary"' if s.id == "summary" else ""
-        body.append(f'<section id="{html.escape(s.id)}"{cls}><h2>{i}. {html.escape(s.title)}'
-                    f"</h2>\n{inner}\n</section>")
-    return "\n".join([
-        "<!DOCTYPE html>",
-        '<html lang="en">',
-        "<head>",
-        '<meta charset="utf-8">',
-        '<meta name="viewport" content="width=device-width, initial-scale=1">',
-        f"<title>{html.escape(title)}</title>",
-        f"<style>{_CSS}</style>",
-        "</head>",
-        "<body>",
-        f"<header><h1>{html.escape(title)}</h1><p class=\"subtitle\">{html.escape(subtitle)}</p>"
-        f'<nav class="toc"><strong>Contents</strong><ol>{toc}</ol></nav></header>',
-        "<main>",
-        *body,
-        "</main>",
-        f"<footer>{html.escape(footer)}</footer>",
-        _json_script(data),
-        "</body>",
-        "</html>",
-        "",
-    ])
+        body.append(
+            f'<section id="{html.escape(s.id)}"{cls}><h2>{i}. {html.escape(s.title)}'
+            f"</h2>\n{inner}\n</section>"
+        )
+    return "\n".join(
+        [
+            "<!DOCTYPE html>",
+            '<html lang="en">',
+            "<head>",
+            '<meta charset="utf-8">',
+            '<meta name="viewport" content="width=device-width, initial-scale=1">',
+            f"<title>{html.escape(title)}</title>",
+            f"<style>{_CSS}</style>",
+            "</head>",
+            "<body>",
+            f'<header><h1>{html.escape(title)}</h1><p class="subtitle">{html.escape(subtitle)}</p>'
+            f'<nav class="toc"><strong>Contents</strong><ol>{toc}</ol></nav></header>',
+            "<main>",
+            *body,
+            "</main>",
+            f"<footer>{html.escape(footer)}</footer>",
+            _json_script(data),
+            "</body>",
+            "</html>",
+            "",
+        ]
+    )

@@ -15,10 +15,27 @@ SIGNIFICANT_FIGURES = 4
 
 #: Key-name unit suffixes (longest first) -> how the unit is written.
 _SUFFIX_UNITS: tuple[tuple[str, str], ...] = (
-    ("_W_m2K", "W/(m²·K)"), ("_kPa_s", "kPa·s"), ("_mm_s", "mm/s"), ("_m_s", "m/s"),
-    ("_kPa", "kPa"), ("_deg", "°"), ("_hz", "Hz"), ("_Hz", "Hz"), ("_mm", "mm"), ("_mN", "mN"),
-    ("_mNm", "mN·m"), ("_Nm", "N·m"), ("_mT", "mT"), ("_T", "T"), ("_C", "°C"), ("_K", "K"),
-    ("_A", "A"), ("_V", "V"), ("_W", "W"), ("_m", "m"), ("_s", "s"),
+    ("_W_m2K", "W/(m²·K)"),
+    ("_kPa_s", "kPa·s"),
+    ("_mm_s", "mm/s"),
+    ("_m_s", "m/s"),
+    ("_kPa", "kPa"),
+    ("_deg", "°"),
+    ("_hz", "Hz"),
+    ("_Hz", "Hz"),
+    ("_mm", "mm"),
+    ("_mN", "mN"),
+    ("_mNm", "mN·m"),
+    ("_Nm", "N·m"),
+    ("_mT", "mT"),
+    ("_T", "T"),
+    ("_C", "°C"),
+    ("_K", "K"),
+    ("_A", "A"),
+    ("_V", "V"),
+    ("_W", "W"),
+    ("_m", "m"),
+    ("_s", "s"),
 )
 
 

@@ -23,12 +23,12 @@ from spiralcap.report.document import (
     inline_text,
 )
 
-PAGE_IN = (8.27, 11.69)          # A4 portrait, inches
+PAGE_IN = (8.27, 11.69)  # A4 portrait, inches
 MARGIN_IN = 0.75
 _BODY_PT, _MONO_PT, _H_PT, _TITLE_PT = 10.0, 7.6, 14.0, 18.0
-_LINE = 1.35                      # line height / font size
-_CHAR_W = 0.6                     # monospace advance / font size (DejaVu Sans Mono)
-_WRAP_BODY = 95                   # characters per body line at 10 pt on A4
+_LINE = 1.35  # line height / font size
+_CHAR_W = 0.6  # monospace advance / font size (DejaVu Sans Mono)
+_WRAP_BODY = 95  # characters per body line at 10 pt on A4
 
 
 class _Pages:
@@ -54,19 +54,41 @@ class _Pages:
 
     def _finish(self, fig: Any) -> None:
         self.number += 1
-        fig.text(0.5, 0.35 / PAGE_IN[1], f"{self.footer} — page {self.number}", ha="center",
-                 va="bottom", fontsize=7.5, color="0.35")
+        fig.text(
+            0.5,
+            0.35 / PAGE_IN[1],
+            f"{self.footer} — page {self.number}",
+            ha="center",
+            va="bottom",
+            fontsize=7.5,
+            color="0.35",
+        )
         self.pdf.savefig(fig)
 
-    def line(self, text: str, size: float = _BODY_PT, *, mono: bool = False,
-             bold: bool = False, color: str = "black", indent_in: float = 0.0) -> None:
+    def line(
+        self,
+        text: str,
+        size: float = _BODY_PT,
+        *,
+        mono: bool = False,
+        bold: bool = False,
+        color: str = "black",
+        indent_in: float = 0.0,
+    ) -> None:
         height = size * _LINE / 72.0
         if self.fig is None or self.y - height < MARGIN_IN:
             self._new()
         self.y -= height
-        self.fig.text((MARGIN_IN + indent_in) / PAGE_IN[0], self.y / PAGE_IN[1], text,
-                      fontsize=size, family="monospace" if mono else "sans-serif",
-                      weight="bold" if bold else "normal", color=color, va="baseline")
+        self.fig.text(
+            (MARGIN_IN + indent_in) / PAGE_IN[0],
+            self.y / PAGE_IN[1],
+            text,
+            fontsize=size,
+            family="monospace" if mono else "sans-serif",
+            weight="bold" if bold else "normal",
+            color=color,
+            va="baseline",
+        )
 
     def space(self, points: float) -> None:
         self.y -= points / 72.0
@@ -93,8 +115,12 @@ class _Pages:
         w_avail = PAGE_IN[0] - 2 * MARGIN_IN
         h_avail = PAGE_IN[1] - 2 * MARGIN_IN
         height = block.size_in[1] * min(1.0, w_avail / block.size_in[0]) + 0.3
-        grid = page.subfigures(3, 3, width_ratios=[MARGIN_IN, w_avail, MARGIN_IN],
-                               height_ratios=[MARGIN_IN, h_avail, MARGIN_IN])
+        grid = page.subfigures(
+            3,
+            3,
+            width_ratios=[MARGIN_IN, w_avail, MARGIN_IN],
+            height_ratios=[MARGIN_IN, h_avail, MARGIN_IN],
+        )
         top, bottom = grid[1][1].subfigures(2, 1, height_ratios=[height, h_avail - height])
         block.draw(top)
         rest = h_avail - height
@@ -112,19 +138,30 @@ def _table_lines(t: Table, width: int) -> list[str]:
     if t.wrap is not None and sum(widths) + 2 * (ncol - 1) > width:
         others = sum(w for i, w in enumerate(widths) if i != t.wrap) + 2 * (ncol - 1)
         widths[t.wrap] = max(12, width - others)
-    lines = ["  ".join(h.ljust(w) for h, w in zip(t.headers, widths, strict=True)),
-             "  ".join("-" * w for w in widths)]
+    lines = [
+        "  ".join(h.ljust(w) for h, w in zip(t.headers, widths, strict=True)),
+        "  ".join("-" * w for w in widths),
+    ]
     for row in cells:
-        wrapped = [textwrap.wrap(c, widths[i]) or [""] if i == t.wrap else [c]
-                   for i, c in enumerate(row)]
+        wrapped = [
+            textwrap.wrap(c, widths[i]) or [""] if i == t.wrap else [c] for i, c in enumerate(row)
+        ]
         for k in range(max(len(w) for w in wrapped)):
-            lines.append("  ".join((w[k] if k < len(w) else "").ljust(widths[i])
-                                   for i, w in enumerate(wrapped)).rstrip())
+            lines.append(
+                "  ".join(
+                    (w[k] if k < len(w) else "").ljust(widths[i]) for i, w in enumerate(wrapped)
+                ).rstrip()
+            )
     return lines
 
 
-def render_pdf(title: str, subtitle: str, sections: Sequence[Section], footer: str,
-               metadata: dict[str, str] | None = None) -> tuple[bytes, int]:
+def render_pdf(
+    title: str,
+    subtitle: str,
+    sections: Sequence[Section],
+    footer: str,
+    metadata: dict[str, str] | None = None,
+) -> tuple[bytes, int]:
     """The report as PDF bytes and its page count.
 
     Parameters
@@ -143,8 +180,9 @@ def render_pdf(title: str, subtitle: str, sections: Sequence[Section], footer: s
     buf = io.BytesIO()
     mono_chars = int((PAGE_IN[0] - 2 * MARGIN_IN) * 72.0 / (_MONO_PT * _CHAR_W))
     figure_no = 0
-    with PdfPages(buf, metadata={"Title": title, "Creator": "spiralcap",
-                                 **(metadata or {})}) as pdf:
+    with PdfPages(
+        buf, metadata={"Title": title, "Creator": "spiralcap", **(metadata or {})}
+    ) as pdf:
         pages = _Pages(pdf, footer)
         pages.line(title, _TITLE_PT, bold=True)
         for ln in textwrap.wrap(subtitle, _WRAP_BODY):

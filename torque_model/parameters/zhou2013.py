@@ -26,8 +26,16 @@ from typing import Any
 from spiralcap.errors import InputError
 
 #: The keys a parameter set must have, exactly (units in the names).
-KEYS = ("E1_kPa", "E2_kPa", "E3_kPa", "eta1_kPa_s", "eta2_kPa_s", "lumen_diameter_mm",
-        "wall_thickness_mm", "friction_coefficient")
+KEYS = (
+    "E1_kPa",
+    "E2_kPa",
+    "E3_kPa",
+    "eta1_kPa_s",
+    "eta2_kPa_s",
+    "lumen_diameter_mm",
+    "wall_thickness_mm",
+    "friction_coefficient",
+)
 
 #: Table I and section II (sample 2), as published.
 SAMPLE2: dict[str, float] = {

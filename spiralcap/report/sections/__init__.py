@@ -21,6 +21,14 @@ __all__ = ["Context", "build_sections"]
 
 def build_sections(ctx: Context, command: str) -> list[Section]:
     """Every section of the report, in reading order."""
-    return [summary.build(ctx), inputs.build(ctx), coils.build(ctx), tissue.build(ctx),
-            margin.build(ctx), optimum.build(ctx), tradeoffs.build(ctx),
-            assumptions.build(ctx), reproducibility.build(ctx, command)]
+    return [
+        summary.build(ctx),
+        inputs.build(ctx),
+        coils.build(ctx),
+        tissue.build(ctx),
+        margin.build(ctx),
+        optimum.build(ctx),
+        tradeoffs.build(ctx),
+        assumptions.build(ctx),
+        reproducibility.build(ctx, command),
+    ]

@@ -10,20 +10,32 @@ from spiralcap.report.numbers import Num, lookup
 
 #: How an SI unit of a check or limit is shown: unit -> (shown unit, factor).
 SHOWN_UNITS: dict[str, tuple[str, float]] = {
-    "T": ("mT", 1e3), "m/s": ("mm/s", 1e3), "N·m": ("mN·m", 1e3), "m": ("mm", 1e3),
-    "H": ("mH", 1e3), "rad": ("deg", 57.29577951308232),
+    "T": ("mT", 1e3),
+    "m/s": ("mm/s", 1e3),
+    "N·m": ("mN·m", 1e3),
+    "m": ("mm", 1e3),
+    "H": ("mH", 1e3),
+    "rad": ("deg", 57.29577951308232),
 }
 
 #: Readable names of the checks, limits and bounds the optimiser reports.
 _NAMES = {
-    "margin": "torque margin", "speed": "forward speed", "spiral_turns": "spiral turns",
-    "power": "total copper power", "field_exposure": "field exposure (ICNIRP 2010)",
-    "helical_angle_min": "lower helical-angle bound", "helical_angle_max":
-        "upper helical-angle bound", "frequency_min": "lower frequency bound",
-    "frequency_max": "upper frequency bound", "solver": "solver did not converge",
+    "margin": "torque margin",
+    "speed": "forward speed",
+    "spiral_turns": "spiral turns",
+    "power": "total copper power",
+    "field_exposure": "field exposure (ICNIRP 2010)",
+    "helical_angle_min": "lower helical-angle bound",
+    "helical_angle_max": "upper helical-angle bound",
+    "frequency_min": "lower frequency bound",
+    "frequency_max": "upper frequency bound",
+    "solver": "solver did not converge",
 }
-_PER_AXIS = {"current": "current", "voltage": "drive voltage",
-             "temperature_rise": "coil temperature rise"}
+_PER_AXIS = {
+    "current": "current",
+    "voltage": "drive voltage",
+    "temperature_rise": "coil temperature rise",
+}
 
 
 def readable(name: str) -> str:

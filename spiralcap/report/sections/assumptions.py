@@ -7,17 +7,17 @@ from spiralcap.report.sections._util import Context
 
 #: The references the report cites (no URLs: the report must open offline and fetch nothing).
 REFERENCES: tuple[str, ...] = (
-    "[1] H. Zhou, G. Alici, T. D. Than, W. Li, \"Modeling and experimental investigation of "
-    "rotational resistance of a spiral-type robotic capsule inside a real intestine\", "
+    '[1] H. Zhou, G. Alici, T. D. Than, W. Li, "Modeling and experimental investigation of '
+    'rotational resistance of a spiral-type robotic capsule inside a real intestine", '
     "IEEE/ASME Transactions on Mechatronics 18(5), 2013.",
-    "[2] ICNIRP, \"Guidelines for limiting exposure to time-varying electric and magnetic fields "
-    "(1 Hz to 100 kHz)\", Health Physics 99(6):818-836, 2010.",
+    '[2] ICNIRP, "Guidelines for limiting exposure to time-varying electric and magnetic fields '
+    '(1 Hz to 100 kHz)", Health Physics 99(6):818-836, 2010.',
     "[3] W. R. Smythe, Static and Dynamic Electricity, 3rd ed., McGraw-Hill, 1968, §7.10.",
-    "[4] J. C. Simpson, J. E. Lane, C. D. Immer, R. C. Youngquist, \"Simple analytic expressions "
-    "for the magnetic field of a circular current loop\", NASA/TM-2001-210040, 2001.",
+    '[4] J. C. Simpson, J. E. Lane, C. D. Immer, R. C. Youngquist, "Simple analytic expressions '
+    'for the magnetic field of a circular current loop", NASA/TM-2001-210040, 2001.',
     "[5] J. C. Maxwell, A Treatise on Electricity and Magnetism, 1873, §701 (mutual inductance "
     "of coaxial circles).",
-    "[6] E. B. Rosa, F. W. Grover, \"Formulas and tables for the calculation of mutual and "
+    '[6] E. B. Rosa, F. W. Grover, "Formulas and tables for the calculation of mutual and '
     "self-inductance\", Bulletin of the Bureau of Standards 8, 1912 (Stefan's formula); "
     "F. W. Grover, Inductance Calculations, 1946, ch. 16.",
     "[7] R. G. Budynas, J. K. Nisbett, Shigley's Mechanical Engineering Design, 9th ed., "
@@ -26,14 +26,14 @@ REFERENCES: tuple[str, ...] = (
     "a dipole).",
     "[9] IEC 60028, International standard of resistance for copper (resistivity and its "
     "temperature coefficient).",
-    "[10] J. A. E. Andersson, J. Gillis, G. Horn, J. B. Rawlings, M. Diehl, \"CasADi: a software "
-    "framework for nonlinear optimization and optimal control\", Mathematical Programming "
+    '[10] J. A. E. Andersson, J. Gillis, G. Horn, J. B. Rawlings, M. Diehl, "CasADi: a software '
+    'framework for nonlinear optimization and optimal control", Mathematical Programming '
     "Computation 11:1-36, 2019.",
-    "[11] A. Wächter, L. T. Biegler, \"On the implementation of an interior-point filter "
-    "line-search algorithm for large-scale nonlinear programming\", Mathematical Programming "
+    '[11] A. Wächter, L. T. Biegler, "On the implementation of an interior-point filter '
+    'line-search algorithm for large-scale nonlinear programming", Mathematical Programming '
     "106:25-57, 2006.",
-    "[12] M. Ortner, L. G. Coliado Bandeira, \"Magpylib: a free Python package for magnetic "
-    "field computation\", SoftwareX 11:100466, 2020 (independent reference in the tests).",
+    '[12] M. Ortner, L. G. Coliado Bandeira, "Magpylib: a free Python package for magnetic '
+    'field computation", SoftwareX 11:100466, 2020 (independent reference in the tests).',
 )
 
 
@@ -42,64 +42,103 @@ def build(ctx: Context) -> Section:
     d = ctx.data.design
     exposure = d["limits.field_exposure"]
     items: list[list[Inline]] = [
-        [Strong("Tissue resistive torque"), " — Zhou et al. 2013 [1], section III, eqs. 2–8: "
-         "the deformed wall over the wound section as a circle of the same perimeter (D′, the "
-         "convex envelope of capsule and wire bump), strain (6), five-element viscoelastic "
-         "stress (2)/(4) with t = θ/ω over one revolution, thin-walled pressure (3), Coulomb "
-         "friction (7) and moment arm D_after/2 (8), read as a force per unit axial length "
-         "(the only dimensionally consistent reading). Parameters: Tables I–II with the "
-         "lumen, wall and friction of section II."],
-        [Strong("Calibration factor"), " — read literally in SI the published sets give a torque "
-         "about 350 times below the measured 0.6–1.8 mN·m while the frequency shape matches; "
-         "all five moduli and viscosities are multiplied by k = ",
-         ctx.num("tissue.calibration_factor"), ", a least-squares fit (relative error) to the "
-         "two sample-2, capsule-No.-2 points only, which leaves every E/η ratio, and so the "
-         "frequency shape, as published. The reading, the arithmetic and the validation against "
-         "capsule No. 1 (errors up to +24 % at 3 Hz) are in docs/torque-model.md. k is a "
-         "calibration to the paper's measurements, not a tissue property."],
-        [Strong("Field exposure"), f" — limits.field_exposure = '{exposure}': ICNIRP 2010 [2], "
-         "Tables 3–4, reference levels of magnetic flux density (rms): occupational 0.2/f² T "
-         "for 1–8 Hz, 2.5·10⁻²/f T for 8–25 Hz, 1 mT above; general public 4·10⁻²/f² T, "
-         "5·10⁻³/f T, 0.2 mT. Below 1 Hz the 1 Hz level is held. A circularly rotating field's "
-         "rms equals its amplitude, so the level bounds B0 directly."],
-        [Strong("Coil field"), " — exact off-axis field of each circular filament from the "
-         "complete elliptic integrals K(m), E(m) (Smythe [3], in the notation of Simpson et al. "
-         "[4]), with a series form of the radial term near the axis; each winding pack is a "
-         "Gauss–Legendre grid of filaments; the field is linear in the three currents, "
-         "B(p) = G(p)·I. magpylib [12] is the independent reference in the tests."],
-        [Strong("Inductance and resistance"), " — mutual inductance of coaxial circles by "
-         "Maxwell's elliptic-integral formula [5] averaged over both winding packs; self "
-         "inductance by Stefan's formula for a square section [6]; series pair 2L + 2M. DC "
-         "copper resistance at coils.winding_temperature_C, by default the coil temperature "
-         "limit (IEC 60028 resistivity and temperature coefficient [9]); at these frequencies "
-         "the skin depth exceeds the wire radius. Voltage amplitude |R + j2πfL|·I."],
-        [Strong("Heating"), " — steady state, each winding pack isothermal, convection from its "
-         "outer surface with coils.heat_transfer_coefficient_W_m2K: ΔT = P / (h·A). No "
-         "conduction to the frame, no radiation, no transient (a conservative simplification "
-         "for continuous operation)."],
-        [Strong("Magnet and magnetic torque"), " — uniformly magnetised at its remanence, "
-         "moment m = B_r·V/μ0; point dipole in the local field, τ = m × B [8]. In a rotating "
-         "field the capsule lags by δ with τ = m·B0·sin δ, so m·B0 is the most it delivers; a "
-         "larger load steps it out of synchrony."],
-        [Strong("Propulsion"), " — the spiral as a square-thread power screw in a compliant nut: "
-         "thrust torque F·(D_h/2)·tan(α + atan μ) (Budynas & Nisbett [7], §8-2), axial load "
-         "requirements.axial_load_mN (20–100 mN is cited for capsules in porcine small "
-         "intestine [1]); forward speed η·f·lead with lead = π·D_h·tan α and one slip "
-         "efficiency η (requirements.slip_efficiency). A documented default, not a validated "
-         "model."],
-        [Strong("Workspace and headings"), " — the margin uses the weakest rotating field the "
-         "magnet sees over the workspace points (centre, ±radius on each axis, the eight cube "
-         "corners on the sphere) and over the design's headings (13 cube symmetry directions "
-         "for 'all'); each axis is driven with the worst heading's current."],
-        [Strong("Optimisation"), " — epigraph NLP over helical angle, frequency and field "
-         "amplitude, built with CasADi [10] (exact first and second derivatives) and solved by "
-         "IPOPT [11] from several starts; the multipliers of the active constraints give the "
-         "gain per unit of each binding limit (docs/optimisation.md)."],
+        [
+            Strong("Tissue resistive torque"),
+            " — Zhou et al. 2013 [1], section III, eqs. 2–8: "
+            "the deformed wall over the wound section as a circle of the same perimeter (D′, the "
+            "convex envelope of capsule and wire bump), strain (6), five-element viscoelastic "
+            "stress (2)/(4) with t = θ/ω over one revolution, thin-walled pressure (3), Coulomb "
+            "friction (7) and moment arm D_after/2 (8), read as a force per unit axial length "
+            "(the only dimensionally consistent reading). Parameters: Tables I–II with the "
+            "lumen, wall and friction of section II.",
+        ],
+        [
+            Strong("Calibration factor"),
+            " — read literally in SI the published sets give a torque "
+            "about 350 times below the measured 0.6–1.8 mN·m while the frequency shape matches; "
+            "all five moduli and viscosities are multiplied by k = ",
+            ctx.num("tissue.calibration_factor"),
+            ", a least-squares fit (relative error) to the "
+            "two sample-2, capsule-No.-2 points only, which leaves every E/η ratio, and so the "
+            "frequency shape, as published. The reading, the arithmetic and the validation against "
+            "capsule No. 1 (errors up to +24 % at 3 Hz) are in docs/torque-model.md. k is a "
+            "calibration to the paper's measurements, not a tissue property.",
+        ],
+        [
+            Strong("Field exposure"),
+            f" — limits.field_exposure = '{exposure}': ICNIRP 2010 [2], "
+            "Tables 3–4, reference levels of magnetic flux density (rms): occupational 0.2/f² T "
+            "for 1–8 Hz, 2.5·10⁻²/f T for 8–25 Hz, 1 mT above; general public 4·10⁻²/f² T, "
+            "5·10⁻³/f T, 0.2 mT. Below 1 Hz the 1 Hz level is held. A circularly rotating field's "
+            "rms equals its amplitude, so the level bounds B0 directly.",
+        ],
+        [
+            Strong("Coil field"),
+            " — exact off-axis field of each circular filament from the "
+            "complete elliptic integrals K(m), E(m) (Smythe [3], in the notation of Simpson et al. "
+            "[4]), with a series form of the radial term near the axis; each winding pack is a "
+            "Gauss–Legendre grid of filaments; the field is linear in the three currents, "
+            "B(p) = G(p)·I. magpylib [12] is the independent reference in the tests.",
+        ],
+        [
+            Strong("Inductance and resistance"),
+            " — mutual inductance of coaxial circles by "
+            "Maxwell's elliptic-integral formula [5] averaged over both winding packs; self "
+            "inductance by Stefan's formula for a square section [6]; series pair 2L + 2M. DC "
+            "copper resistance at coils.winding_temperature_C, by default the coil temperature "
+            "limit (IEC 60028 resistivity and temperature coefficient [9]); at these frequencies "
+            "the skin depth exceeds the wire radius. Voltage amplitude |R + j2πfL|·I.",
+        ],
+        [
+            Strong("Heating"),
+            " — steady state, each winding pack isothermal, convection from its "
+            "outer surface with coils.heat_transfer_coefficient_W_m2K: ΔT = P / (h·A). No "
+            "conduction to the frame, no radiation, no transient (a conservative simplification "
+            "for continuous operation).",
+        ],
+        [
+            Strong("Magnet and magnetic torque"),
+            " — uniformly magnetised at its remanence, "
+            "moment m = B_r·V/μ0; point dipole in the local field, τ = m × B [8]. In a rotating "
+            "field the capsule lags by δ with τ = m·B0·sin δ, so m·B0 is the most it delivers; a "
+            "larger load steps it out of synchrony.",
+        ],
+        [
+            Strong("Propulsion"),
+            " — the spiral as a square-thread power screw in a compliant nut: "
+            "thrust torque F·(D_h/2)·tan(α + atan μ) (Budynas & Nisbett [7], §8-2), axial load "
+            "requirements.axial_load_mN (20–100 mN is cited for capsules in porcine small "
+            "intestine [1]); forward speed η·f·lead with lead = π·D_h·tan α and one slip "
+            "efficiency η (requirements.slip_efficiency). A documented default, not a validated "
+            "model.",
+        ],
+        [
+            Strong("Workspace and headings"),
+            " — the margin uses the weakest rotating field the "
+            "magnet sees over the workspace points (centre, ±radius on each axis, the eight cube "
+            "corners on the sphere) and over the design's headings (13 cube symmetry directions "
+            "for 'all'); each axis is driven with the worst heading's current.",
+        ],
+        [
+            Strong("Optimisation"),
+            " — epigraph NLP over helical angle, frequency and field "
+            "amplitude, built with CasADi [10] (exact first and second derivatives) and solved by "
+            "IPOPT [11] from several starts; the multipliers of the active constraints give the "
+            "gain per unit of each binding limit (docs/optimisation.md).",
+        ],
     ]
-    return Section("assumptions", "Assumptions and sources", [
-        Paragraph(["Every number in this report comes from the models below; where a model is "
-                   "a simplification it says so."]),
-        Bullets(items),
-        Paragraph([Strong("References")]),
-        Bullets([[r] for r in REFERENCES]),
-    ])
+    return Section(
+        "assumptions",
+        "Assumptions and sources",
+        [
+            Paragraph(
+                [
+                    "Every number in this report comes from the models below; where a model is "
+                    "a simplification it says so."
+                ]
+            ),
+            Bullets(items),
+            Paragraph([Strong("References")]),
+            Bullets([[r] for r in REFERENCES]),
+        ],
+    )

@@ -49,9 +49,13 @@ def _sizing_table(ctx: Context) -> Table:
         row = [f"radius of the ±{tol[0]} % sphere, this pair alone", "m"]
         row += [ctx.num(f"coils.uniform_region.per_axis.{ax}.radius_{tol}_m") for ax in axes]
         rows.append(row)
-    return Table(["quantity", "unit", *[f"{a} pair" for a in axes]], rows,
-                 caption="Coil sizing per axis (same numbers as `spiralcap coils --json`)",
-                 wrap=0, id="coil-table")
+    return Table(
+        ["quantity", "unit", *[f"{a} pair" for a in axes]],
+        rows,
+        caption="Coil sizing per axis (same numbers as `spiralcap coils --json`)",
+        wrap=0,
+        id="coil-table",
+    )
 
 
 def _draw_maps(maps: Any, workspace_radius_m: float) -> Any:
@@ -64,19 +68,45 @@ def _draw_maps(maps: Any, workspace_radius_m: float) -> Any:
         drawn = None
         for ax, m in zip(axs, maps, strict=True):
             drawn = plot_field_deviation_map(
-                ax, m.u_m, m.v_m, m.deviation, axis_labels=m.plane,
-                uniform_radii_m=m.uniform_radii_m, workspace_radius_m=workspace_radius_m,
-                title=f"{m.axis} pair driven", colorbar=False, legend=False,
-                label_contours=False)
-        fig.colorbar(drawn["filled"], ax=list(axs), label="|B| deviation (%)", shrink=0.8,
-                     location="right", format="%g")
-        proxies = [Line2D([], [], color="black", linestyle="-", linewidth=2.0),
-                   Line2D([], [], color="black", linestyle="--", linewidth=2.0),
-                   Line2D([], [], color="#D55E00", linestyle=":", linewidth=1.8),
-                   Line2D([], [], color="black", linestyle="-.", linewidth=1.6)]
-        fig.legend(proxies, ["±1 % contour", "±5 % contour",
-                             "±1 % and ±5 % spheres (radii in the table)", "workspace"],
-                   loc="outside lower center", ncols=2, fontsize=8)
+                ax,
+                m.u_m,
+                m.v_m,
+                m.deviation,
+                axis_labels=m.plane,
+                uniform_radii_m=m.uniform_radii_m,
+                workspace_radius_m=workspace_radius_m,
+                title=f"{m.axis} pair driven",
+                colorbar=False,
+                legend=False,
+                label_contours=False,
+            )
+        fig.colorbar(
+            drawn["filled"],
+            ax=list(axs),
+            label="|B| deviation (%)",
+            shrink=0.8,
+            location="right",
+            format="%g",
+        )
+        proxies = [
+            Line2D([], [], color="black", linestyle="-", linewidth=2.0),
+            Line2D([], [], color="black", linestyle="--", linewidth=2.0),
+            Line2D([], [], color="#D55E00", linestyle=":", linewidth=1.8),
+            Line2D([], [], color="black", linestyle="-.", linewidth=1.6),
+        ]
+        fig.legend(
+            proxies,
+            [
+                "±1 % contour",
+                "±5 % contour",
+                "±1 % and ±5 % spheres (radii in the table)",
+                "workspace",
+            ],
+            loc="outside lower center",
+            ncols=2,
+            fontsize=8,
+        )
+
     return draw
 
 
@@ -88,6 +118,7 @@ def _draw_profiles(profile: Any) -> Any:
         d, devs = profile
         plot_uniformity_profile(ax, d, devs)
         ax.set_ylim(-12, 6)
+
     return draw
 
 
@@ -96,55 +127,85 @@ def build(ctx: Context) -> Section:
     c = "coils"
     axes = list(ctx.value("coils.axes"))
     design = ctx.data.design
-    intro = Paragraph([
-        "Each pair is sized at the current-amplitude limit ",
-        ctx.num(f"{c}.current_amplitude_A", unit="A"), " and the operating frequency ",
-        ctx.num(f"{c}.frequency_hz", unit="Hz"), ", copper resistance at ",
-        ctx.num(f"{c}.winding_temperature_C", unit="°C"), ", ambient ",
-        ctx.num(f"{c}.ambient_temperature_C", unit="°C"), ". All three pairs at that current "
-        "dissipate ", ctx.num(f"{c}.total_power_W", unit="W"), ". Inside every limit the "
-        "largest rotating field (worst heading) is ",
-        ctx.num(f"{c}.rotating_field_within_limits.max_rotating_field_T", 1e3, "mT"),
-        ", set by ", str(ctx.value(f"{c}.rotating_field_within_limits.limited_by")).replace(
-            "_", " "),
-        f" ({ctx.value(f'{c}.rotating_field_within_limits.limit_key')}; the current limit alone "
-        "would allow ", ctx.num(f"{c}.current_limited_rotating_field_T", 1e3, "mT"),
-        ", the power limit alone ",
-        ctx.num(f"{c}.rotating_field_within_limits.per_limit_max_field_T.power", 1e3, "mT"),
-        "). These limits are the ones the evaluation and the optimiser apply."])
+    intro = Paragraph(
+        [
+            "Each pair is sized at the current-amplitude limit ",
+            ctx.num(f"{c}.current_amplitude_A", unit="A"),
+            " and the operating frequency ",
+            ctx.num(f"{c}.frequency_hz", unit="Hz"),
+            ", copper resistance at ",
+            ctx.num(f"{c}.winding_temperature_C", unit="°C"),
+            ", ambient ",
+            ctx.num(f"{c}.ambient_temperature_C", unit="°C"),
+            ". All three pairs at that current dissipate ",
+            ctx.num(f"{c}.total_power_W", unit="W"),
+            ". Inside every limit the largest rotating field (worst heading) is ",
+            ctx.num(f"{c}.rotating_field_within_limits.max_rotating_field_T", 1e3, "mT"),
+            ", set by ",
+            str(ctx.value(f"{c}.rotating_field_within_limits.limited_by")).replace("_", " "),
+            f" ({ctx.value(f'{c}.rotating_field_within_limits.limit_key')}; the current limit alone "
+            "would allow ",
+            ctx.num(f"{c}.current_limited_rotating_field_T", 1e3, "mT"),
+            ", the power limit alone ",
+            ctx.num(f"{c}.rotating_field_within_limits.per_limit_max_field_T.power", 1e3, "mT"),
+            "). These limits are the ones the evaluation and the optimiser apply.",
+        ]
+    )
     blocks: list[Any] = [intro]
     limit_C = design["limits.coil_temperature_C"]
     hot = [a for a in axes if ctx.value(f"{c}.axes.{a}.coil_temperature_C") > limit_C]
     if hot:
-        blocks.append(Paragraph([
-            "At the full current limit the ", ", ".join(hot), " coils would exceed "
-            f"limits.coil_temperature_C = {limit_C:g} °C (e.g. ",
-            ctx.num(f"{c}.axes.{hot[0]}.coil_temperature_C", unit="°C"),
-            "), so the evaluation and the optimiser drive them below that current."],
-            kind="note"))
+        blocks.append(
+            Paragraph(
+                [
+                    "At the full current limit the ",
+                    ", ".join(hot),
+                    f" coils would exceed limits.coil_temperature_C = {limit_C:g} °C (e.g. ",
+                    ctx.num(f"{c}.axes.{hot[0]}.coil_temperature_C", unit="°C"),
+                    "), so the evaluation and the optimiser drive them below that current.",
+                ],
+                kind="note",
+            )
+        )
     blocks.append(_sizing_table(ctx))
     ws = float(design["workspace.radius_m"])
-    blocks.append(Paragraph([
-        Strong("Uniformity. "), "Over all 13 static field directions (axes, face and body "
-        "diagonals) |B| stays within ±1 % of its centre value inside a sphere of radius ",
-        ctx.num(f"{c}.uniform_region.radius_1pct_m", 1e3, "mm"), " and within ±5 % inside ",
-        ctx.num(f"{c}.uniform_region.radius_5pct_m", 1e3, "mm"),
-        f"; the design's workspace radius is {ws * 1e3:g} mm. The evaluation does not assume "
-        "uniformity: it takes the weakest rotating field over the workspace points and "
-        "headings (the workspace field factor, ",
-        ctx.num("evaluate.workspace_field_factor"), ")."]))
-    blocks.append(FigureBlock(
-        "fig-field-maps",
-        "|B| deviation from its centre value on planes through the coil centre (x–z plane for "
-        "the x and z pairs, y–z plane for the y pair), each pair driven alone (a static field "
-        "along its axis), from coils.uniformity. Solid contour: ±1 %; dashed: ±5 %; dotted "
-        "circles: the ±1 % and ±5 % spheres of that field direction (coils.uniform_region, "
-        "radii in the sizing table); dash-dot circle: the design's workspace.",
-        _draw_maps(ctx.data.field_maps, ws), size_in=(7.5, 3.5)))
-    blocks.append(FigureBlock(
-        "fig-field-profiles",
-        "|B| deviation along each pair's axis and across it, that pair driven alone. Dashed "
-        "lines: ±1 %; dotted: ±5 %. An ideal Helmholtz pair is flat to fourth order at the "
-        "centre; the nested pairs' finite winding packs and spacing set the curvature.",
-        _draw_profiles(ctx.data.profile), size_in=(7.0, 4.0)))
+    blocks.append(
+        Paragraph(
+            [
+                Strong("Uniformity. "),
+                "Over all 13 static field directions (axes, face and body "
+                "diagonals) |B| stays within ±1 % of its centre value inside a sphere of radius ",
+                ctx.num(f"{c}.uniform_region.radius_1pct_m", 1e3, "mm"),
+                " and within ±5 % inside ",
+                ctx.num(f"{c}.uniform_region.radius_5pct_m", 1e3, "mm"),
+                f"; the design's workspace radius is {ws * 1e3:g} mm. The evaluation does not assume "
+                "uniformity: it takes the weakest rotating field over the workspace points and "
+                "headings (the workspace field factor, ",
+                ctx.num("evaluate.workspace_field_factor"),
+                ").",
+            ]
+        )
+    )
+    blocks.append(
+        FigureBlock(
+            "fig-field-maps",
+            "|B| deviation from its centre value on planes through the coil centre (x–z plane for "
+            "the x and z pairs, y–z plane for the y pair), each pair driven alone (a static field "
+            "along its axis), from coils.uniformity. Solid contour: ±1 %; dashed: ±5 %; dotted "
+            "circles: the ±1 % and ±5 % spheres of that field direction (coils.uniform_region, "
+            "radii in the sizing table); dash-dot circle: the design's workspace.",
+            _draw_maps(ctx.data.field_maps, ws),
+            size_in=(7.5, 3.5),
+        )
+    )
+    blocks.append(
+        FigureBlock(
+            "fig-field-profiles",
+            "|B| deviation along each pair's axis and across it, that pair driven alone. Dashed "
+            "lines: ±1 %; dotted: ±5 %. An ideal Helmholtz pair is flat to fourth order at the "
+            "centre; the nested pairs' finite winding packs and spacing set the curvature.",
+            _draw_profiles(ctx.data.profile),
+            size_in=(7.0, 4.0),
+        )
+    )
     return Section("coils", "Coil sizing and field uniformity", blocks)

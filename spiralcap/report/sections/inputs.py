@@ -41,15 +41,30 @@ def build(ctx: Context) -> Section:
         else:
             state = "CHANGED"
             changed += 1
-        rows.append([key, show_value(value), unit_of_key(key) or "–", state,
-                     f"{spec.help}. Allowed: {spec.allowed}."])
-    intro = Paragraph([
-        f"Design source: {design.source}. Every key of the design schema is listed, in the "
-        f"units its name carries; {changed} "
-        f"{'differs' if changed == 1 else 'differ'} from the built-in defaults (marked "
-        "CHANGED). Optional keys left unset take their value from elsewhere: the tissue preset "
-        "for tissue.*, the coil radius (Helmholtz spacing) for coils.*.separation_m, the magnet "
-        "grade for capsule.magnet.remanence_T."])
-    table = Table(["key", "value", "unit", "state", "meaning and allowed values"], rows,
-                  caption="Design inputs", wrap=4, id="inputs-table")
+        rows.append(
+            [
+                key,
+                show_value(value),
+                unit_of_key(key) or "–",
+                state,
+                f"{spec.help}. Allowed: {spec.allowed}.",
+            ]
+        )
+    intro = Paragraph(
+        [
+            f"Design source: {design.source}. Every key of the design schema is listed, in the "
+            f"units its name carries; {changed} "
+            f"{'differs' if changed == 1 else 'differ'} from the built-in defaults (marked "
+            "CHANGED). Optional keys left unset take their value from elsewhere: the tissue preset "
+            "for tissue.*, the coil radius (Helmholtz spacing) for coils.*.separation_m, the magnet "
+            "grade for capsule.magnet.remanence_T."
+        ]
+    )
+    table = Table(
+        ["key", "value", "unit", "state", "meaning and allowed values"],
+        rows,
+        caption="Design inputs",
+        wrap=4,
+        id="inputs-table",
+    )
     return Section("inputs", "Design inputs", [intro, table])

@@ -46,8 +46,13 @@ def evaluation_table(ctx: Context, columns: list[tuple[str, str]], caption: str)
             else:
                 row.append(ctx.num(f"{prefix}.{field}", factor))
         rows.append(row)
-    return Table(["quantity", "unit", *[h for _, h in columns]], rows, caption=caption,
-                 wrap=0, id="operating-points")
+    return Table(
+        ["quantity", "unit", *[h for _, h in columns]],
+        rows,
+        caption=caption,
+        wrap=0,
+        id="operating-points",
+    )
 
 
 def checks_table(ctx: Context, prefix: str, caption: str, ident: str) -> Table:
@@ -55,12 +60,19 @@ def checks_table(ctx: Context, prefix: str, caption: str, ident: str) -> Table:
     rows: list[list[Cell]] = []
     for i, c in enumerate(ctx.value(f"{prefix}.checks")):
         label, factor = SHOWN_UNITS.get(c["unit"], (c["unit"], 1.0))
-        rows.append([readable(c["name"]), c["key"],
-                     ctx.num(f"{prefix}.checks.{i}.value", factor, label),
-                     c["sense"], ctx.num(f"{prefix}.checks.{i}.allowed", factor, label),
-                     "yes" if c["ok"] else "NO"])
-    return Table(["check", "design key", "value", "", "allowed", "ok"], rows, caption=caption,
-                 id=ident)
+        rows.append(
+            [
+                readable(c["name"]),
+                c["key"],
+                ctx.num(f"{prefix}.checks.{i}.value", factor, label),
+                c["sense"],
+                ctx.num(f"{prefix}.checks.{i}.allowed", factor, label),
+                "yes" if c["ok"] else "NO",
+            ]
+        )
+    return Table(
+        ["check", "design key", "value", "", "allowed", "ok"], rows, caption=caption, id=ident
+    )
 
 
 def _draw_frequency(data: Any) -> Any:
@@ -71,20 +83,32 @@ def _draw_frequency(data: Any) -> Any:
 
         ax = fig.subplots()
         c = data.freq_design
-        plot_margin_vs_frequency(ax, c.x, c.margin_Nm, feasible=c.feasible,
-                                 step_out_frequency_hz=ev.step_out_frequency_hz,
-                                 operating_frequency_hz=ev.frequency_hz,
-                                 label=f"as entered, α = {ev.helical_angle_deg:.4g}°")
+        plot_margin_vs_frequency(
+            ax,
+            c.x,
+            c.margin_Nm,
+            feasible=c.feasible,
+            step_out_frequency_hz=ev.step_out_frequency_hz,
+            operating_frequency_hz=ev.frequency_hz,
+            label=f"as entered, α = {ev.helical_angle_deg:.4g}°",
+        )
         if data.freq_optimum is not None:
             c = data.freq_optimum
-            plot_margin_vs_frequency(ax, c.x, c.margin_Nm, feasible=None, style_index=1,
-                                     step_out_frequency_hz=res.step_out_frequency_hz,
-                                     operating_frequency_hz=res.frequency_hz,
-                                     label=f"optimum, α = {res.helical_angle_deg:.4g}°",
-                                     shade=False)
+            plot_margin_vs_frequency(
+                ax,
+                c.x,
+                c.margin_Nm,
+                feasible=None,
+                style_index=1,
+                step_out_frequency_hz=res.step_out_frequency_hz,
+                operating_frequency_hz=res.frequency_hz,
+                label=f"optimum, α = {res.helical_angle_deg:.4g}°",
+                shade=False,
+            )
         top = float(max(data.freq_design.margin_Nm.max(), res.margin_Nm)) * 1e3
         if top > 0:
             ax.set_ylim(-0.8 * top, 1.25 * top)
+
     return draw
 
 
@@ -93,8 +117,10 @@ def _draw_budget(data: Any) -> Any:
         from spiralcap.figures.design import plot_torque_budget
 
         ax = fig.subplots()
-        plot_torque_budget(ax, [("as entered", data.evaluate_json),
-                                ("optimum", data.optimize_json["evaluation"])])
+        plot_torque_budget(
+            ax, [("as entered", data.evaluate_json), ("optimum", data.optimize_json["evaluation"])]
+        )
+
     return draw
 
 
@@ -102,38 +128,61 @@ def build(ctx: Context) -> Section:
     """The margin section."""
     e, o = "evaluate", "optimize"
     step = ctx.value(f"{e}.step_out_frequency_hz")
-    intro = Paragraph([
-        "The margin is the weakest synchronous magnetic torque over the workspace points and "
-        "headings minus the largest required torque (tissue resistive + thrust) over the tissue "
-        "sets, with the coils driven at the largest rotating field every limit allows at that "
-        "frequency (docs/optimisation.md). It falls with frequency: the tissue torque rises and "
-        "the inductive drive voltage and the exposure limit cut the field. At the design's "
-        "helical angle the margin reaches zero, and the capsule steps out of synchrony, at ",
-        *step_out_parts(ctx, f"{e}.step_out_frequency_hz"),
-        "; at the optimum's helical angle at ", *step_out_parts(ctx, f"{o}.step_out_frequency_hz"),
-        "."])
+    intro = Paragraph(
+        [
+            "The margin is the weakest synchronous magnetic torque over the workspace points and "
+            "headings minus the largest required torque (tissue resistive + thrust) over the tissue "
+            "sets, with the coils driven at the largest rotating field every limit allows at that "
+            "frequency (docs/optimisation.md). It falls with frequency: the tissue torque rises and "
+            "the inductive drive voltage and the exposure limit cut the field. At the design's "
+            "helical angle the margin reaches zero, and the capsule steps out of synchrony, at ",
+            *step_out_parts(ctx, f"{e}.step_out_frequency_hz"),
+            "; at the optimum's helical angle at ",
+            *step_out_parts(ctx, f"{o}.step_out_frequency_hz"),
+            ".",
+        ]
+    )
     blocks: list[Any] = [intro]
     if step == 0:
-        blocks.append(Paragraph(["At the design's helical angle the margin is negative at "
-                                 "every frequency: the magnet cannot turn the capsule."],
-                                kind="alert"))
-    blocks.append(FigureBlock(
-        "fig-margin-frequency",
-        "Worst-case torque margin against rotation frequency at the design's helical angle "
-        "(and at the optimum's), from optimize.margin_grid. Dotted vertical lines: step-out "
-        "frequencies (margin = 0); stars: the operating points; hatched: frequencies where a "
-        "requirement (minimum speed, margin) is not met at the design's angle.",
-        _draw_frequency(ctx.data), size_in=(7.5, 4.4)))
-    blocks.append(evaluation_table(
-        ctx, [(e, "as entered"), (f"{o}.evaluation", "optimum")],
-        "Operating points (same numbers as `spiralcap evaluate --json` and the evaluation "
-        "inside `spiralcap optimize --json`)"))
-    blocks.append(FigureBlock(
-        "fig-torque-budget",
-        "Torque budget at the operating point as entered and at the optimum: the synchronous "
-        "torque the magnet can deliver at the weakest workspace point against the required "
-        "torque (tissue resistive, hatched, plus thrust, dotted).",
-        _draw_budget(ctx.data), size_in=(6.5, 4.0)))
-    blocks.append(checks_table(ctx, e, "Requirements and limits of the design as entered",
-                               "checks-entered"))
+        blocks.append(
+            Paragraph(
+                [
+                    "At the design's helical angle the margin is negative at "
+                    "every frequency: the magnet cannot turn the capsule."
+                ],
+                kind="alert",
+            )
+        )
+    blocks.append(
+        FigureBlock(
+            "fig-margin-frequency",
+            "Worst-case torque margin against rotation frequency at the design's helical angle "
+            "(and at the optimum's), from optimize.margin_grid. Dotted vertical lines: step-out "
+            "frequencies (margin = 0); stars: the operating points; hatched: frequencies where a "
+            "requirement (minimum speed, margin) is not met at the design's angle.",
+            _draw_frequency(ctx.data),
+            size_in=(7.5, 4.4),
+        )
+    )
+    blocks.append(
+        evaluation_table(
+            ctx,
+            [(e, "as entered"), (f"{o}.evaluation", "optimum")],
+            "Operating points (same numbers as `spiralcap evaluate --json` and the evaluation "
+            "inside `spiralcap optimize --json`)",
+        )
+    )
+    blocks.append(
+        FigureBlock(
+            "fig-torque-budget",
+            "Torque budget at the operating point as entered and at the optimum: the synchronous "
+            "torque the magnet can deliver at the weakest workspace point against the required "
+            "torque (tissue resistive, hatched, plus thrust, dotted).",
+            _draw_budget(ctx.data),
+            size_in=(6.5, 4.0),
+        )
+    )
+    blocks.append(
+        checks_table(ctx, e, "Requirements and limits of the design as entered", "checks-entered")
+    )
     return Section("margin", "Torque margin and step-out", blocks)

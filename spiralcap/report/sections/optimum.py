@@ -18,12 +18,30 @@ def _binding_table(ctx: Context) -> Table:
             label, factor = "Hz", 1.0
         verb, gain = binding_gain(ctx, i)
         p = f"optimize.binding_limits.{i}"
-        rows.append([readable(b["name"]), b["key"], ctx.num(f"{p}.value", factor, label),
-                     ctx.num(f"{p}.allowed", factor, label), verb, gain])
-    return Table(["binding limit", "design key", "value", "allowed", "relaxing means",
-                  "gain per unit relaxed"], rows,
-                 caption="Binding limits and their multipliers (d objective / d allowed value, "
-                         "from IPOPT's Lagrange multipliers)", id="binding-limits")
+        rows.append(
+            [
+                readable(b["name"]),
+                b["key"],
+                ctx.num(f"{p}.value", factor, label),
+                ctx.num(f"{p}.allowed", factor, label),
+                verb,
+                gain,
+            ]
+        )
+    return Table(
+        [
+            "binding limit",
+            "design key",
+            "value",
+            "allowed",
+            "relaxing means",
+            "gain per unit relaxed",
+        ],
+        rows,
+        caption="Binding limits and their multipliers (d objective / d allowed value, "
+        "from IPOPT's Lagrange multipliers)",
+        id="binding-limits",
+    )
 
 
 def _shortfall_table(ctx: Context) -> Table:
@@ -31,11 +49,21 @@ def _shortfall_table(ctx: Context) -> Table:
     for i, s in enumerate(ctx.value("optimize.shortfalls")):
         label, factor = SHOWN_UNITS.get(s["unit"], (s["unit"], 1.0))
         p = f"optimize.shortfalls.{i}"
-        rows.append([readable(s["name"]), s["key"], ctx.num(f"{p}.needed", factor, label),
-                     ctx.num(f"{p}.best", factor, label),
-                     ctx.num(f"{p}.short_by", factor, label)])
-    return Table(["requirement", "design key", "needed", "best reachable", "short by"], rows,
-                 caption="Requirements out of reach inside the limits", id="shortfalls")
+        rows.append(
+            [
+                readable(s["name"]),
+                s["key"],
+                ctx.num(f"{p}.needed", factor, label),
+                ctx.num(f"{p}.best", factor, label),
+                ctx.num(f"{p}.short_by", factor, label),
+            ]
+        )
+    return Table(
+        ["requirement", "design key", "needed", "best reachable", "short by"],
+        rows,
+        caption="Requirements out of reach inside the limits",
+        id="shortfalls",
+    )
 
 
 def _allocation_table(ctx: Context) -> Table:
@@ -43,12 +71,18 @@ def _allocation_table(ctx: Context) -> Table:
     for i, a in enumerate(ctx.value("optimize.current_allocation")):
         p = f"optimize.current_allocation.{i}"
         heading = "[" + ", ".join(f"{c:.3g}" for c in a["heading"]) + "]"
-        rows.append([heading] + [ctx.num(f"{p}.amplitudes_A.{k}") for k in "xyz"]
-                    + [ctx.num(f"{p}.phases_deg.{k}") for k in "xyz"])
-    return Table(["heading (unit vector)", "I_x (A)", "I_y (A)", "I_z (A)", "φ_x (°)",
-                  "φ_y (°)", "φ_z (°)"], rows,
-                 caption="Coil current amplitudes and phases at the optimum field, per heading "
-                         "(centre allocation)", id="allocation")
+        rows.append(
+            [heading]
+            + [ctx.num(f"{p}.amplitudes_A.{k}") for k in "xyz"]
+            + [ctx.num(f"{p}.phases_deg.{k}") for k in "xyz"]
+        )
+    return Table(
+        ["heading (unit vector)", "I_x (A)", "I_y (A)", "I_z (A)", "φ_x (°)", "φ_y (°)", "φ_z (°)"],
+        rows,
+        caption="Coil current amplitudes and phases at the optimum field, per heading "
+        "(centre allocation)",
+        id="allocation",
+    )
 
 
 def _draw_utilisation(checks: Any) -> Any:
@@ -57,6 +91,7 @@ def _draw_utilisation(checks: Any) -> Any:
 
         names = {c["name"]: readable(c["name"]) for c in checks}
         plot_limit_utilisation(fig.subplots(), checks, labels=names)
+
     return draw
 
 
@@ -66,48 +101,77 @@ def build(ctx: Context) -> Section:
     feasible = ctx.value(f"{o}.status") == "optimal"
     objective = ctx.value(f"{o}.objective")
     goal = "torque margin" if objective == "margin" else "safety factor"
-    blocks: list[Any] = [Paragraph([
-        f"IPOPT maximised the worst-case {goal} over the helical angle, the rotation "
-        "frequency and the field amplitude (the coil "
-        "currents follow exactly from the field and the headings), with exact CasADi "
-        "derivatives, from ", ctx.num(f"{o}.starts"), " starts (", ctx.num(f"{o}.iterations"),
-        " iterations in all; solver status ", str(ctx.value(f"{o}.solver_status")), "). ",
-        str(ctx.value(f"{o}.message")).rstrip(".") + "."],
-        kind="ok" if feasible else "alert")]
+    blocks: list[Any] = [
+        Paragraph(
+            [
+                f"IPOPT maximised the worst-case {goal} over the helical angle, the rotation "
+                "frequency and the field amplitude (the coil "
+                "currents follow exactly from the field and the headings), with exact CasADi "
+                "derivatives, from ",
+                ctx.num(f"{o}.starts"),
+                " starts (",
+                ctx.num(f"{o}.iterations"),
+                " iterations in all; solver status ",
+                str(ctx.value(f"{o}.solver_status")),
+                "). ",
+                str(ctx.value(f"{o}.message")).rstrip(".") + ".",
+            ],
+            kind="ok" if feasible else "alert",
+        )
+    ]
     rows: list[list[Cell]] = [
         ["status", "", str(ctx.value(f"{o}.status"))],
         ["helical angle", "°", ctx.num(f"{o}.helical_angle_deg")],
         ["rotation frequency", "Hz", ctx.num(f"{o}.frequency_hz")],
         ["rotating field at the centre", "mT", ctx.num(f"{o}.field_amplitude_T", 1e3)],
-        *[[f"current amplitude, {k} pair", "A", ctx.num(f"{o}.current_amplitudes_A.{k}")]
-          for k in "xyz"],
+        *[
+            [f"current amplitude, {k} pair", "A", ctx.num(f"{o}.current_amplitudes_A.{k}")]
+            for k in "xyz"
+        ],
         ["torque margin", "mN·m", ctx.num(f"{o}.margin_Nm", 1e3)],
         ["safety factor", "–", ctx.num(f"{o}.safety_factor")],
         ["forward speed", "mm/s", ctx.num(f"{o}.speed_m_s", 1e3)],
         ["step-out frequency", "Hz", ctx.num(f"{o}.step_out_frequency_hz")],
     ]
-    blocks.append(Table(["quantity", "unit", "optimum" if feasible else "closest design"],
-                        rows, caption="The optimum (same numbers as `spiralcap optimize "
-                                      "--json`)", id="optimum-table"))
+    blocks.append(
+        Table(
+            ["quantity", "unit", "optimum" if feasible else "closest design"],
+            rows,
+            caption="The optimum (same numbers as `spiralcap optimize --json`)",
+            id="optimum-table",
+        )
+    )
     if feasible:
         if ctx.value(f"{o}.binding_limits"):
             blocks.append(_binding_table(ctx))
-            blocks.append(Paragraph([
-                "Read a gain as what relaxing that limit by one unit buys, to first order (from "
-                "IPOPT's multipliers): raising an upper limit, lowering a requirement or a lower "
-                "bound. Bounds of the search box (optimize.*) appear when the optimum sits on "
-                "them. These are the gains `spiralcap optimize` prints."]))
+            blocks.append(
+                Paragraph(
+                    [
+                        "Read a gain as what relaxing that limit by one unit buys, to first order (from "
+                        "IPOPT's multipliers): raising an upper limit, lowering a requirement or a lower "
+                        "bound. Bounds of the search box (optimize.*) appear when the optimum sits on "
+                        "them. These are the gains `spiralcap optimize` prints."
+                    ]
+                )
+            )
         else:
             blocks.append(Paragraph(["No limit binds at the optimum."]))
     else:
         blocks.append(_shortfall_table(ctx))
-    blocks.append(FigureBlock(
-        "fig-utilisation",
-        "How close each limit and requirement is to binding at the optimum: value / allowed "
-        "for limits, needed / achieved for requirements. Hatched bars at 100 % bind; "
-        "cross-hatched bars beyond 100 % are violated.",
-        _draw_utilisation(ctx.data.optimize_json["evaluation"]["checks"]), size_in=(7.0, 4.6)))
-    blocks.append(checks_table(ctx, f"{o}.evaluation",
-                               "Requirements and limits at the optimum", "checks-optimum"))
+    blocks.append(
+        FigureBlock(
+            "fig-utilisation",
+            "How close each limit and requirement is to binding at the optimum: value / allowed "
+            "for limits, needed / achieved for requirements. Hatched bars at 100 % bind; "
+            "cross-hatched bars beyond 100 % are violated.",
+            _draw_utilisation(ctx.data.optimize_json["evaluation"]["checks"]),
+            size_in=(7.0, 4.6),
+        )
+    )
+    blocks.append(
+        checks_table(
+            ctx, f"{o}.evaluation", "Requirements and limits at the optimum", "checks-optimum"
+        )
+    )
     blocks.append(_allocation_table(ctx))
     return Section("optimum", "Optimum and binding limits", blocks)

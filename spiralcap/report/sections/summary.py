@@ -41,8 +41,11 @@ def binding_parts(ctx: Context, limit_index: int) -> list[Inline]:
     b = ctx.value(f"optimize.binding_limits.{limit_index}")
     verb, gain = binding_gain(ctx, limit_index)
     unit = gain.unit.split(" per ", 1)[-1]
-    return [Strong(readable(b["name"])), f" ({b['key']}): {verb} it by 1 {unit} gains ",
-            Num(gain.value, gain.key, gain.scale, gain.unit.split(" per ", 1)[0])]
+    return [
+        Strong(readable(b["name"])),
+        f" ({b['key']}): {verb} it by 1 {unit} gains ",
+        Num(gain.value, gain.key, gain.scale, gain.unit.split(" per ", 1)[0]),
+    ]
 
 
 def build(ctx: Context) -> Section:
@@ -51,19 +54,41 @@ def build(ctx: Context) -> Section:
     feasible = ctx.value(f"{o}.status") == "optimal"
     lines: list[Paragraph] = []
     if feasible:
-        lines.append(Paragraph([
-            Strong("Margin:"), " ", ctx.num(f"{o}.margin_Nm", 1e3, "mN·m"),
-            " worst-case torque margin (safety factor ", ctx.num(f"{o}.safety_factor"),
-            ") at the optimum: helical angle ", ctx.num(f"{o}.helical_angle_deg", unit="°"),
-            ", rotation ", ctx.num(f"{o}.frequency_hz", unit="Hz"), ", rotating field ",
-            ctx.num(f"{o}.field_amplitude_T", 1e3, "mT"), "."]))
-        lines.append(Paragraph([
-            Strong("Speed:"), " ", ctx.num(f"{o}.speed_m_s", 1e3, "mm/s"),
-            " forward; at this helical angle the capsule steps out of synchrony above ",
-            *step_out_parts(ctx, f"{o}.step_out_frequency_hz"), "."]))
+        lines.append(
+            Paragraph(
+                [
+                    Strong("Margin:"),
+                    " ",
+                    ctx.num(f"{o}.margin_Nm", 1e3, "mN·m"),
+                    " worst-case torque margin (safety factor ",
+                    ctx.num(f"{o}.safety_factor"),
+                    ") at the optimum: helical angle ",
+                    ctx.num(f"{o}.helical_angle_deg", unit="°"),
+                    ", rotation ",
+                    ctx.num(f"{o}.frequency_hz", unit="Hz"),
+                    ", rotating field ",
+                    ctx.num(f"{o}.field_amplitude_T", 1e3, "mT"),
+                    ".",
+                ]
+            )
+        )
+        lines.append(
+            Paragraph(
+                [
+                    Strong("Speed:"),
+                    " ",
+                    ctx.num(f"{o}.speed_m_s", 1e3, "mm/s"),
+                    " forward; at this helical angle the capsule steps out of synchrony above ",
+                    *step_out_parts(ctx, f"{o}.step_out_frequency_hz"),
+                    ".",
+                ]
+            )
+        )
         binding = ctx.value(f"{o}.binding_limits")
         parts: list[Inline] = [
-            Strong("Binding limits:" if len(binding) > 1 else "Binding limit:"), " "]
+            Strong("Binding limits:" if len(binding) > 1 else "Binding limit:"),
+            " ",
+        ]
         if not binding:
             parts.append("none: the optimum lies inside every limit.")
         for i in range(len(binding)):
@@ -72,20 +97,30 @@ def build(ctx: Context) -> Section:
             parts += binding_parts(ctx, i)
         parts.append(".")
         lines.append(Paragraph(parts))
-        verdict = Paragraph([
-            "Feasible: the optimiser found a helical angle, frequency and coil currents that "
-            "meet every requirement inside every limit (", Link("section Optimum", "optimum"),
-            ")."], kind="ok")
+        verdict = Paragraph(
+            [
+                "Feasible: the optimiser found a helical angle, frequency and coil currents that "
+                "meet every requirement inside every limit (",
+                Link("section Optimum", "optimum"),
+                ").",
+            ],
+            kind="ok",
+        )
     else:
         shortfalls = ctx.value(f"{o}.shortfalls")
-        head: list[Inline] = [Strong("Margin:"), " NO FEASIBLE DESIGN. Out of reach inside the "
-                              "limits: "]
+        head: list[Inline] = [
+            Strong("Margin:"),
+            " NO FEASIBLE DESIGN. Out of reach inside the limits: ",
+        ]
         for i, sf in enumerate(shortfalls):
             if i:
                 head.append("; ")
-            head += [f"{readable(sf['name'])} ({sf['key']}) needs ",
-                     ctx.shown(f"{o}.shortfalls.{i}.needed", sf["unit"]), ", the best reachable "
-                     "is ", ctx.shown(f"{o}.shortfalls.{i}.best", sf["unit"])]
+            head += [
+                f"{readable(sf['name'])} ({sf['key']}) needs ",
+                ctx.shown(f"{o}.shortfalls.{i}.needed", sf["unit"]),
+                ", the best reachable is ",
+                ctx.shown(f"{o}.shortfalls.{i}.best", sf["unit"]),
+            ]
         if not shortfalls:
             head.append(_without_status(str(ctx.value(f"{o}.message"))).rstrip("."))
         head.append(".")
@@ -94,20 +129,34 @@ def build(ctx: Context) -> Section:
         speed = [i for i, s in enumerate(shortfalls) if s["name"] == "speed"]
         if speed:
             i = speed[0]
-            speed_parts += ["out of reach: needs ", ctx.shown(f"{o}.shortfalls.{i}.needed", "m/s"),
-                      ", the best reachable inside the limits is ",
-                      ctx.shown(f"{o}.shortfalls.{i}.best", "m/s"), "."]
+            speed_parts += [
+                "out of reach: needs ",
+                ctx.shown(f"{o}.shortfalls.{i}.needed", "m/s"),
+                ", the best reachable inside the limits is ",
+                ctx.shown(f"{o}.shortfalls.{i}.best", "m/s"),
+                ".",
+            ]
         else:
-            speed_parts += ["closest design reaches ", ctx.num(f"{o}.speed_m_s", 1e3, "mm/s"),
-                            "."]
+            speed_parts += ["closest design reaches ", ctx.num(f"{o}.speed_m_s", 1e3, "mm/s"), "."]
         lines.append(Paragraph(speed_parts))
-        lines.append(Paragraph([
-            Strong("Binding limit:"), " the hardware and exposure limits are kept hard; what is "
-            "out of reach, and by how much, is listed in ", Link("section Optimum", "optimum"),
-            ". Relax a limit or a requirement and run the report again."]))
-        verdict = Paragraph(["Infeasible: no design inside the limits meets every requirement. "
-                             "The figures below show the closest design the optimiser found."],
-                            kind="alert")
+        lines.append(
+            Paragraph(
+                [
+                    Strong("Binding limit:"),
+                    " the hardware and exposure limits are kept hard; what is "
+                    "out of reach, and by how much, is listed in ",
+                    Link("section Optimum", "optimum"),
+                    ". Relax a limit or a requirement and run the report again.",
+                ]
+            )
+        )
+        verdict = Paragraph(
+            [
+                "Infeasible: no design inside the limits meets every requirement. "
+                "The figures below show the closest design the optimiser found."
+            ],
+            kind="alert",
+        )
     return Section("summary", "Summary", [*lines, verdict, _as_entered(ctx)])
 
 
@@ -115,11 +164,18 @@ def _as_entered(ctx: Context) -> Paragraph:
     e = "evaluate"
     failed = [c["name"] for c in ctx.value(f"{e}.checks") if not c["ok"]]
     parts: list[Any] = [
-        "The design as entered (helical angle ", ctx.num(f"{e}.helical_angle_deg", unit="°"),
-        ", ", ctx.num(f"{e}.frequency_hz", unit="Hz"), ") has a margin of ",
-        ctx.num(f"{e}.margin_Nm", 1e3, "mN·m"), " (safety factor ",
-        ctx.num(f"{e}.safety_factor"), ") and moves at ", ctx.num(f"{e}.speed_m_s", 1e3, "mm/s"),
-        "; "]
+        "The design as entered (helical angle ",
+        ctx.num(f"{e}.helical_angle_deg", unit="°"),
+        ", ",
+        ctx.num(f"{e}.frequency_hz", unit="Hz"),
+        ") has a margin of ",
+        ctx.num(f"{e}.margin_Nm", 1e3, "mN·m"),
+        " (safety factor ",
+        ctx.num(f"{e}.safety_factor"),
+        ") and moves at ",
+        ctx.num(f"{e}.speed_m_s", 1e3, "mm/s"),
+        "; ",
+    ]
     if failed:
         parts.append("it does NOT meet: " + ", ".join(readable(n) for n in failed) + ".")
     else:

@@ -9,13 +9,16 @@ from spiralcap.report.document import Cell, FigureBlock, Paragraph, Section, Tab
 from spiralcap.report.sections._util import Context
 
 #: Tissue-set rows: (field of TissueParameters.as_design_table(), label, unit).
-_SET_ROWS = (("E1_kPa", "spring modulus E1", "kPa"), ("E2_kPa", "spring modulus E2", "kPa"),
-             ("E3_kPa", "spring modulus E3", "kPa"),
-             ("eta1_kPa_s", "dashpot viscosity η1", "kPa·s"),
-             ("eta2_kPa_s", "dashpot viscosity η2", "kPa·s"),
-             ("lumen_diameter_mm", "undeformed lumen D_before", "mm"),
-             ("wall_thickness_mm", "wall thickness d", "mm"),
-             ("friction_coefficient", "friction coefficient μ", "–"))
+_SET_ROWS = (
+    ("E1_kPa", "spring modulus E1", "kPa"),
+    ("E2_kPa", "spring modulus E2", "kPa"),
+    ("E3_kPa", "spring modulus E3", "kPa"),
+    ("eta1_kPa_s", "dashpot viscosity η1", "kPa·s"),
+    ("eta2_kPa_s", "dashpot viscosity η2", "kPa·s"),
+    ("lumen_diameter_mm", "undeformed lumen D_before", "mm"),
+    ("wall_thickness_mm", "wall thickness d", "mm"),
+    ("friction_coefficient", "friction coefficient μ", "–"),
+)
 
 
 def tissue_payload(data: Any) -> dict[str, Any]:
@@ -31,15 +34,26 @@ def tissue_payload(data: Any) -> dict[str, Any]:
     points = []
     for p in tm.PAPER_POINTS:
         tissue = tm.preset(f"zhou2013-sample{p.sample}")
-        model = float(tm.resistive_torque_Nm(math.radians(p.helical_angle_deg),
-                                             p.frequency_hz, tissue))
-        points.append({"sample": p.sample, "capsule": p.capsule,
-                       "helical_angle_deg": p.helical_angle_deg, "frequency_hz": p.frequency_hz,
-                       "paper_torque_mNm": p.torque_mNm, "model_torque_mNm": model * 1e3,
-                       "role": p.role, "source": p.source})
-    return {"calibration_factor": CALIBRATION_FACTOR,
-            "sets": [{"name": t.name, **t.as_design_table()} for t in data.model.tissues],
-            "paper_points": points}
+        model = float(
+            tm.resistive_torque_Nm(math.radians(p.helical_angle_deg), p.frequency_hz, tissue)
+        )
+        points.append(
+            {
+                "sample": p.sample,
+                "capsule": p.capsule,
+                "helical_angle_deg": p.helical_angle_deg,
+                "frequency_hz": p.frequency_hz,
+                "paper_torque_mNm": p.torque_mNm,
+                "model_torque_mNm": model * 1e3,
+                "role": p.role,
+                "source": p.source,
+            }
+        )
+    return {
+        "calibration_factor": CALIBRATION_FACTOR,
+        "sets": [{"name": t.name, **t.as_design_table()} for t in data.model.tissues],
+        "paper_points": points,
+    }
 
 
 def _dedupe_legend(ax: Any, **kwargs: Any) -> None:
@@ -72,19 +86,26 @@ def _draw(data: Any) -> Any:
         geometry = geometry_from_design(design)
         lines = []
         for tissue in data.model.tissues:
-            for angle, what in ((ev.helical_angle_deg, "as entered"),
-                                (res.helical_angle_deg, "optimum")):
-                out = plot_torque_vs_frequency(right, tissue, (angle,), frequency_hz=f,
-                                               paper_points=(), geometry=geometry)
+            for angle, what in (
+                (ev.helical_angle_deg, "as entered"),
+                (res.helical_angle_deg, "optimum"),
+            ):
+                out = plot_torque_vs_frequency(
+                    right, tissue, (angle,), frequency_hz=f, paper_points=(), geometry=geometry
+                )
                 out["curves"][0].set_label(f"{tissue.name}, α = {angle:.4g}° ({what})")
                 lines += out["curves"]
         restyle_lines(lines, markevery=10)
-        for fx, what, ls in ((ev.frequency_hz, "as entered", "--"),
-                             (res.frequency_hz, "optimum", ":")):
-            right.axvline(fx, color="0.3", linestyle=ls, linewidth=1.2,
-                          label=f"{what} frequency, {fx:.4g} Hz")
+        for fx, what, ls in (
+            (ev.frequency_hz, "as entered", "--"),
+            (res.frequency_hz, "optimum", ":"),
+        ):
+            right.axvline(
+                fx, color="0.3", linestyle=ls, linewidth=1.2, label=f"{what} frequency, {fx:.4g} Hz"
+            )
         right.set_title("this design's capsule")
         _dedupe_legend(right, loc="upper left", fontsize=8)
+
     return draw
 
 
@@ -95,28 +116,44 @@ def build(ctx: Context) -> Section:
     rows: list[list[Cell]] = []
     for field, label, unit in _SET_ROWS:
         rows.append([label, unit] + [ctx.num(f"{t}.sets.{i}.{field}") for i in range(len(sets))])
-    set_table = Table(["parameter", "unit", *[s["name"] for s in sets]], rows,
-                      caption="Tissue parameter sets used (calibrated; the margin must hold "
-                              "for every one)", wrap=0, id="tissue-table")
+    set_table = Table(
+        ["parameter", "unit", *[s["name"] for s in sets]],
+        rows,
+        caption="Tissue parameter sets used (calibrated; the margin must hold for every one)",
+        wrap=0,
+        id="tissue-table",
+    )
     prow: list[list[Cell]] = []
     for i, p in enumerate(ctx.value(f"{t}.paper_points")):
-        prow.append([f"sample {p['sample']}, No. {p['capsule']}",
-                     ctx.num(f"{t}.paper_points.{i}.helical_angle_deg", unit="°"),
-                     ctx.num(f"{t}.paper_points.{i}.frequency_hz", unit="Hz"),
-                     ctx.num(f"{t}.paper_points.{i}.paper_torque_mNm", unit="mN·m"),
-                     ctx.num(f"{t}.paper_points.{i}.model_torque_mNm", unit="mN·m"), p["role"]])
-    point_table = Table(["capsule", "helical angle", "frequency", "paper (≈)", "model",
-                         "role"], prow, caption="The paper's stated torques and the model",
-                        id="paper-points")
-    intro = Paragraph([
-        "The intestine resists the capsule's rotation with a torque from its viscoelastic wall "
-        "(Zhou et al. 2013, eqs. 2–8: strain of the wall stretched over the spiral, a "
-        "five-element relaxation, thin-walled hoop pressure, Coulomb friction). The published "
-        "moduli and viscosities, read in SI, give a torque far below the measured one; every "
-        "modulus and viscosity is therefore multiplied by one calibration factor, ",
-        ctx.num(f"{t}.calibration_factor"), ", fitted on sample 2 with capsule No. 2 only; "
-        "the capsule No. 1 points are validation and never enter the fit "
-        "(docs/torque-model.md). The factor leaves the shape against frequency as published."])
+        prow.append(
+            [
+                f"sample {p['sample']}, No. {p['capsule']}",
+                ctx.num(f"{t}.paper_points.{i}.helical_angle_deg", unit="°"),
+                ctx.num(f"{t}.paper_points.{i}.frequency_hz", unit="Hz"),
+                ctx.num(f"{t}.paper_points.{i}.paper_torque_mNm", unit="mN·m"),
+                ctx.num(f"{t}.paper_points.{i}.model_torque_mNm", unit="mN·m"),
+                p["role"],
+            ]
+        )
+    point_table = Table(
+        ["capsule", "helical angle", "frequency", "paper (≈)", "model", "role"],
+        prow,
+        caption="The paper's stated torques and the model",
+        id="paper-points",
+    )
+    intro = Paragraph(
+        [
+            "The intestine resists the capsule's rotation with a torque from its viscoelastic wall "
+            "(Zhou et al. 2013, eqs. 2–8: strain of the wall stretched over the spiral, a "
+            "five-element relaxation, thin-walled hoop pressure, Coulomb friction). The published "
+            "moduli and viscosities, read in SI, give a torque far below the measured one; every "
+            "modulus and viscosity is therefore multiplied by one calibration factor, ",
+            ctx.num(f"{t}.calibration_factor"),
+            ", fitted on sample 2 with capsule No. 2 only; "
+            "the capsule No. 1 points are validation and never enter the fit "
+            "(docs/torque-model.md). The factor leaves the shape against frequency as published.",
+        ]
+    )
     fig = FigureBlock(
         "fig-tissue-torque",
         "Tissue resistive torque against rotation frequency. Top: the paper's capsules "
@@ -124,5 +161,7 @@ def build(ctx: Context) -> Section:
         "states (circles: calibration, squares: validation). Bottom: this design's capsule "
         "geometry in each of its tissue sets, at the helical angle as entered and at the "
         "optimum; vertical lines mark the two operating frequencies.",
-        _draw(ctx.data), size_in=(7.0, 8.0))
+        _draw(ctx.data),
+        size_in=(7.0, 8.0),
+    )
     return Section("tissue", "Tissue resistive torque", [intro, fig, set_table, point_table])

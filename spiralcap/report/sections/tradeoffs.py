@@ -27,10 +27,17 @@ def _draw_angle(data: Any) -> Any:
 
         ax = fig.subplots()
         c = data.angle_optimum
-        plot_margin_vs_angle(ax, c.x, c.margin_Nm, feasible=c.feasible,
-                             optimum_deg=res.helical_angle_deg, optimum_margin_Nm=res.margin_Nm,
-                             design_angle_deg=ev.helical_angle_deg,
-                             label=f"at the optimum frequency, {res.frequency_hz:.4g} Hz")
+        plot_margin_vs_angle(
+            ax,
+            c.x,
+            c.margin_Nm,
+            feasible=c.feasible,
+            optimum_deg=res.helical_angle_deg,
+            optimum_margin_Nm=res.margin_Nm,
+            design_angle_deg=ev.helical_angle_deg,
+            label=f"at the optimum frequency, {res.frequency_hz:.4g} Hz",
+        )
+
     return draw
 
 
@@ -40,11 +47,17 @@ def _draw_power(data: Any, sweep: dict[str, Any]) -> Any:
 
         ax = fig.subplots()
         margin = np.array([np.nan if m is None else m for m in sweep["margin_Nm"]], float)
-        plot_margin_vs_power(ax, sweep["power_W"], margin,
-                             optimal=[s == "optimal" for s in sweep["status"]],
-                             design_power_W=data.design["limits.power_W"],
-                             binding=[";".join(readable(n) for n in b.split(";") if n)
-                                      for b in sweep["binding_limits"]])
+        plot_margin_vs_power(
+            ax,
+            sweep["power_W"],
+            margin,
+            optimal=[s == "optimal" for s in sweep["status"]],
+            design_power_W=data.design["limits.power_W"],
+            binding=[
+                ";".join(readable(n) for n in b.split(";") if n) for b in sweep["binding_limits"]
+            ],
+        )
+
     return draw
 
 
@@ -55,15 +68,33 @@ def build(ctx: Context) -> Section:
     for i, status in enumerate(sweep["status"]):
         p = "tradeoffs.power_sweep"
         binding = ", ".join(readable(n) for n in sweep["binding_limits"][i].split(";") if n)
-        rows.append([ctx.num(f"{p}.power_W.{i}", unit="W"), status,
-                     ctx.num(f"{p}.helical_angle_deg.{i}", unit="°"),
-                     ctx.num(f"{p}.frequency_hz.{i}", unit="Hz"),
-                     ctx.num(f"{p}.field_amplitude_T.{i}", 1e3, "mT"),
-                     ctx.num(f"{p}.margin_Nm.{i}", 1e3, "mN·m"), binding or "none"])
-    table = Table(["power budget", "status", "helical angle", "frequency", "field", "margin",
-                   "binding limits"], rows, wrap=6, id="power-sweep",
-                  caption="Re-optimisation at each power budget (spiralcap sweep --optimize "
-                          "--over limits.power_W=...)")
+        rows.append(
+            [
+                ctx.num(f"{p}.power_W.{i}", unit="W"),
+                status,
+                ctx.num(f"{p}.helical_angle_deg.{i}", unit="°"),
+                ctx.num(f"{p}.frequency_hz.{i}", unit="Hz"),
+                ctx.num(f"{p}.field_amplitude_T.{i}", 1e3, "mT"),
+                ctx.num(f"{p}.margin_Nm.{i}", 1e3, "mN·m"),
+                binding or "none",
+            ]
+        )
+    table = Table(
+        [
+            "power budget",
+            "status",
+            "helical angle",
+            "frequency",
+            "field",
+            "margin",
+            "binding limits",
+        ],
+        rows,
+        wrap=6,
+        id="power-sweep",
+        caption="Re-optimisation at each power budget (spiralcap sweep --optimize "
+        "--over limits.power_W=...)",
+    )
     angle_fig = FigureBlock(
         "fig-margin-angle",
         "Worst-case torque margin against the spiral's helical angle at the optimum frequency "
@@ -71,16 +102,23 @@ def build(ctx: Context) -> Section:
         "turns) and speed; large angles cost thrust torque (the screw relation) and fall below "
         "the minimum number of spiral turns. Hatched: a requirement is not met. Star: the "
         "optimum; dashed line: the angle as entered.",
-        _draw_angle(ctx.data), size_in=(7.5, 4.4))
+        _draw_angle(ctx.data),
+        size_in=(7.5, 4.4),
+    )
     power_fig = FigureBlock(
         "fig-margin-power",
         "Best achievable margin against the copper-power budget, each point a full "
         "re-optimisation (helical angle, frequency and currents) with every other limit kept. "
         "Where the curve flattens, power no longer binds and another limit (named beside each "
         "point) takes over. Dashed line: the design's budget.",
-        _draw_power(ctx.data, sweep), size_in=(7.5, 4.4))
-    intro = Paragraph([
-        "Two trade-offs a designer asks about first: how sensitive the margin is to the "
-        "spiral's helical angle (a manufacturing tolerance), and what more amplifier and "
-        "cooling power buys."])
+        _draw_power(ctx.data, sweep),
+        size_in=(7.5, 4.4),
+    )
+    intro = Paragraph(
+        [
+            "Two trade-offs a designer asks about first: how sensitive the margin is to the "
+            "spiral's helical angle (a manufacturing tolerance), and what more amplifier and "
+            "cooling power buys."
+        ]
+    )
     return Section("tradeoffs", "Trade-offs", [intro, angle_fig, power_fig, table])
