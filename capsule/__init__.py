@@ -59,8 +59,8 @@ __all__ = [
     "max_synchronous_torque_Nm",
     "min_helical_angle_for_clearance_rad",
     "remanence_for_grade",
+    "self_lock_margin_rad",
     "spiral_turns",
     "synchronous_torque_Nm",
-    "self_lock_margin_rad",
     "thrust_torque_Nm",
 ]
