@@ -5,7 +5,16 @@
 >>> result = optimize_design(build_model(design))        # doctest: +SKIP
 """
 
-from optimize.evaluate import Check, Evaluation, evaluate, margin_grid, step_out_frequency_hz
+from optimize.evaluate import (
+    Check,
+    Evaluation,
+    MarginGrid,
+    WorstRequired,
+    evaluate,
+    margin_grid,
+    step_out_frequency_hz,
+    worst_required,
+)
 from optimize.physics import ICNIRP2010_LEVELS_T, exposure_level_T
 from optimize.result import BindingLimit, OptimizationResult, Shortfall
 from optimize.solve import optimize_design, with_operating_point
@@ -19,9 +28,11 @@ __all__ = [
     "DesignModel",
     "Evaluation",
     "Limits",
+    "MarginGrid",
     "OptimizationResult",
     "Requirements",
     "Shortfall",
+    "WorstRequired",
     "evaluate",
     "exposure_level_T",
     "margin_grid",
@@ -29,4 +40,5 @@ __all__ = [
     "prepare",
     "step_out_frequency_hz",
     "with_operating_point",
+    "worst_required",
 ]

@@ -106,3 +106,44 @@ def build_model(design: Design):
         ambient_temperature_C=d["coils.ambient_temperature_C"],
         heat_transfer_coefficient_W_m2K=d["coils.heat_transfer_coefficient_W_m2K"],
     )
+
+
+#: optimiser row / bound name (optimize.problem, optimize.physics) -> the design key it bounds.
+#: Per-axis and per-tissue rows (``current_x``, ``safety_factor[sample2]``) map by their stem.
+_CONSTRAINT_KEYS = {
+    "current": "limits.current_A",
+    "voltage": "limits.voltage_V",
+    "temperature": "limits.coil_temperature_C",
+    "temperature_rise": "limits.coil_temperature_C",
+    "hot_spot": "limits.coil_temperature_C",
+    "power": "limits.power_W",
+    "field_exposure": "limits.field_exposure",
+    "speed": "requirements.min_speed_mm_s",
+    "spiral_turns": "requirements.min_spiral_turns",
+    "safety_factor": "requirements.min_safety_factor",
+    "margin": "margin_Nm",
+    "self_lock": "optimize.helical_angle_max_deg",
+    "helical_angle_max": "optimize.helical_angle_max_deg",
+    "helical_angle_min": "optimize.helical_angle_min_deg",
+    "frequency_max": "optimize.frequency_max_hz",
+    "frequency_min": "optimize.frequency_min_hz",
+    "solver": "optimize.starts",
+}
+
+
+def constraint_key(name: str) -> str:
+    """The design key behind an optimiser constraint name ('' when none).
+
+    ``current_x`` -> ``limits.current_A``; ``safety_factor[zhou2013-sample2]`` ->
+    ``requirements.min_safety_factor``; a freed hardware key's bound ``coils.x.turns@max`` ->
+    ``coils.x.turns``.
+    """
+    stem = name.split("[", 1)[0].split("@", 1)[0]
+    if stem in _CONSTRAINT_KEYS:
+        return _CONSTRAINT_KEYS[stem]
+    if "." in stem:  # a design key itself (free hardware bounds)
+        return stem
+    head, _, axis = stem.rpartition("_")
+    if axis in ("x", "y", "z") and head in _CONSTRAINT_KEYS:
+        return _CONSTRAINT_KEYS[head]
+    return ""

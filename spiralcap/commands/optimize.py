@@ -29,6 +29,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def format_result(res) -> str:
     """Readable summary of an :class:`optimize.OptimizationResult`."""
+    from spiralcap.assemble.system import constraint_key
+
     lines = [
         f"status              {res.status} ({res.solver_status}, {res.iterations} IPOPT "
         f"iterations, {res.starts} starts, {res.solve_time_s:.3f} s)"
@@ -52,7 +54,7 @@ def format_result(res) -> str:
             label, factor = _ENGINEERING.get(b.unit, (b.unit, 1.0))
             verb = "raising" if b.relax_sign > 0 else "lowering"
             lines.append(
-                f"  {b.name:<20} {b.key:<32} {verb} it by 1 {label} gains "
+                f"  {b.name:<20} {constraint_key(b.name):<32} {verb} it by 1 {label} gains "
                 f"{b.gain_per_unit_relaxed * factor * scale:.4g} {gain}"
             )
         if not res.binding_limits:
@@ -69,7 +71,7 @@ def format_result(res) -> str:
                 )
             else:
                 lines.append(
-                    f"  {s.key}: needs {s.needed / factor:.4g} {label}, best reachable "
+                    f"  {constraint_key(s.name)}: needs {s.needed / factor:.4g} {label}, best reachable "
                     f"{s.best / factor:.4g} {label} (short by {s.short_by / factor:.4g})"
                 )
     return "\n".join(lines)
