@@ -247,7 +247,42 @@ KEYS.update(
 # place (numeric keys with physical bounds: _between(..., lo, hi, open_=False)).
 
 # --- hardware sizing (issue 9) ---
-KEYS.update({})
+KEYS.update(
+    {
+        "optimize.objective": _choice(
+            "maximise the torque margin or the safety factor, or minimise the copper power or "
+            "the copper mass (the last two subject to requirements.min_safety_factor)",
+            "margin",
+            ("margin", "ratio", "power", "copper_mass"),
+        ),
+        "requirements.min_safety_factor": _between(
+            "least available / required torque for every tissue set (1: margin >= 0)",
+            1.0,
+            1.0,
+            100.0,
+            open_=False,
+        ),
+        "operation.field_amplitude_mT": _between(
+            "rotating-field amplitude at the coil centre (default: the largest every limit "
+            "allows at the operating frequency)",
+            None,
+            0.0,
+            1000.0,
+        ),
+        "coils.wire_standard": _choice(
+            "standard wire diameters a freed wire diameter is rounded to (IEC 60317 R40 or AWG)",
+            "iec-r40",
+            ("iec-r40", "awg"),
+        ),
+        "requirements.min_bore_m": _between(
+            "least clear diameter inside the smallest coil pair when a coil radius is freed "
+            "(default: what the design has)",
+            None,
+            0.0,
+            10.0,
+        ),
+    }
+)
 
 # --- coils as they really run (issue 10) ---
 KEYS.update({})

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 
@@ -83,6 +84,7 @@ def build_model(design: Design):
         slip_efficiency=d["requirements.slip_efficiency"],
         min_speed_m_s=d["requirements.min_speed_mm_s"] * 1e-3,
         min_spiral_turns=d["requirements.min_spiral_turns"],
+        min_safety_factor=d["requirements.min_safety_factor"],
     )
     bounds = Bounds(
         helical_angle_min_rad=math.radians(d["optimize.helical_angle_min_deg"]),
@@ -105,6 +107,11 @@ def build_model(design: Design):
         winding_temperature_C=winding_temperature_C(d),
         ambient_temperature_C=d["coils.ambient_temperature_C"],
         heat_transfer_coefficient_W_m2K=d["coils.heat_transfer_coefficient_W_m2K"],
+        field_amplitude_T=(
+            None
+            if d.get("operation.field_amplitude_mT") is None
+            else d["operation.field_amplitude_mT"] * 1e-3
+        ),
     )
 
 
@@ -147,3 +154,35 @@ def constraint_key(name: str) -> str:
     if axis in ("x", "y", "z") and head in _CONSTRAINT_KEYS:
         return _CONSTRAINT_KEYS[head]
     return ""
+
+
+def optimum_values(design: Design, result: Any) -> dict[str, Any]:
+    """The design keys an optimum sets: angle, frequency, the field where the objective set it,
+    and every freed hardware key at its discrete optimum."""
+    values: dict[str, Any] = {
+        "capsule.spiral.helical_angle_deg": math.degrees(result.helical_angle_rad),
+        "operation.frequency_hz": float(result.frequency_hz),
+    }
+    if result.field_is_set:
+        values["operation.field_amplitude_mT"] = float(result.field_amplitude_T * 1e3)
+    elif design.get("operation.field_amplitude_mT") is not None:
+        values["operation.field_amplitude_mT"] = float(result.field_amplitude_T * 1e3)
+    if result.hardware is not None:
+        values.update(result.hardware.design_values)
+    return values
+
+
+def optimum_design_toml(design: Design, result: Any) -> str:
+    """The optimised design as a complete, commented design file (like ``spiralcap init``)."""
+    from spiralcap.design import _to_toml
+
+    optimum = design.with_values(optimum_values(design, result))
+    values = {k: v for k, v in optimum.items() if not k.startswith("optimize.free")}
+    head = (
+        "# spiralcap design file written by `spiralcap optimize` "
+        f"(objective {result.objective}).\n"
+        f"# Started from: {design.source}. Optimum: margin {result.margin_Nm * 1e3:.6g} mN·m, "
+        f"safety factor {result.safety_factor:.6g}.\n"
+        "# `spiralcap evaluate` on this file reproduces the optimum.\n\n"
+    )
+    return head + _to_toml(values, comments=True)

@@ -1,4 +1,8 @@
-"""``spiralcap optimize``: helical angle, frequency and coil currents for the largest margin."""
+"""``spiralcap optimize``: helical angle, frequency, field (and freed hardware) for the objective.
+
+``-o FILE`` writes the optimum as a complete, commented design file that ``spiralcap evaluate``
+reproduces.
+"""
 
 from __future__ import annotations
 
@@ -25,6 +29,21 @@ EXIT_INFEASIBLE = 3
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_design_arguments(parser)
+    parser.add_argument(
+        "-o",
+        "--output",
+        metavar="FILE",
+        help="write the optimum as a complete design file (TOML) to FILE",
+    )
+
+
+#: objective -> (label, factor from SI to the label's unit)
+_OBJECTIVE_LABELS = {
+    "margin": ("mN·m", 1e3),
+    "ratio": ("safety factor", 1.0),
+    "power": ("W of copper power", 1.0),
+    "copper_mass": ("kg of copper", 1.0),
+}
 
 
 def format_result(res) -> str:
@@ -48,8 +67,12 @@ def format_result(res) -> str:
             f"step-out frequency  {res.step_out_frequency_hz:.4g} Hz",
             "binding limits:",
         ]
-        gain = "mN·m" if res.objective == "margin" else "safety factor"
-        scale = 1e3 if res.objective == "margin" else 1.0
+        gain, scale = _OBJECTIVE_LABELS.get(res.objective, ("", 1.0))
+        if res.objective in ("power", "copper_mass"):
+            lines.insert(
+                1, f"objective           {res.objective} = {res.objective_value * scale:.5g} {gain}"
+            )
+            gain = gain.replace("W of", "W less").replace("kg of", "kg less")
         for b in res.binding_limits:
             label, factor = _ENGINEERING.get(b.unit, (b.unit, 1.0))
             verb = "raising" if b.relax_sign > 0 else "lowering"
@@ -84,8 +107,21 @@ def run(args: argparse.Namespace) -> int:
 
     design = design_from_args(args)
     res = optimize_design(build_model(design))
+    written = None
+    if args.output and res.status == "optimal":
+        from spiralcap.assemble.system import optimum_design_toml
+        from spiralcap.design import write_text_atomic
+
+        written = write_text_atomic(args.output, optimum_design_toml(design, res))
     if args.json:
-        print_json({"design": design.source, **optimization_to_dict(res)})
+        payload = {"design": design.source, **optimization_to_dict(res)}
+        if written is not None:
+            payload["written"] = str(written)
+        print_json(payload)
     else:
         print(format_result(res))
+        if written is not None:
+            print(f"wrote the optimised design to {written}")
+        elif args.output:
+            print(f"nothing written to {args.output}: no feasible design")
     return 0 if res.status == "optimal" else EXIT_INFEASIBLE
