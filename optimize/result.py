@@ -102,3 +102,28 @@ class OptimizationResult:
     def feasible(self) -> bool:
         """True when status is 'optimal'."""
         return self.status == "optimal"
+
+
+@dataclass(frozen=True)
+class HardwareResult:
+    """What a sizing run chose: the continuous relaxation and the discrete design (SI, by name).
+
+    ``relaxed`` / ``relaxed_objective``: the continuous optimum (turns and wires not yet
+    standard) — a bound on what any discrete design can reach; ``discrete`` /
+    ``discrete_objective``: the best buildable neighbour (whole turns, standard wire),
+    re-optimised over the operating point. ``candidates`` tried, ``feasible`` among them,
+    ``outer_iterations`` of the frozen factors (docs/optimisation.md).
+    """
+
+    relaxed: dict[str, float]
+    relaxed_objective: float
+    discrete: dict[str, float]
+    discrete_objective: float
+    candidates: int
+    feasible: int
+    outer_iterations: int
+
+    @property
+    def rounding_cost(self) -> float:
+        """|relaxed − discrete| objective: what whole turns and standard wire cost."""
+        return abs(self.relaxed_objective - self.discrete_objective)

@@ -22,6 +22,7 @@ from typing import Any
 import casadi as ca
 import numpy as np
 
+from optimize import hardware as hw
 from optimize import problem as pb
 from optimize.evaluate import evaluate, margin_grid, worst_required
 from optimize.nlp import CompiledNLP, NLPBuilder, Solution
@@ -60,18 +61,26 @@ class Structure:
     relaxed: bool = False
     warm: bool = False
     hooks: tuple = ()
+    hardware: hw.HardwareStructure | None = None
 
 
-def structure_of(model: DesignModel, *, relaxed: bool = False, warm: bool = False) -> Structure:
+def structure_of(
+    model: DesignModel,
+    *,
+    relaxed: bool = False,
+    warm: bool = False,
+    hardware: hw.HardwareStructure | None = None,
+) -> Structure:
     """The :class:`Structure` of ``model``'s problem."""
     return Structure(
         model.bounds.objective,
         model.tissues,
         model.limits.field_exposure,
-        int(model.constants.starts),
+        int(model.capsule.spiral.starts),
         relaxed,
         warm,
         (tuple(pb.CONSTRAINTS), pb.OBJECTIVES[model.bounds.objective]),
+        hardware,
     )
 
 
@@ -82,16 +91,21 @@ class CompiledProblem:
     structure: Structure
     nlp: CompiledNLP
 
-    def parameters(self, model: DesignModel, scales: pb.Scales) -> np.ndarray:
-        """The parameter vector of ``model`` (prepared) with ``scales``."""
+    def parameters(
+        self, model: DesignModel, scales: pb.Scales, extra: dict[str, Any] | None = None
+    ) -> np.ndarray:
+        """The parameter vector of ``model`` (prepared) with ``scales`` (and sizing values)."""
         values = {
+            **(extra or {}),
             **pb.parameter_values("constant", model.constants),
             **pb.parameter_values("limit", model.limits),
             **pb.parameter_values("requirement", model.requirements),
             **pb.parameter_values("scale", scales),
             "ambient_temperature_C": model.ambient_temperature_C,
         }
-        return self.nlp.parameter_vector(values)
+        return self.nlp.parameter_vector(
+            {k: v for k, v in values.items() if k in self.nlp.param_slices}
+        )
 
 
 @functools.lru_cache(maxsize=16)
@@ -106,7 +120,11 @@ def compile_problem(structure: Structure) -> CompiledProblem:
     relax = tuple(b.variable(n, 1.0, 0.0, inf) for n in _SLACKS) if structure.relaxed else None
     from optimize.system import Limits, Requirements
 
-    c = _symbolic_constants(b, structure.spiral_starts)
+    hs = structure.hardware
+    if hs is None:
+        c = _symbolic_constants(b, structure.spiral_starts)
+    else:
+        c, hw_expr, quantities = hw.symbolic_constants(b, hs, structure.spiral_starts)
     lim = Limits(
         current_A=b.parameter("limit.current_A"),
         voltage_V=b.parameter("limit.voltage_V"),
@@ -127,6 +145,8 @@ def compile_problem(structure: Structure) -> CompiledProblem:
         relax=relax,
     )
     obj, terms = pb.all_terms(ctx, structure.objective)
+    if hs is not None:
+        terms += hw.geometry_terms(b, hs, hw_expr, quantities, ctx)
     for term in terms:
         g = term.g
         if term.allowed is None:
@@ -236,13 +256,19 @@ def variable_bounds(model: DesignModel) -> dict[str, tuple[float, float]]:
 
 
 def optimize_design(
-    model: DesignModel, *, warm_start: OptimizationResult | None = None
+    model: DesignModel, *, warm_start: OptimizationResult | dict | None = None
 ) -> OptimizationResult:
     """Best design of ``model`` for its objective; see the module notes.
 
-    ``warm_start``: a result of a neighbouring problem (the previous sweep point); its optimum
-    is tried first (with its multipliers) and the grid starts only if it fails.
+    ``warm_start``: a result of a neighbouring problem (the previous sweep point), or a dict of
+    ``helical_angle``, ``frequency``, ``field_T`` (and ``t_value``); it is tried first and the
+    grid starts only if it fails. A model with free hardware (``model.sizing``) is sized by
+    :func:`optimize.discrete.size_design`.
     """
+    if model.sizing is not None and model.sizing.free:
+        from optimize.discrete import size_design
+
+        return size_design(model)
     t0 = time.perf_counter()
     model = prepare(model)
     scales = scales_for(model)
@@ -250,7 +276,9 @@ def optimize_design(
     iterations, tried = 0, 0
     best: Solution | None = None
     candidates: list[tuple[Any, Any, bool]] = []
-    if warm_start is not None and warm_start.solution_x:
+    if isinstance(warm_start, dict):
+        candidates.append((dict(warm_start), None, True))
+    elif warm_start is not None and warm_start.solution_x:
         candidates.append((dict(warm_start.solution_x), warm_start.solution_lam_g, True))
     grid: list[dict[str, float]] | None = None
     i = 0

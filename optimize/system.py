@@ -128,6 +128,8 @@ class DesignModel:
     field_amplitude_T : float or None
         Operating rotating-field amplitude at the centre, T; None drives the coils at the
         largest field every limit allows at the operating frequency.
+    sizing : optimize.hardware.Sizing or None
+        Hardware the optimiser may choose (free variables, standard wires, least bore).
     """
 
     coils: Any
@@ -143,6 +145,7 @@ class DesignModel:
     ambient_temperature_C: float = 25.0
     heat_transfer_coefficient_W_m2K: float = 10.0
     field_amplitude_T: float | None = None
+    sizing: Any = None
     constants: Any = field(default=None, compare=False, repr=False)
 
 

@@ -275,14 +275,45 @@ KEYS.update(
             ("iec-r40", "awg"),
         ),
         "requirements.min_bore_m": _between(
-            "least clear diameter inside the smallest coil pair when a coil radius is freed "
-            "(default: what the design has)",
+            "least clear diameter inside every coil pair when coil hardware is freed "
+            "(default: what the design as entered has)",
             None,
             0.0,
             10.0,
         ),
     }
 )
+
+#: Design keys the optimiser can choose (``--free KEY=MIN:MAX``, ``[optimize.free]``).
+FREEABLE_KEYS = (
+    *(f"coils.{ax}.{q}" for ax in "xyz" for q in ("turns", "wire_diameter_mm", "radius_m")),
+    "capsule.magnet.diameter_mm",
+    "capsule.magnet.length_mm",
+    "capsule.spiral.wire_diameter_mm",
+)
+
+
+def _free_range(key: str) -> Key:
+    spec = KEYS[key]
+
+    def ok(v: Any) -> bool:
+        if not (isinstance(v, list) and len(v) == 2 and all(_num(x) for x in v)):
+            return False
+        lo, hi = v
+        if spec.kind is int:
+            lo, hi = math.ceil(lo), math.floor(hi)
+        return lo < hi and spec.check(lo) and spec.check(hi)
+
+    return Key(
+        list,
+        None,
+        f"a pair [min, max] with min < max, each {spec.allowed}",
+        ok,
+        f"let the optimiser choose {key} between min and max",
+    )
+
+
+KEYS.update({f"optimize.free.{k}": _free_range(k) for k in FREEABLE_KEYS})
 
 # --- coils as they really run (issue 10) ---
 KEYS.update({})

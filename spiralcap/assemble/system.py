@@ -112,6 +112,7 @@ def build_model(design: Design):
             if d.get("operation.field_amplitude_mT") is None
             else d["operation.field_amplitude_mT"] * 1e-3
         ),
+        sizing=build_sizing(d),
     )
 
 
@@ -156,6 +157,60 @@ def constraint_key(name: str) -> str:
     return ""
 
 
+#: freeable design key -> (optimize.hardware name, SI factor)
+_HARDWARE_NAMES: dict[str, tuple[str, float]] = {
+    **{f"coils.{ax}.turns": (f"{ax}.turns", 1.0) for ax in "xyz"},
+    **{f"coils.{ax}.wire_diameter_mm": (f"{ax}.wire_diameter_m", 1e-3) for ax in "xyz"},
+    **{f"coils.{ax}.radius_m": (f"{ax}.radius_m", 1.0) for ax in "xyz"},
+    "capsule.magnet.diameter_mm": ("magnet.diameter_m", 1e-3),
+    "capsule.magnet.length_mm": ("magnet.length_m", 1e-3),
+    "capsule.spiral.wire_diameter_mm": ("spiral.wire_diameter_m", 1e-3),
+}
+_FREE_PREFIX = "optimize.free."
+
+
+def free_keys(design: Design) -> dict[str, tuple[float, float]]:
+    """The freed design keys and their [min, max], in the key's units."""
+    return {
+        k[len(_FREE_PREFIX) :]: (float(v[0]), float(v[1]))
+        for k, v in design.items()
+        if k.startswith(_FREE_PREFIX) and v is not None
+    }
+
+
+def build_sizing(design: Design) -> Any:
+    """The :class:`optimize.hardware.Sizing` of the freed keys (None when nothing is free)."""
+    from optimize import hardware as hw
+
+    free = free_keys(design)
+    if not free:
+        return None
+    variables = tuple(
+        hw.FreeVariable(
+            _HARDWARE_NAMES[k][0], lo * _HARDWARE_NAMES[k][1], hi * _HARDWARE_NAMES[k][1]
+        )
+        for k, (lo, hi) in free.items()
+    )
+    wires_mm = (
+        hw.IEC_R40_mm if design["coils.wire_standard"] == "iec-r40" else hw.awg_diameters_mm()
+    )
+    return hw.Sizing(
+        variables,
+        tuple(d * 1e-3 for d in wires_mm),
+        design.get("requirements.min_bore_m"),
+    )
+
+
+def hardware_design_values(values: dict[str, float]) -> dict[str, Any]:
+    """optimize.hardware values (SI, by name) -> design keys in their units."""
+    by_name = {name: (key, factor) for key, (name, factor) in _HARDWARE_NAMES.items()}
+    out: dict[str, Any] = {}
+    for name, v in values.items():
+        key, factor = by_name[name]
+        out[key] = round(v) if key.endswith(".turns") else float(f"{v / factor:.12g}")
+    return out
+
+
 def optimum_values(design: Design, result: Any) -> dict[str, Any]:
     """The design keys an optimum sets: angle, frequency, the field where the objective set it,
     and every freed hardware key at its discrete optimum."""
@@ -168,7 +223,7 @@ def optimum_values(design: Design, result: Any) -> dict[str, Any]:
     elif design.get("operation.field_amplitude_mT") is not None:
         values["operation.field_amplitude_mT"] = float(result.field_amplitude_T * 1e3)
     if result.hardware is not None:
-        values.update(result.hardware.design_values)
+        values.update(hardware_design_values(result.hardware.discrete))
     return values
 
 
@@ -176,8 +231,11 @@ def optimum_design_toml(design: Design, result: Any) -> str:
     """The optimised design as a complete, commented design file (like ``spiralcap init``)."""
     from spiralcap.design import _to_toml
 
-    optimum = design.with_values(optimum_values(design, result))
-    values = {k: v for k, v in optimum.items() if not k.startswith("optimize.free")}
+    values = {
+        k: v
+        for k, v in {**design, **optimum_values(design, result)}.items()
+        if not k.startswith(_FREE_PREFIX)
+    }
     head = (
         "# spiralcap design file written by `spiralcap optimize` "
         f"(objective {result.objective}).\n"

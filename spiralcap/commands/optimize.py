@@ -35,6 +35,35 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         metavar="FILE",
         help="write the optimum as a complete design file (TOML) to FILE",
     )
+    parser.add_argument(
+        "--free",
+        action="append",
+        default=[],
+        metavar="KEY=MIN:MAX",
+        help="let the optimiser choose a hardware key in [MIN, MAX] (repeatable), e.g. "
+        "coils.x.turns=100:800; same as an [optimize.free] entry",
+    )
+
+
+def parse_free(expr: str) -> str:
+    """``KEY=MIN:MAX`` -> the ``--set`` override ``optimize.free.KEY=[MIN, MAX]``."""
+    from spiralcap.errors import InputError
+    from spiralcap.schema import FREEABLE_KEYS
+
+    key, sep, rng = expr.partition("=")
+    key = key.strip()
+    parts = rng.split(":")
+    if not sep or len(parts) != 2:
+        raise InputError("--free", expr, "the form KEY=MIN:MAX, e.g. coils.x.turns=100:800")
+    if key not in FREEABLE_KEYS:
+        raise InputError("--free", expr, "a key that can be freed: " + ", ".join(FREEABLE_KEYS))
+    try:
+        lo, hi = float(parts[0]), float(parts[1])
+    except ValueError:
+        raise InputError(
+            "--free", expr, "numbers MIN and MAX, e.g. coils.x.turns=100:800"
+        ) from None
+    return f"optimize.free.{key}=[{lo!r}, {hi!r}]"
 
 
 #: objective -> (label, factor from SI to the label's unit)
@@ -82,6 +111,8 @@ def format_result(res) -> str:
             )
         if not res.binding_limits:
             lines.append("  none")
+        if res.hardware is not None:
+            lines += _hardware_lines(res)
     else:
         lines.append(res.message)
         for s in res.shortfalls:
@@ -100,11 +131,38 @@ def format_result(res) -> str:
     return "\n".join(lines)
 
 
+def _hardware_lines(res) -> list[str]:
+    from spiralcap.assemble.system import hardware_design_values
+
+    h = res.hardware
+    label, factor = _OBJECTIVE_LABELS.get(res.objective, ("", 1.0))
+    relaxed = hardware_design_values(
+        {k: v for k, v in h.relaxed.items() if not k.endswith(".turns")}
+    )
+    relaxed.update({k: v for k, v in _turns(h.relaxed).items()})
+    chosen = hardware_design_values(h.discrete)
+    lines = [
+        f"hardware            {len(chosen)} keys sized; {h.feasible} of {h.candidates} "
+        f"buildable neighbours feasible, {h.outer_iterations} outer iterations",
+        f"  continuous bound  {h.relaxed_objective * factor:.5g} {label}; "
+        f"discrete {h.discrete_objective * factor:.5g} {label} "
+        f"(rounding costs {h.rounding_cost * factor:.3g})",
+    ]
+    for key, value in chosen.items():
+        lines.append(f"  {key:<34} {value!s:<10} (relaxed {relaxed[key]:.5g})")
+    return lines
+
+
+def _turns(values: dict[str, float]) -> dict[str, float]:
+    return {f"coils.{k.split('.')[0]}.turns": v for k, v in values.items() if k.endswith(".turns")}
+
+
 def run(args: argparse.Namespace) -> int:
     from optimize import optimize_design
     from spiralcap.assemble import build_model
     from spiralcap.serialize import optimization_to_dict
 
+    args.overrides = [*args.overrides, *(parse_free(e) for e in args.free)]
     design = design_from_args(args)
     res = optimize_design(build_model(design))
     written = None
