@@ -92,7 +92,11 @@ def size_design(model: DesignModel) -> OptimizationResult:
     problem = compile_problem(structure_of(exact, hardware=hs))
     bounds = {**variable_bounds(exact), **{v.name: (v.lo, v.hi) for v in free}}
     scales = scales_for(exact)
-    starts = [{**x, **hw_now} for x in initial_points(exact, scales, model.bounds.starts)]
+    p_scaled = float(exact.constants.power_per_tesla2_W_per_T2) * scales.field_T**2 / scales.power_W
+    starts = [
+        {**x, **hw_now, "power_per_T2_scaled": p_scaled}
+        for x in initial_points(exact, scales, model.bounds.starts)
+    ]
     iterations, outer, best, frozen_prev = 0, 0, None, None
     for _ in range(_OUTER_MAX):
         outer += 1
@@ -137,7 +141,7 @@ def size_design(model: DesignModel) -> OptimizationResult:
         m = buildable(fixed_model, values, min_bore)
         if m is None:
             continue
-        res = optimize_design(m, warm_start=warm)
+        res = optimize_design(m, warm_start=warm, diagnose=False, grid_starts=False)
         iterations += res.iterations
         if res.status != "optimal":
             continue

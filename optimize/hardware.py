@@ -317,10 +317,14 @@ def symbolic_constants(b: Any, hs: HardwareStructure, spiral_starts: int) -> tup
         )
     g = [gcorr[k] * q[k]["gain_T_per_A"] for k in range(3)]
     res = [q[k]["resistance_ohm"] for k in range(3)]
-    power = None
-    for h in range(hs.headings):
-        ph = sum(s2[3 * h + k] * res[k] / (2.0 * g[k] * g[k]) for k in range(3))
-        power = ph if power is None else bk.fmax(power, ph)
+    # worst-heading copper loss per T²: an epigraph variable above every heading's loss (a max
+    # of tied headings is not smooth); its rows are returned with the geometry terms
+    p_ref = b.parameter("scale.power_W") / (b.parameter("scale.field_T") ** 2)
+    power = b.variable("power_per_T2_scaled", 1.0, 0.0, np.inf) * p_ref
+    heading_loss = [
+        sum(s2[3 * h + k] * res[k] / (2.0 * g[k] * g[k]) for k in range(3))
+        for h in range(hs.headings)
+    ]
     body_d, body_l = b.parameter("body.diameter_m"), b.parameter("body.length_m")
     wire_sp = hw["spiral.wire_diameter_m"]
     d_mag, l_mag = hw["magnet.diameter_m"], hw["magnet.length_m"]
@@ -347,6 +351,7 @@ def symbolic_constants(b: Any, hs: HardwareStructure, spiral_starts: int) -> tup
         copper_mass_kg=ca.vertcat(*(q[k]["copper_mass_kg"] for k in range(3))),
         starts=spiral_starts,
     )
+    q.append({"heading_loss": heading_loss, "power_per_T2": power})
     return c, hw, q
 
 
@@ -362,6 +367,12 @@ def geometry_terms(b: Any, hs: HardwareStructure, hw: dict, q: list, ctx: Any) -
 
     def upper(v: Any, a: Any) -> Any:
         return v / a - 1.0
+
+    extra = q[3]
+    for h, loss in enumerate(extra["heading_loss"]):
+        out.append(
+            Term(Row(f"heading_loss[{h}]", "epigraph", "W/T²"), loss, extra["power_per_T2"], upper)
+        )
 
     if free & {f"{ax}.{qq}" for ax in AXES for qq in COIL_QUANTITIES}:
         sep = b.parameter("hw.separation_m", (3,))

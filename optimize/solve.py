@@ -256,14 +256,20 @@ def variable_bounds(model: DesignModel) -> dict[str, tuple[float, float]]:
 
 
 def optimize_design(
-    model: DesignModel, *, warm_start: OptimizationResult | dict | None = None
+    model: DesignModel,
+    *,
+    warm_start: OptimizationResult | dict | None = None,
+    diagnose: bool = True,
+    grid_starts: bool = True,
 ) -> OptimizationResult:
     """Best design of ``model`` for its objective; see the module notes.
 
     ``warm_start``: a result of a neighbouring problem (the previous sweep point), or a dict of
     ``helical_angle``, ``frequency``, ``field_T`` (and ``t_value``); it is tried first and the
     grid starts only if it fails. A model with free hardware (``model.sizing``) is sized by
-    :func:`optimize.discrete.size_design`.
+    :func:`optimize.discrete.size_design`. ``diagnose=False`` skips the relaxed problem that
+    says what is out of reach when nothing is feasible (the status is still 'infeasible');
+    ``grid_starts=False`` tries only the warm start (the discrete search's neighbours).
     """
     if model.sizing is not None and model.sizing.free:
         from optimize.discrete import size_design
@@ -288,7 +294,7 @@ def optimize_design(
         else:
             if best is not None and best.success:
                 break
-            if grid is None:
+            if grid is None and (grid_starts or not candidates):
                 grid = initial_points(model, scales, model.bounds.starts)
                 candidates += [(x, None, False) for x in grid]
                 continue
@@ -307,6 +313,23 @@ def optimize_design(
         if warm and sol.success:
             break
     status_text = best.status if best is not None else "no start"
+    if (best is None or not best.success) and not diagnose:
+        ev = evaluate(model)
+        return _result(
+            model,
+            "infeasible",
+            ev,
+            (),
+            (),
+            status_text,
+            iterations,
+            tried,
+            t0,
+            "infeasible: no start converged",
+            objective_value=float("nan"),
+            solution=None,
+            field_set=False,
+        )
     if best is None or not best.success:
         return _infeasible(model, scales, grid or [], iterations, tried, t0, status_text)
     xs = best.values()
@@ -367,7 +390,7 @@ def _binding(model: DesignModel, scales: pb.Scales, sol: Solution) -> tuple[Bind
     sens = sol.row_sensitivities()
     out = []
     for i, row in enumerate(sol.nlp.rows):
-        if row.kind == "objective" or sol.g[i] < -1e-6 or abs(sol.lam_g[i]) < 1e-9:
+        if row.kind in ("objective", "epigraph") or sol.g[i] < -1e-6 or abs(sol.lam_g[i]) < 1e-9:
             continue
         if not np.isfinite(allowed[i]):
             continue

@@ -107,4 +107,28 @@ def optimization_to_dict(res) -> dict[str, Any]:
         "starts": res.starts,
         "solve_time_s": res.solve_time_s,
         "evaluation": evaluation_to_dict(res.evaluation),
+        "hardware": _hardware(res.hardware),
+    }
+
+
+def _hardware(h) -> dict[str, Any] | None:
+    """The sizing part of an optimum: relaxed bound and discrete design, in design-key units."""
+    if h is None:
+        return None
+    from spiralcap.assemble.system import hardware_design_values
+
+    relaxed = {k: v for k, v in h.relaxed.items() if not k.endswith(".turns")}
+    relaxed_keys = hardware_design_values(relaxed)
+    relaxed_keys.update(
+        {f"coils.{k.split('.')[0]}.turns": v for k, v in h.relaxed.items() if k.endswith(".turns")}
+    )
+    return {
+        "relaxed": relaxed_keys,
+        "relaxed_objective": h.relaxed_objective,
+        "discrete": hardware_design_values(h.discrete),
+        "discrete_objective": h.discrete_objective,
+        "rounding_cost": h.rounding_cost,
+        "candidates": h.candidates,
+        "feasible_candidates": h.feasible,
+        "outer_iterations": h.outer_iterations,
     }
