@@ -96,7 +96,7 @@ def test_discrete_x_pair_is_standard_and_beats_a_brute_force_grid(model, x_sized
     assert n == round(n) and 100 <= n <= 800
     assert any(math.isclose(d * 1e3, s, rel_tol=1e-12) for s in hw.IEC_R40_mm), "R40 diameter"
     assert res.hardware.relaxed_objective >= res.margin_Nm * (1 - 1e-9), "relaxation is a bound"
-    wires = [w for w in hw.IEC_R40_mm if 0.8 <= w <= 3.0][::4] + [d * 1e3]
+    wires = [*[w for w in hw.IEC_R40_mm if 0.8 <= w <= 3.0][::4], d * 1e3]
     turns = [*range(100, 801, 100), *(int(n) + k for k in (-2, 2))]
     warm = {
         "helical_angle": res.helical_angle_rad,
