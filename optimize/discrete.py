@@ -69,6 +69,7 @@ def buildable(
 def size_design(model: DesignModel) -> OptimizationResult:
     """Size the free hardware of ``model`` (``model.sizing``) for its objective."""
     from optimize.solve import (
+        _binding,
         compile_problem,
         initial_points,
         optimize_design,
@@ -157,6 +158,12 @@ def size_design(model: DesignModel) -> OptimizationResult:
             f"({tried} tried)",
         )
     values, res = winner
+    # what binds the sizing itself (geometry rows, hardware boxes) comes from the relaxation
+    sizing_binding = tuple(
+        b
+        for b in _binding(exact, scales, best, {v.name: (v.lo, v.hi) for v in free})
+        if "@" in b.name or b.name in {r.name for r in best.nlp.rows if r.kind == "geometry"}
+    )
     result = HardwareResult(
         relaxed=relaxed,
         relaxed_objective=float(relaxed_obj),
@@ -169,6 +176,7 @@ def size_design(model: DesignModel) -> OptimizationResult:
     return replace(
         res,
         hardware=result,
+        binding_limits=res.binding_limits + sizing_binding,
         iterations=iterations,
         solve_time_s=time.perf_counter() - t0,
         message=f"optimal: {len(free)} hardware quantities sized ({feasible} of {tried} "

@@ -381,7 +381,10 @@ def geometry_terms(b: Any, hs: HardwareStructure, hw: dict, q: list, ctx: Any) -
             b.parameter(f"frozen.{n}", (3,)) for n in ("gap0_m", "dgap_dra", "dgap_drb")
         )
         r0 = b.parameter("frozen.radii0_m", (3,))
+        freed = [bool(free & {f"{ax}.{qq}" for qq in COIL_QUANTITIES}) for ax in AXES]
         for k, ax in enumerate(AXES):
+            if not freed[k]:  # a fixed pair's rows would be constants
+                continue
             r, side = hw[f"{ax}.radius_m"], q[k]["side_m"]
             out.append(Term(Row(f"pack_side_{ax}", "geometry", "m"), side, r, upper))
             if not hs.helmholtz[k]:
@@ -395,6 +398,8 @@ def geometry_terms(b: Any, hs: HardwareStructure, hw: dict, q: list, ctx: Any) -
                 )
             )
         for n, (i, j) in enumerate(PAIRS_OF_PAIRS):
+            if not (freed[i] or freed[j]):
+                continue
             ri, rj = hw[f"{AXES[i]}.radius_m"], hw[f"{AXES[j]}.radius_m"]
             gap = gap0[n] + dga[n] * (ri - r0[i]) + dgb[n] * (rj - r0[j])
             half = 0.5 * (q[i]["side_m"] + q[j]["side_m"])

@@ -382,8 +382,16 @@ def _objective_value(model: DesignModel, ev: Any) -> float:
     return ev.margin_Nm
 
 
-def _binding(model: DesignModel, scales: pb.Scales, sol: Solution) -> tuple[BindingLimit, ...]:
-    """Active rows and bounds with their sensitivities d objective / d allowed (SI)."""
+def _binding(
+    model: DesignModel,
+    scales: pb.Scales,
+    sol: Solution,
+    extra_bounds: dict[str, tuple[float, float]] | None = None,
+) -> tuple[BindingLimit, ...]:
+    """Active rows and bounds with their sensitivities d objective / d allowed (SI).
+
+    ``extra_bounds``: boxes of further variables (free hardware, named ``<name>@max``/``@min``).
+    """
     spec = pb.OBJECTIVES[model.bounds.objective]
     k = spec.sense * _obj_scale(model, scales)  # U = -sense * scale * F
     allowed, _, value = sol.allowed()
@@ -405,16 +413,20 @@ def _binding(model: DesignModel, scales: pb.Scales, sol: Solution) -> tuple[Bind
                 spec.sense,
             )
         )
-    for name, unit in (("helical_angle", "rad"), ("frequency", "Hz")):
+    box = {**variable_bounds(model), **(extra_bounds or {})}
+    named = [("helical_angle", "rad"), ("frequency", "Hz")]
+    named += [(n, "turns" if n.endswith("turns") else "m") for n in (extra_bounds or {})]
+    for name, unit in named:
         lam = sol.bound_multiplier(name)  # d F / d ub = -lam (per physical unit)
         if abs(lam) < 1e-9 / sol.nlp.variables[sol.nlp.var_index[name]].ref:
             continue
-        lo, hi = variable_bounds(model)[name]
+        lo, hi = box[name]
         x = sol.value(name)
         at_hi = abs(x - hi) < abs(x - lo)
+        sep = "@" if name in (extra_bounds or {}) else "_"
         out.append(
             BindingLimit(
-                f"{name}_{'max' if at_hi else 'min'}",
+                f"{name}{sep}{'max' if at_hi else 'min'}",
                 unit,
                 float(x),
                 float(hi if at_hi else lo),

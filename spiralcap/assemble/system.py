@@ -149,6 +149,23 @@ def constraint_key(name: str) -> str:
     stem = name.split("[", 1)[0].split("@", 1)[0]
     if stem in _CONSTRAINT_KEYS:
         return _CONSTRAINT_KEYS[stem]
+    hardware = {hw_name: key for key, (hw_name, _) in _HARDWARE_NAMES.items()}
+    if stem in hardware:  # a freed key at the edge of its box
+        return "optimize.free." + hardware[stem]
+    geometry = {
+        "pack_side": "coils.{}.wire_diameter_mm",
+        "pack_separation": "coils.{}.separation_m",
+        "bore": "requirements.min_bore_m",
+    }
+    head, _, axis = stem.rpartition("_")
+    if head in geometry and axis in ("x", "y", "z"):
+        return geometry[head].format(axis)
+    if stem.startswith("nesting_"):
+        return f"coils.{stem[-1]}.radius_m"
+    if stem.startswith("magnet_"):
+        return "capsule.magnet." + stem.split("_", 1)[1] + "_mm"
+    if stem == "spiral_clearance":
+        return "capsule.spiral.wire_diameter_mm"
     if "." in stem:  # a design key itself (free hardware bounds)
         return stem
     head, _, axis = stem.rpartition("_")

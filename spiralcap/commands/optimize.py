@@ -23,6 +23,8 @@ _ENGINEERING = {
     "turns": ("turn", 1.0),
     "rad": ("deg", math.pi / 180),
     "Hz": ("Hz", 1.0),
+    "m": ("mm", 1e-3),
+    "1": ("", 1.0),
 }
 EXIT_INFEASIBLE = 3
 
