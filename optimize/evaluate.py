@@ -214,7 +214,7 @@ def evaluate(
         field_amplitude_T=field,
         field_limited_by=binding,
         workspace_factor=c.workspace_factor,
-        current_amplitudes_A=tuple(float(x) for x in field * c.current_per_tesla_A_per_T),
+        current_amplitudes_A=_three(field * c.current_per_tesla_A_per_T),
         magnetic_torque_Nm=avail,
         resistive_torque_Nm=res,
         thrust_torque_Nm=thr,
@@ -229,6 +229,10 @@ def evaluate(
         checks=tuple(checks),
         feasible=all(ch.ok for ch in checks),
     )
+
+
+def _three(v: Any) -> tuple[float, float, float]:
+    return (float(v[0]), float(v[1]), float(v[2]))
 
 
 def _checks(

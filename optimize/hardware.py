@@ -107,7 +107,8 @@ def hardware_of(model: Any) -> dict[str, float]:
 
 def helmholtz_flags(model: Any) -> tuple[bool, bool, bool]:
     """Per pair: does the separation follow the radius (Helmholtz spacing)?"""
-    return tuple(abs(p.separation_m - p.radius_m) <= 1e-12 * p.radius_m for p in model.coils.pairs)  # type: ignore[return-value]
+    x, y, z = (abs(p.separation_m - p.radius_m) <= 1e-12 * p.radius_m for p in model.coils.pairs)
+    return (x, y, z)
 
 
 def with_hardware(model: Any, values: Mapping[str, float]) -> Any:

@@ -495,7 +495,7 @@ def _result(
     solution,
     field_set,
 ) -> OptimizationResult:
-    allocations = []
+    allocations: list[Any] = []
     for h in model.headings:
         amps, phases = model.coils.rotating_allocation(h, ev.field_amplitude_T)
         allocations.append((tuple(float(a) for a in amps), tuple(float(p) for p in phases)))
@@ -509,7 +509,7 @@ def _result(
         safety_factor=ev.safety_factor,
         current_amplitudes_A=ev.current_amplitudes_A,
         current_phases_rad=tuple(allocations),
-        headings=tuple(tuple(float(c) for c in h) for h in model.headings),
+        headings=tuple((float(h[0]), float(h[1]), float(h[2])) for h in model.headings),
         speed_m_s=ev.speed_m_s,
         step_out_frequency_hz=ev.step_out_frequency_hz,
         binding_limits=binding,

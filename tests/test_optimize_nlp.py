@@ -188,3 +188,21 @@ def test_margin_grid_and_worst_required_are_typed(model):
     assert isinstance(g, MarginGrid) and g.margin_Nm.shape == (2,)
     w = worst_required(model, np.radians(20.0), 1.0)
     assert math.isclose(float(w.total_Nm), float(w.resistive_Nm + w.thrust_Nm), rel_tol=1e-12)
+
+
+def test_evaluate_honours_a_set_field(capsys):
+    assert main(["evaluate", "--json", "--set", "operation.field_amplitude_mT=3"]) == 0
+    ev = json.loads(capsys.readouterr().out)
+    assert math.isclose(ev["field_amplitude_T"], 3e-3, rel_tol=1e-12)
+    m = prepare(build_model(load_design()))
+    c = m.constants
+    need = ev["required_torque_Nm"]
+    assert math.isclose(
+        ev["margin_Nm"], c.moment_Am2 * c.workspace_factor * 3e-3 - need, rel_tol=1e-12
+    ), "margin = m κ B0 - τ at the set field (docs/optimisation.md)"
+    assert main(["evaluate", "--json", "--set", "operation.field_amplitude_mT=60"]) == 0
+    ev = json.loads(capsys.readouterr().out)
+    assert ev["feasible"] is False
+    assert any(c["name"].startswith("current_") and not c["ok"] for c in ev["checks"]), (
+        "60 mT needs more than the current limit allows"
+    )
