@@ -43,6 +43,35 @@ def _options(v: hw.FreeVariable, x: float, wires: tuple[float, ...]) -> list[flo
     return [x]
 
 
+def _neighbours(problem, p, bounds, best, free, sizing) -> tuple[list[dict[str, float]], int]:
+    """The discrete designs to try around the relaxed optimum ``best``.
+
+    Wire diameters first: for each combination of the standard sizes just below and above the
+    relaxed ones, the relaxation is re-solved with those wires fixed (the turns re-balance), and
+    each turn count of that solution is rounded down and up. Without free wires: every turn
+    count rounded down and up.
+    """
+    wires = [v for v in free if v.kind == "wire"]
+    rest = [v for v in free if v.kind != "wire"]
+    out: list[dict[str, float]] = []
+    iterations = 0
+    wire_options = [_options(v, best.value(v.name), sizing.wire_diameters_m) for v in wires]
+    for wc in itertools.product(*wire_options):
+        fixed = dict(zip((v.name for v in wires), wc))
+        sol = best
+        if wires and rest:
+            box = {**bounds, **{n: (d, d) for n, d in fixed.items()}}
+            sol = problem.nlp.solve({**best.values(), **fixed}, p, box)
+            iterations += sol.iterations
+            if not sol.success:
+                sol = best
+        rest_options = [_options(v, sol.value(v.name), sizing.wire_diameters_m) for v in rest]
+        for rc in itertools.product(*rest_options):
+            out.append({**fixed, **dict(zip((v.name for v in rest), rc))})
+    unique = {tuple(sorted(c.items())): c for c in out}
+    return list(unique.values()), iterations
+
+
 def buildable(
     model: DesignModel, values: dict[str, float], min_bore_m: float
 ) -> DesignModel | None:
@@ -134,10 +163,11 @@ def size_design(model: DesignModel) -> OptimizationResult:
         "frequency": best.value("frequency"),
         "field_T": best.value("field_scaled") * scales.field_T,
     }
-    options = [_options(v, relaxed[v.name], sizing.wire_diameters_m) for v in free]
+    candidates, extra_iterations = _neighbours(problem, p, bounds, best, free, sizing)
+    iterations += extra_iterations
     tried, feasible, winner = 0, 0, None
-    for combo in itertools.product(*options):
-        values = {**relaxed, **dict(zip((v.name for v in free), combo))}
+    for combo in candidates:
+        values = {**relaxed, **combo}
         tried += 1
         m = buildable(fixed_model, values, min_bore)
         if m is None:
