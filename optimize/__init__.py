@@ -1,4 +1,4 @@
-"""Design evaluation and CasADi/IPOPT optimisation of spiral angle, frequency and coil currents.
+"""Design evaluation and CasADi/IPOPT optimisation of spiral angle, frequency, field and hardware.
 
 >>> from spiralcap.assemble import build_model          # doctest: +SKIP
 >>> from optimize import evaluate, optimize_design       # doctest: +SKIP
@@ -15,8 +15,9 @@ from optimize.evaluate import (
     step_out_frequency_hz,
     worst_required,
 )
+from optimize.hardware import FreeVariable, Sizing
 from optimize.physics import ICNIRP2010_LEVELS_T, exposure_level_T
-from optimize.result import BindingLimit, OptimizationResult, Shortfall
+from optimize.result import BindingLimit, HardwareResult, OptimizationResult, Shortfall
 from optimize.solve import optimize_design, with_operating_point
 from optimize.system import Bounds, DesignModel, Limits, Requirements, prepare
 
@@ -27,11 +28,14 @@ __all__ = [
     "Check",
     "DesignModel",
     "Evaluation",
+    "FreeVariable",
+    "HardwareResult",
     "Limits",
     "MarginGrid",
     "OptimizationResult",
     "Requirements",
     "Shortfall",
+    "Sizing",
     "WorstRequired",
     "evaluate",
     "exposure_level_T",
