@@ -156,8 +156,8 @@ def size_design(model: DesignModel) -> OptimizationResult:
         return _no_design(fixed_model, t0, iterations, "the relaxed sizing problem has no solution")
     relaxed = {v.name: best.value(v.name) for v in free}
     relaxed_obj = -spec.sense * scale * best.f if spec.uses_t else scale * best.f
-    if model.bounds.objective == "copper_mass":
-        relaxed_obj = float(np.sum(exact.constants.copper_mass_kg))
+    if model.bounds.objective == "copper_mass":  # the mass alone, at the unrounded hardware
+        relaxed_obj = _copper_mass_kg({**hw.hardware_of(exact), **relaxed}, exact)
     warm = {
         "helical_angle": best.value("helical_angle"),
         "frequency": best.value("frequency"),
@@ -211,6 +211,24 @@ def size_design(model: DesignModel) -> OptimizationResult:
         solve_time_s=time.perf_counter() - t0,
         message=f"optimal: {len(free)} hardware quantities sized ({feasible} of {tried} "
         "buildable neighbours feasible); every requirement met inside every limit",
+    )
+
+
+def _copper_mass_kg(values: dict[str, float], model: DesignModel) -> float:
+    pf = model.coils.pairs[0].packing_factor
+    return float(
+        sum(
+            hw.coil_quantities(
+                values[f"{ax}.radius_m"],
+                values[f"{ax}.turns"],
+                values[f"{ax}.wire_diameter_m"],
+                values[f"{ax}.radius_m"],
+                packing=pf,
+                resistivity=1.0,
+                h=1.0,
+            )["copper_mass_kg"]
+            for ax in hw.AXES
+        )
     )
 
 

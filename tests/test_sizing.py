@@ -172,3 +172,19 @@ def test_impossible_sizing_exits_3_naming_what_is_out_of_reach(capsys):
     out = json.loads(capsys.readouterr().out)
     assert code == 3 and out["status"] == "infeasible"
     assert "requirements.min_speed_mm_s" in [s["key"] for s in out["shortfalls"]]
+
+
+def test_least_copper_relaxation_bounds_the_discrete_design(model):
+    m = replace(
+        model,
+        bounds=replace(model.bounds, objective="copper_mass"),
+        requirements=replace(model.requirements, min_safety_factor=3.0),
+        sizing=hw.Sizing((hw.FreeVariable("x.turns", 100, 800),)),
+    )
+    res = optimize_design(m)
+    h = res.hardware
+    assert res.status == "optimal" and res.safety_factor >= 3.0 * (1 - 1e-9)
+    assert h.relaxed_objective <= h.discrete_objective, "the relaxation bounds a minimum"
+    assert h.discrete["x.turns"] == math.ceil(h.relaxed["x.turns"]), (
+        "fewer turns than the relaxation cannot reach the safety factor: the answer rounds up"
+    )
