@@ -26,11 +26,12 @@ def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("out", nargs="?", default="copper_vs_safety.png")
     parser.add_argument("--points", type=int, default=7)
+    parser.add_argument("--pairs", default="xyz", help="coil pairs whose windings are sized")
     args = parser.parse_args(argv)
 
     free = {
         f"optimize.free.coils.{ax}.{key}": bounds
-        for ax in "xyz"
+        for ax in args.pairs
         for key, bounds in (("turns", [50, 800]), ("wire_diameter_mm", [0.8, 3.0]))
     }
     base = load_design().with_values({**free, "optimize.objective": "copper_mass"})
@@ -50,7 +51,7 @@ def main(argv: list[str] | None = None) -> None:
     ax.plot(factors, mass, "o", color="black", ms=5, label="whole turns, R40 wire", zorder=2)
     ax.set_xlabel("required safety factor (available / required torque)")
     ax.set_ylabel("copper of the three pairs (kg)")
-    ax.set_title("Least copper for a safety factor (built-in design)")
+    ax.set_title(f"Least copper for a safety factor (pairs {', '.join(args.pairs)} sized)")
     ax.grid(True, color="0.85")
     ax.legend()
     fig.tight_layout()

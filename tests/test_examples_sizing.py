@@ -22,7 +22,7 @@ def test_least_power_example_prints_the_bill_of_materials(capsys):
 def test_copper_tradeoff_example_plots(tmp_path, capsys):
     out = tmp_path / "cvs.png"
     ns = runpy.run_path(str(EXAMPLES / "size_copper_vs_safety.py"))
-    ns["main"]([str(out), "--points", "2"])
+    ns["main"]([str(out), "--points", "2", "--pairs", "x"])
     text = capsys.readouterr().out
     masses = [float(m) for m in re.findall(r"copper\s+([\d.]+) kg", text)]
     assert len(masses) == 2 and masses[0] < masses[1], "more safety needs more copper"
