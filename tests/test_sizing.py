@@ -188,3 +188,28 @@ def test_least_copper_relaxation_bounds_the_discrete_design(model):
     assert h.discrete["x.turns"] == math.ceil(h.relaxed["x.turns"]), (
         "fewer turns than the relaxation cannot reach the safety factor: the answer rounds up"
     )
+
+
+def test_sizing_rows_equal_fixed_rows_at_the_same_hardware(model):
+    """With the frozen factors taken at the design, the sizing NLP's rows (hardware as
+    variables) equal the fixed-hardware rows (precomputed Constants) at the same point: the
+    expressions of optimize.hardware are the coil objects' numbers, to 1e-9."""
+    from optimize.solve import compile_problem, scales_for, structure_of
+
+    names = ("x.turns", "y.wire_diameter_m", "z.radius_m")
+    hs = hw.HardwareStructure(names, hw.helmholtz_flags(model), len(model.headings))
+    sized = compile_problem(structure_of(model, hardware=hs))
+    fixed = compile_problem(structure_of(model))
+    scales = scales_for(model)
+    extra = hw.sizing_parameters(model, hw.frozen_factors(model), hw.bore_m(model))
+    point = {"helical_angle": 0.3, "frequency": 1.2, "field_scaled": 0.8, "t": 0.1}
+    here = hw.hardware_of(model)
+    p_ref = model.constants.power_per_tesla2_W_per_T2 * scales.field_T**2 / scales.power_W
+    xs = sized.nlp.scale({**point, **{n: here[n] for n in names}, "power_per_T2_scaled": p_ref})
+    _, g_sized = sized.nlp.evaluate(xs, sized.parameters(model, scales, extra))
+    _, g_fixed = fixed.nlp.evaluate(fixed.nlp.scale(point), fixed.parameters(model, scales))
+    by_name = dict(zip(sized.nlp.row_names, g_sized))
+    for name, g in zip(fixed.nlp.row_names, g_fixed):
+        assert math.isclose(by_name[name], g, rel_tol=1e-9, abs_tol=1e-12), (
+            f"{name}: sizing and fixed rows agree (1e-9)"
+        )
