@@ -338,7 +338,10 @@ def optimize_design(
     # the field ends below what the limits allow when the objective or a registered row says so
     capacity = float(margin_grid(model, alpha, f, capacity=True).field_amplitude_T)
     field_set = _minimises_power(model) or field < capacity * (1 - 1e-7)
-    ev = evaluate(model, alpha, f, field_amplitude_T=field if field_set else None)
+    # an explicit field only where the optimum's differs from the largest the limits allow (or
+    # the model carries a set field the optimiser was free to move)
+    given = field if field_set else (capacity if model.field_amplitude_T is not None else None)
+    ev = evaluate(model, alpha, f, field_amplitude_T=given)
     if not ev.feasible:
         return _infeasible(model, scales, grid or [], iterations, tried, t0, status_text, ev)
     binding = _binding(model, scales, best)
@@ -454,7 +457,10 @@ def _infeasible(model, scales, starts, iterations, tried, t0, status_text, ev=No
     assert best is not None  # at least one start
     xs = best.values()
     alpha, f = xs["helical_angle"], xs["frequency"]
+    capacity = float(margin_grid(model, alpha, f, capacity=True).field_amplitude_T)
     field = xs["field_scaled"] * scales.field_T if _minimises_power(model) else None
+    if field is None and model.field_amplitude_T is not None:
+        field = capacity
     ev = evaluate(model, alpha, f, field_amplitude_T=field)
     shortfalls = tuple(
         Shortfall(c.name, c.unit, c.allowed, c.value) for c in ev.failed() if c.sense == ">="

@@ -206,3 +206,12 @@ def test_evaluate_honours_a_set_field(capsys):
     assert any(c["name"].startswith("current_") and not c["ok"] for c in ev["checks"]), (
         "60 mT needs more than the current limit allows"
     )
+
+
+def test_margin_optimum_ignores_a_set_field(model):
+    """The field is a decision variable: a design carrying a set field (e.g. a saved power
+    optimum) re-optimised for the margin reaches the same optimum (1e-9)."""
+    free = optimize_design(model)
+    fixed = optimize_design(replace(model, field_amplitude_T=3e-3))
+    assert math.isclose(fixed.margin_Nm, free.margin_Nm, rel_tol=1e-9)
+    assert math.isclose(fixed.field_amplitude_T, free.field_amplitude_T, rel_tol=1e-9)
