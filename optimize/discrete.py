@@ -166,7 +166,13 @@ def size_design(model: DesignModel) -> OptimizationResult:
     candidates, extra_iterations = _neighbours(problem, p, bounds, best, free, sizing)
     iterations += extra_iterations
     tried, feasible, winner = 0, 0, None
+    by_mass = model.bounds.objective == "copper_mass"
+    if by_mass:  # the objective is known before the solve: the first feasible one is the best
+        here = hw.hardware_of(exact)
+        candidates.sort(key=lambda c: _copper_mass_kg({**here, **relaxed, **c}, exact))
     for combo in candidates:
+        if by_mass and winner is not None:
+            break
         values = {**relaxed, **combo}
         tried += 1
         m = buildable(fixed_model, values, min_bore)
