@@ -1,13 +1,23 @@
-"""Design evaluation and CasADi/IPOPT optimisation of spiral angle, frequency and coil currents.
+"""Design evaluation and CasADi/IPOPT optimisation of spiral angle, frequency, field and hardware.
 
 >>> from spiralcap.assemble import build_model          # doctest: +SKIP
 >>> from optimize import evaluate, optimize_design       # doctest: +SKIP
 >>> result = optimize_design(build_model(design))        # doctest: +SKIP
 """
 
-from optimize.evaluate import Check, Evaluation, evaluate, margin_grid, step_out_frequency_hz
+from optimize.evaluate import (
+    Check,
+    Evaluation,
+    MarginGrid,
+    WorstRequired,
+    evaluate,
+    margin_grid,
+    step_out_frequency_hz,
+    worst_required,
+)
+from optimize.hardware import FreeVariable, Sizing
 from optimize.physics import ICNIRP2010_LEVELS_T, exposure_level_T
-from optimize.result import BindingLimit, OptimizationResult, Shortfall
+from optimize.result import BindingLimit, HardwareResult, OptimizationResult, Shortfall
 from optimize.solve import optimize_design, with_operating_point
 from optimize.system import Bounds, DesignModel, Limits, Requirements, prepare
 
@@ -18,10 +28,15 @@ __all__ = [
     "Check",
     "DesignModel",
     "Evaluation",
+    "FreeVariable",
+    "HardwareResult",
     "Limits",
+    "MarginGrid",
     "OptimizationResult",
     "Requirements",
     "Shortfall",
+    "Sizing",
+    "WorstRequired",
     "evaluate",
     "exposure_level_T",
     "margin_grid",
@@ -29,4 +44,5 @@ __all__ = [
     "prepare",
     "step_out_frequency_hz",
     "with_operating_point",
+    "worst_required",
 ]

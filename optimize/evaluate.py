@@ -8,6 +8,7 @@ the workspace minus the largest required torque (resistive + thrust) over the ti
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any, NamedTuple
 
 import numpy as np
 from scipy.optimize import brentq
@@ -66,8 +67,17 @@ class Evaluation:
         return [c for c in self.checks if not c.ok]
 
 
-def worst_required(model: DesignModel, alpha, f):
-    """Worst tissue's (resistive, thrust, total, index) at (alpha, f); broadcasts over arrays."""
+class WorstRequired(NamedTuple):
+    """The worst tissue's required torque at each point (arrays broadcast like the inputs)."""
+
+    resistive_Nm: np.ndarray
+    thrust_Nm: np.ndarray
+    total_Nm: np.ndarray
+    tissue_index: np.ndarray
+
+
+def worst_required(model: DesignModel, alpha: Any, f: Any) -> WorstRequired:
+    """Worst tissue's resistive, thrust and total torque and its index at (alpha, f)."""
     model = prepare(model)
     c = model.constants
     pairs = ph.required_torques_Nm(alpha, f, c, model.tissues, model.requirements)
@@ -75,36 +85,64 @@ def worst_required(model: DesignModel, alpha, f):
     worst = np.argmax(totals, axis=0)
     res = np.choose(worst, [np.asarray(r, dtype=float) for r, _ in pairs])
     thr = np.choose(worst, [np.asarray(t, dtype=float) for _, t in pairs])
-    return res, thr, np.max(totals, axis=0), worst
+    return WorstRequired(res, thr, np.max(totals, axis=0), worst)
 
 
-def margin_grid(model: DesignModel, alpha_rad, frequency_hz) -> dict[str, np.ndarray]:
+@dataclass(frozen=True)
+class MarginGrid:
+    """:func:`margin_grid` on broadcast arrays of (alpha, f); SI, names carry units."""
+
+    margin_Nm: np.ndarray
+    safety_factor: np.ndarray
+    field_amplitude_T: np.ndarray
+    speed_m_s: np.ndarray
+    spiral_turns: np.ndarray
+    feasible: np.ndarray
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        """Column by name (``grid["margin_Nm"]``), for code written against the old dict."""
+        return getattr(self, name)
+
+
+def margin_grid(
+    model: DesignModel, alpha_rad: Any, frequency_hz: Any, *, capacity: bool = False
+) -> MarginGrid:
     """Margin, safety factor, speed and feasibility on broadcast arrays of (alpha, f).
 
     The vectorised core of :func:`evaluate` (same definitions), for sweeps and initial guesses.
+    The field is the largest every limit allows, or the model's set field
+    (``model.field_amplitude_T``) where it is given and ``capacity`` is False — capped at what
+    the limits allow, with the point marked infeasible where the set field exceeds it.
     """
     model = prepare(model)
     c = model.constants
     alpha, f = np.broadcast_arrays(np.asarray(alpha_rad, float), np.asarray(frequency_hz, float))
-    field, _, _ = ph.field_capacity_T(f, c, model.limits, model.ambient_temperature_C)
+    cap_field, _, _ = ph.field_capacity_T(f, c, model.limits, model.ambient_temperature_C)
+    field = np.asarray(cap_field, dtype=float)
+    within = np.ones(field.shape, dtype=bool)
+    if model.field_amplitude_T is not None and not capacity:
+        within = model.field_amplitude_T <= field * (1 + FEASIBILITY_RTOL)
+        field = np.minimum(field, model.field_amplitude_T)
     avail = np.asarray(ph.available_torque_Nm(field, c), dtype=float)
-    _, _, required, _ = worst_required(model, alpha, f)
+    required = worst_required(model, alpha, f).total_Nm
     speed = np.asarray(ph.speed_m_s(alpha, f, c, model.requirements), dtype=float)
     turns = np.asarray(ph.spiral_turns(alpha, c), dtype=float)
     req = model.requirements
+    sf = req.min_safety_factor
     ok = (
-        (avail - required >= -FEASIBILITY_RTOL * required)
+        within
+        & (avail - sf * required >= -FEASIBILITY_RTOL * sf * required)
         & (speed >= req.min_speed_m_s * (1 - FEASIBILITY_RTOL))
         & (turns >= req.min_spiral_turns * (1 - FEASIBILITY_RTOL))
     )
-    return {
-        "margin_Nm": avail - required,
-        "safety_factor": avail / required,
-        "field_amplitude_T": field,
-        "speed_m_s": speed,
-        "spiral_turns": turns,
-        "feasible": ok,
-    }
+    return MarginGrid(
+        margin_Nm=avail - required,
+        safety_factor=avail / required,
+        field_amplitude_T=field,
+        speed_m_s=speed,
+        spiral_turns=turns,
+        feasible=ok,
+    )
 
 
 def step_out_frequency_hz(
@@ -136,9 +174,18 @@ def step_out_frequency_hz(
 
 
 def evaluate(
-    model: DesignModel, helical_angle_rad: float | None = None, frequency_hz: float | None = None
+    model: DesignModel,
+    helical_angle_rad: float | None = None,
+    frequency_hz: float | None = None,
+    *,
+    field_amplitude_T: float | None = None,
 ) -> Evaluation:
-    """Evaluate the design at its operating point (or at the given angle and frequency)."""
+    """Evaluate the design at its operating point (or at the given angle, frequency, field).
+
+    The field is ``field_amplitude_T`` if given, else the model's set field
+    (``model.field_amplitude_T``), else the largest every limit allows at the frequency; a set
+    field is checked against the limits like any other operating value.
+    """
     model = prepare(model)
     c, req = model.constants, model.requirements
     alpha = (
@@ -150,6 +197,10 @@ def evaluate(
     field, caps, unit_terms = ph.field_capacity_T(f, c, model.limits, model.ambient_temperature_C)
     field = float(field)
     binding = unit_terms[int(np.argmin([float(x) for x in caps]))].name
+    if field_amplitude_T is None:
+        field_amplitude_T = model.field_amplitude_T
+    if field_amplitude_T is not None:
+        field, binding = float(field_amplitude_T), "field_amplitude"
     avail = float(ph.available_torque_Nm(field, c))
     res, thr, required, worst = (float(np.asarray(v)) for v in worst_required(model, alpha, f))
     margin = avail - required
@@ -163,7 +214,7 @@ def evaluate(
         field_amplitude_T=field,
         field_limited_by=binding,
         workspace_factor=c.workspace_factor,
-        current_amplitudes_A=tuple(float(x) for x in field * c.current_per_tesla_A_per_T),
+        current_amplitudes_A=_three(field * c.current_per_tesla_A_per_T),
         magnetic_torque_Nm=avail,
         resistive_torque_Nm=res,
         thrust_torque_Nm=thr,
@@ -178,6 +229,10 @@ def evaluate(
         checks=tuple(checks),
         feasible=all(ch.ok for ch in checks),
     )
+
+
+def _three(v: Any) -> tuple[float, float, float]:
+    return (float(v[0]), float(v[1]), float(v[2]))
 
 
 def _checks(
@@ -202,6 +257,19 @@ def _checks(
             speed >= req.min_speed_m_s * (1 - tol),
         ),
     ]
+    if req.min_safety_factor != 1.0:
+        sf = margin / required + 1.0
+        out.append(
+            Check(
+                "safety_factor",
+                "requirements.min_safety_factor",
+                "1",
+                sf,
+                req.min_safety_factor,
+                ">=",
+                sf >= req.min_safety_factor * (1 - tol),
+            )
+        )
     if req.min_spiral_turns > 0:
         out.append(
             Check(

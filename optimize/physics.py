@@ -74,8 +74,8 @@ def limit_terms(
     terms: list[LimitTerm] = []
     rise_allowed = limits.coil_temperature_C - ambient_temperature_C
     for k, ax in enumerate(_AXES):
-        current = field_T * float(c.current_per_tesla_A_per_T[k])
-        r, ind = float(c.resistance_ohm[k]), float(c.inductance_H[k])
+        current = field_T * c.current_per_tesla_A_per_T[k]
+        r, ind = c.resistance_ohm[k], c.inductance_H[k]
         terms.append(
             LimitTerm(f"current_{ax}", "limits.current_A", "A", current, limits.current_A, 1)
         )
@@ -89,9 +89,7 @@ def limit_terms(
                 1,
             )
         )
-        rise = coils.temperature_rise_K(
-            coils.copper_loss_W(r, current), float(c.conductance_W_per_K[k])
-        )
+        rise = coils.temperature_rise_K(coils.copper_loss_W(r, current), c.conductance_W_per_K[k])
         terms.append(
             LimitTerm(
                 f"temperature_rise_{ax}", "limits.coil_temperature_C", "K", rise, rise_allowed, 2

@@ -1,40 +1,47 @@
-"""The design NLP: helical angle, rotation frequency and field amplitude for the largest margin.
+"""The design NLP: helical angle, rotation frequency and field amplitude, with named rows.
 
-Variables (scaled to O(1)): ``alpha = a·ALPHA_REF``, ``f = r·F_REF``, ``B0 = b·B_ref``, and the
-epigraph variable ``t`` (margin / tau_ref, or the safety factor). The three coil current
-amplitudes are exact linear functions of ``B0`` once the headings are fixed
-(``I_k = B0 · max_n sqrt(1 - n_k²) / g_k``; the phases follow from each heading), so they are
-carried as expressions with their own limits rather than as three more variables, which would only
-add flat directions. Every expression comes from :mod:`optimize.physics`, the same functions
-:func:`optimize.evaluate.evaluate` uses.
+Variables (physical, scaled inside :mod:`optimize.nlp`): ``alpha`` (ref 10°), ``frequency``
+(ref 1 Hz), ``field`` (ref B_ref) and the epigraph variable ``t`` (margin / tau_ref, or the
+safety factor). The three coil current amplitudes are exact linear functions of the field once
+the headings are fixed (``I_k = B0 · max_n sqrt(1 - n_k²) / g_k``), so they are expressions
+with their own limits rather than three more variables (which would only add flat directions).
 
-Constraints are written ``g(x) <= 0`` and normalised by their allowed value, so IPOPT's
-multipliers convert to engineering sensitivities,
-``d margin / d allowed = λ · tau_ref / allowed``.
+Everything that is a number of the design — the precomputed :class:`Constants`, the
+:class:`Limits`, the :class:`Requirements`, the ambient temperature and the scales — is a named
+parameter, so one compiled solver serves a whole sweep over limits and requirements. Only the
+structure (objective, tissue sets, exposure kind, spiral starts, relaxation) is compiled in.
+
+Every limit comes from :func:`optimize.physics.limit_terms` (one definition); every row is
+``g <= 0`` and carries its allowed value, so IPOPT's multipliers convert to engineering
+sensitivities ``d objective / d allowed``.
+
+Extending the problem (hook): ``register_objective(name, spec)`` adds an objective and
+``register_constraint(builder)`` adds rows; both receive the :class:`Context` of backend-generic
+expressions and return :class:`Term` objects. The core is not touched.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import functools
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, fields, replace
 from typing import Any
 
+import numpy as np
+
+import capsule as cap
 from optimize import physics as ph
+from optimize.nlp import Row
 from optimize.system import DesignModel
+from spiralcap import backend as bk
 
 ALPHA_REF_rad = 0.1745329251994330  # 10 degrees
 F_REF_hz = 1.0
-
-
-@dataclass(frozen=True)
-class ConstraintInfo:
-    """What one row of g means: its name, design key, unit and how to read its multiplier."""
-
-    name: str
-    key: str
-    unit: str
-    kind: str  # "margin", "limit", "requirement"
-    allowed: float  # allowed value (limits, requirements) in SI; 0 for margin rows
-    sign: float  # +1: relaxing the key raises the allowed value; -1: it lowers the need
+#: The screw must stay this far from self-locking (capsule.self_lock_margin_rad), rad.
+SELF_LOCK_MIN_MARGIN_rad = math.radians(1.0)
+#: Speed reference of the speed row when no minimum speed is asked, m/s.
+_SPEED_FLOOR_m_s = 1e-4
 
 
 @dataclass(frozen=True)
@@ -43,80 +50,278 @@ class Scales:
 
     field_T: float
     torque_Nm: float
+    power_W: float = 1.0
+    mass_kg: float = 1.0
+
+
+@dataclass(frozen=True)
+class Term:
+    """One row before it is written: ``form(value, allowed) <= 0``.
+
+    ``form`` is the normalised comparison (e.g. ``value / allowed - 1``); keeping ``allowed``
+    separate lets the solver report d(objective)/d(allowed) per row.
+    """
+
+    row: Row
+    value: Any
+    allowed: Any
+    form: Callable[[Any, Any], Any]
+
+    @property
+    def g(self) -> Any:
+        """The row's expression (``<= 0`` when it holds)."""
+        return self.form(self.value, self.allowed)
+
+
+@dataclass(frozen=True)
+class Context:
+    """Backend-generic expressions objective and constraint builders work with (SI)."""
+
+    alpha: Any
+    frequency: Any
+    field: Any
+    t: Any
+    constants: Any
+    limits: Any
+    requirements: Any
+    tissues: tuple
+    ambient_temperature_C: Any
+    scales: Any
+    available_Nm: Any
+    required_Nm: tuple  # per tissue: resistive + thrust
+    relax: Any = None  # (speed, turns, safety) slacks in the relaxed problem
+
+
+@dataclass(frozen=True)
+class ObjectiveSpec:
+    """An objective: ``build(ctx) -> (F to minimise, epigraph terms)``.
+
+    ``sense`` +1 maximises the reported value, -1 minimises it; the reported value is
+    ``report(ctx)``; ``scale(ctx)`` converts F back (U = -sense · scale · F for the sensitivities);
+    ``uses_t``: whether the epigraph variable is part of it (else it is fixed at 0).
+    """
+
+    build: Callable[[Context], tuple[Any, list[Term]]]
+    sense: float
+    unit: str
+    scale: Callable[[Any], Any]
+    uses_t: bool = True
+
+
+def _upper(value: Any, allowed: Any) -> Any:
+    return value / allowed - 1.0
+
+
+def _margin(ctx: Context) -> tuple[Any, list[Term]]:
+    tau = ctx.scales.torque_Nm
+    terms = [
+        Term(
+            Row(f"margin[{tis.name}]", "objective", "N·m"),
+            need,
+            None,
+            lambda need, _: ctx.t - (ctx.available_Nm - need) / tau,
+        )
+        for tis, need in zip(ctx.tissues, ctx.required_Nm)
+    ]
+    return -ctx.t, terms
+
+
+def _ratio(ctx: Context) -> tuple[Any, list[Term]]:
+    tau = ctx.scales.torque_Nm
+    terms = [
+        Term(
+            Row(f"ratio[{tis.name}]", "objective", "1"),
+            need,
+            None,
+            lambda need, _: (ctx.t * need - ctx.available_Nm) / tau,
+        )
+        for tis, need in zip(ctx.tissues, ctx.required_Nm)
+    ]
+    return -ctx.t, terms
+
+
+def copper_power_W(ctx: Context) -> Any:
+    """Worst-heading copper loss at the field, W (the ``power`` limit's value)."""
+    return ctx.field * ctx.field * ctx.constants.power_per_tesla2_W_per_T2
+
+
+def copper_mass_kg(ctx: Context) -> Any:
+    """Copper of the three pairs, kg."""
+    m = ctx.constants.copper_mass_kg
+    return m[0] + m[1] + m[2]
+
+
+def _power(ctx: Context) -> tuple[Any, list[Term]]:
+    return copper_power_W(ctx) / ctx.scales.power_W, []
+
+
+def _mass(ctx: Context) -> tuple[Any, list[Term]]:
+    # a small power term makes the field unique when the copper is fixed (mass flat in B0)
+    return copper_mass_kg(ctx) / ctx.scales.mass_kg + 1e-3 * copper_power_W(
+        ctx
+    ) / ctx.scales.power_W, []
+
+
+OBJECTIVES: dict[str, ObjectiveSpec] = {
+    "margin": ObjectiveSpec(_margin, 1.0, "N·m", lambda s: s.torque_Nm),
+    "ratio": ObjectiveSpec(_ratio, 1.0, "1", lambda s: 1.0),
+    "power": ObjectiveSpec(_power, -1.0, "W", lambda s: s.power_W, uses_t=False),
+    "copper_mass": ObjectiveSpec(_mass, -1.0, "kg", lambda s: s.mass_kg, uses_t=False),
+}
+CONSTRAINTS: list[Callable[[Context], list[Term]]] = []
+
+
+def register_objective(name: str, spec: ObjectiveSpec) -> None:
+    """Add (or replace) an objective the solver can be asked for by ``Bounds.objective``."""
+    OBJECTIVES[name] = spec
+
+
+def register_constraint(builder: Callable[[Context], list[Term]]) -> None:
+    """Add rows to every problem: ``builder(ctx)`` returns :class:`Term` objects (``<= 0``)."""
+    if builder not in CONSTRAINTS:
+        CONSTRAINTS.append(builder)
+
+
+def _safety_row(sf: Any, min_sf: Any, *, need: Any, tau: Any, slack: Any) -> Any:
+    # (min_sf · need - available) / tau, written through the achieved safety factor
+    return (min_sf - sf) * need / tau - slack
+
+
+def core_terms(ctx: Context) -> list[Term]:
+    """Limits, requirements and the self-lock rows every problem has."""
+    c, req = ctx.constants, ctx.requirements
+    relax = ctx.relax if ctx.relax is not None else (0.0, 0.0, 0.0)
+    tau = ctx.scales.torque_Nm
+    out: list[Term] = []
+    for tis, need in zip(ctx.tissues, ctx.required_Nm):
+        out.append(
+            Term(
+                Row(f"safety_factor[{tis.name}]", "requirement", "1", -1.0),
+                ctx.available_Nm / need,
+                req.min_safety_factor,
+                functools.partial(_safety_row, need=need, tau=tau, slack=relax[2]),
+            )
+        )
+    for term in ph.limit_terms(ctx.frequency, ctx.field, c, ctx.limits, ctx.ambient_temperature_C):
+        out.append(Term(Row(term.name, "limit", term.unit), term.value, term.allowed, _upper))
+    out.append(
+        Term(
+            Row("speed", "requirement", "m/s", -1.0),
+            ph.speed_m_s(ctx.alpha, ctx.frequency, c, req),
+            req.min_speed_m_s,
+            lambda v, a: (a - v) / bk.fmax(a, _SPEED_FLOOR_m_s) - relax[0],
+        )
+    )
+    out.append(
+        Term(
+            Row("spiral_turns", "requirement", "turns", -1.0),
+            ph.spiral_turns(ctx.alpha, c),
+            req.min_spiral_turns,
+            lambda v, a: a / v - 1.0 - relax[1],
+        )
+    )
+    for tis in ctx.tissues:
+        out.append(
+            Term(
+                Row(f"self_lock[{tis.name}]", "requirement", "rad", -1.0),
+                cap.self_lock_margin_rad(ctx.alpha, tis.friction_coefficient),
+                SELF_LOCK_MIN_MARGIN_rad,
+                lambda v, a: a - v,
+            )
+        )
+    return out
+
+
+def make_context(
+    x: Any,
+    model: DesignModel,
+    scales: Any,
+    *,
+    constants: Any = None,
+    limits: Any = None,
+    requirements: Any = None,
+    ambient_temperature_C: Any = None,
+    relax: Any = None,
+) -> Context:
+    """The :class:`Context` at physical variables ``x = (alpha, f, B0, t)``."""
+    c = model.constants if constants is None else constants
+    req = model.requirements if requirements is None else requirements
+    alpha, f, field, t = x[0], x[1], x[2], x[3]
+    needs = tuple(r + th for r, th in ph.required_torques_Nm(alpha, f, c, model.tissues, req))
+    return Context(
+        alpha=alpha,
+        frequency=f,
+        field=field,
+        t=t,
+        constants=c,
+        limits=model.limits if limits is None else limits,
+        requirements=req,
+        tissues=model.tissues,
+        ambient_temperature_C=(
+            model.ambient_temperature_C if ambient_temperature_C is None else ambient_temperature_C
+        ),
+        scales=scales,
+        available_Nm=ph.available_torque_Nm(field, c),
+        required_Nm=needs,
+        relax=relax,
+    )
+
+
+def all_terms(ctx: Context, objective: str) -> tuple[Any, list[Term]]:
+    """Objective F (to minimise) and every term: objective rows, core rows, registered rows.
+
+    In the relaxed problem (``ctx.relax`` set) F is the sum of the slacks and the objective's
+    own epigraph rows are left out.
+    """
+    spec = OBJECTIVES[objective]
+    obj, own = spec.build(ctx)
+    terms = [*own] if ctx.relax is None else []
+    terms += core_terms(ctx)
+    for builder in CONSTRAINTS:
+        terms += builder(ctx)
+    if ctx.relax is not None:
+        obj = ctx.relax[0] + ctx.relax[1] + ctx.relax[2]
+    return obj, terms
 
 
 def expressions(
     x: Any, model: DesignModel, scales: Scales, *, relax: Any = None, objective: str | None = None
-) -> tuple[Any, list[Any], list[ConstraintInfo]]:
-    """Objective (to minimise) and constraints ``g <= 0`` for scaled variables ``x``.
+) -> tuple[Any, list[Any], list[Row]]:
+    """Objective and rows ``g <= 0`` at *scaled* ``x = (a, r, b, t)``, floats or CasADi.
 
-    ``x`` is indexable with 4 entries (a, r, b, t): CasADi SX or floats. With ``relax`` (3 slack
-    entries for speed, spiral turns and margin) the requirement rows are relaxed by the slacks and
-    the objective becomes their sum: the phase that finds how far a requirement is out of reach.
+    The numbers of the model are plain values here (the oracle and the tests use it); the
+    compiled solver builds the same terms with parameters (:func:`optimize.solve.compile_problem`).
     """
-    c, req, lim = model.constants, model.requirements, model.limits
-    alpha, f, field, t = x[0] * ALPHA_REF_rad, x[1] * F_REF_hz, x[2] * scales.field_T, x[3]
-    avail = ph.available_torque_Nm(field, c)
-    rows: list[Any] = []
-    info: list[ConstraintInfo] = []
-    objective = objective or model.bounds.objective
-    for tissue, (res, thr) in zip(
-        model.tissues, ph.required_torques_Nm(alpha, f, c, model.tissues, req)
-    ):
-        need = res + thr
-        if relax is not None:
-            rows.append((need - avail) / scales.torque_Nm - relax[2])
-        elif objective == "ratio":
-            rows.append((t * need - avail) / scales.torque_Nm)
-        else:
-            rows.append(t - (avail - need) / scales.torque_Nm)
-        info.append(
-            ConstraintInfo(f"margin[{tissue.name}]", "margin_Nm", "N·m", "margin", 0.0, 1.0)
-        )
-    for term in ph.limit_terms(f, field, c, lim, model.ambient_temperature_C):
-        rows.append(term.value / term.allowed - 1.0)
-        allowed = term.allowed if isinstance(term.allowed, float) else float("nan")
-        info.append(ConstraintInfo(term.name, term.key, term.unit, "limit", allowed, 1.0))
-    if req.min_speed_m_s > 0:
-        slack = relax[0] if relax is not None else 0.0
-        rows.append(1.0 - ph.speed_m_s(alpha, f, c, req) / req.min_speed_m_s - slack)
-        info.append(
-            ConstraintInfo(
-                "speed",
-                "requirements.min_speed_mm_s",
-                "m/s",
-                "requirement",
-                req.min_speed_m_s,
-                -1.0,
-            )
-        )
-    if req.min_spiral_turns > 0:
-        slack = relax[1] if relax is not None else 0.0
-        rows.append(req.min_spiral_turns / ph.spiral_turns(alpha, c) - 1.0 - slack)
-        info.append(
-            ConstraintInfo(
-                "spiral_turns",
-                "requirements.min_spiral_turns",
-                "turns",
-                "requirement",
-                req.min_spiral_turns,
-                -1.0,
-            )
-        )
-    if relax is not None:
-        obj = relax[0] + relax[1] + relax[2]
-    else:
-        obj = -t
-    return obj, rows, info
+    phys = (x[0] * ALPHA_REF_rad, x[1] * F_REF_hz, x[2] * scales.field_T, x[3])
+    ctx = make_context(phys, model, scales, relax=relax)
+    obj, terms = all_terms(ctx, objective or model.bounds.objective)
+    return obj, [t.g for t in terms], [t.row for t in terms]
 
 
-def variable_bounds(model: DesignModel, scales: Scales) -> tuple[list[float], list[float]]:
-    """Box bounds of the scaled variables (a, r, b, t)."""
-    b = model.bounds
-    inf = float("inf")
-    lo = [b.helical_angle_min_rad / ALPHA_REF_rad, b.frequency_min_hz / F_REF_hz, 0.0, -inf]
-    hi = [b.helical_angle_max_rad / ALPHA_REF_rad, b.frequency_max_hz / F_REF_hz, inf, inf]
-    return lo, hi
+# --- parameters -------------------------------------------------------------------------------
+
+
+def _numeric_fields(obj: Any) -> dict[str, Any]:
+    out = {}
+    for fl in fields(obj):
+        v = getattr(obj, fl.name)
+        if isinstance(v, np.ndarray) or (isinstance(v, float) and not isinstance(v, bool)):
+            out[fl.name] = v
+    return out
+
+
+def symbolic(builder: Any, prefix: str, obj: Any) -> Any:
+    """``obj`` (a frozen dataclass) with every float / array field a named parameter."""
+    kw = {
+        name: builder.parameter(f"{prefix}.{name}", np.shape(v))
+        for name, v in _numeric_fields(obj).items()
+    }
+    return replace(obj, **kw)
+
+
+def parameter_values(prefix: str, obj: Any) -> dict[str, Any]:
+    """The values of :func:`symbolic`'s parameters for ``obj``."""
+    return {f"{prefix}.{name}": v for name, v in _numeric_fields(obj).items()}
 
 
 def exposure_allowed_T(model: DesignModel, frequency_hz: float) -> float:

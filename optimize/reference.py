@@ -11,7 +11,7 @@ import numpy as np
 from scipy.optimize import minimize
 
 from optimize import problem as pb
-from optimize.solve import initial_points, scales_for
+from optimize.solve import initial_points, scales_for, variable_bounds
 from optimize.system import DesignModel, prepare
 
 
@@ -22,10 +22,18 @@ def solve_slsqp(model: DesignModel) -> tuple[float, float, float, float]:
     """
     model = prepare(model)
     scales = scales_for(model)
-    lo, hi = pb.variable_bounds(model, scales)
+    vb = variable_bounds(model)
+    refs = {"helical_angle": pb.ALPHA_REF_rad, "frequency": pb.F_REF_hz, "t": 1.0}
     bounds = [
-        (lo_i if np.isfinite(lo_i) else None, hi_i if np.isfinite(hi_i) else None)
-        for lo_i, hi_i in zip(lo, hi)
+        *(
+            (
+                vb[n][0] / refs[n] if np.isfinite(vb[n][0]) else None,
+                vb[n][1] / refs[n] if np.isfinite(vb[n][1]) else None,
+            )
+            for n in ("helical_angle", "frequency")
+        ),
+        (0.0, None),
+        tuple(None if not np.isfinite(v) else v for v in vb["t"]),
     ]
 
     def fun(x):
@@ -35,7 +43,8 @@ def solve_slsqp(model: DesignModel) -> tuple[float, float, float, float]:
         return -np.array([float(g) for g in pb.expressions(x, model, scales)[1]])
 
     best = None
-    for x0 in initial_points(model, scales, model.bounds.starts):
+    for s0 in initial_points(model, scales, model.bounds.starts):
+        x0 = [s0["helical_angle"] / pb.ALPHA_REF_rad, s0["frequency"], s0["field_scaled"], s0["t"]]
         res = minimize(
             fun,
             np.asarray(x0),
@@ -50,5 +59,5 @@ def solve_slsqp(model: DesignModel) -> tuple[float, float, float, float]:
     if best is None:
         raise RuntimeError("SLSQP found no feasible point from any start")
     a, r, b, t = best.x
-    obj_scale = 1.0 if model.bounds.objective == "ratio" else scales.torque_Nm
+    obj_scale = float(pb.OBJECTIVES[model.bounds.objective].scale(scales))
     return a * pb.ALPHA_REF_rad, r * pb.F_REF_hz, b * scales.field_T, t * obj_scale

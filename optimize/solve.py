@@ -1,140 +1,205 @@
-"""Solve the design NLP with IPOPT (exact CasADi derivatives), from several starts.
+"""Solve the design NLP with IPOPT (exact CasADi derivatives): one compiled problem, many solves.
 
-1. A coarse vectorised evaluation (:func:`optimize.evaluate.margin_grid`) over angle x frequency
-   gives one start per helical-angle band (the problem need not be convex in the angle).
-2. IPOPT maximises the epigraph variable from each start; the best converged point wins.
+1. :func:`optimize.compiled.compile_problem` builds the named parametric NLP of a problem
+   *structure* once; every number of the design is a parameter. It is memoised by value, so a
+   sweep over limits or requirements re-solves the same compiled solver.
+2. A coarse vectorised evaluation (:func:`optimize.evaluate.margin_grid`) over angle x frequency
+   gives one start per helical-angle band (the problem need not be convex in the angle), or
+   the caller passes a warm start (the previous sweep point).
 3. If no start converges to a point that meets every requirement, a relaxed problem (slacks on
-   the speed, spiral-turn and margin requirements, limits kept hard) finds how far each is out of
-   reach, and the result says so.
+   the speed, spiral-turn and safety-factor requirements, limits kept hard) finds how far each
+   is out of reach, and the result names it.
 """
 
 from __future__ import annotations
 
 import time
 from dataclasses import replace
+from typing import Any
 
-import casadi as ca
 import numpy as np
 
 from optimize import problem as pb
+from optimize.compiled import (
+    _SLACKS,
+    compile_problem,
+    structure_of,
+)
 from optimize.evaluate import evaluate, margin_grid, worst_required
+from optimize.nlp import Solution
 from optimize.result import BindingLimit, OptimizationResult, Shortfall
 from optimize.system import DesignModel, prepare
 
-_IPOPT_OPTIONS = {
-    "ipopt.print_level": 0,
-    "print_time": False,
-    "ipopt.sb": "yes",
-    "ipopt.tol": 1e-10,
-    "ipopt.constr_viol_tol": 1e-10,
-    "ipopt.max_iter": 300,
-    # the starts are good grid points: a smaller initial barrier saves iterations
-    "ipopt.mu_init": 1e-3,
-}
-_SUCCESS = {"Solve_Succeeded", "Solved_To_Acceptable_Level"}
+# --- scales and starts ------------------------------------------------------------------------
 
 
 def scales_for(model: DesignModel) -> pb.Scales:
-    """Reference field and torque: the values at the centre of the search box."""
+    """Reference field, torque, power and mass: values at the centre of the search box."""
     b = model.bounds
     alpha = 0.5 * (b.helical_angle_min_rad + b.helical_angle_max_rad)
     f = 0.5 * (b.frequency_min_hz + b.frequency_max_hz)
-    field = float(margin_grid(model, alpha, f)["field_amplitude_T"])
-    need = float(worst_required(model, alpha, f)[2])
-    return pb.Scales(field_T=max(field, 1e-6), torque_Nm=max(abs(need), 1e-9))
+    c = model.constants
+    field = max(float(margin_grid(model, alpha, f, capacity=True).field_amplitude_T), 1e-6)
+    need = float(worst_required(model, alpha, f).total_Nm)
+    return pb.Scales(
+        field_T=field,
+        torque_Nm=max(abs(need), 1e-9),
+        power_W=max(field * field * float(c.power_per_tesla2_W_per_T2), 1e-9),
+        mass_kg=max(float(np.sum(c.copper_mass_kg)), 1e-9),
+    )
 
 
-def initial_points(model: DesignModel, scales: pb.Scales, starts: int) -> list[list[float]]:
+def _minimises_power(model: DesignModel) -> bool:
+    return not pb.OBJECTIVES[model.bounds.objective].uses_t
+
+
+def initial_points(model: DesignModel, scales: pb.Scales, starts: int) -> list[dict[str, float]]:
     """One start per helical-angle band: the best point of a coarse grid in that band."""
     b = model.bounds
     alphas = np.linspace(b.helical_angle_min_rad, b.helical_angle_max_rad, 8 * max(starts, 1))
     freqs = np.geomspace(b.frequency_min_hz, b.frequency_max_hz, 24)
     A, F = np.meshgrid(alphas, freqs, indexing="ij")
-    g = margin_grid(model, A, F)
-    score = g["safety_factor"] if model.bounds.objective == "ratio" else g["margin_Nm"]
-    score = np.where(g["feasible"], score, score - 1e3 * np.abs(score).max() - 1.0)
+    g = margin_grid(model, A, F, capacity=True)
+    field = g.field_amplitude_T
+    t0 = g.margin_Nm / scales.torque_Nm
+    if model.bounds.objective == "ratio":
+        score, t0 = g.safety_factor, g.safety_factor
+    elif _minimises_power(model):
+        need = worst_required(model, A, F).total_Nm
+        c = model.constants
+        needed = model.requirements.min_safety_factor * need / (c.moment_Am2 * c.workspace_factor)
+        ok = needed <= field
+        field = np.minimum(needed, field)
+        score = np.where(ok, -field, -field - 1.0)
+        t0 = np.zeros_like(field)
+    else:
+        score = g.margin_Nm
+    score = np.where(g.feasible, score, score - 1e3 * np.abs(score).max() - 1.0)
     out = []
     for band in np.array_split(np.arange(alphas.size), max(starts, 1)):
         sub = score[band]
         i, j = np.unravel_index(np.argmax(sub), sub.shape)
-        a, f = A[band][i, j], F[band][i, j]
-        t0 = score[band][i, j] / (1.0 if model.bounds.objective == "ratio" else scales.torque_Nm)
         out.append(
-            [
-                a / pb.ALPHA_REF_rad,
-                f / pb.F_REF_hz,
-                float(g["field_amplitude_T"][band][i, j]) / scales.field_T,
-                float(t0),
-            ]
+            {
+                "helical_angle": float(A[band][i, j]),
+                "frequency": float(F[band][i, j]),
+                "field_scaled": float(field[band][i, j]) / scales.field_T,
+                "t": float(t0[band][i, j]),
+            }
         )
     return out
 
 
-_SOLVERS: dict[tuple, tuple] = {}
-_CACHE_SIZE = 32
+def variable_bounds(model: DesignModel) -> dict[str, tuple[float, float]]:
+    """Box bounds of the named variables (physical units)."""
+    b = model.bounds
+    t = (0.0, 0.0) if _minimises_power(model) else (-np.inf, np.inf)
+    return {
+        "helical_angle": (b.helical_angle_min_rad, b.helical_angle_max_rad),
+        "frequency": (b.frequency_min_hz, b.frequency_max_hz),
+        "t": t,
+    }
 
 
-def build_solver(model: DesignModel, scales: pb.Scales, relaxed: bool = False):
-    """The IPOPT solver of the (optionally relaxed) problem and its constraint metadata.
+# --- the solve --------------------------------------------------------------------------------
 
-    Building the CasADi graph and the IPOPT instance costs tens of milliseconds, several times
-    more than the solve; a solver is therefore kept for the model it was built for (the same
-    :class:`Constants` object and options), so re-solves — starts, sweeps, benchmarks — reuse it.
+
+def optimize_design(
+    model: DesignModel,
+    *,
+    warm_start: OptimizationResult | dict | None = None,
+    diagnose: bool = True,
+    grid_starts: bool = True,
+) -> OptimizationResult:
+    """Best design of ``model`` for its objective; see the module notes.
+
+    ``warm_start``: a result of a neighbouring problem (the previous sweep point), or a dict of
+    ``helical_angle``, ``frequency``, ``field_T`` (and ``t_value``); it is tried first and the
+    grid starts only if it fails. A model with free hardware (``model.sizing``) is sized by
+    :func:`optimize.discrete.size_design`. ``diagnose=False`` skips the relaxed problem that
+    says what is out of reach when nothing is feasible (the status is still 'infeasible');
+    ``grid_starts=False`` tries only the warm start (the discrete search's neighbours).
     """
-    key = (
-        id(model.constants),
-        id(model.tissues),
-        model.limits,
-        model.requirements,
-        model.bounds.objective,
-        scales,
-        relaxed,
-    )
-    hit = _SOLVERS.get(key)
-    if hit is not None and hit[0] is model.constants and hit[1] is model.tissues:
-        return hit[2], hit[3]
-    solver, info = _build(model, scales, relaxed)
-    if len(_SOLVERS) >= _CACHE_SIZE:
-        _SOLVERS.pop(next(iter(_SOLVERS)))
-    _SOLVERS[key] = (model.constants, model.tissues, solver, info)
-    return solver, info
+    if model.sizing is not None and model.sizing.free:
+        from optimize.discrete import size_design
 
-
-def _build(model: DesignModel, scales: pb.Scales, relaxed: bool):
-    x = ca.SX.sym("x", 4)
-    s = ca.SX.sym("s", 3) if relaxed else None
-    obj, rows, info = pb.expressions(x, model, scales, relax=s)
-    z = ca.vertcat(x, s) if relaxed else x
-    nlp = {"x": z, "f": obj, "g": ca.vertcat(*rows)}
-    return ca.nlpsol("spiralcap_design", "ipopt", nlp, _IPOPT_OPTIONS), info
-
-
-def optimize_design(model: DesignModel) -> OptimizationResult:
-    """Maximise the worst-case margin (or safety factor) of ``model``; see the module notes."""
+        return size_design(model)
     t0 = time.perf_counter()
     model = prepare(model)
     scales = scales_for(model)
-    solver, info = build_solver(model, scales)
-    lo, hi = pb.variable_bounds(model, scales)
-    best = None
-    iterations = 0
-    starts = initial_points(model, scales, model.bounds.starts)
-    for x0 in starts:
-        sol = solver(x0=x0, lbx=lo, ubx=hi, lbg=-np.inf, ubg=0.0)
-        st = solver.stats()
-        iterations += int(st.get("iter_count", 0))
-        if st["return_status"] in _SUCCESS and (best is None or float(sol["f"]) < best[0]):
-            best = (float(sol["f"]), sol, st["return_status"])
-    status_text = best[2] if best else solver.stats()["return_status"]
-    if best is None:
-        return _infeasible(model, scales, starts, iterations, t0, status_text)
-    sol = best[1]
-    xs = np.asarray(sol["x"]).ravel()
-    alpha, f = xs[0] * pb.ALPHA_REF_rad, xs[1] * pb.F_REF_hz
-    ev = evaluate(model, alpha, f)
+    bounds = variable_bounds(model)
+    iterations, tried = 0, 0
+    best: Solution | None = None
+    candidates: list[tuple[Any, Any, bool]] = []
+    if isinstance(warm_start, dict):
+        candidates.append((dict(warm_start), None, True))
+    elif warm_start is not None and warm_start.solution_x:
+        candidates.append((dict(warm_start.solution_x), warm_start.solution_lam_g, True))
+    grid: list[dict[str, float]] | None = None
+    i = 0
+    while True:
+        if i < len(candidates):
+            x0, lam0, warm = candidates[i]
+        else:
+            if best is not None and best.success:
+                break
+            if grid is None and (grid_starts or not candidates):
+                grid = initial_points(model, scales, model.bounds.starts)
+                candidates += [(x, None, False) for x in grid]
+                continue
+            break
+        i += 1
+        problem = compile_problem(structure_of(model, warm=warm))
+        p = problem.parameters(model, scales)
+        if warm:
+            x0 = {**x0, "field_scaled": x0["field_T"] / scales.field_T}
+            x0["t"] = x0["t_value"] / _obj_scale(model, scales) if "t_value" in x0 else 0.0
+        sol = problem.nlp.solve(x0, p, bounds, lam_g0=lam0 if warm and lam0 is not None else None)
+        iterations += sol.iterations
+        tried += 1
+        if sol.success and (best is None or not best.success or sol.f < best.f):
+            best = sol
+        if warm and sol.success:
+            break
+    status_text = best.status if best is not None else "no start"
+    if (best is None or not best.success) and not diagnose:
+        ev = evaluate(model)
+        return _result(
+            model,
+            "infeasible",
+            ev,
+            (),
+            (),
+            status_text,
+            iterations,
+            tried,
+            t0,
+            "infeasible: no start converged",
+            objective_value=float("nan"),
+            solution=None,
+            field_set=False,
+        )
+    if best is None or not best.success:
+        return _infeasible(model, scales, grid or [], iterations, tried, t0, status_text)
+    xs = best.values()
+    alpha, f = xs["helical_angle"], xs["frequency"]
+    field = xs["field_scaled"] * scales.field_T
+    # the field ends below what the limits allow when the objective or a registered row says so
+    capacity = float(margin_grid(model, alpha, f, capacity=True).field_amplitude_T)
+    field_set = _minimises_power(model) or field < capacity * (1 - 1e-7)
+    # an explicit field only where the optimum's differs from the largest the limits allow (or
+    # the model carries a set field the optimiser was free to move)
+    given = field if field_set else (capacity if model.field_amplitude_T is not None else None)
+    ev = evaluate(model, alpha, f, field_amplitude_T=given)
     if not ev.feasible:
-        return _infeasible(model, scales, starts, iterations, t0, status_text, ev)
-    binding = _binding(model, scales, info, sol, xs)
+        return _infeasible(model, scales, grid or [], iterations, tried, t0, status_text, ev)
+    binding = _binding(model, scales, best)
+    x_named = {
+        "helical_angle": alpha,
+        "frequency": f,
+        "field_T": field,
+        "t_value": xs["t"] * _obj_scale(model, scales),
+    }
     return _result(
         model,
         "optimal",
@@ -143,100 +208,115 @@ def optimize_design(model: DesignModel) -> OptimizationResult:
         (),
         status_text,
         iterations,
-        len(starts),
+        tried,
         t0,
         "optimal: every requirement met inside every limit",
+        objective_value=_objective_value(model, ev),
+        solution=(x_named, best.lam_g),
+        field_set=field_set,
     )
 
 
-def _binding(model, scales, info, sol, xs) -> tuple[BindingLimit, ...]:
-    """Active constraints and bounds with their multipliers in engineering units."""
-    lam_g = np.asarray(sol["lam_g"]).ravel()
-    g = np.asarray(sol["g"]).ravel()
-    obj_scale = 1.0 if model.bounds.objective == "ratio" else scales.torque_Nm
+def _obj_scale(model: DesignModel, scales: pb.Scales) -> float:
+    return float(pb.OBJECTIVES[model.bounds.objective].scale(scales))
+
+
+def _objective_value(model: DesignModel, ev: Any) -> float:
+    """The reported objective at an evaluation: margin, safety factor, power or copper mass."""
+    obj = model.bounds.objective
+    c = model.constants
+    if obj == "ratio":
+        return ev.safety_factor
+    if obj == "power":
+        return ev.field_amplitude_T**2 * float(c.power_per_tesla2_W_per_T2)
+    if obj == "copper_mass":
+        return float(np.sum(c.copper_mass_kg))
+    return ev.margin_Nm
+
+
+def _binding(
+    model: DesignModel,
+    scales: pb.Scales,
+    sol: Solution,
+    extra_bounds: dict[str, tuple[float, float]] | None = None,
+) -> tuple[BindingLimit, ...]:
+    """Active rows and bounds with their sensitivities d objective / d allowed (SI).
+
+    ``extra_bounds``: boxes of further variables (free hardware, named ``<name>@max``/``@min``).
+    """
+    spec = pb.OBJECTIVES[model.bounds.objective]
+    k = spec.sense * _obj_scale(model, scales)  # U = -sense * scale * F
+    allowed, _, value = sol.allowed()
+    sens = sol.row_sensitivities()
     out = []
-    for row, lam, gi in zip(info, lam_g, g):
-        if row.kind == "margin" or gi < -1e-6 or abs(lam) < 1e-9:
+    for i, row in enumerate(sol.nlp.rows):
+        if row.kind in ("objective", "epigraph") or sol.g[i] < -1e-6 or abs(sol.lam_g[i]) < 1e-9:
             continue
-        allowed = row.allowed
-        if row.name == "field_exposure":
-            allowed = pb.exposure_allowed_T(model, xs[1] * pb.F_REF_hz)
-        value = allowed * (1.0 + gi) if row.kind == "limit" else allowed
+        if not np.isfinite(allowed[i]):
+            continue
         out.append(
             BindingLimit(
                 row.name,
-                row.key,
                 row.unit,
-                float(value),
-                float(allowed),
-                float(row.sign * lam * obj_scale / allowed),
-                row.sign,
+                float(value[i]),
+                float(allowed[i]),
+                float(-k * sens[i]),
+                row.relax_sign,
+                spec.sense,
             )
         )
-    lam_x = np.asarray(sol["lam_x"]).ravel()
-    lo, hi = pb.variable_bounds(model, scales)
-    for i, (name, key_lo, key_hi, unit, ref) in enumerate(
-        (
-            (
-                "helical_angle",
-                "optimize.helical_angle_min_deg",
-                "optimize.helical_angle_max_deg",
-                "rad",
-                pb.ALPHA_REF_rad,
-            ),
-            (
-                "frequency",
-                "optimize.frequency_min_hz",
-                "optimize.frequency_max_hz",
-                "Hz",
-                pb.F_REF_hz,
-            ),
-        )
-    ):
-        if abs(lam_x[i]) < 1e-9:
+    box = {**variable_bounds(model), **(extra_bounds or {})}
+    named = [("helical_angle", "rad"), ("frequency", "Hz")]
+    named += [(n, "turns" if n.endswith("turns") else "m") for n in (extra_bounds or {})]
+    for name, unit in named:
+        lam = sol.bound_multiplier(name)  # d F / d ub = -lam (per physical unit)
+        if abs(lam) < 1e-9 / sol.nlp.variables[sol.nlp.var_index[name]].ref:
             continue
-        at_hi = abs(xs[i] - hi[i]) < abs(xs[i] - lo[i])
-        bound = (hi if at_hi else lo)[i] * ref
+        lo, hi = box[name]
+        x = sol.value(name)
+        at_hi = abs(x - hi) < abs(x - lo)
+        sep = "@" if name in (extra_bounds or {}) else "_"
         out.append(
             BindingLimit(
-                f"{name}_{'max' if at_hi else 'min'}",
-                key_hi if at_hi else key_lo,
+                f"{name}{sep}{'max' if at_hi else 'min'}",
                 unit,
-                float(xs[i] * ref),
-                float(bound),
-                float(lam_x[i] * obj_scale / ref),
+                float(x),
+                float(hi if at_hi else lo),
+                float(k * lam),
                 1.0 if at_hi else -1.0,
+                spec.sense,
             )
         )
     return tuple(out)
 
 
-def _infeasible(model, scales, starts, iterations, t0, status_text, ev=None):
+def _infeasible(model, scales, starts, iterations, tried, t0, status_text, ev=None):
     """Solve the relaxed problem and report which requirement is out of reach, by how much."""
-    solver, _ = build_solver(model, scales, relaxed=True)
-    lo, hi = pb.variable_bounds(model, scales)
+    problem = compile_problem(structure_of(model, relaxed=True))
+    p = problem.parameters(model, scales)
+    bounds = {**variable_bounds(model), "t": (0.0, 0.0)}
+    starts = starts or initial_points(model, scales, model.bounds.starts)
     best = None
     for x0 in starts:
-        x0 = [*x0[:3], 0.0, 1.0, 1.0, 1.0]
-        sol = solver(
-            x0=x0,
-            lbx=[*lo[:3], 0.0, 0.0, 0.0, 0.0],
-            ubx=[*hi[:3], 0.0, np.inf, np.inf, np.inf],
-            lbg=-np.inf,
-            ubg=0.0,
-        )
-        iterations += int(solver.stats().get("iter_count", 0))
-        if best is None or float(sol["f"]) < best[0]:
-            best = (float(sol["f"]), sol)
-    xs = np.asarray(best[1]["x"]).ravel()
-    alpha, f = xs[0] * pb.ALPHA_REF_rad, xs[1] * pb.F_REF_hz
-    ev = evaluate(model, alpha, f)
+        sol = problem.nlp.solve({**x0, "t": 0.0, **dict.fromkeys(_SLACKS, 1.0)}, p, bounds)
+        iterations += sol.iterations
+        tried += 1
+        if best is None or sol.f < best.f:
+            best = sol
+    assert best is not None  # at least one start
+    xs = best.values()
+    alpha, f = xs["helical_angle"], xs["frequency"]
+    capacity = float(margin_grid(model, alpha, f, capacity=True).field_amplitude_T)
+    field = xs["field_scaled"] * scales.field_T if _minimises_power(model) else None
+    if field is None and model.field_amplitude_T is not None:
+        field = capacity
+    ev = evaluate(model, alpha, f, field_amplitude_T=field)
     shortfalls = tuple(
-        Shortfall(c.name, c.key, c.unit, c.allowed, c.value) for c in ev.failed() if c.sense == ">="
+        Shortfall(c.name, c.unit, c.allowed, c.value) for c in ev.failed() if c.sense == ">="
     )
     if not shortfalls:  # the relaxed optimum meets everything: IPOPT failed for another reason
-        shortfalls = (Shortfall("solver", "optimize.starts", "", 0.0, 0.0),)
-    names = ", ".join(s.key for s in shortfalls)
+        shortfalls = (Shortfall("solver", "", 0.0, 0.0),)
+    names = ", ".join(s.name for s in shortfalls)
     return _result(
         model,
         "infeasible",
@@ -245,16 +325,32 @@ def _infeasible(model, scales, starts, iterations, t0, status_text, ev=None):
         shortfalls,
         status_text,
         iterations,
-        len(starts),
+        tried,
         t0,
         f"infeasible: no design inside the limits meets {names}",
+        objective_value=float("nan"),
+        solution=None,
+        field_set=field is not None,
     )
 
 
 def _result(
-    model, status, ev, binding, shortfalls, solver_status, iterations, starts, t0, message
+    model,
+    status,
+    ev,
+    binding,
+    shortfalls,
+    solver_status,
+    iterations,
+    starts,
+    t0,
+    message,
+    *,
+    objective_value,
+    solution,
+    field_set,
 ) -> OptimizationResult:
-    allocations = []
+    allocations: list[Any] = []
     for h in model.headings:
         amps, phases = model.coils.rotating_allocation(h, ev.field_amplitude_T)
         allocations.append((tuple(float(a) for a in amps), tuple(float(p) for p in phases)))
@@ -268,7 +364,7 @@ def _result(
         safety_factor=ev.safety_factor,
         current_amplitudes_A=ev.current_amplitudes_A,
         current_phases_rad=tuple(allocations),
-        headings=tuple(tuple(float(c) for c in h) for h in model.headings),
+        headings=tuple((float(h[0]), float(h[1]), float(h[2])) for h in model.headings),
         speed_m_s=ev.speed_m_s,
         step_out_frequency_hz=ev.step_out_frequency_hz,
         binding_limits=binding,
@@ -279,12 +375,19 @@ def _result(
         solve_time_s=time.perf_counter() - t0,
         evaluation=ev,
         message=message,
+        objective_value=objective_value,
+        field_is_set=field_set,
+        solution_x=solution[0] if solution else None,
+        solution_lam_g=solution[1] if solution else None,
     )
 
 
 def with_operating_point(model: DesignModel, result: OptimizationResult) -> DesignModel:
-    """The model moved to the optimum's helical angle and frequency."""
+    """The model moved to the optimum's helical angle, frequency (and field, where set)."""
     spiral = replace(model.capsule.spiral, helical_angle_rad=result.helical_angle_rad)
     return replace(
-        model, capsule=replace(model.capsule, spiral=spiral), frequency_hz=result.frequency_hz
+        model,
+        capsule=replace(model.capsule, spiral=spiral),
+        frequency_hz=result.frequency_hz,
+        field_amplitude_T=result.field_amplitude_T if result.field_is_set else None,
     )

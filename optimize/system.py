@@ -13,6 +13,8 @@ from typing import Any
 
 import numpy as np
 
+from spiralcap.constants import COPPER_DENSITY_kg_m3
+
 #: The 13 symmetry directions of a cube: 3 axes, 6 face diagonals, 4 body diagonals.
 _CUBE_DIRECTIONS = np.array(
     [
@@ -72,17 +74,26 @@ class Limits:
 
 @dataclass(frozen=True)
 class Requirements:
-    """What the capsule must do: push ``axial_load_N`` at ``min_speed_m_s``, makeable spiral."""
+    """What the capsule must do: push ``axial_load_N`` at ``min_speed_m_s``, makeable spiral.
+
+    ``min_safety_factor``: available / required torque for every tissue set (1: margin >= 0).
+    """
 
     axial_load_N: float
     slip_efficiency: float
     min_speed_m_s: float
     min_spiral_turns: float
+    min_safety_factor: float = 1.0
 
 
 @dataclass(frozen=True)
 class Bounds:
-    """Search box of the optimiser and its options."""
+    """Search box of the optimiser and its options.
+
+    ``objective``: "margin" or "ratio" (maximise the torque margin or the safety factor),
+    "power" or "copper_mass" (minimise the worst-heading copper loss or the copper mass), or any
+    name registered with :func:`optimize.problem.register_objective`.
+    """
 
     helical_angle_min_rad: float
     helical_angle_max_rad: float
@@ -114,6 +125,11 @@ class DesignModel:
         Copper temperature for the resistance, and the surrounding air, °C.
     heat_transfer_coefficient_W_m2K : float
         Convective coefficient from the winding surface, W/(m²·K).
+    field_amplitude_T : float or None
+        Operating rotating-field amplitude at the centre, T; None drives the coils at the
+        largest field every limit allows at the operating frequency.
+    sizing : optimize.hardware.Sizing or None
+        Hardware the optimiser may choose (free variables, standard wires, least bore).
     """
 
     coils: Any
@@ -128,6 +144,8 @@ class DesignModel:
     winding_temperature_C: float = 40.0
     ambient_temperature_C: float = 25.0
     heat_transfer_coefficient_W_m2K: float = 10.0
+    field_amplitude_T: float | None = None
+    sizing: Any = None
     constants: Any = field(default=None, compare=False, repr=False)
 
 
@@ -141,6 +159,7 @@ class Constants:
     max over headings of Σ_k (1 - n_k²) R_k / (2 g_k²).
     ``workspace_factor``: weakest field the magnet sees during a turn, over every workspace point
     and heading, per tesla of centre amplitude (minor semi-axis of the field ellipse).
+    ``copper_mass_kg[k]``: copper of pair k (both coils), wire length x area x density.
     """
 
     gains_T_per_A: np.ndarray
@@ -156,6 +175,7 @@ class Constants:
     wire_diameter_m: float
     wound_length_m: float
     helix_diameter_m: float
+    copper_mass_kg: np.ndarray
     starts: int = 1
 
 
@@ -193,6 +213,9 @@ def precompute(model: DesignModel) -> Constants:
         wire_diameter_m=spiral.wire_diameter_m,
         wound_length_m=spiral.wound_length_m,
         helix_diameter_m=float(cap.helix_diameter_m(body.diameter_m, spiral.wire_diameter_m)),
+        copper_mass_kg=np.array(
+            [COPPER_DENSITY_kg_m3 * p.wire_length_m * p.wire_area_m2 for p in pairs]
+        ),
         starts=int(spiral.starts),
     )
 

@@ -14,3 +14,6 @@ COPPER_TEMPERATURE_COEFFICIENT_per_K = 0.00393
 
 #: Standard gravity, m/s² (used to quote loads in gram-force where a paper does).
 STANDARD_GRAVITY_m_s2 = 9.80665
+
+#: Density of annealed copper, kg/m³ (IEC 60028: 8.89 g/cm³ at 20 °C).
+COPPER_DENSITY_kg_m3 = 8890.0

@@ -128,6 +128,9 @@ def _fmt(value: Any) -> str:
 
 def _to_toml(values: Mapping[str, Any], comments: bool = False) -> str:
     order = list(KEYS) + sorted(k for k in values if k not in KEYS)
+    # keys declared in later schema blocks join their table (a TOML table is declared once)
+    tables = list(dict.fromkeys(k.rpartition(".")[0] for k in order))
+    order.sort(key=lambda k: tables.index(k.rpartition(".")[0]))
     lines: list[str] = []
     table = None
     for key in order:

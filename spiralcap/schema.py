@@ -247,7 +247,73 @@ KEYS.update(
 # place (numeric keys with physical bounds: _between(..., lo, hi, open_=False)).
 
 # --- hardware sizing (issue 9) ---
-KEYS.update({})
+KEYS.update(
+    {
+        "optimize.objective": _choice(
+            "maximise the torque margin or the safety factor, or minimise the copper power or "
+            "the copper mass (the last two subject to requirements.min_safety_factor)",
+            "margin",
+            ("margin", "ratio", "power", "copper_mass"),
+        ),
+        "requirements.min_safety_factor": _between(
+            "least available / required torque for every tissue set (1: margin >= 0)",
+            1.0,
+            1.0,
+            100.0,
+            open_=False,
+        ),
+        "operation.field_amplitude_mT": _between(
+            "rotating-field amplitude at the coil centre (default: the largest every limit "
+            "allows at the operating frequency)",
+            None,
+            0.0,
+            1000.0,
+        ),
+        "coils.wire_standard": _choice(
+            "standard wire diameters a freed wire diameter is rounded to (IEC 60317 R40 or AWG)",
+            "iec-r40",
+            ("iec-r40", "awg"),
+        ),
+        "requirements.min_bore_m": _between(
+            "least clear diameter inside every coil pair when coil hardware is freed "
+            "(default: what the design as entered has)",
+            None,
+            0.0,
+            10.0,
+        ),
+    }
+)
+
+#: Design keys the optimiser can choose (``--free KEY=MIN:MAX``, ``[optimize.free]``).
+FREEABLE_KEYS = (
+    *(f"coils.{ax}.{q}" for ax in "xyz" for q in ("turns", "wire_diameter_mm", "radius_m")),
+    "capsule.magnet.diameter_mm",
+    "capsule.magnet.length_mm",
+    "capsule.spiral.wire_diameter_mm",
+)
+
+
+def _free_range(key: str) -> Key:
+    spec = KEYS[key]
+
+    def ok(v: Any) -> bool:
+        if not (isinstance(v, list) and len(v) == 2 and all(_num(x) for x in v)):
+            return False
+        lo, hi = v
+        if spec.kind is int:
+            lo, hi = math.ceil(lo), math.floor(hi)
+        return lo < hi and spec.check(lo) and spec.check(hi)
+
+    return Key(
+        list,
+        None,
+        f"a pair [min, max] with min < max, each {spec.allowed}",
+        ok,
+        f"let the optimiser choose {key} between min and max",
+    )
+
+
+KEYS.update({f"optimize.free.{k}": _free_range(k) for k in FREEABLE_KEYS})
 
 # --- coils as they really run (issue 10) ---
 KEYS.update({})

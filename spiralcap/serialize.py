@@ -48,8 +48,13 @@ def evaluation_to_dict(ev) -> dict[str, Any]:
     }
 
 
+_OBJECTIVE_UNITS = {"margin": "N·m", "ratio": "1", "power": "W", "copper_mass": "kg"}
+
+
 def optimization_to_dict(res) -> dict[str, Any]:
     """JSON-ready figures of an :class:`optimize.OptimizationResult`."""
+    from spiralcap.assemble.system import constraint_key
+
     return {
         "status": res.status,
         "message": res.message,
@@ -59,6 +64,8 @@ def optimization_to_dict(res) -> dict[str, Any]:
         "field_amplitude_T": res.field_amplitude_T,
         "margin_Nm": res.margin_Nm,
         "safety_factor": res.safety_factor,
+        "objective_value": res.objective_value,
+        "field_is_set": res.field_is_set,
         "current_amplitudes_A": dict(zip(_AXES, res.current_amplitudes_A)),
         "current_allocation": [
             {
@@ -73,21 +80,21 @@ def optimization_to_dict(res) -> dict[str, Any]:
         "binding_limits": [
             {
                 "name": b.name,
-                "key": b.key,
+                "key": constraint_key(b.name),
                 "unit": b.unit,
                 "value": b.value,
                 "allowed": b.allowed,
                 "sensitivity_per_unit": b.sensitivity,
                 "gain_per_unit_relaxed": b.gain_per_unit_relaxed,
                 "relaxing_means": "raising" if b.relax_sign > 0 else "lowering",
-                "gain_unit": ("N·m/" if res.objective == "margin" else "1/") + b.unit,
+                "gain_unit": _OBJECTIVE_UNITS.get(res.objective, "1") + "/" + b.unit,
             }
             for b in res.binding_limits
         ],
         "shortfalls": [
             {
                 "name": s.name,
-                "key": s.key,
+                "key": constraint_key(s.name),
                 "unit": s.unit,
                 "needed": s.needed,
                 "best": s.best,
@@ -100,4 +107,28 @@ def optimization_to_dict(res) -> dict[str, Any]:
         "starts": res.starts,
         "solve_time_s": res.solve_time_s,
         "evaluation": evaluation_to_dict(res.evaluation),
+        "hardware": _hardware(res.hardware),
+    }
+
+
+def _hardware(h) -> dict[str, Any] | None:
+    """The sizing part of an optimum: relaxed bound and discrete design, in design-key units."""
+    if h is None:
+        return None
+    from spiralcap.assemble.system import hardware_design_values
+
+    relaxed = {k: v for k, v in h.relaxed.items() if not k.endswith(".turns")}
+    relaxed_keys = hardware_design_values(relaxed)
+    relaxed_keys.update(
+        {f"coils.{k.split('.')[0]}.turns": v for k, v in h.relaxed.items() if k.endswith(".turns")}
+    )
+    return {
+        "relaxed": relaxed_keys,
+        "relaxed_objective": h.relaxed_objective,
+        "discrete": hardware_design_values(h.discrete),
+        "discrete_objective": h.discrete_objective,
+        "rounding_cost": h.rounding_cost,
+        "candidates": h.candidates,
+        "feasible_candidates": h.feasible,
+        "outer_iterations": h.outer_iterations,
     }

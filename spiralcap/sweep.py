@@ -13,6 +13,7 @@ import math
 from collections.abc import Callable, Sequence
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, replace
+from typing import Any
 
 import numpy as np
 
@@ -120,9 +121,9 @@ def _evaluate_vectorised(design: Design, inputs: dict[str, np.ndarray]) -> dict[
     from spiralcap.assemble import build_model
 
     model = prepare(build_model(design))
-    alpha = model.capsule.spiral.helical_angle_rad
-    f = model.frequency_hz
-    groups: dict[str, dict[str, np.ndarray]] = {"limits": {}, "requirements": {}}
+    alpha: Any = model.capsule.spiral.helical_angle_rad
+    f: Any = model.frequency_hz
+    groups: dict[str, dict[str, Any]] = {"limits": {}, "requirements": {}}
     for key, values in inputs.items():
         where, attr, factor = _VECTOR_KEYS[key]
         if where == "alpha":
@@ -168,7 +169,10 @@ def _optimize_one(design: Design) -> tuple:
     from optimize import optimize_design
     from spiralcap.assemble import build_model
 
-    r = optimize_design(build_model(design))
+    return _row(optimize_design(build_model(design)))
+
+
+def _row(r) -> tuple:
     return (
         r.status,
         r.helical_angle_deg,
@@ -180,19 +184,54 @@ def _optimize_one(design: Design) -> tuple:
     )
 
 
-def _optimize_points(design, inputs, workers, progress) -> dict[str, np.ndarray]:
+def _models(design: Design, inputs: dict[str, np.ndarray]):
+    """The model at every grid point: limits and requirements replaced in one built model,
+    any other key rebuilt from the design."""
+    from optimize import prepare
+    from spiralcap.assemble import build_model
+
     n = len(next(iter(inputs.values())))
-    designs = [_at(design, inputs, i) for i in range(n)]
+    light = all(_VECTOR_KEYS.get(k, ("",))[0] in ("limits", "requirements") for k in inputs)
+    if "limits.coil_temperature_C" in inputs and design.get("coils.winding_temperature_C") is None:
+        light = False  # the winding resistance is taken at the temperature limit
+    base = prepare(build_model(design)) if light else None
+    for i in range(n):
+        if base is None:
+            yield build_model(_at(design, inputs, i))
+            continue
+        groups: dict[str, dict[str, Any]] = {"limits": {}, "requirements": {}}
+        for key, values in inputs.items():
+            where, attr, factor = _VECTOR_KEYS[key]
+            groups[where][attr] = float(values[i]) * factor
+        yield replace(
+            base,
+            limits=replace(base.limits, **groups["limits"]),
+            requirements=replace(base.requirements, **groups["requirements"]),
+        )
+
+
+def _optimize_points(design, inputs, workers, progress) -> dict[str, np.ndarray]:
+    """Re-optimise at every point: one compiled solver (the problem's numbers are parameters),
+    each point warm-started from the previous point's optimum; worker processes if asked."""
+    from optimize import optimize_design
+
+    n = len(next(iter(inputs.values())))
     rows = []
     if workers > 1:
+        designs = [_at(design, inputs, i) for i in range(n)]
         with ProcessPoolExecutor(max_workers=workers) as pool:
             for i, row in enumerate(pool.map(_optimize_one, designs)):
                 rows.append(row)
                 if progress:
                     progress(i + 1, n)
     else:
-        for i, d in enumerate(designs):
-            rows.append(_optimize_one(d))
+        previous = None
+        for i, model in enumerate(_models(design, inputs)):
+            res = optimize_design(
+                model, warm_start=previous if previous is not None and previous.feasible else None
+            )
+            previous = res
+            rows.append(_row(res))
             if progress:
                 progress(i + 1, n)
     return {k: np.array([r[j] for r in rows]) for j, k in enumerate(OPTIMIZE_COLUMNS)}

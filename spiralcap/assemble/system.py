@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 
@@ -83,6 +84,7 @@ def build_model(design: Design):
         slip_efficiency=d["requirements.slip_efficiency"],
         min_speed_m_s=d["requirements.min_speed_mm_s"] * 1e-3,
         min_spiral_turns=d["requirements.min_spiral_turns"],
+        min_safety_factor=d["requirements.min_safety_factor"],
     )
     bounds = Bounds(
         helical_angle_min_rad=math.radians(d["optimize.helical_angle_min_deg"]),
@@ -105,4 +107,157 @@ def build_model(design: Design):
         winding_temperature_C=winding_temperature_C(d),
         ambient_temperature_C=d["coils.ambient_temperature_C"],
         heat_transfer_coefficient_W_m2K=d["coils.heat_transfer_coefficient_W_m2K"],
+        field_amplitude_T=(
+            None
+            if d.get("operation.field_amplitude_mT") is None
+            else d["operation.field_amplitude_mT"] * 1e-3
+        ),
+        sizing=build_sizing(d),
     )
+
+
+#: optimiser row / bound name (optimize.problem, optimize.physics) -> the design key it bounds.
+#: Per-axis and per-tissue rows (``current_x``, ``safety_factor[sample2]``) map by their stem.
+_CONSTRAINT_KEYS = {
+    "current": "limits.current_A",
+    "voltage": "limits.voltage_V",
+    "temperature": "limits.coil_temperature_C",
+    "temperature_rise": "limits.coil_temperature_C",
+    "hot_spot": "limits.coil_temperature_C",
+    "power": "limits.power_W",
+    "field_exposure": "limits.field_exposure",
+    "speed": "requirements.min_speed_mm_s",
+    "spiral_turns": "requirements.min_spiral_turns",
+    "safety_factor": "requirements.min_safety_factor",
+    "margin": "margin_Nm",
+    "self_lock": "optimize.helical_angle_max_deg",
+    "helical_angle_max": "optimize.helical_angle_max_deg",
+    "helical_angle_min": "optimize.helical_angle_min_deg",
+    "frequency_max": "optimize.frequency_max_hz",
+    "frequency_min": "optimize.frequency_min_hz",
+    "solver": "optimize.starts",
+}
+
+
+def constraint_key(name: str) -> str:
+    """The design key behind an optimiser constraint name ('' when none).
+
+    ``current_x`` -> ``limits.current_A``; ``safety_factor[zhou2013-sample2]`` ->
+    ``requirements.min_safety_factor``; a freed hardware key's bound ``coils.x.turns@max`` ->
+    ``coils.x.turns``.
+    """
+    stem = name.split("[", 1)[0].split("@", 1)[0]
+    if stem in _CONSTRAINT_KEYS:
+        return _CONSTRAINT_KEYS[stem]
+    hardware = {hw_name: key for key, (hw_name, _) in _HARDWARE_NAMES.items()}
+    if stem in hardware:  # a freed key at the edge of its box
+        return "optimize.free." + hardware[stem]
+    geometry = {
+        "pack_side": "coils.{}.wire_diameter_mm",
+        "pack_separation": "coils.{}.separation_m",
+        "bore": "requirements.min_bore_m",
+    }
+    head, _, axis = stem.rpartition("_")
+    if head in geometry and axis in ("x", "y", "z"):
+        return geometry[head].format(axis)
+    if stem.startswith("nesting_"):
+        return f"coils.{stem[-1]}.radius_m"
+    if stem.startswith("magnet_"):
+        return "capsule.magnet." + stem.split("_", 1)[1] + "_mm"
+    if stem == "spiral_clearance":
+        return "capsule.spiral.wire_diameter_mm"
+    if "." in stem:  # a design key itself (free hardware bounds)
+        return stem
+    head, _, axis = stem.rpartition("_")
+    if axis in ("x", "y", "z") and head in _CONSTRAINT_KEYS:
+        return _CONSTRAINT_KEYS[head]
+    return ""
+
+
+#: freeable design key -> (optimize.hardware name, SI factor)
+_HARDWARE_NAMES: dict[str, tuple[str, float]] = {
+    **{f"coils.{ax}.turns": (f"{ax}.turns", 1.0) for ax in "xyz"},
+    **{f"coils.{ax}.wire_diameter_mm": (f"{ax}.wire_diameter_m", 1e-3) for ax in "xyz"},
+    **{f"coils.{ax}.radius_m": (f"{ax}.radius_m", 1.0) for ax in "xyz"},
+    "capsule.magnet.diameter_mm": ("magnet.diameter_m", 1e-3),
+    "capsule.magnet.length_mm": ("magnet.length_m", 1e-3),
+    "capsule.spiral.wire_diameter_mm": ("spiral.wire_diameter_m", 1e-3),
+}
+_FREE_PREFIX = "optimize.free."
+
+
+def free_keys(design: Design) -> dict[str, tuple[float, float]]:
+    """The freed design keys and their [min, max], in the key's units."""
+    return {
+        k[len(_FREE_PREFIX) :]: (float(v[0]), float(v[1]))
+        for k, v in design.items()
+        if k.startswith(_FREE_PREFIX) and v is not None
+    }
+
+
+def build_sizing(design: Design) -> Any:
+    """The :class:`optimize.hardware.Sizing` of the freed keys (None when nothing is free)."""
+    from optimize import hardware as hw
+
+    free = free_keys(design)
+    if not free:
+        return None
+    variables = tuple(
+        hw.FreeVariable(
+            _HARDWARE_NAMES[k][0], lo * _HARDWARE_NAMES[k][1], hi * _HARDWARE_NAMES[k][1]
+        )
+        for k, (lo, hi) in free.items()
+    )
+    wires_mm = (
+        hw.IEC_R40_mm if design["coils.wire_standard"] == "iec-r40" else hw.awg_diameters_mm()
+    )
+    return hw.Sizing(
+        variables,
+        tuple(d * 1e-3 for d in wires_mm),
+        design.get("requirements.min_bore_m"),
+    )
+
+
+def hardware_design_values(values: dict[str, float]) -> dict[str, Any]:
+    """optimize.hardware values (SI, by name) -> design keys in their units."""
+    by_name = {name: (key, factor) for key, (name, factor) in _HARDWARE_NAMES.items()}
+    out: dict[str, Any] = {}
+    for name, v in values.items():
+        key, factor = by_name[name]
+        out[key] = round(v) if key.endswith(".turns") else float(f"{v / factor:.12g}")
+    return out
+
+
+def optimum_values(design: Design, result: Any) -> dict[str, Any]:
+    """The design keys an optimum sets: angle, frequency, the field where the objective set it,
+    and every freed hardware key at its discrete optimum."""
+    values: dict[str, Any] = {
+        "capsule.spiral.helical_angle_deg": math.degrees(result.helical_angle_rad),
+        "operation.frequency_hz": float(result.frequency_hz),
+    }
+    if result.field_is_set:
+        values["operation.field_amplitude_mT"] = float(result.field_amplitude_T * 1e3)
+    elif design.get("operation.field_amplitude_mT") is not None:
+        values["operation.field_amplitude_mT"] = float(result.field_amplitude_T * 1e3)
+    if result.hardware is not None:
+        values.update(hardware_design_values(result.hardware.discrete))
+    return values
+
+
+def optimum_design_toml(design: Design, result: Any) -> str:
+    """The optimised design as a complete, commented design file (like ``spiralcap init``)."""
+    from spiralcap.design import _to_toml
+
+    values = {
+        k: v
+        for k, v in {**design, **optimum_values(design, result)}.items()
+        if not k.startswith(_FREE_PREFIX)
+    }
+    head = (
+        "# spiralcap design file written by `spiralcap optimize` "
+        f"(objective {result.objective}).\n"
+        f"# Started from: {design.source}. Optimum: margin {result.margin_Nm * 1e3:.6g} mN·m, "
+        f"safety factor {result.safety_factor:.6g}.\n"
+        "# `spiralcap evaluate` on this file reproduces the optimum.\n\n"
+    )
+    return head + _to_toml(values, comments=True)

@@ -1,4 +1,8 @@
-"""``spiralcap optimize``: helical angle, frequency and coil currents for the largest margin."""
+"""``spiralcap optimize``: helical angle, frequency, field (and freed hardware) for the objective.
+
+``-o FILE`` writes the optimum as a complete, commented design file that ``spiralcap evaluate``
+reproduces.
+"""
 
 from __future__ import annotations
 
@@ -19,16 +23,64 @@ _ENGINEERING = {
     "turns": ("turn", 1.0),
     "rad": ("deg", math.pi / 180),
     "Hz": ("Hz", 1.0),
+    "m": ("mm", 1e-3),
+    "1": ("", 1.0),
 }
 EXIT_INFEASIBLE = 3
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_design_arguments(parser)
+    parser.add_argument(
+        "-o",
+        "--output",
+        metavar="FILE",
+        help="write the optimum as a complete design file (TOML) to FILE",
+    )
+    parser.add_argument(
+        "--free",
+        action="append",
+        default=[],
+        metavar="KEY=MIN:MAX",
+        help="let the optimiser choose a hardware key in [MIN, MAX] (repeatable), e.g. "
+        "coils.x.turns=100:800; same as an [optimize.free] entry",
+    )
+
+
+def parse_free(expr: str) -> str:
+    """``KEY=MIN:MAX`` -> the ``--set`` override ``optimize.free.KEY=[MIN, MAX]``."""
+    from spiralcap.errors import InputError
+    from spiralcap.schema import FREEABLE_KEYS
+
+    key, sep, rng = expr.partition("=")
+    key = key.strip()
+    parts = rng.split(":")
+    if not sep or len(parts) != 2:
+        raise InputError("--free", expr, "the form KEY=MIN:MAX, e.g. coils.x.turns=100:800")
+    if key not in FREEABLE_KEYS:
+        raise InputError("--free", expr, "a key that can be freed: " + ", ".join(FREEABLE_KEYS))
+    try:
+        lo, hi = float(parts[0]), float(parts[1])
+    except ValueError:
+        raise InputError(
+            "--free", expr, "numbers MIN and MAX, e.g. coils.x.turns=100:800"
+        ) from None
+    return f"optimize.free.{key}=[{lo!r}, {hi!r}]"
+
+
+#: objective -> (label, factor from SI to the label's unit)
+_OBJECTIVE_LABELS = {
+    "margin": ("mN·m", 1e3),
+    "ratio": ("safety factor", 1.0),
+    "power": ("W of copper power", 1.0),
+    "copper_mass": ("kg of copper", 1.0),
+}
 
 
 def format_result(res) -> str:
     """Readable summary of an :class:`optimize.OptimizationResult`."""
+    from spiralcap.assemble.system import constraint_key
+
     lines = [
         f"status              {res.status} ({res.solver_status}, {res.iterations} IPOPT "
         f"iterations, {res.starts} starts, {res.solve_time_s:.3f} s)"
@@ -46,17 +98,23 @@ def format_result(res) -> str:
             f"step-out frequency  {res.step_out_frequency_hz:.4g} Hz",
             "binding limits:",
         ]
-        gain = "mN·m" if res.objective == "margin" else "safety factor"
-        scale = 1e3 if res.objective == "margin" else 1.0
+        gain, scale = _OBJECTIVE_LABELS.get(res.objective, ("", 1.0))
+        if res.objective in ("power", "copper_mass"):
+            lines.insert(
+                1, f"objective           {res.objective} = {res.objective_value * scale:.5g} {gain}"
+            )
+            gain = gain.replace("W of", "W less").replace("kg of", "kg less")
         for b in res.binding_limits:
             label, factor = _ENGINEERING.get(b.unit, (b.unit, 1.0))
             verb = "raising" if b.relax_sign > 0 else "lowering"
             lines.append(
-                f"  {b.name:<20} {b.key:<32} {verb} it by 1 {label} gains "
+                f"  {b.name:<20} {constraint_key(b.name):<32} {verb} it by 1 {label} gains "
                 f"{b.gain_per_unit_relaxed * factor * scale:.4g} {gain}"
             )
         if not res.binding_limits:
             lines.append("  none")
+        if res.hardware is not None:
+            lines += _hardware_lines(res)
     else:
         lines.append(res.message)
         for s in res.shortfalls:
@@ -69,10 +127,36 @@ def format_result(res) -> str:
                 )
             else:
                 lines.append(
-                    f"  {s.key}: needs {s.needed / factor:.4g} {label}, best reachable "
+                    f"  {constraint_key(s.name)}: needs {s.needed / factor:.4g} {label}, best reachable "
                     f"{s.best / factor:.4g} {label} (short by {s.short_by / factor:.4g})"
                 )
     return "\n".join(lines)
+
+
+def _hardware_lines(res) -> list[str]:
+    from spiralcap.assemble.system import hardware_design_values
+
+    h = res.hardware
+    label, factor = _OBJECTIVE_LABELS.get(res.objective, ("", 1.0))
+    relaxed = hardware_design_values(
+        {k: v for k, v in h.relaxed.items() if not k.endswith(".turns")}
+    )
+    relaxed.update({k: v for k, v in _turns(h.relaxed).items()})
+    chosen = hardware_design_values(h.discrete)
+    lines = [
+        f"hardware            {len(chosen)} keys sized; {h.feasible} of {h.candidates} "
+        f"buildable neighbours feasible, {h.outer_iterations} outer iterations",
+        f"  continuous bound  {h.relaxed_objective * factor:.5g} {label}; "
+        f"discrete {h.discrete_objective * factor:.5g} {label} "
+        f"(rounding costs {h.rounding_cost * factor:.3g})",
+    ]
+    for key, value in chosen.items():
+        lines.append(f"  {key:<34} {value!s:<10} (relaxed {relaxed[key]:.5g})")
+    return lines
+
+
+def _turns(values: dict[str, float]) -> dict[str, float]:
+    return {f"coils.{k.split('.')[0]}.turns": v for k, v in values.items() if k.endswith(".turns")}
 
 
 def run(args: argparse.Namespace) -> int:
@@ -80,10 +164,24 @@ def run(args: argparse.Namespace) -> int:
     from spiralcap.assemble import build_model
     from spiralcap.serialize import optimization_to_dict
 
+    args.overrides = [*args.overrides, *(parse_free(e) for e in args.free)]
     design = design_from_args(args)
     res = optimize_design(build_model(design))
+    written = None
+    if args.output and res.status == "optimal":
+        from spiralcap.assemble.system import optimum_design_toml
+        from spiralcap.design import write_text_atomic
+
+        written = write_text_atomic(args.output, optimum_design_toml(design, res))
     if args.json:
-        print_json({"design": design.source, **optimization_to_dict(res)})
+        payload = {"design": design.source, **optimization_to_dict(res)}
+        if written is not None:
+            payload["written"] = str(written)
+        print_json(payload)
     else:
         print(format_result(res))
+        if written is not None:
+            print(f"wrote the optimised design to {written}")
+        elif args.output:
+            print(f"nothing written to {args.output}: no feasible design")
     return 0 if res.status == "optimal" else EXIT_INFEASIBLE

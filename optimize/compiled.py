@@ -1,0 +1,172 @@
+"""The compiled design NLP: one IPOPT solver per problem *structure*, memoised by value.
+
+A :class:`Structure` is what is compiled in (objective, tissue sets, exposure kind, spiral
+starts, relaxation, warm-start options, registered hooks, free hardware); every number of the
+design is a parameter filled by :meth:`CompiledProblem.parameters`. ``compile_problem`` is an
+LRU cache on the frozen structure (no ``id()`` keys), so sweeps and repeated solves reuse it.
+"""
+
+from __future__ import annotations
+
+import functools
+from dataclasses import dataclass
+from typing import Any
+
+import casadi as ca
+import numpy as np
+
+from optimize import hardware as hw
+from optimize import problem as pb
+from optimize.nlp import CompiledNLP, NLPBuilder
+from optimize.system import DesignModel
+
+IPOPT_OPTIONS = {
+    "ipopt.print_level": 0,
+    "print_time": False,
+    "calc_lam_p": False,  # parameter sensitivities come from nlp.Solution (named)
+    "ipopt.sb": "yes",
+    "ipopt.tol": 1e-10,
+    "ipopt.constr_viol_tol": 1e-10,
+    "ipopt.max_iter": 300,
+    # the starts are good grid points: a smaller initial barrier saves iterations
+    "ipopt.mu_init": 1e-3,
+}
+_WARM_OPTIONS = {
+    **IPOPT_OPTIONS,
+    "ipopt.warm_start_init_point": "yes",
+    "ipopt.mu_init": 1e-6,
+    "ipopt.warm_start_bound_push": 1e-9,
+    "ipopt.warm_start_mult_bound_push": 1e-9,
+}
+_SLACKS = ("slack_speed", "slack_turns", "slack_safety")
+
+
+@dataclass(frozen=True)
+class Structure:
+    """What is compiled into a problem (everything else is a parameter)."""
+
+    objective: str
+    tissues: tuple
+    field_exposure: str
+    spiral_starts: int
+    relaxed: bool = False
+    warm: bool = False
+    hooks: tuple = ()
+    hardware: hw.HardwareStructure | None = None
+
+
+def structure_of(
+    model: DesignModel,
+    *,
+    relaxed: bool = False,
+    warm: bool = False,
+    hardware: hw.HardwareStructure | None = None,
+) -> Structure:
+    """The :class:`Structure` of ``model``'s problem."""
+    return Structure(
+        model.bounds.objective,
+        model.tissues,
+        model.limits.field_exposure,
+        int(model.capsule.spiral.starts),
+        relaxed,
+        warm,
+        (tuple(pb.CONSTRAINTS), pb.OBJECTIVES[model.bounds.objective]),
+        hardware,
+    )
+
+
+@dataclass(frozen=True)
+class CompiledProblem:
+    """A compiled design NLP and how to fill its parameters from a model."""
+
+    structure: Structure
+    nlp: CompiledNLP
+
+    def parameters(
+        self, model: DesignModel, scales: pb.Scales, extra: dict[str, Any] | None = None
+    ) -> np.ndarray:
+        """The parameter vector of ``model`` (prepared) with ``scales`` (and sizing values)."""
+        values = {
+            **(extra or {}),
+            **pb.parameter_values("constant", model.constants),
+            **pb.parameter_values("limit", model.limits),
+            **pb.parameter_values("requirement", model.requirements),
+            **pb.parameter_values("scale", scales),
+            "ambient_temperature_C": model.ambient_temperature_C,
+        }
+        return self.nlp.parameter_vector(
+            {k: v for k, v in values.items() if k in self.nlp.param_slices}
+        )
+
+
+@functools.lru_cache(maxsize=16)
+def compile_problem(structure: Structure) -> CompiledProblem:
+    """Build and compile the NLP of ``structure`` (memoised by value)."""
+    b = NLPBuilder()
+    inf = np.inf
+    alpha = b.variable("helical_angle", pb.ALPHA_REF_rad)
+    f = b.variable("frequency", pb.F_REF_hz)
+    field_scaled = b.variable("field_scaled", 1.0, 0.0, inf)
+    t = b.variable("t", 1.0)
+    relax = tuple(b.variable(n, 1.0, 0.0, inf) for n in _SLACKS) if structure.relaxed else None
+    from optimize.system import Limits, Requirements
+
+    hs = structure.hardware
+    if hs is None:
+        c = _symbolic_constants(b, structure.spiral_starts)
+    else:
+        c, hw_expr, quantities = hw.symbolic_constants(b, hs, structure.spiral_starts)
+    lim = Limits(
+        current_A=b.parameter("limit.current_A"),
+        voltage_V=b.parameter("limit.voltage_V"),
+        power_W=b.parameter("limit.power_W"),
+        coil_temperature_C=b.parameter("limit.coil_temperature_C"),
+        field_exposure=structure.field_exposure,
+    )
+    req = pb.symbolic(b, "requirement", Requirements(0.0, 0.0, 0.0, 0.0))
+    scales = pb.symbolic(b, "scale", pb.Scales(1.0, 1.0))
+    ambient = b.parameter("ambient_temperature_C")
+    # a template model carries the structure; its numbers are the parameters
+    template = _Template(structure.tissues, lim, req, ambient)
+    ctx = pb.make_context(
+        (alpha, f, field_scaled * scales.field_T, t),
+        template,  # type: ignore[arg-type]
+        scales,
+        constants=c,
+        relax=relax,
+    )
+    obj, terms = pb.all_terms(ctx, structure.objective)
+    if hs is not None:
+        terms += hw.geometry_terms(b, hs, hw_expr, quantities, ctx)
+    for term in terms:
+        g = term.g
+        if term.allowed is None:
+            b.constrain(term.row, g)
+            continue
+        a = ca.SX.sym("a")
+        dg = ca.substitute(ca.jacobian(term.form(term.value, a), a), a, term.allowed)
+        b.constrain(term.row, g, term.allowed, dg, term.value)
+    b.minimize(obj)
+    options = _WARM_OPTIONS if structure.warm else IPOPT_OPTIONS
+    return CompiledProblem(structure, b.compile(options))
+
+
+@dataclass(frozen=True)
+class _Template:
+    tissues: tuple
+    limits: Any
+    requirements: Any
+    ambient_temperature_C: Any
+    constants: Any = None
+
+
+def _symbolic_constants(b: NLPBuilder, spiral_starts: int) -> Any:
+    from optimize.system import Constants
+
+    kw: dict[str, Any] = {}
+    for fl in Constants.__dataclass_fields__.values():
+        if fl.name == "starts":
+            continue
+        shape = (3,) if fl.type in ("np.ndarray",) else ()
+        kw[fl.name] = b.parameter(f"constant.{fl.name}", shape)
+    return Constants(**kw, starts=spiral_starts)

@@ -1,0 +1,472 @@
+"""Hardware as optimisation variables: coil windings, coil radii, the capsule magnet, the spiral.
+
+The numbers :class:`optimize.system.Constants` holds for a fixed design are written here as
+backend-generic expressions of the hardware (numpy floats or CasADi symbols), so the same NLP
+(:mod:`optimize.problem`) sizes hardware and operating point together:
+
+- centre gain of a pair, two coaxial loops of N turns at ±s/2: g = μ0 N R² / (R² + s²/4)^{3/2}
+  (Biot–Savart on the axis), times a pack correction (exact filament model / this formula);
+- resistance ρ(T) · 2N·2πR / (π d²/4); copper mass density · 2N·2πR · π d²/4;
+- self inductance by Stefan's formula (Rosa & Grover 1912, eq. 91) and the mutual inductance
+  N² M(R, R, s) by Maxwell's formula (coils.coaxial_mutual_inductance_H), times a pack
+  correction; thermal conductance h · 2 · 4c · 2πR (coils.HelmholtzPair);
+- magnet moment B_r π/4 (D² − D_i²) L / μ0 (capsule.Magnet).
+
+Frozen per outer iteration (recomputed exactly at each new hardware, then re-solved, until they
+settle): the two pack corrections, the workspace field factor (the weakest field over the
+workspace and headings per tesla: exact differentiation through the 13 x 15 field-ellipse
+minimum would cost more than it gains; it moves by < 1e-3 over the radius ranges here), and the
+gap between the mean turns of two orthogonal pairs (linearised in the two radii).
+"""
+
+from __future__ import annotations
+
+import functools
+import itertools
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass, replace
+from typing import Any
+
+import numpy as np
+
+from spiralcap import backend as bk
+from spiralcap.constants import COPPER_DENSITY_kg_m3, MU0_T_m_per_A
+
+AXES = ("x", "y", "z")
+COIL_QUANTITIES = ("radius_m", "turns", "wire_diameter_m")
+NAMES = (
+    *(f"{ax}.{q}" for ax in AXES for q in COIL_QUANTITIES),
+    "magnet.diameter_m",
+    "magnet.length_m",
+    "spiral.wire_diameter_m",
+)
+#: Typical magnitudes: the NLP's variable scaling.
+REFERENCE = {
+    "radius_m": 0.1,
+    "turns": 100.0,
+    "wire_diameter_m": 1e-3,
+    "diameter_m": 1e-3,
+    "length_m": 1e-3,
+}
+
+#: IEC 60317-0-1 / IEC 60228 nominal bare copper diameters, R40 preferred series, mm.
+IEC_R40_mm = (
+    0.10, 0.106, 0.112, 0.118, 0.125, 0.132, 0.14, 0.15, 0.16, 0.17, 0.18, 0.19, 0.20, 0.212,
+    0.224, 0.236, 0.25, 0.265, 0.28, 0.30, 0.315, 0.335, 0.355, 0.375, 0.40, 0.425, 0.45, 0.475,
+    0.50, 0.53, 0.56, 0.60, 0.63, 0.67, 0.71, 0.75, 0.80, 0.85, 0.90, 0.95, 1.00, 1.06, 1.12,
+    1.18, 1.25, 1.32, 1.40, 1.50, 1.60, 1.70, 1.80, 1.90, 2.00, 2.12, 2.24, 2.36, 2.50, 2.65,
+    2.80, 3.00, 3.15, 3.35, 3.55, 3.75, 4.00, 4.25, 4.50, 4.75, 5.00,
+)  # fmt: skip
+
+
+def awg_diameters_mm() -> tuple[float, ...]:
+    """AWG 0 to 40 bare diameters, mm: d = 0.127 · 92^((36 − n)/39) (ASTM B258)."""
+    return tuple(0.127 * 92.0 ** ((36 - n) / 39.0) for n in range(40, -1, -1))
+
+
+@dataclass(frozen=True)
+class FreeVariable:
+    """One freed hardware quantity (a name of :data:`NAMES`) and its box, SI."""
+
+    name: str
+    lo: float
+    hi: float
+
+    @property
+    def kind(self) -> str:
+        """'turns' (whole numbers), 'wire' (a standard coil-wire diameter) or 'continuous'."""
+        q = self.name.split(".", 1)[1]
+        if q == "turns":
+            return "turns"
+        return "wire" if self.name in {f"{ax}.wire_diameter_m" for ax in AXES} else "continuous"
+
+
+@dataclass(frozen=True)
+class Sizing:
+    """Which hardware is free, the standard wire diameters (m) and the least coil bore (m)."""
+
+    free: tuple[FreeVariable, ...]
+    wire_diameters_m: tuple[float, ...] = tuple(d * 1e-3 for d in IEC_R40_mm)
+    min_bore_m: float | None = None
+
+
+def hardware_of(model: Any) -> dict[str, float]:
+    """The hardware values of a model, by name."""
+    out: dict[str, float] = {}
+    for ax, p in zip(AXES, model.coils.pairs):
+        out[f"{ax}.radius_m"] = float(p.radius_m)
+        out[f"{ax}.turns"] = float(p.turns)
+        out[f"{ax}.wire_diameter_m"] = float(p.wire_diameter_m)
+    mag, spiral = model.capsule.magnet, model.capsule.spiral
+    out["magnet.diameter_m"] = float(mag.diameter_m)
+    out["magnet.length_m"] = float(mag.length_m)
+    out["spiral.wire_diameter_m"] = float(spiral.wire_diameter_m)
+    return out
+
+
+def helmholtz_flags(model: Any) -> tuple[bool, bool, bool]:
+    """Per pair: does the separation follow the radius (Helmholtz spacing)?"""
+    x, y, z = (abs(p.separation_m - p.radius_m) <= 1e-12 * p.radius_m for p in model.coils.pairs)
+    return (x, y, z)
+
+
+def with_hardware(model: Any, values: Mapping[str, float]) -> Any:
+    """The model rebuilt with hardware ``values`` (turns rounded; exact domain objects).
+
+    Raises ``spiralcap.errors.InputError`` when the coils or the magnet cannot be built.
+    """
+    import coils
+
+    hw = {**hardware_of(model), **values}
+    flags = helmholtz_flags(model)
+    pairs = []
+    for ax, p, helm in zip(AXES, model.coils.pairs, flags):
+        r = hw[f"{ax}.radius_m"]
+        pairs.append(
+            replace(
+                p,
+                radius_m=r,
+                turns=max(1, round(hw[f"{ax}.turns"])),
+                wire_diameter_m=hw[f"{ax}.wire_diameter_m"],
+                separation_m=r if helm else p.separation_m,
+            )
+        )
+    cap = model.capsule
+    magnet = replace(cap.magnet, diameter_m=hw["magnet.diameter_m"], length_m=hw["magnet.length_m"])
+    spiral = replace(cap.spiral, wire_diameter_m=hw["spiral.wire_diameter_m"])
+    return replace(
+        model,
+        coils=coils.ThreeAxisHelmholtz(*pairs),
+        capsule=replace(cap, magnet=magnet, spiral=spiral),
+        constants=None,
+    )
+
+
+# --- frozen factors ---------------------------------------------------------------------------
+
+
+def _gain_formula(radius: Any, turns: Any, separation: Any) -> Any:
+    return (
+        MU0_T_m_per_A
+        * turns
+        * radius
+        * radius
+        / (radius * radius + 0.25 * separation * separation) ** 1.5
+    )
+
+
+def mean_turn_gap_m(pa: Any, pb: Any) -> float:
+    """Least distance between the mean-turn circles of two orthogonal pairs, m (sampled)."""
+    return _gap(
+        pa.axis_index, pa.radius_m, pa.separation_m, pb.axis_index, pb.radius_m, pb.separation_m
+    )
+
+
+@functools.lru_cache(maxsize=256)
+def _gap(ia: int, ra: float, sa_m: float, ib: int, rb: float, sb_m: float) -> float:
+    phi = np.linspace(0.0, 2.0 * np.pi, 2048, endpoint=False)
+    best = np.inf
+    u, v = [k for k in range(3) if k != ia]
+    for sa, sb in itertools.product((-0.5, 0.5), repeat=2):
+        pts = np.zeros((phi.size, 3))
+        pts[:, u], pts[:, v] = ra * np.cos(phi), ra * np.sin(phi)
+        pts[:, ia] = sa * sa_m
+        radial = np.sqrt(np.sum(np.delete(pts, ib, axis=1) ** 2, axis=1))
+        d = np.hypot(radial - rb, pts[:, ib] - sb * sb_m)
+        best = min(best, float(d.min()))
+    return best
+
+
+@dataclass(frozen=True)
+class Frozen:
+    """Numbers held fixed during one inner solve (see the module notes)."""
+
+    gain_correction: np.ndarray  # (3,)
+    mutual_correction: np.ndarray  # (3,)
+    workspace_factor: float
+    gap0_m: np.ndarray  # (3,) for pairs xy, xz, yz
+    dgap_dra: np.ndarray  # (3,)
+    dgap_drb: np.ndarray  # (3,)
+    radii0_m: np.ndarray  # (3,) radii the gaps were linearised at
+
+
+PAIRS_OF_PAIRS = ((0, 1), (0, 2), (1, 2))
+
+
+def frozen_factors(model: Any) -> Frozen:
+    """The frozen numbers at ``model``'s (exact, built) hardware."""
+    from coils.loop import coaxial_mutual_inductance_H
+    from optimize.system import prepare
+
+    m = prepare(model)
+    pairs = m.coils.pairs
+    gain_corr, mut_corr = [], []
+    for p in pairs:
+        gain_corr.append(
+            p.centre_field_per_amp_T_per_A / _gain_formula(p.radius_m, p.turns, p.separation_m)
+        )
+        fil = p.turns**2 * coaxial_mutual_inductance_H(p.radius_m, p.radius_m, p.separation_m)
+        mut_corr.append(p.mutual_inductance_H / float(fil))
+    gaps, da, db = [], [], []
+    h = 1e-6
+    for i, j in PAIRS_OF_PAIRS:
+        a, b = pairs[i], pairs[j]
+        g0 = mean_turn_gap_m(a, b)
+        gaps.append(g0)
+        da.append((mean_turn_gap_m(_scaled(a, h), b) - g0) / (h * a.radius_m))
+        db.append((mean_turn_gap_m(a, _scaled(b, h)) - g0) / (h * b.radius_m))
+    return Frozen(
+        np.array(gain_corr),
+        np.array(mut_corr),
+        float(m.constants.workspace_factor),
+        np.array(gaps),
+        np.array(da),
+        np.array(db),
+        np.array([p.radius_m for p in pairs]),
+    )
+
+
+def _scaled(p: Any, h: float) -> Any:
+    r = p.radius_m * (1 + h)
+    helm = abs(p.separation_m - p.radius_m) <= 1e-12 * p.radius_m
+    return replace(p, radius_m=r, separation_m=r if helm else p.separation_m)
+
+
+# --- expressions ------------------------------------------------------------------------------
+
+
+def coil_quantities(
+    radius: Any, turns: Any, wire: Any, separation: Any, *, packing: Any, resistivity: Any, h: Any
+) -> dict[str, Any]:
+    """Pack side, uncorrected gain, resistance, self inductance, filament mutual inductance
+    (times N²), thermal conductance and copper mass of one pair (backend-generic)."""
+    from coils.loop import coaxial_mutual_inductance_H
+    from coils.pair import _STEFAN_Y1, _STEFAN_Y2
+
+    area = bk.pi * wire * wire / 4.0
+    side = bk.sqrt(turns * area / packing)
+    length = 2.0 * turns * 2.0 * bk.pi * radius
+    a, c = radius, side
+    bracket = (
+        (1.0 + 4.0 * c * c / (96.0 * a * a)) * bk.log(8.0 * a / (math.sqrt(2.0) * c))
+        - _STEFAN_Y1
+        + c * c / (16.0 * a * a) * _STEFAN_Y2
+    )
+    return {
+        "side_m": side,
+        "gain_T_per_A": _gain_formula(radius, turns, separation),
+        "resistance_ohm": resistivity * length / area,
+        "self_inductance_H": MU0_T_m_per_A * a * turns * turns * bracket,
+        "mutual_filament_H": turns
+        * turns
+        * coaxial_mutual_inductance_H(radius, radius, separation),
+        "conductance_W_per_K": h * 2.0 * 4.0 * side * 2.0 * bk.pi * radius,
+        "copper_mass_kg": COPPER_DENSITY_kg_m3 * length * area,
+    }
+
+
+@dataclass(frozen=True)
+class HardwareStructure:
+    """What a sizing problem compiles in: the free names, Helmholtz spacing per pair, headings."""
+
+    free: tuple[str, ...]
+    helmholtz: tuple[bool, bool, bool]
+    headings: int
+
+
+def symbolic_constants(b: Any, hs: HardwareStructure, spiral_starts: int) -> tuple[Any, Any, list]:
+    """Constants as expressions of the hardware (free: variables, fixed: parameters).
+
+    Returns (constants, hardware expressions by name, geometry terms builder args).
+    """
+    import casadi as ca
+
+    import capsule as cap
+    from optimize.system import Constants
+
+    hw: dict[str, Any] = {}
+    for name in NAMES:
+        if name in hs.free:
+            hw[name] = b.variable(name, REFERENCE[name.split(".", 1)[1]], 0.0, np.inf)
+        else:
+            hw[name] = b.parameter(f"hw.{name}")
+    packing, rho, hcoef = (
+        b.parameter("hw.packing"),
+        b.parameter("hw.resistivity"),
+        b.parameter("hw.h"),
+    )
+    sep = b.parameter("hw.separation_m", (3,))
+    gcorr, mcorr = (
+        b.parameter("frozen.gain_correction", (3,)),
+        b.parameter("frozen.mutual_correction", (3,)),
+    )
+    s_max, s2 = b.parameter("heading.s", (3,)), b.parameter("heading.s2", (hs.headings * 3,))
+    q = []
+    for k, ax in enumerate(AXES):
+        r = hw[f"{ax}.radius_m"]
+        q.append(
+            coil_quantities(
+                r,
+                hw[f"{ax}.turns"],
+                hw[f"{ax}.wire_diameter_m"],
+                r if hs.helmholtz[k] else sep[k],
+                packing=packing,
+                resistivity=rho,
+                h=hcoef,
+            )
+        )
+    g = [gcorr[k] * q[k]["gain_T_per_A"] for k in range(3)]
+    res = [q[k]["resistance_ohm"] for k in range(3)]
+    # worst-heading copper loss per T²: an epigraph variable above every heading's loss (a max
+    # of tied headings is not smooth); its rows are returned with the geometry terms
+    p_ref = b.parameter("scale.power_W") / (b.parameter("scale.field_T") ** 2)
+    power = b.variable("power_per_T2_scaled", 1.0, 0.0, np.inf) * p_ref
+    heading_loss = [
+        sum(s2[3 * h + k] * res[k] / (2.0 * g[k] * g[k]) for k in range(3))
+        for h in range(hs.headings)
+    ]
+    body_d, body_l = b.parameter("body.diameter_m"), b.parameter("body.length_m")
+    wire_sp = hw["spiral.wire_diameter_m"]
+    d_mag, l_mag = hw["magnet.diameter_m"], hw["magnet.length_m"]
+    d_in, br = b.parameter("magnet.inner_diameter_m"), b.parameter("magnet.remanence_T")
+    c = Constants(
+        gains_T_per_A=ca.vertcat(*g),
+        resistance_ohm=ca.vertcat(*res),
+        inductance_H=ca.vertcat(
+            *(
+                2.0 * q[k]["self_inductance_H"] + 2.0 * mcorr[k] * q[k]["mutual_filament_H"]
+                for k in range(3)
+            )
+        ),
+        conductance_W_per_K=ca.vertcat(*(q[k]["conductance_W_per_K"] for k in range(3))),
+        current_per_tesla_A_per_T=ca.vertcat(*(s_max[k] / g[k] for k in range(3))),
+        power_per_tesla2_W_per_T2=power,
+        workspace_factor=b.parameter("frozen.workspace_factor"),
+        moment_Am2=br * 0.25 * bk.pi * (d_mag * d_mag - d_in * d_in) * l_mag / MU0_T_m_per_A,
+        body_diameter_m=body_d,
+        body_length_m=body_l,
+        wire_diameter_m=wire_sp,
+        wound_length_m=b.parameter("spiral.wound_length_m"),
+        helix_diameter_m=cap.helix_diameter_m(body_d, wire_sp),
+        copper_mass_kg=ca.vertcat(*(q[k]["copper_mass_kg"] for k in range(3))),
+        starts=spiral_starts,
+    )
+    q.append({"heading_loss": heading_loss, "power_per_T2": power})
+    return c, hw, q
+
+
+def geometry_terms(b: Any, hs: HardwareStructure, hw: dict, q: list, ctx: Any) -> list:
+    """Rows that keep a freed design buildable: packs inside their radius and apart from each
+    other (nesting), a clear bore, the magnet inside the shell, the spiral's turns apart."""
+    import capsule as cap
+    from optimize.nlp import Row
+    from optimize.problem import ALPHA_REF_rad, Term
+
+    free = set(hs.free)
+    out: list = []
+
+    def upper(v: Any, a: Any) -> Any:
+        return v / a - 1.0
+
+    extra = q[3]
+    for h, loss in enumerate(extra["heading_loss"]):
+        out.append(
+            Term(Row(f"heading_loss[{h}]", "epigraph", "W/T²"), loss, extra["power_per_T2"], upper)
+        )
+
+    if free & {f"{ax}.{qq}" for ax in AXES for qq in COIL_QUANTITIES}:
+        sep = b.parameter("hw.separation_m", (3,))
+        bore = b.parameter("hw.min_bore_m")
+        gap0, dga, dgb = (
+            b.parameter(f"frozen.{n}", (3,)) for n in ("gap0_m", "dgap_dra", "dgap_drb")
+        )
+        r0 = b.parameter("frozen.radii0_m", (3,))
+        freed = [bool(free & {f"{ax}.{qq}" for qq in COIL_QUANTITIES}) for ax in AXES]
+        for k, ax in enumerate(AXES):
+            if not freed[k]:  # a fixed pair's rows would be constants
+                continue
+            r, side = hw[f"{ax}.radius_m"], q[k]["side_m"]
+            out.append(Term(Row(f"pack_side_{ax}", "geometry", "m"), side, r, upper))
+            if not hs.helmholtz[k]:
+                out.append(Term(Row(f"pack_separation_{ax}", "geometry", "m"), side, sep[k], upper))
+            out.append(
+                Term(
+                    Row(f"bore_{ax}", "geometry", "m", -1.0),
+                    2.0 * r - side,
+                    bore,
+                    lambda v, a: (a - v) / bk.fmax(a, 1e-3),
+                )
+            )
+        for n, (i, j) in enumerate(PAIRS_OF_PAIRS):
+            if not (freed[i] or freed[j]):
+                continue
+            ri, rj = hw[f"{AXES[i]}.radius_m"], hw[f"{AXES[j]}.radius_m"]
+            gap = gap0[n] + dga[n] * (ri - r0[i]) + dgb[n] * (rj - r0[j])
+            half = 0.5 * (q[i]["side_m"] + q[j]["side_m"])
+            out.append(Term(Row(f"nesting_{AXES[i]}{AXES[j]}", "geometry", "m"), half, gap, upper))
+    if free & {"magnet.diameter_m", "magnet.length_m"}:
+        r_in, l_cyl = b.parameter("body.inner_radius_m"), b.parameter("body.cylinder_length_m")
+        half_d = 0.5 * hw["magnet.diameter_m"]
+        out.append(Term(Row("magnet_diameter", "geometry", "m"), half_d, r_in, upper))
+        room = 0.5 * l_cyl + bk.sqrt(bk.fmax(r_in * r_in - half_d * half_d, 1e-12))
+        out.append(
+            Term(Row("magnet_length", "geometry", "m"), 0.5 * hw["magnet.length_m"], room, upper)
+        )
+    if "spiral.wire_diameter_m" in free:
+        c = ctx.constants
+        floor = cap.min_helical_angle_for_clearance_rad(
+            c.helix_diameter_m, c.wire_diameter_m, c.starts
+        )
+        out.append(
+            Term(
+                Row("spiral_clearance", "geometry", "rad", -1.0),
+                ctx.alpha,
+                floor,
+                lambda v, a: (a - v) / ALPHA_REF_rad,
+            )
+        )
+    return out
+
+
+def sizing_parameters(model: Any, frozen: Frozen, min_bore_m: float) -> dict[str, Any]:
+    """Values of the hardware, body, heading and frozen parameters of a sizing problem."""
+    import coils
+
+    hw = hardware_of(model)
+    pairs = model.coils.pairs
+    n2 = np.asarray(model.headings, dtype=float) ** 2
+    s2 = np.clip(1.0 - n2, 0.0, 1.0)
+    body, mag, spiral = model.capsule.body, model.capsule.magnet, model.capsule.spiral
+    values: dict[str, Any] = {f"hw.{k}": v for k, v in hw.items()}
+    values.update(
+        {
+            "hw.packing": pairs[0].packing_factor,
+            "hw.resistivity": float(coils.copper_resistivity_ohm_m(model.winding_temperature_C)),
+            "hw.h": model.heat_transfer_coefficient_W_m2K,
+            "hw.separation_m": np.array([p.separation_m for p in pairs]),
+            "hw.min_bore_m": min_bore_m,
+            "heading.s": np.max(np.sqrt(s2), axis=0),
+            "heading.s2": s2.ravel(),
+            "body.diameter_m": body.diameter_m,
+            "body.length_m": body.length_m,
+            "body.inner_radius_m": body.inner_radius_m,
+            "body.cylinder_length_m": body.cylinder_length_m,
+            "magnet.inner_diameter_m": mag.inner_diameter_m,
+            "magnet.remanence_T": mag.remanence_T,
+            "spiral.wound_length_m": spiral.wound_length_m,
+            "frozen.gain_correction": frozen.gain_correction,
+            "frozen.mutual_correction": frozen.mutual_correction,
+            "frozen.workspace_factor": frozen.workspace_factor,
+            "frozen.gap0_m": frozen.gap0_m,
+            "frozen.dgap_dra": frozen.dgap_dra,
+            "frozen.dgap_drb": frozen.dgap_drb,
+            "frozen.radii0_m": frozen.radii0_m,
+        }
+    )
+    return values
+
+
+def bore_m(model: Any) -> float:
+    """Clear diameter inside the smallest pair: min over pairs of 2R − c, m."""
+    return float(min(2.0 * p.radius_m - p.winding_pack_side_m for p in model.coils.pairs))

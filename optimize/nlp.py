@@ -1,0 +1,240 @@
+"""A small named, parametric NLP on CasADi SX: build once, solve many times.
+
+Variables, parameters and constraint rows are declared by name; the problem is compiled once
+into an IPOPT ``nlpsol`` and then re-solved with new parameter values, bounds and warm starts
+(the way AeroSandbox and ``casadi.Opti`` keep names, without ``Opti``'s per-solve overhead).
+A :class:`Solution` reads values, multipliers and parametric sensitivities by name.
+
+Conventions: every row is ``g <= 0``; variables are scaled, ``physical = ref * scaled``, so the
+solver sees O(1) numbers while the caller speaks SI.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import casadi as ca
+import numpy as np
+
+__all__ = ["CompiledNLP", "NLPBuilder", "Row", "Solution"]
+
+
+@dataclass(frozen=True)
+class Row:
+    """One constraint row ``g <= 0``: its name, kind, unit and which way relaxing goes.
+
+    ``kind`` is "objective" (epigraph rows), "limit", "requirement" or "geometry"; ``unit`` the
+    SI unit of the quantity it bounds; ``relax_sign`` +1 when relaxing means raising the
+    allowed value (a limit), -1 when lowering it (a minimum).
+    """
+
+    name: str
+    kind: str
+    unit: str = ""
+    relax_sign: float = 1.0
+
+
+@dataclass(frozen=True)
+class _Var:
+    name: str
+    ref: float
+    lo: float
+    hi: float
+
+
+class NLPBuilder:
+    """Collect named scaled variables, parameters, rows ``g <= 0`` and one objective."""
+
+    def __init__(self) -> None:
+        self._vars: list[_Var] = []
+        self._xsym: list[Any] = []
+        self._params: dict[str, tuple[Any, tuple[int, ...]]] = {}
+        self._rows: list[Row] = []
+        self._g: list[Any] = []
+        self._allowed: list[Any] = []
+        self._value: list[Any] = []
+        self._dgda: list[Any] = []
+        self._f: Any = None
+
+    def variable(self, name: str, ref: float, lo: float = -np.inf, hi: float = np.inf) -> Any:
+        """A scalar variable (bounds in physical units); returns its physical expression."""
+        if any(v.name == name for v in self._vars):
+            raise ValueError(f"variable {name!r} declared twice")
+        s = ca.SX.sym(name)
+        self._vars.append(_Var(name, float(ref), float(lo), float(hi)))
+        self._xsym.append(s)
+        return s * float(ref)
+
+    def parameter(self, name: str, shape: tuple[int, ...] = ()) -> Any:
+        """A parameter of ``shape`` (``()`` scalar, ``(n,)`` vector); returns its symbol."""
+        if name in self._params:
+            return self._params[name][0]
+        n = int(np.prod(shape)) if shape else 1
+        s = ca.SX.sym(name, n)
+        self._params[name] = (s, shape)
+        return s
+
+    def constrain(
+        self,
+        row: Row,
+        expr: Any,
+        allowed: Any = None,
+        dg_dallowed: Any = None,
+        value: Any = None,
+    ) -> None:
+        """Add the row ``expr <= 0``; ``value`` the bounded quantity, ``allowed`` its bound and
+        ``dg_dallowed`` ∂expr/∂bound (for the sensitivities)."""
+        self._rows.append(row)
+        self._value.append(np.nan if value is None else value)
+        self._g.append(expr)
+        self._allowed.append(np.nan if allowed is None else allowed)
+        self._dgda.append(0.0 if dg_dallowed is None else dg_dallowed)
+
+    def minimize(self, expr: Any) -> None:
+        """Set the objective (to minimise)."""
+        self._f = expr
+
+    def compile(self, options: Mapping[str, Any]) -> CompiledNLP:
+        """The IPOPT solver of everything declared so far."""
+        if self._f is None:
+            raise ValueError("no objective")
+        x = ca.vertcat(*self._xsym)
+        p = ca.vertcat(*(s for s, _ in self._params.values())) if self._params else ca.SX(0, 1)
+        g = ca.vertcat(*self._g) if self._g else ca.SX(0, 1)
+        solver = ca.nlpsol("spiralcap", "ipopt", {"x": x, "p": p, "f": self._f, "g": g}, options)
+        lam = ca.SX.sym("lam", g.shape[0])
+        lagrangian = self._f + ca.dot(lam, g)
+        # d(optimal objective)/d p = ∂L/∂p at the solution (envelope theorem)
+        dldp = ca.Function("dldp", [x, p, lam], [ca.gradient(lagrangian, p)])
+        allowed = ca.Function(
+            "allowed",
+            [x, p],
+            [ca.vertcat(*self._allowed), ca.vertcat(*self._dgda), ca.vertcat(*self._value)],
+        )
+        funcs = ca.Function("fg", [x, p], [self._f, g])
+        return CompiledNLP(
+            solver, tuple(self._vars), dict(self._params), tuple(self._rows), dldp, allowed, funcs
+        )
+
+
+@dataclass(frozen=True)
+class Solution:
+    """One IPOPT solve, readable by name (physical units for variables)."""
+
+    nlp: CompiledNLP
+    x_scaled: np.ndarray
+    p: np.ndarray
+    f: float
+    g: np.ndarray
+    lam_g: np.ndarray
+    lam_x: np.ndarray
+    status: str
+    iterations: int
+
+    @property
+    def success(self) -> bool:
+        """IPOPT converged (to tolerance or to the acceptable level)."""
+        return self.status in ("Solve_Succeeded", "Solved_To_Acceptable_Level")
+
+    def value(self, name: str) -> float:
+        """A variable's value, physical units."""
+        i = self.nlp.var_index[name]
+        return float(self.x_scaled[i] * self.nlp.variables[i].ref)
+
+    def values(self) -> dict[str, float]:
+        """Every variable, physical units."""
+        return {v.name: self.value(v.name) for v in self.nlp.variables}
+
+    def bound_multiplier(self, name: str) -> float:
+        """d f / d (upper bound) = -lam_x / ref (per physical unit); sign: >0 at the upper."""
+        i = self.nlp.var_index[name]
+        return float(self.lam_x[i] / self.nlp.variables[i].ref)
+
+    def allowed(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Every row's allowed value (NaN where none), ∂g/∂allowed and bounded value."""
+        a, d, v = self.nlp.allowed(self.x_scaled, self.p)
+        return np.asarray(a).ravel(), np.asarray(d).ravel(), np.asarray(v).ravel()
+
+    def row_sensitivities(self) -> np.ndarray:
+        """d f / d (allowed value of row i) through row i alone: lam_i ∂g_i/∂allowed_i."""
+        return self.lam_g * self.allowed()[1]
+
+    def parameter_sensitivity(self, name: str) -> np.ndarray:
+        """d f / d parameter ``name`` (all rows and the objective), shape of the parameter."""
+        full = np.asarray(self.nlp.dldp(self.x_scaled, self.p, self.lam_g)).ravel()
+        return full[self.nlp.param_slices[name]]
+
+
+class CompiledNLP:
+    """A compiled problem: solve with parameter values by name, warm starts and new bounds."""
+
+    def __init__(self, solver, variables, params, rows, dldp, allowed, funcs) -> None:
+        self.solver = solver
+        self.variables: tuple[_Var, ...] = variables
+        self.var_index = {v.name: i for i, v in enumerate(variables)}
+        self.rows: tuple[Row, ...] = rows
+        self.dldp, self.allowed, self.funcs = dldp, allowed, funcs
+        self.param_slices: dict[str, slice] = {}
+        self.param_shapes: dict[str, tuple[int, ...]] = {}
+        k = 0
+        for name, (sym, shape) in params.items():
+            n = int(sym.shape[0])
+            self.param_slices[name] = slice(k, k + n)
+            self.param_shapes[name] = shape
+            k += n
+        self.n_params = k
+
+    @property
+    def row_names(self) -> tuple[str, ...]:
+        """Names of the constraint rows, in order."""
+        return tuple(r.name for r in self.rows)
+
+    def parameter_vector(self, values: Mapping[str, Any]) -> np.ndarray:
+        """Pack named parameter values (every parameter must be given)."""
+        p = np.empty(self.n_params)
+        missing = set(self.param_slices) - set(values)
+        if missing:
+            raise KeyError(f"parameters not given: {sorted(missing)}")
+        for name, sl in self.param_slices.items():
+            p[sl] = np.asarray(values[name], dtype=float).ravel()
+        return p
+
+    def scale(self, physical: Mapping[str, float]) -> np.ndarray:
+        """Physical variable values -> the scaled vector (missing names: 0)."""
+        return np.array([physical.get(v.name, 0.0) / v.ref for v in self.variables])
+
+    def solve(
+        self,
+        x0: Mapping[str, float] | Sequence[float],
+        p: np.ndarray,
+        bounds: Mapping[str, tuple[float, float]] | None = None,
+        lam_g0: np.ndarray | None = None,
+    ) -> Solution:
+        """One IPOPT solve from ``x0`` (physical by name, or a scaled vector)."""
+        x0s = self.scale(x0) if isinstance(x0, Mapping) else np.asarray(x0, dtype=float)
+        bounds = bounds or {}
+        lo = np.array([bounds.get(v.name, (v.lo, v.hi))[0] / v.ref for v in self.variables])
+        hi = np.array([bounds.get(v.name, (v.lo, v.hi))[1] / v.ref for v in self.variables])
+        kw: dict[str, Any] = {}
+        if lam_g0 is not None:
+            kw["lam_g0"] = lam_g0
+        sol = self.solver(x0=x0s, p=p, lbx=lo, ubx=hi, lbg=-np.inf, ubg=0.0, **kw)
+        st = self.solver.stats()
+        return Solution(
+            self,
+            np.asarray(sol["x"]).ravel(),
+            np.asarray(p, dtype=float),
+            float(sol["f"]),
+            np.asarray(sol["g"]).ravel(),
+            np.asarray(sol["lam_g"]).ravel(),
+            np.asarray(sol["lam_x"]).ravel(),
+            str(st["return_status"]),
+            int(st.get("iter_count", 0)),
+        )
+
+    def evaluate(self, x_scaled: Sequence[float], p: np.ndarray) -> tuple[float, np.ndarray]:
+        """Objective and rows at a scaled point (numbers)."""
+        f, g = self.funcs(np.asarray(x_scaled, dtype=float), p)
+        return float(f), np.asarray(g).ravel()

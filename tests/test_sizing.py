@@ -1,0 +1,215 @@
+"""Hardware sizing: the hardware expressions against the exact coil objects, the discrete optimum
+against a brute-force grid, the saved design, and bad or impossible --free input."""
+
+import json
+import math
+from dataclasses import replace
+
+import casadi as ca
+import numpy as np
+import pytest
+
+import coils
+from optimize import hardware as hw
+from optimize import optimize_design, prepare
+from optimize.discrete import buildable
+from spiralcap.assemble import build_model
+from spiralcap.cli import main
+from spiralcap.constants import COPPER_DENSITY_kg_m3, MU0_T_m_per_A
+from spiralcap.design import load_design
+
+
+@pytest.fixture(scope="module")
+def model():
+    return prepare(build_model(load_design()))
+
+
+@pytest.fixture(scope="module")
+def x_sized(model):
+    free = (
+        hw.FreeVariable("x.turns", 100, 800),
+        hw.FreeVariable("x.wire_diameter_m", 0.8e-3, 3e-3),
+    )
+    return optimize_design(replace(model, sizing=hw.Sizing(free)))
+
+
+def _quantities(p, temperature_C, h):
+    return hw.coil_quantities(
+        p.radius_m,
+        p.turns,
+        p.wire_diameter_m,
+        p.separation_m,
+        packing=p.packing_factor,
+        resistivity=float(coils.copper_resistivity_ohm_m(temperature_C)),
+        h=h,
+    )
+
+
+def test_hardware_expressions_match_the_coil_objects(model):
+    for p in model.coils.pairs:
+        q = _quantities(p, 90.0, 10.0)
+        assert math.isclose(
+            q["gain_T_per_A"], (0.8**1.5) * MU0_T_m_per_A * p.turns / p.radius_m, rel_tol=1e-12
+        ), "Helmholtz centre field (4/5)^{3/2} μ0 N / R (textbook), 1e-12"
+        assert math.isclose(q["gain_T_per_A"], p.centre_field_per_amp_T_per_A, rel_tol=1e-12)
+        assert math.isclose(q["resistance_ohm"], p.resistance_ohm(90.0), rel_tol=1e-12)
+        assert math.isclose(q["side_m"], p.winding_pack_side_m, rel_tol=1e-12)
+        assert math.isclose(q["self_inductance_H"], p.self_inductance_H, rel_tol=1e-12), (
+            "Stefan's formula, the same as coils.HelmholtzPair (Rosa & Grover 1912 eq. 91)"
+        )
+        assert math.isclose(
+            q["conductance_W_per_K"], p.thermal_conductance_W_per_K(10.0), rel_tol=1e-12
+        )
+        mass = COPPER_DENSITY_kg_m3 * p.wire_length_m * p.wire_area_m2
+        assert math.isclose(q["copper_mass_kg"], mass, rel_tol=1e-12)
+        # the filament mutual inductance is within a few per cent of the pack-averaged one
+        assert math.isclose(q["mutual_filament_H"], p.mutual_inductance_H, rel_tol=0.05)
+
+
+def test_hardware_expressions_numpy_and_casadi_agree(model):
+    p = model.coils.pairs[0]
+    r, n, d = ca.SX.sym("r"), ca.SX.sym("n"), ca.SX.sym("d")
+    sym = hw.coil_quantities(r, n, d, r, packing=0.7, resistivity=2e-8, h=10.0)
+    num = hw.coil_quantities(
+        p.radius_m, p.turns, p.wire_diameter_m, p.radius_m, packing=0.7, resistivity=2e-8, h=10.0
+    )
+    for k in sym:
+        f = ca.Function("f", [r, n, d], [sym[k]])
+        v = float(f(p.radius_m, p.turns, p.wire_diameter_m))
+        assert math.isclose(v, float(num[k]), rel_tol=1e-12), f"{k}: numpy and CasADi, 1e-12"
+
+
+def test_frozen_factors_are_exact_at_the_hardware(model):
+    fz = hw.frozen_factors(model)
+    assert np.allclose(fz.gain_correction, 1.0, rtol=1e-12), "one filament: the formula is exact"
+    assert math.isclose(fz.workspace_factor, model.constants.workspace_factor, rel_tol=1e-12)
+
+
+def test_discrete_x_pair_is_standard_and_beats_a_brute_force_grid(model, x_sized):
+    """Issue 9: x turns 100-800 and wire 0.8-3.0 mm free; the discrete optimum has whole turns and
+    an R40 diameter and is at least as good as every fixed design of a turns x wire grid, each
+    re-optimised over angle and frequency (margin 2.64 today; the issue's hand grid reached
+    +2.75 mN·m)."""
+    res = x_sized
+    assert res.status == "optimal"
+    n, d = res.hardware.discrete["x.turns"], res.hardware.discrete["x.wire_diameter_m"]
+    assert n == round(n) and 100 <= n <= 800
+    assert any(math.isclose(d * 1e3, s, rel_tol=1e-12) for s in hw.IEC_R40_mm), "R40 diameter"
+    assert res.hardware.relaxed_objective >= res.margin_Nm * (1 - 1e-9), "relaxation is a bound"
+    wires = [*[w for w in hw.IEC_R40_mm if 0.8 <= w <= 3.0][::4], d * 1e3]
+    turns = [*range(100, 801, 100), *(int(n) + k for k in (-2, 2))]
+    warm = {
+        "helical_angle": res.helical_angle_rad,
+        "frequency": res.frequency_hz,
+        "field_T": res.field_amplitude_T,
+    }
+    best_grid = -np.inf
+    for t in turns:
+        for w in wires:
+            m = buildable(model, {"x.turns": t, "x.wire_diameter_m": w * 1e-3}, hw.bore_m(model))
+            if m is None:
+                continue
+            r = optimize_design(m, warm_start=warm, diagnose=False)
+            if r.status == "optimal":
+                best_grid = max(best_grid, r.margin_Nm)
+    assert res.margin_Nm >= best_grid * (1 - 1e-9), (
+        f"discrete optimum {res.margin_Nm:.6e} >= best of the grid {best_grid:.6e}"
+    )
+    assert res.margin_Nm > 2.7e-3, "better than today's 2.64 mN·m"
+
+
+def test_sized_design_saved_and_reproduced(tmp_path, capsys):
+    out = tmp_path / "hw.toml"
+    free = ["--free", "coils.x.turns=100:800", "--free", "coils.x.wire_diameter_mm=0.8:3.0"]
+    assert main(["optimize", "--json", "-o", str(out), *free]) == 0
+    opt = json.loads(capsys.readouterr().out)
+    text = out.read_text()
+    assert "[optimize.free" not in text.replace("[optimize.free.", "#"), "no free table left"
+    assert main(["evaluate", "--json", str(out)]) == 0
+    ev = json.loads(capsys.readouterr().out)
+    for k in ("margin_Nm", "helical_angle_deg", "frequency_hz"):
+        assert math.isclose(ev[k], opt[k], rel_tol=1e-6), f"evaluate reproduces {k} (1e-6)"
+    assert opt["hardware"]["discrete"]["coils.x.turns"] == round(
+        opt["hardware"]["discrete"]["coils.x.turns"]
+    )
+
+
+def test_free_table_in_a_design_file(tmp_path, capsys):
+    f = tmp_path / "d.toml"
+    f.write_text('[optimize.free]\n"coils.x.turns" = [100, 800]\n')
+    assert main(["optimize", "--json", str(f)]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert "coils.x.turns" in out["hardware"]["discrete"]
+
+
+@pytest.mark.parametrize(
+    ("args", "named"),
+    [
+        (["--free", "coils.x.separation_m=0.1:0.5"], "--free"),
+        (["--free", "coils.x.turns=800:100"], "optimize.free.coils.x.turns"),
+        (["--free", "coils.x.wire_diameter_mm=-1:2"], "optimize.free.coils.x.wire_diameter_mm"),
+        (["--free", "coils.x.turns=100"], "--free"),
+        (["--set", "optimize.free.coils.x.turns=[100]"], "optimize.free.coils.x.turns"),
+    ],
+)
+def test_bad_free_input_exits_2_naming_the_key(args, named, capsys):
+    assert main(["optimize", *args]) == 2
+    err = capsys.readouterr().err
+    assert named in err and "Traceback" not in err and len(err.strip().splitlines()) == 1
+
+
+def test_impossible_sizing_exits_3_naming_what_is_out_of_reach(capsys):
+    code = main(
+        [
+            "optimize",
+            "--json",
+            "--free",
+            "coils.x.turns=100:800",
+            "--set",
+            "requirements.min_speed_mm_s=500",
+        ]
+    )
+    out = json.loads(capsys.readouterr().out)
+    assert code == 3 and out["status"] == "infeasible"
+    assert "requirements.min_speed_mm_s" in [s["key"] for s in out["shortfalls"]]
+
+
+def test_least_copper_relaxation_bounds_the_discrete_design(model):
+    m = replace(
+        model,
+        bounds=replace(model.bounds, objective="copper_mass"),
+        requirements=replace(model.requirements, min_safety_factor=3.0),
+        sizing=hw.Sizing((hw.FreeVariable("x.turns", 100, 800),)),
+    )
+    res = optimize_design(m)
+    h = res.hardware
+    assert res.status == "optimal" and res.safety_factor >= 3.0 * (1 - 1e-9)
+    assert h.relaxed_objective <= h.discrete_objective, "the relaxation bounds a minimum"
+    assert h.discrete["x.turns"] == math.ceil(h.relaxed["x.turns"]), (
+        "fewer turns than the relaxation cannot reach the safety factor: the answer rounds up"
+    )
+
+
+def test_sizing_rows_equal_fixed_rows_at_the_same_hardware(model):
+    """With the frozen factors taken at the design, the sizing NLP's rows (hardware as
+    variables) equal the fixed-hardware rows (precomputed Constants) at the same point: the
+    expressions of optimize.hardware are the coil objects' numbers, to 1e-9."""
+    from optimize.solve import compile_problem, scales_for, structure_of
+
+    names = ("x.turns", "y.wire_diameter_m", "z.radius_m")
+    hs = hw.HardwareStructure(names, hw.helmholtz_flags(model), len(model.headings))
+    sized = compile_problem(structure_of(model, hardware=hs))
+    fixed = compile_problem(structure_of(model))
+    scales = scales_for(model)
+    extra = hw.sizing_parameters(model, hw.frozen_factors(model), hw.bore_m(model))
+    point = {"helical_angle": 0.3, "frequency": 1.2, "field_scaled": 0.8, "t": 0.1}
+    here = hw.hardware_of(model)
+    p_ref = model.constants.power_per_tesla2_W_per_T2 * scales.field_T**2 / scales.power_W
+    xs = sized.nlp.scale({**point, **{n: here[n] for n in names}, "power_per_T2_scaled": p_ref})
+    _, g_sized = sized.nlp.evaluate(xs, sized.parameters(model, scales, extra))
+    _, g_fixed = fixed.nlp.evaluate(fixed.nlp.scale(point), fixed.parameters(model, scales))
+    by_name = dict(zip(sized.nlp.row_names, g_sized))
+    for name, g in zip(fixed.nlp.row_names, g_fixed):
+        assert math.isclose(by_name[name], g, rel_tol=1e-9, abs_tol=1e-12), (
+            f"{name}: sizing and fixed rows agree (1e-9)"
+        )
