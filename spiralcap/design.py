@@ -127,7 +127,11 @@ def _fmt(value: Any) -> str:
 
 
 def _to_toml(values: Mapping[str, Any], comments: bool = False) -> str:
-    order = list(KEYS) + sorted(k for k in values if k not in KEYS)
+    keys = list(KEYS) + sorted(k for k in values if k not in KEYS)
+    first: dict[str, int] = {}
+    for k in keys:  # keys added later to an earlier table join it (a TOML table is declared once)
+        first.setdefault(k.rpartition(".")[0], len(first))
+    order = sorted(keys, key=lambda k: first[k.rpartition(".")[0]])
     lines: list[str] = []
     table = None
     for key in order:

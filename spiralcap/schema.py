@@ -252,8 +252,90 @@ KEYS.update({})
 # --- coils as they really run (issue 10) ---
 KEYS.update({})
 
+
 # --- tissue uncertainty (issue 11) ---
-KEYS.update({})
+def _is_matrix5(v: Any) -> bool:
+    return (
+        isinstance(v, list)
+        and len(v) == 5
+        and all(isinstance(r, list) and len(r) == 5 and all(_num(x) for x in r) for r in v)
+    )
+
+
+KEYS.update(
+    {
+        "tissue.uncertainty.scale_sigma_log": _between(
+            "standard deviation of ln(k), k a log-normal factor common to all five moduli and "
+            "viscosities of every tissue set (the calibration's uncertainty; 0: none)",
+            0.0,
+            0.0,
+            2.0,
+            open_=False,
+        ),
+        **{
+            f"tissue.uncertainty.{p}_sigma_log": _between(
+                f"standard deviation of ln({p}) on its own (independent of the others; 0: none)",
+                0.0,
+                0.0,
+                2.0,
+                open_=False,
+            )
+            for p in ("E1", "E2", "E3", "eta1", "eta2")
+        },
+        "tissue.uncertainty.friction_sigma_log": _between(
+            "standard deviation of ln(friction coefficient) (0: none)", 0.0, 0.0, 2.0, open_=False
+        ),
+        "tissue.uncertainty.lumen_diameter_sigma_mm": _between(
+            "standard deviation of the lumen diameter (normal, truncated at 10 % of nominal)",
+            0.0,
+            0.0,
+            20.0,
+            open_=False,
+        ),
+        "tissue.uncertainty.wall_thickness_sigma_mm": _between(
+            "standard deviation of the wall thickness (normal, truncated at 10 % of nominal)",
+            0.0,
+            0.0,
+            5.0,
+            open_=False,
+        ),
+        "tissue.uncertainty.covariance_from": Key(
+            str,
+            None,
+            "a path to a TOML file written by `spiralcap fit -o` (relative to the design file)",
+            lambda v: isinstance(v, str) and v.strip() != "",
+            "correlated uncertainty of ln(E1, E2, E3, eta1, eta2): the fit's covariance",
+        ),
+        "tissue.fit.covariance_log": Key(
+            list,
+            None,
+            "a 5 x 5 list of finite numbers",
+            _is_matrix5,
+            "covariance of ln(E1, E2, E3, eta1, eta2) from `spiralcap fit -o` (read through "
+            "tissue.uncertainty.covariance_from; not used on its own)",
+        ),
+        "requirements.max_stepout_probability": _between(
+            "largest allowed probability that the capsule steps out over the tissue "
+            "uncertainty (a CVaR constraint on optimize.scenarios scenarios; unset: none)",
+            None,
+            0.0,
+            0.5,
+            open_=True,
+        ),
+        "optimize.scenarios": _count(
+            "tissue scenarios drawn for objective margin_p05 and max_stepout_probability", 400, 20
+        ),
+        "optimize.scenario_seed": _count("seed of the optimiser's tissue scenarios", 0, 0),
+    }
+)
+_objective = KEYS["optimize.objective"]
+KEYS["optimize.objective"] = Key(
+    str,
+    _objective.default,
+    _objective.allowed + ", 'margin_p05'",
+    lambda v, _c=_objective.check: _c(v) or v == "margin_p05",
+    _objective.help + "; margin_p05: the 5th-percentile margin over the tissue uncertainty",
+)
 
 # --- report front matter (issue 12) ---
 KEYS.update({})
