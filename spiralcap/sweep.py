@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Sequence
-from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -100,11 +99,16 @@ def sweep(
     optimize: bool = False,
     workers: int = 1,
     progress: Callable[[int, int], None] | None = None,
+    dask: str | None = None,
 ) -> SweepResult:
-    """Evaluate (or re-optimise) ``design`` at every point of the grid spanned by ``axes``."""
+    """Evaluate (or re-optimise) ``design`` at every point of the grid spanned by ``axes``.
+
+    ``workers`` local processes or a Dask scheduler at ``dask`` run the re-optimisations
+    (:func:`spiralcap.parallel.map_tasks`); the rows do not depend on where they ran.
+    """
     inputs = _grid(axes)
     if optimize:
-        outputs = _optimize_points(design, inputs, workers, progress)
+        outputs = _optimize_points(design, inputs, workers, progress, dask)
         mode = "optimize"
     elif all(a.key in _VECTOR_KEYS for a in axes):
         outputs = _evaluate_vectorised(design, inputs)
@@ -180,19 +184,11 @@ def _optimize_one(design: Design) -> tuple:
     )
 
 
-def _optimize_points(design, inputs, workers, progress) -> dict[str, np.ndarray]:
+def _optimize_points(design, inputs, workers, progress, dask=None) -> dict[str, np.ndarray]:
+    from spiralcap.parallel import map_tasks
+
     n = len(next(iter(inputs.values())))
-    designs = [_at(design, inputs, i) for i in range(n)]
-    rows = []
-    if workers > 1:
-        with ProcessPoolExecutor(max_workers=workers) as pool:
-            for i, row in enumerate(pool.map(_optimize_one, designs)):
-                rows.append(row)
-                if progress:
-                    progress(i + 1, n)
-    else:
-        for i, d in enumerate(designs):
-            rows.append(_optimize_one(d))
-            if progress:
-                progress(i + 1, n)
+    designs = [(_at(design, inputs, i),) for i in range(n)]
+    # here, in worker processes or on a Dask cluster: same rows in the same order (issue 11)
+    rows = map_tasks(_optimize_one, designs, workers=workers, dask=dask, progress=progress)
     return {k: np.array([r[j] for r in rows]) for j, k in enumerate(OPTIMIZE_COLUMNS)}
