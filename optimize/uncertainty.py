@@ -43,6 +43,8 @@ from spiralcap.errors import InputError
 #: Samples per chunk: a power of two (balanced Sobol' blocks); fixed, so results do not depend
 #: on how many workers share the chunks.
 CHUNK = 1 << 15
+#: Rows evaluated at once (64 KB per temporary array).
+BLOCK = 1 << 13
 METHODS = ("sobol", "halton", "random")
 VISCOELASTIC = ("E1_Pa", "E2_Pa", "E3_Pa", "eta1_Pa_s", "eta2_Pa_s")
 #: Short names of the five viscoelastic parameters (design keys without unit).
@@ -233,7 +235,18 @@ class MarginProblem:
         return len(self.uncertainty.factors())
 
     def margins_Nm(self, u: np.ndarray) -> np.ndarray:
-        """Worst-case margin (over the tissue sets) for each row of latent uniforms ``u``, N·m."""
+        """Worst-case margin (over the tissue sets) for each row of latent uniforms ``u``, N·m.
+
+        Evaluated in blocks of :data:`BLOCK` rows: temporaries stay below glibc's mmap threshold
+        (Dask's nanny sets ``MALLOC_TRIM_THRESHOLD_``, which makes every larger array an
+        mmap + page faults, twice as slow); each sample is element-wise, so blocks change nothing.
+        """
+        u = np.asarray(u, dtype=float)
+        if u.shape[0] <= BLOCK:
+            return self._margins(u)
+        return np.concatenate([self._margins(u[i : i + BLOCK]) for i in range(0, len(u), BLOCK)])
+
+    def _margins(self, u: np.ndarray) -> np.ndarray:
         arrays = perturbed_tissues(self.tissues, self.uncertainty, u)
         pairs = ph.required_torques_Nm(
             self.helical_angle_rad, self.frequency_hz, self.constants, arrays, self.requirements
