@@ -323,17 +323,26 @@ KEYS.update(
             open_=True,
         ),
         "optimize.scenarios": _count(
-            "tissue scenarios drawn for objective margin_p05 and max_stepout_probability", 400, 20
+            "tissue scenarios (Sobol' points; a power of 2 keeps them balanced) for objective "
+            "margin_p05 and requirements.max_stepout_probability",
+            1024,
+            20,
         ),
         "optimize.scenario_seed": _count("seed of the optimiser's tissue scenarios", 0, 0),
     }
 )
 _objective = KEYS["optimize.objective"]
+
+
+def _objective_ok(v: Any, _c: Callable[[Any], bool] = _objective.check) -> bool:
+    return _c(v) or v == "margin_p05"
+
+
 KEYS["optimize.objective"] = Key(
     str,
     _objective.default,
     _objective.allowed + ", 'margin_p05'",
-    lambda v, _c=_objective.check: _c(v) or v == "margin_p05",
+    _objective_ok,
     _objective.help + "; margin_p05: the 5th-percentile margin over the tissue uncertainty",
 )
 

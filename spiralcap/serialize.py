@@ -80,7 +80,7 @@ def optimization_to_dict(res) -> dict[str, Any]:
                 "sensitivity_per_unit": b.sensitivity,
                 "gain_per_unit_relaxed": b.gain_per_unit_relaxed,
                 "relaxing_means": "raising" if b.relax_sign > 0 else "lowering",
-                "gain_unit": ("N·m/" if res.objective == "margin" else "1/") + b.unit,
+                "gain_unit": ("1/" if res.objective == "ratio" else "N·m/") + b.unit,
             }
             for b in res.binding_limits
         ],

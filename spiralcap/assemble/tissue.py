@@ -101,7 +101,7 @@ def _read_covariance(design: Mapping[str, Any], path: str) -> tuple[tuple[float,
     try:
         import tomllib
     except ModuleNotFoundError:  # Python 3.10
-        import tomli as tomllib  # type: ignore[no-redef]
+        import tomli as tomllib
 
     key = _UNC + "covariance_from"
     p = Path(path)

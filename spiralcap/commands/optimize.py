@@ -46,8 +46,8 @@ def format_result(res) -> str:
             f"step-out frequency  {res.step_out_frequency_hz:.4g} Hz",
             "binding limits:",
         ]
-        gain = "mN·m" if res.objective == "margin" else "safety factor"
-        scale = 1e3 if res.objective == "margin" else 1.0
+        gain = "mN·m" if res.objective != "ratio" else "safety factor"  # margin, margin_p05
+        scale = 1e3 if res.objective != "ratio" else 1.0
         for b in res.binding_limits:
             label, factor = _ENGINEERING.get(b.unit, (b.unit, 1.0))
             verb = "raising" if b.relax_sign > 0 else "lowering"
@@ -81,6 +81,10 @@ def run(args: argparse.Namespace) -> int:
     from spiralcap.serialize import optimization_to_dict
 
     design = design_from_args(args)
+    from spiralcap.commands.uncertainty import run_robust, wants_robust
+
+    if wants_robust(design):  # issue 11: scenario NLP (optimize/robust.py); port to i9's NLP
+        return run_robust(args, design)
     res = optimize_design(build_model(design))
     if args.json:
         print_json({"design": design.source, **optimization_to_dict(res)})

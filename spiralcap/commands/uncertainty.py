@@ -237,3 +237,151 @@ def _progress(done: int, total: int) -> None:
     if done == total:
         sys.stderr.write("\n")
     sys.stderr.flush()
+
+
+# --- robust optimum: `spiralcap optimize` with objective margin_p05 or max_stepout_probability --
+
+OUT_OF_SAMPLE = 1 << 16
+
+
+def wants_robust(design: Any) -> bool:
+    """Whether ``spiralcap optimize`` must solve over tissue scenarios (optimize/robust.py)."""
+    return (
+        design["optimize.objective"] == "margin_p05"
+        or design.get("requirements.max_stepout_probability") is not None
+    )
+
+
+@dataclass(frozen=True)
+class RobustCheck:
+    """The robust optimum, its out-of-sample check, and the deterministic optimum's."""
+
+    robust: Any  # optimize.robust.RobustResult
+    out_of_sample: Any  # UncertaintyResult at the robust optimum, fresh seed
+    deterministic: Any  # OptimizationResult with objective "margin"
+    deterministic_out_of_sample: Any  # UncertaintyResult at the deterministic optimum
+    fresh_seed: int
+
+
+def robust_optimum(design: Any, samples: int = OUT_OF_SAMPLE) -> RobustCheck:
+    """Solve the robust NLP, then check it (and the deterministic optimum) on fresh samples."""
+    from dataclasses import replace
+
+    from optimize import optimize_design
+    from optimize import robust as rb
+    from optimize import uncertainty as uq
+    from spiralcap.assemble import build_model
+    from spiralcap.assemble.tissue import build_uncertainty
+
+    model = build_model(design)
+    unc = build_uncertainty(design)
+    if not unc.active:
+        raise InputError(
+            "optimize.objective",
+            design["optimize.objective"],
+            "margin_p05 and requirements.max_stepout_probability need [tissue.uncertainty] "
+            "(e.g. --set tissue.uncertainty.scale_sigma_log=0.3)",
+        )
+    seed = int(design["optimize.scenario_seed"])
+    res = rb.optimize_robust(
+        model,
+        unc,
+        max_stepout_probability=design.get("requirements.max_stepout_probability"),
+        scenarios=int(design["optimize.scenarios"]),
+        seed=seed,
+    )
+    fresh = seed + 1_000_003  # a different scrambling: samples the optimiser never saw
+
+    def check(alpha: float, f: float) -> Any:
+        p = uq.margin_problem(model, unc, alpha, f)
+        return uq.summarise(p, uq.run_local(p, samples, fresh), fresh, "sobol")
+
+    o = res.optimization
+    det = optimize_design(replace(model, bounds=replace(model.bounds, objective="margin")))
+    return RobustCheck(
+        res,
+        check(o.helical_angle_rad, o.frequency_hz),
+        det,
+        check(det.helical_angle_rad, det.frequency_hz),
+        fresh,
+    )
+
+
+def robust_to_dict(rc: RobustCheck) -> dict[str, Any]:
+    """The robust part of ``optimize --json`` (SI units in the keys)."""
+    r, oos, d_oos = rc.robust, rc.out_of_sample, rc.deterministic_out_of_sample
+    return {
+        "objective": r.objective,
+        "scenarios": r.scenarios,
+        "scenario_seed": r.seed,
+        "beta": r.beta,
+        "max_stepout_probability": r.max_stepout_probability,
+        "in_sample": {
+            "margin_p05_Nm": r.margin_p05_Nm,
+            "cvar05_Nm": r.cvar05_Nm,
+            "stepout_probability": r.stepout_probability,
+        },
+        "out_of_sample": {
+            "samples": oos.samples,
+            "seed": rc.fresh_seed,
+            "margin_p05_Nm": oos.margin_percentiles_Nm["p05"],
+            "stepout_probability": oos.stepout_probability,
+            "stepout_probability_ci95": list(oos.stepout_ci95),
+            "p05_relative_to_claim": oos.margin_percentiles_Nm["p05"] / r.margin_p05_Nm - 1.0
+            if r.margin_p05_Nm
+            else None,
+        },
+        "deterministic_optimum": {
+            "status": rc.deterministic.status,
+            "helical_angle_deg": rc.deterministic.helical_angle_deg,
+            "frequency_hz": rc.deterministic.frequency_hz,
+            "margin_Nm": rc.deterministic.margin_Nm,
+            "out_of_sample_margin_p05_Nm": d_oos.margin_percentiles_Nm["p05"],
+            "out_of_sample_stepout_probability": d_oos.stepout_probability,
+        },
+    }
+
+
+def format_robust(rc: RobustCheck) -> str:
+    """Text lines for the robust part of ``spiralcap optimize``."""
+    r, oos, d_oos = rc.robust, rc.out_of_sample, rc.deterministic_out_of_sample
+    d = robust_to_dict(rc)["out_of_sample"]
+    rel = d["p05_relative_to_claim"]
+    cons = (
+        f", P(step-out) <= {r.max_stepout_probability:g} (CVaR)"
+        if r.max_stepout_probability
+        else ""
+    )
+    return "\n".join(
+        [
+            f"tissue scenarios    {r.scenarios} (Sobol', seed {r.seed}); objective "
+            f"{r.objective}{cons}",
+            f"in-sample           margin p05 {r.margin_p05_Nm * 1e3:.4g} mN·m, CVaR05 "
+            f"{r.cvar05_Nm * 1e3:.4g} mN·m, P(step-out) {100 * r.stepout_probability:.3g} %",
+            f"out-of-sample       margin p05 {oos.margin_percentiles_Nm['p05'] * 1e3:.4g} mN·m"
+            + (f" ({100 * rel:+.2g} % vs claim)" if rel is not None else "")
+            + f", P(step-out) {100 * oos.stepout_probability:.3g} % "
+            f"({oos.samples} fresh samples, seed {rc.fresh_seed})",
+            f"deterministic opt.  {rc.deterministic.helical_angle_deg:.4g} deg, "
+            f"{rc.deterministic.frequency_hz:.4g} Hz: out-of-sample margin p05 "
+            f"{d_oos.margin_percentiles_Nm['p05'] * 1e3:.4g} mN·m, P(step-out) "
+            f"{100 * d_oos.stepout_probability:.3g} %",
+        ]
+    )
+
+
+def run_robust(args: argparse.Namespace, design: Any) -> int:
+    """``spiralcap optimize`` for a robust design (called from commands/optimize.py)."""
+    from spiralcap.commands.optimize import EXIT_INFEASIBLE, format_result
+    from spiralcap.serialize import optimization_to_dict
+
+    rc = robust_optimum(design)
+    res = rc.robust.optimization
+    if args.json:
+        print_json(
+            {"design": design.source, **optimization_to_dict(res), **{"robust": robust_to_dict(rc)}}
+        )
+    else:
+        print(format_result(res))
+        print(format_robust(rc))
+    return 0 if res.status == "optimal" else EXIT_INFEASIBLE
