@@ -89,8 +89,8 @@ def dask_scaling(problem: uq.MarginProblem) -> None:
     from spiralcap.parallel import map_tasks
 
     n = 1 << 23
-    tasks = [(problem, s, c, 1, "sobol") for s, c in uq.chunks(n)]
-    t_local, ref = median_time(lambda: np.concatenate(map_tasks(uq.chunk_margins, tasks)), 3)
+    tasks = [(problem, b, 1, "sobol") for b in uq.batches(n)]
+    t_local, ref = median_time(lambda: np.concatenate(map_tasks(uq.batch_margins, tasks)), 3)
     print(f"{n} samples, {len(tasks)} chunks of {uq.CHUNK}: this process {t_local * 1e3:.0f} ms")
     times = {}
     for workers in (1, 2):
@@ -98,9 +98,9 @@ def dask_scaling(problem: uq.MarginProblem) -> None:
             n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None
         ) as cluster:
             addr = cluster.scheduler_address
-            map_tasks(uq.chunk_margins, tasks[:2], dask=addr)  # warm the workers' imports
+            map_tasks(uq.batch_margins, tasks[:2], dask=addr)  # warm the workers' imports
             t, out = median_time(
-                lambda addr=addr: np.concatenate(map_tasks(uq.chunk_margins, tasks, dask=addr)), 3
+                lambda addr=addr: np.concatenate(map_tasks(uq.batch_margins, tasks, dask=addr)), 3
             )
         times[workers] = t
         same = np.array_equal(out, ref)

@@ -325,6 +325,19 @@ def chunk_margins(
     return problem.margins_Nm(u)
 
 
+def batch_margins(
+    problem: MarginProblem, pieces: tuple[tuple[int, int], ...], seed: int, method: str
+) -> np.ndarray:
+    """:func:`chunk_margins` of several (start, count) chunks, concatenated (one task)."""
+    return np.concatenate([chunk_margins(problem, s, n, seed, method) for s, n in pieces])
+
+
+def batches(samples: int, per_task: int = 8) -> list[tuple[tuple[int, int], ...]]:
+    """The chunks of ``samples`` grouped ``per_task`` to a task (fewer round trips)."""
+    c = chunks(samples)
+    return [tuple(c[i : i + per_task]) for i in range(0, len(c), per_task)]
+
+
 def chunks(samples: int) -> list[tuple[int, int]]:
     """(start, count) of each fixed-size chunk of ``samples``."""
     return [(s, min(CHUNK, samples - s)) for s in range(0, samples, CHUNK)]

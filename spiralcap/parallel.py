@@ -110,7 +110,16 @@ def map_tasks(
 
                 for i, _ in enumerate(as_completed(futures), start=1):
                     progress(i, n)
-            return list(client.gather(futures))
+            try:
+                return list(client.gather(futures))
+            except Exception as exc:  # a worker or the scheduler could not run the task
+                why = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+                raise InputError(
+                    "--dask",
+                    dask,
+                    "a cluster whose scheduler and workers run this spiralcap version and its "
+                    f"dependencies (the cluster failed: {why[:160]})",
+                ) from None
     out = []
     if workers > 1 and n > 1:
         from concurrent.futures import ProcessPoolExecutor

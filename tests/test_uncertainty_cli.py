@@ -154,6 +154,13 @@ def test_dask_local_cluster_gives_the_local_results(capsys):
     ) as cluster:
         on_dask = _json(capsys, [*argv, "--dask", cluster.scheduler_address])
         sweep_dask = sweep(design, axes, optimize=True, dask=cluster.scheduler_address)
+        import math
+
+        from spiralcap.errors import InputError
+        from spiralcap.parallel import map_tasks
+
+        with pytest.raises(InputError, match="--dask"):  # a failing task: one line, not a trace
+            map_tasks(math.sqrt, [(-1.0,)], dask=cluster.scheduler_address)
     for other in (two, on_dask):
         for key in ("stepout_probability", "margin_percentiles_Nm", "margin_mean_Nm"):
             assert other[key] == local[key], f"{key}: bit-identical to the local run"
