@@ -91,7 +91,9 @@ def dask_scaling(problem: uq.MarginProblem) -> None:
     n = 1 << 23
     tasks = [(problem, b, 1, "sobol") for b in uq.batches(n)]
     t_local, ref = median_time(lambda: np.concatenate(map_tasks(uq.batch_margins, tasks)), 3)
-    print(f"{n} samples, {len(tasks)} chunks of {uq.CHUNK}: this process {t_local * 1e3:.0f} ms")
+    print(
+        f"{n} samples, {len(tasks)} tasks of 8 chunks of {uq.CHUNK}: this process {t_local * 1e3:.0f} ms"
+    )
     times = {}
     for workers in (1, 2):
         with LocalCluster(

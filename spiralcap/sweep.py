@@ -171,8 +171,12 @@ def _at(design: Design, inputs: dict[str, np.ndarray], i: int) -> Design:
 def _optimize_one(design: Design) -> tuple:
     from optimize import optimize_design
     from spiralcap.assemble import build_model
+    from spiralcap.commands.uncertainty import robust_solve, wants_robust
 
-    r = optimize_design(build_model(design))
+    if wants_robust(design):  # issue 11: margin_p05 / max_stepout_probability (optimize/robust.py)
+        r = robust_solve(design).optimization
+    else:
+        r = optimize_design(build_model(design))
     return (
         r.status,
         r.helical_angle_deg,

@@ -265,17 +265,12 @@ class RobustCheck:
     fresh_seed: int
 
 
-def robust_optimum(design: Any, samples: int = OUT_OF_SAMPLE) -> RobustCheck:
-    """Solve the robust NLP, then check it (and the deterministic optimum) on fresh samples."""
-    from dataclasses import replace
-
-    from optimize import optimize_design
+def robust_solve(design: Any, model: Any = None) -> Any:
+    """The robust NLP of ``design`` (optimize.robust.RobustResult), without the fresh check."""
     from optimize import robust as rb
-    from optimize import uncertainty as uq
     from spiralcap.assemble import build_model
     from spiralcap.assemble.tissue import build_uncertainty
 
-    model = build_model(design)
     unc = build_uncertainty(design)
     if not unc.active:
         raise InputError(
@@ -284,14 +279,28 @@ def robust_optimum(design: Any, samples: int = OUT_OF_SAMPLE) -> RobustCheck:
             "margin_p05 and requirements.max_stepout_probability need [tissue.uncertainty] "
             "(e.g. --set tissue.uncertainty.scale_sigma_log=0.3)",
         )
-    seed = int(design["optimize.scenario_seed"])
-    res = rb.optimize_robust(
-        model,
+    return rb.optimize_robust(
+        model if model is not None else build_model(design),
         unc,
         max_stepout_probability=design.get("requirements.max_stepout_probability"),
         scenarios=int(design["optimize.scenarios"]),
-        seed=seed,
+        seed=int(design["optimize.scenario_seed"]),
     )
+
+
+def robust_optimum(design: Any, samples: int = OUT_OF_SAMPLE) -> RobustCheck:
+    """Solve the robust NLP, then check it (and the deterministic optimum) on fresh samples."""
+    from dataclasses import replace
+
+    from optimize import optimize_design
+    from optimize import uncertainty as uq
+    from spiralcap.assemble import build_model
+    from spiralcap.assemble.tissue import build_uncertainty
+
+    model = build_model(design)
+    unc = build_uncertainty(design)
+    res = robust_solve(design, model)
+    seed = res.seed
     fresh = seed + 1_000_003  # a different scrambling: samples the optimiser never saw
 
     def check(alpha: float, f: float) -> Any:
