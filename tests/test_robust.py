@@ -51,6 +51,7 @@ def test_stepout_probability_constraint_holds_or_is_reported(capsys):
     assert lo <= p_max, "fresh samples agree with the constraint (95 % interval)"
     # a probability the CVaR form cannot reach: exit 3 naming the key, with the best reachable
     argv = ["optimize", *ROBUST, *risky, "--set", "requirements.max_stepout_probability=0.003"]
+    argv += ["--set", "optimize.starts=2"]
     assert main(argv) == 3
     text = capsys.readouterr().out
     assert "requirements.max_stepout_probability" in text and "best reachable" in text
@@ -79,3 +80,32 @@ def test_cvar_rows_are_rockafellar_uryasev():
 def test_robust_needs_uncertainty(capsys):
     assert main(["optimize", "--set", "optimize.objective=margin_p05"]) == 2
     assert "optimize.objective" in capsys.readouterr().err
+
+
+def test_scenario_margins_numpy_and_casadi_agree():
+    import casadi as ca
+
+    from optimize import prepare
+    from optimize import robust as rb
+    from spiralcap.assemble import build_model
+    from spiralcap.assemble.tissue import build_uncertainty
+    from spiralcap.design import load_design
+
+    design = load_design(
+        None,
+        [
+            "tissue.uncertainty.scale_sigma_log=0.3",
+            "tissue.uncertainty.friction_sigma_log=0.2",
+            "tissue.uncertainty.lumen_diameter_sigma_mm=0.4",
+            "tissue.uncertainty.wall_thickness_sigma_mm=0.2",
+        ],
+    )
+    model = prepare(build_model(design))
+    _, arrays = rb.scenario_tissues(model.tissues, build_uncertainty(design), 64, 3)
+    x = ca.SX.sym("x", 3)
+    sym = rb.scenario_margins(x[0], x[1], x[2], model, rb._as_dm(arrays))
+    fn = ca.Function("m", [x], [ca.vertcat(*sym)])
+    point = (0.3, 1.7, 8e-3)
+    got = np.asarray(fn(point)).ravel()
+    ref = np.concatenate(rb.scenario_margins(*point, model, arrays))
+    assert np.allclose(got, ref, rtol=1e-12, atol=1e-18), "CasADi and numpy scenario margins"
