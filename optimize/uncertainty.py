@@ -384,7 +384,9 @@ def wilson_interval(k: int, n: int, z: float = 1.959963984540054) -> tuple[float
     den = 1.0 + z * z / n
     centre = (p + z * z / (2 * n)) / den
     half = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / den
-    return max(0.0, centre - half), min(1.0, centre + half)
+    lo = 0.0 if k == 0 else max(0.0, centre - half)
+    hi = 1.0 if k == n else min(1.0, centre + half)
+    return lo, hi
 
 
 def summarise(
@@ -468,6 +470,13 @@ def run_local(
     """All ``samples`` margins in this process, chunk by chunk (what the executors reproduce)."""
     check_samples(samples)
     return np.concatenate([chunk_margins(problem, s, n, seed, method) for s, n in chunks(samples)])
+
+
+def check_seed(seed: Any, key: str = "--seed") -> int:
+    """``seed`` as an int >= 0, else InputError naming ``key``."""
+    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
+        raise InputError(key, seed, "a whole number >= 0")
+    return int(seed)
 
 
 def check_samples(samples: Any, key: str = "--samples") -> int:

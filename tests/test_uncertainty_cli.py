@@ -47,6 +47,7 @@ def test_json_has_the_promised_fields(capsys, tmp_path):
     [
         (["--set", "tissue.uncertainty.scale_sigma_log=-0.1"], "scale_sigma_log"),
         ([*SIGMA, "--samples", "0"], "--samples"),
+        ([*SIGMA, "--seed", "-1"], "--seed"),
         ([*SIGMA, "--workers", "0"], "--workers"),
         ([*SIGMA, "--sobol-samples", "100"], "--sobol-samples"),
         ([], "tissue.uncertainty"),

@@ -100,6 +100,7 @@ def study(
     from spiralcap.parallel import check_workers, map_tasks, where
 
     uq.check_samples(samples)
+    uq.check_seed(seed)
     check_workers(workers)
     if sobol_base != 0 and (sobol_base < 2 or sobol_base & (sobol_base - 1)):
         raise InputError("--sobol-samples", sobol_base, "0 or a power of 2 >= 2")
@@ -201,11 +202,12 @@ def format_study(st: Study, design_source: str = "") -> str:
 
 
 def run(args: argparse.Namespace) -> int:
-    from optimize.uncertainty import check_samples
+    from optimize.uncertainty import check_samples, check_seed
     from spiralcap.commands.torque import check_plot_path
     from spiralcap.parallel import check_workers
 
     check_samples(args.samples)
+    check_seed(args.seed)
     check_workers(args.workers)
     if args.plot:
         check_plot_path(args.plot)
