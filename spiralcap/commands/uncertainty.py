@@ -136,7 +136,7 @@ def study_to_dict(st: Study, design_source: str = "") -> dict[str, Any]:
         "method": r.method,
         "ran_on": st.where,
         "elapsed_s": st.elapsed_s,
-        "uncertain_inputs": [name for name, _ in st.uncertainty.factors()],
+        "uncertain_inputs": list(dict.fromkeys(g for _, g in st.uncertainty.factors())),
         "nominal_margin_Nm": r.nominal_margin_Nm,
         "available_torque_Nm": r.available_torque_Nm,
         "stepout_probability": r.stepout_probability,
