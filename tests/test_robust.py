@@ -42,7 +42,7 @@ def test_margin_p05_beats_the_deterministic_optimum_out_of_sample(capsys):
 
 
 def test_stepout_probability_constraint_holds_or_is_reported(capsys):
-    risky = ["--set", "tissue.uncertainty.scale_sigma_log=0.4"]
+    risky = ["--set", "tissue.uncertainty.scale_sigma_log=0.4", "--set", "optimize.scenarios=128"]
     p_max = 0.02
     out = _run(capsys, *risky, "--set", f"requirements.max_stepout_probability={p_max}")
     r = out["robust"]
@@ -51,7 +51,7 @@ def test_stepout_probability_constraint_holds_or_is_reported(capsys):
     assert lo <= p_max, "fresh samples agree with the constraint (95 % interval)"
     # a probability the CVaR form cannot reach: exit 3 naming the key, with the best reachable
     argv = ["optimize", *ROBUST, *risky, "--set", "requirements.max_stepout_probability=0.003"]
-    argv += ["--set", "optimize.starts=2"]
+    argv += ["--set", "optimize.starts=2", "--set", "optimize.scenarios=256"]
     assert main(argv) == 3
     text = capsys.readouterr().out
     assert "requirements.max_stepout_probability" in text and "best reachable" in text
