@@ -255,8 +255,15 @@ class MarginProblem:
         return self.available_torque_Nm - need
 
     def nominal_margin_Nm(self) -> float:
-        """The deterministic worst-case margin (every latent factor at its median)."""
-        return float(self.margins_Nm(np.full((1, max(self.dimension, 0)), 0.5))[0])
+        """The deterministic worst-case margin (the nominal tissue sets), N·m."""
+        pairs = ph.required_torques_Nm(
+            self.helical_angle_rad,
+            self.frequency_hz,
+            self.constants,
+            self.tissues,
+            self.requirements,
+        )
+        return self.available_torque_Nm - max(float(r + t) for r, t in pairs)
 
 
 def margin_problem(
