@@ -54,6 +54,8 @@ def run(args: argparse.Namespace) -> int:
 
     if args.workers < 1:
         raise InputError("--workers", args.workers, "a whole number >= 1")
+    if args.dask is not None and not args.optimize:
+        raise InputError("--dask", args.dask, "only with --optimize (evaluation sweeps run here)")
     design = design_from_args(args)
     axes = [parse_over(o) for o in args.over]
     if len({a.key for a in axes}) != len(axes):
