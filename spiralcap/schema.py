@@ -236,7 +236,11 @@ KEYS.update(
         "optimize.frequency_min_hz": _pos("lower bound on the rotation frequency", 0.5),
         "optimize.frequency_max_hz": _pos("upper bound on the rotation frequency", 5.0),
         "optimize.objective": _choice(
-            "maximise the torque margin or the safety factor", "margin", ("margin", "ratio")
+            "maximise the torque margin or the safety factor, or minimise the copper power or "
+            "the copper mass (the last two subject to requirements.min_safety_factor); "
+            "margin_p05: the 5th-percentile margin over the tissue uncertainty",
+            "margin",
+            ("margin", "ratio", "power", "copper_mass", "margin_p05"),
         ),
         "optimize.starts": _count("initial helical angles IPOPT is started from", 4),
     }
@@ -249,12 +253,6 @@ KEYS.update(
 # --- hardware sizing (issue 9) ---
 KEYS.update(
     {
-        "optimize.objective": _choice(
-            "maximise the torque margin or the safety factor, or minimise the copper power or "
-            "the copper mass (the last two subject to requirements.min_safety_factor)",
-            "margin",
-            ("margin", "ratio", "power", "copper_mass"),
-        ),
         "requirements.min_safety_factor": _between(
             "least available / required torque for every tissue set (1: margin >= 0)",
             1.0,
@@ -318,8 +316,85 @@ KEYS.update({f"optimize.free.{k}": _free_range(k) for k in FREEABLE_KEYS})
 # --- coils as they really run (issue 10) ---
 KEYS.update({})
 
+
 # --- tissue uncertainty (issue 11) ---
-KEYS.update({})
+def _is_matrix5(v: Any) -> bool:
+    return (
+        isinstance(v, list)
+        and len(v) == 5
+        and all(isinstance(r, list) and len(r) == 5 and all(_num(x) for x in r) for r in v)
+    )
+
+
+KEYS.update(
+    {
+        "tissue.uncertainty.scale_sigma_log": _between(
+            "standard deviation of ln(k), k a log-normal factor common to all five moduli and "
+            "viscosities of every tissue set (the calibration's uncertainty; 0: none)",
+            0.0,
+            0.0,
+            2.0,
+            open_=False,
+        ),
+        **{
+            f"tissue.uncertainty.{p}_sigma_log": _between(
+                f"standard deviation of ln({p}) on its own (independent of the others; 0: none)",
+                0.0,
+                0.0,
+                2.0,
+                open_=False,
+            )
+            for p in ("E1", "E2", "E3", "eta1", "eta2")
+        },
+        "tissue.uncertainty.friction_sigma_log": _between(
+            "standard deviation of ln(friction coefficient) (0: none)", 0.0, 0.0, 2.0, open_=False
+        ),
+        "tissue.uncertainty.lumen_diameter_sigma_mm": _between(
+            "standard deviation of the lumen diameter (normal, truncated at 10 % of nominal)",
+            0.0,
+            0.0,
+            20.0,
+            open_=False,
+        ),
+        "tissue.uncertainty.wall_thickness_sigma_mm": _between(
+            "standard deviation of the wall thickness (normal, truncated at 10 % of nominal)",
+            0.0,
+            0.0,
+            5.0,
+            open_=False,
+        ),
+        "tissue.uncertainty.covariance_from": Key(
+            str,
+            None,
+            "a path to a TOML file written by `spiralcap fit -o` (relative to the design file)",
+            lambda v: isinstance(v, str) and v.strip() != "",
+            "correlated uncertainty of ln(E1, E2, E3, eta1, eta2): the fit's covariance",
+        ),
+        "tissue.fit.covariance_log": Key(
+            list,
+            None,
+            "a 5 x 5 list of finite numbers",
+            _is_matrix5,
+            "covariance of ln(E1, E2, E3, eta1, eta2) from `spiralcap fit -o` (read through "
+            "tissue.uncertainty.covariance_from; not used on its own)",
+        ),
+        "requirements.max_stepout_probability": _between(
+            "largest allowed probability that the capsule steps out over the tissue "
+            "uncertainty (a CVaR constraint on optimize.scenarios scenarios; unset: none)",
+            None,
+            0.0,
+            0.5,
+            open_=True,
+        ),
+        "optimize.scenarios": _count(
+            "tissue scenarios (Sobol' points; a power of 2 keeps them balanced) for objective "
+            "margin_p05 and requirements.max_stepout_probability",
+            1024,
+            20,
+        ),
+        "optimize.scenario_seed": _count("seed of the optimiser's tissue scenarios", 0, 0),
+    }
+)
 
 # --- report front matter (issue 12) ---
 KEYS.update({})

@@ -48,7 +48,13 @@ def evaluation_to_dict(ev) -> dict[str, Any]:
     }
 
 
-_OBJECTIVE_UNITS = {"margin": "N·m", "ratio": "1", "power": "W", "copper_mass": "kg"}
+_OBJECTIVE_UNITS = {
+    "margin": "N·m",
+    "margin_p05": "N·m",
+    "ratio": "1",
+    "power": "W",
+    "copper_mass": "kg",
+}
 
 
 def optimization_to_dict(res) -> dict[str, Any]:

@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Sequence
-from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, replace
 from typing import Any
 
@@ -101,11 +100,16 @@ def sweep(
     optimize: bool = False,
     workers: int = 1,
     progress: Callable[[int, int], None] | None = None,
+    dask: str | None = None,
 ) -> SweepResult:
-    """Evaluate (or re-optimise) ``design`` at every point of the grid spanned by ``axes``."""
+    """Evaluate (or re-optimise) ``design`` at every point of the grid spanned by ``axes``.
+
+    ``workers`` local processes or a Dask scheduler at ``dask`` run the re-optimisations
+    (:func:`spiralcap.parallel.map_tasks`); the rows do not depend on where they ran.
+    """
     inputs = _grid(axes)
     if optimize:
-        outputs = _optimize_points(design, inputs, workers, progress)
+        outputs = _optimize_points(design, inputs, workers, progress, dask)
         mode = "optimize"
     elif all(a.key in _VECTOR_KEYS for a in axes):
         outputs = _evaluate_vectorised(design, inputs)
@@ -168,7 +172,10 @@ def _at(design: Design, inputs: dict[str, np.ndarray], i: int) -> Design:
 def _optimize_one(design: Design) -> tuple:
     from optimize import optimize_design
     from spiralcap.assemble import build_model
+    from spiralcap.commands.uncertainty import robust_solve, wants_robust
 
+    if wants_robust(design):  # margin_p05 / max_stepout_probability (optimize/robust.py)
+        return _row(robust_solve(design).optimization)
     return _row(optimize_design(build_model(design)))
 
 
@@ -210,20 +217,21 @@ def _models(design: Design, inputs: dict[str, np.ndarray]):
         )
 
 
-def _optimize_points(design, inputs, workers, progress) -> dict[str, np.ndarray]:
+def _optimize_points(design, inputs, workers, progress, dask=None) -> dict[str, np.ndarray]:
     """Re-optimise at every point: one compiled solver (the problem's numbers are parameters),
-    each point warm-started from the previous point's optimum; worker processes if asked."""
+    each point warm-started from the previous point's optimum; worker processes or a Dask
+    cluster if asked (each point then solved on its own)."""
     from optimize import optimize_design
+    from spiralcap.commands.uncertainty import wants_robust
 
     n = len(next(iter(inputs.values())))
     rows = []
-    if workers > 1:
-        designs = [_at(design, inputs, i) for i in range(n)]
-        with ProcessPoolExecutor(max_workers=workers) as pool:
-            for i, row in enumerate(pool.map(_optimize_one, designs)):
-                rows.append(row)
-                if progress:
-                    progress(i + 1, n)
+    if workers > 1 or dask is not None or wants_robust(design):
+        from spiralcap.parallel import map_tasks
+
+        designs = [(_at(design, inputs, i),) for i in range(n)]
+        # in worker processes or on a Dask cluster: the same rows in the same order
+        rows = map_tasks(_optimize_one, designs, workers=workers, dask=dask, progress=progress)
     else:
         previous = None
         for i, model in enumerate(_models(design, inputs)):

@@ -53,3 +53,90 @@ def build_tissues(design: Mapping[str, Any]) -> list[TissueParameters]:
     for name in design.get("tissue.worst_case_presets", []) or []:
         tissues.append(torque_model.preset(name))
     return tissues
+
+
+# --- tissue uncertainty (issue 11) ------------------------------------------------------------
+
+_UNC = "tissue.uncertainty."
+
+
+def build_uncertainty(design: Mapping[str, Any]) -> Any:
+    """The design's ``[tissue.uncertainty]`` table as :class:`optimize.uncertainty.TissueUncertainty`.
+
+    ``covariance_from`` is read here (relative paths from the design file's folder): the file's
+    ``tissue.fit.covariance_log`` (written by ``spiralcap fit -o``) must be a 5 x 5 symmetric
+    positive semi-definite matrix.
+
+    Raises
+    ------
+    InputError
+        Naming ``tissue.uncertainty.covariance_from`` when the file is missing, has no
+        covariance, or the covariance is not 5 x 5, finite, symmetric and PSD.
+    """
+    from optimize.uncertainty import SHORT, TissueUncertainty
+
+    cov = None
+    path = design.get(_UNC + "covariance_from")
+    if path is not None:
+        cov = _read_covariance(design, path)
+    return TissueUncertainty(
+        scale_sigma_log=float(design.get(_UNC + "scale_sigma_log", 0.0)),
+        sigma_log=tuple(float(design.get(f"{_UNC}{p}_sigma_log", 0.0)) for p in SHORT),  # type: ignore[arg-type]
+        friction_sigma_log=float(design.get(_UNC + "friction_sigma_log", 0.0)),
+        lumen_diameter_sigma_m=float(design.get(_UNC + "lumen_diameter_sigma_mm", 0.0)) * 1e-3,
+        wall_thickness_sigma_m=float(design.get(_UNC + "wall_thickness_sigma_mm", 0.0)) * 1e-3,
+        covariance_log=cov,
+    )
+
+
+def _read_covariance(design: Mapping[str, Any], path: str) -> tuple[tuple[float, ...], ...]:
+    import math
+    from pathlib import Path
+
+    import numpy as np
+
+    from optimize.uncertainty import covariance_factor
+    from spiralcap.errors import InputError
+
+    try:
+        import tomllib
+    except ModuleNotFoundError:  # Python 3.10
+        import tomli as tomllib
+
+    key = _UNC + "covariance_from"
+    p = Path(path)
+    source = getattr(design, "source", "")
+    if not p.is_absolute() and source and Path(source).is_file():
+        p = Path(source).parent / p
+    try:
+        table = tomllib.loads(p.read_text(encoding="utf-8"))
+    except OSError as exc:
+        raise InputError(key, path, f"a readable file ({exc.strerror or exc})") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise InputError(key, path, f"a TOML file ({exc})") from None
+    raw = table.get("tissue", {}).get("fit", {}).get("covariance_log")
+    if raw is None:
+        raise InputError(
+            key,
+            path,
+            "a file from `spiralcap fit -o` with tissue.fit.covariance_log (the fit writes it "
+            "only when it pins down all five parameters)",
+        )
+    ok = (
+        isinstance(raw, list)
+        and len(raw) == 5
+        and all(isinstance(r, list) and len(r) == 5 for r in raw)
+        and all(isinstance(x, (int, float)) and not isinstance(x, bool) for r in raw for x in r)
+    )
+    if not ok:
+        raise InputError(
+            key, path, "tissue.fit.covariance_log must be 5 x 5 numbers (E1, E2, E3, eta1, eta2)"
+        )
+    cov = np.asarray(raw, dtype=float)
+    if not all(math.isfinite(x) for x in cov.ravel()):
+        raise InputError(key, path, "a covariance with finite entries")
+    try:
+        covariance_factor(cov, key)
+    except InputError as exc:
+        raise InputError(key, path, f"{exc.allowed} ({exc.value})") from None
+    return tuple(tuple(float(x) for x in row) for row in cov)

@@ -216,7 +216,34 @@ def tissue_toml(table: dict[str, float], data_path: str, result: Any) -> str:
         "[tissue]",
     ]
     lines += [f"{k} = {float(v)!r}" for k, v in table.items()]
+    lines += covariance_toml(result)
     return "\n".join(lines) + "\n"
+
+
+def covariance_log(result: Any) -> Any:
+    """The fit's covariance of ln(E1, E2, E3, eta1, eta2), or None where a parameter is loose.
+
+    ``s² (JᵀJ)⁻¹`` in log-parameters (torque_model.identification) rebuilt from the correlation
+    and the log standard errors ``se(p) / p``; None when any entry is not finite.
+    """
+    import numpy as np
+
+    names = list(result.values)
+    se_log = np.array([result.standard_errors[n] / result.values[n] for n in names])
+    cov = np.asarray(result.correlation, dtype=float) * np.outer(se_log, se_log)
+    return cov if np.all(np.isfinite(cov)) else None
+
+
+def covariance_toml(result: Any) -> list[str]:
+    """``[tissue.fit]`` lines with ``covariance_log`` (tissue.uncertainty.covariance_from)."""
+    cov = covariance_log(result)
+    head = ["", "# covariance of ln(E1, E2, E3, eta1, eta2) from the fit, for"]
+    head.append("# tissue.uncertainty.covariance_from = <this file>")
+    if cov is None:
+        loose = ", ".join(_DISPLAY[n][0] for n in result.not_pinned_down) or "residual dof"
+        return [*head, f"# not written: the data do not pin down {loose}"]
+    rows = ",\n".join("  [" + ", ".join(repr(float(x)) for x in r) + "]" for r in cov)
+    return [*head, "[tissue.fit]", f"covariance_log = [\n{rows},\n]"]
 
 
 def _print_text(result: Any, data_path: str, design_source: str, base_name: str) -> None:

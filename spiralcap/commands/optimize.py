@@ -71,6 +71,7 @@ def parse_free(expr: str) -> str:
 #: objective -> (label, factor from SI to the label's unit)
 _OBJECTIVE_LABELS = {
     "margin": ("mN·m", 1e3),
+    "margin_p05": ("mN·m", 1e3),
     "ratio": ("safety factor", 1.0),
     "power": ("W of copper power", 1.0),
     "copper_mass": ("kg of copper", 1.0),
@@ -166,6 +167,10 @@ def run(args: argparse.Namespace) -> int:
 
     args.overrides = [*args.overrides, *(parse_free(e) for e in args.free)]
     design = design_from_args(args)
+    from spiralcap.commands.uncertainty import run_robust, wants_robust
+
+    if wants_robust(design):  # issue 11: scenario NLP (optimize/robust.py); port to i9's NLP
+        return run_robust(args, design)
     res = optimize_design(build_model(design))
     written = None
     if args.output and res.status == "optimal":

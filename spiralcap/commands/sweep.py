@@ -25,13 +25,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         action="store_true",
         help="re-optimise at every grid point instead of evaluating",
     )
-    parser.add_argument(
-        "--workers",
-        type=int,
-        default=1,
-        metavar="N",
-        help="worker processes for --optimize sweeps (default 1)",
-    )
+    from spiralcap.commands.uncertainty import add_execution_arguments
+
+    add_execution_arguments(parser)  # --workers N | --dask ADDRESS (for --optimize sweeps)
     parser.add_argument("--csv", metavar="FILE", help="write the table as CSV to FILE")
 
 
@@ -58,12 +54,21 @@ def run(args: argparse.Namespace) -> int:
 
     if args.workers < 1:
         raise InputError("--workers", args.workers, "a whole number >= 1")
+    if args.dask is not None and not args.optimize:
+        raise InputError("--dask", args.dask, "only with --optimize (evaluation sweeps run here)")
     design = design_from_args(args)
     axes = [parse_over(o) for o in args.over]
     if len({a.key for a in axes}) != len(axes):
         raise InputError("--over", args.over, "each key at most once")
     progress = _progress if sys.stderr.isatty() else None
-    result = sweep(design, axes, optimize=args.optimize, workers=args.workers, progress=progress)
+    result = sweep(
+        design,
+        axes,
+        optimize=args.optimize,
+        workers=args.workers,
+        progress=progress,
+        dask=args.dask,
+    )
     header, rows = _rows(result)
     if args.csv:
         buf = io.StringIO()

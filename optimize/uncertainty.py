@@ -1,0 +1,516 @@
+"""A design under uncertain tissue: Monte Carlo of the worst-case margin, step-out, Sobol indices.
+
+The uncertain inputs are independent *latent* standard normals ``z`` (one per active source),
+drawn as quasi-random uniforms ``u`` (scipy.stats.qmc: scrambled Sobol' or Halton, Owen 1998)
+and mapped by the inverse normal CDF, ``z = Φ⁻¹(u)``. They perturb every tissue set of the
+design alike (the same patient for every set; the margin stays a worst case over sets):
+
+- ``scale_sigma_log``: one log-normal factor ``exp(σ z)`` on all five moduli and viscosities
+  (the calibration's uncertainty, docs/torque-model.md);
+- ``sigma_log[i]``: an independent log-normal factor on E1, E2, E3, eta1, eta2 each;
+- ``covariance_log``: correlated log-factors ``L z`` with ``L Lᵀ = Σ`` (Σ: the covariance of
+  the log-parameters a ``spiralcap fit`` identified; ``L`` from its eigen-decomposition, so a
+  singular but positive semi-definite Σ works, Higham 2002 "Accuracy and stability", §10.3);
+- ``friction_sigma_log``: a log-normal factor on the friction coefficient;
+- ``lumen_diameter_sigma_m``, ``wall_thickness_sigma_m``: additive normal offsets, truncated so
+  the thinnest set keeps 10 % of its nominal value (inverse-CDF of the truncated normal).
+
+Every sample is evaluated by :func:`optimize.physics.required_torques_Nm` on arrays — the one
+definition of the tissue and thrust torques the evaluation and the optimiser use — with the
+field the coils can make at the operating point (:func:`optimize.physics.field_capacity_T`).
+The capsule steps out when the worst-case margin is negative; it then makes no headway, so the
+speed of a sample is the design's speed when the margin holds and 0 when it does not.
+
+Reproducibility: sample ``i`` is the ``i``-th point of one seeded sequence, whatever chunk and
+worker computes it (:func:`chunk_margins` fast-forwards the sequence; the pseudo-random
+``"random"`` method seeds each fixed-size chunk from ``(seed, chunk index)``).
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from scipy import special, stats
+
+from optimize import physics as ph
+from optimize.system import DesignModel, prepare
+from spiralcap.errors import InputError
+
+#: Samples per chunk: a power of two (balanced Sobol' blocks); fixed, so results do not depend
+#: on how many workers share the chunks.
+CHUNK = 1 << 15
+#: Rows evaluated at once (64 KB per temporary array).
+BLOCK = 1 << 13
+METHODS = ("sobol", "halton", "random")
+VISCOELASTIC = ("E1_Pa", "E2_Pa", "E3_Pa", "eta1_Pa_s", "eta2_Pa_s")
+#: Short names of the five viscoelastic parameters (design keys without unit).
+SHORT = ("E1", "E2", "E3", "eta1", "eta2")
+_U_EPS = 1e-12
+_FLOOR = 0.1  # truncation of the additive geometry offsets: keep 10 % of the nominal
+
+
+@dataclass(frozen=True)
+class TissueUncertainty:
+    """Uncertainty of the tissue parameters (SI; sigmas of natural logs or of lengths in m).
+
+    ``covariance_log`` is the 5 x 5 covariance of ln(E1, E2, E3, eta1, eta2) (tuple of rows),
+    or ``None``. Defaults: no uncertainty.
+    """
+
+    scale_sigma_log: float = 0.0
+    sigma_log: tuple[float, float, float, float, float] = (0.0, 0.0, 0.0, 0.0, 0.0)
+    friction_sigma_log: float = 0.0
+    lumen_diameter_sigma_m: float = 0.0
+    wall_thickness_sigma_m: float = 0.0
+    covariance_log: tuple[tuple[float, ...], ...] | None = None
+
+    def __post_init__(self) -> None:
+        for name in (
+            "scale_sigma_log",
+            "friction_sigma_log",
+            "lumen_diameter_sigma_m",
+            "wall_thickness_sigma_m",
+        ):
+            _check_sigma(name, getattr(self, name))
+        if len(self.sigma_log) != 5:
+            raise InputError("sigma_log", self.sigma_log, "five sigmas (E1, E2, E3, eta1, eta2)")
+        for short, s in zip(SHORT, self.sigma_log):
+            _check_sigma(f"{short}_sigma_log", s)
+        if self.covariance_log is not None:
+            covariance_factor(np.asarray(self.covariance_log, dtype=float))
+
+    def factors(self) -> list[tuple[str, str]]:
+        """The active latent dimensions as (source, Sobol group), in sampling order."""
+        out = []
+        if self.scale_sigma_log > 0:
+            out.append(("scale", "scale"))
+        out += [(s, s) for s, sig in zip(SHORT, self.sigma_log) if sig > 0]
+        if self.covariance_log is not None:
+            k = covariance_factor(np.asarray(self.covariance_log, dtype=float)).shape[1]
+            out += [(f"fit{j}", "fit covariance") for j in range(k)]
+        if self.friction_sigma_log > 0:
+            out.append(("friction", "friction"))
+        if self.lumen_diameter_sigma_m > 0:
+            out.append(("lumen", "lumen_diameter"))
+        if self.wall_thickness_sigma_m > 0:
+            out.append(("wall", "wall_thickness"))
+        return out
+
+    @property
+    def active(self) -> bool:
+        """Whether any input is uncertain."""
+        return bool(self.factors())
+
+
+def _check_sigma(name: str, value: Any) -> None:
+    if not (isinstance(value, (int, float)) and math.isfinite(value) and value >= 0):
+        raise InputError(name, value, "a finite standard deviation >= 0")
+
+
+def covariance_factor(cov: np.ndarray, key: str = "covariance_log") -> np.ndarray:
+    """``L`` (5 x r) with ``L Lᵀ = cov``, from the eigen-decomposition (r: numerical rank).
+
+    Raises
+    ------
+    InputError
+        Not 5 x 5, not finite, not symmetric, or an eigenvalue below ``-1e-10 · max|λ|`` (not
+        positive semi-definite).
+    """
+    if cov.shape != (5, 5):
+        raise InputError(key, cov.shape, "a 5 x 5 matrix over E1, E2, E3, eta1, eta2")
+    if not np.all(np.isfinite(cov)):
+        raise InputError(key, "non-finite entries", "finite covariances (every parameter pinned)")
+    if not np.allclose(cov, cov.T, rtol=1e-8, atol=1e-14 * float(np.abs(cov).max() or 1.0)):
+        raise InputError(key, "not symmetric", "a symmetric covariance matrix")
+    lam, vec = np.linalg.eigh(0.5 * (cov + cov.T))
+    top = float(np.abs(lam).max()) if lam.size else 0.0
+    if lam.min() < -1e-10 * max(top, 1e-300):
+        raise InputError(
+            key, f"smallest eigenvalue {lam.min():.3g}", "a positive semi-definite covariance"
+        )
+    keep = lam > 1e-12 * max(top, 1e-300)
+    return vec[:, keep] * np.sqrt(lam[keep])
+
+
+@dataclass(frozen=True)
+class TissueArrays:
+    """Tissue parameters as arrays (one entry per sample): duck-types TissueParameters."""
+
+    E1_Pa: Any
+    E2_Pa: Any
+    E3_Pa: Any
+    eta1_Pa_s: Any
+    eta2_Pa_s: Any
+    lumen_diameter_m: Any
+    wall_thickness_m: Any
+    friction_coefficient: Any
+    name: str = "samples"
+
+
+def perturbed_tissues(tissues: tuple, unc: TissueUncertainty, u: np.ndarray) -> tuple:
+    """Each nominal tissue set perturbed by the latent uniforms ``u`` (n x d), as arrays.
+
+    Parameters
+    ----------
+    tissues : tuple of TissueParameters
+        The nominal sets.
+    unc : TissueUncertainty
+        What is uncertain; ``d = len(unc.factors())``.
+    u : ndarray, shape (n, d)
+        Uniforms in (0, 1), one column per latent factor.
+    """
+    u = np.clip(np.asarray(u, dtype=float), _U_EPS, 1.0 - _U_EPS)
+    n = u.shape[0]
+    z = special.ndtri(u)
+    names = [name for name, _ in unc.factors()]
+    col = {name: z[:, j] for j, name in enumerate(names)}
+    log_k = np.zeros((5, n))
+    if "scale" in col:
+        log_k += unc.scale_sigma_log * col["scale"]
+    for i, (short, sig) in enumerate(zip(SHORT, unc.sigma_log)):
+        if sig > 0:
+            log_k[i] += sig * col[short]
+    if unc.covariance_log is not None:
+        L = covariance_factor(np.asarray(unc.covariance_log, dtype=float))
+        zc = np.stack([col[f"fit{j}"] for j in range(L.shape[1])])
+        log_k += L @ zc
+    k = np.exp(log_k)
+    mu_k = np.exp(unc.friction_sigma_log * col["friction"]) if "friction" in col else 1.0
+    d_lumen = _truncated_offset(
+        u[:, names.index("lumen")] if "lumen" in col else None,
+        unc.lumen_diameter_sigma_m,
+        min(t.lumen_diameter_m for t in tissues),
+    )
+    d_wall = _truncated_offset(
+        u[:, names.index("wall")] if "wall" in col else None,
+        unc.wall_thickness_sigma_m,
+        min(t.wall_thickness_m for t in tissues),
+    )
+    out = []
+    for t in tissues:
+        vals = {f: getattr(t, f) * k[i] for i, f in enumerate(VISCOELASTIC)}
+        out.append(
+            TissueArrays(
+                **vals,
+                lumen_diameter_m=t.lumen_diameter_m + d_lumen,
+                wall_thickness_m=t.wall_thickness_m + d_wall,
+                friction_coefficient=t.friction_coefficient * mu_k,
+                name=t.name,
+            )
+        )
+    return tuple(out)
+
+
+def _truncated_offset(u: np.ndarray | None, sigma: float, nominal: float) -> Any:
+    """Normal offset N(0, σ²) truncated below at ``-(1 - _FLOOR)·nominal`` (inverse CDF)."""
+    if u is None or sigma <= 0:
+        return 0.0
+    lo = special.ndtr(-(1.0 - _FLOOR) * nominal / sigma)
+    return sigma * special.ndtri(lo + u * (1.0 - lo))
+
+
+@dataclass(frozen=True)
+class MarginProblem:
+    """Everything needed to evaluate the worst-case margin of one design for sampled tissues.
+
+    Small and picklable: it is what a worker process or a Dask worker receives.
+    """
+
+    helical_angle_rad: float
+    frequency_hz: float
+    available_torque_Nm: float
+    speed_m_s: float
+    constants: Any
+    requirements: Any
+    tissues: tuple
+    uncertainty: TissueUncertainty
+
+    @property
+    def dimension(self) -> int:
+        """Number of latent factors."""
+        return len(self.uncertainty.factors())
+
+    def margins_Nm(self, u: np.ndarray) -> np.ndarray:
+        """Worst-case margin (over the tissue sets) for each row of latent uniforms ``u``, N·m.
+
+        Evaluated in blocks of :data:`BLOCK` rows: temporaries stay below glibc's mmap threshold
+        (Dask's nanny sets ``MALLOC_TRIM_THRESHOLD_``, which makes every larger array an
+        mmap + page faults, twice as slow); each sample is element-wise, so blocks change nothing.
+        """
+        u = np.asarray(u, dtype=float)
+        if u.shape[0] <= BLOCK:
+            return self._margins(u)
+        return np.concatenate([self._margins(u[i : i + BLOCK]) for i in range(0, len(u), BLOCK)])
+
+    def _margins(self, u: np.ndarray) -> np.ndarray:
+        arrays = perturbed_tissues(self.tissues, self.uncertainty, u)
+        pairs = ph.required_torques_Nm(
+            self.helical_angle_rad, self.frequency_hz, self.constants, arrays, self.requirements
+        )
+        need = np.max(np.stack([np.asarray(r + t, dtype=float) for r, t in pairs]), axis=0)
+        return self.available_torque_Nm - need
+
+    def nominal_margin_Nm(self) -> float:
+        """The deterministic worst-case margin (the nominal tissue sets), N·m."""
+        pairs = ph.required_torques_Nm(
+            self.helical_angle_rad,
+            self.frequency_hz,
+            self.constants,
+            self.tissues,
+            self.requirements,
+        )
+        return self.available_torque_Nm - max(float(r + t) for r, t in pairs)
+
+
+def margin_problem(
+    model: DesignModel,
+    uncertainty: TissueUncertainty,
+    helical_angle_rad: float | None = None,
+    frequency_hz: float | None = None,
+) -> MarginProblem:
+    """The :class:`MarginProblem` of ``model`` at its operating point (or the given one)."""
+    model = prepare(model)
+    c = model.constants
+    alpha = (
+        model.capsule.spiral.helical_angle_rad if helical_angle_rad is None else helical_angle_rad
+    )
+    f = model.frequency_hz if frequency_hz is None else frequency_hz
+    field_T, _, _ = ph.field_capacity_T(f, c, model.limits, model.ambient_temperature_C)
+    return MarginProblem(
+        helical_angle_rad=float(alpha),
+        frequency_hz=float(f),
+        available_torque_Nm=float(ph.available_torque_Nm(float(field_T), c)),
+        speed_m_s=float(ph.speed_m_s(alpha, f, c, model.requirements)),
+        constants=c,
+        requirements=model.requirements,
+        tissues=tuple(model.tissues),
+        uncertainty=uncertainty,
+    )
+
+
+def latent_uniforms(d: int, start: int, count: int, seed: int, method: str = "sobol") -> np.ndarray:
+    """Points ``start .. start+count-1`` of the seeded sequence, shape (count, d), in (0, 1).
+
+    ``"sobol"`` and ``"halton"`` are scrambled low-discrepancy sequences (scipy.stats.qmc),
+    fast-forwarded to ``start``; ``"random"`` draws each :data:`CHUNK`-sized block from
+    ``numpy.random.default_rng((seed, block))`` (``start`` must then be a multiple of CHUNK).
+    """
+    if method == "random":
+        if start % CHUNK:
+            raise InputError("start", start, f"a multiple of {CHUNK} for method 'random'")
+        rng = np.random.default_rng((seed, start // CHUNK))
+        return rng.random((count, d))
+    if method not in METHODS:
+        raise InputError("method", method, "one of " + ", ".join(METHODS))
+    from scipy.stats import qmc
+
+    engine_cls = qmc.Sobol if method == "sobol" else qmc.Halton
+    try:
+        engine = engine_cls(d, scramble=True, rng=np.random.default_rng(seed))
+    except TypeError:  # scipy < 1.15
+        engine = engine_cls(d, scramble=True, seed=np.random.default_rng(seed))
+    if start:
+        engine.fast_forward(start)
+    if method == "sobol":
+        # whole power-of-two blocks keep Sobol' balanced; the tail block is cut afterwards
+        n = 1 << max(int(count - 1).bit_length(), 0) if start == 0 else count
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", UserWarning)  # a continuation block is not 2**m
+            return engine.random(max(n, count))[:count]
+    return engine.random(count)
+
+
+def chunk_margins(
+    problem: MarginProblem, start: int, count: int, seed: int, method: str
+) -> np.ndarray:
+    """Margins of samples ``start .. start+count-1`` (the unit of work sent to a worker), N·m."""
+    u = latent_uniforms(problem.dimension, start, count, seed, method)
+    return problem.margins_Nm(u)
+
+
+def batch_margins(
+    problem: MarginProblem, pieces: tuple[tuple[int, int], ...], seed: int, method: str
+) -> np.ndarray:
+    """:func:`chunk_margins` of several (start, count) chunks, concatenated (one task)."""
+    return np.concatenate([chunk_margins(problem, s, n, seed, method) for s, n in pieces])
+
+
+def batches(samples: int, per_task: int = 8) -> list[tuple[tuple[int, int], ...]]:
+    """The chunks of ``samples`` grouped ``per_task`` to a task (fewer round trips)."""
+    c = chunks(samples)
+    return [tuple(c[i : i + per_task]) for i in range(0, len(c), per_task)]
+
+
+def chunks(samples: int) -> list[tuple[int, int]]:
+    """(start, count) of each fixed-size chunk of ``samples``."""
+    return [(s, min(CHUNK, samples - s)) for s in range(0, samples, CHUNK)]
+
+
+@dataclass(frozen=True)
+class SobolIndices:
+    """First-order and total Sobol indices of the margin per uncertain input (SALib)."""
+
+    inputs: tuple[str, ...]
+    first_order: tuple[float, ...]
+    first_order_conf: tuple[float, ...]
+    total: tuple[float, ...]
+    total_conf: tuple[float, ...]
+    base_samples: int
+
+
+@dataclass(frozen=True)
+class UncertaintyResult:
+    """Distribution of the worst-case margin and speed over the sampled tissues (SI)."""
+
+    samples: int
+    seed: int
+    method: str
+    nominal_margin_Nm: float
+    available_torque_Nm: float
+    speed_nominal_m_s: float
+    stepout_probability: float
+    stepout_ci95: tuple[float, float]
+    margin_percentiles_Nm: dict[str, float]
+    speed_percentiles_m_s: dict[str, float]
+    margin_mean_Nm: float
+    margin_std_Nm: float
+    sobol: SobolIndices | None
+    margins_Nm: np.ndarray = field(repr=False, compare=False)
+
+
+PERCENTILES = (("p01", 1.0), ("p05", 5.0), ("p50", 50.0), ("p95", 95.0))
+
+
+def wilson_interval(k: int, n: int, z: float = 1.959963984540054) -> tuple[float, float]:
+    """Wilson score 95 % interval of a binomial proportion k/n (Wilson 1927)."""
+    p = k / n
+    den = 1.0 + z * z / n
+    centre = (p + z * z / (2 * n)) / den
+    half = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / den
+    lo = 0.0 if k == 0 else max(0.0, centre - half)
+    hi = 1.0 if k == n else min(1.0, centre + half)
+    return lo, hi
+
+
+def summarise(
+    problem: MarginProblem,
+    margins: np.ndarray,
+    seed: int,
+    method: str,
+    sobol: SobolIndices | None = None,
+) -> UncertaintyResult:
+    """The statistics of a vector of sampled margins (in sample order)."""
+    margins = np.asarray(margins, dtype=float)
+    n = margins.size
+    out = int(np.count_nonzero(margins < 0))
+    speeds = np.where(margins >= 0, problem.speed_m_s, 0.0)
+    q = np.percentile(margins, [p for _, p in PERCENTILES])
+    qs = np.percentile(speeds, [p for _, p in PERCENTILES])
+    return UncertaintyResult(
+        samples=n,
+        seed=seed,
+        method=method,
+        nominal_margin_Nm=problem.nominal_margin_Nm(),
+        available_torque_Nm=problem.available_torque_Nm,
+        speed_nominal_m_s=problem.speed_m_s,
+        stepout_probability=out / n,
+        stepout_ci95=wilson_interval(out, n),
+        margin_percentiles_Nm={k: float(v) for (k, _), v in zip(PERCENTILES, q)},
+        speed_percentiles_m_s={k: float(v) for (k, _), v in zip(PERCENTILES, qs)},
+        margin_mean_Nm=float(margins.mean()),
+        margin_std_Nm=float(margins.std(ddof=1)) if n > 1 else 0.0,
+        sobol=sobol,
+        margins_Nm=margins,
+    )
+
+
+def sobol_indices(
+    problem: MarginProblem, base_samples: int = 1 << 12, seed: int = 0
+) -> SobolIndices:
+    """First-order and total Sobol indices of the margin (SALib: Saltelli 2010, Jansen 1999).
+
+    The latent uniforms are the SALib inputs; the factors of a fitted covariance form one group
+    ("fit covariance"), so every group is independent of the others and the indices are
+    well defined. ``base_samples`` (a power of two) gives ``base_samples·(groups + 2)`` runs.
+    """
+    from SALib.analyze import sobol as sa_analyze
+    from SALib.sample import sobol as sa_sample
+
+    factors = problem.uncertainty.factors()
+    if not factors:
+        raise InputError("tissue.uncertainty", "none", "at least one uncertain input")
+    groups = [g for _, g in factors]
+    unique = list(dict.fromkeys(groups))
+    if len(unique) == 1:  # one input explains everything; SALib needs two groups
+        one = (1.0,)
+        return SobolIndices(tuple(unique), one, (0.0,), one, (0.0,), base_samples)
+    spec = {
+        "num_vars": len(factors),
+        "names": [n for n, _ in factors],
+        "bounds": [[0.0, 1.0]] * len(factors),
+        "groups": groups,
+    }
+    x = sa_sample.sample(spec, base_samples, calc_second_order=False, seed=seed)
+    y = problem.margins_Nm(x)
+    res = sa_analyze.analyze(spec, y, calc_second_order=False, seed=seed, print_to_console=False)
+
+    def tup(a: Any) -> tuple[float, ...]:
+        return tuple(float(v) for v in np.asarray(a).ravel())
+
+    return SobolIndices(
+        tuple(unique),
+        tup(res["S1"]),
+        tup(res["S1_conf"]),
+        tup(res["ST"]),
+        tup(res["ST_conf"]),
+        base_samples,
+    )
+
+
+def run_local(
+    problem: MarginProblem, samples: int, seed: int = 0, method: str = "sobol"
+) -> np.ndarray:
+    """All ``samples`` margins in this process, chunk by chunk (what the executors reproduce)."""
+    check_samples(samples)
+    return np.concatenate([chunk_margins(problem, s, n, seed, method) for s, n in chunks(samples)])
+
+
+def check_seed(seed: Any, key: str = "--seed") -> int:
+    """``seed`` as an int >= 0, else InputError naming ``key``."""
+    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
+        raise InputError(key, seed, "a whole number >= 0")
+    return int(seed)
+
+
+def check_samples(samples: Any, key: str = "--samples") -> int:
+    """``samples`` as an int >= 1, else InputError naming ``key``."""
+    if isinstance(samples, bool) or not isinstance(samples, (int, np.integer)) or samples < 1:
+        raise InputError(key, samples, "a whole number >= 1")
+    return int(samples)
+
+
+def closed_form_stepout_probability(problem: MarginProblem) -> float:
+    """1 − Φ(ln k*/σ) for scale-only uncertainty of ONE tissue set (independent check).
+
+    The resistive torque is linear in a common factor k on the five constants
+    (TissueParameters.scaled) and the thrust torque does not depend on them, so the margin is
+    ``m(k) = A − k τ_res − τ_thrust`` and vanishes at ``k* = (A − τ_thrust)/τ_res``; with
+    ``ln k ~ N(0, σ²)``, P(m < 0) = P(k > k*) = 1 − Φ(ln k*/σ).
+    """
+    if len(problem.tissues) != 1 or problem.uncertainty.factors() != [("scale", "scale")]:
+        raise InputError("tissue.uncertainty", "more than the scale factor", "scale only, one set")
+    ((res, thr),) = ph.required_torques_Nm(
+        problem.helical_angle_rad,
+        problem.frequency_hz,
+        problem.constants,
+        problem.tissues,
+        problem.requirements,
+    )
+    k_star = (problem.available_torque_Nm - float(thr)) / float(res)
+    if k_star <= 0:
+        return 1.0
+    return float(stats.norm.sf(math.log(k_star) / problem.uncertainty.scale_sigma_log))
