@@ -92,6 +92,7 @@ class ReportData:
     profile: tuple[np.ndarray, dict[str, np.ndarray]]
     versions: dict[str, str]
     timings_s: dict[str, float] = field(default_factory=dict)
+    comparison: Any = None
 
     @property
     def feasible(self) -> bool:
@@ -194,6 +195,7 @@ def collect(
     power_factors: tuple[float, ...] = POWER_FACTORS,
     workers: int = 1,
     progress: Callable[[str], None] | None = None,
+    compare: Design | None = None,
 ) -> ReportData:
     """Evaluate and optimise ``design`` and run the sweeps and field maps the report shows.
 
@@ -219,7 +221,7 @@ def collect(
     """
     from optimize import evaluate, optimize_design, prepare
     from spiralcap.assemble import build_model
-    from spiralcap.commands._common import _jsonable
+    from spiralcap.presentation import jsonable as _jsonable
     from spiralcap.serialize import evaluation_to_dict, optimization_to_dict
     from spiralcap.sweep import Axis, sweep
 

@@ -6,17 +6,11 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
+from spiralcap.presentation import SHOWN_UNITS
 from spiralcap.report.numbers import Num, lookup
 
-#: How an SI unit of a check or limit is shown: unit -> (shown unit, factor).
-SHOWN_UNITS: dict[str, tuple[str, float]] = {
-    "T": ("mT", 1e3),
-    "m/s": ("mm/s", 1e3),
-    "N·m": ("mN·m", 1e3),
-    "m": ("mm", 1e3),
-    "H": ("mH", 1e3),
-    "rad": ("deg", 57.29577951308232),
-}
+__all__ = ["SHOWN_UNITS", "Context", "readable", "step_out_parts"]
+
 
 #: Readable names of the checks, limits and bounds the optimiser reports.
 _NAMES = {

@@ -65,13 +65,12 @@ def _dedupe_legend(ax: Any, **kwargs: Any) -> None:
 
 
 def _draw(data: Any) -> Any:
-    design, ev, res = data.design, data.evaluation, data.optimization
+    ev, res = data.evaluation, data.optimization
 
     def draw(fig: Any) -> None:
         import numpy as np
 
         import torque_model as tm
-        from spiralcap.commands.torque import geometry_from_design
         from spiralcap.figures.style import restyle_lines
         from spiralcap.figures.torque import plot_torque_vs_frequency
 
@@ -83,7 +82,14 @@ def _draw(data: Any) -> Any:
 
         f_hi = max(3.5, 1.1 * max(ev.frequency_hz, res.frequency_hz))
         f = np.linspace(0.1, f_hi, 80)
-        geometry = geometry_from_design(design)
+        cap = data.model.capsule
+        geometry = {
+            "body_diameter_m": cap.body.diameter_m,
+            "body_length_m": cap.body.length_m,
+            "wire_diameter_m": cap.spiral.wire_diameter_m,
+            "wound_length_m": cap.spiral.wound_length_m,
+            "starts": int(cap.spiral.starts),
+        }
         lines = []
         for tissue in data.model.tissues:
             for angle, what in (

@@ -1,0 +1,46 @@
+"""How values are shown to people: engineering units for SI values, and JSON-ready values.
+
+One table serves the CLI text, the report and the figures, so a value reads the same
+everywhere (``0.01115 T`` is always ``11.15 mT``). Application-level: imports nothing from
+``spiralcap.commands`` or ``spiralcap.report``.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from typing import Any
+
+#: How an SI unit is shown: SI unit -> (shown unit, factor from SI to shown).
+SHOWN_UNITS: dict[str, tuple[str, float]] = {
+    "T": ("mT", 1e3),
+    "m/s": ("mm/s", 1e3),
+    "N·m": ("mN·m", 1e3),
+    "m": ("mm", 1e3),
+    "H": ("mH", 1e3),
+    "rad": ("deg", 180.0 / math.pi),
+}
+
+
+def shown(unit: str) -> tuple[str, float]:
+    """``(label, factor)`` that shows a value in SI ``unit`` in its engineering unit.
+
+    Units without an engineering form (A, V, W, K, Hz, ...) are shown as they are.
+    """
+    return SHOWN_UNITS.get(unit, (unit, 1.0))
+
+
+def jsonable(value: Any) -> Any:
+    """``value`` with numpy values as Python numbers, NaN as None and infinities as ``"inf"``.
+
+    Mappings become dicts with string keys, tuples become lists.
+    """
+    if isinstance(value, Mapping):
+        return {str(k): jsonable(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [jsonable(v) for v in value]
+    if hasattr(value, "tolist"):
+        return jsonable(value.tolist())
+    if isinstance(value, float) and not math.isfinite(value):
+        return None if math.isnan(value) else ("inf" if value > 0 else "-inf")
+    return value
