@@ -23,6 +23,8 @@ from spiralcap.design import Design
 
 #: Power budgets of the trade-off sweep, as multiples of the design's ``limits.power_W``.
 POWER_FACTORS = (0.25, 0.4, 0.63, 1.0, 1.6, 2.5, 4.0)
+#: Extra re-optimisations placed adaptively where the Pareto curve bends (its knee).
+POWER_REFINEMENTS = 5
 #: Points of the margin-against-frequency and margin-against-angle curves.
 CURVE_POINTS = 241
 #: Grid of each field map (points per side) and its half-width as a fraction of the smallest
@@ -64,11 +66,19 @@ class FieldMap:
 
 @dataclass(frozen=True)
 class Curve:
-    """A margin curve from :func:`optimize.margin_grid` along one variable."""
+    """A margin curve from :func:`optimize.margin_grid` along one variable.
+
+    ``speed_slack_m_s`` and ``turns_slack`` are achieved minus required (negative where the
+    requirement fails), with :data:`optimize.evaluate.FEASIBILITY_RTOL` allowed, as
+    ``feasible`` is.
+    """
 
     x: np.ndarray
     margin_Nm: np.ndarray
     feasible: np.ndarray
+    speed_slack_m_s: np.ndarray
+    turns_slack: np.ndarray
+    frequency_hz: np.ndarray | None = None
 
 
 @dataclass(frozen=True)
@@ -121,12 +131,49 @@ def coil_sizing_json(design: Design) -> tuple[dict[str, Any], str]:
     return sizing_payload(design), "spiralcap.commands.coils.sizing_payload(design)"
 
 
+def _grid_field(grid: Any, name: str) -> np.ndarray:
+    """A field of ``optimize.margin_grid``'s result (a mapping today, a dataclass later)."""
+    value = grid[name] if isinstance(grid, dict) else getattr(grid, name)
+    return np.asarray(value)
+
+
+def angle_curve(model: Any, alpha_rad: np.ndarray) -> Curve:
+    """Margin against helical angle, each angle at the lowest frequency meeting the speed.
+
+    The margin falls with frequency, and the speed is proportional to it, so at each angle the
+    best frequency inside the bounds is the one that just meets ``min_speed`` (or the lower
+    bound); the spiral-turns requirement does not depend on frequency. This is the margin a
+    helical-angle tolerance costs when the frequency is re-chosen, not at a fixed frequency.
+    """
+    from optimize import margin_grid
+    b, req = model.bounds, model.requirements
+    per_hz = _grid_field(margin_grid(model, alpha_rad, 1.0), "speed_m_s").astype(float)
+    needed = req.min_speed_m_s / np.maximum(per_hz, 1e-300)
+    f = np.clip(needed, b.frequency_min_hz, b.frequency_max_hz)
+    curve = _curve(model, alpha_rad, f, np.degrees(alpha_rad))
+    return Curve(
+        curve.x,
+        curve.margin_Nm,
+        curve.feasible,
+        curve.speed_slack_m_s,
+        curve.turns_slack,
+        frequency_hz=f,
+    )
+
+
 def _curve(model: Any, alpha: Any, f: Any, x: np.ndarray) -> Curve:
     from optimize import margin_grid
+    from optimize.evaluate import FEASIBILITY_RTOL
 
     g = margin_grid(model, alpha, f)
+    req = model.requirements
+    tol = 1.0 - FEASIBILITY_RTOL
     return Curve(
-        x=x, margin_Nm=np.asarray(g["margin_Nm"], float), feasible=np.asarray(g["feasible"], bool)
+        x=x,
+        margin_Nm=_grid_field(g, "margin_Nm").astype(float),
+        feasible=_grid_field(g, "feasible").astype(bool),
+        speed_slack_m_s=_grid_field(g, "speed_m_s") - req.min_speed_m_s * tol,
+        turns_slack=_grid_field(g, "spiral_turns") - req.min_spiral_turns * tol,
     )
 
 
@@ -138,6 +185,47 @@ def frequency_range_hz(model: Any, step_out_hz: float) -> np.ndarray:
         hi = max(hi, 1.3 * step_out_hz)
     hi = max(hi, 1.2 * model.frequency_hz)
     return np.linspace(0.02 * hi, hi, CURVE_POINTS)
+
+
+def adaptive_power_sweep(
+    design: Design,
+    powers_W: np.ndarray,
+    *,
+    refinements: int = POWER_REFINEMENTS,
+    workers: int = 1,
+) -> Any:
+    """Re-optimise at each power budget, then bisect where the Pareto curve bends.
+
+    Each refinement adds one budget, at the geometric mean of the interval whose ends differ
+    most: by a change of the binding set or of the status (the knee, where power stops
+    binding), weighted by the change of margin and the interval's width in log power.
+
+    Returns
+    -------
+    spiralcap.sweep.SweepResult
+        One axis, ``limits.power_W``, sorted by power.
+    """
+    from spiralcap.sweep import Axis, SweepResult, sweep
+
+    key = "limits.power_W"
+    first = sweep(design, [Axis(key, np.asarray(powers_W, float))], optimize=True, workers=workers)
+    p = np.asarray(first.inputs[key], float)
+    out = {k: np.asarray(v) for k, v in first.outputs.items()}
+    for _ in range(refinements):
+        margin = np.nan_to_num(np.asarray(out["margin_Nm"], float))
+        changed = (out["binding_limits"][1:] != out["binding_limits"][:-1]) | (
+            out["status"][1:] != out["status"][:-1]
+        )
+        span = max(float(np.ptp(margin)), 1e-12)
+        score = np.log(p[1:] / p[:-1]) * (
+            1.0 + 4.0 * changed + np.abs(np.diff(margin)) / span * 4.0
+        )
+        i = int(np.argmax(score))
+        new = float(np.sqrt(p[i] * p[i + 1]))
+        one = sweep(design, [Axis(key, np.array([new]))], optimize=True)
+        p = np.insert(p, i + 1, new)
+        out = {k: np.insert(v, i + 1, one.outputs[k][0]) for k, v in out.items()}
+    return SweepResult((Axis(key, p),), {key: p}, out, first.mode)
 
 
 def field_maps(system: Any, uniform: dict[str, Any]) -> tuple[FieldMap, ...]:
@@ -223,7 +311,6 @@ def collect(
     from spiralcap.assemble import build_model
     from spiralcap.presentation import jsonable as _jsonable
     from spiralcap.serialize import evaluation_to_dict, optimization_to_dict
-    from spiralcap.sweep import Axis, sweep
 
     say = progress or (lambda _stage: None)
     timings: dict[str, float] = {}
@@ -262,12 +349,13 @@ def collect(
     lo = min(b.helical_angle_min_rad, ev.helical_angle_rad, res.helical_angle_rad)
     hi = max(b.helical_angle_max_rad, ev.helical_angle_rad, res.helical_angle_rad)
     a_grid = np.linspace(lo, hi, CURVE_POINTS)
-    angle_opt = _curve(model, a_grid, res.frequency_hz, np.degrees(a_grid))
+    angle_opt = angle_curve(model, a_grid)
     lap("margin curves")
 
     say("power sweep")
     powers = design["limits.power_W"] * np.asarray(power_factors, dtype=float)
-    power_sweep = sweep(design, [Axis("limits.power_W", powers)], optimize=True, workers=workers)
+    power_sweep = adaptive_power_sweep(design, powers, workers=workers)
+    powers = np.asarray(power_sweep.inputs["limits.power_W"], float)
     lap("power sweep")
 
     say("field maps")

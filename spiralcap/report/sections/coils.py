@@ -80,18 +80,21 @@ def _draw_maps(maps: Any, workspace_radius_m: float) -> Any:
                 legend=False,
                 label_contours=False,
             )
+        assert drawn is not None
         fig.colorbar(
-            drawn["filled"],
+            drawn.filled,
             ax=list(axs),
-            label="|B| deviation (%)",
+            label="|B| / |B(0)| − 1 (%)",
             shrink=0.8,
             location="right",
             format="%g",
+            ticks=(-20, -5, -1, 0, 1, 5, 20),
+            spacing="uniform",
         )
         proxies = [
             Line2D([], [], color="black", linestyle="-", linewidth=2.0),
             Line2D([], [], color="black", linestyle="--", linewidth=2.0),
-            Line2D([], [], color="#D55E00", linestyle=":", linewidth=1.8),
+            Line2D([], [], color="#E69F00", linestyle=":", linewidth=2.0),
             Line2D([], [], color="black", linestyle="-.", linewidth=1.6),
         ]
         fig.legend(
@@ -117,7 +120,6 @@ def _draw_profiles(profile: Any) -> Any:
         ax = fig.subplots()
         d, devs = profile
         plot_uniformity_profile(ax, d, devs)
-        ax.set_ylim(-12, 6)
 
     return draw
 
@@ -189,7 +191,8 @@ def build(ctx: Context) -> Section:
     blocks.append(
         FigureBlock(
             "fig-field-maps",
-            "|B| deviation from its centre value on planes through the coil centre (x–z plane for "
+            "Signed deviation of |B| from its centre value (red: stronger, blue: weaker) on planes "
+            "through the coil centre (x–z plane for "
             "the x and z pairs, y–z plane for the y pair), each pair driven alone (a static field "
             "along its axis), from coils.uniformity. Solid contour: ±1 %; dashed: ±5 %; dotted "
             "circles: the ±1 % and ±5 % spheres of that field direction (coils.uniform_region, "
@@ -201,8 +204,9 @@ def build(ctx: Context) -> Section:
     blocks.append(
         FigureBlock(
             "fig-field-profiles",
-            "|B| deviation along each pair's axis and across it, that pair driven alone. Dashed "
-            "lines: ±1 %; dotted: ±5 %. An ideal Helmholtz pair is flat to fourth order at the "
+            "Signed |B| deviation along each pair's axis and across it, that pair driven alone, "
+            "out to where the deviation reaches about 10 %. Dashed lines: ±1 %; dotted: ±5 %. "
+            "An ideal Helmholtz pair is flat to fourth order at the "
             "centre; the nested pairs' finite winding packs and spacing set the curvature.",
             _draw_profiles(ctx.data.profile),
             size_in=(7.0, 4.0),

@@ -105,9 +105,9 @@ def _draw_frequency(data: Any) -> Any:
                 label=f"optimum, α = {res.helical_angle_deg:.4g}°",
                 shade=False,
             )
+        lo, hi = ax.get_ylim()
         top = float(max(data.freq_design.margin_Nm.max(), res.margin_Nm)) * 1e3
-        if top > 0:
-            ax.set_ylim(-0.8 * top, 1.25 * top)
+        ax.set_ylim(lo, max(hi, 1.1 * top))
 
     return draw
 
@@ -157,9 +157,10 @@ def build(ctx: Context) -> Section:
         FigureBlock(
             "fig-margin-frequency",
             "Worst-case torque margin against rotation frequency at the design's helical angle "
-            "(and at the optimum's), from optimize.margin_grid. Dotted vertical lines: step-out "
-            "frequencies (margin = 0); stars: the operating points; hatched: frequencies where a "
-            "requirement (minimum speed, margin) is not met at the design's angle.",
+            "and at the optimum's, from optimize.margin_grid. Each curve is solid where every "
+            "requirement holds at its own angle and thin and dotted where one fails (at low "
+            "frequency the capsule is too slow); dashed vertical lines: step-out frequencies "
+            "(margin = 0); stars: the operating points; hatched: negative margin.",
             _draw_frequency(ctx.data),
             size_in=(7.5, 4.4),
         )

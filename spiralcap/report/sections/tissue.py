@@ -75,8 +75,7 @@ def _draw(data: Any) -> Any:
         from spiralcap.figures.torque import plot_torque_vs_frequency
 
         left, right = fig.subplots(2, 1)
-        drawn = plot_torque_vs_frequency(left, tm.preset("zhou2013-sample2"))
-        restyle_lines(drawn["curves"], markevery=8)
+        plot_torque_vs_frequency(left, tm.preset("zhou2013-sample2"))
         left.set_title("paper's capsules (11 × 26 mm), sample 2")
         _dedupe_legend(left, loc="upper left", fontsize=8, ncols=2)
 
@@ -99,15 +98,15 @@ def _draw(data: Any) -> Any:
                 out = plot_torque_vs_frequency(
                     right, tissue, (angle,), frequency_hz=f, paper_points=(), geometry=geometry
                 )
-                out["curves"][0].set_label(f"{tissue.name}, α = {angle:.4g}° ({what})")
-                lines += out["curves"]
-        restyle_lines(lines, markevery=10)
+                out.curves[0].set_label(f"{tissue.name}, α = {angle:.3g}° ({what})")
+                lines += out.curves
+        restyle_lines(lines, markers=False)
         for fx, what, ls in (
             (ev.frequency_hz, "as entered", "--"),
             (res.frequency_hz, "optimum", ":"),
         ):
             right.axvline(
-                fx, color="0.3", linestyle=ls, linewidth=1.2, label=f"{what} frequency, {fx:.4g} Hz"
+                fx, color="0.3", linestyle=ls, linewidth=1.2, label=f"{what} frequency, {fx:.3g} Hz"
             )
         right.set_title("this design's capsule")
         _dedupe_legend(right, loc="upper left", fontsize=8)
@@ -164,7 +163,8 @@ def build(ctx: Context) -> Section:
         "fig-tissue-torque",
         "Tissue resistive torque against rotation frequency. Top: the paper's capsules "
         "(helical angles 5–20°) in the calibrated sample-2 tissue, with the torques the paper "
-        "states (circles: calibration, squares: validation). Bottom: this design's capsule "
+        "states (markers only: filled circles calibration, open squares validation; the model is "
+        "drawn as lines without markers). Bottom: this design's capsule "
         "geometry in each of its tissue sets, at the helical angle as entered and at the "
         "optimum; vertical lines mark the two operating frequencies.",
         _draw(ctx.data),

@@ -27,16 +27,31 @@ def _draw_angle(data: Any) -> Any:
 
         ax = fig.subplots()
         c = data.angle_optimum
+        # start where the margin is above -40 % of its peak: the steep fall at tiny angles
+        # would squeeze the useful range (the range is chosen from the data)
+        peak = float(np.nanmax(c.margin_Nm))
+        keep = np.nonzero(c.margin_Nm >= -0.4 * abs(peak))[0]
+        sl = slice(max(0, int(keep[0]) - 1) if keep.size else 0, None)
         plot_margin_vs_angle(
             ax,
-            c.x,
-            c.margin_Nm,
-            feasible=c.feasible,
+            c.x[sl],
+            c.margin_Nm[sl],
+            shortfalls={
+                "speed below requirements.min_speed_mm_s": c.speed_slack_m_s[sl],
+                "fewer turns than requirements.min_spiral_turns": c.turns_slack[sl],
+            },
             optimum_deg=res.helical_angle_deg,
             optimum_margin_Nm=res.margin_Nm,
             design_angle_deg=ev.helical_angle_deg,
-            label=f"at the optimum frequency, {res.frequency_hz:.4g} Hz",
+            label="margin, each angle at the lowest frequency meeting the speed",
         )
+        if c.frequency_hz is not None:
+            twin = ax.twinx()
+            fx = c.frequency_hz[sl]
+            twin.plot(c.x[sl], fx, color="0.45", linestyle=(0, (3, 1.5)), linewidth=1.2)
+            twin.set_ylabel("frequency used (Hz), grey dashed", color="0.3")
+            twin.set_ylim(0, 1.1 * float(fx.max()))
+            twin.grid(False)
 
     return draw
 
@@ -97,11 +112,12 @@ def build(ctx: Context) -> Section:
     )
     angle_fig = FigureBlock(
         "fig-margin-angle",
-        "Worst-case torque margin against the spiral's helical angle at the optimum frequency "
-        "(optimize.margin_grid). Small angles cost tissue torque (a wider wire footprint, more "
-        "turns) and speed; large angles cost thrust torque (the screw relation) and fall below "
-        "the minimum number of spiral turns. Hatched: a requirement is not met. Star: the "
-        "optimum; dashed line: the angle as entered.",
+        "Worst-case torque margin against the spiral's helical angle (optimize.margin_grid), "
+        "each angle run at the lowest frequency inside the bounds that meets the minimum speed "
+        "(grey dashed, right axis): the margin a helical-angle tolerance costs. Small angles "
+        "need a higher frequency (more tissue torque, less field); large angles cost thrust "
+        "torque and fall below the minimum number of spiral turns (hatched: that requirement "
+        "fails). Star: the optimum; dashed line: the angle as entered.",
         _draw_angle(ctx.data),
         size_in=(7.5, 4.4),
     )
