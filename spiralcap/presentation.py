@@ -22,6 +22,44 @@ SHOWN_UNITS: dict[str, tuple[str, float]] = {
 }
 
 
+#: Key-name unit suffixes (longest first) -> how the unit is written.
+_SUFFIX_UNITS: tuple[tuple[str, str], ...] = (
+    ("_W_m2K", "W/(m²·K)"),
+    ("_kPa_s", "kPa·s"),
+    ("_mm_s", "mm/s"),
+    ("_m_s", "m/s"),
+    ("_kPa", "kPa"),
+    ("_deg", "°"),
+    ("_hz", "Hz"),
+    ("_Hz", "Hz"),
+    ("_mm", "mm"),
+    ("_mN", "mN"),
+    ("_mNm", "mN·m"),
+    ("_Nm", "N·m"),
+    ("_mT", "mT"),
+    ("_T", "T"),
+    ("_C", "°C"),
+    ("_K", "K"),
+    ("_A", "A"),
+    ("_V", "V"),
+    ("_W", "W"),
+    ("_m", "m"),
+    ("_s", "s"),
+)
+
+
+def unit_of_key(key: str) -> str:
+    """The unit a design key names in its suffix (``coils.x.radius_m`` -> ``m``), or ``""``.
+
+    Counts (``turns``, ``starts``), ratios (``packing_factor``) and choices have no unit.
+    """
+    leaf = key.rsplit(".", 1)[-1]
+    for suffix, unit in _SUFFIX_UNITS:
+        if leaf.endswith(suffix):
+            return unit
+    return ""
+
+
 def shown(unit: str) -> tuple[str, float]:
     """``(label, factor)`` that shows a value in SI ``unit`` in its engineering unit.
 

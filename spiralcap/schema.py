@@ -255,6 +255,7 @@ KEYS.update({})
 # --- tissue uncertainty (issue 11) ---
 KEYS.update({})
 
+
 # --- report front matter (issue 12) ---
 def _text(help_: str) -> Key:
     """An optional line of text (shown on the report's title page), at most 200 characters."""

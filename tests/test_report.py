@@ -139,8 +139,8 @@ def test_html_is_self_contained(report: dict[str, Any], parsed: _Collector) -> N
                 assert value.startswith("#"), f"links stay inside the document: {value}"
             else:
                 assert value.startswith("data:image/svg+xml;base64,"), (
-                f"src must be an SVG data: URI: {value[:60]}"
-            )
+                    f"src must be an SVG data: URI: {value[:60]}"
+                )
     images = [a["src"] for t, a in parsed.tags if t == "img"]
     assert len(images) >= MIN_FIGURES, f"at least {MIN_FIGURES} figures, found {len(images)}"
     import xml.etree.ElementTree as ET

@@ -27,7 +27,7 @@ __all__ = [
 #: ±1 % and ±5 % bands and the edges of the workspace are all resolved; a diverging colour
 #: map centred on zero (blue weaker than the centre, red stronger).
 _POS = (0.1, 0.25, 0.5, 1.0, 2.0, 5.0, 10.0, 20.0)
-DEVIATION_LEVELS_PERCENT = tuple(-v for v in reversed(_POS)) + (0.0,) + _POS
+DEVIATION_LEVELS_PERCENT = (*(-v for v in reversed(_POS)), 0.0, *_POS)
 _TOLERANCE_STYLES = {0.01: ("-", 2.0), 0.05: ("--", 2.0)}
 _TO_MM = 1e3
 

@@ -21,6 +21,7 @@ class TorqueDrawn(NamedTuple):
     curves: list[Any]
     points: list[Any]
 
+
 _FREQ_LABEL = "rotation frequency f (Hz)"
 _TORQUE_LABEL = "resistive torque (mN·m)"
 
@@ -59,7 +60,6 @@ def plot_torque_vs_frequency(
         markers only (filled circles: calibration, open squares: validation).
     """
     import torque_model as tm
-
     from spiralcap.figures.style import LINESTYLES
 
     tissue = tissue if tissue is not None else tm.preset("zhou2013-sample2")

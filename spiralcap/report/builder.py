@@ -106,7 +106,6 @@ def build_report(
     """
     from spiralcap.report.data import collect
     from spiralcap.report.html import render_html
-
     from spiralcap.report.render import render_figures
 
     say = progress or (lambda _stage: None)

@@ -82,6 +82,40 @@ class Curve:
 
 
 @dataclass(frozen=True)
+class MarginMap:
+    """Margin and feasibility over helical angle x frequency (``optimize.margin_grid``).
+
+    ``margin_Nm`` and ``feasible`` have shape ``(len(frequency_hz), len(helical_angle_deg))``.
+    """
+
+    helical_angle_deg: np.ndarray
+    frequency_hz: np.ndarray
+    margin_Nm: np.ndarray
+    feasible: np.ndarray
+
+
+#: Points per side of the angle x frequency margin map.
+MAP_GRID = 90
+
+
+def margin_map(model: Any, f_max_hz: float) -> MarginMap:
+    """The margin over the optimiser's helical-angle bounds and 0.02–``f_max_hz`` Hz."""
+    from optimize import margin_grid
+
+    b = model.bounds
+    a = np.linspace(b.helical_angle_min_rad, b.helical_angle_max_rad, MAP_GRID)
+    f = np.linspace(0.02 * f_max_hz, f_max_hz, MAP_GRID)
+    aa, ff = np.meshgrid(a, f)
+    g = margin_grid(model, aa, ff)
+    return MarginMap(
+        np.degrees(a),
+        f,
+        _grid_field(g, "margin_Nm").astype(float),
+        _grid_field(g, "feasible").astype(bool),
+    )
+
+
+@dataclass(frozen=True)
 class ReportData:
     """Everything one report shows; built by :func:`collect`."""
 
@@ -103,6 +137,7 @@ class ReportData:
     versions: dict[str, str]
     timings_s: dict[str, float] = field(default_factory=dict)
     comparison: Any = None
+    margin_map: MarginMap | None = None
 
     @property
     def feasible(self) -> bool:
@@ -146,6 +181,7 @@ def angle_curve(model: Any, alpha_rad: np.ndarray) -> Curve:
     helical-angle tolerance costs when the frequency is re-chosen, not at a fixed frequency.
     """
     from optimize import margin_grid
+
     b, req = model.bounds, model.requirements
     per_hz = _grid_field(margin_grid(model, alpha_rad, 1.0), "speed_m_s").astype(float)
     needed = req.min_speed_m_s / np.maximum(per_hz, 1e-300)
@@ -350,6 +386,7 @@ def collect(
     hi = max(b.helical_angle_max_rad, ev.helical_angle_rad, res.helical_angle_rad)
     a_grid = np.linspace(lo, hi, CURVE_POINTS)
     angle_opt = angle_curve(model, a_grid)
+    mmap = margin_map(model, float(f_grid.max()))
     lap("margin curves")
 
     say("power sweep")
@@ -382,4 +419,5 @@ def collect(
         profile=profile,
         versions=versions(),
         timings_s=timings,
+        margin_map=mmap,
     )

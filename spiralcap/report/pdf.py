@@ -176,9 +176,13 @@ def _block(block: Any, figures: dict[str, str], svgs: Mapping[str, str]) -> str:
         return _table(block)
     if isinstance(block, Code):
         cap = f"\n#text(size: 9pt)[{s(block.caption)}]" if block.caption else ""
-        return f"#columns(2, gutter: 12pt, raw({_lit(block.text)}, block: true, lang: \"toml\")){cap}\n"
+        return (
+            f'#columns(2, gutter: 12pt, raw({_lit(block.text)}, block: true, lang: "toml")){cap}\n'
+        )
     if isinstance(block, Equation):
-        label = f"#h(1fr) #text(size: 8.5pt, fill: luma(90))[{s(block.label)}]" if block.label else ""
+        label = (
+            f"#h(1fr) #text(size: 8.5pt, fill: luma(90))[{s(block.label)}]" if block.label else ""
+        )
         return f"#block(width: 100%)[#h(1.2em) $ {block.typst} $ {label}]\n"
     if isinstance(block, FigureBlock):
         key = f"fig{len(figures)}"
@@ -214,7 +218,7 @@ def typst_source(
     ]
     grid = ", ".join(f"[*{s(k)}*], [{s(v)}]" for k, v in rows if v)
     out.append(
-        f"#block(below: 1.2em)[#text(size: 20pt, weight: \"bold\")[{s(front.title)}]]\n"
+        f'#block(below: 1.2em)[#text(size: 20pt, weight: "bold")[{s(front.title)}]]\n'
         f"#grid(columns: (auto, 1fr), column-gutter: 1.2em, row-gutter: 0.5em, {grid})\n"
         "#v(0.8em)\n#outline(title: [Contents], depth: 1, indent: auto)\n"
     )

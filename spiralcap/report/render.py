@@ -53,6 +53,4 @@ def figure_png(block: FigureBlock, dpi: int = 150) -> bytes:
 
 def render_figures(sections: Sequence[Section]) -> dict[str, str]:
     """``figure id -> SVG text`` for every figure of the report, in reading order."""
-    return {
-        b.id: figure_svg(b) for s in sections for b in s.blocks if isinstance(b, FigureBlock)
-    }
+    return {b.id: figure_svg(b) for s in sections for b in s.blocks if isinstance(b, FigureBlock)}

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from spiralcap.report.document import Cell, FigureBlock, Paragraph, Section, Strong, Table
+from spiralcap.report.document import Cell, FigureBlock, Paragraph, Ref, Section, Strong, Table
 from spiralcap.report.sections._util import Context
 
 #: Rows of the sizing table: (JSON field of each axis, quantity, shown unit, factor).
@@ -113,6 +113,15 @@ def _draw_maps(maps: Any, workspace_radius_m: float) -> Any:
     return draw
 
 
+def _draw_geometry(model: Any, workspace_radius_m: float) -> Any:
+    def draw(fig: Any) -> None:
+        from spiralcap.figures.geometry import draw_geometry
+
+        draw_geometry(fig, model.coils, model.capsule, workspace_radius_m=workspace_radius_m)
+
+    return draw
+
+
 def _draw_profiles(profile: Any) -> Any:
     def draw(fig: Any) -> None:
         from spiralcap.figures.coils import plot_uniformity_profile
@@ -153,7 +162,26 @@ def build(ctx: Context) -> Section:
             "). These limits are the ones the evaluation and the optimiser apply.",
         ]
     )
-    blocks: list[Any] = [intro]
+    ws = float(design["workspace.radius_m"])
+    geometry = FigureBlock(
+        "fig-geometry",
+        "The hardware to scale. Left: section through the coil centre in the x–z plane, in mm: "
+        "the x and z pairs cut through their winding packs (squares of the pack side at the "
+        "mean radius; solid and dash-dot lines the coils edge-on), the y pair face-on (its "
+        "winding annulus, dotted hatch), the workspace sphere dash-dotted. Right: the capsule "
+        "to its own scale: shell, spiral wire at its helical angle over the wound length (front "
+        "half thick, back half dashed) and the diametrically magnetised magnet with its "
+        "moment m.",
+        _draw_geometry(ctx.data.model, ws),
+        size_in=(7.0, 3.5),
+    )
+    blocks: list[Any] = [
+        intro,
+        Paragraph(
+            ["The nested pairs and the capsule are drawn to scale in ", Ref("fig-geometry"), "."]
+        ),
+        geometry,
+    ]
     limit_C = design["limits.coil_temperature_C"]
     hot = [a for a in axes if ctx.value(f"{c}.axes.{a}.coil_temperature_C") > limit_C]
     if hot:
@@ -170,7 +198,6 @@ def build(ctx: Context) -> Section:
             )
         )
     blocks.append(_sizing_table(ctx))
-    ws = float(design["workspace.radius_m"])
     blocks.append(
         Paragraph(
             [

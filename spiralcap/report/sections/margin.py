@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from spiralcap.report.document import Cell, FigureBlock, Paragraph, Section, Table
+from spiralcap.report.document import Cell, FigureBlock, Paragraph, Ref, Section, Table
 from spiralcap.report.sections._util import SHOWN_UNITS, Context, readable, step_out_parts
 
 #: Rows of the operating-point table: (Evaluation JSON field, label, shown unit, factor).
@@ -112,6 +112,36 @@ def _draw_frequency(data: Any) -> Any:
     return draw
 
 
+def _draw_map(data: Any) -> Any:
+    ev, res = data.evaluation, data.optimization
+
+    def draw(fig: Any) -> None:
+        from spiralcap.figures.sweep import plot_margin_map
+
+        m = data.margin_map
+        plot_margin_map(
+            fig.subplots(),
+            m.helical_angle_deg,
+            m.frequency_hz,
+            m.margin_Nm,
+            feasible=m.feasible,
+            xlabel="helical angle α (deg)",
+            ylabel="rotation frequency f (Hz)",
+            marks={
+                f"optimum, {res.helical_angle_deg:.3g}°, {res.frequency_hz:.3g} Hz": (
+                    res.helical_angle_deg,
+                    res.frequency_hz,
+                ),
+                f"as entered, {ev.helical_angle_deg:.3g}°, {ev.frequency_hz:.3g} Hz": (
+                    ev.helical_angle_deg,
+                    ev.frequency_hz,
+                ),
+            },
+        )
+
+    return draw
+
+
 def _draw_budget(data: Any) -> Any:
     def draw(fig: Any) -> None:
         from spiralcap.figures.design import plot_torque_budget
@@ -165,6 +195,31 @@ def build(ctx: Context) -> Section:
             size_in=(7.5, 4.4),
         )
     )
+    if ctx.data.margin_map is not None:
+        blocks.append(
+            Paragraph(
+                [
+                    "Over the whole design space of helical angle and frequency (",
+                    Ref("fig-margin-map"),
+                    ") the feasible region is bounded by the minimum speed (low frequency, "
+                    "small angle), the minimum number of spiral turns (large angle) and the "
+                    "step-out boundary where the margin reaches zero.",
+                ]
+            )
+        )
+        blocks.append(
+            FigureBlock(
+                "fig-margin-map",
+                "Worst-case torque margin over helical angle and rotation frequency "
+                "(optimize.margin_grid on a 90 × 90 grid inside the optimiser's angle bounds). "
+                "Hatched: a requirement (minimum speed, spiral turns, positive margin) is not "
+                "met; thick black line: margin = 0, where the capsule steps out; open circle: "
+                "the best feasible grid point; star: the optimiser's optimum; diamond: the "
+                "design as entered.",
+                _draw_map(ctx.data),
+                size_in=(7.0, 4.6),
+            )
+        )
     blocks.append(
         evaluation_table(
             ctx,
