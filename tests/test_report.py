@@ -35,7 +35,9 @@ def _cli_json(argv: list[str]) -> dict[str, Any]:
     with contextlib.redirect_stdout(buf):
         status = main(argv)
     assert status == 0, f"spiralcap {' '.join(argv)} exited {status}"
-    return json.loads(buf.getvalue())
+    out = json.loads(buf.getvalue())
+    assert out.pop("spiralcap_version"), "every --json output names the spiralcap version"
+    return out
 
 
 @pytest.fixture(scope="module")

@@ -23,10 +23,10 @@ __all__ = ["MarginMapDrawn", "SweepDrawn", "draw_sweep", "plot_margin_map"]
 SHOWN_COLUMNS: dict[str, tuple[str, float]] = {
     "margin_Nm": ("margin (mN·m)", 1e3),
     "safety_factor": ("safety factor", 1.0),
-    "field_amplitude_T": ("rotating field (mT)", 1e3),
-    "speed_m_s": ("forward speed (mm/s)", 1e3),
-    "helical_angle_deg": ("optimal helical angle (deg)", 1.0),
-    "frequency_hz": ("optimal frequency (Hz)", 1.0),
+    "field_amplitude_T": ("field (mT)", 1e3),
+    "speed_m_s": ("speed (mm/s)", 1e3),
+    "helical_angle_deg": ("α (deg)", 1.0),
+    "frequency_hz": ("f (Hz)", 1.0),
 }
 
 
@@ -201,6 +201,14 @@ def draw_sweep(fig: Any, result: Any) -> SweepDrawn:
                 ax.plot(x[~ok], y[~ok], "x", color="#a4161a", markersize=8, markeredgewidth=2)
             if col == "margin_Nm":
                 ax.axhline(0.0, color="black", linewidth=1.0)
+            finite = y[np.isfinite(y)]
+            if finite.size and float(np.ptp(finite)) <= 1e-6 * max(
+                abs(float(finite.mean())), 1e-30
+            ):
+                # a constant output: a flat line at its value, not an axis of rounding noise
+                mid = float(finite.mean())
+                ax.set_ylim(mid - 0.05 * abs(mid) - 1e-12, mid + 0.05 * abs(mid) + 1e-12)
+            ax.ticklabel_format(axis="y", useOffset=False, style="plain")
             ax.set_ylabel(label, fontsize=8.5)
         axs[-1].set_xlabel(_label(key))
         if (~ok).any():
