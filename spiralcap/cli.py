@@ -25,6 +25,7 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "optimize": ("optimize", "choose helical angle, frequency and coil currents for most margin"),
     "sweep": ("sweep", "evaluate or re-optimise across a grid of design keys"),
     "report": ("report", "write the engineering report (self-contained HTML, optional PDF)"),
+    "compare": ("compare", "two or more designs side by side: changed keys, margins, limits"),
 }
 
 

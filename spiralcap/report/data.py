@@ -333,6 +333,9 @@ def collect(
         Worker processes for the re-optimisation sweep (1: in this process).
     progress : callable, optional
         Called with the name of each stage as it starts.
+    compare : Design, optional
+        A second design to evaluate and optimise beside this one
+        (:func:`spiralcap.compare.compare_designs`).
 
     Returns
     -------
@@ -401,6 +404,13 @@ def collect(
         model.coils, MAP_EXTENT * min(p.radius_m for p in model.coils.pairs)
     )
     lap("field maps")
+    comparison = None
+    if compare is not None:
+        from spiralcap.compare import compare_designs
+
+        say("comparison")
+        comparison = compare_designs([design, compare], ("this design", "compared design"))
+        lap("comparison")
     return ReportData(
         design=design,
         model=model,
@@ -420,4 +430,5 @@ def collect(
         versions=versions(),
         timings_s=timings,
         margin_map=mmap,
+        comparison=comparison,
     )
