@@ -213,7 +213,7 @@ def test_sections_and_summary(report: dict[str, Any]) -> None:
         assert re.search(f"<strong>{word}s?:</strong>", summary), f"summary line {word!r}"
     from spiralcap.schema import KEYS
 
-    inputs = text[text.index('id="inputs"') : text.index('id="coils"')]
+    inputs = text[text.index('id="all-inputs"') :]
     missing = [k for k in KEYS if f"<td>{k}</td>" not in inputs]
     assert missing == [], "every design key is in the inputs table"
     for cite in (

@@ -42,3 +42,34 @@ def write_figure(path: str, draw: Callable[[Any], Any], size_in: tuple[float, fl
         fig.savefig(buf, format=suffix, dpi=150, metadata=None)
     write_text_atomic(path, buf.getvalue())
     return drawn
+
+
+def add_geometry_plot_argument(parser: Any) -> None:
+    """``--plot FIGURE.png``: the geometry view (coils to scale, workspace, capsule)."""
+    parser.add_argument(
+        "--plot",
+        metavar="FIGURE.png",
+        help="also draw the hardware to scale (.png, .svg or .pdf): the nested coil pairs "
+        "with their winding packs, the workspace and the capsule",
+    )
+
+
+def write_geometry(path: str, design: Any, *, quiet: bool = False) -> Any:
+    """Draw the geometry view of ``design`` to ``path`` (:func:`spiralcap.figures.geometry`)."""
+    from spiralcap.assemble import build_model
+    from spiralcap.figures.geometry import draw_geometry
+
+    model = build_model(design)
+    drawn = write_figure(
+        path,
+        lambda fig: draw_geometry(
+            fig,
+            model.coils,
+            model.capsule,
+            workspace_radius_m=float(design["workspace.radius_m"]),
+        ),
+        (7.0, 3.5),
+    )
+    if not quiet:
+        print(f"wrote {path}")
+    return drawn

@@ -171,3 +171,21 @@ def numbering(sections: Sequence[Section]) -> dict[str, str]:
                 if b.id:
                     out[b.id] = f"Table {ntab}"
     return out
+
+
+def column_units(table: Table) -> list[str]:
+    """Per column, the unit every number in it shares ('' when none or mixed).
+
+    Renderers put a shared unit in the header (``power budget (W)``) and write the numbers
+    bare; a column of mixed units keeps the unit by each number.
+    """
+    out = []
+    for i in range(len(table.headers)):
+        units = {c.unit for r in table.rows if i < len(r) and isinstance((c := r[i]), Num)}
+        out.append(units.pop() if len(units) == 1 else "")
+    return out
+
+
+def header_with_unit(header: str, unit: str) -> str:
+    """``power budget`` + ``W`` -> ``power budget (W)`` (unchanged when the unit is empty)."""
+    return f"{header} ({unit})" if unit and f"({unit})" not in header else header

@@ -27,6 +27,8 @@ from spiralcap.report.document import (
     Section,
     Strong,
     Table,
+    column_units,
+    header_with_unit,
 )
 from spiralcap.report.numbers import Num, fmt, unit_gap
 
@@ -100,17 +102,17 @@ def _inline(parts: Sequence[Inline], numbers: Mapping[str, str] | None = None) -
     return "".join(out)
 
 
-def _num(n: Num) -> str:
+def _num(n: Num, with_unit: bool = True) -> str:
     attrs = ""
     if n.key is not None:
         attrs = f' data-key="{html.escape(n.key)}" data-scale="{n.scale!r}"'
-    unit = ("\u00a0" if unit_gap(n.unit) else "") + html.escape(n.unit)
+    unit = ("\u00a0" if unit_gap(n.unit) else "") + html.escape(n.unit) if with_unit else ""
     return f'<span class="num"{attrs}>{html.escape(n.text)}</span>{unit}'
 
 
-def _cell(cell: Cell) -> tuple[str, bool]:
+def _cell(cell: Cell, shared_unit: str = "") -> tuple[str, bool]:
     if isinstance(cell, Num):
-        return _num(cell), True
+        return _num(cell, with_unit=not shared_unit), True
     if cell is None:
         return "", False
     numeric = isinstance(cell, (int, float)) and not isinstance(cell, bool)
@@ -118,20 +120,22 @@ def _cell(cell: Cell) -> tuple[str, bool]:
 
 
 def _table(t: Table, number: str = "") -> str:
+    units = column_units(t)
     rows = []
     for row in t.rows:
         cells = []
-        for c in row:
-            text, numeric = _cell(c)
+        for c, u in zip(row, units, strict=False):
+            text, numeric = _cell(c, u)
             cells.append(f'<td class="n">{text}</td>' if numeric else f"<td>{text}</td>")
         rows.append("<tr>" + "".join(cells) + "</tr>")
     ident = f' id="{html.escape(t.id)}"' if t.id else ""
     lead = f"{number}. " if number else ""
     cap = f"<caption>{lead}{html.escape(t.caption)}</caption>" if t.caption else ""
     numeric = _numeric_columns(t)
+    heads = [header_with_unit(h, u) for h, u in zip(t.headers, units, strict=True)]
     head = "".join(
         f'<th class="n">{html.escape(h)}</th>' if numeric[i] else f"<th>{html.escape(h)}</th>"
-        for i, h in enumerate(t.headers)
+        for i, h in enumerate(heads)
     )
     return (
         f"<table{ident}>{cap}<thead><tr>{head}</tr></thead><tbody>"

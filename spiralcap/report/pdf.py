@@ -35,6 +35,8 @@ from spiralcap.report.document import (
     Strong,
     Table,
     cell_text,
+    column_units,
+    header_with_unit,
 )
 from spiralcap.report.numbers import Num, unit_gap
 
@@ -122,9 +124,11 @@ def _is_numeric(cell: Cell) -> bool:
     return isinstance(cell, Num) or (isinstance(cell, (int, float)) and not isinstance(cell, bool))
 
 
-def _cell(cell: Cell) -> str:
+def _cell(cell: Cell, shared_unit: str) -> str:
     if isinstance(cell, Num):
-        return "[" + s(cell.text) + "]"
+        if shared_unit or not cell.unit:
+            return "[" + s(cell.text) + "]"
+        return "[" + _num(cell) + "]"
     return "[" + s(cell_text(cell)) + "]"
 
 
@@ -136,10 +140,13 @@ def _table(t: Table) -> str:
         numeric.append(bool(cells) and sum(map(_is_numeric, cells)) >= 0.5 * len(cells))
     cols = ", ".join("1fr" if i == t.wrap else "auto" for i in range(ncol))
     align = ", ".join("right" if n else "left" for n in numeric)
-    head = ", ".join(f"[*{s(h)}*]" for h in t.headers)
+    units = column_units(t)
+    head = ", ".join(
+        f"[*{s(header_with_unit(h, u))}*]" for h, u in zip(t.headers, units, strict=True)
+    )
     body = []
     for row in t.rows:
-        body.append(", ".join(_cell(c) for c in row))
+        body.append(", ".join(_cell(c, u) for c, u in zip(row, units, strict=False)))
     table = (
         f"table(columns: ({cols},), align: ({align},), table.header({head}),\n"
         + ",\n".join(body)

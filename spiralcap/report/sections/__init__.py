@@ -34,4 +34,5 @@ def build_sections(ctx: Context, command: str) -> list[Section]:
         *([compared] if compared is not None else []),
         assumptions.build(ctx),
         reproducibility.build(ctx, command),
+        inputs.build_appendix(ctx),
     ]
