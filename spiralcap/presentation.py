@@ -60,6 +60,36 @@ def unit_of_key(key: str) -> str:
     return ""
 
 
+#: Readable names of the checks, limits and bounds the optimiser reports.
+_NAMES = {
+    "margin": "torque margin",
+    "speed": "forward speed",
+    "spiral_turns": "spiral turns",
+    "power": "total copper power",
+    "field_exposure": "field exposure (ICNIRP 2010)",
+    "helical_angle_min": "lower helical-angle bound",
+    "helical_angle_max": "upper helical-angle bound",
+    "frequency_min": "lower frequency bound",
+    "frequency_max": "upper frequency bound",
+    "solver": "solver did not converge",
+}
+_PER_AXIS = {
+    "current": "current",
+    "voltage": "drive voltage",
+    "temperature_rise": "coil temperature rise",
+}
+
+
+def readable(name: str) -> str:
+    """``voltage_x`` -> ``drive voltage, x pair``; unknown names are returned unchanged."""
+    if name in _NAMES:
+        return _NAMES[name]
+    stem, _, axis = name.rpartition("_")
+    if stem in _PER_AXIS and axis in ("x", "y", "z"):
+        return f"{_PER_AXIS[stem]}, {axis} pair"
+    return name.replace("_", " ")
+
+
 def shown(unit: str) -> tuple[str, float]:
     """``(label, factor)`` that shows a value in SI ``unit`` in its engineering unit.
 

@@ -41,14 +41,14 @@ REFERENCES: tuple[str, ...] = (
 EQUATIONS: tuple[Equation, ...] = (
     Equation(
         "M(alpha, f) = min_(bold(p), bold(h)) m B_0(f) kappa(bold(p), bold(h))"
-        " - max_\"tissue\" [tau_r (alpha, f) + F D_h / 2 tan(alpha + arctan mu)]",
+        ' - max_"tissue" [tau_r (alpha, f) + F D_h / 2 tan(alpha + arctan mu)]',
         "M(α, f) = min over points p, headings h of m·B0(f)·κ(p, h) − max over tissue sets of "
         "[τ_r(α, f) + F·(D_h/2)·tan(α + atan μ)]",
         "margin: synchronous torque minus required torque",
     ),
     Equation(
         "B_0(f) = min(G I_max, G V_max / abs(R + j 2 pi f L), G sqrt(P_max / R), "
-        "G I_(Delta T), B_\"ICNIRP\"(f))",
+        'G I_(Delta T), B_"ICNIRP"(f))',
         "B0(f) = min(G·I_max, G·V_max/|R + j2πfL|, G·√(P_max/R), G·I_ΔT, B_ICNIRP(f))",
         "field cap per pair [2, 5, 6, 9]",
     ),

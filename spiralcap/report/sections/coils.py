@@ -58,77 +58,29 @@ def _sizing_table(ctx: Context) -> Table:
     )
 
 
-def _draw_maps(maps: Any, workspace_radius_m: float) -> Any:
+def _draw_maps(data: Any, workspace_radius_m: float) -> Any:
     def draw(fig: Any) -> None:
-        from matplotlib.lines import Line2D
+        from spiralcap.figures.api import field_maps
 
-        from spiralcap.figures.coils import plot_field_deviation_map
-
-        axs = fig.subplots(1, 3)
-        drawn = None
-        for ax, m in zip(axs, maps, strict=True):
-            drawn = plot_field_deviation_map(
-                ax,
-                m.u_m,
-                m.v_m,
-                m.deviation,
-                axis_labels=m.plane,
-                uniform_radii_m=m.uniform_radii_m,
-                workspace_radius_m=workspace_radius_m,
-                title=f"{m.axis} pair driven",
-                colorbar=False,
-                legend=False,
-                label_contours=False,
-            )
-        assert drawn is not None
-        fig.colorbar(
-            drawn.filled,
-            ax=list(axs),
-            label="|B| / |B(0)| − 1 (%)",
-            shrink=0.8,
-            location="right",
-            format="%g",
-            ticks=(-20, -5, -1, 0, 1, 5, 20),
-            spacing="uniform",
-        )
-        proxies = [
-            Line2D([], [], color="black", linestyle="-", linewidth=2.0),
-            Line2D([], [], color="black", linestyle="--", linewidth=2.0),
-            Line2D([], [], color="#E69F00", linestyle=":", linewidth=2.0),
-            Line2D([], [], color="black", linestyle="-.", linewidth=1.6),
-        ]
-        fig.legend(
-            proxies,
-            [
-                "±1 % contour",
-                "±5 % contour",
-                "±1 % and ±5 % spheres (radii in the table)",
-                "workspace",
-            ],
-            loc="outside lower center",
-            ncols=2,
-            fontsize=8,
-        )
+        field_maps(data.model, fig=fig, workspace_radius_m=workspace_radius_m, maps=data.field_maps)
 
     return draw
 
 
 def _draw_geometry(model: Any, workspace_radius_m: float) -> Any:
     def draw(fig: Any) -> None:
-        from spiralcap.figures.geometry import draw_geometry
+        from spiralcap.figures.api import geometry
 
-        draw_geometry(fig, model.coils, model.capsule, workspace_radius_m=workspace_radius_m)
+        geometry(model, fig=fig, workspace_radius_m=workspace_radius_m)
 
     return draw
 
 
-def _draw_profiles(profile: Any) -> Any:
+def _draw_profiles(data: Any) -> Any:
     def draw(fig: Any) -> None:
-        from spiralcap.figures.coils import plot_uniformity_profile
+        from spiralcap.figures.api import uniformity_profile
 
-        ax = fig.subplots()
-        d, devs = profile
-        plot_uniformity_profile(ax, d, devs)
+        uniformity_profile(data.model, ax=fig.subplots(), profile=data.profile)
 
     return draw
 
@@ -224,7 +176,7 @@ def build(ctx: Context) -> Section:
             "along its axis), from coils.uniformity. Solid contour: ±1 %; dashed: ±5 %; dotted "
             "circles: the ±1 % and ±5 % spheres of that field direction (coils.uniform_region, "
             "radii in the sizing table); dash-dot circle: the design's workspace.",
-            _draw_maps(ctx.data.field_maps, ws),
+            _draw_maps(ctx.data, ws),
             size_in=(7.5, 3.5),
         )
     )
@@ -235,7 +187,7 @@ def build(ctx: Context) -> Section:
             "out to where the deviation reaches about 10 %. Dashed lines: ±1 %; dotted: ±5 %. "
             "An ideal Helmholtz pair is flat to fourth order at the "
             "centre; the nested pairs' finite winding packs and spacing set the curvature.",
-            _draw_profiles(ctx.data.profile),
+            _draw_profiles(ctx.data),
             size_in=(7.0, 4.0),
         )
     )

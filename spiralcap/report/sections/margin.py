@@ -76,67 +76,26 @@ def checks_table(ctx: Context, prefix: str, caption: str, ident: str) -> Table:
 
 
 def _draw_frequency(data: Any) -> Any:
-    ev, res = data.evaluation, data.optimization
-
     def draw(fig: Any) -> None:
-        from spiralcap.figures.design import plot_margin_vs_frequency
+        from spiralcap.figures.api import margin_vs_frequency
 
-        ax = fig.subplots()
-        c = data.freq_design
-        plot_margin_vs_frequency(
-            ax,
-            c.x,
-            c.margin_Nm,
-            feasible=c.feasible,
-            step_out_frequency_hz=ev.step_out_frequency_hz,
-            operating_frequency_hz=ev.frequency_hz,
-            label=f"as entered, α = {ev.helical_angle_deg:.4g}°",
+        margin_vs_frequency(
+            data.model,
+            data.evaluation,
+            data.optimization,
+            ax=fig.subplots(),
+            curves=(data.freq_design, data.freq_optimum),
         )
-        if data.freq_optimum is not None:
-            c = data.freq_optimum
-            plot_margin_vs_frequency(
-                ax,
-                c.x,
-                c.margin_Nm,
-                feasible=None,
-                style_index=1,
-                step_out_frequency_hz=res.step_out_frequency_hz,
-                operating_frequency_hz=res.frequency_hz,
-                label=f"optimum, α = {res.helical_angle_deg:.4g}°",
-                shade=False,
-            )
-        lo, hi = ax.get_ylim()
-        top = float(max(data.freq_design.margin_Nm.max(), res.margin_Nm)) * 1e3
-        ax.set_ylim(lo, max(hi, 1.1 * top))
 
     return draw
 
 
 def _draw_map(data: Any) -> Any:
-    ev, res = data.evaluation, data.optimization
-
     def draw(fig: Any) -> None:
-        from spiralcap.figures.sweep import plot_margin_map
+        from spiralcap.figures.api import margin_map
 
-        m = data.margin_map
-        plot_margin_map(
-            fig.subplots(),
-            m.helical_angle_deg,
-            m.frequency_hz,
-            m.margin_Nm,
-            feasible=m.feasible,
-            xlabel="helical angle α (deg)",
-            ylabel="rotation frequency f (Hz)",
-            marks={
-                f"optimum, {res.helical_angle_deg:.3g}°, {res.frequency_hz:.3g} Hz": (
-                    res.helical_angle_deg,
-                    res.frequency_hz,
-                ),
-                f"as entered, {ev.helical_angle_deg:.3g}°, {ev.frequency_hz:.3g} Hz": (
-                    ev.helical_angle_deg,
-                    ev.frequency_hz,
-                ),
-            },
+        margin_map(
+            data.model, data.optimization, data.evaluation, ax=fig.subplots(), grid=data.margin_map
         )
 
     return draw
@@ -144,12 +103,9 @@ def _draw_map(data: Any) -> Any:
 
 def _draw_budget(data: Any) -> Any:
     def draw(fig: Any) -> None:
-        from spiralcap.figures.design import plot_torque_budget
+        from spiralcap.figures.api import torque_budget
 
-        ax = fig.subplots()
-        plot_torque_budget(
-            ax, [("as entered", data.evaluate_json), ("optimum", data.optimize_json["evaluation"])]
-        )
+        torque_budget(data.evaluation, data.optimization, ax=fig.subplots())
 
     return draw
 

@@ -68,10 +68,8 @@ def _draw(data: Any) -> Any:
     ev, res = data.evaluation, data.optimization
 
     def draw(fig: Any) -> None:
-        import numpy as np
-
         import torque_model as tm
-        from spiralcap.figures.style import restyle_lines
+        from spiralcap.figures.api import tissue_torque
         from spiralcap.figures.torque import plot_torque_vs_frequency
 
         left, right = fig.subplots(2, 1)
@@ -79,37 +77,7 @@ def _draw(data: Any) -> Any:
         left.set_title("paper's capsules (11 × 26 mm), sample 2")
         _dedupe_legend(left, loc="upper left", fontsize=8, ncols=2)
 
-        f_hi = max(3.5, 1.1 * max(ev.frequency_hz, res.frequency_hz))
-        f = np.linspace(0.1, f_hi, 80)
-        cap = data.model.capsule
-        geometry = {
-            "body_diameter_m": cap.body.diameter_m,
-            "body_length_m": cap.body.length_m,
-            "wire_diameter_m": cap.spiral.wire_diameter_m,
-            "wound_length_m": cap.spiral.wound_length_m,
-            "starts": int(cap.spiral.starts),
-        }
-        lines = []
-        for tissue in data.model.tissues:
-            for angle, what in (
-                (ev.helical_angle_deg, "as entered"),
-                (res.helical_angle_deg, "optimum"),
-            ):
-                out = plot_torque_vs_frequency(
-                    right, tissue, (angle,), frequency_hz=f, paper_points=(), geometry=geometry
-                )
-                out.curves[0].set_label(f"{tissue.name}, α = {angle:.3g}° ({what})")
-                lines += out.curves
-        restyle_lines(lines, markers=False)
-        for fx, what, ls in (
-            (ev.frequency_hz, "as entered", "--"),
-            (res.frequency_hz, "optimum", ":"),
-        ):
-            right.axvline(
-                fx, color="0.3", linestyle=ls, linewidth=1.2, label=f"{what} frequency, {fx:.3g} Hz"
-            )
-        right.set_title("this design's capsule")
-        _dedupe_legend(right, loc="upper left", fontsize=8)
+        tissue_torque(data.model, ev, res, ax=right)
 
     return draw
 

@@ -4,8 +4,6 @@ from __future__ import annotations
 
 from typing import Any
 
-import numpy as np
-
 from spiralcap.report.document import Cell, FigureBlock, Paragraph, Section, Table
 from spiralcap.report.sections._util import Context, readable
 
@@ -20,58 +18,25 @@ def power_sweep_payload(data: Any) -> dict[str, Any]:
 
 
 def _draw_angle(data: Any) -> Any:
-    ev, res = data.evaluation, data.optimization
-
     def draw(fig: Any) -> None:
-        from spiralcap.figures.design import plot_margin_vs_angle
+        from spiralcap.figures.api import margin_vs_angle
 
-        ax = fig.subplots()
-        c = data.angle_optimum
-        # start where the margin is above -40 % of its peak: the steep fall at tiny angles
-        # would squeeze the useful range (the range is chosen from the data)
-        peak = float(np.nanmax(c.margin_Nm))
-        keep = np.nonzero(c.margin_Nm >= -0.4 * abs(peak))[0]
-        sl = slice(max(0, int(keep[0]) - 1) if keep.size else 0, None)
-        plot_margin_vs_angle(
-            ax,
-            c.x[sl],
-            c.margin_Nm[sl],
-            shortfalls={
-                "speed below requirements.min_speed_mm_s": c.speed_slack_m_s[sl],
-                "fewer turns than requirements.min_spiral_turns": c.turns_slack[sl],
-            },
-            optimum_deg=res.helical_angle_deg,
-            optimum_margin_Nm=res.margin_Nm,
-            design_angle_deg=ev.helical_angle_deg,
-            label="margin, each angle at the lowest frequency meeting the speed",
+        margin_vs_angle(
+            data.model,
+            data.optimization,
+            data.evaluation,
+            ax=fig.subplots(),
+            curve=data.angle_optimum,
         )
-        if c.frequency_hz is not None:
-            twin = ax.twinx()
-            fx = c.frequency_hz[sl]
-            twin.plot(c.x[sl], fx, color="0.45", linestyle=(0, (3, 1.5)), linewidth=1.2)
-            twin.set_ylabel("frequency used (Hz), grey dashed", color="0.3")
-            twin.set_ylim(0, 1.1 * float(fx.max()))
-            twin.grid(False)
 
     return draw
 
 
 def _draw_power(data: Any, sweep: dict[str, Any]) -> Any:
     def draw(fig: Any) -> None:
-        from spiralcap.figures.design import plot_margin_vs_power
+        from spiralcap.figures.api import margin_vs_power
 
-        ax = fig.subplots()
-        margin = np.array([np.nan if m is None else m for m in sweep["margin_Nm"]], float)
-        plot_margin_vs_power(
-            ax,
-            sweep["power_W"],
-            margin,
-            optimal=[s == "optimal" for s in sweep["status"]],
-            design_power_W=data.design["limits.power_W"],
-            binding=[
-                ";".join(readable(n) for n in b.split(";") if n) for b in sweep["binding_limits"]
-            ],
-        )
+        margin_vs_power(data.design, ax=fig.subplots(), sweep=data.power_sweep)
 
     return draw
 
