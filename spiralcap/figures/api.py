@@ -331,19 +331,28 @@ def uniformity_profile(model: Any, *, ax: Any = None, profile: Any = None) -> Pl
     return Plot(fig, ax, plot_uniformity_profile(ax, d, devs))
 
 
-def margin_vs_power(design: Any, *, ax: Any = None, sweep: Any = None, factors: Any = None) -> Plot:
+def margin_vs_power(
+    design: Any,
+    *,
+    ax: Any = None,
+    sweep: Any = None,
+    factors: Any = None,
+    refinements: int | None = None,
+) -> Plot:
     """Best margin against the copper-power budget, re-optimised at each, refined at the knee.
 
-    ``sweep``: a precomputed :func:`spiralcap.curves.adaptive_power_sweep` result.
+    ``sweep``: a precomputed :func:`spiralcap.curves.adaptive_power_sweep` result; else one is
+    run at ``factors`` x ``limits.power_W`` with ``refinements`` extra points at the knee.
     """
-    from spiralcap.curves import POWER_FACTORS, adaptive_power_sweep
+    from spiralcap.curves import POWER_FACTORS, POWER_REFINEMENTS, adaptive_power_sweep
     from spiralcap.figures.design import plot_margin_vs_power
     from spiralcap.presentation import readable
 
     fig, ax = _axes(ax, (7.5, 4.4))
     if sweep is None:
         powers = design["limits.power_W"] * np.asarray(factors or POWER_FACTORS, float)
-        sweep = adaptive_power_sweep(design, powers)
+        extra = POWER_REFINEMENTS if refinements is None else refinements
+        sweep = adaptive_power_sweep(design, powers, refinements=extra)
     out = sweep.outputs
     margin = np.array([np.nan if m is None else m for m in out["margin_Nm"]], float)
     drawn = plot_margin_vs_power(
