@@ -94,7 +94,7 @@ def plot_geometry(
     drawn: dict[str, list[Any]] = {}
     handles = []
     extent = 0.0
-    for name, hatch in (("x", ""), ("z", "///"), ("y", "...")):
+    for name, hatch in (("x", ""), ("z", "///"), ("y", "")):
         pair = getattr(coils, name)
         colour, ls = _PAIR_STYLE[name]
         r = pair.radius_m * _MM
@@ -110,9 +110,8 @@ def plot_geometry(
                         (0.0, 0.0),
                         r + side / 2,
                         side,
-                        facecolor="none",
+                        facecolor=(0.0, 0.62, 0.45, 0.22),
                         edgecolor=colour,
-                        hatch=hatch,
                         linewidth=1.0,
                         linestyle=ls,
                     )

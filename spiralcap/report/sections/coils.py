@@ -120,7 +120,7 @@ def build(ctx: Context) -> Section:
         "The hardware to scale. Left: section through the coil centre in the x–z plane, in mm: "
         "the x and z pairs cut through their winding packs (squares of the pack side at the "
         "mean radius; solid and dash-dot lines the coils edge-on), the y pair face-on (its "
-        "winding annulus, dotted hatch), the workspace sphere dash-dotted. Right: the capsule "
+        "winding annulus, dashed outline, light fill), the workspace sphere dash-dotted. Right: the capsule "
         "to its own scale: shell, spiral wire at its helical angle over the wound length (front "
         "half thick, back half dashed) and the diametrically magnetised magnet with its "
         "moment m.",
