@@ -140,6 +140,7 @@ def margin_vs_angle(
         optimum_margin_Nm=result.margin_Nm,
         design_angle_deg=None if evaluation is None else evaluation.helical_angle_deg,
         label="margin, each angle at the lowest frequency meeting the speed",
+        optimum_name="optimum" if result.status == "optimal" else "closest design (infeasible)",
     )
     if c.frequency_hz is not None:
         twin = ax.twinx()
@@ -172,7 +173,8 @@ def margin_map(
         f_max = frequency_range_hz(model, getattr(evaluation, "step_out_frequency_hz", 0.0)).max()
         grid = compute(model, float(f_max))
     marks = {}
-    for what, obj in (("optimum", result), ("as entered", evaluation)):
+    best = "optimum" if getattr(result, "status", "optimal") == "optimal" else "closest design"
+    for what, obj in ((best, result), ("as entered", evaluation)):
         if obj is not None:
             marks[f"{what}, {obj.helical_angle_deg:.3g}°, {obj.frequency_hz:.3g} Hz"] = (
                 obj.helical_angle_deg,

@@ -249,6 +249,7 @@ def plot_margin_vs_angle(
     design_angle_deg: float | None = None,
     label: str = "margin",
     style_index: int = 0,
+    optimum_name: str = "optimum",
 ) -> MarginAngleDrawn:
     """Worst-case torque margin against the spiral's helical angle at one frequency.
 
@@ -273,6 +274,8 @@ def plot_margin_vs_angle(
         Legend label of the curve.
     style_index : int
         Series number for colour, line style and marker.
+    optimum_name : str
+        What the star is called (``"closest design"`` when the optimisation is infeasible).
 
     Returns
     -------
@@ -317,7 +320,7 @@ def plot_margin_vs_angle(
             markersize=15,
             color=COLOURS[1],
             markeredgecolor="black",
-            label=f"optimum, {optimum_deg:.3g}°, {optimum_margin_Nm * _MNM:.3g} mN·m",
+            label=f"{optimum_name}, {optimum_deg:.3g}°, {optimum_margin_Nm * _MNM:.3g} mN·m",
             zorder=5,
         )
     ax.set_xlim(float(a.min()), float(a.max()))
@@ -400,6 +403,11 @@ def plot_margin_vs_power(
                     )
                 )
     ax.axhline(0.0, color="black", linewidth=1.0)
+    finite = m[np.isfinite(m)]
+    top = float(np.max(np.abs(finite))) if finite.size else 0.0
+    if top < 0.05:  # nothing feasible: every point near zero; a readable range, not round-off
+        ax.set_ylim(-0.5, 0.5)
+    ax.ticklabel_format(axis="y", useOffset=False, style="plain")
     ax.set_xscale("log")
     ax.xaxis.set_major_locator(LogLocator(subs=(1.0, 2.0, 5.0)))
     ax.xaxis.set_minor_formatter(NullFormatter())

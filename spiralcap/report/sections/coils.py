@@ -163,7 +163,11 @@ def build(ctx: Context) -> Section:
                 "uniformity: it takes the weakest rotating field over the workspace points and "
                 "headings (the workspace field factor, ",
                 ctx.num("evaluate.workspace_field_factor"),
-                ").",
+                "). ",
+                Ref("fig-field-maps"),
+                " maps the deviation on planes through the centre, ",
+                Ref("fig-field-profiles"),
+                " along lines through it.",
             ]
         )
     )

@@ -125,7 +125,11 @@ def build(ctx: Context) -> Section:
             *step_out_parts(ctx, f"{e}.step_out_frequency_hz"),
             "; at the optimum's helical angle at ",
             *step_out_parts(ctx, f"{o}.step_out_frequency_hz"),
-            ".",
+            " (",
+            Ref("fig-margin-frequency"),
+            "). ",
+            Ref("fig-torque-budget"),
+            " splits the torques at the two operating points.",
         ]
     )
     blocks: list[Any] = [intro]

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from spiralcap.report.document import Cell, FigureBlock, Paragraph, Section, Table
+from spiralcap.report.document import Cell, FigureBlock, Paragraph, Ref, Section, Table
 from spiralcap.report.sections._util import SHOWN_UNITS, Context, readable
 from spiralcap.report.sections.margin import checks_table
 from spiralcap.report.sections.summary import binding_gain
@@ -114,7 +114,9 @@ def build(ctx: Context) -> Section:
                 " iterations in all; solver status ",
                 str(ctx.value(f"{o}.solver_status")),
                 "). ",
-                str(ctx.value(f"{o}.message")).rstrip(".") + ".",
+                str(ctx.value(f"{o}.message")).rstrip(".") + ". ",
+                Ref("fig-utilisation"),
+                " shows how close each limit is to binding.",
             ],
             kind="ok" if feasible else "alert",
         )

@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 from typing import Any
 
-from spiralcap.report.document import Cell, FigureBlock, Paragraph, Section, Table
+from spiralcap.report.document import Cell, FigureBlock, Paragraph, Ref, Section, Table
 from spiralcap.report.sections._util import Context
 
 #: Tissue-set rows: (field of TissueParameters.as_design_table(), label, unit).
@@ -124,7 +124,9 @@ def build(ctx: Context) -> Section:
             ctx.num(f"{t}.calibration_factor"),
             ", fitted on sample 2 with capsule No. 2 only; "
             "the capsule No. 1 points are validation and never enter the fit "
-            "(docs/torque-model.md). The factor leaves the shape against frequency as published.",
+            "(docs/torque-model.md). The factor leaves the shape against frequency as published; ",
+            Ref("fig-tissue-torque"),
+            " sets the model beside the paper's points and shows this design's capsule.",
         ]
     )
     fig = FigureBlock(

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from spiralcap.report.document import Cell, FigureBlock, Paragraph, Section, Table
+from spiralcap.report.document import Cell, FigureBlock, Paragraph, Ref, Section, Table
 from spiralcap.report.sections._util import Context, readable
 
 
@@ -98,8 +98,13 @@ def build(ctx: Context) -> Section:
     intro = Paragraph(
         [
             "Two trade-offs a designer asks about first: how sensitive the margin is to the "
-            "spiral's helical angle (a manufacturing tolerance), and what more amplifier and "
-            "cooling power buys."
+            "spiral's helical angle (a manufacturing tolerance, ",
+            Ref("fig-margin-angle"),
+            "), and what more amplifier and cooling power buys (",
+            Ref("fig-margin-power"),
+            ", ",
+            Ref("power-sweep"),
+            ").",
         ]
     )
     return Section("tradeoffs", "Trade-offs", [intro, angle_fig, power_fig, table])
