@@ -132,7 +132,7 @@ def test_geometry_view_draws_packs_where_the_design_puts_them() -> None:
 
     from spiralcap.assemble import build_model
     from spiralcap.design import load_design
-    from spiralcap.figures.geometry import draw_geometry
+    from spiralcap.figures.hardware import draw_geometry
 
     design = load_design()
     model = build_model(design)

@@ -32,3 +32,16 @@ def test_gallery_writes_every_report_figure(tmp_path: Path) -> None:
     for p in written:
         assert p.read_bytes().startswith(b"\x89PNG"), f"{p.name} is an image"
         assert p.stat().st_size > 5000, f"{p.name} is not blank"
+
+
+def test_api_names_do_not_collide_with_figure_modules() -> None:
+    """``spiralcap.figures.<name>`` must stay the function after any submodule is imported."""
+    import pkgutil
+
+    import spiralcap.figures as figures
+    from spiralcap.figures import api
+
+    modules = {m.name for m in pkgutil.iter_modules(figures.__path__)}
+    assert modules.isdisjoint(figures._API), "an API function shadowed by a submodule"
+    for name in figures._API:
+        assert getattr(figures, name) is getattr(api, name)

@@ -55,9 +55,9 @@ def add_geometry_plot_argument(parser: Any) -> None:
 
 
 def write_geometry(path: str, design: Any, *, quiet: bool = False) -> Any:
-    """Draw the geometry view of ``design`` to ``path`` (:func:`spiralcap.figures.geometry`)."""
+    """Draw the geometry view of ``design`` to ``path`` (:func:`spiralcap.figures.hardware.draw_geometry`)."""
     from spiralcap.assemble import build_model
-    from spiralcap.figures.geometry import draw_geometry
+    from spiralcap.figures.hardware import draw_geometry
 
     model = build_model(design)
     drawn = write_figure(

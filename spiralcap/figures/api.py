@@ -372,7 +372,7 @@ def margin_vs_power(
 
 def geometry(model: Any, *, fig: Any = None, workspace_radius_m: float | None = None) -> Plot:
     """The hardware to scale: nested coil pairs, the workspace and the capsule."""
-    from spiralcap.figures.geometry import draw_geometry
+    from spiralcap.figures.hardware import draw_geometry
 
     fig = _figure(fig, (7.0, 3.5))
     drawn = draw_geometry(fig, model.coils, model.capsule, workspace_radius_m=workspace_radius_m)
