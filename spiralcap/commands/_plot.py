@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from pathlib import Path
-from typing import Any
+from typing import Any, cast
 
 from spiralcap.errors import InputError
 
@@ -35,7 +35,7 @@ def write_figure(path: str, draw: Callable[[Any], Any], size_in: tuple[float, fl
     from spiralcap.figures.style import REPORT_RC
 
     suffix = Path(path).suffix.lower().lstrip(".")
-    with matplotlib.rc_context(REPORT_RC):
+    with matplotlib.rc_context(cast(Any, REPORT_RC)):
         fig = Figure(figsize=size_in, layout="constrained")
         drawn = draw(fig)
         buf = io.BytesIO()

@@ -420,7 +420,7 @@ def plot_margin_vs_power(
 
 def plot_limit_utilisation(
     ax: Axes, checks: Sequence[Any], *, labels: Mapping[str, str] | None = None
-) -> dict[str, Any]:
+) -> UtilisationDrawn:
     """How close each limit and requirement is to binding, as a horizontal bar chart.
 
     Parameters

@@ -23,7 +23,11 @@ from spiralcap.figures.style import COLOURS
 __all__ = ["CapsuleDrawn", "GeometryDrawn", "draw_geometry", "plot_capsule", "plot_geometry"]
 
 _MM = 1e3
-_PAIR_STYLE = {"x": (COLOURS[0], "-"), "y": (COLOURS[2], "--"), "z": (COLOURS[1], "-.")}
+_PAIR_STYLE: dict[str, tuple[str, Any]] = {
+    "x": (COLOURS[0], "-"),
+    "y": (COLOURS[2], "--"),
+    "z": (COLOURS[1], "-."),
+}
 
 
 class GeometryDrawn(NamedTuple):

@@ -113,7 +113,7 @@ def plot_margin_map(
         for coll in getattr(infeasible, "collections", [infeasible]):
             coll.set_edgecolor("0.25")
             coll.set_linewidth(0.0)
-    handles = []
+    handles: list[Any] = []
     from matplotlib.patches import Patch
 
     if infeasible is not None:

@@ -31,7 +31,7 @@ def plot_torque_vs_frequency(
     tissue: Any = None,
     helical_angles_deg: Sequence[float] = (5.0, 10.0, 15.0, 20.0),
     *,
-    frequency_hz: Sequence[float] | None = None,
+    frequency_hz: Any = None,
     paper_points: Iterable[Any] | None = None,
     geometry: dict[str, float] | None = None,
 ) -> TorqueDrawn:

@@ -131,10 +131,10 @@ def _table(t: Table, number: str = "") -> str:
     ident = f' id="{html.escape(t.id)}"' if t.id else ""
     lead = f"{number}. " if number else ""
     cap = f"<caption>{lead}{html.escape(t.caption)}</caption>" if t.caption else ""
-    numeric = _numeric_columns(t)
+    numeric_cols = _numeric_columns(t)
     heads = [header_with_unit(h, u) for h, u in zip(t.headers, units, strict=True)]
     head = "".join(
-        f'<th class="n">{html.escape(h)}</th>' if numeric[i] else f"<th>{html.escape(h)}</th>"
+        f'<th class="n">{html.escape(h)}</th>' if numeric_cols[i] else f"<th>{html.escape(h)}</th>"
         for i, h in enumerate(heads)
     )
     return (

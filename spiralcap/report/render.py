@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import io
 from collections.abc import Sequence
+from typing import Any, cast
 
 from spiralcap.report.document import FigureBlock, Section
 
@@ -25,7 +26,7 @@ def figure_svg(block: FigureBlock) -> str:
 
     from spiralcap.figures.style import REPORT_RC
 
-    with matplotlib.rc_context({**REPORT_RC, **SVG_RC}):
+    with matplotlib.rc_context(cast(Any, {**REPORT_RC, **SVG_RC})):
         fig = Figure(figsize=block.size_in, layout="constrained")
         FigureCanvasSVG(fig)
         block.draw(fig)
@@ -42,7 +43,7 @@ def figure_png(block: FigureBlock, dpi: int = 150) -> bytes:
 
     from spiralcap.figures.style import REPORT_RC
 
-    with matplotlib.rc_context(REPORT_RC):
+    with matplotlib.rc_context(cast(Any, REPORT_RC)):
         fig = Figure(figsize=block.size_in, layout="constrained")
         FigureCanvasAgg(fig)
         block.draw(fig)
