@@ -19,9 +19,9 @@ import numpy as np
 from spiralcap.design import Design
 
 #: Power budgets of the trade-off sweep, as multiples of the design's ``limits.power_W``.
-POWER_FACTORS = (0.25, 0.4, 0.63, 1.0, 1.6, 2.5, 4.0)
+POWER_FACTORS = (0.25, 0.5, 1.0, 2.0, 4.0)
 #: Extra re-optimisations placed adaptively where the Pareto curve bends (its knee).
-POWER_REFINEMENTS = 5
+POWER_REFINEMENTS = 4
 #: Points of the margin-against-frequency and margin-against-angle curves.
 CURVE_POINTS = 241
 #: Grid of each field map (points per side) and its half-width as a fraction of the smallest

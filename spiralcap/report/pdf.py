@@ -78,6 +78,7 @@ _PREAMBLE = r"""
 #show figure.where(kind: table): set block(breakable: true)
 #show figure.caption: set text(size: 9pt)
 #show figure.caption: set par(justify: false)
+#show figure.caption: set align(left)
 #set figure(gap: 0.5em)
 #show link: set text(fill: rgb(35, 78, 128))
 #show ref: set text(fill: rgb(35, 78, 128))
