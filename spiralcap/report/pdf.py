@@ -105,9 +105,14 @@ def _num(n: Num) -> str:
     return s(n.text + unit)
 
 
-def _inline(parts: Sequence[Inline]) -> str:
+def _inline(parts: Sequence[Inline], known: frozenset[str] = frozenset()) -> str:
+    """Inline content as markup; a link or reference to an anchor not in ``known`` (when given)
+    is written as its text, so a missing target never stops the typesetting."""
     out = []
     for p in parts:
+        if isinstance(p, (Link, Ref)) and known and p.anchor not in known:
+            out.append(s(p.text if isinstance(p, Link) else p.anchor))
+            continue
         if isinstance(p, Num):
             out.append(_num(p))
         elif isinstance(p, Strong):
@@ -167,9 +172,11 @@ def _figure(block: FigureBlock, key: str) -> str:
     )
 
 
-def _block(block: Any, figures: dict[str, str], svgs: Mapping[str, str]) -> str:
+def _block(
+    block: Any, figures: dict[str, str], svgs: Mapping[str, str], known: frozenset[str]
+) -> str:
     if isinstance(block, Paragraph):
-        text = _inline(block.parts)
+        text = _inline(block.parts, known)
         if block.kind:
             colour = _CALLOUT.get(block.kind, _CALLOUT["note"])
             return (
@@ -178,7 +185,7 @@ def _block(block: Any, figures: dict[str, str], svgs: Mapping[str, str]) -> str:
             )
         return text + "\n"
     if isinstance(block, Bullets):
-        items = ", ".join(f"[{_inline(i)}]" for i in block.items)
+        items = ", ".join(f"[{_inline(i, known)}]" for i in block.items)
         return f"#list({items})\n"
     if isinstance(block, Table):
         return _table(block)
@@ -230,10 +237,13 @@ def typst_source(
         f"#grid(columns: (auto, 1fr), column-gutter: 1.2em, row-gutter: 0.5em, {grid})\n"
         "#v(0.8em)\n#outline(title: [Contents], depth: 1, indent: auto)\n"
     )
+    from spiralcap.report.document import numbering
+
+    known = frozenset(numbering(sections)) | {sec.id for sec in sections}
     for sec in sections:
         out.append(f"\n= {s(sec.title)} <{_label(sec.id)}>\n")
         for block in sec.blocks:
-            out.append(_block(block, figures, svgs))
+            out.append(_block(block, figures, svgs, known))
     return "\n".join(out), figures
 
 
