@@ -228,7 +228,7 @@ def render_html(
     data : Mapping
         JSON-ready numbers embedded in ``<script type="application/json" id="spiralcap-data">``
         (NaN and infinities must already be converted; see
-        :func:`spiralcap.commands._common._jsonable`).
+        :func:`spiralcap.presentation.jsonable`).
     footer : str
         Plain text for the page foot.
     figures : mapping id -> SVG text, optional
