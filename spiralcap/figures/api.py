@@ -304,7 +304,10 @@ def field_maps(
         ticks=(-20, -5, -1, 0, 1, 5, 20),
         spacing="uniform",
     )
-    proxies = [
+    from matplotlib.patches import Patch
+
+    proxies: list[Any] = [
+        Patch(facecolor="white", edgecolor="0.35", hatch="..", label="weaker than centre"),
         Line2D([], [], color="black", linestyle="-", linewidth=2.0),
         Line2D([], [], color="black", linestyle="--", linewidth=2.0),
         Line2D([], [], color="#E69F00", linestyle=":", linewidth=2.0),
@@ -312,9 +315,15 @@ def field_maps(
     ]
     fig.legend(
         proxies,
-        ["±1 % contour", "±5 % contour", "±1 % and ±5 % spheres", "workspace"],
+        [
+            "|B| weaker than at the centre by > 1 %",
+            "±1 % contour",
+            "±5 % contour",
+            "±1 % and ±5 % spheres",
+            "workspace",
+        ],
         loc="outside lower center",
-        ncols=2,
+        ncols=3,
         fontsize=8,
     )
     return Plot(fig, axs[0], tuple(drawn))

@@ -109,6 +109,21 @@ def plot_field_deviation_map(
     levels = list(DEVIATION_LEVELS_PERCENT)
     norm = BoundaryNorm(levels, ncolors=256, extend="both")
     filled = ax.contourf(u, v, signed, levels=levels, cmap="RdBu_r", norm=norm, extend="both")
+    # the sign in greyscale print: where the field is weaker than the centre by more than the
+    # narrowest tolerance, a light dot hatch (a diverging map alone reads the same both ways)
+    weak = -100.0 * min(tolerances, default=0.01)
+    if np.nanmin(signed) < weak:
+        hatched = ax.contourf(
+            u,
+            v,
+            signed,
+            levels=[float(np.nanmin(signed)) - 1.0, weak],
+            colors="none",
+            hatches=[".."],
+        )
+        for coll in getattr(hatched, "collections", [hatched]):
+            coll.set_edgecolor("0.35")
+            coll.set_linewidth(0.0)
     contours = {}
     for tol in tolerances:
         ls, lw = _TOLERANCE_STYLES.get(tol, (":", 1.6))

@@ -174,7 +174,8 @@ def build(ctx: Context) -> Section:
     blocks.append(
         FigureBlock(
             "fig-field-maps",
-            "Signed deviation of |B| from its centre value (red: stronger, blue: weaker) on planes "
+            "Signed deviation of |B| from its centre value (red: stronger, blue: weaker, dotted "
+            "where weaker by more than 1 %, so the sign reads in greyscale) on planes "
             "through the coil centre (x–z plane for "
             "the x and z pairs, y–z plane for the y pair), each pair driven alone (a static field "
             "along its axis), from coils.uniformity. Solid contour: ±1 %; dashed: ±5 %; dotted "
