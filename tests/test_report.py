@@ -145,6 +145,8 @@ def test_html_is_self_contained(report: dict[str, Any], parsed: _Collector) -> N
                 )
     images = [a["src"] for t, a in parsed.tags if t == "img"]
     assert len(images) >= MIN_FIGURES, f"at least {MIN_FIGURES} figures, found {len(images)}"
+    ids = {a.get("id") for t, a in parsed.tags if t == "figure"}
+    assert {"fig-geometry", "fig-margin-map"} <= ids, "the geometry view and the margin map"
     import xml.etree.ElementTree as ET
 
     for src in images:

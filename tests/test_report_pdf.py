@@ -57,3 +57,20 @@ def test_text_with_markup_characters_is_typeset_literally(tmp_path: Path) -> Non
     assert '#import "evil.typ"' in text, "the text shows as written, not imported"
     assert "2.639 mN·m" in text and "Table 1" in text
     assert "missing-anchor" in text, "a reference to a missing anchor is written as text"
+
+
+def test_front_matter_keys_reach_the_title_page() -> None:
+    from spiralcap.design import load_design
+    from spiralcap.errors import InputError
+    from spiralcap.report.builder import TITLE, front_matter
+
+    d = load_design(None, ["report.author=A. Engineer", "report.revision='C'"])
+    front = front_matter(d, "0" * 64, "today", "1")
+    assert (front.title, front.author, front.revision, front.project) == (
+        TITLE,
+        "A. Engineer",
+        "C",
+        "",
+    )
+    with pytest.raises(InputError, match=r"report\.revision"):
+        load_design(None, ["report.revision=3"])  # a number is not a line of text
