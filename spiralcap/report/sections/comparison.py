@@ -7,6 +7,7 @@ from typing import Any
 from spiralcap.report.document import Cell, Paragraph, Section, Strong, Table
 from spiralcap.report.numbers import Num
 from spiralcap.report.sections._util import Context
+from spiralcap.report.sections.inputs import show_value
 
 
 def _rows(rows: Any) -> list[list[Cell]]:
@@ -37,7 +38,7 @@ def build(ctx: Context) -> Section | None:
     a, b = c.labels
     keys = Table(
         ["design key", a, b],
-        [[k.key, *[str(v) for v in k.values]] for k in c.changed_keys] or [["none", "", ""]],
+        [[k.key, *[show_value(v) for v in k.values]] for k in c.changed_keys] or [["none", "", ""]],
         caption=f"Design keys that differ between {a} and {b}",
         wrap=0,
         id="compare-keys",
