@@ -183,3 +183,25 @@ def test_progress_shows_stage_rate_and_time_left_only_when_asked() -> None:
     assert "optimize" in text, "the stage name shown"
     with progress_bar("x", enabled=False) as update:
         assert update is None, "nothing drawn off a terminal"
+
+
+def test_report_comparison_section_renders_in_html_and_pdf() -> None:
+    from types import SimpleNamespace
+
+    from spiralcap.compare import compare_designs
+    from spiralcap.design import load_design
+    from spiralcap.report.document import FrontMatter
+    from spiralcap.report.html import render_html
+    from spiralcap.report.pdf import render_pdf
+    from spiralcap.report.sections import Context, comparison
+
+    a, b = load_design(), load_design(None, ["limits.power_W=800"])
+    c = compare_designs([a, b], ("this design", "compared design"))
+    section = comparison.build(Context(SimpleNamespace(comparison=c), {}))
+    assert section is not None
+    front = FrontMatter("t", "", "", "", "today", "built-in", "0" * 64, "0")
+    page = render_html(front, [section], {}, figures={})
+    assert "limits.power_W" in page and "▸ torque margin" in page, "changed rows marked"
+    pdf, pages = render_pdf(front, [section], "", {})
+    assert pdf.startswith(b"%PDF-") and pages >= 1
+    assert comparison.build(Context(SimpleNamespace(comparison=None), {})) is None
