@@ -26,6 +26,7 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "sweep": ("sweep", "evaluate or re-optimise across a grid of design keys"),
     "uncertainty": ("uncertainty", "step-out probability and margin spread over uncertain tissue"),
     "report": ("report", "write the engineering report (self-contained HTML, optional PDF)"),
+    "compare": ("compare", "two or more designs side by side: changed keys, margins, limits"),
 }
 
 

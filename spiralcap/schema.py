@@ -396,8 +396,27 @@ KEYS.update(
     }
 )
 
+
 # --- report front matter (issue 12) ---
-KEYS.update({})
+def _text(help_: str) -> Key:
+    """An optional line of text (shown on the report's title page), at most 200 characters."""
+    return Key(
+        str,
+        None,
+        "a line of text, at most 200 characters",
+        lambda v: isinstance(v, str) and len(v) <= 200 and "\n" not in v,
+        help_,
+    )
+
+
+KEYS.update(
+    {
+        "report.title": _text("title of the report (default: spiralcap engineering report)"),
+        "report.project": _text("project the design belongs to, shown on the title page"),
+        "report.author": _text("author of the report, shown on the title page"),
+        "report.revision": _text("revision of the design or report, e.g. 'B' or '2026-03'"),
+    }
+)
 
 
 def validate_value(key: str, value: Any) -> Any:

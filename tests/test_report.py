@@ -25,9 +25,9 @@ import pytest
 from spiralcap.cli import main
 from spiralcap.report.numbers import fmt, lookup
 
-PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
-MIN_FIGURES = 5
+MIN_FIGURES = 10
 MIN_PDF_PAGES = 8
+MAX_PDF_PAGES = 16
 
 
 def _cli_json(argv: list[str]) -> dict[str, Any]:
@@ -35,7 +35,9 @@ def _cli_json(argv: list[str]) -> dict[str, Any]:
     with contextlib.redirect_stdout(buf):
         status = main(argv)
     assert status == 0, f"spiralcap {' '.join(argv)} exited {status}"
-    return json.loads(buf.getvalue())
+    out = json.loads(buf.getvalue())
+    assert out.pop("spiralcap_version"), "every --json output names the spiralcap version"
+    return out
 
 
 @pytest.fixture(scope="module")
@@ -138,16 +140,20 @@ def test_html_is_self_contained(report: dict[str, Any], parsed: _Collector) -> N
             if name == "href":
                 assert value.startswith("#"), f"links stay inside the document: {value}"
             else:
-                assert value.startswith("data:image/png;base64,"), f"src must be data: {value}"
+                assert value.startswith("data:image/svg+xml;base64,"), (
+                    f"src must be an SVG data: URI: {value[:60]}"
+                )
     images = [a["src"] for t, a in parsed.tags if t == "img"]
     assert len(images) >= MIN_FIGURES, f"at least {MIN_FIGURES} figures, found {len(images)}"
+    ids = {a.get("id") for t, a in parsed.tags if t == "figure"}
+    assert {"fig-geometry", "fig-margin-map"} <= ids, "the geometry view and the margin map"
+    import xml.etree.ElementTree as ET
+
     for src in images:
         raw = base64.b64decode(src.split(",", 1)[1], validate=True)
-        assert raw.startswith(PNG_MAGIC), "every image decodes to a PNG"
-        from PIL import Image
-
-        with Image.open(io.BytesIO(raw)) as im:
-            im.verify()
+        root = ET.fromstring(raw)
+        assert root.tag.endswith("svg"), "every image decodes to an SVG document (vector)"
+        assert b"<image" not in raw, "no bitmap inside the SVG figures"
 
 
 def test_embedded_json_is_the_cli_json(report: dict[str, Any], cli: dict[str, Any]) -> None:
@@ -209,7 +215,7 @@ def test_sections_and_summary(report: dict[str, Any]) -> None:
         assert re.search(f"<strong>{word}s?:</strong>", summary), f"summary line {word!r}"
     from spiralcap.schema import KEYS
 
-    inputs = text[text.index('id="inputs"') : text.index('id="coils"')]
+    inputs = text[text.index('id="all-inputs"') :]
     missing = [k for k in KEYS if f"<td>{k}</td>" not in inputs]
     assert missing == [], "every design key is in the inputs table"
     for cite in (
@@ -281,6 +287,56 @@ def test_chromium_renders_a_non_blank_page(report: dict[str, Any], tmp_path: Pat
     assert colours >= 8, f"text, rules, callouts and figure colours: {colours} colour bins"
 
 
+_MEASURE = """<script>
+(function () {
+  const width = document.documentElement.clientWidth;
+  const out = [];
+  for (const el of document.querySelectorAll("figure img, table, pre")) {
+    const r = el.getBoundingClientRect();
+    const id = (el.closest("figure, table") || el).id || el.tagName;
+    out.push(id + " " + Math.round(r.left) + " " + Math.round(r.right) + " " + width);
+  }
+  const pre = document.createElement("pre");
+  pre.id = "overflow-result";
+  pre.textContent = out.join("\\n");
+  document.body.appendChild(pre);
+})();
+</script>"""
+
+
+@pytest.mark.parametrize("window", [1280, 820])
+def test_chromium_no_figure_overflows_the_page(
+    report: dict[str, Any], tmp_path: Path, window: int
+) -> None:
+    """Lay the page out in Chromium and measure each figure's box against the page width."""
+    browser = _chromium()
+    if browser is None:
+        pytest.skip("no headless Chromium on PATH (Debian: apt-get install chromium)")
+    page = tmp_path / "measured.html"  # a copy with a measuring script; the report has none
+    page.write_text(report["html"].replace("</body>", _MEASURE + "</body>"), encoding="utf-8")
+    cmd = [
+        browser,
+        "--headless",
+        "--no-sandbox",
+        "--disable-gpu",
+        "--no-first-run",
+        "--disable-background-networking",
+        "--disable-component-update",
+        f"--user-data-dir={tmp_path / 'profile'}",
+        f"--window-size={window},1600",
+        "--dump-dom",
+        page.resolve().as_uri(),
+    ]
+    proc = subprocess.run(cmd, capture_output=True, text=True, timeout=180, check=False)
+    m = re.search(r'<pre id="overflow-result">(.*?)</pre>', proc.stdout, re.S)
+    assert m, f"the measuring script ran: {proc.stderr[-1000:]}"
+    rows = [ln.split() for ln in html.unescape(m.group(1)).strip().splitlines()]
+    figures = [r for r in rows if r[0].startswith("fig-")]
+    assert len(figures) >= MIN_FIGURES, f"every figure measured: {len(figures)}"
+    over = [r for r in rows if int(r[1]) < 0 or int(r[2]) > int(r[3])]
+    assert over == [], f"boxes past the page width at {window} px (id left right width): {over}"
+
+
 def _pdf_pages(path: Path) -> int:
     if shutil.which("pdfinfo"):
         out = subprocess.run(
@@ -294,5 +350,53 @@ def test_pdf_has_several_pages(report: dict[str, Any]) -> None:
     pdf = report["pdf_path"].read_bytes()
     assert pdf.startswith(b"%PDF-"), "a PDF file"
     pages = _pdf_pages(report["pdf_path"])
-    assert pages >= MIN_PDF_PAGES, f"text pages and one page per figure: {pages} pages"
+    assert MIN_PDF_PAGES <= pages <= MAX_PDF_PAGES, f"a document of at most 16 pages: {pages}"
     assert f"({pages} pages)" in report["stdout"], "the command reports the page count"
+
+
+def _poppler(tool: str) -> str:
+    path = shutil.which(tool)
+    if path is None:
+        pytest.skip(f"poppler's {tool} not on PATH (Debian: apt-get install poppler-utils)")
+    return path
+
+
+def test_pdf_is_a_typeset_document(report: dict[str, Any]) -> None:
+    """Proportional fonts, a contents list, the evaluated margin in the text, vector figures."""
+    pdf = str(report["pdf_path"])
+    fonts = subprocess.run(
+        [_poppler("pdffonts"), pdf], capture_output=True, text=True, check=True
+    ).stdout
+    assert "Libertinus" in fonts, f"a proportional serif body font: {fonts}"
+    text = subprocess.run(
+        [_poppler("pdftotext"), "-layout", pdf, "-"], capture_output=True, text=True, check=True
+    ).stdout
+    assert "Contents" in text, "a contents list"
+    margin = fmt(report["data"]["optimize"]["margin_Nm"] * 1e3)
+    assert f"{margin} mN·m" in text, f"the optimum margin {margin} mN·m is in the text"
+    assert re.search(r"Figure \d+", text) and "Table 1" in text, "numbered captions"
+    images = subprocess.run(
+        [_poppler("pdfimages"), "-list", pdf], capture_output=True, text=True, check=True
+    ).stdout.splitlines()[2:]
+    assert len(images) <= 2, f"figures are vector graphics (at most two bitmaps): {images}"
+
+
+def test_pdf_pages_have_nothing_past_the_margins(report: dict[str, Any], tmp_path: Path) -> None:
+    """Render every page; the outer 1 cm strip of each must be blank (nothing clipped)."""
+    import numpy as np
+    from PIL import Image
+
+    subprocess.run(
+        [_poppler("pdftoppm"), "-r", "30", "-gray", str(report["pdf_path"]), str(tmp_path / "p")],
+        check=True,
+        timeout=120,
+    )
+    pages = sorted(tmp_path.glob("p-*.pgm"))
+    assert pages, "pages rendered"
+    strip = round(30 / 2.54 * 0.8)  # 0.8 cm at 30 dpi
+    for page in pages:
+        with Image.open(page) as im:
+            px = np.asarray(im)
+        edges = [px[:, :strip], px[:, -strip:]]
+        dark = max(float(np.mean(e < 200)) for e in edges)
+        assert dark == 0.0, f"{page.name}: ink in the side margins ({dark:.2%} of the strip)"

@@ -111,8 +111,11 @@ def test_infeasible_sections_say_so_plainly() -> None:
     assert payload["optimize"]["status"] == "infeasible", "50 mm/s is out of reach"
     ctx = Context(SimpleNamespace(optimize_json=payload["optimize"]), payload)
     sections = [summary.build(ctx), optimum.build(ctx)]
-    page = render_html("t", "s", sections, payload)
+    from spiralcap.report.document import FrontMatter
+
+    front = FrontMatter("t", "", "", "", "today", "built-in", "0" * 64, "0")
+    page = render_html(front, sections, payload)
     assert "NO FEASIBLE DESIGN" in page and "Infeasible" in page
     assert 'id="shortfalls"' in page and "requirements.min_speed_mm_s" in page
     assert 'data-key="optimize.shortfalls.0.best"' in page
-    assert "data:image/png;base64," in page, "the utilisation figure still renders"
+    assert "data:image/svg+xml;base64," in page, "the utilisation figure still renders"

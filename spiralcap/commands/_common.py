@@ -57,8 +57,10 @@ def _jsonable(value: Any) -> Any:
 
 
 def print_json(payload: Mapping[str, Any]) -> None:
-    """Print a mapping as JSON (numpy values converted, NaN as null)."""
-    json.dump(_jsonable(payload), sys.stdout, indent=2)
+    """Print a mapping as JSON (numpy values converted, NaN as null), with the spiralcap version."""
+    from spiralcap import __version__
+
+    json.dump(_jsonable({"spiralcap_version": __version__, **payload}), sys.stdout, indent=2)
     sys.stdout.write("\n")
 
 

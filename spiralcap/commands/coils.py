@@ -18,8 +18,11 @@ _TOLERANCES = (("1pct", 0.01), ("5pct", 0.05))
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    """DESIGN, --set and --json."""
+    """DESIGN, --set, --json and --plot."""
     add_design_arguments(parser)
+    from spiralcap.commands._plot import add_geometry_plot_argument
+
+    add_geometry_plot_argument(parser)
 
 
 def _uniform(system: Any) -> dict[str, Any]:
@@ -192,10 +195,17 @@ def _text(p: dict[str, Any]) -> str:
 
 
 def run(args: argparse.Namespace) -> int:
-    """Print the sizing table (or JSON)."""
-    payload = sizing_payload(design_from_args(args))
+    """Print the sizing table (or JSON); with --plot also draw the geometry view."""
+    from spiralcap.commands._plot import check_figure_path, write_geometry
+
+    if args.plot:
+        check_figure_path("--plot", args.plot)
+    design = design_from_args(args)
+    payload = sizing_payload(design)
     if args.json:
         print_json(payload)
     else:
         print(_text(payload))
+    if args.plot:
+        write_geometry(args.plot, design, quiet=args.json)
     return 0

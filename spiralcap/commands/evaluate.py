@@ -14,8 +14,21 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def format_evaluation(ev) -> str:
     """Readable summary of an :class:`optimize.Evaluation`."""
     from spiralcap.commands._common import format_table
+    from spiralcap.presentation import shown
 
     mnm = 1e3
+
+    def check_row(c) -> list:
+        unit, factor = shown(c.unit)
+        return [
+            c.name,
+            c.key,
+            c.value * factor,
+            f"{c.sense} {c.allowed * factor:.4g}",
+            unit,
+            "yes" if c.ok else "NO",
+        ]
+
     lines = [
         f"operating point     helical angle {ev.helical_angle_deg:.3g} deg, "
         f"{ev.frequency_hz:.4g} Hz",
@@ -32,17 +45,7 @@ def format_evaluation(ev) -> str:
         "",
         format_table(
             ["check", "key", "value", "allowed", "unit", "ok"],
-            [
-                [
-                    c.name,
-                    c.key,
-                    c.value,
-                    f"{c.sense} {c.allowed:.4g}",
-                    c.unit,
-                    "yes" if c.ok else "NO",
-                ]
-                for c in ev.checks
-            ],
+            [check_row(c) for c in ev.checks],
         ),
         "",
         "feasible: "

@@ -4,7 +4,7 @@ Runs the evaluation and the optimisation of the design (the same functions, and 
 dicts, as ``spiralcap evaluate --json`` and ``spiralcap optimize --json``), the coil sizing of
 ``spiralcap coils --json``, a few sweeps for the trade-off figures, and writes one
 self-contained HTML file (figures, styles and the numbers as JSON embedded; nothing fetched)
-and, on request, a PDF made with matplotlib alone.
+and, on request, a PDF typeset by Typst (the ``typst`` pip package) from the same document.
 
 Exit status: 0 when the report is written and the optimiser found a feasible design; 3 (as
 ``spiralcap optimize``) when the report is written but no design meets every requirement inside
@@ -25,6 +25,15 @@ from spiralcap.errors import InputError
 
 #: Exit status when the report is written but the design is infeasible (as ``optimize``).
 EXIT_INFEASIBLE = 3
+#: The analysis stages the progress bar names (as :func:`spiralcap.report.data.collect` says).
+REPORT_STAGES = (
+    "evaluate",
+    "optimize",
+    "coil sizing",
+    "margin curves",
+    "power sweep",
+    "field maps",
+)
 _HTML_SUFFIXES = (".html", ".htm")
 
 
@@ -41,7 +50,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--pdf",
         metavar="REPORT.pdf",
-        help="also write the report as PDF (matplotlib only; no external tools)",
+        help="also write the report as a typeset PDF (Typst, from the pip package)",
     )
     parser.add_argument(
         "--workers",
@@ -49,6 +58,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         default=1,
         metavar="N",
         help="worker processes for the power-budget re-optimisation sweep (default 1)",
+    )
+    parser.add_argument(
+        "--compare",
+        metavar="DESIGN2",
+        help="a second design file to set beside this one (a comparison section)",
     )
     parser.add_argument("--quiet", action="store_true", help="print nothing on success")
     parser.epilog = (
@@ -94,13 +108,27 @@ def run(args: argparse.Namespace) -> int:
         raise InputError("--workers", args.workers, "a whole number >= 1")
     check_output_paths(args.output, args.pdf, getattr(args, "design", None))
     design = design_from_args(args)
+    compare = None
+    if args.compare is not None:
+        from spiralcap.design import load_design
+
+        compare = load_design(None if args.compare == "builtin" else args.compare)
 
     from spiralcap.design import write_text_atomic
+    from spiralcap.progress import stages
     from spiralcap.report import build_report
 
-    report = build_report(
-        design, pdf=args.pdf is not None, workers=args.workers, command=_command_line(args)
-    )
+    names = REPORT_STAGES + (("comparison",) if compare is not None else ()) + ("figures", "HTML")
+    names += ("PDF",) if args.pdf is not None else ()
+    with stages(names, description="report", enabled=None if not args.quiet else False) as say:
+        report = build_report(
+            design,
+            pdf=args.pdf is not None,
+            workers=args.workers,
+            command=_command_line(args),
+            progress=say,
+            compare=compare,
+        )
     written = [write_text_atomic(args.output, report.html)]
     if args.pdf is not None:
         written.append(write_text_atomic(args.pdf, report.pdf))
@@ -144,4 +172,6 @@ def _command_line(args: argparse.Namespace) -> str:
     parts += ["-o", str(args.output)]
     if args.pdf:
         parts += ["--pdf", str(args.pdf)]
+    if args.compare:
+        parts += ["--compare", str(args.compare)]
     return shlex.join(parts)

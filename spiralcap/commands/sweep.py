@@ -5,7 +5,6 @@ from __future__ import annotations
 import argparse
 import csv
 import io
-import sys
 
 from spiralcap.commands._common import add_design_arguments, design_from_args, print_json
 from spiralcap.errors import InputError
@@ -28,16 +27,37 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     from spiralcap.commands.uncertainty import add_execution_arguments
 
     add_execution_arguments(parser)  # --workers N | --dask ADDRESS (for --optimize sweeps)
-    parser.add_argument("--csv", metavar="FILE", help="write the table as CSV to FILE")
+    parser.add_argument(
+        "--csv", metavar="FILE", help="write the table as CSV to FILE (SI columns, as --json)"
+    )
+    parser.add_argument(
+        "--plot",
+        metavar="FIGURE.png",
+        help="also draw the sweep (.png, .svg or .pdf): one key -> the outputs against it; "
+        "two keys -> a margin map with the infeasible region and the step-out boundary",
+    )
 
 
-def _progress(done: int, total: int) -> None:
-    width = 30
-    filled = int(width * done / total)
-    sys.stderr.write(f"\r[{'#' * filled}{'.' * (width - filled)}] {done}/{total}")
-    if done == total:
-        sys.stderr.write("\n")
-    sys.stderr.flush()
+#: SI output column -> (column shown in the text table, factor): the report's units.
+_SHOWN = {
+    "margin_Nm": ("margin_mNm", 1e3),
+    "field_amplitude_T": ("field_mT", 1e3),
+    "speed_m_s": ("speed_mm_s", 1e3),
+}
+
+
+def _shown_rows(header: list[str], rows: list[list]) -> tuple[list[str], list[list]]:
+    """The table in engineering units (mN·m, mT, mm/s); names say the unit."""
+    cols = [(_SHOWN.get(h, (h, 1.0))) for h in header]
+    out = []
+    for r in rows:
+        out.append(
+            [
+                v * f if f != 1.0 and isinstance(v, (int, float)) and not isinstance(v, bool) else v
+                for v, (_, f) in zip(r, cols, strict=True)
+            ]
+        )
+    return [c for c, _ in cols], out
 
 
 def _rows(result) -> tuple[list[str], list[list]]:
@@ -60,16 +80,31 @@ def run(args: argparse.Namespace) -> int:
     axes = [parse_over(o) for o in args.over]
     if len({a.key for a in axes}) != len(axes):
         raise InputError("--over", args.over, "each key at most once")
-    progress = _progress if sys.stderr.isatty() else None
-    result = sweep(
-        design,
-        axes,
-        optimize=args.optimize,
-        workers=args.workers,
-        progress=progress,
-        dask=args.dask,
-    )
+    if args.plot:
+        from spiralcap.commands._plot import check_figure_path
+
+        check_figure_path("--plot", args.plot)
+        if len(axes) > 2:
+            raise InputError("--plot", args.plot, "a sweep over one or two keys (--over)")
+    from spiralcap.progress import progress_bar
+
+    stage = "re-optimising" if args.optimize else "evaluating"
+    with progress_bar(stage, unit="point") as progress:
+        result = sweep(
+            design,
+            axes,
+            optimize=args.optimize,
+            workers=args.workers,
+            progress=progress,
+            dask=args.dask,
+        )
     header, rows = _rows(result)
+    if args.plot:
+        from spiralcap.commands._plot import write_figure
+        from spiralcap.figures.sweep import draw_sweep
+
+        size = (6.4, 4.6) if len(axes) == 2 else (6.4, 7.0)
+        write_figure(args.plot, lambda fig: draw_sweep(fig, result), size)
     if args.csv:
         buf = io.StringIO()
         writer = csv.writer(buf)
@@ -88,10 +123,13 @@ def run(args: argparse.Namespace) -> int:
     elif not args.csv:
         from spiralcap.commands._common import format_table
 
-        shown = rows if len(rows) <= 200 else rows[:200]
-        print(format_table(header, shown))
+        shown_header, shown_rows = _shown_rows(header, rows)
+        shown = shown_rows if len(shown_rows) <= 200 else shown_rows[:200]
+        print(format_table(shown_header, shown))
         if len(rows) > 200:
             print(f"... {len(rows) - 200} more rows (use --csv FILE or --json)")
     else:
         print(f"wrote {len(rows)} rows to {args.csv} ({result.mode})")
+    if args.plot and not args.json:
+        print(f"wrote {args.plot}")
     return 0

@@ -4,4 +4,33 @@ Every plotting function takes ``ax=`` (a matplotlib Axes), draws on it, labels t
 units, and returns what it drew, so the CLI and the report compose them freely. Importing this
 package does not import matplotlib; the modules do, and the caller chooses the backend (the CLI
 uses Agg).
+
+The functions of :mod:`spiralcap.figures.api` -- one per report figure, taking the model and
+result objects and an optional ``ax=`` -- are available here (imported on first use):
+``spiralcap.figures.margin_vs_frequency(model, evaluation, result)`` and so on.
 """
+
+from typing import Any
+
+_API = (
+    "Plot",
+    "field_maps",
+    "geometry",
+    "limit_utilisation",
+    "margin_map",
+    "margin_vs_angle",
+    "margin_vs_frequency",
+    "margin_vs_power",
+    "tissue_torque",
+    "torque_budget",
+    "uniformity_profile",
+)
+__all__ = list(_API)
+
+
+def __getattr__(name: str) -> Any:
+    if name in _API:
+        from spiralcap.figures import api
+
+        return getattr(api, name)
+    raise AttributeError(f"module 'spiralcap.figures' has no attribute {name!r}")

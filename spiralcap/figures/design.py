@@ -1,7 +1,7 @@
 """Design figures: margin against frequency, helical angle and power budget; limits; torques.
 
 Every function is ``plot_xxx(ax, <arrays or result objects>, ...)``: it draws on ``ax``, labels
-the axes with units (mN·m, Hz, deg, W) and returns a dict of what it drew. Inputs are in SI as
+the axes with units (mN·m, Hz, deg, W) and returns a NamedTuple of what it drew. Inputs are in SI as
 the result objects hold them (N·m, Hz, W); the conversion to engineering units happens here.
 Series differ by line style and marker as well as colour, so the figures read in grey print.
 """
@@ -9,24 +9,111 @@ Series differ by line style and marker as well as colour, so the figures read in
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 from matplotlib.axes import Axes
-from matplotlib.ticker import NullFormatter
+from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
 
 from spiralcap.figures.style import COLOURS, HATCHES, series_style
 
 __all__ = [
+    "BudgetDrawn",
+    "MarginAngleDrawn",
+    "MarginFrequencyDrawn",
+    "PowerDrawn",
+    "UtilisationDrawn",
     "plot_limit_utilisation",
     "plot_margin_vs_angle",
     "plot_margin_vs_frequency",
     "plot_margin_vs_power",
     "plot_torque_budget",
+    "shortfall_spans",
 ]
 
 _MNM = 1e3  # N·m -> mN·m
 _MARGIN_LABEL = "worst-case torque margin (mN·m)"
+
+
+class MarginFrequencyDrawn(NamedTuple):
+    """What :func:`plot_margin_vs_frequency` drew (None where not drawn)."""
+
+    line: Any
+    infeasible: Any
+    zero: Any
+    step_out: Any
+    operating: Any
+    below_zero: Any
+
+
+class MarginAngleDrawn(NamedTuple):
+    """What :func:`plot_margin_vs_angle` drew: the curve and one shaded span per shortfall."""
+
+    line: Any
+    zero: Any
+    optimum: Any
+    design: Any
+    shortfalls: tuple[Any, ...]
+
+
+class PowerDrawn(NamedTuple):
+    """What :func:`plot_margin_vs_power` drew."""
+
+    front: Any
+    infeasible: Any
+    design: Any
+    labels: list[Any]
+
+
+class UtilisationDrawn(NamedTuple):
+    """What :func:`plot_limit_utilisation` drew; ``percent`` holds the utilisations, %."""
+
+    bars: Any
+    limit: Any
+    labels: list[Any]
+    percent: tuple[float, ...]
+
+
+class BudgetDrawn(NamedTuple):
+    """What :func:`plot_torque_budget` drew."""
+
+    magnetic: Any
+    resistive: Any
+    thrust: Any
+    margins: list[Any]
+
+
+def shortfall_spans(x: Any, slack: Any) -> list[tuple[float, float]]:
+    """Intervals of ``x`` where ``slack < 0``, edges at the linearly interpolated zero crossings.
+
+    Parameters
+    ----------
+    x : array_like, shape (n,)
+        Increasing abscissa.
+    slack : array_like, shape (n,)
+        Requirement slack (achieved - needed); negative where the requirement fails.
+    """
+    xs = np.asarray(x, dtype=float)
+    sl = np.asarray(slack, dtype=float)
+    bad = sl < 0
+    spans = []
+    i = 0
+    while i < len(xs):
+        if not bad[i]:
+            i += 1
+            continue
+        j = i
+        while j + 1 < len(xs) and bad[j + 1]:
+            j += 1
+        lo = xs[0] if i == 0 else _crossing(xs[i - 1], xs[i], sl[i - 1], sl[i])
+        hi = xs[-1] if j == len(xs) - 1 else _crossing(xs[j], xs[j + 1], sl[j], sl[j + 1])
+        spans.append((float(lo), float(hi)))
+        i = j + 1
+    return spans
+
+
+def _crossing(x0: float, x1: float, y0: float, y1: float) -> float:
+    return x0 if y1 == y0 else x0 + (x1 - x0) * (0.0 - y0) / (y1 - y0)
 
 
 def _get(obj: Any, name: str) -> Any:
@@ -34,28 +121,6 @@ def _get(obj: Any, name: str) -> Any:
     if isinstance(obj, Mapping):
         return obj[name]
     return getattr(obj, name)
-
-
-def _shade_infeasible(ax: Axes, x: np.ndarray, feasible: Any, label: str) -> Any:
-    """Hatch the x ranges where a requirement fails (readable without colour)."""
-    if feasible is None:
-        return None
-    bad = ~np.asarray(feasible, dtype=bool)
-    if not bad.any():
-        return None
-    return ax.fill_between(
-        x,
-        0,
-        1,
-        where=bad,
-        transform=ax.get_xaxis_transform(),
-        facecolor="none",
-        edgecolor="0.6",
-        hatch="//",
-        linewidth=0.0,
-        label=label,
-        step="mid",
-    )
 
 
 def plot_margin_vs_frequency(
@@ -69,7 +134,7 @@ def plot_margin_vs_frequency(
     label: str = "margin",
     style_index: int = 0,
     shade: bool = True,
-) -> dict[str, Any]:
+) -> MarginFrequencyDrawn:
     """Worst-case torque margin against rotation frequency at one helical angle.
 
     Parameters
@@ -82,7 +147,9 @@ def plot_margin_vs_frequency(
         Margin (synchronous magnetic torque minus required torque) at each frequency, N·m, e.g.
         ``optimize.margin_grid(model, alpha, f)["margin_Nm"]``.
     feasible : array_like of bool, shape (n,), optional
-        Whether every requirement holds; the frequencies where one fails are hatched.
+        Whether every requirement holds at this curve's own helical angle; the part of this
+        curve where one fails is drawn thin and dotted (each curve carries its own feasibility,
+        so an operating point is never drawn inside another curve's infeasible range).
     step_out_frequency_hz : float, optional
         Where the margin reaches zero (``Evaluation.step_out_frequency_hz``), Hz; marked with a
         vertical line and its value.
@@ -93,56 +160,82 @@ def plot_margin_vs_frequency(
     style_index : int
         Series number for colour, line style and marker (several calls on one axes).
     shade : bool
-        Hatch the infeasible range (only the first of several curves should).
+        Hatch the region below zero margin (the capsule steps out there, whatever the curve);
+        only the first of several curves should.
 
     Returns
     -------
-    dict
-        ``line`` (Line2D), ``zero`` (Line2D), ``step_out`` (Line2D or None), ``operating``
-        (Line2D or None), ``infeasible`` (PolyCollection or None).
+    MarginFrequencyDrawn
     """
     f = np.asarray(frequency_hz, dtype=float)
     m = np.asarray(margin_Nm, dtype=float) * _MNM
     style = series_style(style_index, markevery=max(1, len(f) // 10))
-    (line,) = ax.plot(f, m, label=label, **style)
+    ok = np.ones(f.shape, bool) if feasible is None else np.asarray(feasible, dtype=bool)
+    # feasible part solid with markers; the rest (extended by one point so the two parts
+    # join) thin and dotted in the same colour
+    solid = np.where(ok, m, np.nan)
+    (line,) = ax.plot(f, solid, label=label, **style)
+    bad_line = None
+    if (~ok).any():
+        grown = ~ok | np.roll(~ok, 1) | np.roll(~ok, -1)
+        bad_line = ax.plot(
+            f,
+            np.where(grown, m, np.nan),
+            color=style["color"],
+            linestyle=(0, (1, 1.2)),
+            linewidth=1.3,
+            label=f"{label}: a requirement not met",
+        )[0]
     zero = ax.axhline(0.0, color="black", linewidth=1.0)
-    out: dict[str, Any] = {
-        "line": line,
-        "zero": zero,
-        "step_out": None,
-        "operating": None,
-        "infeasible": None,
-    }
+    below = None
     if shade:
-        out["infeasible"] = _shade_infeasible(ax, f, feasible, "a requirement not met")
+        below = ax.axhspan(
+            -1e9,
+            0.0,
+            facecolor="none",
+            edgecolor="0.7",
+            hatch="//",
+            linewidth=0.0,
+            label="margin < 0: the capsule steps out",
+            zorder=0,
+        )
+    step_out = operating = None
     if (
         step_out_frequency_hz is not None
         and np.isfinite(step_out_frequency_hz)
         and step_out_frequency_hz > 0
     ):
-        out["step_out"] = ax.axvline(
+        step_out = ax.axvline(
             step_out_frequency_hz,
             color=style["color"],
-            linestyle=(0, (1, 1.5)),
-            linewidth=1.6,
-            label=f"step-out, {step_out_frequency_hz:.4g} Hz",
+            linestyle=(0, (4, 2)),
+            linewidth=1.2,
+            label=f"step-out, {step_out_frequency_hz:.3g} Hz",
         )
     if operating_frequency_hz is not None:
         y = float(np.interp(operating_frequency_hz, f, m))
-        (out["operating"],) = ax.plot(
+        (operating,) = ax.plot(
             [operating_frequency_hz],
             [y],
             linestyle="none",
             marker="*",
-            markersize=13,
+            markersize=14,
             color=style["color"],
             markeredgecolor="black",
-            label=f"operating point, {operating_frequency_hz:.4g} Hz",
+            label=f"operating point, {operating_frequency_hz:.3g} Hz",
+            zorder=5,
         )
+    finite = m[np.isfinite(m)]
+    if finite.size:
+        top, bottom = float(finite.max()), float(finite.min())
+        span = max(top - min(bottom, 0.0), 1e-9)
+        lo = max(bottom, -0.6 * max(top, span * 0.3))
+        ax.set_ylim(min(lo, 0.0) - 0.05 * span, top + 0.12 * span)
+    ax.set_xlim(float(f.min()), float(f.max()))
     ax.set_xlabel("rotation frequency f (Hz)")
     ax.set_ylabel(_MARGIN_LABEL)
-    ax.legend(loc="best")
-    return out
+    ax.legend(loc="best", fontsize=7.5)
+    return MarginFrequencyDrawn(line, bad_line, zero, step_out, operating, below)
 
 
 def plot_margin_vs_angle(
@@ -150,13 +243,14 @@ def plot_margin_vs_angle(
     helical_angle_deg: Any,
     margin_Nm: Any,
     *,
-    feasible: Any = None,
+    shortfalls: Mapping[str, Any] | None = None,
     optimum_deg: float | None = None,
     optimum_margin_Nm: float | None = None,
     design_angle_deg: float | None = None,
     label: str = "margin",
     style_index: int = 0,
-) -> dict[str, Any]:
+    optimum_name: str = "optimum",
+) -> MarginAngleDrawn:
     """Worst-case torque margin against the spiral's helical angle at one frequency.
 
     Parameters
@@ -167,8 +261,11 @@ def plot_margin_vs_angle(
         Helical angles, deg.
     margin_Nm : array_like, shape (n,)
         Margin at each angle, N·m.
-    feasible : array_like of bool, optional
-        Whether every requirement (speed, spiral turns, margin) holds; failures are hatched.
+    shortfalls : mapping label -> array_like, optional
+        Slack of each requirement along the curve (achieved - needed, any unit; negative where
+        it fails), e.g. ``{"speed below the minimum": speed - v_min}``. Each failing range is
+        shaded with its own hatch and named in the legend; the edges are the interpolated
+        zero crossings, so an optimum on a binding requirement sits on an edge, not inside.
     optimum_deg, optimum_margin_Nm : float, optional
         The optimiser's helical angle (deg) and margin (N·m), marked with a star.
     design_angle_deg : float, optional
@@ -177,47 +274,60 @@ def plot_margin_vs_angle(
         Legend label of the curve.
     style_index : int
         Series number for colour, line style and marker.
+    optimum_name : str
+        What the star is called (``"closest design"`` when the optimisation is infeasible).
 
     Returns
     -------
-    dict
-        ``line``, ``zero``, ``optimum``, ``design``, ``infeasible`` (None where not drawn).
+    MarginAngleDrawn
     """
     a = np.asarray(helical_angle_deg, dtype=float)
     m = np.asarray(margin_Nm, dtype=float) * _MNM
     style = series_style(style_index, markevery=max(1, len(a) // 10))
     (line,) = ax.plot(a, m, label=label, **style)
-    out: dict[str, Any] = {
-        "line": line,
-        "zero": ax.axhline(0.0, color="black", linewidth=1.0),
-        "optimum": None,
-        "design": None,
-        "infeasible": None,
-    }
-    out["infeasible"] = _shade_infeasible(ax, a, feasible, "a requirement not met")
+    zero = ax.axhline(0.0, color="black", linewidth=1.0)
+    spans = []
+    for k, (name, slack) in enumerate((shortfalls or {}).items()):
+        hatch = ("\\\\", "//", "xx", "..")[k % 4]
+        for i, (lo, hi) in enumerate(shortfall_spans(a, slack)):
+            spans.append(
+                ax.axvspan(
+                    lo,
+                    hi,
+                    facecolor="none",
+                    edgecolor=("0.55", "0.7", "0.5", "0.6")[k % 4],
+                    hatch=hatch,
+                    linewidth=0.0,
+                    label=name if i == 0 else None,
+                    zorder=0,
+                )
+            )
+    design = optimum = None
     if design_angle_deg is not None:
-        out["design"] = ax.axvline(
+        design = ax.axvline(
             design_angle_deg,
             color="0.3",
             linestyle="--",
             linewidth=1.3,
-            label=f"design as entered, {design_angle_deg:.4g}°",
+            label=f"design as entered, {design_angle_deg:.3g}°",
         )
     if optimum_deg is not None and optimum_margin_Nm is not None:
-        (out["optimum"],) = ax.plot(
+        (optimum,) = ax.plot(
             [optimum_deg],
             [optimum_margin_Nm * _MNM],
             linestyle="none",
             marker="*",
-            markersize=14,
+            markersize=15,
             color=COLOURS[1],
             markeredgecolor="black",
-            label=f"optimum, {optimum_deg:.4g}°, {optimum_margin_Nm * _MNM:.4g} mN·m",
+            label=f"{optimum_name}, {optimum_deg:.3g}°, {optimum_margin_Nm * _MNM:.3g} mN·m",
+            zorder=5,
         )
+    ax.set_xlim(float(a.min()), float(a.max()))
     ax.set_xlabel("helical angle α (deg)")
     ax.set_ylabel(_MARGIN_LABEL)
-    ax.legend(loc="best")
-    return out
+    ax.legend(loc="lower center", fontsize=7.5)
+    return MarginAngleDrawn(line, zero, optimum, design, tuple(spans))
 
 
 def plot_margin_vs_power(
@@ -228,7 +338,7 @@ def plot_margin_vs_power(
     optimal: Any = None,
     design_power_W: float | None = None,
     binding: Sequence[str] | None = None,
-) -> dict[str, Any]:
+) -> PowerDrawn:
     """Best achievable margin against the copper-power budget (a Pareto front).
 
     Parameters
@@ -250,17 +360,16 @@ def plot_margin_vs_power(
 
     Returns
     -------
-    dict
-        ``front`` (Line2D), ``infeasible`` (Line2D or None), ``design`` (Line2D or None),
-        ``labels`` (list of Text).
+    PowerDrawn
     """
     p = np.asarray(power_W, dtype=float)
     m = np.asarray(margin_Nm, dtype=float) * _MNM
     ok = np.ones(p.shape, bool) if optimal is None else np.asarray(optimal, dtype=bool)
-    out: dict[str, Any] = {"infeasible": None, "design": None, "labels": []}
-    (out["front"],) = ax.plot(p[ok], m[ok], label="optimum at each power budget", **series_style(0))
+    infeasible = design = None
+    labels: list[Any] = []
+    (front,) = ax.plot(p[ok], m[ok], label="optimum at each power budget", **series_style(0))
     if (~ok).any():
-        (out["infeasible"],) = ax.plot(
+        (infeasible,) = ax.plot(
             p[~ok],
             np.nan_to_num(m[~ok]),
             linestyle="none",
@@ -271,7 +380,7 @@ def plot_margin_vs_power(
             label="no feasible design",
         )
     if design_power_W is not None:
-        out["design"] = ax.axvline(
+        design = ax.axvline(
             design_power_W,
             color="0.3",
             linestyle="--",
@@ -283,7 +392,7 @@ def plot_margin_vs_power(
         for x, y, text in zip(p, m, binding, strict=True):
             changed, previous = text != previous, text
             if text and changed and np.isfinite(y):
-                out["labels"].append(
+                labels.append(
                     ax.annotate(
                         text.replace(";", ", "),
                         (x, y),
@@ -294,18 +403,24 @@ def plot_margin_vs_power(
                     )
                 )
     ax.axhline(0.0, color="black", linewidth=1.0)
+    finite = m[np.isfinite(m)]
+    top = float(np.max(np.abs(finite))) if finite.size else 0.0
+    if top < 0.05:  # nothing feasible: every point near zero; a readable range, not round-off
+        ax.set_ylim(-0.5, 0.5)
+    ax.ticklabel_format(axis="y", useOffset=False, style="plain")
     ax.set_xscale("log")
-    ax.set_xticks(p, [f"{v:.4g}" for v in p])
+    ax.xaxis.set_major_locator(LogLocator(subs=(1.0, 2.0, 5.0)))
     ax.xaxis.set_minor_formatter(NullFormatter())
+    ax.xaxis.set_major_formatter(FuncFormatter(lambda v, _pos: f"{v:g}"))
     ax.set_xlabel("copper power budget, limits.power_W (W)")
     ax.set_ylabel("optimal " + _MARGIN_LABEL)
-    ax.legend(loc="best")
-    return out
+    ax.legend(loc="lower right")
+    return PowerDrawn(front, infeasible, design, labels)
 
 
 def plot_limit_utilisation(
     ax: Axes, checks: Sequence[Any], *, labels: Mapping[str, str] | None = None
-) -> dict[str, Any]:
+) -> UtilisationDrawn:
     """How close each limit and requirement is to binding, as a horizontal bar chart.
 
     Parameters
@@ -321,8 +436,8 @@ def plot_limit_utilisation(
 
     Returns
     -------
-    dict
-        ``bars`` (BarContainer), ``limit`` (Line2D at 100 %), ``labels`` (list of Text).
+    UtilisationDrawn
+        The axis ends just past the largest utilisation (at most 150 %, where bars are cut).
     """
     names, util, ok = [], [], []
     for c in checks:
@@ -335,6 +450,7 @@ def plot_limit_utilisation(
         ok.append(bool(_get(c, "ok")))
     y = np.arange(len(names))[::-1]
     shown = np.minimum(np.asarray(util), 150.0)
+    right = float(min(150.0, max(105.0, 1.0 + float(np.max(shown, initial=0.0)))))
     binding = np.abs(np.asarray(util) - 100.0) < 0.1
     colours = [
         COLOURS[1] if b else (COLOURS[0] if o else "#a4161a")
@@ -345,13 +461,15 @@ def plot_limit_utilisation(
         bar.set_hatch(HATCHES[1] if b else ("xx" if not o else ""))
     texts = []
     for yi, u, b, o in zip(y, util, binding, ok, strict=True):
-        tag = " binding" if b else ("  EXCEEDED" if not o else "")
+        tag = " binding" if b else (" EXCEEDED" if not o else "")
+        inside = min(u, 150.0) > 0.55 * right
         texts.append(
             ax.text(
-                min(u, 150.0) + 2,
+                min(u, 150.0) - 1.5 if inside else min(u, 150.0) + 1.5,
                 yi,
-                f"{u:.4g} %{tag}",
+                f"{u:.0f} %{tag}" if u >= 10 else f"{u:.2g} %{tag}",
                 va="center",
+                ha="right" if inside else "left",
                 fontsize=8,
                 zorder=4,
                 bbox={"facecolor": "white", "edgecolor": "none", "pad": 0.8},
@@ -359,13 +477,13 @@ def plot_limit_utilisation(
         )
     limit = ax.axvline(100.0, color="black", linewidth=1.4, linestyle="--")
     ax.set_yticks(y, names)
-    ax.set_xlim(0, 175)
+    ax.set_xlim(0, right)
     ax.set_xlabel("utilisation: value / allowed, or needed / achieved (%)")
     ax.grid(axis="y", visible=False)
-    return {"bars": bars, "limit": limit, "labels": texts}
+    return UtilisationDrawn(bars, limit, texts, tuple(float(u) for u in util))
 
 
-def plot_torque_budget(ax: Axes, evaluations: Sequence[tuple[str, Any]]) -> dict[str, Any]:
+def plot_torque_budget(ax: Axes, evaluations: Sequence[tuple[str, Any]]) -> BudgetDrawn:
     """Available magnetic torque against the required torque, for one or more operating points.
 
     Parameters
@@ -379,8 +497,7 @@ def plot_torque_budget(ax: Axes, evaluations: Sequence[tuple[str, Any]]) -> dict
 
     Returns
     -------
-    dict
-        ``magnetic``, ``resistive``, ``thrust`` (BarContainer each), ``margins`` (list of Text).
+    BudgetDrawn
     """
     n = len(evaluations)
     x = np.arange(n, dtype=float)
@@ -433,4 +550,4 @@ def plot_torque_budget(ax: Axes, evaluations: Sequence[tuple[str, Any]]) -> dict
     ax.set_ylim(0, 1.12 * max(float(np.max(mag)), float(np.max(res + thr))))
     ax.grid(axis="x", visible=False)
     ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.1), ncols=2)
-    return {"magnetic": b_mag, "resistive": b_res, "thrust": b_thr, "margins": margins}
+    return BudgetDrawn(b_mag, b_res, b_thr, margins)

@@ -50,10 +50,17 @@ def series_style(k: int, *, markevery: int | None = None) -> dict[str, Any]:
     return style
 
 
-def restyle_lines(lines: Any, *, markevery: int | None = 8) -> None:
-    """Give already-drawn lines distinct line styles and markers (keeps their colours)."""
+def restyle_lines(lines: Any, *, markevery: int | None = 8, markers: bool = True) -> None:
+    """Give already-drawn lines distinct line styles (and markers) keeping their colours.
+
+    Pass ``markers=False`` for model curves drawn with measured points: markers then mean
+    data only, never a model.
+    """
     for k, line in enumerate(lines):
         line.set_linestyle(LINESTYLES[k % len(LINESTYLES)])
+        if not markers:
+            line.set_marker("")
+            continue
         line.set_marker(MARKERS[k % len(MARKERS)])
         if markevery is not None:
             line.set_markevery(markevery)

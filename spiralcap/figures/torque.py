@@ -7,12 +7,20 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterable, Sequence
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 from matplotlib.axes import Axes
 
-__all__ = ["plot_fit", "plot_torque_vs_frequency", "save_figure"]
+__all__ = ["TorqueDrawn", "plot_fit", "plot_torque_vs_frequency", "save_figure"]
+
+
+class TorqueDrawn(NamedTuple):
+    """Model curves (lines, no markers) and measured or published points (markers only)."""
+
+    curves: list[Any]
+    points: list[Any]
+
 
 _FREQ_LABEL = "rotation frequency f (Hz)"
 _TORQUE_LABEL = "resistive torque (mN·m)"
@@ -23,10 +31,10 @@ def plot_torque_vs_frequency(
     tissue: Any = None,
     helical_angles_deg: Sequence[float] = (5.0, 10.0, 15.0, 20.0),
     *,
-    frequency_hz: Sequence[float] | None = None,
+    frequency_hz: Any = None,
     paper_points: Iterable[Any] | None = None,
     geometry: dict[str, float] | None = None,
-) -> dict[str, list[Any]]:
+) -> TorqueDrawn:
     """Model torque against frequency for several helical angles, with the paper's points.
 
     Parameters
@@ -47,10 +55,12 @@ def plot_torque_vs_frequency(
 
     Returns
     -------
-    dict
-        ``{"curves": [Line2D, ...], "points": [PathCollection, ...]}``.
+    TorqueDrawn
+        Model curves are lines without markers (distinct line styles); the paper's points are
+        markers only (filled circles: calibration, open squares: validation).
     """
     import torque_model as tm
+    from spiralcap.figures.style import LINESTYLES
 
     tissue = tissue if tissue is not None else tm.preset("zhou2013-sample2")
     f = np.asarray(
@@ -61,22 +71,30 @@ def plot_torque_vs_frequency(
         paper_points = [p for p in tm.PAPER_POINTS if p.sample == sample]
     curves, points = [], []
     colours = {}
-    for angle in helical_angles_deg:
+    for k, angle in enumerate(helical_angles_deg):
         tau = tm.resistive_torque_Nm(math.radians(angle), f, tissue, **(geometry or {}))
-        (line,) = ax.plot(f, np.asarray(tau) * 1e3, label=f"model, α = {angle:g}°")
+        (line,) = ax.plot(
+            f,
+            np.asarray(tau) * 1e3,
+            label=f"model, α = {angle:g}°",
+            linestyle=LINESTYLES[k % len(LINESTYLES)],
+            marker="",
+        )
         colours[float(angle)] = line.get_color()
         curves.append(line)
     for p in paper_points:
         colour = colours.get(float(p.helical_angle_deg), "k")
-        marker = "o" if p.role == "calibration" else "s"
+        calibration = p.role == "calibration"
         points.append(
             ax.scatter(
                 [p.frequency_hz],
                 [p.torque_mNm],
-                color=colour,
-                marker=marker,
+                color=colour if calibration else "white",
+                marker="o" if calibration else "s",
+                s=42,
+                linewidths=1.4,
                 zorder=3,
-                edgecolors="k",
+                edgecolors="k" if calibration else colour,
                 label=f"paper, No. {p.capsule} ({p.role})",
             )
         )
@@ -84,12 +102,12 @@ def plot_torque_vs_frequency(
     ax.set_ylabel(_TORQUE_LABEL)
     ax.set_title(f"tissue {tissue.name}")
     _dedupe_legend(ax)
-    return {"curves": curves, "points": points}
+    return TorqueDrawn(curves, points)
 
 
 def plot_fit(
     ax: Axes, fit_result: Any, *, frequency_hz: Sequence[float] | None = None
-) -> dict[str, list[Any]]:
+) -> TorqueDrawn:
     """Measured points and the fitted model curve for each helical angle in a fit.
 
     Parameters
@@ -103,8 +121,7 @@ def plot_fit(
 
     Returns
     -------
-    dict
-        ``{"curves": [Line2D, ...], "points": [PathCollection, ...]}``.
+    TorqueDrawn
     """
     r = fit_result
     fmin, fmax = float(np.min(r.frequency_hz)), float(np.max(r.frequency_hz))
@@ -132,7 +149,7 @@ def plot_fit(
     loose = ", ".join(n.split("_")[0] for n in r.not_pinned_down) or "none"
     ax.set_title(f"identified tissue (not pinned down: {loose})")
     ax.legend(fontsize="small")
-    return {"curves": curves, "points": points}
+    return TorqueDrawn(curves, points)
 
 
 def save_figure(draw: Any, path: str, *args: Any, **kwargs: Any) -> Any:

@@ -8,7 +8,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from spiralcap.design import Design
-from spiralcap.report.document import FigureBlock, Section
+from spiralcap.report.document import FigureBlock, FrontMatter, Section
 from spiralcap.report.sections import Context, build_sections
 
 TITLE = "spiralcap engineering report"
@@ -33,7 +33,7 @@ class Report:
 def report_payload(data: Any) -> dict[str, Any]:
     """The JSON embedded in the HTML: the CLI's dicts and the report's other numbers."""
     from spiralcap import __version__
-    from spiralcap.commands._common import _jsonable
+    from spiralcap.presentation import jsonable as _jsonable
     from spiralcap.report.sections.tissue import tissue_payload
     from spiralcap.report.sections.tradeoffs import power_sweep_payload
 
@@ -54,6 +54,20 @@ def report_payload(data: Any) -> dict[str, Any]:
     )
 
 
+def front_matter(design: Design, sha: str, date: str, version: str) -> FrontMatter:
+    """The title page from the ``report.*`` keys (title defaults to :data:`TITLE`)."""
+    return FrontMatter(
+        title=design.get("report.title") or TITLE,
+        project=design.get("report.project") or "",
+        author=design.get("report.author") or "",
+        revision=design.get("report.revision") or "",
+        date=date,
+        design_source=str(design.source),
+        design_sha256=sha,
+        version=version,
+    )
+
+
 def build_report(
     design: Design,
     *,
@@ -61,6 +75,7 @@ def build_report(
     workers: int = 1,
     command: str = "spiralcap report",
     progress: Callable[[str], None] | None = None,
+    compare: Design | None = None,
 ) -> Report:
     """Analyse ``design`` and render its report.
 
@@ -76,6 +91,9 @@ def build_report(
         The command line to print in the reproducibility section.
     progress : callable, optional
         Called with the name of each analysis stage.
+    compare : Design, optional
+        A second design to set beside this one (its evaluation and optimisation, the keys that
+        differ) in a comparison section.
 
     Returns
     -------
@@ -88,29 +106,26 @@ def build_report(
     """
     from spiralcap.report.data import collect
     from spiralcap.report.html import render_html
+    from spiralcap.report.render import render_figures
 
-    data = collect(design, workers=workers, progress=progress)
+    say = progress or (lambda _stage: None)
+    data = collect(design, workers=workers, progress=progress, compare=compare)
     payload = report_payload(data)
     sections = build_sections(Context(data, payload), command)
     stamp = _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
     sha = payload["design"]["sha256"]
-    subtitle = (
-        f"Design: {design.source} · SHA-256 {sha[:16]}… · made {stamp} with "
-        f"spiralcap {payload['spiralcap_version']}"
-    )
-    footer = f"{TITLE} · design {design.source} · SHA-256 {sha[:16]}…"
-    html = render_html(TITLE, subtitle, sections, payload, footer)
+    front = front_matter(design, sha, stamp, payload["spiralcap_version"])
+    footer = f"{front.title} · {design.source} · SHA-256 {sha[:12]}…"
+    say("figures")
+    svgs = render_figures(sections)
+    say("HTML")
+    html = render_html(front, sections, payload, footer, svgs)
     pdf_bytes, pages = None, 0
     if pdf:
         from spiralcap.report.pdf import render_pdf
 
-        pdf_bytes, pages = render_pdf(
-            TITLE,
-            subtitle,
-            sections,
-            footer,
-            metadata={"Subject": f"design {design.source}", "Keywords": f"sha256 {sha}"},
-        )
+        say("PDF")
+        pdf_bytes, pages = render_pdf(front, sections, footer, svgs)
     figures = sum(isinstance(b, FigureBlock) for s in sections for b in s.blocks)
     res = data.optimization
     return Report(

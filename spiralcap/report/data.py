@@ -2,15 +2,13 @@
 
 Every number the report prints comes from the dicts the CLI prints
 (:func:`spiralcap.serialize.evaluation_to_dict`, :func:`spiralcap.serialize.optimization_to_dict`,
-the ``spiralcap coils --json`` dict); the arrays behind the figures come from the domain
-packages' own vectorised functions (:func:`optimize.margin_grid`, :func:`coils.uniformity`,
-:func:`spiralcap.sweep.sweep`). Nothing here re-derives physics.
+the ``spiralcap coils --json`` dict); the arrays behind the figures come from
+:mod:`spiralcap.curves`. Nothing here re-derives physics.
 """
 
 from __future__ import annotations
 
 import importlib.metadata
-import math
 import platform
 import time
 from collections.abc import Callable
@@ -19,56 +17,24 @@ from typing import Any
 
 import numpy as np
 
+from spiralcap.curves import (
+    MAP_EXTENT,
+    POWER_FACTORS,
+    TOLERANCES,
+    Curve,
+    FieldMap,
+    MarginMap,
+    adaptive_power_sweep,
+    angle_curve,
+    angle_range_rad,
+    field_maps,
+    frequency_curves,
+    margin_map,
+    uniformity_profiles,
+)
 from spiralcap.design import Design
 
-#: Power budgets of the trade-off sweep, as multiples of the design's ``limits.power_W``.
-POWER_FACTORS = (0.25, 0.4, 0.63, 1.0, 1.6, 2.5, 4.0)
-#: Points of the margin-against-frequency and margin-against-angle curves.
-CURVE_POINTS = 241
-#: Grid of each field map (points per side) and its half-width as a fraction of the smallest
-#: coil radius (kept clear of the windings, where the filament field is singular).
-MAP_POINTS, MAP_EXTENT = 81, 0.8
-#: Uniformity tolerances reported (±1 % and ±5 %).
-TOLERANCES = (0.01, 0.05)
-_AXES = ("x", "y", "z")
-#: The plane of each field map: the driven pair's axis and a second axis (indices).
-_MAP_PLANES = {0: (0, 2), 1: (1, 2), 2: (0, 2)}
-
-
-@dataclass(frozen=True)
-class FieldMap:
-    """|B| deviation on a plane through the centre with one pair driven (static field).
-
-    Attributes
-    ----------
-    axis : str
-        The driven pair (``x``, ``y`` or ``z``); the field at the centre points along it.
-    plane : tuple of str
-        The plane's two axes (``("x", "z")``).
-    u_m, v_m : ndarray
-        Grid coordinates, m.
-    deviation : ndarray, shape (len(v_m), len(u_m))
-        |B(p)| / |B(0)| - 1, dimensionless (``coils.uniformity``).
-    uniform_radii_m : dict float -> float
-        Radius of the ±tolerance sphere for this field direction, m
-        (``coils.uniform_region_radius_m(system, tol, direction=e_axis)``).
-    """
-
-    axis: str
-    plane: tuple[str, str]
-    u_m: np.ndarray
-    v_m: np.ndarray
-    deviation: np.ndarray
-    uniform_radii_m: dict[float, float]
-
-
-@dataclass(frozen=True)
-class Curve:
-    """A margin curve from :func:`optimize.margin_grid` along one variable."""
-
-    x: np.ndarray
-    margin_Nm: np.ndarray
-    feasible: np.ndarray
+__all__ = ["ReportData", "coil_sizing_json", "collect", "uniform_radii_m", "versions"]
 
 
 @dataclass(frozen=True)
@@ -92,6 +58,8 @@ class ReportData:
     profile: tuple[np.ndarray, dict[str, np.ndarray]]
     versions: dict[str, str]
     timings_s: dict[str, float] = field(default_factory=dict)
+    comparison: Any = None
+    margin_map: MarginMap | None = None
 
     @property
     def feasible(self) -> bool:
@@ -114,78 +82,28 @@ def versions() -> dict[str, str]:
 
 
 def coil_sizing_json(design: Design) -> tuple[dict[str, Any], str]:
-    """The dict ``spiralcap coils --json`` prints for ``design``, and where it came from."""
+    """The dict ``spiralcap coils --json`` prints for ``design``, and where it came from.
+
+    The report's only remaining import from ``spiralcap.commands``: helper i10 (issue 13 item
+    2) moves ``sizing_payload`` into an application module; this line then imports it from
+    there and the report imports nothing from the CLI layer.
+    """
     from spiralcap.commands.coils import sizing_payload
 
     return sizing_payload(design), "spiralcap.commands.coils.sizing_payload(design)"
 
 
-def _curve(model: Any, alpha: Any, f: Any, x: np.ndarray) -> Curve:
-    from optimize import margin_grid
+def uniform_radii_m(coils_json: dict[str, Any]) -> dict[str, dict[float, float]]:
+    """Per-axis uniform-sphere radii (axis -> tolerance -> m) from the coil analysis' dict.
 
-    g = margin_grid(model, alpha, f)
-    return Curve(
-        x=x, margin_Nm=np.asarray(g["margin_Nm"], float), feasible=np.asarray(g["feasible"], bool)
-    )
-
-
-def frequency_range_hz(model: Any, step_out_hz: float) -> np.ndarray:
-    """Frequencies of the margin-against-frequency curve: past the step-out and the bounds."""
-    b = model.bounds
-    hi = 1.5 * b.frequency_max_hz
-    if math.isfinite(step_out_hz) and step_out_hz > 0:
-        hi = max(hi, 1.3 * step_out_hz)
-    hi = max(hi, 1.2 * model.frequency_hz)
-    return np.linspace(0.02 * hi, hi, CURVE_POINTS)
-
-
-def field_maps(system: Any, uniform: dict[str, Any]) -> tuple[FieldMap, ...]:
-    """One deviation map per pair, that pair driven alone (its static field at the centre).
-
-    Parameters
-    ----------
-    system : coils.ThreeAxisHelmholtz
-        The coils.
-    uniform : dict
-        The ``uniform_region`` entry of the ``spiralcap coils --json`` dict; its per-axis
-        radii are drawn on the maps (so the figure and the table show the same radii).
+    The one place the report reads the coil analysis' per-axis radii; the typed coil analysis
+    of issue 13 replaces the dict here.
     """
-    import coils
-
-    gains = np.asarray(system.centre_gains_T_per_A, dtype=float)
-    half = MAP_EXTENT * min(p.radius_m for p in system.pairs)
-    grid = np.linspace(-half, half, MAP_POINTS)
-    maps = []
-    for k in range(3):
-        iu, iv = _MAP_PLANES[k]
-        uu, vv = np.meshgrid(grid, grid)
-        pts = np.zeros((uu.size, 3))
-        pts[:, iu], pts[:, iv] = uu.ravel(), vv.ravel()
-        dev = np.asarray(coils.uniformity(system, pts, np.eye(3)[k] / gains)).reshape(uu.shape)
-        per_axis = uniform["per_axis"][_AXES[k]]
-        radii = {tol: float(per_axis[f"radius_{round(100 * tol)}pct_m"]) for tol in TOLERANCES}
-        maps.append(FieldMap(_AXES[k], (_AXES[iu], _AXES[iv]), grid, grid, dev, radii))
-    return tuple(maps)
-
-
-def uniformity_profiles(
-    system: Any, half_width_m: float, n: int = 121
-) -> tuple[np.ndarray, dict[str, np.ndarray]]:
-    """|B| deviation along each pair's axis and across it, that pair driven alone."""
-    import coils
-
-    gains = np.asarray(system.centre_gains_T_per_A, dtype=float)
-    d = np.linspace(-half_width_m, half_width_m, n)
-    out: dict[str, np.ndarray] = {}
-    for k in range(3):
-        across = (k + 1) % 3
-        for j, words in ((k, "along its axis"), (across, f"along {_AXES[across]}")):
-            pts = np.zeros((n, 3))
-            pts[:, j] = d
-            out[f"{_AXES[k]} pair, {words}"] = np.asarray(
-                coils.uniformity(system, pts, np.eye(3)[k] / gains)
-            )
-    return d, out
+    per_axis = coils_json["uniform_region"]["per_axis"]
+    return {
+        axis: {tol: float(per_axis[axis][f"radius_{round(100 * tol)}pct_m"]) for tol in TOLERANCES}
+        for axis in per_axis
+    }
 
 
 def collect(
@@ -194,6 +112,7 @@ def collect(
     power_factors: tuple[float, ...] = POWER_FACTORS,
     workers: int = 1,
     progress: Callable[[str], None] | None = None,
+    compare: Design | None = None,
 ) -> ReportData:
     """Evaluate and optimise ``design`` and run the sweeps and field maps the report shows.
 
@@ -207,6 +126,9 @@ def collect(
         Worker processes for the re-optimisation sweep (1: in this process).
     progress : callable, optional
         Called with the name of each stage as it starts.
+    compare : Design, optional
+        A second design to evaluate and optimise beside this one
+        (:func:`spiralcap.compare.compare_designs`).
 
     Returns
     -------
@@ -219,9 +141,8 @@ def collect(
     """
     from optimize import evaluate, optimize_design, prepare
     from spiralcap.assemble import build_model
-    from spiralcap.commands._common import _jsonable
+    from spiralcap.presentation import jsonable as _jsonable
     from spiralcap.serialize import evaluation_to_dict, optimization_to_dict
-    from spiralcap.sweep import Axis, sweep
 
     say = progress or (lambda _stage: None)
     timings: dict[str, float] = {}
@@ -249,31 +170,32 @@ def collect(
     lap("coils")
 
     say("margin curves")
-    f_grid = frequency_range_hz(model, ev.step_out_frequency_hz)
-    if res.status == "optimal":
-        f_grid = np.union1d(f_grid, frequency_range_hz(model, res.step_out_frequency_hz))
-    freq_design = _curve(model, ev.helical_angle_rad, f_grid, f_grid)
-    freq_opt = (
-        _curve(model, res.helical_angle_rad, f_grid, f_grid) if res.status == "optimal" else None
+    freq_design, freq_opt = frequency_curves(model, ev, res)
+    angle_opt = angle_curve(
+        model, angle_range_rad(model, ev.helical_angle_rad, res.helical_angle_rad)
     )
-    b = model.bounds
-    lo = min(b.helical_angle_min_rad, ev.helical_angle_rad, res.helical_angle_rad)
-    hi = max(b.helical_angle_max_rad, ev.helical_angle_rad, res.helical_angle_rad)
-    a_grid = np.linspace(lo, hi, CURVE_POINTS)
-    angle_opt = _curve(model, a_grid, res.frequency_hz, np.degrees(a_grid))
+    mmap = margin_map(model, float(freq_design.x.max()))
     lap("margin curves")
 
     say("power sweep")
     powers = design["limits.power_W"] * np.asarray(power_factors, dtype=float)
-    power_sweep = sweep(design, [Axis("limits.power_W", powers)], optimize=True, workers=workers)
+    power_sweep = adaptive_power_sweep(design, powers, workers=workers)
+    powers = np.asarray(power_sweep.inputs["limits.power_W"], float)
     lap("power sweep")
 
     say("field maps")
-    maps = field_maps(model.coils, coils_json["uniform_region"])
+    maps = field_maps(model.coils, uniform_radii_m(coils_json))
     profile = uniformity_profiles(
         model.coils, MAP_EXTENT * min(p.radius_m for p in model.coils.pairs)
     )
     lap("field maps")
+    comparison = None
+    if compare is not None:
+        from spiralcap.compare import compare_designs
+
+        say("comparison")
+        comparison = compare_designs([design, compare], ("this design", "compared design"))
+        lap("comparison")
     return ReportData(
         design=design,
         model=model,
@@ -292,4 +214,6 @@ def collect(
         profile=profile,
         versions=versions(),
         timings_s=timings,
+        margin_map=mmap,
+        comparison=comparison,
     )

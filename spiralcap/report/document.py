@@ -14,7 +14,7 @@ from typing import Any, Union
 from spiralcap.report.numbers import Num
 
 #: Inline content: plain text and numbers tied to the embedded JSON.
-Inline = Union[str, Num, "Link", "Strong"]
+Inline = Union[str, Num, "Link", "Strong", "Ref"]
 Cell = Union[str, Num, int, float, None]
 
 
@@ -30,6 +30,13 @@ class Link:
     """An in-document link to a section or figure anchor (``#margin``); never an external URL."""
 
     text: str
+    anchor: str
+
+
+@dataclass(frozen=True)
+class Ref:
+    """A numbered reference to a figure or table by its id: rendered ``Figure 3``."""
+
     anchor: str
 
 
@@ -84,7 +91,34 @@ class FigureBlock:
     size_in: tuple[float, float] = (7.0, 4.2)
 
 
-Block = Union[Paragraph, Bullets, Table, Code, FigureBlock]
+@dataclass(frozen=True)
+class Equation:
+    """A displayed equation: Typst math for the PDF, the same in plain Unicode for the HTML.
+
+    ``typst`` is the body of a Typst ``$ ... $`` block; ``text`` is what the HTML shows;
+    ``label`` is shown beside it (the source: ``Zhou 2013 eq. 8``).
+    """
+
+    typst: str
+    text: str
+    label: str = ""
+
+
+@dataclass(frozen=True)
+class FrontMatter:
+    """What the title page says: title, project, author, revision, and the design's identity."""
+
+    title: str
+    project: str
+    author: str
+    revision: str
+    date: str
+    design_source: str
+    design_sha256: str
+    version: str
+
+
+Block = Union[Paragraph, Bullets, Table, Code, FigureBlock, Equation]
 
 
 @dataclass(frozen=True)
@@ -102,6 +136,8 @@ def inline_text(parts: Sequence[Inline]) -> str:
     for p in parts:
         if isinstance(p, (Link, Strong)):
             out.append(p.text)
+        elif isinstance(p, Ref):
+            out.append(p.anchor)
         else:
             out.append(str(p))
     return "".join(out)
@@ -116,3 +152,40 @@ def cell_text(cell: Cell) -> str:
     if cell is None:
         return ""
     return fmt(cell)
+
+
+def numbering(sections: Sequence[Section]) -> dict[str, str]:
+    """``id -> "Figure 3"`` for every figure (and ``"Table 2"`` for tables with an id).
+
+    Both renderers number in reading order, so a :class:`Ref` reads the same in HTML and PDF.
+    """
+    out: dict[str, str] = {}
+    nfig = ntab = 0
+    for s in sections:
+        for b in s.blocks:
+            if isinstance(b, FigureBlock):
+                nfig += 1
+                out[b.id] = f"Figure {nfig}"
+            elif isinstance(b, Table) and b.caption:
+                ntab += 1
+                if b.id:
+                    out[b.id] = f"Table {ntab}"
+    return out
+
+
+def column_units(table: Table) -> list[str]:
+    """Per column, the unit every number in it shares ('' when none or mixed).
+
+    Renderers put a shared unit in the header (``power budget (W)``) and write the numbers
+    bare; a column of mixed units keeps the unit by each number.
+    """
+    out = []
+    for i in range(len(table.headers)):
+        units = {c.unit for r in table.rows if i < len(r) and isinstance((c := r[i]), Num)}
+        out.append(units.pop() if len(units) == 1 else "")
+    return out
+
+
+def header_with_unit(header: str, unit: str) -> str:
+    """``power budget`` + ``W`` -> ``power budget (W)`` (unchanged when the unit is empty)."""
+    return f"{header} ({unit})" if unit and f"({unit})" not in header else header

@@ -10,33 +10,12 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
+from spiralcap.presentation import unit_of_key
+
+__all__ = ["SIGNIFICANT_FIGURES", "Num", "fmt", "lookup", "unit_gap", "unit_of_key"]
+
 #: Significant figures of every number in the report (the CLI tables use the same 4).
 SIGNIFICANT_FIGURES = 4
-
-#: Key-name unit suffixes (longest first) -> how the unit is written.
-_SUFFIX_UNITS: tuple[tuple[str, str], ...] = (
-    ("_W_m2K", "W/(m²·K)"),
-    ("_kPa_s", "kPa·s"),
-    ("_mm_s", "mm/s"),
-    ("_m_s", "m/s"),
-    ("_kPa", "kPa"),
-    ("_deg", "°"),
-    ("_hz", "Hz"),
-    ("_Hz", "Hz"),
-    ("_mm", "mm"),
-    ("_mN", "mN"),
-    ("_mNm", "mN·m"),
-    ("_Nm", "N·m"),
-    ("_mT", "mT"),
-    ("_T", "T"),
-    ("_C", "°C"),
-    ("_K", "K"),
-    ("_A", "A"),
-    ("_V", "V"),
-    ("_W", "W"),
-    ("_m", "m"),
-    ("_s", "s"),
-)
 
 
 def fmt(value: Any, digits: int = SIGNIFICANT_FIGURES) -> str:
@@ -80,18 +59,6 @@ def fmt(value: Any, digits: int = SIGNIFICANT_FIGURES) -> str:
         r = float(s)
         s = str(int(r)) if r == int(r) else f"{r:f}".rstrip("0")
     return s
-
-
-def unit_of_key(key: str) -> str:
-    """The unit a design key names in its suffix (``coils.x.radius_m`` -> ``m``), or ``""``.
-
-    Counts (``turns``, ``starts``), ratios (``packing_factor``) and choices have no unit.
-    """
-    leaf = key.rsplit(".", 1)[-1]
-    for suffix, unit in _SUFFIX_UNITS:
-        if leaf.endswith(suffix):
-            return unit
-    return ""
 
 
 @dataclass(frozen=True)

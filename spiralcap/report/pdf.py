@@ -1,231 +1,289 @@
-"""Render a report document as a PDF with matplotlib's PdfPages (no external program needed).
+"""Render a report document as a typeset PDF with Typst (the ``typst`` pip package).
 
-Text flows onto A4 pages (headings, paragraphs, monospaced tables); every figure gets a page of
-its own with its caption under it. The result is returned as bytes so the caller can write it
-atomically together with the HTML.
+Why Typst rather than ReportLab's Platypus: Typst typesets mathematics natively (the model's
+equations), embeds SVG figures as vector graphics, repeats table headers across page breaks,
+numbers figures and tables and resolves references (``@fig-x`` -> "Figure 3") and builds the
+contents list with page numbers itself; it ships its own fonts (Libertinus Serif, New Computer
+Modern Math, DejaVu Sans Mono), so the output is the same on every machine, and it compiles a
+report in a few hundred milliseconds. Platypus would need a second library for SVG and has no
+mathematics.
+
+The document is written as Typst markup from the same :mod:`~spiralcap.report.document` blocks
+the HTML renders; all text goes in as Typst string literals (``#"..."``), so nothing in a design
+file or a message can be read as markup. Figures are the SVG texts drawn once for both outputs
+(:mod:`spiralcap.report.render`), handed over through ``sys.inputs``.
 """
 
 from __future__ import annotations
 
-import io
-import textwrap
-from collections.abc import Sequence
+import re
+from collections.abc import Mapping, Sequence
 from typing import Any
 
 from spiralcap.report.document import (
     Bullets,
+    Cell,
     Code,
+    Equation,
     FigureBlock,
+    FrontMatter,
+    Inline,
+    Link,
     Paragraph,
+    Ref,
     Section,
+    Strong,
     Table,
     cell_text,
-    inline_text,
+    column_units,
+    header_with_unit,
 )
+from spiralcap.report.numbers import Num, unit_gap
 
-PAGE_IN = (8.27, 11.69)  # A4 portrait, inches
-MARGIN_IN = 0.75
-_BODY_PT, _MONO_PT, _H_PT, _TITLE_PT = 10.0, 7.6, 14.0, 18.0
-_LINE = 1.35  # line height / font size
-_CHAR_W = 0.6  # monospace advance / font size (DejaVu Sans Mono)
-_WRAP_BODY = 95  # characters per body line at 10 pt on A4
+#: Text width of the page (A4, 2 cm side margins), inches.
+TEXT_WIDTH_IN = (210.0 - 40.0) / 25.4
+_CALLOUT = {"alert": "rgb(164, 22, 26)", "ok": "rgb(27, 110, 58)", "note": "rgb(35, 78, 128)"}
 
-
-class _Pages:
-    """A cursor over text pages: lines are placed top-down; a full page starts the next."""
-
-    def __init__(self, pdf: Any, footer: str) -> None:
-        self.pdf, self.footer = pdf, footer
-        self.fig: Any = None
-        self.y = 0.0
-        self.number = 0
-
-    def _new(self) -> None:
-        from matplotlib.figure import Figure
-
-        self.flush()
-        self.fig = Figure(figsize=PAGE_IN)
-        self.y = PAGE_IN[1] - MARGIN_IN
-
-    def flush(self) -> None:
-        if self.fig is not None:
-            self._finish(self.fig)
-            self.fig = None
-
-    def _finish(self, fig: Any) -> None:
-        self.number += 1
-        fig.text(
-            0.5,
-            0.35 / PAGE_IN[1],
-            f"{self.footer} — page {self.number}",
-            ha="center",
-            va="bottom",
-            fontsize=7.5,
-            color="0.35",
-        )
-        self.pdf.savefig(fig)
-
-    def line(
-        self,
-        text: str,
-        size: float = _BODY_PT,
-        *,
-        mono: bool = False,
-        bold: bool = False,
-        color: str = "black",
-        indent_in: float = 0.0,
-    ) -> None:
-        height = size * _LINE / 72.0
-        if self.fig is None or self.y - height < MARGIN_IN:
-            self._new()
-        self.y -= height
-        self.fig.text(
-            (MARGIN_IN + indent_in) / PAGE_IN[0],
-            self.y / PAGE_IN[1],
-            text,
-            fontsize=size,
-            family="monospace" if mono else "sans-serif",
-            weight="bold" if bold else "normal",
-            color=color,
-            va="baseline",
-        )
-
-    def space(self, points: float) -> None:
-        self.y -= points / 72.0
-
-    def need(self, lines: int, size: float = _BODY_PT) -> None:
-        """Start a new page unless ``lines`` more lines fit on this one."""
-        if self.fig is None or self.y - lines * size * _LINE / 72.0 < MARGIN_IN:
-            self._new()
-
-    def figure_page(self, block: FigureBlock, number: int) -> None:
-        """Give a figure a page: drawn at the top, full text width, its caption under it."""
-        import matplotlib
-
-        from spiralcap.figures.style import REPORT_RC
-
-        self.flush()
-        with matplotlib.rc_context(REPORT_RC):
-            self._figure_page(block, number)
-
-    def _figure_page(self, block: FigureBlock, number: int) -> None:
-        from matplotlib.figure import Figure
-
-        page = Figure(figsize=PAGE_IN, layout="constrained")
-        w_avail = PAGE_IN[0] - 2 * MARGIN_IN
-        h_avail = PAGE_IN[1] - 2 * MARGIN_IN
-        height = block.size_in[1] * min(1.0, w_avail / block.size_in[0]) + 0.3
-        grid = page.subfigures(
-            3,
-            3,
-            width_ratios=[MARGIN_IN, w_avail, MARGIN_IN],
-            height_ratios=[MARGIN_IN, h_avail, MARGIN_IN],
-        )
-        top, bottom = grid[1][1].subfigures(2, 1, height_ratios=[height, h_avail - height])
-        block.draw(top)
-        rest = h_avail - height
-        y = 1.0 - 0.15 / rest
-        for ln in textwrap.wrap(f"Figure {number}. {block.caption}", _WRAP_BODY):
-            bottom.text(0.0, y, ln, fontsize=9.5, va="top")
-            y -= 9.5 * _LINE / 72.0 / rest
-        self._finish(page)
+_PREAMBLE = r"""
+#set document(title: TITLE, author: AUTHOR)
+#set text(font: "Libertinus Serif", size: 10.5pt, lang: "en")
+#set par(justify: true, leading: 0.58em, spacing: 0.9em)
+#show raw: set text(font: "DejaVu Sans Mono", size: 7.2pt)
+#show math.equation: set text(font: "New Computer Modern Math")
+#set heading(numbering: "1.")
+#show heading.where(level: 1): it => block(above: 1.3em, below: 0.7em, text(size: 14pt, it))
+#set page(
+  paper: "a4",
+  margin: (x: 2cm, top: 2.2cm, bottom: 2cm),
+  header: context {
+    if counter(page).get().first() > 1 {
+      set text(size: 8pt, fill: luma(90))
+      [#TITLE #h(1fr) #HEADER_RIGHT]
+      v(-0.6em)
+      line(length: 100%, stroke: 0.4pt + luma(150))
+    }
+  },
+  footer: context {
+    set text(size: 8pt, fill: luma(90))
+    [#FOOTER #h(1fr) page #counter(page).display() of #counter(page).final().first()]
+  },
+)
+#set table(
+  stroke: (x, y) => if y == 0 { (bottom: 0.8pt) } else { (bottom: 0.3pt + luma(200)) },
+  inset: (x: 4pt, y: 3pt),
+)
+#show table: set text(size: 8.5pt)
+#show table: set par(justify: false)
+#show figure.where(kind: table): set figure.caption(position: top)
+#show figure.where(kind: table): set block(breakable: true)
+#show figure.caption: set text(size: 9pt)
+#show figure.caption: set par(justify: false)
+#show figure.caption: set align(left)
+#set figure(gap: 0.5em)
+#show link: set text(fill: rgb(35, 78, 128))
+#show ref: set text(fill: rgb(35, 78, 128))
+"""
 
 
-def _table_lines(t: Table, width: int) -> list[str]:
-    cells = [[cell_text(c) for c in row] for row in t.rows]
+def s(text: str) -> str:
+    """``text`` as a Typst string expression in markup (nothing in it is read as markup)."""
+    esc = text.replace("\\", "\\\\").replace('"', '\\"').replace("\n", "\\n").replace("\r", "")
+    return f'#"{esc}"'
+
+
+def _lit(text: str) -> str:
+    """``text`` as a Typst string literal in code (no leading ``#``)."""
+    return s(text)[1:]
+
+
+def _label(anchor: str) -> str:
+    return re.sub(r"[^A-Za-z0-9_:.-]", "-", anchor)
+
+
+def _num(n: Num) -> str:
+    unit = unit_gap(n.unit).replace(" ", "\u00a0") + n.unit
+    return s(n.text + unit)
+
+
+def _inline(parts: Sequence[Inline], known: frozenset[str] = frozenset()) -> str:
+    """Inline content as markup; a link or reference to an anchor not in ``known`` (when given)
+    is written as its text, so a missing target never stops the typesetting."""
+    out = []
+    for p in parts:
+        if isinstance(p, (Link, Ref)) and known and p.anchor not in known:
+            out.append(s(p.text if isinstance(p, Link) else p.anchor))
+            continue
+        if isinstance(p, Num):
+            out.append(_num(p))
+        elif isinstance(p, Strong):
+            out.append(f"#strong({_lit(p.text)})")
+        elif isinstance(p, Link):
+            out.append(f"#link(<{_label(p.anchor)}>)[{s(p.text)}]")
+        elif isinstance(p, Ref):
+            out.append(f"#ref(<{_label(p.anchor)}>)")
+        else:
+            out.append(s(str(p)))
+    return "".join(out)
+
+
+def _is_numeric(cell: Cell) -> bool:
+    return isinstance(cell, Num) or (isinstance(cell, (int, float)) and not isinstance(cell, bool))
+
+
+def _cell(cell: Cell, shared_unit: str) -> str:
+    if isinstance(cell, Num):
+        if shared_unit or not cell.unit:
+            return "[" + s(cell.text) + "]"
+        return "[" + _num(cell) + "]"
+    return "[" + s(cell_text(cell)) + "]"
+
+
+def _table(t: Table) -> str:
     ncol = len(t.headers)
-    widths = [max([len(t.headers[i])] + [len(r[i]) for r in cells]) for i in range(ncol)]
-    if t.wrap is not None and sum(widths) + 2 * (ncol - 1) > width:
-        others = sum(w for i, w in enumerate(widths) if i != t.wrap) + 2 * (ncol - 1)
-        widths[t.wrap] = max(12, width - others)
-    lines = [
-        "  ".join(h.ljust(w) for h, w in zip(t.headers, widths, strict=True)),
-        "  ".join("-" * w for w in widths),
-    ]
-    for row in cells:
-        wrapped = [
-            textwrap.wrap(c, widths[i]) or [""] if i == t.wrap else [c] for i, c in enumerate(row)
-        ]
-        for k in range(max(len(w) for w in wrapped)):
-            lines.append(
-                "  ".join(
-                    (w[k] if k < len(w) else "").ljust(widths[i]) for i, w in enumerate(wrapped)
-                ).rstrip()
+    numeric = []
+    for i in range(ncol):
+        cells = [r[i] for r in t.rows if i < len(r) and r[i] not in (None, "")]
+        numeric.append(bool(cells) and sum(map(_is_numeric, cells)) >= 0.5 * len(cells))
+    cols = ", ".join("1fr" if i == t.wrap else "auto" for i in range(ncol))
+    align = ", ".join("right" if n else "left" for n in numeric)
+    units = column_units(t)
+    head = ", ".join(
+        f"[*{s(header_with_unit(h, u))}*]" for h, u in zip(t.headers, units, strict=True)
+    )
+    body = []
+    for row in t.rows:
+        body.append(", ".join(_cell(c, u) for c, u in zip(row, units, strict=False)))
+    table = (
+        f"table(columns: ({cols},), align: ({align},), table.header({head}),\n"
+        + ",\n".join(body)
+        + ")"
+    )
+    if not t.caption:
+        return f"#{table}\n"
+    label = f" <{_label(t.id)}>" if t.id else ""
+    return f"#figure({table}, caption: [{s(t.caption)}], kind: table){label}\n"
+
+
+def _figure(block: FigureBlock, key: str) -> str:
+    width = min(block.size_in[0], TEXT_WIDTH_IN)
+    return (
+        f'#figure(image(bytes(sys.inputs.at("{key}")), format: "svg", width: {width:.3f}in), '
+        f"caption: [{s(block.caption)}]) <{_label(block.id)}>\n"
+    )
+
+
+def _block(
+    block: Any, figures: dict[str, str], svgs: Mapping[str, str], known: frozenset[str]
+) -> str:
+    if isinstance(block, Paragraph):
+        text = _inline(block.parts, known)
+        if block.kind:
+            colour = _CALLOUT.get(block.kind, _CALLOUT["note"])
+            return (
+                f"#block(width: 100%, inset: (x: 8pt, y: 6pt), fill: luma(244), "
+                f"stroke: (left: 3pt + {colour}))[{text}]\n"
             )
-    return lines
+        return text + "\n"
+    if isinstance(block, Bullets):
+        items = ", ".join(f"[{_inline(i, known)}]" for i in block.items)
+        return f"#list({items})\n"
+    if isinstance(block, Table):
+        return _table(block)
+    if isinstance(block, Code):
+        cap = f"\n#text(size: 9pt)[{s(block.caption)}]" if block.caption else ""
+        return (
+            f'#columns(2, gutter: 12pt, raw({_lit(block.text)}, block: true, lang: "toml")){cap}\n'
+        )
+    if isinstance(block, Equation):
+        label = (
+            f"#h(1fr) #text(size: 8.5pt, fill: luma(90))[{s(block.label)}]" if block.label else ""
+        )
+        return f"#block(width: 100%)[#h(1.2em) $ {block.typst} $ {label}]\n"
+    if isinstance(block, FigureBlock):
+        key = f"fig{len(figures)}"
+        figures[key] = svgs[block.id]
+        return _figure(block, key)
+    raise TypeError(f"unknown report block {type(block).__name__}")
+
+
+def typst_source(
+    front: FrontMatter,
+    sections: Sequence[Section],
+    footer: str,
+    svgs: Mapping[str, str],
+) -> tuple[str, dict[str, str]]:
+    """The Typst markup of the report and the figure inputs it reads (``sys.inputs``)."""
+    figures: dict[str, str] = {}
+    pre = (
+        _PREAMBLE.replace("#HEADER_RIGHT", s(front.design_source))
+        .replace("#TITLE", s(front.title))
+        .replace("TITLE", _lit(front.title))
+        .replace("AUTHOR", _lit(front.author or "spiralcap"))
+        .replace("#FOOTER", s(footer))
+    )
+    out = [pre]
+    rows = [
+        ("Project", front.project),
+        ("Author", front.author),
+        ("Revision", front.revision),
+        ("Date", front.date),
+        ("Design", f"{front.design_source}"),
+        ("Design SHA-256", front.design_sha256),
+        ("Made with", f"spiralcap {front.version}"),
+    ]
+    grid = ", ".join(f"[*{s(k)}*], [{s(v)}]" for k, v in rows if v)
+    out.append(
+        f'#block(below: 1.2em)[#text(size: 20pt, weight: "bold")[{s(front.title)}]]\n'
+        f"#grid(columns: (auto, 1fr), column-gutter: 1.2em, row-gutter: 0.5em, {grid})\n"
+        "#v(0.8em)\n#outline(title: [Contents], depth: 1, indent: auto)\n"
+    )
+    from spiralcap.report.document import numbering
+
+    known = frozenset(numbering(sections)) | {sec.id for sec in sections}
+    for sec in sections:
+        out.append(f"\n= {s(sec.title)} <{_label(sec.id)}>\n")
+        for block in sec.blocks:
+            out.append(_block(block, figures, svgs, known))
+    return "\n".join(out), figures
 
 
 def render_pdf(
-    title: str,
-    subtitle: str,
+    front: FrontMatter,
     sections: Sequence[Section],
     footer: str,
-    metadata: dict[str, str] | None = None,
+    svgs: Mapping[str, str],
 ) -> tuple[bytes, int]:
     """The report as PDF bytes and its page count.
 
     Parameters
     ----------
-    title, subtitle : str
-        Shown at the top of the first page.
+    front : FrontMatter
+        Title page: title, project, author, revision, date, design.
     sections : sequence of Section
         The same sections the HTML shows.
     footer : str
         Text at the foot of every page (followed by the page number).
-    metadata : dict, optional
-        PDF document information (Title, Author, Subject, ...).
+    svgs : mapping id -> SVG text
+        Every figure, drawn once (:func:`spiralcap.report.render.render_figures`).
     """
-    from matplotlib.backends.backend_pdf import PdfPages
+    import typst
 
-    buf = io.BytesIO()
-    mono_chars = int((PAGE_IN[0] - 2 * MARGIN_IN) * 72.0 / (_MONO_PT * _CHAR_W))
-    figure_no = 0
-    with PdfPages(
-        buf, metadata={"Title": title, "Creator": "spiralcap", **(metadata or {})}
-    ) as pdf:
-        pages = _Pages(pdf, footer)
-        pages.line(title, _TITLE_PT, bold=True)
-        for ln in textwrap.wrap(subtitle, _WRAP_BODY):
-            pages.line(ln, _BODY_PT, color="0.3")
-        pages.space(6)
-        for n, sec in enumerate(sections, 1):
-            pages.need(6)
-            pages.space(8)
-            pages.line(f"{n}. {sec.title}", _H_PT, bold=True)
-            pages.space(3)
-            for block in sec.blocks:
-                if isinstance(block, FigureBlock):
-                    figure_no += 1
-                    pages.figure_page(block, figure_no)
-                    continue
-                _text_block(pages, block, mono_chars)
-                pages.space(5)
-        pages.flush()
-        count = pages.number
-    return buf.getvalue(), count
+    source, figures = typst_source(front, sections, footer, svgs)
+    pdf = typst.compile(
+        source.encode("utf-8"),
+        format="pdf",
+        sys_inputs=figures,
+        ignore_system_fonts=True,
+        timestamp=0,
+    )
+    assert isinstance(pdf, bytes)
+    return pdf, page_count(pdf)
 
 
-def _text_block(pages: _Pages, block: Any, mono_chars: int) -> None:
-    if isinstance(block, Paragraph):
-        colour = {"alert": "#a4161a", "ok": "#1b6e3a"}.get(block.kind, "black")
-        for ln in textwrap.wrap(inline_text(block.parts), _WRAP_BODY):
-            pages.line(ln, bold=block.kind == "alert", color=colour)
-    elif isinstance(block, Bullets):
-        for item in block.items:
-            for i, ln in enumerate(textwrap.wrap(inline_text(item), _WRAP_BODY - 4)):
-                pages.line(("•  " if i == 0 else "   ") + ln, indent_in=0.1)
-    elif isinstance(block, Table):
-        lines = _table_lines(block, mono_chars)
-        if block.caption:
-            pages.need(min(len(lines), 8) + 1)
-            pages.line(block.caption, 9.5, bold=True)
-        for ln in lines:
-            pages.line(ln, _MONO_PT, mono=True)
-    elif isinstance(block, Code):
-        for ln in block.text.splitlines():
-            for piece in textwrap.wrap(ln, mono_chars) or [""]:
-                pages.line(piece, _MONO_PT, mono=True)
-        if block.caption:
-            pages.line(block.caption, 9.0, color="0.3")
-    else:
-        raise TypeError(f"unknown report block {type(block).__name__}")
+def page_count(pdf: bytes) -> int:
+    """Pages of a PDF Typst wrote (its page tree's ``/Count``)."""
+    counts = [int(m) for m in re.findall(rb"/Type\s*/Pages\b[^>]*?/Count\s+(\d+)", pdf)]
+    counts += [int(m) for m in re.findall(rb"/Count\s+(\d+)[^>]*?/Type\s*/Pages\b", pdf)]
+    if counts:
+        return max(counts)
+    return len(re.findall(rb"/Type\s*/Page\b", pdf))

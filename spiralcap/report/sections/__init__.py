@@ -6,6 +6,7 @@ from spiralcap.report.document import Section
 from spiralcap.report.sections import (
     assumptions,
     coils,
+    comparison,
     inputs,
     margin,
     optimum,
@@ -20,7 +21,8 @@ __all__ = ["Context", "build_sections"]
 
 
 def build_sections(ctx: Context, command: str) -> list[Section]:
-    """Every section of the report, in reading order."""
+    """Every section of the report, in reading order (the comparison only when asked for)."""
+    compared = comparison.build(ctx)
     return [
         summary.build(ctx),
         inputs.build(ctx),
@@ -29,6 +31,8 @@ def build_sections(ctx: Context, command: str) -> list[Section]:
         margin.build(ctx),
         optimum.build(ctx),
         tradeoffs.build(ctx),
+        *([compared] if compared is not None else []),
         assumptions.build(ctx),
         reproducibility.build(ctx, command),
+        inputs.build_appendix(ctx),
     ]

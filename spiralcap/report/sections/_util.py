@@ -6,46 +6,10 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
+from spiralcap.presentation import SHOWN_UNITS, readable
 from spiralcap.report.numbers import Num, lookup
 
-#: How an SI unit of a check or limit is shown: unit -> (shown unit, factor).
-SHOWN_UNITS: dict[str, tuple[str, float]] = {
-    "T": ("mT", 1e3),
-    "m/s": ("mm/s", 1e3),
-    "N·m": ("mN·m", 1e3),
-    "m": ("mm", 1e3),
-    "H": ("mH", 1e3),
-    "rad": ("deg", 57.29577951308232),
-}
-
-#: Readable names of the checks, limits and bounds the optimiser reports.
-_NAMES = {
-    "margin": "torque margin",
-    "speed": "forward speed",
-    "spiral_turns": "spiral turns",
-    "power": "total copper power",
-    "field_exposure": "field exposure (ICNIRP 2010)",
-    "helical_angle_min": "lower helical-angle bound",
-    "helical_angle_max": "upper helical-angle bound",
-    "frequency_min": "lower frequency bound",
-    "frequency_max": "upper frequency bound",
-    "solver": "solver did not converge",
-}
-_PER_AXIS = {
-    "current": "current",
-    "voltage": "drive voltage",
-    "temperature_rise": "coil temperature rise",
-}
-
-
-def readable(name: str) -> str:
-    """``voltage_x`` -> ``drive voltage, x pair``; unknown names are returned unchanged."""
-    if name in _NAMES:
-        return _NAMES[name]
-    stem, _, axis = name.rpartition("_")
-    if stem in _PER_AXIS and axis in ("x", "y", "z"):
-        return f"{_PER_AXIS[stem]}, {axis} pair"
-    return name.replace("_", " ")
+__all__ = ["SHOWN_UNITS", "Context", "readable", "step_out_parts"]
 
 
 @dataclass(frozen=True)

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from spiralcap.report.document import Bullets, Inline, Paragraph, Section, Strong
+from spiralcap.report.document import Bullets, Equation, Inline, Paragraph, Section, Strong
 from spiralcap.report.sections._util import Context
 
 #: The references the report cites (no URLs: the report must open offline and fetch nothing).
@@ -34,6 +34,35 @@ REFERENCES: tuple[str, ...] = (
     "106:25-57, 2006.",
     '[12] M. Ortner, L. G. Coliado Bandeira, "Magpylib: a free Python package for magnetic '
     'field computation", SoftwareX 11:100466, 2020 (independent reference in the tests).',
+)
+
+
+#: The model in five lines: the margin, the field cap, the moment, the screw, the heating.
+EQUATIONS: tuple[Equation, ...] = (
+    Equation(
+        "M(alpha, f) = min_(bold(p), bold(h)) m B_0(f) kappa(bold(p), bold(h))"
+        ' - max_"tissue" [tau_r (alpha, f) + F D_h / 2 tan(alpha + arctan mu)]',
+        "M(α, f) = min over points p, headings h of m·B0(f)·κ(p, h) − max over tissue sets of "
+        "[τ_r(α, f) + F·(D_h/2)·tan(α + atan μ)]",
+        "margin: synchronous torque minus required torque",
+    ),
+    Equation(
+        "B_0(f) = min(G I_max, G V_max / abs(R + j 2 pi f L), G sqrt(P_max / R), "
+        'G I_(Delta T), B_"ICNIRP"(f))',
+        "B0(f) = min(G·I_max, G·V_max/|R + j2πfL|, G·√(P_max/R), G·I_ΔT, B_ICNIRP(f))",
+        "field cap per pair [2, 5, 6, 9]",
+    ),
+    Equation("m = B_r V / mu_0", "m = B_r·V/μ0", "magnet moment [8]"),
+    Equation(
+        "v = eta f pi D_h tan alpha, quad N = L_w / (pi D_h tan alpha)",
+        "v = η·f·π·D_h·tan α,   N = L_w/(π·D_h·tan α)",
+        "speed and spiral turns [7]",
+    ),
+    Equation(
+        "Delta T = P / (h A)",
+        "ΔT = P/(h·A)",
+        "steady coil heating",
+    ),
 )
 
 
@@ -134,9 +163,13 @@ def build(ctx: Context) -> Section:
             Paragraph(
                 [
                     "Every number in this report comes from the models below; where a model is "
-                    "a simplification it says so."
+                    "a simplification it says so. In short: the optimiser maximises the margin "
+                    "M over the helical angle α and the frequency f, the field amplitude B0 "
+                    "capped by every limit of every pair (G: centre field per ampere, κ: the "
+                    "field at a workspace point and heading over the centre field)."
                 ]
             ),
+            *EQUATIONS,
             Bullets(items),
             Paragraph([Strong("References")]),
             Bullets([[r] for r in REFERENCES]),

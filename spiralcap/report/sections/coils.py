@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from spiralcap.report.document import Cell, FigureBlock, Paragraph, Section, Strong, Table
+from spiralcap.report.document import Cell, FigureBlock, Paragraph, Ref, Section, Strong, Table
 from spiralcap.report.sections._util import Context
 
 #: Rows of the sizing table: (JSON field of each axis, quantity, shown unit, factor).
@@ -58,66 +58,29 @@ def _sizing_table(ctx: Context) -> Table:
     )
 
 
-def _draw_maps(maps: Any, workspace_radius_m: float) -> Any:
+def _draw_maps(data: Any, workspace_radius_m: float) -> Any:
     def draw(fig: Any) -> None:
-        from matplotlib.lines import Line2D
+        from spiralcap.figures.api import field_maps
 
-        from spiralcap.figures.coils import plot_field_deviation_map
-
-        axs = fig.subplots(1, 3)
-        drawn = None
-        for ax, m in zip(axs, maps, strict=True):
-            drawn = plot_field_deviation_map(
-                ax,
-                m.u_m,
-                m.v_m,
-                m.deviation,
-                axis_labels=m.plane,
-                uniform_radii_m=m.uniform_radii_m,
-                workspace_radius_m=workspace_radius_m,
-                title=f"{m.axis} pair driven",
-                colorbar=False,
-                legend=False,
-                label_contours=False,
-            )
-        fig.colorbar(
-            drawn["filled"],
-            ax=list(axs),
-            label="|B| deviation (%)",
-            shrink=0.8,
-            location="right",
-            format="%g",
-        )
-        proxies = [
-            Line2D([], [], color="black", linestyle="-", linewidth=2.0),
-            Line2D([], [], color="black", linestyle="--", linewidth=2.0),
-            Line2D([], [], color="#D55E00", linestyle=":", linewidth=1.8),
-            Line2D([], [], color="black", linestyle="-.", linewidth=1.6),
-        ]
-        fig.legend(
-            proxies,
-            [
-                "±1 % contour",
-                "±5 % contour",
-                "±1 % and ±5 % spheres (radii in the table)",
-                "workspace",
-            ],
-            loc="outside lower center",
-            ncols=2,
-            fontsize=8,
-        )
+        field_maps(data.model, fig=fig, workspace_radius_m=workspace_radius_m, maps=data.field_maps)
 
     return draw
 
 
-def _draw_profiles(profile: Any) -> Any:
+def _draw_geometry(model: Any, workspace_radius_m: float) -> Any:
     def draw(fig: Any) -> None:
-        from spiralcap.figures.coils import plot_uniformity_profile
+        from spiralcap.figures.api import geometry
 
-        ax = fig.subplots()
-        d, devs = profile
-        plot_uniformity_profile(ax, d, devs)
-        ax.set_ylim(-12, 6)
+        geometry(model, fig=fig, workspace_radius_m=workspace_radius_m)
+
+    return draw
+
+
+def _draw_profiles(data: Any) -> Any:
+    def draw(fig: Any) -> None:
+        from spiralcap.figures.api import uniformity_profile
+
+        uniformity_profile(data.model, ax=fig.subplots(), profile=data.profile)
 
     return draw
 
@@ -151,7 +114,26 @@ def build(ctx: Context) -> Section:
             "). These limits are the ones the evaluation and the optimiser apply.",
         ]
     )
-    blocks: list[Any] = [intro]
+    ws = float(design["workspace.radius_m"])
+    geometry = FigureBlock(
+        "fig-geometry",
+        "The hardware to scale. Left: section through the coil centre in the x–z plane, in mm: "
+        "the x and z pairs cut through their winding packs (squares of the pack side at the "
+        "mean radius; solid and dash-dot lines the coils edge-on), the y pair face-on (its "
+        "winding annulus, dashed outline, light fill), the workspace sphere dash-dotted. Right: the capsule "
+        "to its own scale: shell, spiral wire at its helical angle over the wound length (front "
+        "half thick, back half dashed) and the diametrically magnetised magnet with its "
+        "moment m.",
+        _draw_geometry(ctx.data.model, ws),
+        size_in=(7.0, 3.5),
+    )
+    blocks: list[Any] = [
+        intro,
+        Paragraph(
+            ["The nested pairs and the capsule are drawn to scale in ", Ref("fig-geometry"), "."]
+        ),
+        geometry,
+    ]
     limit_C = design["limits.coil_temperature_C"]
     hot = [a for a in axes if ctx.value(f"{c}.axes.{a}.coil_temperature_C") > limit_C]
     if hot:
@@ -168,7 +150,6 @@ def build(ctx: Context) -> Section:
             )
         )
     blocks.append(_sizing_table(ctx))
-    ws = float(design["workspace.radius_m"])
     blocks.append(
         Paragraph(
             [
@@ -182,29 +163,36 @@ def build(ctx: Context) -> Section:
                 "uniformity: it takes the weakest rotating field over the workspace points and "
                 "headings (the workspace field factor, ",
                 ctx.num("evaluate.workspace_field_factor"),
-                ").",
+                "). ",
+                Ref("fig-field-maps"),
+                " maps the deviation on planes through the centre, ",
+                Ref("fig-field-profiles"),
+                " along lines through it.",
             ]
         )
     )
     blocks.append(
         FigureBlock(
             "fig-field-maps",
-            "|B| deviation from its centre value on planes through the coil centre (x–z plane for "
+            "Signed deviation of |B| from its centre value (red: stronger, blue: weaker, dotted "
+            "where weaker by more than 1 %, so the sign reads in greyscale) on planes "
+            "through the coil centre (x–z plane for "
             "the x and z pairs, y–z plane for the y pair), each pair driven alone (a static field "
             "along its axis), from coils.uniformity. Solid contour: ±1 %; dashed: ±5 %; dotted "
             "circles: the ±1 % and ±5 % spheres of that field direction (coils.uniform_region, "
             "radii in the sizing table); dash-dot circle: the design's workspace.",
-            _draw_maps(ctx.data.field_maps, ws),
+            _draw_maps(ctx.data, ws),
             size_in=(7.5, 3.5),
         )
     )
     blocks.append(
         FigureBlock(
             "fig-field-profiles",
-            "|B| deviation along each pair's axis and across it, that pair driven alone. Dashed "
-            "lines: ±1 %; dotted: ±5 %. An ideal Helmholtz pair is flat to fourth order at the "
+            "Signed |B| deviation along each pair's axis and across it, that pair driven alone, "
+            "out to where the deviation reaches about 10 %. Dashed lines: ±1 %; dotted: ±5 %. "
+            "An ideal Helmholtz pair is flat to fourth order at the "
             "centre; the nested pairs' finite winding packs and spacing set the curvature.",
-            _draw_profiles(ctx.data.profile),
+            _draw_profiles(ctx.data),
             size_in=(7.0, 4.0),
         )
     )

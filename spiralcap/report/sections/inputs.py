@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from spiralcap.report.document import Paragraph, Section, Table
+from spiralcap.report.document import Paragraph, Ref, Section, Table
 from spiralcap.report.numbers import fmt, unit_of_key
 from spiralcap.report.sections._util import Context
 from spiralcap.schema import KEYS
@@ -26,11 +26,9 @@ def show_value(value: Any) -> str:
     return short if exact else repr(value)
 
 
-def build(ctx: Context) -> Section:
-    """The design-inputs section."""
-    design = ctx.data.design
-    rows = []
-    changed = 0
+def _rows(design: Any) -> tuple[list[list[str]], list[list[str]]]:
+    """(rows of the keys that differ from the defaults, rows of every key)."""
+    rows, changed_rows = [], []
     for key, spec in KEYS.items():
         value = design.get(key)
         default = spec.default
@@ -40,31 +38,59 @@ def build(ctx: Context) -> Section:
             state = "default"
         else:
             state = "CHANGED"
-            changed += 1
-        rows.append(
-            [
-                key,
-                show_value(value),
-                unit_of_key(key) or "–",
-                state,
-                f"{spec.help}. Allowed: {spec.allowed}.",
-            ]
-        )
+        row = [
+            key,
+            show_value(value),
+            unit_of_key(key) or "–",
+            state,
+            f"{spec.help}. Allowed: {spec.allowed}.",
+        ]
+        rows.append(row)
+        if state == "CHANGED":
+            changed_rows.append([key, show_value(value), show_value(default), row[2], spec.help])
+    return changed_rows, rows
+
+
+def build(ctx: Context) -> Section:
+    """The design-inputs section: the keys that differ from the defaults, first."""
+    design = ctx.data.design
+    changed_rows, _ = _rows(design)
+    n = len(changed_rows)
     intro = Paragraph(
         [
-            f"Design source: {design.source}. Every key of the design schema is listed, in the "
-            f"units its name carries; {changed} "
-            f"{'differs' if changed == 1 else 'differ'} from the built-in defaults (marked "
-            "CHANGED). Optional keys left unset take their value from elsewhere: the tissue preset "
-            "for tissue.*, the coil radius (Helmholtz spacing) for coils.*.separation_m, the magnet "
-            "grade for capsule.magnet.remanence_T."
+            f"Design source: {design.source}. ",
+            f"{n} {'key differs' if n == 1 else 'keys differ'} from the built-in defaults"
+            + (" (below); " if n else "; ")
+            + "every key of the design schema, with its meaning and the values it allows, is "
+            "listed in ",
+            Ref("inputs-table"),
+            " (appendix). Optional keys left unset take their value from elsewhere: the tissue "
+            "preset for tissue.*, the coil radius (Helmholtz spacing) for coils.*.separation_m, "
+            "the magnet grade for capsule.magnet.remanence_T.",
         ]
     )
+    blocks: list[Any] = [intro]
+    if changed_rows:
+        blocks.append(
+            Table(
+                ["key", "value", "default", "unit", "meaning"],
+                changed_rows,
+                caption="Design inputs that differ from the built-in defaults",
+                wrap=4,
+                id="inputs-changed",
+            )
+        )
+    return Section("inputs", "Design inputs", blocks)
+
+
+def build_appendix(ctx: Context) -> Section:
+    """Appendix: every design key with its value, unit, state, meaning and allowed values."""
+    _, rows = _rows(ctx.data.design)
     table = Table(
         ["key", "value", "unit", "state", "meaning and allowed values"],
         rows,
-        caption="Design inputs",
+        caption="All design inputs (CHANGED: differs from the built-in default)",
         wrap=4,
         id="inputs-table",
     )
-    return Section("inputs", "Design inputs", [intro, table])
+    return Section("all-inputs", "Appendix: all design inputs", [table])

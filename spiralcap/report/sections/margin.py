@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from spiralcap.report.document import Cell, FigureBlock, Paragraph, Section, Table
+from spiralcap.report.document import Cell, FigureBlock, Paragraph, Ref, Section, Table
 from spiralcap.report.sections._util import SHOWN_UNITS, Context, readable, step_out_parts
 
 #: Rows of the operating-point table: (Evaluation JSON field, label, shown unit, factor).
@@ -76,50 +76,36 @@ def checks_table(ctx: Context, prefix: str, caption: str, ident: str) -> Table:
 
 
 def _draw_frequency(data: Any) -> Any:
-    ev, res = data.evaluation, data.optimization
-
     def draw(fig: Any) -> None:
-        from spiralcap.figures.design import plot_margin_vs_frequency
+        from spiralcap.figures.api import margin_vs_frequency
 
-        ax = fig.subplots()
-        c = data.freq_design
-        plot_margin_vs_frequency(
-            ax,
-            c.x,
-            c.margin_Nm,
-            feasible=c.feasible,
-            step_out_frequency_hz=ev.step_out_frequency_hz,
-            operating_frequency_hz=ev.frequency_hz,
-            label=f"as entered, α = {ev.helical_angle_deg:.4g}°",
+        margin_vs_frequency(
+            data.model,
+            data.evaluation,
+            data.optimization,
+            ax=fig.subplots(),
+            curves=(data.freq_design, data.freq_optimum),
         )
-        if data.freq_optimum is not None:
-            c = data.freq_optimum
-            plot_margin_vs_frequency(
-                ax,
-                c.x,
-                c.margin_Nm,
-                feasible=None,
-                style_index=1,
-                step_out_frequency_hz=res.step_out_frequency_hz,
-                operating_frequency_hz=res.frequency_hz,
-                label=f"optimum, α = {res.helical_angle_deg:.4g}°",
-                shade=False,
-            )
-        top = float(max(data.freq_design.margin_Nm.max(), res.margin_Nm)) * 1e3
-        if top > 0:
-            ax.set_ylim(-0.8 * top, 1.25 * top)
+
+    return draw
+
+
+def _draw_map(data: Any) -> Any:
+    def draw(fig: Any) -> None:
+        from spiralcap.figures.api import margin_map
+
+        margin_map(
+            data.model, data.optimization, data.evaluation, ax=fig.subplots(), grid=data.margin_map
+        )
 
     return draw
 
 
 def _draw_budget(data: Any) -> Any:
     def draw(fig: Any) -> None:
-        from spiralcap.figures.design import plot_torque_budget
+        from spiralcap.figures.api import torque_budget
 
-        ax = fig.subplots()
-        plot_torque_budget(
-            ax, [("as entered", data.evaluate_json), ("optimum", data.optimize_json["evaluation"])]
-        )
+        torque_budget(data.evaluation, data.optimization, ax=fig.subplots())
 
     return draw
 
@@ -139,7 +125,11 @@ def build(ctx: Context) -> Section:
             *step_out_parts(ctx, f"{e}.step_out_frequency_hz"),
             "; at the optimum's helical angle at ",
             *step_out_parts(ctx, f"{o}.step_out_frequency_hz"),
-            ".",
+            " (",
+            Ref("fig-margin-frequency"),
+            "). ",
+            Ref("fig-torque-budget"),
+            " splits the torques at the two operating points.",
         ]
     )
     blocks: list[Any] = [intro]
@@ -157,13 +147,39 @@ def build(ctx: Context) -> Section:
         FigureBlock(
             "fig-margin-frequency",
             "Worst-case torque margin against rotation frequency at the design's helical angle "
-            "(and at the optimum's), from optimize.margin_grid. Dotted vertical lines: step-out "
-            "frequencies (margin = 0); stars: the operating points; hatched: frequencies where a "
-            "requirement (minimum speed, margin) is not met at the design's angle.",
+            "and at the optimum's, from optimize.margin_grid. Each curve is solid where every "
+            "requirement holds at its own angle and thin and dotted where one fails (at low "
+            "frequency the capsule is too slow); dashed vertical lines: step-out frequencies "
+            "(margin = 0); stars: the operating points; hatched: negative margin.",
             _draw_frequency(ctx.data),
             size_in=(7.5, 4.4),
         )
     )
+    if ctx.data.margin_map is not None:
+        blocks.append(
+            Paragraph(
+                [
+                    "Over the whole design space of helical angle and frequency (",
+                    Ref("fig-margin-map"),
+                    ") the feasible region is bounded by the minimum speed (low frequency, "
+                    "small angle), the minimum number of spiral turns (large angle) and the "
+                    "step-out boundary where the margin reaches zero.",
+                ]
+            )
+        )
+        blocks.append(
+            FigureBlock(
+                "fig-margin-map",
+                "Worst-case torque margin over helical angle and rotation frequency "
+                "(optimize.margin_grid on a 90 × 90 grid inside the optimiser's angle bounds). "
+                "Hatched: a requirement (minimum speed, spiral turns, positive margin) is not "
+                "met; thick black line: margin = 0, where the capsule steps out; open circle: "
+                "the best feasible grid point; star: the optimiser's optimum; diamond: the "
+                "design as entered.",
+                _draw_map(ctx.data),
+                size_in=(7.0, 4.6),
+            )
+        )
     blocks.append(
         evaluation_table(
             ctx,

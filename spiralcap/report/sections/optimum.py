@@ -2,9 +2,9 @@
 
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, cast
 
-from spiralcap.report.document import Cell, FigureBlock, Paragraph, Section, Table
+from spiralcap.report.document import Cell, FigureBlock, Paragraph, Ref, Section, Table
 from spiralcap.report.sections._util import SHOWN_UNITS, Context, readable
 from spiralcap.report.sections.margin import checks_table
 from spiralcap.report.sections.summary import binding_gain
@@ -71,11 +71,10 @@ def _allocation_table(ctx: Context) -> Table:
     for i, a in enumerate(ctx.value("optimize.current_allocation")):
         p = f"optimize.current_allocation.{i}"
         heading = "[" + ", ".join(f"{c:.3g}" for c in a["heading"]) + "]"
-        rows.append(
-            [heading]
-            + [ctx.num(f"{p}.amplitudes_A.{k}") for k in "xyz"]
-            + [ctx.num(f"{p}.phases_deg.{k}") for k in "xyz"]
-        )
+        row: list[Cell] = [heading]
+        row += [ctx.num(f"{p}.amplitudes_A.{k}") for k in "xyz"]
+        row += [ctx.num(f"{p}.phases_deg.{k}") for k in "xyz"]
+        rows.append(row)
     return Table(
         ["heading (unit vector)", "I_x (A)", "I_y (A)", "I_z (A)", "φ_x (°)", "φ_y (°)", "φ_z (°)"],
         rows,
@@ -114,7 +113,9 @@ def build(ctx: Context) -> Section:
                 " iterations in all; solver status ",
                 str(ctx.value(f"{o}.solver_status")),
                 "). ",
-                str(ctx.value(f"{o}.message")).rstrip(".") + ".",
+                str(ctx.value(f"{o}.message")).rstrip(".") + ". ",
+                Ref("fig-utilisation"),
+                " shows how close each limit is to binding.",
             ],
             kind="ok" if feasible else "alert",
         )
@@ -125,7 +126,10 @@ def build(ctx: Context) -> Section:
         ["rotation frequency", "Hz", ctx.num(f"{o}.frequency_hz")],
         ["rotating field at the centre", "mT", ctx.num(f"{o}.field_amplitude_T", 1e3)],
         *[
-            [f"current amplitude, {k} pair", "A", ctx.num(f"{o}.current_amplitudes_A.{k}")]
+            cast(
+                list[Cell],
+                [f"current amplitude, {k} pair", "A", ctx.num(f"{o}.current_amplitudes_A.{k}")],
+            )
             for k in "xyz"
         ],
         ["torque margin", "mN·m", ctx.num(f"{o}.margin_Nm", 1e3)],

@@ -12,12 +12,16 @@ from spiralcap.report.sections._util import Context, readable, step_out_parts
 def gain_scale(objective: str, unit: str) -> tuple[float, str]:
     """Factor and label that show a multiplier per SI unit in engineering units.
 
-    Reuses the table of ``spiralcap optimize`` (:data:`spiralcap.commands.optimize._ENGINEERING`),
-    so the report and the CLI print the same gains: mN·m per A, V, W, K, mT, mm/s, deg, Hz.
+    Reads :data:`spiralcap.presentation.SHOWN_UNITS` (the table ``spiralcap optimize`` prints
+    its gains with): mN·m per A, V, W, K, mT, mm/s, deg, Hz. A gain per SI unit is a gain per
+    shown unit divided by the unit's factor (per T -> per mT: x 1e-3).
     """
-    from spiralcap.commands.optimize import _ENGINEERING
+    from spiralcap.presentation import shown
 
-    label, factor = _ENGINEERING.get(unit, (unit, 1.0))
+    label, to_shown = shown(unit)
+    if unit == "turns":
+        label = "turn"
+    factor = 1.0 / to_shown
     if objective == "margin":
         return factor * 1e3, f"mN·m per {label}"
     return factor, f"safety factor per {label}"

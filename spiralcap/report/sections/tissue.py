@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 from typing import Any
 
-from spiralcap.report.document import Cell, FigureBlock, Paragraph, Section, Table
+from spiralcap.report.document import Cell, FigureBlock, Paragraph, Ref, Section, Table
 from spiralcap.report.sections._util import Context
 
 #: Tissue-set rows: (field of TissueParameters.as_design_table(), label, unit).
@@ -65,46 +65,19 @@ def _dedupe_legend(ax: Any, **kwargs: Any) -> None:
 
 
 def _draw(data: Any) -> Any:
-    design, ev, res = data.design, data.evaluation, data.optimization
+    ev, res = data.evaluation, data.optimization
 
     def draw(fig: Any) -> None:
-        import numpy as np
-
         import torque_model as tm
-        from spiralcap.commands.torque import geometry_from_design
-        from spiralcap.figures.style import restyle_lines
+        from spiralcap.figures.api import tissue_torque
         from spiralcap.figures.torque import plot_torque_vs_frequency
 
         left, right = fig.subplots(2, 1)
-        drawn = plot_torque_vs_frequency(left, tm.preset("zhou2013-sample2"))
-        restyle_lines(drawn["curves"], markevery=8)
+        plot_torque_vs_frequency(left, tm.preset("zhou2013-sample2"))
         left.set_title("paper's capsules (11 × 26 mm), sample 2")
         _dedupe_legend(left, loc="upper left", fontsize=8, ncols=2)
 
-        f_hi = max(3.5, 1.1 * max(ev.frequency_hz, res.frequency_hz))
-        f = np.linspace(0.1, f_hi, 80)
-        geometry = geometry_from_design(design)
-        lines = []
-        for tissue in data.model.tissues:
-            for angle, what in (
-                (ev.helical_angle_deg, "as entered"),
-                (res.helical_angle_deg, "optimum"),
-            ):
-                out = plot_torque_vs_frequency(
-                    right, tissue, (angle,), frequency_hz=f, paper_points=(), geometry=geometry
-                )
-                out["curves"][0].set_label(f"{tissue.name}, α = {angle:.4g}° ({what})")
-                lines += out["curves"]
-        restyle_lines(lines, markevery=10)
-        for fx, what, ls in (
-            (ev.frequency_hz, "as entered", "--"),
-            (res.frequency_hz, "optimum", ":"),
-        ):
-            right.axvline(
-                fx, color="0.3", linestyle=ls, linewidth=1.2, label=f"{what} frequency, {fx:.4g} Hz"
-            )
-        right.set_title("this design's capsule")
-        _dedupe_legend(right, loc="upper left", fontsize=8)
+        tissue_torque(data.model, ev, res, ax=right)
 
     return draw
 
@@ -151,14 +124,17 @@ def build(ctx: Context) -> Section:
             ctx.num(f"{t}.calibration_factor"),
             ", fitted on sample 2 with capsule No. 2 only; "
             "the capsule No. 1 points are validation and never enter the fit "
-            "(docs/torque-model.md). The factor leaves the shape against frequency as published.",
+            "(docs/torque-model.md). The factor leaves the shape against frequency as published; ",
+            Ref("fig-tissue-torque"),
+            " sets the model beside the paper's points and shows this design's capsule.",
         ]
     )
     fig = FigureBlock(
         "fig-tissue-torque",
         "Tissue resistive torque against rotation frequency. Top: the paper's capsules "
         "(helical angles 5–20°) in the calibrated sample-2 tissue, with the torques the paper "
-        "states (circles: calibration, squares: validation). Bottom: this design's capsule "
+        "states (markers only: filled circles calibration, open squares validation; the model is "
+        "drawn as lines without markers). Bottom: this design's capsule "
         "geometry in each of its tissue sets, at the helical angle as entered and at the "
         "optimum; vertical lines mark the two operating frequencies.",
         _draw(ctx.data),

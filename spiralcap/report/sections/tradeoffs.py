@@ -4,9 +4,7 @@ from __future__ import annotations
 
 from typing import Any
 
-import numpy as np
-
-from spiralcap.report.document import Cell, FigureBlock, Paragraph, Section, Table
+from spiralcap.report.document import Cell, FigureBlock, Paragraph, Ref, Section, Table
 from spiralcap.report.sections._util import Context, readable
 
 
@@ -20,22 +18,15 @@ def power_sweep_payload(data: Any) -> dict[str, Any]:
 
 
 def _draw_angle(data: Any) -> Any:
-    ev, res = data.evaluation, data.optimization
-
     def draw(fig: Any) -> None:
-        from spiralcap.figures.design import plot_margin_vs_angle
+        from spiralcap.figures.api import margin_vs_angle
 
-        ax = fig.subplots()
-        c = data.angle_optimum
-        plot_margin_vs_angle(
-            ax,
-            c.x,
-            c.margin_Nm,
-            feasible=c.feasible,
-            optimum_deg=res.helical_angle_deg,
-            optimum_margin_Nm=res.margin_Nm,
-            design_angle_deg=ev.helical_angle_deg,
-            label=f"at the optimum frequency, {res.frequency_hz:.4g} Hz",
+        margin_vs_angle(
+            data.model,
+            data.optimization,
+            data.evaluation,
+            ax=fig.subplots(),
+            curve=data.angle_optimum,
         )
 
     return draw
@@ -43,20 +34,9 @@ def _draw_angle(data: Any) -> Any:
 
 def _draw_power(data: Any, sweep: dict[str, Any]) -> Any:
     def draw(fig: Any) -> None:
-        from spiralcap.figures.design import plot_margin_vs_power
+        from spiralcap.figures.api import margin_vs_power
 
-        ax = fig.subplots()
-        margin = np.array([np.nan if m is None else m for m in sweep["margin_Nm"]], float)
-        plot_margin_vs_power(
-            ax,
-            sweep["power_W"],
-            margin,
-            optimal=[s == "optimal" for s in sweep["status"]],
-            design_power_W=data.design["limits.power_W"],
-            binding=[
-                ";".join(readable(n) for n in b.split(";") if n) for b in sweep["binding_limits"]
-            ],
-        )
+        margin_vs_power(data.design, ax=fig.subplots(), sweep=data.power_sweep)
 
     return draw
 
@@ -97,11 +77,12 @@ def build(ctx: Context) -> Section:
     )
     angle_fig = FigureBlock(
         "fig-margin-angle",
-        "Worst-case torque margin against the spiral's helical angle at the optimum frequency "
-        "(optimize.margin_grid). Small angles cost tissue torque (a wider wire footprint, more "
-        "turns) and speed; large angles cost thrust torque (the screw relation) and fall below "
-        "the minimum number of spiral turns. Hatched: a requirement is not met. Star: the "
-        "optimum; dashed line: the angle as entered.",
+        "Worst-case torque margin against the spiral's helical angle (optimize.margin_grid), "
+        "each angle run at the lowest frequency inside the bounds that meets the minimum speed "
+        "(grey dashed, right axis): the margin a helical-angle tolerance costs. Small angles "
+        "need a higher frequency (more tissue torque, less field); large angles cost thrust "
+        "torque and fall below the minimum number of spiral turns (hatched: that requirement "
+        "fails). Star: the optimum; dashed line: the angle as entered.",
         _draw_angle(ctx.data),
         size_in=(7.5, 4.4),
     )
@@ -117,8 +98,13 @@ def build(ctx: Context) -> Section:
     intro = Paragraph(
         [
             "Two trade-offs a designer asks about first: how sensitive the margin is to the "
-            "spiral's helical angle (a manufacturing tolerance), and what more amplifier and "
-            "cooling power buys."
+            "spiral's helical angle (a manufacturing tolerance, ",
+            Ref("fig-margin-angle"),
+            "), and what more amplifier and cooling power buys (",
+            Ref("fig-margin-power"),
+            ", ",
+            Ref("power-sweep"),
+            ").",
         ]
     )
     return Section("tradeoffs", "Trade-offs", [intro, angle_fig, power_fig, table])

@@ -1,0 +1,75 @@
+"""Writing a figure from the CLI (``--plot F.png``): the path checked first, written atomically."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any, cast
+
+from spiralcap.errors import InputError
+
+#: Figure formats the CLI writes.
+FIGURE_SUFFIXES = ("png", "svg", "pdf")
+
+
+def check_figure_path(option: str, path: str) -> None:
+    """Refuse a figure path before any work is done (InputError naming ``option``)."""
+    suffix = Path(path).suffix.lower().lstrip(".")
+    if suffix not in FIGURE_SUFFIXES:
+        raise InputError(option, path, "a file name ending in .png, .svg or .pdf")
+    if Path(path).is_dir():
+        raise InputError(option, path, "a file path, not an existing folder")
+
+
+def write_figure(path: str, draw: Callable[[Any], Any], size_in: tuple[float, float]) -> Any:
+    """Draw with ``draw(fig)`` on a new Figure in the report style and write it atomically.
+
+    Returns what ``draw`` returned.
+    """
+    import io
+
+    import matplotlib
+    from matplotlib.figure import Figure
+
+    from spiralcap.design import write_text_atomic
+    from spiralcap.figures.style import REPORT_RC
+
+    suffix = Path(path).suffix.lower().lstrip(".")
+    with matplotlib.rc_context(cast(Any, REPORT_RC)):
+        fig = Figure(figsize=size_in, layout="constrained")
+        drawn = draw(fig)
+        buf = io.BytesIO()
+        fig.savefig(buf, format=suffix, dpi=150, metadata=None)
+    write_text_atomic(path, buf.getvalue())
+    return drawn
+
+
+def add_geometry_plot_argument(parser: Any) -> None:
+    """``--plot FIGURE.png``: the geometry view (coils to scale, workspace, capsule)."""
+    parser.add_argument(
+        "--plot",
+        metavar="FIGURE.png",
+        help="also draw the hardware to scale (.png, .svg or .pdf): the nested coil pairs "
+        "with their winding packs, the workspace and the capsule",
+    )
+
+
+def write_geometry(path: str, design: Any, *, quiet: bool = False) -> Any:
+    """Draw the geometry view of ``design`` to ``path`` (:func:`spiralcap.figures.hardware.draw_geometry`)."""
+    from spiralcap.assemble import build_model
+    from spiralcap.figures.hardware import draw_geometry
+
+    model = build_model(design)
+    drawn = write_figure(
+        path,
+        lambda fig: draw_geometry(
+            fig,
+            model.coils,
+            model.capsule,
+            workspace_radius_m=float(design["workspace.radius_m"]),
+        ),
+        (7.0, 3.5),
+    )
+    if not quiet:
+        print(f"wrote {path}")
+    return drawn

@@ -1,0 +1,228 @@
+"""Two or more designs side by side: the keys that differ, their evaluations and optimisations.
+
+:func:`compare_designs` evaluates and optimises every design (the same functions as
+``spiralcap evaluate`` and ``optimize``) and returns a typed :class:`Comparison` that the
+``spiralcap compare`` command prints and the report's comparison section shows. Values are
+kept in SI; every :class:`Row` knows how it is shown (unit and factor from
+:mod:`spiralcap.presentation`).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any
+
+from spiralcap.design import Design
+from spiralcap.presentation import shown
+
+#: Relative difference below which two values count as equal.
+SAME_RTOL = 1e-9
+
+
+@dataclass(frozen=True)
+class KeyDifference:
+    """A design key whose value differs between the designs (values as in the design files)."""
+
+    key: str
+    values: tuple[Any, ...]
+
+
+@dataclass(frozen=True)
+class Row:
+    """One compared quantity: SI values per design, how it is shown, and whether they differ."""
+
+    quantity: str
+    si_unit: str
+    values: tuple[Any, ...]
+    differs: bool
+
+    @property
+    def unit(self) -> str:
+        """The unit the row is shown in (mN·m for N·m, mT for T, ...)."""
+        return shown(self.si_unit)[0]
+
+    def shown_values(self) -> tuple[Any, ...]:
+        """The values in :attr:`unit`."""
+        factor = shown(self.si_unit)[1]
+        return tuple(
+            v * factor if isinstance(v, (int, float)) and not isinstance(v, bool) else v
+            for v in self.values
+        )
+
+
+@dataclass(frozen=True)
+class Comparison:
+    """Designs side by side: labels, changed keys, rows at the operating point and optimum."""
+
+    labels: tuple[str, ...]
+    sources: tuple[str, ...]
+    sha256: tuple[str, ...]
+    changed_keys: tuple[KeyDifference, ...]
+    evaluated: tuple[Row, ...]
+    optimised: tuple[Row, ...]
+    evaluations: tuple[Any, ...]
+    optimizations: tuple[Any, ...]
+
+
+def _differs(values: Sequence[Any]) -> bool:
+    first = values[0]
+    for v in values[1:]:
+        if isinstance(v, float) and isinstance(first, float):
+            if not (math.isclose(v, first, rel_tol=SAME_RTOL, abs_tol=1e-300) or v == first):
+                return True
+        elif v != first:
+            return True
+    return False
+
+
+def _row(quantity: str, si_unit: str, values: Sequence[Any]) -> Row:
+    vals = tuple(
+        float(v) if isinstance(v, (int, float)) and not isinstance(v, bool) else v for v in values
+    )
+    return Row(quantity, si_unit, vals, _differs(vals))
+
+
+def evaluation_rows(evaluations: Sequence[Any]) -> tuple[Row, ...]:
+    """Margin, safety factor, field, torques, speed, step-out and every check, per design."""
+    rows = [
+        _row("helical angle", "deg", [e.helical_angle_deg for e in evaluations]),
+        _row("rotation frequency", "Hz", [e.frequency_hz for e in evaluations]),
+        _row("torque margin", "N·m", [e.margin_Nm for e in evaluations]),
+        _row("safety factor", "", [e.safety_factor for e in evaluations]),
+        _row("rotating field at the centre", "T", [e.field_amplitude_T for e in evaluations]),
+        _row("field limited by", "", [e.field_limited_by for e in evaluations]),
+        _row("magnetic torque", "N·m", [e.magnetic_torque_Nm for e in evaluations]),
+        _row("required torque", "N·m", [e.required_torque_Nm for e in evaluations]),
+        _row("forward speed", "m/s", [e.speed_m_s for e in evaluations]),
+        _row("step-out frequency", "Hz", [e.step_out_frequency_hz for e in evaluations]),
+    ]
+    for k, axis in enumerate("xyz"):
+        rows.append(
+            _row(f"current, {axis} pair", "A", [e.current_amplitudes_A[k] for e in evaluations])
+        )
+    names: list[str] = []
+    for e in evaluations:
+        for c in e.checks:
+            if (
+                c.name not in names
+                and c.name not in ("margin", "speed")
+                and not (c.name.startswith("current_"))
+            ):
+                names.append(c.name)
+    for name in names:
+        found = [next((c for c in e.checks if c.name == name), None) for e in evaluations]
+        unit = next(c.unit for c in found if c is not None)
+        rows.append(
+            _row(name.replace("_", " "), unit, [None if c is None else c.value for c in found])
+        )
+    rows.append(_row("feasible", "", [e.feasible for e in evaluations]))
+    return tuple(rows)
+
+
+def optimisation_rows(results: Sequence[Any]) -> tuple[Row, ...]:
+    """Status, the chosen variables, margin, speed and the binding limits of each optimum."""
+    return (
+        _row("status", "", [r.status for r in results]),
+        _row("helical angle", "deg", [r.helical_angle_deg for r in results]),
+        _row("rotation frequency", "Hz", [r.frequency_hz for r in results]),
+        _row("rotating field at the centre", "T", [r.field_amplitude_T for r in results]),
+        _row("torque margin", "N·m", [r.margin_Nm for r in results]),
+        _row("safety factor", "", [r.safety_factor for r in results]),
+        _row("forward speed", "m/s", [r.speed_m_s for r in results]),
+        _row("step-out frequency", "Hz", [r.step_out_frequency_hz for r in results]),
+        *[
+            _row(f"current, {axis} pair", "A", [r.current_amplitudes_A[k] for r in results])
+            for k, axis in enumerate("xyz")
+        ],
+        _row(
+            "binding limits",
+            "",
+            [", ".join(b.name for b in r.binding_limits) or "none" for r in results],
+        ),
+    )
+
+
+def changed_keys(designs: Sequence[Design]) -> tuple[KeyDifference, ...]:
+    """Every key whose value is not the same in all designs (unset keys count as None)."""
+    keys: list[str] = []
+    for d in designs:
+        for k in dict(d):
+            if k not in keys:
+                keys.append(k)
+    out = []
+    for k in keys:
+        values = tuple(d.get(k) for d in designs)
+        if any(v != values[0] for v in values[1:]):
+            out.append(KeyDifference(k, values))
+    return tuple(out)
+
+
+def compare_designs(designs: Sequence[Design], labels: Sequence[str] | None = None) -> Comparison:
+    """Evaluate and optimise each design and set them side by side.
+
+    Parameters
+    ----------
+    designs : sequence of Design
+        Two or more validated designs.
+    labels : sequence of str, optional
+        Column names (default: each design's source).
+
+    Returns
+    -------
+    Comparison
+
+    Raises
+    ------
+    spiralcap.errors.InputError
+        A design is inconsistent (:func:`spiralcap.assemble.build_model`).
+    """
+    from optimize import evaluate, optimize_design, prepare
+    from spiralcap.assemble import build_model
+
+    evaluations, results = [], []
+    for d in designs:
+        model = prepare(build_model(d))
+        evaluations.append(evaluate(model))
+        results.append(optimize_design(model))
+    names = tuple(labels) if labels is not None else tuple(str(d.source) for d in designs)
+    return Comparison(
+        labels=names,
+        sources=tuple(str(d.source) for d in designs),
+        sha256=tuple(d.sha256() for d in designs),
+        changed_keys=changed_keys(designs),
+        evaluated=evaluation_rows(evaluations),
+        optimised=optimisation_rows(results),
+        evaluations=tuple(evaluations),
+        optimizations=tuple(results),
+    )
+
+
+def comparison_to_dict(c: Comparison) -> dict[str, Any]:
+    """JSON-ready form: SI values with units in the row entries."""
+
+    def rows(rs: Sequence[Row]) -> list[dict[str, Any]]:
+        return [
+            {
+                "quantity": r.quantity,
+                "unit": r.si_unit,
+                "values": list(r.values),
+                "differs": r.differs,
+            }
+            for r in rs
+        ]
+
+    return {
+        "designs": [
+            {"label": lab, "source": src, "sha256": sha}
+            for lab, src, sha in zip(c.labels, c.sources, c.sha256, strict=True)
+        ],
+        "changed_keys": [{"key": k.key, "values": list(k.values)} for k in c.changed_keys],
+        "evaluate": rows(c.evaluated),
+        "optimize": rows(c.optimised),
+        "margin_Nm": {
+            "evaluate": [e.margin_Nm for e in c.evaluations],
+            "optimize": [r.margin_Nm for r in c.optimizations],
+        },
+    }

@@ -1,0 +1,388 @@
+"""Every report figure from Python: functions of the model and result objects.
+
+Each function takes the objects the library returns -- the model of
+:func:`spiralcap.assemble.build_model`, an :class:`optimize.Evaluation`, an
+:class:`optimize.OptimizationResult` -- computes what it shows through :mod:`spiralcap.curves`
+(the same arrays the report uses), draws on ``ax`` (or ``fig`` for multi-panel figures; a new
+matplotlib Figure when not given, no pyplot involved) and returns a :class:`Plot`: the figure,
+the axes and the typed record of what was drawn.
+
+>>> from spiralcap.assemble import build_model              # doctest: +SKIP
+>>> from spiralcap.design import load_design                 # doctest: +SKIP
+>>> from optimize import evaluate, optimize_design           # doctest: +SKIP
+>>> from spiralcap import figures                            # doctest: +SKIP
+>>> model = build_model(load_design())                       # doctest: +SKIP
+>>> ev, res = evaluate(model), optimize_design(model)        # doctest: +SKIP
+>>> p = figures.margin_vs_frequency(model, ev, res)          # doctest: +SKIP
+>>> p.figure.savefig("margin.svg")                           # doctest: +SKIP
+"""
+
+from __future__ import annotations
+
+from typing import Any, NamedTuple
+
+import numpy as np
+
+__all__ = [
+    "Plot",
+    "field_maps",
+    "geometry",
+    "limit_utilisation",
+    "margin_map",
+    "margin_vs_angle",
+    "margin_vs_frequency",
+    "margin_vs_power",
+    "tissue_torque",
+    "torque_budget",
+    "uniformity_profile",
+]
+
+
+class Plot(NamedTuple):
+    """A drawn figure: the Figure, its main Axes, and what the plotting function returned."""
+
+    figure: Any
+    ax: Any
+    drawn: Any
+
+
+def _axes(ax: Any, size_in: tuple[float, float]) -> tuple[Any, Any]:
+    if ax is not None:
+        return ax.figure, ax
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=size_in, layout="constrained")
+    return fig, fig.subplots()
+
+
+def _figure(fig: Any, size_in: tuple[float, float]) -> Any:
+    if fig is not None:
+        return fig
+    from matplotlib.figure import Figure
+
+    return Figure(figsize=size_in, layout="constrained")
+
+
+def margin_vs_frequency(
+    model: Any, evaluation: Any, result: Any = None, *, ax: Any = None, curves: Any = None
+) -> Plot:
+    """Margin against frequency at the design's helical angle (and the optimum's).
+
+    ``curves`` may pass precomputed :func:`spiralcap.curves.frequency_curves` output.
+    """
+    from spiralcap.curves import frequency_curves
+    from spiralcap.figures.design import plot_margin_vs_frequency
+
+    fig, ax = _axes(ax, (7.5, 4.4))
+    design, optimum = curves if curves is not None else frequency_curves(model, evaluation, result)
+    ev = evaluation
+    drawn = [
+        plot_margin_vs_frequency(
+            ax,
+            design.x,
+            design.margin_Nm,
+            feasible=design.feasible,
+            step_out_frequency_hz=ev.step_out_frequency_hz,
+            operating_frequency_hz=ev.frequency_hz,
+            label=f"as entered, α = {ev.helical_angle_deg:.3g}°",
+        )
+    ]
+    if optimum is not None:
+        drawn.append(
+            plot_margin_vs_frequency(
+                ax,
+                optimum.x,
+                optimum.margin_Nm,
+                feasible=optimum.feasible,
+                style_index=1,
+                step_out_frequency_hz=result.step_out_frequency_hz,
+                operating_frequency_hz=result.frequency_hz,
+                label=f"optimum, α = {result.helical_angle_deg:.3g}°",
+                shade=False,
+            )
+        )
+        lo, hi = ax.get_ylim()
+        ax.set_ylim(lo, max(hi, 1.1e3 * float(max(design.margin_Nm.max(), result.margin_Nm))))
+    return Plot(fig, ax, tuple(drawn))
+
+
+def margin_vs_angle(
+    model: Any, result: Any, evaluation: Any = None, *, ax: Any = None, curve: Any = None
+) -> Plot:
+    """Margin against helical angle, each angle at the lowest frequency meeting the speed.
+
+    Frequency used on a second (right) axis; the spiral-turns shortfall hatched; the optimum
+    starred; the angle as entered dashed. ``curve``: precomputed
+    :func:`spiralcap.curves.angle_curve`.
+    """
+    from spiralcap.curves import angle_curve, angle_range_rad
+    from spiralcap.figures.design import plot_margin_vs_angle
+
+    fig, ax = _axes(ax, (7.5, 4.4))
+    angles = [result.helical_angle_rad] + (
+        [evaluation.helical_angle_rad] if evaluation is not None else []
+    )
+    c = curve if curve is not None else angle_curve(model, angle_range_rad(model, *angles))
+    # start where the margin is above -40 % of its peak: the steep fall at tiny angles would
+    # squeeze the useful range (the range is chosen from the data)
+    peak = float(np.nanmax(c.margin_Nm))
+    keep = np.nonzero(c.margin_Nm >= -0.4 * abs(peak))[0]
+    sl = slice(max(0, int(keep[0]) - 1) if keep.size else 0, None)
+    drawn = plot_margin_vs_angle(
+        ax,
+        c.x[sl],
+        c.margin_Nm[sl],
+        shortfalls={
+            "speed below requirements.min_speed_mm_s": c.speed_slack_m_s[sl],
+            "fewer turns than requirements.min_spiral_turns": c.turns_slack[sl],
+        },
+        optimum_deg=result.helical_angle_deg,
+        optimum_margin_Nm=result.margin_Nm,
+        design_angle_deg=None if evaluation is None else evaluation.helical_angle_deg,
+        label="margin, each angle at the lowest frequency meeting the speed",
+        optimum_name="optimum" if result.status == "optimal" else "closest design (infeasible)",
+    )
+    if c.frequency_hz is not None:
+        twin = ax.twinx()
+        fx = c.frequency_hz[sl]
+        twin.plot(c.x[sl], fx, color="0.45", linestyle=(0, (3, 1.5)), linewidth=1.2)
+        twin.set_ylabel("frequency used (Hz), grey dashed", color="0.3")
+        twin.set_ylim(0, 1.1 * float(fx.max()))
+        twin.grid(False)
+    return Plot(fig, ax, drawn)
+
+
+def margin_map(
+    model: Any,
+    result: Any = None,
+    evaluation: Any = None,
+    *,
+    ax: Any = None,
+    grid: Any = None,
+) -> Plot:
+    """Margin over helical angle x frequency: infeasible hatched, step-out drawn, points marked.
+
+    ``grid``: precomputed :func:`spiralcap.curves.margin_map`.
+    """
+    from spiralcap.curves import frequency_range_hz
+    from spiralcap.curves import margin_map as compute
+    from spiralcap.figures.sweep import plot_margin_map
+
+    fig, ax = _axes(ax, (7.0, 4.6))
+    if grid is None:
+        f_max = frequency_range_hz(model, getattr(evaluation, "step_out_frequency_hz", 0.0)).max()
+        grid = compute(model, float(f_max))
+    marks = {}
+    best = "optimum" if getattr(result, "status", "optimal") == "optimal" else "closest design"
+    for what, obj in ((best, result), ("as entered", evaluation)):
+        if obj is not None:
+            marks[f"{what}, {obj.helical_angle_deg:.3g}°, {obj.frequency_hz:.3g} Hz"] = (
+                obj.helical_angle_deg,
+                obj.frequency_hz,
+            )
+    drawn = plot_margin_map(
+        ax,
+        grid.helical_angle_deg,
+        grid.frequency_hz,
+        grid.margin_Nm,
+        feasible=grid.feasible,
+        xlabel="helical angle α (deg)",
+        ylabel="rotation frequency f (Hz)",
+        marks=marks,
+    )
+    return Plot(fig, ax, drawn)
+
+
+def torque_budget(evaluation: Any, result: Any = None, *, ax: Any = None) -> Plot:
+    """Magnetic torque available against the required torque, as entered (and optimised)."""
+    from spiralcap.figures.design import plot_torque_budget
+
+    fig, ax = _axes(ax, (6.5, 4.0))
+    points = [("as entered", evaluation)]
+    if result is not None:
+        points.append(("optimum", result.evaluation))
+    return Plot(fig, ax, plot_torque_budget(ax, points))
+
+
+def limit_utilisation(evaluation: Any, *, ax: Any = None) -> Plot:
+    """How close every limit and requirement is to binding (an Evaluation, or a result's)."""
+    from spiralcap.figures.design import plot_limit_utilisation
+    from spiralcap.presentation import readable
+
+    ev = getattr(evaluation, "evaluation", evaluation)
+    fig, ax = _axes(ax, (7.0, 4.6))
+    labels = {c.name: readable(c.name) for c in ev.checks}
+    return Plot(fig, ax, plot_limit_utilisation(ax, ev.checks, labels=labels))
+
+
+def tissue_torque(
+    model: Any, evaluation: Any = None, result: Any = None, *, ax: Any = None
+) -> Plot:
+    """Tissue resistive torque of this design's capsule in each tissue set, against frequency.
+
+    One curve per tissue set and helical angle (as entered, optimum); lines without markers.
+    """
+    from spiralcap.figures.style import restyle_lines
+    from spiralcap.figures.torque import plot_torque_vs_frequency
+
+    fig, ax = _axes(ax, (7.0, 4.2))
+    cap = model.capsule
+    geometry = {
+        "body_diameter_m": cap.body.diameter_m,
+        "body_length_m": cap.body.length_m,
+        "wire_diameter_m": cap.spiral.wire_diameter_m,
+        "wound_length_m": cap.spiral.wound_length_m,
+        "starts": int(cap.spiral.starts),
+    }
+    points = [(o, w) for o, w in ((evaluation, "as entered"), (result, "optimum")) if o]
+    if not points:
+        points = [(cap.spiral, "design")]
+    f_hi = max([3.5] + [1.1 * o.frequency_hz for o, _ in points if hasattr(o, "frequency_hz")])
+    f = np.linspace(0.1, f_hi, 80)
+    lines = []
+    for tissue in model.tissues:
+        for obj, what in points:
+            angle = np.degrees(obj.helical_angle_rad)
+            out = plot_torque_vs_frequency(
+                ax, tissue, (angle,), frequency_hz=f, paper_points=(), geometry=geometry
+            )
+            out.curves[0].set_label(f"{tissue.name}, α = {angle:.3g}° ({what})")
+            lines += out.curves
+    restyle_lines(lines, markers=False)
+    for obj, what in points:
+        if hasattr(obj, "frequency_hz"):
+            ax.axvline(
+                obj.frequency_hz,
+                color="0.3",
+                linestyle="--" if what == "as entered" else ":",
+                linewidth=1.2,
+                label=f"{what} frequency, {obj.frequency_hz:.3g} Hz",
+            )
+    ax.set_title("this design's capsule")
+    handles, labels = ax.get_legend_handles_labels()
+    seen = dict(zip(labels, handles, strict=True))
+    ax.legend(list(seen.values()), list(seen), loc="upper left", fontsize=8)
+    return Plot(fig, ax, tuple(lines))
+
+
+def field_maps(
+    model: Any, *, fig: Any = None, workspace_radius_m: float | None = None, maps: Any = None
+) -> Plot:
+    """Signed |B| deviation maps, one per pair driven alone, with one shared colour bar."""
+    from matplotlib.lines import Line2D
+
+    from spiralcap.curves import field_maps as compute
+    from spiralcap.figures.coils import plot_field_deviation_map
+
+    fig = _figure(fig, (7.5, 3.5))
+    maps = maps if maps is not None else compute(model.coils)
+    axs = fig.subplots(1, 3)
+    drawn = []
+    for ax, m in zip(axs, maps, strict=True):
+        drawn.append(
+            plot_field_deviation_map(
+                ax,
+                m.u_m,
+                m.v_m,
+                m.deviation,
+                axis_labels=m.plane,
+                uniform_radii_m=m.uniform_radii_m,
+                workspace_radius_m=workspace_radius_m,
+                title=f"{m.axis} pair driven",
+                colorbar=False,
+                legend=False,
+                label_contours=False,
+            )
+        )
+    fig.colorbar(
+        drawn[-1].filled,
+        ax=list(axs),
+        label="|B| / |B(0)| − 1 (%)",
+        shrink=0.8,
+        location="right",
+        format="%g",
+        ticks=(-20, -5, -1, 0, 1, 5, 20),
+        spacing="uniform",
+    )
+    from matplotlib.patches import Patch
+
+    proxies: list[Any] = [
+        Patch(facecolor="white", edgecolor="0.35", hatch="..", label="weaker than centre"),
+        Line2D([], [], color="black", linestyle="-", linewidth=2.0),
+        Line2D([], [], color="black", linestyle="--", linewidth=2.0),
+        Line2D([], [], color="#E69F00", linestyle=":", linewidth=2.0),
+        Line2D([], [], color="black", linestyle="-.", linewidth=1.6),
+    ]
+    fig.legend(
+        proxies,
+        [
+            "|B| weaker than at the centre by > 1 %",
+            "±1 % contour",
+            "±5 % contour",
+            "±1 % and ±5 % spheres",
+            "workspace",
+        ],
+        loc="outside lower center",
+        ncols=3,
+        fontsize=8,
+    )
+    return Plot(fig, axs[0], tuple(drawn))
+
+
+def uniformity_profile(model: Any, *, ax: Any = None, profile: Any = None) -> Plot:
+    """Signed |B| deviation along each pair's axis and across it, that pair driven alone."""
+    from spiralcap.curves import MAP_EXTENT, uniformity_profiles
+    from spiralcap.figures.coils import plot_uniformity_profile
+
+    fig, ax = _axes(ax, (7.0, 4.0))
+    if profile is None:
+        half = MAP_EXTENT * min(p.radius_m for p in model.coils.pairs)
+        profile = uniformity_profiles(model.coils, half)
+    d, devs = profile
+    return Plot(fig, ax, plot_uniformity_profile(ax, d, devs))
+
+
+def margin_vs_power(
+    design: Any,
+    *,
+    ax: Any = None,
+    sweep: Any = None,
+    factors: Any = None,
+    refinements: int | None = None,
+) -> Plot:
+    """Best margin against the copper-power budget, re-optimised at each, refined at the knee.
+
+    ``sweep``: a precomputed :func:`spiralcap.curves.adaptive_power_sweep` result; else one is
+    run at ``factors`` x ``limits.power_W`` with ``refinements`` extra points at the knee.
+    """
+    from spiralcap.curves import POWER_FACTORS, POWER_REFINEMENTS, adaptive_power_sweep
+    from spiralcap.figures.design import plot_margin_vs_power
+    from spiralcap.presentation import readable
+
+    fig, ax = _axes(ax, (7.5, 4.4))
+    if sweep is None:
+        powers = design["limits.power_W"] * np.asarray(factors or POWER_FACTORS, float)
+        extra = POWER_REFINEMENTS if refinements is None else refinements
+        sweep = adaptive_power_sweep(design, powers, refinements=extra)
+    out = sweep.outputs
+    margin = np.array([np.nan if m is None else m for m in out["margin_Nm"]], float)
+    drawn = plot_margin_vs_power(
+        ax,
+        np.asarray(sweep.inputs["limits.power_W"], float),
+        margin,
+        optimal=[s == "optimal" for s in out["status"]],
+        design_power_W=design["limits.power_W"],
+        binding=[
+            ";".join(readable(n) for n in str(b).split(";") if n) for b in out["binding_limits"]
+        ],
+    )
+    return Plot(fig, ax, drawn)
+
+
+def geometry(model: Any, *, fig: Any = None, workspace_radius_m: float | None = None) -> Plot:
+    """The hardware to scale: nested coil pairs, the workspace and the capsule."""
+    from spiralcap.figures.hardware import draw_geometry
+
+    fig = _figure(fig, (7.0, 3.5))
+    drawn = draw_geometry(fig, model.coils, model.capsule, workspace_radius_m=workspace_radius_m)
+    return Plot(fig, drawn.pairs["x"][0].axes, drawn)

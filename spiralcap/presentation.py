@@ -1,0 +1,114 @@
+"""How values are shown to people: engineering units for SI values, and JSON-ready values.
+
+One table serves the CLI text, the report and the figures, so a value reads the same
+everywhere (``0.01115 T`` is always ``11.15 mT``). Application-level: imports nothing from
+``spiralcap.commands`` or ``spiralcap.report``.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from typing import Any
+
+#: How an SI unit is shown: SI unit -> (shown unit, factor from SI to shown).
+SHOWN_UNITS: dict[str, tuple[str, float]] = {
+    "T": ("mT", 1e3),
+    "m/s": ("mm/s", 1e3),
+    "N·m": ("mN·m", 1e3),
+    "m": ("mm", 1e3),
+    "H": ("mH", 1e3),
+    "rad": ("deg", 180.0 / math.pi),
+}
+
+
+#: Key-name unit suffixes (longest first) -> how the unit is written.
+_SUFFIX_UNITS: tuple[tuple[str, str], ...] = (
+    ("_W_m2K", "W/(m²·K)"),
+    ("_kPa_s", "kPa·s"),
+    ("_mm_s", "mm/s"),
+    ("_m_s", "m/s"),
+    ("_kPa", "kPa"),
+    ("_deg", "°"),
+    ("_hz", "Hz"),
+    ("_Hz", "Hz"),
+    ("_mm", "mm"),
+    ("_mN", "mN"),
+    ("_mNm", "mN·m"),
+    ("_Nm", "N·m"),
+    ("_mT", "mT"),
+    ("_T", "T"),
+    ("_C", "°C"),
+    ("_K", "K"),
+    ("_A", "A"),
+    ("_V", "V"),
+    ("_W", "W"),
+    ("_m", "m"),
+    ("_s", "s"),
+)
+
+
+def unit_of_key(key: str) -> str:
+    """The unit a design key names in its suffix (``coils.x.radius_m`` -> ``m``), or ``""``.
+
+    Counts (``turns``, ``starts``), ratios (``packing_factor``) and choices have no unit.
+    """
+    leaf = key.rsplit(".", 1)[-1]
+    for suffix, unit in _SUFFIX_UNITS:
+        if leaf.endswith(suffix):
+            return unit
+    return ""
+
+
+#: Readable names of the checks, limits and bounds the optimiser reports.
+_NAMES = {
+    "margin": "torque margin",
+    "speed": "forward speed",
+    "spiral_turns": "spiral turns",
+    "power": "total copper power",
+    "field_exposure": "field exposure (ICNIRP 2010)",
+    "helical_angle_min": "lower helical-angle bound",
+    "helical_angle_max": "upper helical-angle bound",
+    "frequency_min": "lower frequency bound",
+    "frequency_max": "upper frequency bound",
+    "solver": "solver did not converge",
+}
+_PER_AXIS = {
+    "current": "current",
+    "voltage": "drive voltage",
+    "temperature_rise": "coil temperature rise",
+}
+
+
+def readable(name: str) -> str:
+    """``voltage_x`` -> ``drive voltage, x pair``; unknown names are returned unchanged."""
+    if name in _NAMES:
+        return _NAMES[name]
+    stem, _, axis = name.rpartition("_")
+    if stem in _PER_AXIS and axis in ("x", "y", "z"):
+        return f"{_PER_AXIS[stem]}, {axis} pair"
+    return name.replace("_", " ")
+
+
+def shown(unit: str) -> tuple[str, float]:
+    """``(label, factor)`` that shows a value in SI ``unit`` in its engineering unit.
+
+    Units without an engineering form (A, V, W, K, Hz, ...) are shown as they are.
+    """
+    return SHOWN_UNITS.get(unit, (unit, 1.0))
+
+
+def jsonable(value: Any) -> Any:
+    """``value`` with numpy values as Python numbers, NaN as None and infinities as ``"inf"``.
+
+    Mappings become dicts with string keys, tuples become lists.
+    """
+    if isinstance(value, Mapping):
+        return {str(k): jsonable(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [jsonable(v) for v in value]
+    if hasattr(value, "tolist"):
+        return jsonable(value.tolist())
+    if isinstance(value, float) and not math.isfinite(value):
+        return None if math.isnan(value) else ("inf" if value > 0 else "-inf")
+    return value
