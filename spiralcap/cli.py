@@ -10,6 +10,7 @@ from __future__ import annotations
 import argparse
 import importlib
 import sys
+from typing import NoReturn
 
 from spiralcap import __version__
 from spiralcap.errors import SpiralcapError
@@ -28,9 +29,17 @@ COMMANDS: dict[str, tuple[str, str]] = {
 }
 
 
+class _Parser(argparse.ArgumentParser):
+    """argparse with usage errors on one line (``spiralcap evaluate: error: ...``), exit 2."""
+
+    def error(self, message: str) -> NoReturn:
+        text = " ".join(message.split())
+        self.exit(2, f"{self.prog}: error: {text} (see `{self.prog} --help`)\n")
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The full parser; subcommand modules add their own arguments."""
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="spiralcap",
         description="Design tool for magnetically actuated spiral-type capsule endoscopes.",
     )

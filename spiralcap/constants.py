@@ -1,4 +1,5 @@
-"""Physical constants and material data (SI). Imported by every package; imports none."""
+"""Physical constants, material data (SI) and the design-unit table. Imported by every package;
+imports none."""
 
 from __future__ import annotations
 
@@ -14,3 +15,46 @@ COPPER_TEMPERATURE_COEFFICIENT_per_K = 0.00393
 
 #: Standard gravity, m/s² (used to quote loads in gram-force where a paper does).
 STANDARD_GRAVITY_m_s2 = 9.80665
+
+#: Unit suffixes of design-key names -> (SI unit suffix, factor to SI). The longest matching
+#: suffix wins, so ``_kPa_s`` is read before ``_s`` and ``_mm_s`` before ``_s``. A name whose
+#: suffix is already SI (``_m``, ``_A``, ``_hz``, ``_C``) or has none converts with factor 1.
+UNIT_SUFFIXES: dict[str, tuple[str, float]] = {
+    "_mm": ("_m", 1e-3),
+    "_mm_s": ("_m_s", 1e-3),
+    "_mm2": ("_m2", 1e-6),
+    "_um": ("_m", 1e-6),
+    "_cm": ("_m", 1e-2),
+    "_mT": ("_T", 1e-3),
+    "_uT": ("_T", 1e-6),
+    "_deg": ("_rad", 0.017453292519943295),
+    "_mN": ("_N", 1e-3),
+    "_mNm": ("_Nm", 1e-3),
+    "_kPa": ("_Pa", 1e3),
+    "_kPa_s": ("_Pa_s", 1e3),
+    "_mA": ("_A", 1e-3),
+    "_mH": ("_H", 1e-3),
+    "_kW": ("_W", 1e3),
+    "_kV": ("_V", 1e3),
+    "_g": ("_kg", 1e-3),
+    "_min": ("_s", 60.0),
+    "_ms": ("_s", 1e-3),
+    "_kHz": ("_hz", 1e3),
+}
+
+
+def design_unit(name: str) -> tuple[str, str, float]:
+    """The unit suffix of a design key's name, its SI suffix and the factor to SI.
+
+    ``design_unit("requirements.axial_load_mN")`` -> ``("_mN", "_N", 1e-3)``; a name without a
+    non-SI suffix gives ``("", "", 1.0)``.
+    """
+    leaf = name.rpartition(".")[2]
+    best = ""
+    for suffix in UNIT_SUFFIXES:
+        if leaf.endswith(suffix) and len(suffix) > len(best) and len(leaf) > len(suffix):
+            best = suffix
+    if not best:
+        return "", "", 1.0
+    si, factor = UNIT_SUFFIXES[best]
+    return best, si, factor

@@ -18,7 +18,9 @@ from typing import Any
 
 from spiralcap.commands._common import (
     add_design_arguments,
+    check_outputs,
     design_from_args,
+    design_paths,
     format_table,
     print_json,
 )
@@ -126,9 +128,10 @@ def run(args: argparse.Namespace) -> int:
     from spiralcap.assemble.tissue import build_tissues
     from spiralcap.commands.torque import check_plot_path, geometry_from_design
 
-    design = design_from_args(args)
     if args.plot:
         check_plot_path(args.plot)
+    check_outputs({"-o": args.output, "--plot": args.plot}, [args.data, *design_paths(args)])
+    design = design_from_args(args)
     data = read_bench_csv(args.data)
     n = len(data["frequency_hz"])
     n_par = len(tm.PARAMETER_NAMES)

@@ -7,7 +7,13 @@ import csv
 import io
 import sys
 
-from spiralcap.commands._common import add_design_arguments, design_from_args, print_json
+from spiralcap.commands._common import (
+    add_design_arguments,
+    check_outputs,
+    design_from_args,
+    design_paths,
+    print_json,
+)
 from spiralcap.errors import InputError
 
 
@@ -56,6 +62,7 @@ def run(args: argparse.Namespace) -> int:
     from spiralcap.design import write_text_atomic
     from spiralcap.sweep import parse_over, sweep
 
+    check_outputs({"--csv": args.csv}, design_paths(args))
     if args.workers < 1:
         raise InputError("--workers", args.workers, "a whole number >= 1")
     design = design_from_args(args)

@@ -7,7 +7,9 @@ import math
 
 from spiralcap.commands._common import (
     add_design_arguments,
+    check_outputs,
     design_from_args,
+    design_paths,
     format_table,
     print_json,
 )
@@ -51,13 +53,14 @@ def run(args: argparse.Namespace) -> int:
     import torque_model as tm
     from spiralcap.assemble.tissue import build_tissues
 
+    if args.plot:
+        check_plot_path(args.plot)
+    check_outputs({"--plot": args.plot}, design_paths(args))
     design = design_from_args(args)
     freqs = args.frequencies or list(DEFAULT_FREQUENCIES_HZ)
     for f in freqs:
         if not (math.isfinite(f) and f > 0):
             raise InputError("--frequency", f, "a finite number > 0 (Hz)")
-    if args.plot:
-        check_plot_path(args.plot)
     f = np.asarray(freqs, dtype=float)
     angle_deg = float(design["capsule.spiral.helical_angle_deg"])
     geometry = geometry_from_design(design)
