@@ -3,6 +3,8 @@ imports none."""
 
 from __future__ import annotations
 
+from typing import Any
+
 #: Vacuum permeability, T·m/A (CODATA 2018: 1.25663706212e-6; the pre-2019 exact 4π·1e-7
 #: differs by 5e-10 relative, below every tolerance in this project).
 MU0_T_m_per_A = 1.25663706212e-6
@@ -58,3 +60,12 @@ def design_unit(name: str) -> tuple[str, str, float]:
         return "", "", 1.0
     si, factor = UNIT_SUFFIXES[best]
     return best, si, factor
+
+
+def from_si(value: Any, factor: float) -> Any:
+    """``value`` in SI back to the design unit whose factor to SI is ``factor``.
+
+    Divides by factors >= 1 and multiplies by the reciprocal of smaller ones, so that decimal
+    prefixes come back exactly (0.0109 m -> 10.9 mm, not 10.899999999999999).
+    """
+    return value / factor if factor >= 1.0 else value * (1.0 / factor)
