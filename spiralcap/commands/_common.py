@@ -93,20 +93,53 @@ def check_outputs(outputs: Mapping[str, str | None], inputs: Sequence[str] = ())
         seen[real] = flag
 
 
-def _jsonable(value: Any) -> Any:
+def _plain(value: Any) -> Any:
     if isinstance(value, Mapping):
-        return {str(k): _jsonable(v) for k, v in value.items()}
+        return {str(k): _plain(v) for k, v in value.items()}
     if isinstance(value, (list, tuple)):
-        return [_jsonable(v) for v in value]
+        return [_plain(v) for v in value]
     if hasattr(value, "tolist"):
-        return _jsonable(value.tolist())
-    if isinstance(value, float) and not math.isfinite(value):
-        return None if math.isnan(value) else ("inf" if value > 0 else "-inf")
+        return _plain(value.tolist())
     return value
 
 
+def _nonfinite(value: Any) -> str | None:
+    """"unbounded" if ``value`` is or holds an infinity, "undefined" if a NaN, else None."""
+    if isinstance(value, float):
+        if math.isnan(value):
+            return "undefined"
+        return "unbounded" if math.isinf(value) else None
+    if isinstance(value, list):
+        kinds = {_nonfinite(v) for v in value if not isinstance(v, Mapping)} - {None}
+        return "undefined" if "undefined" in kinds else (kinds.pop() if kinds else None)
+    return None
+
+
+def _finite(value: Any) -> Any:
+    """JSON with one type per field: a number with no finite value is left out, and a flag
+    ``<name>_unbounded: true`` (an infinity) or ``<name>_undefined: true`` (a NaN) given in
+    its place (docs/json/README.md)."""
+    if isinstance(value, Mapping):
+        out: dict[str, Any] = {}
+        for k, v in value.items():
+            kind = _nonfinite(v)
+            if kind is None:
+                out[k] = _finite(v)
+            else:
+                out[f"{k}_{kind}"] = True
+        return out
+    if isinstance(value, list):
+        return [_finite(v) for v in value]
+    return value
+
+
+def _jsonable(value: Any) -> Any:
+    return _finite(_plain(value))
+
+
 def print_json(payload: Mapping[str, Any]) -> None:
-    """Print a mapping as JSON (numpy values converted, NaN as null)."""
+    """Print a mapping as JSON: numpy values converted, every number finite (a number with no
+    finite value is replaced by a ``<name>_unbounded`` / ``<name>_undefined`` flag)."""
     json.dump(_jsonable(payload), sys.stdout, indent=2)
     sys.stdout.write("\n")
 

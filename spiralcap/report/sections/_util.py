@@ -57,11 +57,26 @@ class Context:
 
     def num(self, path: str, scale: float = 1.0, unit: str = "") -> Num:
         """The value at ``path`` of the embedded JSON, shown times ``scale`` with ``unit``."""
+        if self._unbounded(path):
+            return Num("unbounded", key=None, unit=unit)
         return Num(lookup(self.payload, path), key=path, scale=scale, unit=unit)
 
     def value(self, path: str) -> Any:
-        """The raw value at ``path`` of the embedded JSON."""
+        """The raw value at ``path`` of the embedded JSON ("unbounded" for an absent number
+        whose ``<path>_unbounded`` flag is set, see ``spiralcap.serialize``)."""
+        if self._unbounded(path):
+            return "unbounded"
         return lookup(self.payload, path)
+
+    def _unbounded(self, path: str) -> bool:
+        try:
+            lookup(self.payload, path)
+            return False
+        except KeyError:
+            try:
+                return lookup(self.payload, path + "_unbounded") is True
+            except KeyError:
+                return False
 
     def shown(self, path: str, unit: str) -> Num:
         """A value in SI ``unit`` at ``path``, shown in its engineering unit (T -> mT)."""
