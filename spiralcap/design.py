@@ -361,7 +361,7 @@ def _write_all(fd: int, data: bytes) -> None:
         view = view[os.write(fd, view) :]
 
 
-def write_files_atomic(files: Mapping[str | os.PathLike[str], str | bytes]) -> list[Path]:
+def write_files_atomic(files: Mapping[Any, str | bytes]) -> list[Path]:
     """Write several files all or nothing: each staged beside its target, then all renamed.
 
     A symlink given as a target is written through (the file it points at is replaced, the link

@@ -88,10 +88,7 @@ def _between(help_: str, default: Any, lo: float, hi: float, *, open_: bool = Tr
 def _count(help_: str, default: Any, lo: int = 1, hi: int | None = None) -> Key:
     def ok(v: Any) -> bool:
         return (
-            isinstance(v, int)
-            and not isinstance(v, bool)
-            and v >= lo
-            and (hi is None or v <= hi)
+            isinstance(v, int) and not isinstance(v, bool) and v >= lo and (hi is None or v <= hi)
         )
 
     allowed = f"a whole number >= {lo}" if hi is None else f"a whole number in [{lo}, {hi}]"
@@ -302,10 +299,18 @@ KEYS.update(
             open_=False,
         ),
         "tissue.E2_kPa": _between(
-            "spring modulus E2 (overrides preset); range as tissue.E1_kPa", None, 0.0, 1e6, open_=False
+            "spring modulus E2 (overrides preset); range as tissue.E1_kPa",
+            None,
+            0.0,
+            1e6,
+            open_=False,
         ),
         "tissue.E3_kPa": _between(
-            "spring modulus E3 (overrides preset); range as tissue.E1_kPa", None, 0.0, 1e6, open_=False
+            "spring modulus E3 (overrides preset); range as tissue.E1_kPa",
+            None,
+            0.0,
+            1e6,
+            open_=False,
         ),
         "tissue.eta1_kPa_s": _between(
             "dashpot viscosity eta1 (overrides preset); range: 1e-3 to 1e8 kPa·s, the presets "
@@ -425,7 +430,11 @@ KEYS.update(
             open_=False,
         ),
         "limits.power_W": _between(
-            "largest total copper loss of the three pairs; range: up to 1 MW", 2000.0, 1e-3, 1e6, open_=False
+            "largest total copper loss of the three pairs; range: up to 1 MW",
+            2000.0,
+            1e-3,
+            1e6,
+            open_=False,
         ),
         "limits.coil_temperature_C": _between(
             "hottest steady coil temperature allowed; range: -50 to 250 °C, the hottest enamel "

@@ -59,4 +59,6 @@ def sound(argv: list[str], allowed: tuple[int, ...] = (0, 2, 3)) -> tuple[int, s
         assert not bad, f"{argv}: non-finite numbers in JSON: {bad[:5]}"
     if rc == 0 and "--json" not in argv:
         assert err.strip() == "", f"{argv}: exit 0 with warnings on stderr: {err[-400:]}"
+    if rc in (0, 3):
+        assert "Warning" not in err, f"{argv}: a warning on stderr: {err[-400:]}"
     return rc, out, err

@@ -12,7 +12,7 @@ import os
 
 import numpy as np
 import pytest
-from cli_outcome import run, sound
+from cli_outcome import sound
 
 from spiralcap.design import load_design, write_text_atomic
 from spiralcap.errors import DataError, InputError
@@ -126,13 +126,13 @@ def test_zero_required_torque_reports_an_unbounded_safety_factor():
 
 
 def test_single_heading_coils_have_no_nan_or_inf():
-    from spiralcap.commands.coils import _text, sizing_payload
+    from spiralcap.commands.coils import _text
 
-    rc, out, _ = sound(["coils", "--json", "--set", "workspace.headings=[[1,0,0]]"], allowed=(0,))
+    _rc, out, _ = sound(["coils", "--json", "--set", "workspace.headings=[[1,0,0]]"], allowed=(0,))
     doc = json.loads(out)
     assert doc["axes"]["x"]["max_current_A"] == 0.0, "the unused x pair carries no current"
     assert doc["axes"]["x"]["max_current_limited_by"] == "unused"
-    text = _text(sizing_payload(load_design(None, ["workspace.headings=[[1,0,0]]"])))
+    text = _text(doc)
     assert "nan" not in text and " inf " not in text, "the text table has no nan/inf either"
 
 
@@ -358,9 +358,7 @@ def test_report_with_an_unwritable_pdf_writes_nothing_and_starts_nothing(tmp_pat
     afile = tmp_path / "afile"
     afile.write_text("x")
     html = tmp_path / "ok.html"
-    _, _, err = sound(
-        ["report", "-o", str(html), "--pdf", str(afile / "x.pdf")], allowed=(2,)
-    )
+    _, _, err = sound(["report", "-o", str(html), "--pdf", str(afile / "x.pdf")], allowed=(2,))
     assert "--pdf" in err and not html.exists(), "exit 2: nothing written"
 
 

@@ -158,8 +158,7 @@ def assess_fit(fit: Any, presets: dict[str, Any] | None = None) -> FitQuality:
         problems.append(f"the optimiser did not converge ({fit.message.rstrip('.')})")
     if z < RUNS_Z_LIMIT:
         problems.append(
-            f"systematic residuals: {runs} runs of one sign over {n} points (runs-test "
-            f"z = {z:.2f})"
+            f"systematic residuals: {runs} runs of one sign over {n} points (runs-test z = {z:.2f})"
         )
     follows = not problems
 
@@ -185,7 +184,9 @@ def assess_fit(fit: Any, presets: dict[str, Any] | None = None) -> FitQuality:
         v = getattr(fit.tissue, k)
         if v > 0 and not lo <= v <= hi and k not in fit.not_pinned_down:
             plausible = False
-            problems.append(f"{k} = {v:.3g} lies outside the presets' range x/÷ {PLAUSIBLE_FACTOR:g}")
+            problems.append(
+                f"{k} = {v:.3g} lies outside the presets' range x/÷ {PLAUSIBLE_FACTOR:g}"
+            )
     return FitQuality(
         follows_data=follows,
         plausible=plausible,

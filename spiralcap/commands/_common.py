@@ -104,7 +104,7 @@ def _plain(value: Any) -> Any:
 
 
 def _nonfinite(value: Any) -> str | None:
-    """"unbounded" if ``value`` is or holds an infinity, "undefined" if a NaN, else None."""
+    """ "unbounded" if ``value`` is or holds an infinity, "undefined" if a NaN, else None."""
     if isinstance(value, float):
         if math.isnan(value):
             return "undefined"

@@ -152,6 +152,7 @@ def run(args: argparse.Namespace) -> int:
     angle_deg = np.asarray(
         data.get("helical_angle_deg", [design["capsule.spiral.helical_angle_deg"]] * n), dtype=float
     )
+    _check_angles(design, angle_deg, args.data)
     base = build_tissues(design)[0]
     result = tm.identify(
         np.asarray(data["frequency_hz"]),
@@ -182,6 +183,18 @@ def run(args: argparse.Namespace) -> int:
         if path:
             print(f"wrote {path}")
     return 0
+
+
+def _check_angles(design: Any, angle_deg: Any, data_path: str) -> None:
+    """Each helical angle of the data must make a capsule ``evaluate`` would accept."""
+    from spiralcap.assemble import build_capsule
+    from spiralcap.errors import InputError
+
+    for a in sorted({float(x) for x in angle_deg}):
+        try:
+            build_capsule(design.with_values({"capsule.spiral.helical_angle_deg": a}))
+        except InputError as exc:
+            raise DataError(f"{data_path}: helical_angle_deg = {a:g}: {exc.allowed}") from None
 
 
 def fit_payload(

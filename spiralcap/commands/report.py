@@ -63,9 +63,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
 
 
-def check_output_paths(
-    output: str, pdf: str | None, design_path: str | list[str] | None
-) -> None:
+def check_output_paths(output: str, pdf: str | None, design_path: str | list[str] | None) -> None:
     """Reject output paths before any work is done.
 
     Raises
@@ -110,7 +108,7 @@ def run(args: argparse.Namespace) -> int:
         design, pdf=args.pdf is not None, workers=args.workers, command=_command_line(args)
     )
     outputs: dict[str, str | bytes] = {args.output: report.html}
-    if args.pdf is not None:
+    if args.pdf is not None and report.pdf is not None:
         outputs[args.pdf] = report.pdf
     written = write_files_atomic(outputs)  # both or neither
     for path in written:

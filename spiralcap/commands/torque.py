@@ -37,7 +37,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def geometry_from_design(design) -> dict[str, float]:
-    """The capsule geometry keyword arguments of torque_model.resistive_torque_Nm, SI."""
+    """The capsule geometry keyword arguments of torque_model.resistive_torque_Nm, SI.
+
+    The capsule is assembled first, so the same cross-key checks hold as for ``evaluate`` (a
+    helical angle whose turns overlap, a wire too thick for the body, ...).
+    """
+    from spiralcap.assemble import build_capsule
+
+    build_capsule(design)
     return {
         "body_diameter_m": design["capsule.diameter_mm"] * 1e-3,
         "body_length_m": design["capsule.length_mm"] * 1e-3,
