@@ -403,3 +403,33 @@ def test_no_part_files_left_after_a_failed_write(tmp_path):
         write_files_atomic({ok: "a", blocked / "x.txt": "b"})
     assert not ok.exists(), "one output failed: none written"
     assert sorted(os.listdir(tmp_path)) == ["afile"], "no temporary files left"
+
+
+@pytest.mark.skipif(not hasattr(os, "O_TMPFILE"), reason="O_TMPFILE is Linux-only")
+def test_kill_9_during_a_write_leaves_no_file(tmp_path):
+    import signal
+    import subprocess
+    import sys
+
+    child = (
+        "import sys, time, spiralcap.design as d\n"
+        "orig = d._write_all\n"
+        "def slow(fd, data):\n"
+        "    orig(fd, data); print('written', flush=True); time.sleep(30)\n"
+        "d._write_all = slow\n"
+        f"d.write_text_atomic({str(tmp_path / 'out.html')!r}, 'content')\n"
+    )
+    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    proc = subprocess.Popen(
+        [sys.executable, "-c", child],
+        stdout=subprocess.PIPE,
+        text=True,
+        env={**os.environ, "PYTHONPATH": root},
+    )
+    try:
+        assert proc.stdout is not None and proc.stdout.readline().strip() == "written"
+    finally:
+        proc.send_signal(signal.SIGKILL)
+        proc.wait()
+        proc.stdout.close()
+    assert os.listdir(tmp_path) == [], "the bytes were in an unnamed O_TMPFILE: nothing left"
