@@ -133,6 +133,9 @@ def test_single_heading_coils_have_no_nan_or_inf():
     assert doc["axes"]["x"]["max_current_A"] == 0.0, "the unused x pair carries no current"
     assert doc["axes"]["x"]["max_current_limited_by"] == "unused"
     text = _text(doc)
+    from test_json_schemas import validator
+
+    assert not list(validator("coils").iter_errors(doc)), "matches docs/json/coils.schema.json"
     assert "nan" not in text and " inf " not in text, "the text table has no nan/inf either"
 
 

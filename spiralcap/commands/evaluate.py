@@ -28,6 +28,10 @@ def step_out_text(hz: float) -> str:
     return f"{value:.4g} Hz"
 
 
+def _failed(name: str) -> str:
+    return "the spiral self-locks: α + atan μ ≥ 90°" if name == "self_lock" else name
+
+
 def format_evaluation(ev) -> str:
     """Readable summary of an :class:`optimize.Evaluation`."""
     from spiralcap.commands._common import format_table
@@ -64,7 +68,9 @@ def format_evaluation(ev) -> str:
         ),
         "",
         "feasible: "
-        + ("yes" if ev.feasible else "NO (" + ", ".join(c.name for c in ev.failed()) + ")"),
+        + (
+            "yes" if ev.feasible else "NO (" + ", ".join(_failed(c.name) for c in ev.failed()) + ")"
+        ),
     ]
     return "\n".join(lines)
 
