@@ -29,11 +29,16 @@ COMMANDS: dict[str, tuple[str, str]] = {
 }
 
 
+def one_line(text: str) -> str:
+    """``text`` with control characters escaped (``\\n``, ``\\r``, ``\\x1b``): one line."""
+    return "".join(ch if ch.isprintable() or ch == " " else repr(ch)[1:-1] for ch in text)
+
+
 class _Parser(argparse.ArgumentParser):
     """argparse with usage errors on one line (``spiralcap evaluate: error: ...``), exit 2."""
 
     def error(self, message: str) -> NoReturn:
-        text = " ".join(message.split())
+        text = one_line(" ".join(message.split()))
         self.exit(2, f"{self.prog}: error: {text} (see `{self.prog} --help`)\n")
 
 
@@ -60,7 +65,7 @@ def main(argv: list[str] | None = None) -> int:
     try:
         return int(args._module.run(args) or 0)
     except SpiralcapError as exc:
-        print(f"spiralcap {args.command}: error: {exc}", file=sys.stderr)
+        print(f"spiralcap {args.command}: error: {one_line(str(exc))}", file=sys.stderr)
         return exc.exit_status
     except BrokenPipeError:  # output piped into `head` and closed early: not an error
         sys.stderr.close()

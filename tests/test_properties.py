@@ -159,3 +159,48 @@ def test_malformed_design_files_never_crash(tmp_path_factory, data):
         assert str(path) in message or "=" in message, f"names the file or key: {message}"
     except Exception as exc:  # pragma: no cover - the property under test
         pytest.fail(f"{type(exc).__name__} escaped load_design: {exc}")
+
+
+_CSV = "frequency_hz,torque_mNm,helical_angle_deg\n0.5,0.6,10\n1,0.8,10\n2,1.1,10\n3,1.3,10\n"
+
+
+@st.composite
+def malformed_csv(draw):
+    kind = draw(st.sampled_from(["bytes", "text", "mutated"]))
+    if kind == "bytes":
+        return draw(st.binary(max_size=300))
+    if kind == "text":
+        return draw(st.text(max_size=200)).encode("utf-8", "surrogatepass")
+    text = bytearray(_CSV.encode())
+    for _ in range(draw(st.integers(1, 4))):
+        pos = draw(st.integers(0, len(text)))
+        junk = draw(
+            st.sampled_from([b",", b"\n", b'"', b"\x00", b"\xe9", b"-", b"e999", b"nan", b"9" * 400])
+        )
+        text[pos:pos] = junk
+    return bytes(text)
+
+
+@given(malformed_csv())
+def test_malformed_bench_csv_never_crashes(tmp_path_factory, data):
+    from spiralcap.commands.fit import read_bench_csv
+
+    path = tmp_path_factory.mktemp("csv") / "bench.csv"
+    path.write_bytes(data)
+    try:
+        read_bench_csv(path)
+        event("read")
+    except SpiralcapError as exc:
+        event(type(exc).__name__)
+        assert "\n" not in str(exc) and str(path) in str(exc), f"one line naming the file: {exc}"
+    except Exception as exc:  # pragma: no cover - the property under test
+        pytest.fail(f"{type(exc).__name__} escaped read_bench_csv: {exc}")
+
+
+@given(
+    st.one_of(st.sampled_from(sorted(KEYS)), st.text(max_size=30)),
+    st.text(max_size=40),
+)
+def test_arbitrary_set_expressions_are_sound(key, raw):
+    assume("\x00" not in key + raw)
+    sound(["capsule", "--json", "--set", f"{key}={raw}"])

@@ -96,8 +96,8 @@ def check_output_paths(output: str, pdf: str | None, design_path: str | list[str
 def run(args: argparse.Namespace) -> int:
     """Build and write the report; see the module notes for the exit status."""
     t0 = time.perf_counter()
-    if args.workers < 1:
-        raise InputError("--workers", args.workers, "a whole number >= 1")
+    if not 1 <= args.workers <= 64:
+        raise InputError("--workers", args.workers, "a whole number in [1, 64]")
     check_output_paths(args.output, args.pdf, getattr(args, "design", None))
     design = design_from_args(args)
 

@@ -63,8 +63,8 @@ def run(args: argparse.Namespace) -> int:
     from spiralcap.sweep import parse_over, sweep
 
     check_outputs({"--csv": args.csv}, design_paths(args))
-    if args.workers < 1:
-        raise InputError("--workers", args.workers, "a whole number >= 1")
+    if not 1 <= args.workers <= 64:
+        raise InputError("--workers", args.workers, "a whole number in [1, 64]")
     design = design_from_args(args)
     axes = [parse_over(o) for o in args.over]
     if len({a.key for a in axes}) != len(axes):
