@@ -175,7 +175,9 @@ def malformed_csv(draw):
     for _ in range(draw(st.integers(1, 4))):
         pos = draw(st.integers(0, len(text)))
         junk = draw(
-            st.sampled_from([b",", b"\n", b'"', b"\x00", b"\xe9", b"-", b"e999", b"nan", b"9" * 400])
+            st.sampled_from(
+                [b",", b"\n", b'"', b"\x00", b"\xe9", b"-", b"e999", b"nan", b"9" * 400]
+            )
         )
         text[pos:pos] = junk
     return bytes(text)
