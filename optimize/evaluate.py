@@ -186,8 +186,8 @@ def evaluate(
     speed = float(ph.speed_m_s(alpha, f, c, req))
     turns = float(ph.spiral_turns(alpha, c))
     checks = [
-        self_lock_check(model, alpha),
         *_checks(model, f, field, margin, required, speed, turns),
+        self_lock_check(model, alpha),
     ]
     # the lag behind the field at which the magnet's torque m B sin(lag) meets the load; 90 deg
     # (the most it can give) when the load exceeds it: the magnet then cannot stay synchronous
