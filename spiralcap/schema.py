@@ -3,7 +3,9 @@
 Keys carry their unit in the name (``radius_m``, ``helical_angle_deg``). A key with default
 ``None`` is optional: absent means "take it from elsewhere" (the tissue preset, the coil radius).
 This table is the single source for validation, for ``spiralcap init`` comments and for the
-report's input table.
+report's input table. Every number has the range a real design can have, with the reason in its
+help text; every key knows its SI conversion from the unit suffix of its name
+(``Key.si_name``, ``Key.si_factor``, :func:`to_si`; table in ``spiralcap.constants``).
 """
 
 from __future__ import annotations
