@@ -522,8 +522,22 @@ finish_keys()
 
 
 def to_si(key: str, value: Any) -> Any:
-    """``value`` of design key ``key`` in SI (``requirements.axial_load_mN`` 50 -> 0.05 N)."""
-    return value * KEYS[key].si_factor
+    """``value`` of design key ``key`` in SI (``requirements.axial_load_mN`` 50 -> 0.05 N).
+
+    From the key's name alone (the unit table), so it holds for keys added anywhere.
+    """
+    from spiralcap.constants import design_unit
+
+    return value * design_unit(key)[2]
+
+
+def si_name(key: str) -> str:
+    """The leaf of ``key`` with its unit in SI: ``requirements.axial_load_mN`` -> ``axial_load_N``."""
+    from spiralcap.constants import design_unit
+
+    unit, si_unit, _ = design_unit(key)
+    leaf = key.rpartition(".")[2]
+    return leaf[: len(leaf) - len(unit)] + si_unit if unit else leaf
 
 
 def si_values(design: Any, prefix: str) -> dict[str, float]:
@@ -535,7 +549,7 @@ def si_values(design: Any, prefix: str) -> dict[str, float]:
     out: dict[str, float] = {}
     for name, spec in KEYS.items():
         if name.startswith(prefix) and spec.kind in (float, int) and design.get(name) is not None:
-            out[spec.si_name] = to_si(name, design[name])
+            out[si_name(name)] = to_si(name, design[name])
     return out
 
 

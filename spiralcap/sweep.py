@@ -18,7 +18,7 @@ import numpy as np
 
 from spiralcap.design import Design
 from spiralcap.errors import InputError
-from spiralcap.schema import KEYS, to_si
+from spiralcap.schema import KEYS, si_name, to_si
 
 #: design key -> where it lives in the model ("alpha", "f", or the model field holding the SI
 #: value under the key's SI leaf name); the SI conversion comes from the schema's unit table
@@ -160,7 +160,7 @@ def _evaluate_vectorised(design: Design, inputs: dict[str, np.ndarray]) -> dict[
         elif where == "f":
             f = to_si(key, values)
         else:
-            groups[where][KEYS[key].si_name] = to_si(key, values)
+            groups[where][si_name(key)] = to_si(key, values)
     model = replace(
         model,
         limits=replace(model.limits, **groups["limits"]),

@@ -14,13 +14,13 @@ def _overrides() -> dict[str, tuple[str, float]]:
     the schema's unit table: every numeric ``tissue.*`` key whose SI name is a field."""
     from dataclasses import fields
 
-    from spiralcap.schema import KEYS
+    from spiralcap.schema import KEYS, si_name, to_si
 
     names = {f.name for f in fields(TissueParameters)}
     return {
-        key.removeprefix("tissue."): (spec.si_name, spec.si_factor)
+        key.removeprefix("tissue."): (si_name(key), to_si(key, 1.0))
         for key, spec in KEYS.items()
-        if key.startswith("tissue.") and spec.kind is float and spec.si_name in names
+        if key.startswith("tissue.") and spec.kind is float and si_name(key) in names
     }
 
 
