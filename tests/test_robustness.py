@@ -169,6 +169,10 @@ def test_self_locking_spiral_is_never_feasible(angle):
     assert lock["ok"] is False and ev["feasible"] is False, (
         f"alpha + atan mu = {angle + math.degrees(math.atan(mu)):.1f} deg >= 90: self-locks"
     )
+    assert ev["thrust_torque_Nm"] > 1.0 and ev["margin_Nm"] < 0, (
+        "a self-locking screw needs unbounded torque (Shigley 8-1 as alpha + atan mu -> 90 deg):"
+        " never a negative thrust torque or a larger margin"
+    )
 
 
 def test_self_lock_in_sweep_feasibility():

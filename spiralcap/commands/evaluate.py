@@ -46,7 +46,12 @@ def format_evaluation(ev) -> str:
         + ", ".join(f"{ax} {i:.4g} A" for ax, i in zip("xyz", ev.current_amplitudes_A)),
         f"magnetic torque     {ev.magnetic_torque_Nm * mnm:.4g} mN·m (synchronous, worst point)",
         f"resistive torque    {ev.resistive_torque_Nm * mnm:.4g} mN·m ({ev.worst_tissue})",
-        f"thrust torque       {ev.thrust_torque_Nm * mnm:.4g} mN·m",
+        f"thrust torque       {ev.thrust_torque_Nm * mnm:.4g} mN·m"
+        + (
+            " (the spiral self-locks: no finite torque pushes the load)"
+            if any(c.name == "self_lock" and not c.ok for c in ev.checks)
+            else ""
+        ),
         f"margin              {ev.margin_Nm * mnm:.4g} mN·m (safety factor "
         f"{safety_factor_text(ev.safety_factor)})",
         f"step-out frequency  {step_out_text(ev.step_out_frequency_hz)}",
