@@ -440,3 +440,23 @@ def test_kill_9_during_a_write_leaves_no_file(tmp_path):
         proc.wait()
         proc.stdout.close()
     assert os.listdir(tmp_path) == [], "the bytes were in an unnamed O_TMPFILE: nothing left"
+
+
+def test_thrust_torque_never_wraps_negative_past_self_lock():
+    import casadi as ca
+
+    import capsule
+
+    mu, load, dh = 0.3, 0.05, 12e-3
+    lock = math.pi / 2 - math.atan(mu)
+    alphas = np.array([lock - 0.2, lock - 1e-3, lock, lock + 1e-3, lock + 0.3])
+    tau = np.asarray(capsule.thrust_torque_Nm(load, dh, alphas, mu))
+    assert np.all(np.diff(tau) >= 0) and np.all(tau > 0), (
+        "T = F D/2 tan(alpha + atan mu) rises without bound to the lock and stays there"
+    )
+    below = 0.5 * load * dh * math.tan(lock - 0.2 + math.atan(mu))
+    assert tau[0] == pytest.approx(below, rel=1e-14), "below the lock: Shigley eq. 8-1, 1e-14"
+    a = ca.SX.sym("a")
+    fn = ca.Function("t", [a], [capsule.thrust_torque_Nm(load, dh, a, mu)])
+    for x, t in zip(alphas, tau):
+        assert float(fn(x)) == pytest.approx(float(t), rel=1e-12), "CasADi = numpy, 1e-12"
