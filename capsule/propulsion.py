@@ -71,12 +71,17 @@ def thrust_torque_Nm(
     section 8-2 (power screws), eq. (8-1) rewritten with ``tan(lambda) = l / (pi d_m)``. The
     paper's helical angle is that lead angle.
     """
-    return (
-        0.5
-        * axial_load_N
-        * helix_diameter_m
-        * bk.tan(helical_angle_rad + bk.arctan(friction_coefficient))
-    )
+    # At and beyond alpha + atan(mu) = 90 deg the screw self-locks: no torque pushes the load.
+    # tan() would wrap round to negative values there (a "thrust" that helps); the angle is held
+    # just short of 90 deg instead, so the torque stays what it physically is, beyond any magnet
+    # (tan(pi/2 - 1e-6) = 1e6), and self_lock_margin_rad names the cause.
+    angle = bk.fmin(helical_angle_rad + bk.arctan(friction_coefficient), SELF_LOCK_ANGLE_rad)
+    return 0.5 * axial_load_N * helix_diameter_m * bk.tan(angle)
+
+
+#: Largest screw angle alpha + atan(mu) the thrust torque is evaluated at, rad (just short of
+#: the self-locking 90 deg; see :func:`thrust_torque_Nm`).
+SELF_LOCK_ANGLE_rad = 0.5 * 3.141592653589793 - 1e-6
 
 
 def self_lock_margin_rad(helical_angle_rad: Any, friction_coefficient: Any) -> Any:

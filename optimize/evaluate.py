@@ -18,6 +18,9 @@ from optimize.system import DesignModel, prepare
 
 #: Relative tolerance with which requirements are judged met (an optimum sits on its bounds).
 FEASIBILITY_RTOL = 1e-6
+#: Frequencies the step-out search covers, Hz: below the first the capsule is taken as unable to
+#: turn at all; a step-out above the second is reported as that bound.
+STEP_OUT_SEARCH_HZ = (0.01, 200.0)
 
 
 @dataclass(frozen=True)
@@ -128,16 +131,19 @@ def margin_grid(
     speed = np.asarray(ph.speed_m_s(alpha, f, c, model.requirements), dtype=float)
     turns = np.asarray(ph.spiral_turns(alpha, c), dtype=float)
     req = model.requirements
+    with np.errstate(divide="ignore"):  # nothing required: an unbounded safety factor
+        ratio = np.where(required > 0, avail / np.where(required > 0, required, 1.0), np.inf)
     sf = req.min_safety_factor
     ok = (
         within
+        & (self_lock_margin(model, alpha) > 0)
         & (avail - sf * required >= -FEASIBILITY_RTOL * sf * required)
         & (speed >= req.min_speed_m_s * (1 - FEASIBILITY_RTOL))
         & (turns >= req.min_spiral_turns * (1 - FEASIBILITY_RTOL))
     )
     return MarginGrid(
         margin_Nm=avail - required,
-        safety_factor=avail / required,
+        safety_factor=ratio,
         field_amplitude_T=field,
         speed_m_s=speed,
         spiral_turns=turns,
@@ -145,8 +151,32 @@ def margin_grid(
     )
 
 
+def self_lock_margin(model: DesignModel, alpha_rad):
+    """pi/2 - (alpha + atan mu) for the most frictional tissue set, rad (<= 0: self-locks).
+
+    At or below zero the screw self-locks: turning it cannot push the load, and the thrust
+    torque F (D/2) tan(alpha + atan mu) (Shigley's power screw) turns negative, which would
+    otherwise read as a larger margin.
+    """
+    import capsule as cap
+
+    mu = max(float(t.friction_coefficient) for t in model.tissues)
+    return cap.self_lock_margin_rad(np.asarray(alpha_rad, dtype=float), mu)
+
+
+def self_lock_check(model: DesignModel, alpha_rad: float) -> Check:
+    """The named check "the spiral self-locks: alpha + atan mu >= 90 deg" (ok while > 0)."""
+    margin = float(self_lock_margin(model, alpha_rad))
+    return Check(
+        "self_lock", "capsule.spiral.helical_angle_deg", "rad", margin, 0.0, ">", margin > 0
+    )
+
+
 def step_out_frequency_hz(
-    model: DesignModel, alpha_rad: float, f_lo: float = 0.01, f_hi: float = 200.0
+    model: DesignModel,
+    alpha_rad: float,
+    f_lo: float = STEP_OUT_SEARCH_HZ[0],
+    f_hi: float = STEP_OUT_SEARCH_HZ[1],
 ) -> float:
     """Lowest frequency at which the margin reaches zero at this helical angle (inf if none).
 
@@ -206,8 +236,13 @@ def evaluate(
     margin = avail - required
     speed = float(ph.speed_m_s(alpha, f, c, req))
     turns = float(ph.spiral_turns(alpha, c))
-    checks = _checks(model, f, field, margin, required, speed, turns)
-    lag = float(np.arcsin(required / avail)) if 0 < required <= avail else float("nan")
+    checks = [
+        *_checks(model, f, field, margin, required, speed, turns),
+        self_lock_check(model, alpha),
+    ]
+    # the lag behind the field at which the magnet's torque m B sin(lag) meets the load; 90 deg
+    # (the most it can give) when the load exceeds it: the magnet then cannot stay synchronous
+    lag = float(np.arcsin(min(max(required / avail, 0.0), 1.0))) if avail > 0 else np.pi / 2
     return Evaluation(
         helical_angle_rad=alpha,
         frequency_hz=f,
@@ -221,7 +256,7 @@ def evaluate(
         required_torque_Nm=required,
         worst_tissue=model.tissues[int(worst)].name,
         margin_Nm=margin,
-        safety_factor=avail / required,
+        safety_factor=avail / required if required > 0 else float("inf"),
         lag_angle_rad=lag,
         step_out_frequency_hz=step_out_frequency_hz(model, alpha),
         speed_m_s=speed,

@@ -10,6 +10,7 @@ from __future__ import annotations
 import argparse
 import importlib
 import sys
+from typing import NoReturn
 
 from spiralcap import __version__
 from spiralcap.errors import SpiralcapError
@@ -30,9 +31,22 @@ COMMANDS: dict[str, tuple[str, str]] = {
 }
 
 
+def one_line(text: str) -> str:
+    """``text`` with control characters escaped (``\\n``, ``\\r``, ``\\x1b``): one line."""
+    return "".join(ch if ch.isprintable() or ch == " " else repr(ch)[1:-1] for ch in text)
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse with usage errors on one line (``spiralcap evaluate: error: ...``), exit 2."""
+
+    def error(self, message: str) -> NoReturn:
+        text = one_line(" ".join(message.split()))
+        self.exit(2, f"{self.prog}: error: {text} (see `{self.prog} --help`)\n")
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The full parser; subcommand modules add their own arguments."""
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="spiralcap",
         description="Design tool for magnetically actuated spiral-type capsule endoscopes.",
     )
@@ -53,7 +67,7 @@ def main(argv: list[str] | None = None) -> int:
     try:
         return int(args._module.run(args) or 0)
     except SpiralcapError as exc:
-        print(f"spiralcap {args.command}: error: {exc}", file=sys.stderr)
+        print(f"spiralcap {args.command}: error: {one_line(str(exc))}", file=sys.stderr)
         return exc.exit_status
     except BrokenPipeError:  # output piped into `head` and closed early: not an error
         sys.stderr.close()

@@ -11,7 +11,7 @@ import json
 import math
 import os
 import tempfile
-from collections.abc import Iterable, Iterator, Mapping
+from collections.abc import Iterable, Iterator, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -75,39 +75,191 @@ def parse_set(expr: str) -> tuple[str, Any]:
     if not sep or not key or not raw:
         raise InputError("--set", expr, "the form dotted.key=value, e.g. coils.x.turns=300")
     try:
-        value = tomllib.loads(f"v = {raw}")["v"]
-    except tomllib.TOMLDecodeError:
+        value = _parse_toml(f"v = {raw}", f"--set {key}")["v"]
+    except DataError as exc:
+        if "not valid TOML" not in str(exc):
+            raise InputError("--set", expr, str(exc).split(": ", 1)[1]) from None
         value = raw  # a bare word such as --set tissue.preset=zhou2013-sample3
     if isinstance(value, str) and value.lower() in {"nan", "+nan", "-nan"}:
         value = math.nan
     return key, value
 
 
-def load_design(
-    path: str | os.PathLike[str] | None = None, overrides: Iterable[str] = ()
-) -> Design:
-    """Read a design file (the built-in example when ``path`` is None) and apply overrides.
+#: Largest design or data file read, bytes (a design file is a few kB; this bounds memory).
+MAX_FILE_BYTES = 4_000_000
+#: Deepest nesting of arrays and tables a design file may have (the schema needs 3).
+MAX_NESTING = 32
+#: Most digits of an integer in a design file (the largest count the schema allows has 6).
+MAX_INT_DIGITS = 30
+
+_BOMS = (
+    (b"\xef\xbb\xbf", "utf-8"),
+    (b"\xff\xfe\x00\x00", "utf-32-le"),
+    (b"\x00\x00\xfe\xff", "utf-32-be"),
+    (b"\xff\xfe", "utf-16-le"),
+    (b"\xfe\xff", "utf-16-be"),
+)
+
+
+def read_text_file(path: str | os.PathLike[str], what: str = "design file") -> str:
+    """Read a text file as Unicode, never crashing on what it holds.
+
+    UTF-8 with or without a byte-order mark is read; UTF-16 and UTF-32 are read when they
+    start with their byte-order mark (Windows editors write them so). Anything else -- another
+    encoding, a binary file, a file larger than :data:`MAX_FILE_BYTES` -- is refused.
 
     Raises
     ------
     DataError
-        The file is missing or is not valid TOML (the message names the line).
-    InputError
-        An unknown key, a wrong type or a value outside what the key allows.
+        One line naming the file, and the line and column of the first bad byte where known.
     """
+    p = Path(path)
+    try:
+        if p.is_dir():
+            raise DataError(f"{p}: cannot read the {what} (it is a folder)")
+        with open(p, "rb") as fh:
+            data = fh.read(MAX_FILE_BYTES + 1)
+    except OSError as exc:
+        raise DataError(f"{p}: cannot read the {what} ({exc.strerror or exc})") from None
+    if len(data) > MAX_FILE_BYTES:
+        raise DataError(
+            f"{p}: the {what} is larger than {MAX_FILE_BYTES // 1_000_000} MB; "
+            "is it the right file?"
+        )
+    encoding = "utf-8"
+    if b"\x00" in data and not data.startswith((b"\xff\xfe", b"\xfe\xff", b"\x00\x00\xfe\xff")):
+        line = data[: data.index(b"\x00")].count(b"\n") + 1
+        raise DataError(f"{p} line {line}: a NUL byte; this is a binary file, not a {what}")
+    for bom, enc in _BOMS:
+        if data.startswith(bom):
+            data, encoding = data[len(bom) :], enc
+            break
+    try:
+        text = data.decode(encoding)
+    except UnicodeDecodeError as exc:
+        before = data[: exc.start]
+        line = before.count(b"\n") + 1
+        col = exc.start - (before.rfind(b"\n") + 1) + 1
+        raise DataError(
+            f"{p} line {line}, column {col}: not {encoding.upper()} text (byte "
+            f"0x{data[exc.start]:02x}); save the {what} as UTF-8"
+        ) from None
+    if "\x00" in text:
+        line = text[: text.index("\x00")].count("\n") + 1
+        raise DataError(f"{p} line {line}: a NUL character; this is a binary file, not a {what}")
+    return text
+
+
+def _check_limits(text: str, where: str) -> None:
+    """Refuse nesting deeper than :data:`MAX_NESTING` and integers longer than
+    :data:`MAX_INT_DIGITS` before the parser meets them (it would recurse or convert without
+    bound). A light scan: brackets and digits outside strings and comments."""
+    depth = run = 0
+    quote: str | None = None
+    comment = False
+    line = 1
+    for ch in text:
+        if ch == "\n":
+            line += 1
+            comment = False
+            quote = None if quote in ('"', "'") else quote
+            run = 0
+            continue
+        if comment:
+            continue
+        if quote:
+            if ch == quote:
+                quote = None
+            continue
+        if ch.isdigit():
+            run += 1
+            if run > MAX_INT_DIGITS:
+                raise DataError(
+                    f"{where} line {line}: a number of more than {MAX_INT_DIGITS} digits; no "
+                    "design value needs that many"
+                )
+            continue
+        if ch != "_":
+            run = 0
+        if ch in "\"'":
+            quote = ch
+        elif ch == "#":
+            comment = True
+        elif ch in "[{":
+            depth += 1
+            if depth > MAX_NESTING:
+                raise DataError(
+                    f"{where} line {line}: arrays or tables nested more than {MAX_NESTING} deep"
+                )
+        elif ch in "]}":
+            depth = max(depth - 1, 0)
+
+
+def _parse_toml(text: str, where: str) -> dict[str, Any]:
+    """Parse TOML inside the limits above; every failure is a one-line DataError."""
+    _check_limits(text, where)
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise DataError(f"{where}: not valid TOML: {exc}") from None
+    except (ValueError, RecursionError, MemoryError) as exc:  # parser limits
+        raise DataError(f"{where}: cannot be read as TOML ({type(exc).__name__})") from None
+
+
+def _located(exc: InputError, path: Path, text: str, key: str) -> InputError:
+    """An InputError from a file's value, as one line that names the file and the key's line."""
+    leaf = key.rpartition(".")[2]
+    line = next(
+        (
+            n
+            for n, row in enumerate(text.splitlines(), start=1)
+            if row.split("=", 1)[0].strip().strip("\"'") in (leaf, key)
+        ),
+        None,
+    )
+    where = f"{path} line {line}" if line else str(path)
+    return InputError(exc.key, exc.value, exc.allowed, where=where)
+
+
+def load_design(
+    path: str | os.PathLike[str] | Sequence[str | os.PathLike[str]] | None = None,
+    overrides: Iterable[str] = (),
+) -> Design:
+    """Read design files (the built-in example when none), later ones overriding earlier ones
+    key by key, then apply the ``--set`` overrides.
+
+    Parameters
+    ----------
+    path : path, sequence of paths, or None
+        One design file or several (``base.toml``, ``fitted.toml``): each file's keys replace
+        the same keys of the files before it; keys a later file does not set are kept.
+    overrides : iterable of str
+        ``dotted.key=value`` expressions applied after every file.
+
+    Raises
+    ------
+    DataError
+        A file is missing, unreadable, not UTF-8/16/32 text, beyond the parser limits, or not
+        valid TOML; or a value in it is not allowed (the message names the file and line).
+    InputError
+        An unknown key, a wrong type or a value outside what the key allows, from ``--set``.
+    """
+    if path is None:
+        paths: list[Path] = []
+    elif isinstance(path, (str, os.PathLike)):
+        paths = [Path(path)]
+    else:
+        paths = [Path(x) for x in path]
     values: dict[str, Any] = {}
-    source = "built-in example"
-    if path is not None:
-        p = Path(path)
-        try:
-            text = p.read_text(encoding="utf-8")
-        except OSError as exc:
-            raise DataError(f"{p}: cannot read the design file ({exc.strerror or exc})") from None
-        try:
-            values = _flatten(tomllib.loads(text))
-        except tomllib.TOMLDecodeError as exc:
-            raise DataError(f"{p}: not valid TOML: {exc}") from None
-        source = str(p)
+    for p in paths:
+        text = read_text_file(p)
+        layer = _flatten(_parse_toml(text, str(p)))
+        for key, value in layer.items():
+            try:
+                values[key] = validate_value(key, value)
+            except InputError as exc:
+                raise _located(exc, p, text, key) from None
+    source = " + ".join(str(p) for p in paths) if paths else "built-in example"
     for expr in overrides:
         key, value = parse_set(expr)
         values[key] = value
@@ -161,34 +313,97 @@ def example_toml() -> str:
     return head + _to_toml(defaults(), comments=True)
 
 
+def _target(path: str | os.PathLike[str]) -> Path:
+    """Where writing ``path`` lands: through a symlink to the file it points at."""
+    return Path(os.path.realpath(path))
+
+
+def _stage(p: Path, data: bytes) -> str:
+    """Write ``data`` to a new temporary file beside ``p`` and return its name.
+
+    On Linux the bytes go to an anonymous ``O_TMPFILE`` first and get a name only once they are
+    all written, so a process killed mid-write leaves nothing behind; elsewhere ``mkstemp``.
+    """
+    p.parent.mkdir(parents=True, exist_ok=True)
+    umask = os.umask(0)
+    os.umask(umask)
+    flag = getattr(os, "O_TMPFILE", 0)
+    if flag and os.path.isdir("/proc/self/fd"):
+        try:
+            fd = os.open(p.parent, flag | os.O_WRONLY, 0o666 & ~umask)
+        except OSError:
+            fd = -1
+        if fd >= 0:
+            try:
+                _write_all(fd, data)
+                for _ in range(100):
+                    tmp = os.path.join(p.parent, f".{p.name}.{os.urandom(4).hex()}.part")
+                    try:
+                        os.link(f"/proc/self/fd/{fd}", tmp, follow_symlinks=True)
+                        return tmp
+                    except FileExistsError:
+                        continue
+            except OSError:
+                pass
+            finally:
+                os.close(fd)
+    fd, tmp = tempfile.mkstemp(dir=p.parent, prefix=f".{p.name}.", suffix=".part")
+    try:
+        with os.fdopen(fd, "wb") as fh:
+            fh.write(data)
+        os.chmod(tmp, 0o666 & ~umask)  # mkstemp makes 0600; give the file ordinary permissions
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+    return tmp
+
+
+def _write_all(fd: int, data: bytes) -> None:
+    view = memoryview(data)
+    while view:
+        view = view[os.write(fd, view) :]
+
+
+def write_files_atomic(files: Mapping[Any, str | bytes]) -> list[Path]:
+    """Write several files all or nothing: each staged beside its target, then all renamed.
+
+    A symlink given as a target is written through (the file it points at is replaced, the link
+    stays). Parent folders are created as needed. If any file cannot be staged, none is
+    written and every temporary file is removed.
+
+    Raises
+    ------
+    DataError
+        A folder cannot be created or a file cannot be written (one line, exit 2).
+    """
+    staged: list[tuple[str, Path, Path]] = []
+    try:
+        for given, text in files.items():
+            p = _target(given)
+            data = text.encode("utf-8") if isinstance(text, str) else text
+            try:
+                staged.append((_stage(p, data), p, Path(given)))
+            except OSError as exc:
+                raise DataError(f"{given}: cannot write here ({exc.strerror or exc})") from None
+        for tmp, p, given in staged:
+            try:
+                os.replace(tmp, p)
+            except OSError as exc:
+                raise DataError(f"{given}: cannot write ({exc.strerror or exc})") from None
+    finally:
+        for tmp, _, _ in staged:
+            Path(tmp).unlink(missing_ok=True)
+    return [given for _, _, given in staged]
+
+
 def write_text_atomic(path: str | os.PathLike[str], text: str | bytes) -> Path:
     """Write a file all at once: to a temporary file beside it, then rename (no half files).
 
-    Parent folders are created as needed.
+    Parent folders are created as needed; a symlink is written through.
 
     Raises
     ------
     DataError
         The folder cannot be created or the file cannot be written (one line, exit 2).
     """
-    p = Path(path)
-    data = text.encode("utf-8") if isinstance(text, str) else text
-    try:
-        p.parent.mkdir(parents=True, exist_ok=True)
-        fd, tmp = tempfile.mkstemp(dir=p.parent, prefix=f".{p.name}.", suffix=".part")
-    except OSError as exc:
-        raise DataError(f"{p}: cannot write here ({exc.strerror or exc})") from None
-    try:
-        with os.fdopen(fd, "wb") as fh:
-            fh.write(data)
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)  # mkstemp makes 0600; give the file ordinary permissions
-        os.replace(tmp, p)
-    except OSError as exc:
-        Path(tmp).unlink(missing_ok=True)
-        raise DataError(f"{p}: cannot write ({exc.strerror or exc})") from None
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
-    return p
+    return write_files_atomic({path: text})[0]

@@ -22,11 +22,24 @@ class InputError(SpiralcapError, ValueError):
         The value that was given.
     allowed : str
         What would have been accepted, in words (``"a finite number > 0"``).
+    where : str, optional
+        The file and line the value came from (``base.toml line 12``), put first.
     """
 
-    def __init__(self, key: str, value: Any, allowed: str) -> None:
-        self.key, self.value, self.allowed = key, value, allowed
-        super().__init__(f"{key} = {value!r}: {allowed}")
+    def __init__(self, key: str, value: Any, allowed: str, where: str | None = None) -> None:
+        self.key, self.value, self.allowed, self.where = key, value, allowed, where
+        shown = _short_repr(value)
+        super().__init__(f"{where + ': ' if where else ''}{key} = {shown}: {allowed}")
+
+
+def _short_repr(value: Any, limit: int = 240) -> str:
+    """``repr`` of a value cut to ``limit`` characters, so an error stays one short line."""
+    try:
+        text = repr(value)
+    except ValueError:  # an int too long to print
+        return "<a number too long to show>"
+    text = text.replace("\n", " ")
+    return text if len(text) <= limit else text[: limit - 3] + "..."
 
 
 class DataError(SpiralcapError, ValueError):

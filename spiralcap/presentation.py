@@ -65,6 +65,7 @@ _NAMES = {
     "margin": "torque margin",
     "speed": "forward speed",
     "spiral_turns": "spiral turns",
+    "self_lock": "the spiral self-locks: α + atan μ ≥ 90°",
     "power": "total copper power",
     "field_exposure": "field exposure (ICNIRP 2010)",
     "helical_angle_min": "lower helical-angle bound",

@@ -3,14 +3,16 @@
 Keys carry their unit in the name (``radius_m``, ``helical_angle_deg``). A key with default
 ``None`` is optional: absent means "take it from elsewhere" (the tissue preset, the coil radius).
 This table is the single source for validation, for ``spiralcap init`` comments and for the
-report's input table.
+report's input table. Every number has the range a real design can have, with the reason in its
+help text; every key knows its SI conversion from the unit suffix of its name
+(``Key.si_name``, ``Key.si_factor``, :func:`to_si`; table in ``spiralcap.constants``).
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 from spiralcap.errors import InputError
@@ -18,13 +20,33 @@ from spiralcap.errors import InputError
 
 @dataclass(frozen=True)
 class Key:
-    """One design key: type, default, allowed values (a predicate and its words), and meaning."""
+    """One design key: type, default, allowed values (a predicate and its words), and meaning.
+
+    ``lo``/``hi`` are the numeric bounds of a number or count (``None``: unbounded on that
+    side; ``open_`` says whether the bounds themselves are excluded). ``name``, ``unit``,
+    ``si_unit`` and ``si_factor`` are filled in from the key's name by the unit table
+    (:data:`spiralcap.constants.UNIT_SUFFIXES`) once every key is declared: ``value_in_design
+    * si_factor`` is the value in SI, under the leaf name :attr:`si_name`.
+    """
 
     kind: type
     default: Any
     allowed: str
     check: Callable[[Any], bool]
     help: str
+    lo: float | None = None
+    hi: float | None = None
+    open_: bool = False
+    name: str = ""
+    unit: str = ""
+    si_unit: str = ""
+    si_factor: float = 1.0
+
+    @property
+    def si_name(self) -> str:
+        """The leaf of the key with its unit in SI: ``axial_load_mN`` -> ``axial_load_N``."""
+        leaf = self.name.rpartition(".")[2]
+        return leaf[: len(leaf) - len(self.unit)] + self.si_unit if self.unit else leaf
 
 
 def _num(v: Any) -> bool:
@@ -32,11 +54,13 @@ def _num(v: Any) -> bool:
 
 
 def _pos(help_: str, default: Any) -> Key:
-    return Key(float, default, "a finite number > 0", lambda v: _num(v) and v > 0, help_)
+    return Key(
+        float, default, "a finite number > 0", lambda v: _num(v) and v > 0, help_, 0.0, None, True
+    )
 
 
 def _nonneg(help_: str, default: Any) -> Key:
-    return Key(float, default, "a finite number >= 0", lambda v: _num(v) and v >= 0, help_)
+    return Key(float, default, "a finite number >= 0", lambda v: _num(v) and v >= 0, help_, 0.0)
 
 
 def _between(help_: str, default: Any, lo: float, hi: float, *, open_: bool = True) -> Key:
@@ -47,20 +71,30 @@ def _between(help_: str, default: Any, lo: float, hi: float, *, open_: bool = Tr
             f"a number in ({lo:g}, {hi:g})",
             lambda v: _num(v) and lo < v < hi,
             help_,
+            lo,
+            hi,
+            True,
         )
     return Key(
-        float, default, f"a number in [{lo:g}, {hi:g}]", lambda v: _num(v) and lo <= v <= hi, help_
-    )
-
-
-def _count(help_: str, default: Any, lo: int = 1) -> Key:
-    return Key(
-        int,
+        float,
         default,
-        f"a whole number >= {lo}",
-        lambda v: isinstance(v, int) and not isinstance(v, bool) and v >= lo,
+        f"a number in [{lo:g}, {hi:g}]",
+        lambda v: _num(v) and lo <= v <= hi,
         help_,
+        lo,
+        hi,
+        False,
     )
+
+
+def _count(help_: str, default: Any, lo: int = 1, hi: int | None = None) -> Key:
+    def ok(v: Any) -> bool:
+        return (
+            isinstance(v, int) and not isinstance(v, bool) and v >= lo and (hi is None or v <= hi)
+        )
+
+    allowed = f"a whole number >= {lo}" if hi is None else f"a whole number in [{lo}, {hi}]"
+    return Key(int, default, allowed, ok, help_, lo, hi, False)
 
 
 def _choice(help_: str, default: str, options: tuple[str, ...]) -> Key:
@@ -69,24 +103,28 @@ def _choice(help_: str, default: str, options: tuple[str, ...]) -> Key:
     )
 
 
+#: Most headings a design may list (each is a column of the current allocation).
+MAX_HEADINGS = 64
+
+
 def _is_heading_list(v: Any) -> bool:
     if v == "all":
         return True
     return (
         isinstance(v, list)
-        and len(v) > 0
+        and 0 < len(v) <= MAX_HEADINGS
         and all(
             isinstance(h, list)
             and len(h) == 3
             and all(_num(c) for c in h)
-            and sum(c * c for c in h) > 0
+            and max(abs(c) for c in h) > 0
             for h in v
         )
     )
 
 
 def _is_str_list(v: Any) -> bool:
-    return isinstance(v, list) and all(isinstance(s, str) for s in v)
+    return isinstance(v, list) and len(v) <= 16 and all(isinstance(s, str) for s in v)
 
 
 TISSUE_PRESETS = ("zhou2013-sample2", "zhou2013-sample3")
@@ -94,26 +132,33 @@ MAGNET_GRADES = ("N35", "N42", "N45", "N48", "N52")
 
 KEYS: dict[str, Key] = {
     # --- coils ---------------------------------------------------------------------------------
-    "coils.winding_temperature_C": Key(
-        float,
-        None,
-        "a number in [-50, 250]",
-        lambda v: _num(v) and -50 <= v <= 250,
+    "coils.winding_temperature_C": _between(
         "copper temperature for the winding resistance (default: limits.coil_temperature_C, "
-        "the hottest allowed, which is self-consistent wherever the thermal limit binds)",
+        "the hottest allowed, which is self-consistent wherever the thermal limit binds); "
+        "range: cold-room ambient to the 250 °C of the hottest enamel class",
+        None,
+        -50.0,
+        250.0,
+        open_=False,
     ),
-    "coils.ambient_temperature_C": Key(
-        float,
+    "coils.ambient_temperature_C": _between(
+        "air temperature around the coils; range: any room a coil system is run in",
         25.0,
-        "a number in [-50, 100]",
-        lambda v: _num(v) and -50 <= v <= 100,
-        "air temperature around the coils",
+        -50.0,
+        100.0,
+        open_=False,
     ),
-    "coils.heat_transfer_coefficient_W_m2K": _pos(
-        "convective heat-transfer coefficient from the winding surface (natural air ~5-15)", 10.0
+    "coils.heat_transfer_coefficient_W_m2K": _between(
+        "convective heat-transfer coefficient from the winding surface (natural air ~5-15); "
+        "range: still air (0.5) to forced water cooling (1e4)",
+        10.0,
+        0.5,
+        1e4,
+        open_=False,
     ),
     "coils.packing_factor": _between(
-        "copper cross-section / winding-pack cross-section (round wire, layer wound ~0.6-0.8)",
+        "copper cross-section / winding-pack cross-section (round wire, layer wound ~0.6-0.8); "
+        "range: up to hexagonal close packing of round wire, 0.9069",
         0.7,
         0.0,
         0.9069,
@@ -121,43 +166,125 @@ KEYS: dict[str, Key] = {
     ),
 }
 for _ax, _r, _n in (("x", 0.40, 400), ("y", 0.35, 350), ("z", 0.30, 300)):
-    KEYS[f"coils.{_ax}.radius_m"] = _pos(f"mean radius of each coil of the {_ax} pair", _r)
-    KEYS[f"coils.{_ax}.turns"] = _count(f"turns of each coil of the {_ax} pair", _n)
-    KEYS[f"coils.{_ax}.wire_diameter_mm"] = _pos(f"bare copper diameter of the {_ax} winding", 2.5)
-    KEYS[f"coils.{_ax}.separation_m"] = _pos(
-        f"distance between the two {_ax} coils (default: the radius, Helmholtz spacing)", None
+    KEYS[f"coils.{_ax}.radius_m"] = _between(
+        f"mean radius of each coil of the {_ax} pair; range: a 1 cm bench coil to a 2 m "
+        "whole-body system",
+        _r,
+        0.01,
+        2.0,
+        open_=False,
+    )
+    KEYS[f"coils.{_ax}.turns"] = _count(
+        f"turns of each coil of the {_ax} pair; range: at most 10^5 turns (a winding of more "
+        "is not made by hand or machine for a coil of this size)",
+        _n,
+        1,
+        100_000,
+    )
+    KEYS[f"coils.{_ax}.wire_diameter_mm"] = _between(
+        f"bare copper diameter of the {_ax} winding; range: AWG 44 (0.05 mm) to a 10 mm "
+        "solid conductor",
+        2.5,
+        0.05,
+        10.0,
+        open_=False,
+    )
+    KEYS[f"coils.{_ax}.separation_m"] = _between(
+        f"distance between the two {_ax} coils (default: the radius, Helmholtz spacing); "
+        "range: 5 mm to 4 m (twice the largest radius)",
+        None,
+        0.005,
+        4.0,
+        open_=False,
     )
 
 KEYS.update(
     {
         # --- capsule ---
-        "capsule.diameter_mm": _pos("outer diameter of the capsule shell (PillCam SB2: 11)", 11.0),
-        "capsule.length_mm": _pos(
-            "overall length including the hemispherical ends (PillCam SB2: 26)", 26.0
+        "capsule.diameter_mm": _between(
+            "outer diameter of the capsule shell (PillCam SB2: 11); range: swallowable "
+            "capsules and bench models, 3-40 mm",
+            11.0,
+            3.0,
+            40.0,
+            open_=False,
         ),
-        "capsule.shell_thickness_mm": _pos("wall thickness of the capsule shell", 0.5),
+        "capsule.length_mm": _between(
+            "overall length including the hemispherical ends (PillCam SB2: 26); range: 3-150 mm",
+            26.0,
+            3.0,
+            150.0,
+            open_=False,
+        ),
+        "capsule.shell_thickness_mm": _between(
+            "wall thickness of the capsule shell; range: 0.05-10 mm (a printed or moulded wall)",
+            0.5,
+            0.05,
+            10.0,
+            open_=False,
+        ),
         "capsule.spiral.helical_angle_deg": _between(
-            "angle between the spiral wire and the capsule's cross-section plane (paper: 5-20)",
+            "angle between the spiral wire and the capsule's cross-section plane (paper: 5-20); "
+            "range: a screw thread lies strictly between flat (0) and axial (90)",
             10.0,
             0.0,
             90.0,
         ),
-        "capsule.spiral.wire_diameter_mm": _pos("diameter of the spiral wire (paper: 1)", 1.0),
-        "capsule.spiral.wound_length_mm": _pos("axial length over which the spiral is wound", 15.0),
-        "capsule.spiral.starts": _count("number of independent spiral wires (starts)", 1),
+        "capsule.spiral.wire_diameter_mm": _between(
+            "diameter of the spiral wire (paper: 1); range: 0.05-10 mm",
+            1.0,
+            0.05,
+            10.0,
+            open_=False,
+        ),
+        "capsule.spiral.wound_length_mm": _between(
+            "axial length over which the spiral is wound; range: 0.1-150 mm (at most a capsule)",
+            15.0,
+            0.1,
+            150.0,
+            open_=False,
+        ),
+        "capsule.spiral.starts": _count(
+            "number of independent spiral wires (starts); range: 1-12 (more wires than that "
+            "do not fit round a capsule)",
+            1,
+            1,
+            12,
+        ),
         "capsule.magnet.shape": _choice(
             "magnet shape, diametrically magnetised", "cylinder", ("cylinder", "ring")
         ),
-        "capsule.magnet.diameter_mm": _pos("outer diameter of the magnet", 6.0),
-        "capsule.magnet.length_mm": _pos("axial length of the magnet", 10.0),
-        "capsule.magnet.inner_diameter_mm": _nonneg(
-            "bore of a ring magnet (0 for a cylinder)", 0.0
+        "capsule.magnet.diameter_mm": _between(
+            "outer diameter of the magnet; range: 0.1-40 mm (it must fit a capsule)",
+            6.0,
+            0.1,
+            40.0,
+            open_=False,
+        ),
+        "capsule.magnet.length_mm": _between(
+            "axial length of the magnet; range: 0.1-150 mm (it must fit a capsule)",
+            10.0,
+            0.1,
+            150.0,
+            open_=False,
+        ),
+        "capsule.magnet.inner_diameter_mm": _between(
+            "bore of a ring magnet (0 for a cylinder); range: 0-40 mm",
+            0.0,
+            0.0,
+            40.0,
+            open_=False,
         ),
         "capsule.magnet.grade": _choice(
             "sintered NdFeB grade (sets remanence_T if that is absent)", "N45", MAGNET_GRADES
         ),
         "capsule.magnet.remanence_T": _between(
-            "remanence B_r (overrides the grade)", None, 0.0, 2.0
+            "remanence B_r (overrides the grade); range: no permanent magnet exceeds 1.6 T "
+            "(N55 NdFeB ~1.5 T)",
+            None,
+            0.01,
+            1.6,
+            open_=False,
         ),
         # --- tissue ---
         "tissue.preset": _choice(
@@ -165,19 +292,64 @@ KEYS.update(
             "zhou2013-sample2",
             TISSUE_PRESETS,
         ),
-        "tissue.E1_kPa": _nonneg(
-            "spring modulus E1 of the five-element model (overrides preset)", None
+        "tissue.E1_kPa": _between(
+            "spring modulus E1 of the five-element model (overrides preset); range: 0 to 1 GPa, "
+            "beyond any soft tissue (the presets hold 10-7000 kPa)",
+            None,
+            0.0,
+            1e6,
+            open_=False,
         ),
-        "tissue.E2_kPa": _nonneg("spring modulus E2 (overrides preset)", None),
-        "tissue.E3_kPa": _nonneg("spring modulus E3 (overrides preset)", None),
-        "tissue.eta1_kPa_s": _pos("dashpot viscosity eta1 (overrides preset)", None),
-        "tissue.eta2_kPa_s": _pos("dashpot viscosity eta2 (overrides preset)", None),
-        "tissue.lumen_diameter_mm": _pos(
-            "inner diameter of the undeformed intestine (overrides)", None
+        "tissue.E2_kPa": _between(
+            "spring modulus E2 (overrides preset); range as tissue.E1_kPa",
+            None,
+            0.0,
+            1e6,
+            open_=False,
         ),
-        "tissue.wall_thickness_mm": _pos("intestinal wall thickness (overrides preset)", None),
-        "tissue.friction_coefficient": _pos(
-            "capsule-mucosa Coulomb friction (overrides preset)", None
+        "tissue.E3_kPa": _between(
+            "spring modulus E3 (overrides preset); range as tissue.E1_kPa",
+            None,
+            0.0,
+            1e6,
+            open_=False,
+        ),
+        "tissue.eta1_kPa_s": _between(
+            "dashpot viscosity eta1 (overrides preset); range: 1e-3 to 1e8 kPa·s, the presets "
+            "hold 80-16000",
+            None,
+            1e-3,
+            1e8,
+            open_=False,
+        ),
+        "tissue.eta2_kPa_s": _between(
+            "dashpot viscosity eta2 (overrides preset); range as tissue.eta1_kPa_s",
+            None,
+            1e-3,
+            1e8,
+            open_=False,
+        ),
+        "tissue.lumen_diameter_mm": _between(
+            "inner diameter of the undeformed intestine (overrides); range: 1-100 mm (small "
+            "bowel ~10-30, colon up to ~80)",
+            None,
+            1.0,
+            100.0,
+            open_=False,
+        ),
+        "tissue.wall_thickness_mm": _between(
+            "intestinal wall thickness (overrides preset); range: 0.05-20 mm",
+            None,
+            0.05,
+            20.0,
+            open_=False,
+        ),
+        "tissue.friction_coefficient": _between(
+            "capsule-mucosa Coulomb friction (overrides preset); range: 1e-3-5 (mucosa ~0.01-0.6)",
+            None,
+            1e-3,
+            5.0,
+            open_=False,
         ),
         "tissue.worst_case_presets": Key(
             list,
@@ -188,23 +360,37 @@ KEYS.update(
             "the paper's other intestine sample)",
         ),
         # --- operation and workspace ---
-        "operation.frequency_hz": _pos(
-            "rotation frequency of the field at the operating point", 2.0
+        "operation.frequency_hz": _between(
+            "rotation frequency of the field at the operating point; range: 1 mHz to 100 Hz "
+            "(a capsule in tissue steps out long before 100 Hz)",
+            2.0,
+            1e-3,
+            100.0,
+            open_=False,
         ),
-        "workspace.radius_m": _nonneg(
-            "radius of the region around the coil centre the capsule must work in (0: centre only)",
+        "workspace.radius_m": _between(
+            "radius of the region around the coil centre the capsule must work in (0: centre "
+            "only); range: 0-1 m (inside the largest coils)",
             0.05,
+            0.0,
+            1.0,
+            open_=False,
         ),
         "workspace.headings": Key(
             list,
             "all",
-            '"all" or a list of [x, y, z] direction vectors',
+            f'"all" or a list of 1-{MAX_HEADINGS} [x, y, z] direction vectors (finite, not all 0)',
             _is_heading_list,
             "capsule headings (rotation axes) to design for",
         ),
         # --- requirements ---
-        "requirements.axial_load_mN": _nonneg(
-            "axial resistance the spiral must push against (20-100 in porcine small bowel)", 50.0
+        "requirements.axial_load_mN": _between(
+            "axial resistance the spiral must push against (20-100 in porcine small bowel); "
+            "range: 0-10 N",
+            50.0,
+            0.0,
+            1e4,
+            open_=False,
         ),
         "requirements.slip_efficiency": _between(
             "forward speed / (frequency x spiral lead); 1 is a nut on a screw",
@@ -213,28 +399,79 @@ KEYS.update(
             1.0,
             open_=False,
         ),
-        "requirements.min_speed_mm_s": _nonneg(
-            "least forward speed the capsule must reach (5 mm/s: about 17 min per metre)", 5.0
+        "requirements.min_speed_mm_s": _between(
+            "least forward speed the capsule must reach (5 mm/s: about 17 min per metre); "
+            "range: 0-1000 mm/s",
+            5.0,
+            0.0,
+            1000.0,
+            open_=False,
         ),
-        "requirements.min_spiral_turns": _nonneg(
-            "fewest spiral turns over the wound length that can be made (0 switches the rule off)",
+        "requirements.min_spiral_turns": _between(
+            "fewest spiral turns over the wound length that can be made (0 switches the rule "
+            "off); range: 0-1000",
             1.0,
+            0.0,
+            1000.0,
+            open_=False,
         ),
         # --- limits ---
-        "limits.current_A": _pos("largest current amplitude of any coil pair", 15.0),
-        "limits.voltage_V": _pos("largest drive-voltage amplitude across any coil pair", 150.0),
-        "limits.power_W": _pos("largest total copper loss of the three pairs", 2000.0),
-        "limits.coil_temperature_C": _pos("hottest steady coil temperature allowed", 90.0),
+        "limits.current_A": _between(
+            "largest current amplitude of any coil pair; range: up to 1 kA (beyond any "
+            "amplifier for air coils)",
+            15.0,
+            1e-3,
+            1e3,
+            open_=False,
+        ),
+        "limits.voltage_V": _between(
+            "largest drive-voltage amplitude across any coil pair; range: up to 10 kV",
+            150.0,
+            1e-3,
+            1e4,
+            open_=False,
+        ),
+        "limits.power_W": _between(
+            "largest total copper loss of the three pairs; range: up to 1 MW",
+            2000.0,
+            1e-3,
+            1e6,
+            open_=False,
+        ),
+        "limits.coil_temperature_C": _between(
+            "hottest steady coil temperature allowed; range: -50 to 250 °C, the hottest enamel "
+            "insulation class (IEC 60317)",
+            90.0,
+            -50.0,
+            250.0,
+            open_=False,
+        ),
         "limits.field_exposure": _choice(
             "ICNIRP 2010 reference level applied to the rotating field",
             "occupational",
             ("occupational", "public", "off"),
         ),
         # --- optimisation ---
-        "optimize.helical_angle_min_deg": _between("lower bound on the helical angle", 2.0, 0, 90),
-        "optimize.helical_angle_max_deg": _between("upper bound on the helical angle", 45.0, 0, 90),
-        "optimize.frequency_min_hz": _pos("lower bound on the rotation frequency", 0.5),
-        "optimize.frequency_max_hz": _pos("upper bound on the rotation frequency", 5.0),
+        "optimize.helical_angle_min_deg": _between(
+            "lower bound on the helical angle; range: strictly between 0 and 90 deg", 2.0, 0, 90
+        ),
+        "optimize.helical_angle_max_deg": _between(
+            "upper bound on the helical angle; range: strictly between 0 and 90 deg", 45.0, 0, 90
+        ),
+        "optimize.frequency_min_hz": _between(
+            "lower bound on the rotation frequency; range as operation.frequency_hz",
+            0.5,
+            1e-3,
+            100.0,
+            open_=False,
+        ),
+        "optimize.frequency_max_hz": _between(
+            "upper bound on the rotation frequency; range as operation.frequency_hz",
+            5.0,
+            1e-3,
+            100.0,
+            open_=False,
+        ),
         "optimize.objective": _choice(
             "maximise the torque margin or the safety factor, or minimise the copper power or "
             "the copper mass (the last two subject to requirements.min_safety_factor); "
@@ -242,7 +479,13 @@ KEYS.update(
             "margin",
             ("margin", "ratio", "power", "copper_mass", "margin_p05"),
         ),
-        "optimize.starts": _count("initial helical angles IPOPT is started from", 4),
+        "optimize.starts": _count(
+            "initial helical angles IPOPT is started from; range: 1-64 (each start is one "
+            "solve; more than 64 adds time, not answers)",
+            4,
+            1,
+            64,
+        ),
     }
 )
 
@@ -419,6 +662,57 @@ KEYS.update(
 )
 
 
+def _with_units(name: str, spec: Key) -> Key:
+    from spiralcap.constants import design_unit
+
+    unit, si_unit, factor = design_unit(name)
+    return replace(spec, name=name, unit=unit, si_unit=si_unit, si_factor=factor)
+
+
+def finish_keys() -> None:
+    """Give every key its name and its unit conversion (called once every block is in).
+
+    Idempotent; call it again after adding keys outside this module.
+    """
+    for _name, _spec in list(KEYS.items()):
+        KEYS[_name] = _with_units(_name, _spec)
+
+
+finish_keys()
+
+
+def to_si(key: str, value: Any) -> Any:
+    """``value`` of design key ``key`` in SI (``requirements.axial_load_mN`` 50 -> 0.05 N).
+
+    From the key's name alone (the unit table), so it holds for keys added anywhere.
+    """
+    from spiralcap.constants import design_unit
+
+    return value * design_unit(key)[2]
+
+
+def si_name(key: str) -> str:
+    """The leaf of ``key`` with its unit in SI: ``requirements.axial_load_mN`` -> ``axial_load_N``."""
+    from spiralcap.constants import design_unit
+
+    unit, si_unit, _ = design_unit(key)
+    leaf = key.rpartition(".")[2]
+    return leaf[: len(leaf) - len(unit)] + si_unit if unit else leaf
+
+
+def si_values(design: Any, prefix: str) -> dict[str, float]:
+    """Every set numeric key under ``prefix`` in SI, by SI leaf name.
+
+    ``si_values(design, "tissue.")`` -> ``{"E1_Pa": ..., "lumen_diameter_m": ...}`` for the
+    keys the design sets (optional keys left unset are absent).
+    """
+    out: dict[str, float] = {}
+    for name, spec in KEYS.items():
+        if name.startswith(prefix) and spec.kind in (float, int) and design.get(name) is not None:
+            out[si_name(name)] = to_si(name, design[name])
+    return out
+
+
 def validate_value(key: str, value: Any) -> Any:
     """Check one value against its key; return it coerced (int -> float where a float is due).
 
@@ -439,7 +733,10 @@ def validate_value(key: str, value: Any) -> Any:
         )
         raise InputError(key, value, hint)
     if spec.kind is float and isinstance(value, int) and not isinstance(value, bool):
-        value = float(value)
+        try:
+            value = float(value)
+        except OverflowError:
+            raise InputError(key, value, spec.allowed) from None
     if not spec.check(value):
         raise InputError(key, value, spec.allowed)
     return value

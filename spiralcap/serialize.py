@@ -1,51 +1,115 @@
-"""Result objects -> plain dicts with units in every key: the one source for JSON and the report."""
+"""Result objects -> plain dicts with units in every key: the one source for JSON and the report.
+
+The dicts are derived from the result dataclasses field by field, so a field added to
+:class:`optimize.Evaluation` or :class:`optimize.OptimizationResult` appears in the JSON without
+a second list. What the JSON shows differently from the dataclass is in three tables only:
+
+- :data:`RENAMES`: a field shown under another name (``workspace_factor`` ->
+  ``workspace_field_factor``);
+- :data:`TRANSFORMS`: a field shown in another form (per-axis tuples as ``{"x": .., "y": ..,
+  "z": ..}``; a field named ``*_rad`` is shown in degrees as ``*_deg``);
+- :data:`PROPERTIES`: read-only properties shown as if they were fields.
+
+Every number field has one type, a finite number (docs/json/README.md):
+
+- ``safety_factor`` is absent, and ``safety_factor_unbounded`` true, when no torque is required
+  (``required_torque_Nm == 0``: magnet torque / 0 has no finite value);
+- ``step_out_frequency_hz`` is a bound when the search found none: ``step_out_bound`` says
+  ``"found"``, ``"above_search_range"`` (the step-out lies above the value given, the top of
+  the search) or ``"below_search_range"`` (the capsule cannot turn even at the value given, the
+  bottom of the search);
+- ``lag_angle_deg`` is 90 when the magnet cannot hold the load (``synchronous`` false).
+"""
 
 from __future__ import annotations
 
+import dataclasses
 import math
+from collections.abc import Callable
 from typing import Any
 
 _AXES = ("x", "y", "z")
 
-
-def _checks(checks) -> list[dict[str, Any]]:
-    return [
-        {
-            "name": c.name,
-            "key": c.key,
-            "unit": c.unit,
-            "value": c.value,
-            "allowed": c.allowed,
-            "sense": c.sense,
-            "ok": c.ok,
-        }
-        for c in checks
-    ]
+#: dataclass field -> JSON name
+RENAMES: dict[str, str] = {
+    "workspace_factor": "workspace_field_factor",
+    "sensitivity": "sensitivity_per_unit",
+}
 
 
-def evaluation_to_dict(ev) -> dict[str, Any]:
+def _by_axis(value: Any) -> dict[str, float]:
+    return dict(zip(_AXES, (float(v) for v in value)))
+
+
+#: dataclass field -> (JSON name, conversion); applied before the ``*_rad`` rule
+TRANSFORMS: dict[str, tuple[str, Callable[[Any], Any]]] = {
+    "current_amplitudes_A": ("current_amplitudes_A", _by_axis),
+    "relax_sign": ("relaxing_means", lambda s: "raising" if s > 0 else "lowering"),
+}
+
+#: properties shown as fields where a class has them
+PROPERTIES = ("gain_per_unit_relaxed", "short_by")
+
+#: fields shown by a dedicated rule of their parent (not field by field)
+_SKIPPED = {"current_phases_rad", "headings", "solution_x", "solution_lam_g"}
+
+
+def to_dict(obj: Any) -> dict[str, Any]:
+    """A result dataclass as a JSON-ready dict, by the tables above (recursing into fields)."""
+    out: dict[str, Any] = {}
+    for f in dataclasses.fields(obj):
+        if f.name in _SKIPPED:
+            continue
+        value = getattr(obj, f.name)
+        if f.name in TRANSFORMS:
+            name, conv = TRANSFORMS[f.name]
+            out[name] = conv(value)
+        elif f.name.endswith("_rad") and isinstance(value, (int, float)):
+            out[f.name[: -len("_rad")] + "_deg"] = math.degrees(value)
+        else:
+            out[RENAMES.get(f.name, f.name)] = _value(value)
+    for prop in PROPERTIES:
+        if hasattr(type(obj), prop):
+            out[prop] = getattr(obj, prop)
+    return out
+
+
+def _value(value: Any) -> Any:
+    if dataclasses.is_dataclass(value) and not isinstance(value, type):
+        return to_dict(value)
+    if isinstance(value, (tuple, list)):
+        return [_value(v) for v in value]
+    if hasattr(value, "item") and getattr(value, "ndim", 1) == 0:
+        return value.item()
+    return value
+
+
+def _step_out(hz: float) -> tuple[float, str]:
+    from optimize.evaluate import STEP_OUT_SEARCH_HZ
+
+    lo, hi = STEP_OUT_SEARCH_HZ
+    if not math.isfinite(hz) or hz >= hi:
+        return hi, "above_search_range"
+    if hz <= 0 or hz < lo:
+        return lo, "below_search_range"
+    return hz, "found"
+
+
+def _finite_fields(out: dict[str, Any], margin_Nm: float) -> dict[str, Any]:
+    """Safety factor, step-out and lag as finite numbers with their flags (see module notes)."""
+    sf = out.pop("safety_factor")
+    out["safety_factor_unbounded"] = not math.isfinite(sf)
+    if math.isfinite(sf):
+        out["safety_factor"] = sf
+    out["step_out_frequency_hz"], out["step_out_bound"] = _step_out(out["step_out_frequency_hz"])
+    if "lag_angle_deg" in out:
+        out["synchronous"] = margin_Nm >= 0
+    return out
+
+
+def evaluation_to_dict(ev: Any) -> dict[str, Any]:
     """JSON-ready figures of an :class:`optimize.Evaluation`."""
-    return {
-        "helical_angle_deg": ev.helical_angle_deg,
-        "frequency_hz": ev.frequency_hz,
-        "field_amplitude_T": ev.field_amplitude_T,
-        "field_limited_by": ev.field_limited_by,
-        "workspace_field_factor": ev.workspace_factor,
-        "current_amplitudes_A": dict(zip(_AXES, ev.current_amplitudes_A)),
-        "magnetic_torque_Nm": ev.magnetic_torque_Nm,
-        "resistive_torque_Nm": ev.resistive_torque_Nm,
-        "thrust_torque_Nm": ev.thrust_torque_Nm,
-        "required_torque_Nm": ev.required_torque_Nm,
-        "worst_tissue": ev.worst_tissue,
-        "margin_Nm": ev.margin_Nm,
-        "safety_factor": ev.safety_factor,
-        "lag_angle_deg": math.degrees(ev.lag_angle_rad),
-        "step_out_frequency_hz": ev.step_out_frequency_hz,
-        "speed_m_s": ev.speed_m_s,
-        "spiral_turns": ev.spiral_turns,
-        "feasible": ev.feasible,
-        "checks": _checks(ev.checks),
-    }
+    return _finite_fields(to_dict(ev), ev.margin_Nm)
 
 
 _OBJECTIVE_UNITS = {
@@ -57,64 +121,32 @@ _OBJECTIVE_UNITS = {
 }
 
 
-def optimization_to_dict(res) -> dict[str, Any]:
+def optimization_to_dict(res: Any) -> dict[str, Any]:
     """JSON-ready figures of an :class:`optimize.OptimizationResult`."""
     from spiralcap.assemble.system import constraint_key
 
-    return {
-        "status": res.status,
-        "message": res.message,
-        "objective": res.objective,
-        "helical_angle_deg": res.helical_angle_deg,
-        "frequency_hz": res.frequency_hz,
-        "field_amplitude_T": res.field_amplitude_T,
-        "margin_Nm": res.margin_Nm,
-        "safety_factor": res.safety_factor,
-        "objective_value": res.objective_value,
-        "field_is_set": res.field_is_set,
-        "current_amplitudes_A": dict(zip(_AXES, res.current_amplitudes_A)),
-        "current_allocation": [
-            {
-                "heading": list(h),
-                "amplitudes_A": dict(zip(_AXES, a)),
-                "phases_deg": dict(zip(_AXES, (math.degrees(p) for p in ph))),
-            }
-            for h, (a, ph) in zip(res.headings, res.current_phases_rad)
-        ],
-        "speed_m_s": res.speed_m_s,
-        "step_out_frequency_hz": res.step_out_frequency_hz,
-        "binding_limits": [
-            {
-                "name": b.name,
-                "key": constraint_key(b.name),
-                "unit": b.unit,
-                "value": b.value,
-                "allowed": b.allowed,
-                "sensitivity_per_unit": b.sensitivity,
-                "gain_per_unit_relaxed": b.gain_per_unit_relaxed,
-                "relaxing_means": "raising" if b.relax_sign > 0 else "lowering",
-                "gain_unit": _OBJECTIVE_UNITS.get(res.objective, "1") + "/" + b.unit,
-            }
-            for b in res.binding_limits
-        ],
-        "shortfalls": [
-            {
-                "name": s.name,
-                "key": constraint_key(s.name),
-                "unit": s.unit,
-                "needed": s.needed,
-                "best": s.best,
-                "short_by": s.short_by,
-            }
-            for s in res.shortfalls
-        ],
-        "solver_status": res.solver_status,
-        "iterations": res.iterations,
-        "starts": res.starts,
-        "solve_time_s": res.solve_time_s,
-        "evaluation": evaluation_to_dict(res.evaluation),
-        "hardware": _hardware(res.hardware),
-    }
+    out = to_dict(res)
+    out["current_allocation"] = [
+        {
+            "heading": [float(c) for c in h],
+            "amplitudes_A": _by_axis(a),
+            "phases_deg": dict(zip(_AXES, (math.degrees(p) for p in ph))),
+        }
+        for h, (a, ph) in zip(res.headings, res.current_phases_rad)
+    ]
+    unit = _OBJECTIVE_UNITS.get(res.objective, "1")
+    for b in out["binding_limits"]:
+        b["key"] = constraint_key(b["name"])
+        b["gain_unit"] = unit + "/" + b["unit"]
+    for s in out["shortfalls"]:
+        s["key"] = constraint_key(s["name"])
+    out["evaluation"] = evaluation_to_dict(res.evaluation)
+    hardware = _hardware(res.hardware)
+    if hardware is None:  # fixed hardware: no sizing part (one type per field, no null)
+        out.pop("hardware", None)
+    else:
+        out["hardware"] = hardware
+    return _finite_fields(out, res.margin_Nm)
 
 
 def _hardware(h) -> dict[str, Any] | None:

@@ -18,21 +18,26 @@ import numpy as np
 
 from spiralcap.design import Design
 from spiralcap.errors import InputError
-from spiralcap.schema import KEYS
+from spiralcap.schema import KEYS, si_name, to_si
 
-#: design key -> (where it lives in the model, SI factor)
-_VECTOR_KEYS: dict[str, tuple[str, str, float]] = {
-    "capsule.spiral.helical_angle_deg": ("alpha", "", math.pi / 180.0),
-    "operation.frequency_hz": ("f", "", 1.0),
-    "limits.current_A": ("limits", "current_A", 1.0),
-    "limits.voltage_V": ("limits", "voltage_V", 1.0),
-    "limits.power_W": ("limits", "power_W", 1.0),
-    "limits.coil_temperature_C": ("limits", "coil_temperature_C", 1.0),
-    "requirements.axial_load_mN": ("requirements", "axial_load_N", 1e-3),
-    "requirements.slip_efficiency": ("requirements", "slip_efficiency", 1.0),
-    "requirements.min_speed_mm_s": ("requirements", "min_speed_m_s", 1e-3),
-    "requirements.min_spiral_turns": ("requirements", "min_spiral_turns", 1.0),
+#: design key -> where it lives in the model ("alpha", "f", or the model field holding the SI
+#: value under the key's SI leaf name); the SI conversion comes from the schema's unit table
+_VECTOR_KEYS: dict[str, str] = {
+    "capsule.spiral.helical_angle_deg": "alpha",
+    "operation.frequency_hz": "f",
+    "limits.current_A": "limits",
+    "limits.voltage_V": "limits",
+    "limits.power_W": "limits",
+    "limits.coil_temperature_C": "limits",
+    "requirements.axial_load_mN": "requirements",
+    "requirements.slip_efficiency": "requirements",
+    "requirements.min_speed_mm_s": "requirements",
+    "requirements.min_spiral_turns": "requirements",
 }
+#: Most grid points a sweep may have, by mode: the vectorised evaluation holds a few dozen
+#: float arrays of this length (2.5e5 points: ~0.2 GB at most); point-by-point evaluation
+#: rebuilds the model each time (~10 ms), re-optimisation solves an NLP each time (~0.1-1 s).
+MAX_POINTS = {"vectorised": 250_000, "points": 20_000, "optimize": 5_000}
 EVALUATE_COLUMNS = ("margin_Nm", "safety_factor", "field_amplitude_T", "speed_m_s", "feasible")
 OPTIMIZE_COLUMNS = (
     "status",
@@ -77,8 +82,12 @@ def parse_over(expr: str) -> Axis:
         start, stop, n = float(parts[0]), float(parts[1]), int(parts[2])
     except ValueError:
         raise InputError("--over", expr, allowed) from None
-    if n < 1 or not (math.isfinite(start) and math.isfinite(stop)):
-        raise InputError("--over", expr, "finite START and STOP and N >= 1")
+    if not (1 <= n <= MAX_POINTS["vectorised"]) or not (
+        math.isfinite(start) and math.isfinite(stop)
+    ):
+        raise InputError(
+            "--over", expr, f"finite START and STOP and 1 <= N <= {MAX_POINTS['vectorised']}"
+        )
     values = np.linspace(start, stop, n)
     for v in (start, stop):
         if not KEYS[key].check(round(v) if KEYS[key].kind is int else v):
@@ -106,7 +115,27 @@ def sweep(
 
     ``workers`` local processes or a Dask scheduler at ``dask`` run the re-optimisations
     (:func:`spiralcap.parallel.map_tasks`); the rows do not depend on where they ran.
+
+    Raises
+    ------
+    InputError
+        The grid has more points than :data:`MAX_POINTS` allows for the mode (checked before
+        any work).
     """
+    size = math.prod(len(a.values) for a in axes)
+    kind = (
+        "optimize"
+        if optimize
+        else ("vectorised" if all(a.key in _VECTOR_KEYS for a in axes) else "points")
+    )
+    if size > MAX_POINTS[kind]:
+        raise InputError(
+            "--over",
+            " ".join(f"{a.key}:{len(a.values)}" for a in axes),
+            f"a grid of at most {MAX_POINTS[kind]} points for this sweep "
+            f"({'re-optimising' if optimize else 'evaluating'}"
+            f"{'' if kind != 'points' else ' point by point'}; this one has {size})",
+        )
     inputs = _grid(axes)
     if optimize:
         outputs = _optimize_points(design, inputs, workers, progress, dask)
@@ -129,13 +158,13 @@ def _evaluate_vectorised(design: Design, inputs: dict[str, np.ndarray]) -> dict[
     f: Any = model.frequency_hz
     groups: dict[str, dict[str, Any]] = {"limits": {}, "requirements": {}}
     for key, values in inputs.items():
-        where, attr, factor = _VECTOR_KEYS[key]
+        where = _VECTOR_KEYS[key]
         if where == "alpha":
-            alpha = values * factor
+            alpha = to_si(key, values)
         elif where == "f":
-            f = values * factor
+            f = to_si(key, values)
         else:
-            groups[where][attr] = values * factor
+            groups[where][si_name(key)] = to_si(key, values)
     model = replace(
         model,
         limits=replace(model.limits, **groups["limits"]),
@@ -198,7 +227,7 @@ def _models(design: Design, inputs: dict[str, np.ndarray]):
     from spiralcap.assemble import build_model
 
     n = len(next(iter(inputs.values())))
-    light = all(_VECTOR_KEYS.get(k, ("",))[0] in ("limits", "requirements") for k in inputs)
+    light = all(_VECTOR_KEYS.get(k, "") in ("limits", "requirements") for k in inputs)
     if "limits.coil_temperature_C" in inputs and design.get("coils.winding_temperature_C") is None:
         light = False  # the winding resistance is taken at the temperature limit
     base = prepare(build_model(design)) if light else None
@@ -208,8 +237,7 @@ def _models(design: Design, inputs: dict[str, np.ndarray]):
             continue
         groups: dict[str, dict[str, Any]] = {"limits": {}, "requirements": {}}
         for key, values in inputs.items():
-            where, attr, factor = _VECTOR_KEYS[key]
-            groups[where][attr] = float(values[i]) * factor
+            groups[_VECTOR_KEYS[key]][si_name(key)] = float(to_si(key, float(values[i])))
         yield replace(
             base,
             limits=replace(base.limits, **groups["limits"]),

@@ -19,9 +19,9 @@ def _model(*overrides):
 
 def test_current_limited_field_by_hand():
     m = _model(
-        "limits.voltage_V=1e9",
-        "limits.power_W=1e9",
-        "limits.coil_temperature_C=1e6",
+        "limits.voltage_V=1e4",  # the largest each key allows (spiralcap.schema)
+        "limits.power_W=1e6",
+        "limits.coil_temperature_C=250",
         "limits.field_exposure=off",
     )
     ev = evaluate(m)

@@ -94,20 +94,37 @@ def relaxation_integral_Pa(frequency_hz: Any, tissue: TissueParameters) -> Any:
     """int_0^{2 pi} of the eq. 4 bracket over one revolution, Pa (times rad), in closed form.
 
         I(omega) = omega eta1 (1 - exp(-2 pi E1/(omega eta1)))
-                 + omega eta2 (1 - exp(-2 pi E2/(omega eta2))) + 2 pi E3.
+                 + omega eta2 (1 - exp(-2 pi E2/(omega eta2))) + 2 pi E3,
+
+    evaluated through ``expm1`` (:func:`_relaxed_arm`) so that it stays exact where the
+    exponent is small (each arm tends to 2 pi E as omega eta grows) and is finite at f = 0.
 
     One revolution, theta in [0, 2 pi]: a wall element is strained when the bump reaches it and
     relaxes for one turn until strained again (docs/torque-model.md, "theta range").
     """
     omega = angular_frequency_rad_s(frequency_hz)
     t = tissue
-    w1 = omega * t.eta1_Pa_s
-    w2 = omega * t.eta2_Pa_s
     return (
-        w1 * (1.0 - bk.exp(-2.0 * bk.pi * t.E1_Pa / w1))
-        + w2 * (1.0 - bk.exp(-2.0 * bk.pi * t.E2_Pa / w2))
+        _relaxed_arm(omega, t.E1_Pa, t.eta1_Pa_s)
+        + _relaxed_arm(omega, t.E2_Pa, t.eta2_Pa_s)
         + 2.0 * bk.pi * t.E3_Pa
     )
+
+
+#: Floor that keeps omega eta and the exponent away from 0 (f = 0, E = 0) without a division by 0.
+_TINY = 1e-200
+
+
+def _relaxed_arm(omega: Any, modulus: float, viscosity: float) -> Any:
+    """One Maxwell arm of I(omega): omega eta (1 - e^(-x)), x = 2 pi E / (omega eta), Pa.
+
+    Written as 2 pi E phi(x) with phi(x) = -expm1(-x) / x: no cancellation where x is small
+    (large omega eta: phi -> 1, the arm -> 2 pi E), no 0/0 at E = 0 or f = 0 (the arm -> 0,
+    a fully relaxed dashpot), the same on floats, arrays and CasADi.
+    """
+    w = bk.fmax(omega * viscosity, _TINY)
+    x = bk.fmax(2.0 * bk.pi * modulus / w, _TINY)
+    return 2.0 * bk.pi * modulus * (-bk.expm1(-x) / x)
 
 
 def hoop_pressure_Pa(stress: Any, wall_thickness_m: Any, diameter_after_m: Any) -> Any:

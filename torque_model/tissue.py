@@ -11,6 +11,7 @@ import dataclasses
 from dataclasses import dataclass
 from typing import Any
 
+from spiralcap.constants import design_unit, from_si
 from spiralcap.errors import InputError, check_positive
 
 __all__ = ["PRESET_NAMES", "TissueParameters", "preset"]
@@ -78,16 +79,11 @@ class TissueParameters:
 
     def as_design_table(self) -> dict[str, float]:
         """The set as ``tissue.*`` design-key values (kPa, kPa·s, mm): the keys without prefix."""
-        return {
-            "E1_kPa": self.E1_Pa / 1e3,
-            "E2_kPa": self.E2_Pa / 1e3,
-            "E3_kPa": self.E3_Pa / 1e3,
-            "eta1_kPa_s": self.eta1_Pa_s / 1e3,
-            "eta2_kPa_s": self.eta2_Pa_s / 1e3,
-            "lumen_diameter_mm": self.lumen_diameter_m * 1e3,
-            "wall_thickness_mm": self.wall_thickness_m * 1e3,
-            "friction_coefficient": self.friction_coefficient,
-        }
+        out = {}
+        for key in _DESIGN_KEYS:
+            si_name, factor = _si(key)
+            out[key] = from_si(getattr(self, si_name), factor)
+        return out
 
     @classmethod
     def from_design_table(cls, table: dict[str, float], name: str = "custom") -> TissueParameters:
@@ -98,17 +94,11 @@ class TissueParameters:
             raise InputError(
                 "tissue", sorted(missing + unknown), "exactly the keys " + ", ".join(_DESIGN_KEYS)
             )
-        return cls(
-            E1_Pa=table["E1_kPa"] * 1e3,
-            E2_Pa=table["E2_kPa"] * 1e3,
-            E3_Pa=table["E3_kPa"] * 1e3,
-            eta1_Pa_s=table["eta1_kPa_s"] * 1e3,
-            eta2_Pa_s=table["eta2_kPa_s"] * 1e3,
-            lumen_diameter_m=table["lumen_diameter_mm"] * 1e-3,
-            wall_thickness_m=table["wall_thickness_mm"] * 1e-3,
-            friction_coefficient=table["friction_coefficient"],
-            name=name,
-        )
+        si = {}
+        for key in _DESIGN_KEYS:
+            si_name, factor = _si(key)
+            si[si_name] = table[key] * factor
+        return cls(name=name, **si)
 
 
 _DESIGN_KEYS = (
@@ -121,6 +111,12 @@ _DESIGN_KEYS = (
     "wall_thickness_mm",
     "friction_coefficient",
 )
+
+
+def _si(key: str) -> tuple[str, float]:
+    """A tissue design key's SI field name and factor, from the one unit table."""
+    unit, si_unit, factor = design_unit(key)
+    return (key[: len(key) - len(unit)] + si_unit if unit else key), factor
 
 
 def _registry() -> dict[str, Any]:

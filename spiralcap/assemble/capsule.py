@@ -7,13 +7,12 @@ cylinder) and names the design key at fault in the :class:`~spiralcap.errors.Inp
 
 from __future__ import annotations
 
-import math
 from collections.abc import Iterator, Mapping
 from contextlib import contextmanager
 from typing import TYPE_CHECKING, Any
 
 from spiralcap.errors import InputError
-from spiralcap.schema import KEYS, validate_value
+from spiralcap.schema import KEYS, to_si, validate_value
 
 if TYPE_CHECKING:
     from capsule import Capsule
@@ -107,7 +106,9 @@ def build_capsule(design: Mapping[str, Any]) -> Capsule:
         )
     with _named(design, "body"):
         body = cap.Body(
-            diameter_m=_mm(diameter), length_m=_mm(length), shell_thickness_m=_mm(shell)
+            diameter_m=to_si("capsule.diameter_mm", diameter),
+            length_m=to_si("capsule.length_mm", length),
+            shell_thickness_m=to_si("capsule.shell_thickness_mm", shell),
         )
 
     shape, bore = d["capsule.magnet.shape"], d["capsule.magnet.inner_diameter_mm"]
@@ -136,18 +137,22 @@ def build_capsule(design: Mapping[str, Any]) -> Capsule:
             remanence = cap.remanence_for_grade(d["capsule.magnet.grade"])
     with _named(design, "magnet"):
         magnet = cap.Magnet(
-            diameter_m=_mm(outer),
-            length_m=_mm(d["capsule.magnet.length_mm"]),
+            diameter_m=to_si("capsule.magnet.diameter_mm", outer),
+            length_m=to_si("capsule.magnet.length_mm", d["capsule.magnet.length_mm"]),
             remanence_T=remanence,
-            inner_diameter_m=_mm(bore),
+            inner_diameter_m=to_si("capsule.magnet.inner_diameter_mm", bore),
         )
 
     angle = d["capsule.spiral.helical_angle_deg"]
     with _named(design, "spiral"):
         spiral = cap.Spiral(
-            helical_angle_rad=math.radians(angle),
-            wire_diameter_m=_mm(d["capsule.spiral.wire_diameter_mm"]),
-            wound_length_m=_mm(d["capsule.spiral.wound_length_mm"]),
+            helical_angle_rad=to_si("capsule.spiral.helical_angle_deg", angle),
+            wire_diameter_m=to_si(
+                "capsule.spiral.wire_diameter_mm", d["capsule.spiral.wire_diameter_mm"]
+            ),
+            wound_length_m=to_si(
+                "capsule.spiral.wound_length_mm", d["capsule.spiral.wound_length_mm"]
+            ),
             starts=d["capsule.spiral.starts"],
         )
 
@@ -157,8 +162,3 @@ def build_capsule(design: Mapping[str, Any]) -> Capsule:
         key = _DESIGN_KEY[field]
         raise InputError(key, d[key], reason)
     return cap.Capsule(body=body, spiral=spiral, magnet=magnet)
-
-
-def _mm(value: float) -> float:
-    """Millimetres to metres."""
-    return value * 1e-3

@@ -9,7 +9,7 @@ import numpy as np
 
 from spiralcap.design import Design
 from spiralcap.errors import InputError
-from spiralcap.schema import winding_temperature_C
+from spiralcap.schema import to_si, winding_temperature_C
 
 #: Below this helical angle the D' conversion of torque_model.geometry no longer holds for the
 #: paper's capsule (the bump wraps round the back; see its docstring).
@@ -23,6 +23,7 @@ def _headings(design: Design) -> np.ndarray:
     if raw == "all":
         return default_headings()
     h = np.asarray(raw, dtype=float)
+    h = h / np.max(np.abs(h), axis=1, keepdims=True)  # first to O(1): no overflow in the norm
     return h / np.linalg.norm(h, axis=1, keepdims=True)
 
 
@@ -80,15 +81,19 @@ def build_model(design: Design):
         field_exposure=d["limits.field_exposure"],
     )
     req = Requirements(
-        axial_load_N=d["requirements.axial_load_mN"] * 1e-3,
+        axial_load_N=to_si("requirements.axial_load_mN", d["requirements.axial_load_mN"]),
         slip_efficiency=d["requirements.slip_efficiency"],
-        min_speed_m_s=d["requirements.min_speed_mm_s"] * 1e-3,
+        min_speed_m_s=to_si("requirements.min_speed_mm_s", d["requirements.min_speed_mm_s"]),
         min_spiral_turns=d["requirements.min_spiral_turns"],
         min_safety_factor=d["requirements.min_safety_factor"],
     )
     bounds = Bounds(
-        helical_angle_min_rad=math.radians(d["optimize.helical_angle_min_deg"]),
-        helical_angle_max_rad=math.radians(d["optimize.helical_angle_max_deg"]),
+        helical_angle_min_rad=to_si(
+            "optimize.helical_angle_min_deg", d["optimize.helical_angle_min_deg"]
+        ),
+        helical_angle_max_rad=to_si(
+            "optimize.helical_angle_max_deg", d["optimize.helical_angle_max_deg"]
+        ),
         frequency_min_hz=d["optimize.frequency_min_hz"],
         frequency_max_hz=d["optimize.frequency_max_hz"],
         objective=d["optimize.objective"],

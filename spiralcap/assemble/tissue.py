@@ -8,17 +8,20 @@ from typing import Any
 import torque_model
 from torque_model import TissueParameters
 
-#: tissue.* override keys (design units) -> TissueParameters field and factor to SI.
-_OVERRIDES: dict[str, tuple[str, float]] = {
-    "E1_kPa": ("E1_Pa", 1e3),
-    "E2_kPa": ("E2_Pa", 1e3),
-    "E3_kPa": ("E3_Pa", 1e3),
-    "eta1_kPa_s": ("eta1_Pa_s", 1e3),
-    "eta2_kPa_s": ("eta2_Pa_s", 1e3),
-    "lumen_diameter_mm": ("lumen_diameter_m", 1e-3),
-    "wall_thickness_mm": ("wall_thickness_m", 1e-3),
-    "friction_coefficient": ("friction_coefficient", 1.0),
-}
+
+def _overrides() -> dict[str, tuple[str, float]]:
+    """tissue.* override keys (design units) -> TissueParameters field and factor to SI, from
+    the schema's unit table: every numeric ``tissue.*`` key whose SI name is a field."""
+    from dataclasses import fields
+
+    from spiralcap.schema import KEYS, si_name, to_si
+
+    names = {f.name for f in fields(TissueParameters)}
+    return {
+        key.removeprefix("tissue."): (si_name(key), to_si(key, 1.0))
+        for key, spec in KEYS.items()
+        if key.startswith("tissue.") and spec.kind is float and si_name(key) in names
+    }
 
 
 def build_tissues(design: Mapping[str, Any]) -> list[TissueParameters]:
@@ -42,7 +45,7 @@ def build_tissues(design: Mapping[str, Any]) -> list[TissueParameters]:
     base = torque_model.preset(base_name)
     changes: dict[str, float] = {}
     given: list[str] = []
-    for key, (field, factor) in _OVERRIDES.items():
+    for key, (field, factor) in _overrides().items():
         value = design.get(f"tissue.{key}")
         if value is not None:
             changes[field] = float(value) * factor

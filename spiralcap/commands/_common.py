@@ -5,27 +5,29 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import os
 import sys
 from collections.abc import Mapping, Sequence
 from typing import Any
 
 from spiralcap.design import Design, load_design
+from spiralcap.errors import InputError
 
 
 def add_design_arguments(
     parser: argparse.ArgumentParser, *, positional: bool = True, json_flag: bool = True
 ) -> None:
-    """DESIGN (optional; the built-in example when omitted), repeatable --set, and --json."""
+    """DESIGN... (none: the built-in example; several: later files override earlier ones key by
+    key), repeatable --set, and --json."""
+    help_ = (
+        "design TOML file(s); with several, later files override earlier ones key by key "
+        "(default: the built-in example)"
+    )
     if positional:
-        parser.add_argument(
-            "design",
-            nargs="?",
-            metavar="DESIGN",
-            help="design TOML file (default: the built-in example)",
-        )
+        parser.add_argument("design", nargs="*", metavar="DESIGN", help=help_)
     else:
         parser.add_argument(
-            "--design", metavar="DESIGN", help="design TOML file (default: the built-in example)"
+            "--design", nargs="+", action="extend", default=[], metavar="DESIGN", help=help_
         )
     parser.add_argument(
         "--set",
@@ -33,31 +35,112 @@ def add_design_arguments(
         action="append",
         default=[],
         metavar="KEY=VALUE",
-        help="override a design key after the file, e.g. coils.x.turns=300",
+        help="override a design key after the file(s), e.g. coils.x.turns=300",
     )
     if json_flag:
         parser.add_argument("--json", action="store_true", help="print JSON instead of text")
 
 
+def design_paths(args: argparse.Namespace) -> list[str]:
+    """The design files the arguments name, in order (empty: the built-in example)."""
+    given = getattr(args, "design", None)
+    if given is None:
+        return []
+    return [given] if isinstance(given, str) else list(given)
+
+
 def design_from_args(args: argparse.Namespace) -> Design:
-    """Load the design named by the arguments and apply the --set overrides."""
-    return load_design(getattr(args, "design", None), args.overrides)
+    """Load the design files named by the arguments (layered) and apply the --set overrides."""
+    return load_design(design_paths(args) or None, args.overrides)
 
 
-def _jsonable(value: Any) -> Any:
+def check_outputs(outputs: Mapping[str, str | None], inputs: Sequence[str] = ()) -> None:
+    """Refuse output paths that cannot be written, before any computation.
+
+    Call first in a command's ``run``. Each output (``{"-o": path, "--pdf": None, ...}``) must
+    be a file path (not a folder) whose nearest existing parent folder is a writable folder,
+    and not already a read-only file; outputs must be distinct files and none may be an input
+    file. A symlink counts as the file it points at.
+
+    Raises
+    ------
+    InputError
+        Naming the option and the path, with what is wrong.
+    """
+    seen: dict[str, str] = {}
+    sources = {os.path.realpath(x): x for x in inputs}
+    for flag, path in outputs.items():
+        if path is None:
+            continue
+        if not str(path).strip():
+            raise InputError(flag, path, "a file path")
+        real = os.path.realpath(path)
+        if os.path.isdir(real):
+            raise InputError(flag, path, "a file path, not an existing folder")
+        if os.path.exists(real) and not os.access(real, os.W_OK):
+            raise InputError(flag, path, "a writable file (cannot write: this one is read-only)")
+        parent = os.path.dirname(real) or "."
+        while not os.path.exists(parent):
+            parent = os.path.dirname(parent)
+        if not os.path.isdir(parent):
+            raise InputError(flag, path, f"a writable path (cannot write inside {parent}: a file)")
+        if not os.access(parent, os.W_OK | os.X_OK):
+            raise InputError(flag, path, f"a writable path (cannot write in the folder {parent})")
+        if real in sources:
+            raise InputError(flag, path, f"a file other than the input {sources[real]}")
+        if real in seen:
+            raise InputError(flag, path, f"a different file from {seen[real]}")
+        seen[real] = flag
+
+
+def _plain(value: Any) -> Any:
     if isinstance(value, Mapping):
-        return {str(k): _jsonable(v) for k, v in value.items()}
+        return {str(k): _plain(v) for k, v in value.items()}
     if isinstance(value, (list, tuple)):
-        return [_jsonable(v) for v in value]
+        return [_plain(v) for v in value]
     if hasattr(value, "tolist"):
-        return _jsonable(value.tolist())
-    if isinstance(value, float) and not math.isfinite(value):
-        return None if math.isnan(value) else ("inf" if value > 0 else "-inf")
+        return _plain(value.tolist())
     return value
 
 
+def _nonfinite(value: Any) -> str | None:
+    """ "unbounded" if ``value`` is or holds an infinity, "undefined" if a NaN, else None."""
+    if isinstance(value, float):
+        if math.isnan(value):
+            return "undefined"
+        return "unbounded" if math.isinf(value) else None
+    if isinstance(value, list):
+        kinds = {_nonfinite(v) for v in value if not isinstance(v, Mapping)} - {None}
+        return "undefined" if "undefined" in kinds else (kinds.pop() if kinds else None)
+    return None
+
+
+def _finite(value: Any) -> Any:
+    """JSON with one type per field: a number with no finite value is left out, and a flag
+    ``<name>_unbounded: true`` (an infinity) or ``<name>_undefined: true`` (a NaN) given in
+    its place (docs/json/README.md)."""
+    if isinstance(value, Mapping):
+        out: dict[str, Any] = {}
+        for k, v in value.items():
+            kind = _nonfinite(v)
+            if kind is None:
+                out[k] = _finite(v)
+            else:
+                out[f"{k}_{kind}"] = True
+        return out
+    if isinstance(value, list):
+        return [_finite(v) for v in value]
+    return value
+
+
+def _jsonable(value: Any) -> Any:
+    return _finite(_plain(value))
+
+
 def print_json(payload: Mapping[str, Any]) -> None:
-    """Print a mapping as JSON (numpy values converted, NaN as null), with the spiralcap version."""
+    """Print a mapping as JSON with the spiralcap version: numpy values converted, every number
+    finite (a number with no finite value is replaced by a ``<name>_unbounded`` /
+    ``<name>_undefined`` flag)."""
     from spiralcap import __version__
 
     json.dump(_jsonable({"spiralcap_version": __version__, **payload}), sys.stdout, indent=2)

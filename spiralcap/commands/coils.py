@@ -53,6 +53,8 @@ def _within_limits(design: Any) -> dict[str, Any]:
     The numbers come from :func:`optimize.physics.field_capacity_T`, the same function
     ``evaluate`` and ``optimize`` use, so the three commands always agree.
     """
+    import numpy as np
+
     from optimize import physics, prepare
     from spiralcap.assemble import build_model
 
@@ -67,6 +69,8 @@ def _within_limits(design: Any) -> dict[str, Any]:
     for k, ax in enumerate("xyz"):
         own = [(cap, t.name) for cap, t in zip(caps, terms) if t.name.endswith(f"_{ax}")]
         cap, name = min(own)
+        if not np.isfinite(cap):  # no heading uses this axis: it carries no current, caps nothing
+            cap, name = float(best), f"unused_{ax}"
         per_axis[ax] = {
             "max_rotating_field_T": cap,
             "max_current_A": cap * float(c.current_per_tesla_A_per_T[k]),
@@ -76,7 +80,8 @@ def _within_limits(design: Any) -> dict[str, Any]:
         "max_rotating_field_T": float(best),
         "limited_by": binding.name,
         "limit_key": binding.key,
-        "per_limit_max_field_T": {t.name: cap for t, cap in zip(terms, caps)},
+        # limits on an axis no heading uses cap nothing and are left out
+        "per_limit_max_field_T": {t.name: cap for t, cap in zip(terms, caps) if np.isfinite(cap)},
         "axes": per_axis,
     }
 

@@ -11,6 +11,27 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_design_arguments(parser)
 
 
+def safety_factor_text(value: float) -> str:
+    """A safety factor, or "unbounded (no torque required)" where nothing resists the capsule."""
+    return f"{value:.3g}" if value < float("inf") else "unbounded (no torque is required)"
+
+
+def step_out_text(hz: float) -> str:
+    """A step-out frequency in words for the two ends of the search range."""
+    from spiralcap.serialize import _step_out
+
+    value, bound = _step_out(hz)
+    if bound == "above_search_range":
+        return f"above {value:g} Hz (the top of the search)"
+    if bound == "below_search_range":
+        return f"below {value:g} Hz (the capsule cannot keep up at any frequency)"
+    return f"{value:.4g} Hz"
+
+
+def _failed(name: str) -> str:
+    return "the spiral self-locks: α + atan μ ≥ 90°" if name == "self_lock" else name
+
+
 def format_evaluation(ev) -> str:
     """Readable summary of an :class:`optimize.Evaluation`."""
     from spiralcap.commands._common import format_table
@@ -38,9 +59,15 @@ def format_evaluation(ev) -> str:
         + ", ".join(f"{ax} {i:.4g} A" for ax, i in zip("xyz", ev.current_amplitudes_A)),
         f"magnetic torque     {ev.magnetic_torque_Nm * mnm:.4g} mN·m (synchronous, worst point)",
         f"resistive torque    {ev.resistive_torque_Nm * mnm:.4g} mN·m ({ev.worst_tissue})",
-        f"thrust torque       {ev.thrust_torque_Nm * mnm:.4g} mN·m",
-        f"margin              {ev.margin_Nm * mnm:.4g} mN·m (safety factor {ev.safety_factor:.3g})",
-        f"step-out frequency  {ev.step_out_frequency_hz:.4g} Hz",
+        f"thrust torque       {ev.thrust_torque_Nm * mnm:.4g} mN·m"
+        + (
+            " (the spiral self-locks: no finite torque pushes the load)"
+            if any(c.name == "self_lock" and not c.ok for c in ev.checks)
+            else ""
+        ),
+        f"margin              {ev.margin_Nm * mnm:.4g} mN·m (safety factor "
+        f"{safety_factor_text(ev.safety_factor)})",
+        f"step-out frequency  {step_out_text(ev.step_out_frequency_hz)}",
         f"forward speed       {ev.speed_m_s * 1e3:.4g} mm/s, spiral turns {ev.spiral_turns:.3g}",
         "",
         format_table(
@@ -49,7 +76,9 @@ def format_evaluation(ev) -> str:
         ),
         "",
         "feasible: "
-        + ("yes" if ev.feasible else "NO (" + ", ".join(c.name for c in ev.failed()) + ")"),
+        + (
+            "yes" if ev.feasible else "NO (" + ", ".join(_failed(c.name) for c in ev.failed()) + ")"
+        ),
     ]
     return "\n".join(lines)
 

@@ -18,13 +18,19 @@ from typing import Any
 
 from spiralcap.commands._common import (
     add_design_arguments,
+    check_outputs,
     design_from_args,
+    design_paths,
     format_table,
     print_json,
 )
 from spiralcap.errors import DataError
 
 REQUIRED = ("frequency_hz", "torque_mNm")
+#: Torques a bench can measure on a capsule, mN·m: 1 nN·m to 100 N·m (beyond: a unit mistake).
+TORQUE_RANGE_mNm = (1e-6, 1e5)
+#: Highest rotation frequency read, Hz (the design keys' range).
+FREQUENCY_MAX_hz = 100.0
 OPTIONAL = ("helical_angle_deg",)
 
 #: SI field -> (design key without "tissue.", factor SI -> design unit, unit text)
@@ -66,10 +72,9 @@ def read_bench_csv(path: str | Path) -> dict[str, list[float]]:
         row and the column.
     """
     p = Path(path)
-    try:
-        text = p.read_text(encoding="utf-8-sig")
-    except OSError as exc:
-        raise DataError(f"{p}: cannot read the data file ({exc.strerror or exc})") from None
+    from spiralcap.design import read_text_file
+
+    text = read_text_file(p, "data file")
     lines = [
         (i + 1, line)
         for i, line in enumerate(text.splitlines())
@@ -110,9 +115,15 @@ def _cell(raw: str, col: str, where: str) -> float:
         raise DataError(f"{where}, column {col}: {raw!r} is not a finite number")
     if col == "frequency_hz" and value <= 0:
         raise DataError(f"{where}, column {col}: {raw} Hz; the frequency must be > 0")
-    if col == "torque_mNm" and value <= 0:
+    if col == "torque_mNm" and not TORQUE_RANGE_mNm[0] <= value <= TORQUE_RANGE_mNm[1]:
         raise DataError(
-            f"{where}, column {col}: {raw} mN·m; the torque must be > 0 (relative residuals)"
+            f"{where}, column {col}: {raw} mN·m; a bench torque is in "
+            f"[{TORQUE_RANGE_mNm[0]:g}, {TORQUE_RANGE_mNm[1]:g}] mN·m (> 0: relative residuals)"
+        )
+    if col == "frequency_hz" and value > FREQUENCY_MAX_hz:
+        raise DataError(
+            f"{where}, column {col}: {raw} Hz; at most {FREQUENCY_MAX_hz:g} Hz "
+            "(as operation.frequency_hz)"
         )
     if col == "helical_angle_deg" and not 0 < value < 90:
         raise DataError(f"{where}, column {col}: {raw} deg; must be in (0, 90)")
@@ -126,9 +137,10 @@ def run(args: argparse.Namespace) -> int:
     from spiralcap.assemble.tissue import build_tissues
     from spiralcap.commands.torque import check_plot_path, geometry_from_design
 
-    design = design_from_args(args)
     if args.plot:
         check_plot_path(args.plot)
+    check_outputs({"-o": args.output, "--plot": args.plot}, [args.data, *design_paths(args)])
+    design = design_from_args(args)
     data = read_bench_csv(args.data)
     n = len(data["frequency_hz"])
     n_par = len(tm.PARAMETER_NAMES)
@@ -140,6 +152,7 @@ def run(args: argparse.Namespace) -> int:
     angle_deg = np.asarray(
         data.get("helical_angle_deg", [design["capsule.spiral.helical_angle_deg"]] * n), dtype=float
     )
+    _check_angles(design, angle_deg, args.data)
     base = build_tissues(design)[0]
     result = tm.identify(
         np.asarray(data["frequency_hz"]),
@@ -157,14 +170,31 @@ def run(args: argparse.Namespace) -> int:
         from spiralcap.figures.torque import plot_fit, save_figure
 
         save_figure(plot_fit, args.plot, result)
+    from torque_model.fit_quality import assess_fit
+
+    quality = assess_fit(result)
     if args.json:
-        print_json(fit_payload(result, table, args.data, design.source))
+        payload = fit_payload(result, table, args.data, design.source)
+        payload["fit_quality"] = fit_quality_payload(quality)
+        print_json(payload)
         return 0
-    _print_text(result, args.data, design.source, base.name)
+    _print_text(result, args.data, design.source, base.name, quality)
     for path in (args.output, args.plot):
         if path:
             print(f"wrote {path}")
     return 0
+
+
+def _check_angles(design: Any, angle_deg: Any, data_path: str) -> None:
+    """Each helical angle of the data must make a capsule ``evaluate`` would accept."""
+    from spiralcap.assemble import build_capsule
+    from spiralcap.errors import InputError
+
+    for a in sorted({float(x) for x in angle_deg}):
+        try:
+            build_capsule(design.with_values({"capsule.spiral.helical_angle_deg": a}))
+        except InputError as exc:
+            raise DataError(f"{data_path}: helical_angle_deg = {a:g}: {exc.allowed}") from None
 
 
 def fit_payload(
@@ -203,6 +233,23 @@ def fit_payload(
         "data_file": str(data_path),
         "design": design_source,
     }
+
+
+def fit_quality_payload(quality: Any) -> dict[str, Any]:
+    """:class:`torque_model.fit_quality.FitQuality` as JSON (``verdict`` in words)."""
+    from dataclasses import asdict
+
+    out = asdict(quality)
+    out["problems"] = list(quality.problems)
+    out["verdict"] = (
+        "the model does not follow these data"
+        if not quality.follows_data
+        else (
+            "the model follows these data"
+            + ("" if quality.plausible else ", but the values are implausible")
+        )
+    )
+    return out
 
 
 def tissue_toml(table: dict[str, float], data_path: str, result: Any) -> str:
@@ -246,7 +293,9 @@ def covariance_toml(result: Any) -> list[str]:
     return [*head, "[tissue.fit]", f"covariance_log = [\n{rows},\n]"]
 
 
-def _print_text(result: Any, data_path: str, design_source: str, base_name: str) -> None:
+def _print_text(
+    result: Any, data_path: str, design_source: str, base_name: str, quality: Any = None
+) -> None:
     print(
         f"tissue identification from {data_path} ({result.frequency_hz.size} points, "
         f"{result.dof} residual degrees of freedom; lumen, wall and friction from "
@@ -278,7 +327,19 @@ def _print_text(result: Any, data_path: str, design_source: str, base_name: str)
         f"{fixed['friction_coefficient']:.4g}"
     )
     loose = [_DISPLAY[n][0] for n in result.not_pinned_down]
-    if loose:
+    follows = quality is None or quality.follows_data
+    if not follows:
+        print(
+            "THE MODEL DOES NOT FOLLOW THESE DATA -- the values above are the optimiser's last "
+            "point, not tissue properties:"
+        )
+        for why in quality.problems:
+            print(f"  - {why}")
+    elif quality is not None and not quality.plausible:
+        print("IMPLAUSIBLE: the model follows these data, but:")
+        for why in quality.problems:
+            print(f"  - {why}")
+    if loose and follows:
         print(
             f"NOT PINNED DOWN by these data: {', '.join(loose)} -- the values above reproduce "
             "the measured curve but are not unique; do not read them as tissue properties."

@@ -15,7 +15,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from spiralcap.commands._common import check_outputs
+
     path = Path(args.path)
+    check_outputs({"PATH": args.path})
     if path.exists() and not args.force:
         raise InputError("PATH", str(path), "a file that does not exist yet (or pass --force)")
     write_text_atomic(path, example_toml())

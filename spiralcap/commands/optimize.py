@@ -81,6 +81,7 @@ _OBJECTIVE_LABELS = {
 def format_result(res) -> str:
     """Readable summary of an :class:`optimize.OptimizationResult`."""
     from spiralcap.assemble.system import constraint_key
+    from spiralcap.commands.evaluate import safety_factor_text, step_out_text
 
     lines = [
         f"status              {res.status} ({res.solver_status}, {res.iterations} IPOPT "
@@ -94,9 +95,9 @@ def format_result(res) -> str:
             "current amplitudes  "
             + ", ".join(f"{a} {i:.4g} A" for a, i in zip("xyz", res.current_amplitudes_A)),
             f"margin              {res.margin_Nm * 1e3:.4g} mN·m "
-            f"(safety factor {res.safety_factor:.3g})",
+            f"(safety factor {safety_factor_text(res.safety_factor)})",
             f"forward speed       {res.speed_m_s * 1e3:.4g} mm/s",
-            f"step-out frequency  {res.step_out_frequency_hz:.4g} Hz",
+            f"step-out frequency  {step_out_text(res.step_out_frequency_hz)}",
             "binding limits:",
         ]
         gain, scale = _OBJECTIVE_LABELS.get(res.objective, ("", 1.0))

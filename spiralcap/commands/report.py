@@ -20,7 +20,12 @@ import sys
 import time
 from pathlib import Path
 
-from spiralcap.commands._common import add_design_arguments, design_from_args
+from spiralcap.commands._common import (
+    add_design_arguments,
+    check_outputs,
+    design_from_args,
+    design_paths,
+)
 from spiralcap.errors import InputError
 
 #: Exit status when the report is written but the design is infeasible (as ``optimize``).
@@ -72,7 +77,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
 
 
-def check_output_paths(output: str, pdf: str | None, design_path: str | None) -> None:
+def check_output_paths(output: str, pdf: str | None, design_path: str | list[str] | None) -> None:
     """Reject output paths before any work is done.
 
     Raises
@@ -94,18 +99,19 @@ def check_output_paths(output: str, pdf: str | None, design_path: str | None) ->
             raise InputError("--pdf", pdf, "a file path, not an existing folder")
         if p.resolve() == out.resolve():
             raise InputError("--pdf", pdf, "a different file from -o")
-    if design_path is not None:
-        src = Path(design_path).resolve()
+    sources = [design_path] if isinstance(design_path, str) else list(design_path or [])
+    for src in sources:
         for flag, path in (("-o", output), ("--pdf", pdf)):
-            if path is not None and Path(path).resolve() == src:
+            if path is not None and Path(path).resolve() == Path(src).resolve():
                 raise InputError(flag, path, "a file other than the design file")
+    check_outputs({"-o": output, "--pdf": pdf}, sources)
 
 
 def run(args: argparse.Namespace) -> int:
     """Build and write the report; see the module notes for the exit status."""
     t0 = time.perf_counter()
-    if args.workers < 1:
-        raise InputError("--workers", args.workers, "a whole number >= 1")
+    if not 1 <= args.workers <= 64:
+        raise InputError("--workers", args.workers, "a whole number in [1, 64]")
     check_output_paths(args.output, args.pdf, getattr(args, "design", None))
     design = design_from_args(args)
     compare = None
@@ -114,7 +120,7 @@ def run(args: argparse.Namespace) -> int:
 
         compare = load_design(None if args.compare == "builtin" else args.compare)
 
-    from spiralcap.design import write_text_atomic
+    from spiralcap.design import write_files_atomic
     from spiralcap.progress import stages
     from spiralcap.report import build_report
 
@@ -129,9 +135,10 @@ def run(args: argparse.Namespace) -> int:
             progress=say,
             compare=compare,
         )
-    written = [write_text_atomic(args.output, report.html)]
-    if args.pdf is not None:
-        written.append(write_text_atomic(args.pdf, report.pdf))
+    outputs: dict[str, str | bytes] = {args.output: report.html}
+    if args.pdf is not None and report.pdf is not None:
+        outputs[args.pdf] = report.pdf
+    written = write_files_atomic(outputs)  # both or neither
     for path in written:
         _shareable(path)
     elapsed = time.perf_counter() - t0
@@ -152,7 +159,7 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def _shareable(path: Path) -> None:
+def _shareable(path: Path) -> None:  # path as given: chmod follows a symlink
     """Give a written report the permissions of a normally created file (umask applied).
 
     ``write_text_atomic`` goes through ``tempfile.mkstemp``, which creates files readable by
@@ -165,8 +172,7 @@ def _shareable(path: Path) -> None:
 
 def _command_line(args: argparse.Namespace) -> str:
     parts = ["spiralcap", "report"]
-    if getattr(args, "design", None):
-        parts.append(str(args.design))
+    parts += design_paths(args)
     for o in args.overrides:
         parts += ["--set", o]
     parts += ["-o", str(args.output)]

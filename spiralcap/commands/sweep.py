@@ -6,7 +6,13 @@ import argparse
 import csv
 import io
 
-from spiralcap.commands._common import add_design_arguments, design_from_args, print_json
+from spiralcap.commands._common import (
+    add_design_arguments,
+    check_outputs,
+    design_from_args,
+    design_paths,
+    print_json,
+)
 from spiralcap.errors import InputError
 
 
@@ -72,8 +78,9 @@ def run(args: argparse.Namespace) -> int:
     from spiralcap.design import write_text_atomic
     from spiralcap.sweep import parse_over, sweep
 
-    if args.workers < 1:
-        raise InputError("--workers", args.workers, "a whole number >= 1")
+    check_outputs({"--csv": args.csv, "--plot": args.plot}, design_paths(args))
+    if not 1 <= args.workers <= 64:
+        raise InputError("--workers", args.workers, "a whole number in [1, 64]")
     if args.dask is not None and not args.optimize:
         raise InputError("--dask", args.dask, "only with --optimize (evaluation sweeps run here)")
     design = design_from_args(args)

@@ -7,7 +7,9 @@ import math
 
 from spiralcap.commands._common import (
     add_design_arguments,
+    check_outputs,
     design_from_args,
+    design_paths,
     format_table,
     print_json,
 )
@@ -35,7 +37,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def geometry_from_design(design) -> dict[str, float]:
-    """The capsule geometry keyword arguments of torque_model.resistive_torque_Nm, SI."""
+    """The capsule geometry keyword arguments of torque_model.resistive_torque_Nm, SI.
+
+    The capsule is assembled first, so the same cross-key checks hold as for ``evaluate`` (a
+    helical angle whose turns overlap, a wire too thick for the body, ...).
+    """
+    from spiralcap.assemble import build_capsule
+
+    build_capsule(design)
     return {
         "body_diameter_m": design["capsule.diameter_mm"] * 1e-3,
         "body_length_m": design["capsule.length_mm"] * 1e-3,
@@ -51,13 +60,14 @@ def run(args: argparse.Namespace) -> int:
     import torque_model as tm
     from spiralcap.assemble.tissue import build_tissues
 
+    if args.plot:
+        check_plot_path(args.plot)
+    check_outputs({"--plot": args.plot}, design_paths(args))
     design = design_from_args(args)
     freqs = args.frequencies or list(DEFAULT_FREQUENCIES_HZ)
     for f in freqs:
         if not (math.isfinite(f) and f > 0):
             raise InputError("--frequency", f, "a finite number > 0 (Hz)")
-    if args.plot:
-        check_plot_path(args.plot)
     f = np.asarray(freqs, dtype=float)
     angle_deg = float(design["capsule.spiral.helical_angle_deg"])
     geometry = geometry_from_design(design)

@@ -21,11 +21,26 @@ class Context:
 
     def num(self, path: str, scale: float = 1.0, unit: str = "") -> Num:
         """The value at ``path`` of the embedded JSON, shown times ``scale`` with ``unit``."""
+        if self._unbounded(path):
+            return Num("unbounded", key=None, unit=unit)
         return Num(lookup(self.payload, path), key=path, scale=scale, unit=unit)
 
     def value(self, path: str) -> Any:
-        """The raw value at ``path`` of the embedded JSON."""
+        """The raw value at ``path`` of the embedded JSON ("unbounded" for an absent number
+        whose ``<path>_unbounded`` flag is set, see ``spiralcap.serialize``)."""
+        if self._unbounded(path):
+            return "unbounded"
         return lookup(self.payload, path)
+
+    def _unbounded(self, path: str) -> bool:
+        try:
+            lookup(self.payload, path)
+            return False
+        except KeyError:
+            try:
+                return lookup(self.payload, path + "_unbounded") is True
+            except KeyError:
+                return False
 
     def shown(self, path: str, unit: str) -> Num:
         """A value in SI ``unit`` at ``path``, shown in its engineering unit (T -> mT)."""
@@ -36,12 +51,14 @@ class Context:
 def step_out_parts(ctx: Context, path: str) -> list[Any]:
     """A step-out frequency as inline content, worded for the two edge cases.
 
-    ``optimize.step_out_frequency_hz`` searches up to 200 Hz: infinity (JSON ``"inf"``) means
-    the margin stays positive that far; 0 means it is negative at every frequency.
+    ``optimize.step_out_frequency_hz`` searches a bounded range; the sibling ``step_out_bound``
+    says ``"above_search_range"`` when the margin stays positive to its top (the value is that
+    top) and ``"below_search_range"`` when it is negative at every frequency.
     """
     value = ctx.value(path)
-    if value == "inf":
-        return ["no frequency up to 200 Hz (the margin stays positive)"]
-    if value == 0:
+    bound = ctx.value(path.rpartition(".")[0] + ".step_out_bound")
+    if bound == "above_search_range":
+        return [f"no frequency up to {value:g} Hz (the margin stays positive)"]
+    if bound == "below_search_range":
         return ["every frequency (the margin is negative even at the lowest)"]
     return [ctx.num(path, unit="Hz")]

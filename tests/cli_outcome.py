@@ -1,0 +1,64 @@
+"""Run the CLI in-process and judge the outcome as issue 14 asks: exit 0 with finite numbers,
+exit 2 with exactly one line on stderr, or exit 3 -- no traceback, no null/"inf"/NaN number."""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import json
+import math
+from typing import Any
+
+from spiralcap.cli import main
+
+
+def run(argv: list[str]) -> tuple[int, str, str]:
+    """(exit status, stdout, stderr) of ``spiralcap argv`` (argparse exits caught)."""
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        try:
+            rc = main(argv)
+        except SystemExit as exc:
+            rc = exc.code if isinstance(exc.code, int) else 2
+    return rc, out.getvalue(), err.getvalue()
+
+
+def bad_numbers(value: Any, path: str = "$") -> list[str]:
+    """Where a JSON document holds null, a non-finite number, a number-like string or an
+    ``_undefined`` flag (a NaN that was hidden)."""
+    found: list[str] = []
+    if value is None:
+        found.append(f"{path}: null")
+    elif isinstance(value, float) and not math.isfinite(value):
+        found.append(f"{path}: {value}")
+    elif isinstance(value, str) and value.strip().lower() in {"inf", "-inf", "nan", "infinity"}:
+        found.append(f"{path}: {value!r}")
+    elif isinstance(value, dict):
+        for k, v in value.items():
+            if k.endswith("_undefined"):
+                found.append(f"{path}.{k}")
+            found += bad_numbers(v, f"{path}.{k}")
+    elif isinstance(value, list):
+        for i, v in enumerate(value):
+            found += bad_numbers(v, f"{path}[{i}]")
+    return found
+
+
+def sound(argv: list[str], allowed: tuple[int, ...] = (0, 2, 3)) -> tuple[int, str, str]:
+    """Run and assert the outcome is sound; return (status, stdout, stderr)."""
+    rc, out, err = run(argv)
+    assert rc in allowed, f"{argv}: exit {rc} not in {allowed}; stderr: {err[-400:]}"
+    assert "Traceback" not in err, f"{argv}: traceback on stderr:\n{err}"
+    if rc == 2:
+        lines = err.splitlines()
+        assert len(lines) == 1, f"{argv}: exit 2 needs exactly one stderr line, got {lines}"
+        assert lines[0].startswith("spiralcap"), f"{argv}: message not prefixed: {lines[0]}"
+    if rc in (0, 3) and "--json" in argv and out.strip():
+        doc = json.loads(out, parse_constant=lambda c: float(c))
+        bad = bad_numbers(doc)
+        assert not bad, f"{argv}: non-finite numbers in JSON: {bad[:5]}"
+    if rc == 0 and "--json" not in argv:
+        assert err.strip() == "", f"{argv}: exit 0 with warnings on stderr: {err[-400:]}"
+    if rc in (0, 3):
+        assert "Warning" not in err, f"{argv}: a warning on stderr: {err[-400:]}"
+    return rc, out, err

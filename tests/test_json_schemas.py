@@ -1,0 +1,73 @@
+"""Every command's --json output against its schema in docs/json (JSON Schema 2020-12).
+
+The schemas fix one type per field; the edge cases (no torque required, an infeasible design,
+parameters the data do not bound) are the ones that used to print null or "inf".
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+from cli_outcome import bad_numbers, sound
+
+jsonschema = pytest.importorskip("jsonschema")
+
+DOCS = Path(__file__).resolve().parents[1] / "docs" / "json"
+CSV = str(Path(__file__).resolve().parents[1] / "examples" / "bench_synthetic_sample2.csv")
+ZERO_TORQUE = [
+    "--set",
+    "requirements.axial_load_mN=0",
+    "--set",
+    "tissue.lumen_diameter_mm=30",
+    "--set",
+    "tissue.worst_case_presets=[]",
+]
+
+CASES = [
+    ("evaluate", ["evaluate"]),
+    ("evaluate", ["evaluate", *ZERO_TORQUE]),
+    ("evaluate", ["evaluate", "--set", "limits.current_A=0.01"]),
+    ("evaluate", ["evaluate", "--set", "capsule.spiral.helical_angle_deg=80"]),
+    ("optimize", ["optimize"]),
+    ("optimize", ["optimize", "--set", "limits.current_A=0.01"]),
+    # coils: validated in test_robustness.test_single_heading_coils_have_no_nan_or_inf (slow)
+    ("capsule", ["capsule"]),
+    ("torque", ["torque", "--frequency", "0.5", "2", "50"]),
+    ("fit", ["fit", CSV]),
+    ("sweep", ["sweep", "--over", "operation.frequency_hz=0.5:3:3", *ZERO_TORQUE]),
+    ("sweep", ["sweep", "--over", "coils.x.turns=300:400:2"]),
+    ("sweep", ["sweep", "--optimize", "--over", "limits.current_A=0.01:15:2"]),
+]
+
+
+def validator(name: str):
+    schema = json.loads((DOCS / f"{name}.schema.json").read_text())
+    cls = jsonschema.validators.validator_for(schema)
+    cls.check_schema(schema)
+    return cls(schema)
+
+
+@pytest.mark.parametrize("name, argv", CASES, ids=[" ".join(a)[:60] for _, a in CASES])
+def test_output_matches_its_schema(name, argv):
+    _, out, _ = sound([*argv, "--json"], allowed=(0, 3))
+    doc = json.loads(out)
+    errors = sorted(validator(name).iter_errors(doc), key=lambda e: list(e.path))
+    assert not errors, f"{argv}: " + "; ".join(
+        f"{'/'.join(map(str, e.path))}: {e.message}" for e in errors[:5]
+    )
+    assert not bad_numbers(doc)
+
+
+def test_every_command_with_json_has_a_schema():
+    from spiralcap.cli import COMMANDS, build_parser
+
+    parser = build_parser()
+    sub = next(a for a in parser._actions if a.dest == "command")
+    with_json = {
+        name for name, p in sub.choices.items() if any(o.dest == "json" for o in p._actions)
+    }
+    missing = {n for n in with_json if not (DOCS / f"{n}.schema.json").exists()}
+    assert set(COMMANDS) >= with_json
+    assert not missing, f"commands with --json but no schema in docs/json: {sorted(missing)}"
