@@ -631,11 +631,15 @@ KEYS.update(
         ),
         "optimize.scenarios": _count(
             "tissue scenarios (Sobol' points; a power of 2 keeps them balanced) for objective "
-            "margin_p05 and requirements.max_stepout_probability",
+            "margin_p05 and requirements.max_stepout_probability (at most 8192: each adds a "
+            "variable and a row to the NLP)",
             1024,
             20,
+            8192,
         ),
-        "optimize.scenario_seed": _count("seed of the optimiser's tissue scenarios", 0, 0),
+        "optimize.scenario_seed": _count(
+            "seed of the optimiser's tissue scenarios (numpy's seed range)", 0, 0, 2**32 - 1
+        ),
     }
 )
 

@@ -141,6 +141,8 @@ def optimization_to_dict(res: Any) -> dict[str, Any]:
     for s in out["shortfalls"]:
         s["key"] = constraint_key(s["name"])
     out["evaluation"] = evaluation_to_dict(res.evaluation)
+    if not math.isfinite(res.objective_value):  # no optimum (infeasible): no objective value
+        out.pop("objective_value", None)
     hardware = _hardware(res.hardware)
     if hardware is None:  # fixed hardware: no sizing part (one type per field, no null)
         out.pop("hardware", None)
