@@ -6,15 +6,18 @@ amplitude at the centre ``B0`` (T) — as floats, numpy arrays (vectorised sweep
 symbols (the optimiser). :mod:`optimize.evaluate` and :mod:`optimize.problem` both build on it,
 so ``evaluate`` at the optimiser's answer reports the optimiser's margin.
 
-Limits are written ``value(f, B0) <= allowed`` with ``value`` proportional to ``B0**power``;
-the largest field a frequency allows is therefore ``min over limits of
-(allowed / value(f, 1)) ** (1 / power)``.
+Limits are written ``value(f, B0) <= allowed``, most with ``value`` proportional to
+``B0**power``, so the largest field a frequency allows is ``min over limits of
+(allowed / value(f, 1)) ** (1 / power)``; the one that is not a power law (the hot spot at the
+end of a session, ``power`` None) is inverted by bisection on the same expression.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 from typing import Any
+
+import numpy as np
 
 import capsule as cap
 import torque_model as tm
@@ -48,7 +51,7 @@ class LimitTerm:
     unit: str
     value: Any
     allowed: Any
-    power: int
+    power: int | None
 
     @property
     def utilisation(self) -> Any:
@@ -59,23 +62,96 @@ class LimitTerm:
 _AXES = ("x", "y", "z")
 
 
+def winding_temperatures_C(
+    current_A: Any, k: int, c: Constants, ambient_temperature_C: float
+) -> tuple[Any, Any, Any]:
+    """(surface, mean, hot spot) of axis k at a current amplitude, °C: steady or session end."""
+    from coils.thermal import steady_state, transient
+
+    r20 = float(c.resistance_20C_ohm[k])
+    steady = steady_state(c.packs[k], r20, current_A, ambient_temperature_C)
+    if c.session_s is None:
+        return steady.surface_C, steady.mean_C, steady.hot_spot_C
+    run = transient(
+        c.packs[k], r20, current_A, ambient_temperature_C, c.session_s, steady.surface_C
+    )
+    return run.surface_C, run.mean_C, run.hot_spot_C
+
+
+def winding_resistances_ohm(
+    c: Constants, limits: Limits, ambient_temperature_C: float
+) -> list[Any]:
+    """Pair resistances for the voltage and power limits, Ω.
+
+    At ``c.winding_temperature_C`` if the design fixes it; else at the mean winding temperature
+    (steady, or at the end of the session) reached at I* = min(current limit, the current at
+    which the hot spot reaches its limit). The operating current never exceeds I*, so this is
+    the operating point's own resistance wherever the current or the temperature limit binds
+    (self-consistent with the heating), and an upper bound where the voltage, power or exposure
+    limit binds first. I* depends on the limits only, never on the operating variables.
+    """
+    from coils.electrical import copper_resistivity_ohm_m
+    from spiralcap.constants import COPPER_RESISTIVITY_20C_ohm_m
+
+    out = []
+    for k in range(3):
+        if c.winding_temperature_C is None:
+            hot_cap = _hot_spot_cap_T(
+                k, c, limits.coil_temperature_C - ambient_temperature_C, ambient_temperature_C
+            )
+            per_amp = float(c.current_per_tesla_A_per_T[k])
+            current = (
+                np.minimum(limits.current_A, hot_cap * per_amp) if per_amp > 0 else limits.current_A
+            )
+            temp = winding_temperatures_C(current, k, c, ambient_temperature_C)[1]
+        else:
+            temp = c.winding_temperature_C
+        scale = copper_resistivity_ohm_m(temp) / COPPER_RESISTIVITY_20C_ohm_m
+        out.append(float(c.resistance_20C_ohm[k]) * scale)
+    return out
+
+
+def hot_spot_rise_K(current_A: Any, k: int, c: Constants, ambient_temperature_C: float) -> Any:
+    """Hot-spot rise of axis k above ambient at current amplitude ``current_A``, K.
+
+    Steady (``c.session_s`` None): :func:`coils.thermal.steady_state` (self-consistent
+    resistance, convection and exact radiation). With a session: the end of a lumped run from
+    ambient (:func:`coils.thermal.transient`, radiation linearised at the steady surface
+    temperature of the same current). Where no steady state exists (thermal runaway) the rise
+    is NaN on the numpy path and 10⁴ K on the CasADi path. Increasing in the current.
+    """
+    from coils.thermal import steady_state
+
+    rise = winding_temperatures_C(current_A, k, c, ambient_temperature_C)[2] - ambient_temperature_C
+    if bk.is_casadi(rise):
+        runaway = steady_state(
+            c.packs[k], float(c.resistance_20C_ohm[k]), current_A, ambient_temperature_C
+        ).runaway
+        rise = bk.where(runaway > 0.5, 1e4, rise)
+    return rise
+
+
 def limit_terms(
     frequency_hz: Any, field_T: Any, c: Constants, limits: Limits, ambient_temperature_C: float
 ) -> list[LimitTerm]:
     """Every hardware and exposure limit at rotation frequency ``f`` and centre field ``B0``.
 
     Per axis k the worst-heading current amplitude is ``I_k = B0 * current_per_tesla[k]``; its
-    drive voltage ``|R_k + j 2πf L_k| I_k`` (coils.voltage_amplitude_V), its steady temperature
-    ``ambient + (R_k I_k² / 2) / G_k`` (coils.copper_loss_W, coils.temperature_rise_K); the total
-    copper loss is that of the worst heading; the exposure level is ICNIRP 2010's.
+    drive voltage ``|R_k + j 2πf L_k| I_k`` (coils.voltage_amplitude_V) with R_k from
+    :func:`winding_resistances_ohm`; the total copper loss is that of the worst heading; the
+    exposure level is ICNIRP 2010's.
+
+    The temperature limit applies to the winding hot spot, steady or at the end of a session
+    (:func:`hot_spot_rise_K`): term ``hot_spot_k``, the rise above ambient in K, not a power law
+    of the field (``power`` None).
     """
     import coils
 
     terms: list[LimitTerm] = []
-    rise_allowed = limits.coil_temperature_C - ambient_temperature_C
+    resistances = winding_resistances_ohm(c, limits, ambient_temperature_C)
     for k, ax in enumerate(_AXES):
         current = field_T * float(c.current_per_tesla_A_per_T[k])
-        r, ind = float(c.resistance_ohm[k]), float(c.inductance_H[k])
+        r, ind = resistances[k], float(c.inductance_H[k])
         terms.append(
             LimitTerm(f"current_{ax}", "limits.current_A", "A", current, limits.current_A, 1)
         )
@@ -89,22 +165,24 @@ def limit_terms(
                 1,
             )
         )
-        rise = coils.temperature_rise_K(
-            coils.copper_loss_W(r, current), float(c.conductance_W_per_K[k])
-        )
         terms.append(
             LimitTerm(
-                f"temperature_rise_{ax}", "limits.coil_temperature_C", "K", rise, rise_allowed, 2
+                f"hot_spot_{ax}",
+                "limits.coil_temperature_C",
+                "K",
+                hot_spot_rise_K(current, k, c, ambient_temperature_C),
+                limits.coil_temperature_C - ambient_temperature_C,
+                None,
             )
         )
+    w = np.asarray(c.power_weights_per_T2, dtype=float)
+    power_per_T2: Any = None
+    for row in w:
+        loss = row[0] * resistances[0] + row[1] * resistances[1] + row[2] * resistances[2]
+        power_per_T2 = loss if power_per_T2 is None else bk.fmax(power_per_T2, loss)
     terms.append(
         LimitTerm(
-            "power",
-            "limits.power_W",
-            "W",
-            field_T * field_T * c.power_per_tesla2_W_per_T2,
-            limits.power_W,
-            2,
+            "power", "limits.power_W", "W", field_T * field_T * power_per_T2, limits.power_W, 2
         )
     )
     if limits.field_exposure != "off":
@@ -121,18 +199,96 @@ def limit_terms(
     return terms
 
 
+def _bisect_field_T(
+    value: Any, allowed: Any, shape: tuple[int, ...], steps: int = 80
+) -> np.ndarray:
+    """Largest B0 with ``value(B0) <= allowed`` for a value increasing in B0 (numpy).
+
+    Bracket [0, hi] with hi doubled from 1 mT until it violates, then bisection to machine
+    precision (80 halvings of a bracket at most 2^60 wide).
+    """
+    lo = np.zeros(shape)
+    hi = np.full(shape, 1e-3)
+    for _ in range(60):
+        over = ~(np.asarray(value(hi), dtype=float) <= allowed)  # NaN (runaway) is over
+        if np.all(over):
+            break
+        hi = np.where(over, hi, 2.0 * hi)
+    for _ in range(steps):
+        mid = 0.5 * (lo + hi)
+        ok = np.asarray(value(mid), dtype=float) <= allowed
+        lo, hi = np.where(ok, mid, lo), np.where(ok, hi, mid)
+    return lo
+
+
+_HOT_SPOT_CAPS: dict[tuple, tuple[Any, np.ndarray]] = {}
+
+
+def _hot_spot_cap_T(k: int, c: Constants, allowed_K: Any, ambient_temperature_C: float) -> Any:
+    """Largest centre field the hot-spot limit of axis k allows (bisection; cached per model)."""
+    allowed = np.asarray(allowed_K, dtype=float)
+    per_amp = float(c.current_per_tesla_A_per_T[k])
+    if per_amp <= 0:  # an axis no heading uses carries no current: no cap
+        return np.full(allowed.shape, np.inf)
+    key = (id(c), k, allowed.tobytes(), allowed.shape, float(ambient_temperature_C))
+    hit = _HOT_SPOT_CAPS.get(key)
+    if hit is not None and hit[0] is c:
+        return hit[1]
+
+    def value(b: Any) -> Any:
+        return hot_spot_rise_K(b * per_amp, k, c, ambient_temperature_C)
+
+    cap = _bisect_field_T(value, allowed, allowed.shape)
+    if len(_HOT_SPOT_CAPS) > 256:
+        _HOT_SPOT_CAPS.clear()
+    _HOT_SPOT_CAPS[key] = (c, cap)
+    return cap
+
+
 def field_capacity_T(
     frequency_hz: Any, c: Constants, limits: Limits, ambient_temperature_C: float
 ) -> tuple[Any, list[Any], list[LimitTerm]]:
-    """Largest centre field each limit allows at ``f`` (numpy only): (min, caps, unit terms)."""
-    import numpy as np
+    """Largest centre field each limit allows at ``f`` (numpy only): (min, caps, unit terms).
 
+    Power-law terms invert in closed form; the session hot-spot term (``power`` None) by a
+    vectorised bisection on the same expression (:func:`_bisect_field_T`).
+    """
     unit = limit_terms(frequency_hz, 1.0, c, limits, ambient_temperature_C)
-    with np.errstate(divide="ignore"):  # an axis no heading uses carries no current: no cap
-        caps = [
-            np.divide(t.allowed, np.asarray(t.value, dtype=float)) ** (1.0 / t.power) for t in unit
-        ]
+    caps = []
+    for t in unit:
+        if t.power is None:  # the hot spot: depends on the current only, not on f
+            caps.append(
+                _hot_spot_cap_T(_AXES.index(t.name[-1]), c, t.allowed, ambient_temperature_C)
+            )
+            continue
+        with np.errstate(divide="ignore"):  # an axis no heading uses carries no current: no cap
+            caps.append(np.divide(t.allowed, np.asarray(t.value, dtype=float)) ** (1.0 / t.power))
     return np.minimum.reduce(np.broadcast_arrays(*caps)), caps, unit
+
+
+@dataclass(frozen=True)
+class FieldCapacity:
+    """The largest centre field the limits allow at one frequency, and the limit that sets it."""
+
+    field_T: float
+    limited_by: str
+    limit_key: str
+    caps_T: dict[str, float]
+
+
+def field_capacity(
+    frequency_hz: float, c: Constants, limits: Limits, ambient_temperature_C: float
+) -> FieldCapacity:
+    """:func:`field_capacity_T` at one frequency with the binding limit named (computed once)."""
+    best, caps, terms = field_capacity_T(frequency_hz, c, limits, ambient_temperature_C)
+    values = [float(x) for x in caps]
+    i = int(np.argmin(values))
+    return FieldCapacity(
+        field_T=float(best),
+        limited_by=terms[i].name,
+        limit_key=terms[i].key,
+        caps_T={t.name: v for t, v in zip(terms, values)},
+    )
 
 
 def available_torque_Nm(field_T: Any, c: Constants) -> Any:

@@ -128,6 +128,8 @@ def _fmt(value: Any) -> str:
 
 def _to_toml(values: Mapping[str, Any], comments: bool = False) -> str:
     order = list(KEYS) + sorted(k for k in values if k not in KEYS)
+    first: dict[str, int] = {}  # keys of one table together (later schema blocks add to tables)
+    order.sort(key=lambda k: first.setdefault(k.rpartition(".")[0], len(first)))
     lines: list[str] = []
     table = None
     for key in order:

@@ -99,8 +99,8 @@ KEYS: dict[str, Key] = {
         None,
         "a number in [-50, 250]",
         lambda v: _num(v) and -50 <= v <= 250,
-        "copper temperature for the winding resistance (default: limits.coil_temperature_C, "
-        "the hottest allowed, which is self-consistent wherever the thermal limit binds)",
+        "fixed copper temperature for the resistance in the voltage and power limits (default: "
+        "the mean winding temperature solved with the heating, coils.thermal)",
     ),
     "coils.ambient_temperature_C": Key(
         float,
@@ -224,7 +224,9 @@ KEYS.update(
         "limits.current_A": _pos("largest current amplitude of any coil pair", 15.0),
         "limits.voltage_V": _pos("largest drive-voltage amplitude across any coil pair", 150.0),
         "limits.power_W": _pos("largest total copper loss of the three pairs", 2000.0),
-        "limits.coil_temperature_C": _pos("hottest steady coil temperature allowed", 90.0),
+        "limits.coil_temperature_C": _pos(
+            "hottest winding temperature allowed (the hot spot at the pack centre)", 90.0
+        ),
         "limits.field_exposure": _choice(
             "ICNIRP 2010 reference level applied to the rotating field",
             "occupational",
@@ -250,7 +252,41 @@ KEYS.update(
 KEYS.update({})
 
 # --- coils as they really run (issue 10) ---
-KEYS.update({})
+KEYS.update(
+    {
+        "coils.winding_conductivity_W_mK": _between(
+            "effective transverse thermal conductivity of the winding pack (impregnated round "
+            "wire 0.3-1.0; Simpson, Wrobel & Mellor, IEEE Trans. Ind. Appl. 49(6), 2013)",
+            0.5,
+            0.01,
+            400.0,
+            open_=False,
+        ),
+        "coils.surface_emissivity": _between(
+            "grey-body emissivity of the winding surface (varnish or enamel ~0.9; "
+            "Incropera & DeWitt Table A.11; 0 switches radiation off)",
+            0.9,
+            0.0,
+            1.0,
+            open_=False,
+        ),
+        "operation.session_min": _between(
+            "length of one continuous run from ambient: the temperature limit then applies at "
+            "its end (absent: steady state)",
+            None,
+            0.0,
+            1.0e5,
+            open_=True,
+        ),
+        "operation.field_amplitude_mT": _between(
+            "fixed rotating-field amplitude at the centre (absent: the largest the limits allow)",
+            None,
+            0.0,
+            1000.0,
+            open_=True,
+        ),
+    }
+)
 
 # --- tissue uncertainty (issue 11) ---
 KEYS.update({})
@@ -290,7 +326,7 @@ def defaults() -> dict[str, Any]:
     return {k: s.default for k, s in KEYS.items() if s.default is not None}
 
 
-def winding_temperature_C(design: Any) -> float:
-    """Copper temperature for the resistance: the key if set, else the coil temperature limit."""
+def winding_temperature_C(design: Any) -> float | None:
+    """Fixed copper temperature for the resistance, or None (solved with the heating)."""
     value = design.get("coils.winding_temperature_C")
-    return float(design["limits.coil_temperature_C"] if value is None else value)
+    return None if value is None else float(value)

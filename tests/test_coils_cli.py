@@ -107,7 +107,7 @@ def test_json_output(run_cli, capsys, tmp_path: Path) -> None:
         "temperature_rise_K",
         "wire_length_m",
         "impedance_ohm",
-        "coil_temperature_C",
+        "hot_spot_temperature_C",
         "max_rotating_field_T",
         "max_current_A",
     }
@@ -118,9 +118,12 @@ def test_json_output(run_cli, capsys, tmp_path: Path) -> None:
     assert z["power_W"] == pytest.approx(z["resistance_ohm"] * 15.0**2 / 2, rel=1e-12), (
         "copper loss of a sinusoidal current R I^2/2, 1e-12"
     )
-    assert z["coil_temperature_C"] == pytest.approx(25 + z["temperature_rise_K"], rel=1e-12), (
-        "coil temperature = ambient + rise, 1e-12"
+    assert z["hot_spot_temperature_C"] == pytest.approx(25 + z["temperature_rise_K"], rel=1e-12), (
+        "hot-spot temperature = ambient + rise, 1e-12"
     )
+    assert z["resistance_ohm"] == pytest.approx(
+        z["resistance_20C_ohm"] * (1 + 0.00393 * (z["mean_temperature_C"] - 20)), rel=1e-12
+    ), "resistance at the mean winding temperature (IEC 60028 alpha = 0.00393/K), 1e-12"
     assert out["current_limiting_axes"] == ["z"], "fewest turns per metre: z is weakest"
     region = out["uniform_region"]
     assert region["radius_1pct_m"] < region["radius_5pct_m"] < 0.3, (

@@ -115,9 +115,9 @@ def versions() -> dict[str, str]:
 
 def coil_sizing_json(design: Design) -> tuple[dict[str, Any], str]:
     """The dict ``spiralcap coils --json`` prints for ``design``, and where it came from."""
-    from spiralcap.commands.coils import sizing_payload
+    from spiralcap.analysis.coils import analyse_coils, coils_payload
 
-    return sizing_payload(design), "spiralcap.commands.coils.sizing_payload(design)"
+    return coils_payload(analyse_coils(design)), "spiralcap.analysis.coils.analyse_coils(design)"
 
 
 def _curve(model: Any, alpha: Any, f: Any, x: np.ndarray) -> Curve:
