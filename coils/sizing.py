@@ -221,7 +221,7 @@ def _worst_heading(
         np.asarray(steady_state(pack, r20, currents[:, k], ambient_C).power_W, dtype=float)
         for k, (pack, r20) in enumerate(states)
     )
-    i = int(np.nanargmax(loss))
+    i = int(np.argmax(np.where(np.isnan(loss), np.inf, loss)))  # NaN: thermal runaway
     return WorstHeading(
         heading=tuple(float(x) for x in h[i]),
         field_amplitude_T=float(field[i]),

@@ -5,7 +5,15 @@
 >>> result = optimize_design(build_model(design))        # doctest: +SKIP
 """
 
-from optimize.evaluate import Check, Evaluation, evaluate, margin_grid, step_out_frequency_hz
+from optimize.evaluate import (
+    Check,
+    Evaluation,
+    FrequencyBound,
+    evaluate,
+    margin_grid,
+    max_frequency_hz,
+    step_out_frequency_hz,
+)
 from optimize.physics import ICNIRP2010_LEVELS_T, exposure_level_T
 from optimize.result import BindingLimit, OptimizationResult, Shortfall
 from optimize.solve import optimize_design, with_operating_point
@@ -18,6 +26,7 @@ __all__ = [
     "Check",
     "DesignModel",
     "Evaluation",
+    "FrequencyBound",
     "Limits",
     "OptimizationResult",
     "Requirements",
@@ -25,6 +34,7 @@ __all__ = [
     "evaluate",
     "exposure_level_T",
     "margin_grid",
+    "max_frequency_hz",
     "optimize_design",
     "prepare",
     "step_out_frequency_hz",

@@ -41,6 +41,7 @@ class HeatingCurve:
     hot_spot_C: np.ndarray
     time_constant_s: float
     heat_capacity_J_per_K: float
+    final_mean_C: float
     final_hot_spot_C: float
 
 
@@ -159,6 +160,7 @@ def _thermal(model: Any, field_T: float) -> tuple[list[AxisOperatingThermal], li
                 hot_spot_C=np.asarray(run.hot_spot_C, dtype=float),
                 time_constant_s=tau,
                 heat_capacity_J_per_K=float(run.heat_capacity_J_per_K),
+                final_mean_C=float(run.final_mean_C),
                 final_hot_spot_C=float(run.final_hot_spot_C),
             )
         )

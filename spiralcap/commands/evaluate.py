@@ -27,7 +27,11 @@ def format_evaluation(ev) -> str:
         f"resistive torque    {ev.resistive_torque_Nm * mnm:.4g} mN·m ({ev.worst_tissue})",
         f"thrust torque       {ev.thrust_torque_Nm * mnm:.4g} mN·m",
         f"margin              {ev.margin_Nm * mnm:.4g} mN·m (safety factor {ev.safety_factor:.3g})",
-        f"step-out frequency  {ev.step_out_frequency_hz:.4g} Hz",
+        f"step-out frequency  {ev.step_out_frequency_hz:.4g} Hz"
+        f"{' or more (search bound)' if ev.step_out_beyond_search else ''} at this field; the "
+        f"drive holds a margin up to {ev.max_frequency_hz:.4g} Hz"
+        f"{' or more' if ev.max_frequency_beyond_search else ''} "
+        f"(limited by {ev.max_frequency_limited_by})",
         f"forward speed       {ev.speed_m_s * 1e3:.4g} mm/s, spiral turns {ev.spiral_turns:.3g}",
         "",
         format_table(
