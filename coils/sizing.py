@@ -217,14 +217,21 @@ def _worst_heading(
     per_T = np.sqrt(np.clip(1.0 - h**2, 0.0, 1.0)) / g  # (h, 3) A per T
     field = current_A / np.max(per_T, axis=1)
     currents = field[:, None] * per_T
-    loss = sum(
-        np.asarray(steady_state(pack, r20, currents[:, k], ambient_C).power_W, dtype=float)
-        for k, (pack, r20) in enumerate(states)
+    loss = np.sum(
+        [
+            np.asarray(steady_state(pack, r20, currents[:, k], ambient_C).power_W, dtype=float)
+            for k, (pack, r20) in enumerate(states)
+        ],
+        axis=0,
     )
     i = int(np.argmax(np.where(np.isnan(loss), np.inf, loss)))  # NaN: thermal runaway
     return WorstHeading(
-        heading=tuple(float(x) for x in h[i]),
+        heading=(float(h[i, 0]), float(h[i, 1]), float(h[i, 2])),
         field_amplitude_T=float(field[i]),
-        current_amplitudes_A=tuple(float(x) for x in currents[i]),
+        current_amplitudes_A=(
+            float(currents[i, 0]),
+            float(currents[i, 1]),
+            float(currents[i, 2]),
+        ),
         total_power_W=float(loss[i]),
     )

@@ -176,20 +176,23 @@ class WaveformCheck:
 
 def check_waveforms(w: Waveforms, current_limit_A: float, voltage_limit_V: float) -> WaveformCheck:
     """Check every sample's |I_k| and |V_k| against the limits (switching transients included)."""
-    binding, exceeded = [], []
+    binding: list[LimitSample] = []
+    exceeded: list[LimitSample] = []
     series = (("current", w.current_A, current_limit_A), ("voltage", w.voltage_V, voltage_limit_V))
     for i in range(len(w.headings)):
-        best = None
+        best: LimitSample | None = None
         for name, data, lim in series:
             sel = np.nonzero(w.heading_index == i)[0]
             util = np.abs(data[sel]) / lim
-            j, k = np.unravel_index(int(np.argmax(util)), util.shape)
+            flat = np.unravel_index(int(np.argmax(util)), util.shape)
+            j, k = int(flat[0]), int(flat[1])
             cand = LimitSample(
                 name, "xyz"[k], float(w.time_s[sel[j]]), i, float(data[sel[j], k]), lim
             )
             if best is None or cand.utilisation > best.utilisation:
                 best = cand
-        binding.append(best)
+        if best is not None:
+            binding.append(best)
     for name, data, lim in series:
         for k in range(3):
             over = np.nonzero(np.abs(data[:, k]) > lim)[0]

@@ -50,6 +50,8 @@ class AxisOperatingThermal:
     """Thermal state of one pair at the operating field (worst-heading current).
 
     Steady temperatures always; ``session_*`` at the end of the session (None without one).
+    ``resistance_ohm`` is at the mean winding temperature of the run (session end, or steady):
+    the resistance ``spiralcap waveforms`` drives with.
     """
 
     axis: str
@@ -119,6 +121,7 @@ def _uniform(system: Any) -> UniformRegions:
 def _thermal(model: Any, field_T: float) -> tuple[list[AxisOperatingThermal], list[HeatingCurve]]:
     from coils.thermal import steady_state, transient
     from optimize import physics
+    from spiralcap.constants import COPPER_TEMPERATURE_COEFFICIENT_per_K as ALPHA
 
     c, amb = model.constants, model.ambient_temperature_C
     out, curves = [], []
@@ -139,7 +142,9 @@ def _thermal(model: Any, field_T: float) -> tuple[list[AxisOperatingThermal], li
             AxisOperatingThermal(
                 axis=ax,
                 current_A=current,
-                resistance_ohm=float(st.resistance_ohm),
+                resistance_ohm=float(st.resistance_ohm)
+                if session is None
+                else r20 * (1.0 + ALPHA * (float(session[1]) - 20.0)),
                 power_W=float(st.power_W),
                 surface_temperature_C=float(st.surface_C),
                 mean_temperature_C=float(st.mean_C),
@@ -199,7 +204,7 @@ def analyse_coils(design: Any) -> CoilAnalysis:
             )
         )
     fixed = model.field_amplitude_T is not None
-    field = float(model.field_amplitude_T) if fixed else cap.field_T
+    field = cap.field_T if model.field_amplitude_T is None else float(model.field_amplitude_T)
     operating, curves = _thermal(model, field)
     return CoilAnalysis(
         design=str(getattr(design, "source", "design")),

@@ -68,7 +68,7 @@ def parse_heading(text: str) -> tuple[float, float, float]:
         raise InputError("--heading", text, allowed) from None
     if len(values) != 3 or not all(math.isfinite(v) for v in values) or not any(values):
         raise InputError("--heading", text, allowed)
-    return values  # type: ignore[return-value]
+    return values[0], values[1], values[2]
 
 
 def _positive(option: str, text: Any, allowed: str) -> float:
@@ -153,14 +153,15 @@ def _csv(w: Any) -> str:
 
 
 def _plot(path: str, w: Any, model: Any) -> None:
-    from matplotlib import rc_context
+    import matplotlib
     from matplotlib.figure import Figure
 
     from spiralcap.design import write_text_atomic
     from spiralcap.figures.style import REPORT_RC
     from spiralcap.figures.thermal import plot_waveforms
 
-    with rc_context(REPORT_RC):
+    rc: Any = REPORT_RC
+    with matplotlib.rc_context(rc):
         fig = Figure(figsize=(8.0, 7.0), layout="constrained")
         axes = fig.subplots(3, 1, sharex=True)
         plot_waveforms(
