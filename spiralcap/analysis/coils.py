@@ -118,7 +118,12 @@ def _uniform(system: Any) -> UniformRegions:
     )
 
 
-def _thermal(model: Any, field_T: float) -> tuple[list[AxisOperatingThermal], list[HeatingCurve]]:
+def operating_thermal(
+    model: Any, field_T: float
+) -> tuple[list[AxisOperatingThermal], list[HeatingCurve]]:
+    """Thermal state and heating curve of each pair at centre field ``field_T`` (worst heading).
+
+    ``model`` is a prepared :class:`optimize.DesignModel`."""
     from coils.thermal import steady_state, transient
     from optimize import physics
     from spiralcap.constants import COPPER_TEMPERATURE_COEFFICIENT_per_K as ALPHA
@@ -205,7 +210,7 @@ def analyse_coils(design: Any) -> CoilAnalysis:
         )
     fixed = model.field_amplitude_T is not None
     field = cap.field_T if model.field_amplitude_T is None else float(model.field_amplitude_T)
-    operating, curves = _thermal(model, field)
+    operating, curves = operating_thermal(model, field)
     return CoilAnalysis(
         design=str(getattr(design, "source", "design")),
         sizing=sizing,
