@@ -16,6 +16,7 @@ and ``optimize`` use.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -146,6 +147,8 @@ def size_system(
         )
         r20 = pair.resistance_ohm(20.0)
         st = steady_state(pack, r20, current_amplitude_A, ambient_temperature_C)
+        if float(st.runaway) > 0.5:  # no steady state: report NaN, not the bounding iterate
+            st = type(st)(*(math.nan,) * 5, runaway=1.0)
         states.append((pack, r20))
         r = float(st.resistance_ohm)
         z = float(impedance_ohm(r, pair.series_inductance_H, frequency_hz))
@@ -217,10 +220,13 @@ def _worst_heading(
     per_T = np.sqrt(np.clip(1.0 - h**2, 0.0, 1.0)) / g  # (h, 3) A per T
     field = current_A / np.max(per_T, axis=1)
     currents = field[:, None] * per_T
+    runs = [
+        steady_state(pack, r20, currents[:, k], ambient_C) for k, (pack, r20) in enumerate(states)
+    ]
     loss = np.sum(
         [
-            np.asarray(steady_state(pack, r20, currents[:, k], ambient_C).power_W, dtype=float)
-            for k, (pack, r20) in enumerate(states)
+            np.where(np.asarray(st.runaway) > 0.5, np.nan, np.asarray(st.power_W, dtype=float))
+            for st in runs
         ],
         axis=0,
     )

@@ -78,37 +78,26 @@ def winding_temperatures_C(
     return run.surface_C, run.mean_C, run.hot_spot_C
 
 
-def winding_resistances_ohm(
-    c: Constants, limits: Limits, ambient_temperature_C: float
-) -> list[Any]:
-    """Pair resistances for the voltage and power limits, Ω.
+def winding_resistance_ohm(
+    current_A: Any, k: int, c: Constants, ambient_temperature_C: float
+) -> Any:
+    """Resistance of pair k carrying ``current_A``, Ω: at its own mean winding temperature.
 
-    At ``c.winding_temperature_C`` if the design fixes it; else at the mean winding temperature
-    (steady, or at the end of the session) reached at I* = min(current limit, the current at
-    which the hot spot reaches its limit). The operating current never exceeds I*, so this is
-    the operating point's own resistance wherever the current or the temperature limit binds
-    (self-consistent with the heating), and an upper bound where the voltage, power or exposure
-    limit binds first. I* depends on the limits only, never on the operating variables.
+    Self-consistent with the heating (steady, or at the end of the session), or at
+    ``c.winding_temperature_C`` if the design fixes the copper temperature.
     """
     from coils.electrical import copper_resistivity_ohm_m
     from spiralcap.constants import COPPER_RESISTIVITY_20C_ohm_m
 
-    out = []
-    for k in range(3):
-        if c.winding_temperature_C is None:
-            hot_cap = _hot_spot_cap_T(
-                k, c, limits.coil_temperature_C - ambient_temperature_C, ambient_temperature_C
-            )
-            per_amp = float(c.current_per_tesla_A_per_T[k])
-            current = (
-                np.minimum(limits.current_A, hot_cap * per_amp) if per_amp > 0 else limits.current_A
-            )
-            temp = winding_temperatures_C(current, k, c, ambient_temperature_C)[1]
-        else:
-            temp = c.winding_temperature_C
-        scale = copper_resistivity_ohm_m(temp) / COPPER_RESISTIVITY_20C_ohm_m
-        out.append(float(c.resistance_20C_ohm[k]) * scale)
-    return out
+    if c.winding_temperature_C is None:
+        temp = winding_temperatures_C(current_A, k, c, ambient_temperature_C)[1]
+    else:
+        temp = c.winding_temperature_C
+    return (
+        float(c.resistance_20C_ohm[k])
+        * copper_resistivity_ohm_m(temp)
+        / COPPER_RESISTIVITY_20C_ohm_m
+    )
 
 
 def hot_spot_rise_K(current_A: Any, k: int, c: Constants, ambient_temperature_C: float) -> Any:
@@ -117,18 +106,36 @@ def hot_spot_rise_K(current_A: Any, k: int, c: Constants, ambient_temperature_C:
     Steady (``c.session_s`` None): :func:`coils.thermal.steady_state` (self-consistent
     resistance, convection and exact radiation). With a session: the end of a lumped run from
     ambient (:func:`coils.thermal.transient`, radiation linearised at the steady surface
-    temperature of the same current). Where no steady state exists (thermal runaway) the rise
-    is NaN on the numpy path and 10⁴ K on the CasADi path. Increasing in the current.
+    temperature of the same current). Beyond thermal runaway the rise is a finite upper bound
+    far above any limit (coils.thermal.steady_state). Increasing in the current.
     """
-    from coils.thermal import steady_state
+    return winding_temperatures_C(current_A, k, c, ambient_temperature_C)[2] - ambient_temperature_C
 
-    rise = winding_temperatures_C(current_A, k, c, ambient_temperature_C)[2] - ambient_temperature_C
-    if bk.is_casadi(rise):
-        runaway = steady_state(
-            c.packs[k], float(c.resistance_20C_ohm[k]), current_A, ambient_temperature_C
-        ).runaway
-        rise = bk.where(runaway > 0.5, 1e4, rise)
-    return rise
+
+def total_loss_W(
+    field_T: Any, c: Constants, ambient_temperature_C: float, memo: dict | None = None
+) -> Any:
+    """Copper loss of the heading that draws the most, Σ_k R_k(I_hk) I_hk² / 2, W.
+
+    I_hk = B0 sqrt(1 - n_hk²) / g_k for heading h, each pair at its own self-consistent
+    resistance (:func:`winding_resistance_ohm`).
+    """
+    w = np.asarray(c.power_weights_per_T2, dtype=float)  # (1 - n²) / (2 g²)
+    per_amp = np.round(np.sqrt(2.0 * w), 15)  # I_hk / B0; few distinct values per axis
+    memo = {} if memo is None else memo
+    worst: Any = None
+    for h in range(w.shape[0]):
+        loss: Any = 0.0
+        for k in range(3):
+            if per_amp[h, k] > 0:
+                key = (k, float(per_amp[h, k]))
+                if key not in memo:
+                    cur = field_T * key[1]
+                    memo[key] = (cur, winding_resistance_ohm(cur, k, c, ambient_temperature_C))
+                cur, r = memo[key]
+                loss = loss + 0.5 * r * cur * cur
+        worst = loss if worst is None else bk.fmax(worst, loss)
+    return worst
 
 
 def limit_terms(
@@ -138,7 +145,8 @@ def limit_terms(
 
     Per axis k the worst-heading current amplitude is ``I_k = B0 * current_per_tesla[k]``; its
     drive voltage ``|R_k + j 2πf L_k| I_k`` (coils.voltage_amplitude_V) with R_k from
-    :func:`winding_resistances_ohm`; the total copper loss is that of the worst heading; the
+    :func:`winding_resistance_ohm`, each pair at its own self-consistent mean winding
+    temperature; the total copper loss is that of the worst heading (:func:`total_loss_W`); the
     exposure level is ICNIRP 2010's.
 
     The temperature limit applies to the winding hot spot, steady or at the end of a session
@@ -148,10 +156,14 @@ def limit_terms(
     import coils
 
     terms: list[LimitTerm] = []
-    resistances = winding_resistances_ohm(c, limits, ambient_temperature_C)
+    fixed_r = c.winding_temperature_C is not None  # then every term but the hot spot is a power law
+    amb = ambient_temperature_C
+    memo: dict = {}
     for k, ax in enumerate(_AXES):
-        current = field_T * float(c.current_per_tesla_A_per_T[k])
-        r, ind = resistances[k], float(c.inductance_H[k])
+        per_amp = float(np.round(c.current_per_tesla_A_per_T[k], 15))
+        current = field_T * per_amp
+        r, ind = winding_resistance_ohm(current, k, c, amb), float(c.inductance_H[k])
+        memo[(k, per_amp)] = (current, r)
         terms.append(
             LimitTerm(f"current_{ax}", "limits.current_A", "A", current, limits.current_A, 1)
         )
@@ -162,7 +174,7 @@ def limit_terms(
                 "V",
                 coils.voltage_amplitude_V(r, ind, frequency_hz, current),
                 limits.voltage_V,
-                1,
+                1 if fixed_r else None,
             )
         )
         terms.append(
@@ -175,14 +187,14 @@ def limit_terms(
                 None,
             )
         )
-    w = np.asarray(c.power_weights_per_T2, dtype=float)
-    power_per_T2: Any = None
-    for row in w:
-        loss = row[0] * resistances[0] + row[1] * resistances[1] + row[2] * resistances[2]
-        power_per_T2 = loss if power_per_T2 is None else bk.fmax(power_per_T2, loss)
     terms.append(
         LimitTerm(
-            "power", "limits.power_W", "W", field_T * field_T * power_per_T2, limits.power_W, 2
+            "power",
+            "limits.power_W",
+            "W",
+            total_loss_W(field_T, c, amb, memo),
+            limits.power_W,
+            2 if fixed_r else None,
         )
     )
     if limits.field_exposure != "off":
@@ -245,6 +257,70 @@ def _hot_spot_cap_T(k: int, c: Constants, allowed_K: Any, ambient_temperature_C:
     return cap
 
 
+def _power_cap_T(c: Constants, allowed_W: Any, ambient_temperature_C: float) -> Any:
+    """Largest centre field the copper-power limit allows (bisection; depends on B0 only)."""
+    allowed = np.asarray(allowed_W, dtype=float)
+    key = (id(c), "power", allowed.tobytes(), allowed.shape, float(ambient_temperature_C))
+    hit = _HOT_SPOT_CAPS.get(key)
+    if hit is not None and hit[0] is c:
+        return hit[1]
+    cap = _bisect_field_T(
+        lambda b: total_loss_W(b, c, ambient_temperature_C), allowed, allowed.shape
+    )
+    _HOT_SPOT_CAPS[key] = (c, cap)
+    return cap
+
+
+def _voltage_cap_T(
+    k: int, frequency_hz: Any, c: Constants, allowed_V: Any, ambient_temperature_C: float
+) -> Any:
+    """Largest centre field the drive voltage of axis k allows, |Z(R(I))| I = V (numpy).
+
+    R(I) rises with the current (self-consistent heating), so the root in I lies in
+    [0, V/|Z(R(T_amb))|]; the Illinois method (bracketed regula falsi) finds it, vectorised over
+    f, until every residual is below 1e-13 V.
+    """
+    from coils.electrical import impedance_ohm
+
+    per_amp = float(c.current_per_tesla_A_per_T[k])
+    f = np.asarray(frequency_hz, dtype=float)
+    volt = np.asarray(allowed_V, dtype=float)
+    shape = np.broadcast_shapes(f.shape, volt.shape)
+    if per_amp <= 0:
+        return np.full(shape, np.inf)
+    ind = float(c.inductance_H[k])
+    amb = ambient_temperature_C
+
+    def excess(i: Any) -> Any:
+        r = np.asarray(winding_resistance_ohm(i, k, c, amb), dtype=float)
+        return np.asarray(impedance_ohm(r, ind, f), dtype=float) * i - volt
+
+    r_cold = winding_resistance_ohm(0.0, k, c, amb)
+    hi = np.array(np.broadcast_to(volt / np.asarray(impedance_ohm(r_cold, ind, f)), shape))
+    lo = np.zeros(shape)
+    e_hi, e_lo = excess(hi), -np.broadcast_to(volt, shape).astype(float)  # e_hi >= 0
+    i1 = hi.copy()
+    for _ in range(100):  # Illinois (regula falsi that halves a stale end): bracketed
+        i1 = np.where(
+            e_hi > e_lo, hi - e_hi * (hi - lo) / np.where(e_hi > e_lo, e_hi - e_lo, 1.0), hi
+        )
+        e1 = excess(i1)
+        if not np.any(np.abs(e1) > 1e-13 * volt):
+            break
+        right = e1 > 0
+        hi, e_hi, e_lo = (
+            np.where(right, i1, hi),
+            np.where(right, e1, e_hi),
+            np.where(right, 0.5 * e_lo, e_lo),
+        )
+        lo, e_lo, e_hi = (
+            np.where(right, lo, i1),
+            np.where(right, e_lo, e1),
+            np.where(right, e_hi, 0.5 * e_hi),
+        )
+    return i1 / per_amp
+
+
 def field_capacity_T(
     frequency_hz: Any, c: Constants, limits: Limits, ambient_temperature_C: float
 ) -> tuple[Any, list[Any], list[LimitTerm]]:
@@ -256,9 +332,19 @@ def field_capacity_T(
     unit = limit_terms(frequency_hz, 1.0, c, limits, ambient_temperature_C)
     caps = []
     for t in unit:
-        if t.power is None:  # the hot spot: depends on the current only, not on f
+        if t.power is None and t.name.startswith("hot_spot_"):  # depends on B0 only, not on f
             caps.append(
                 _hot_spot_cap_T(_AXES.index(t.name[-1]), c, t.allowed, ambient_temperature_C)
+            )
+            continue
+        if t.power is None and t.name == "power":
+            caps.append(_power_cap_T(c, t.allowed, ambient_temperature_C))
+            continue
+        if t.power is None:  # voltage with the self-consistent resistance
+            caps.append(
+                _voltage_cap_T(
+                    _AXES.index(t.name[-1]), frequency_hz, c, t.allowed, ambient_temperature_C
+                )
             )
             continue
         with np.errstate(divide="ignore"):  # an axis no heading uses carries no current: no cap

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import importlib
 import json
+import math
 from pathlib import Path
 
 import pytest
@@ -145,8 +146,15 @@ def test_limits_by_hand_and_shared_with_evaluate(run_cli, capsys) -> None:
     assert run_cli(["coils", "--json", *sets]) == 0
     out = json.loads(capsys.readouterr().out)
     z = out["axes"]["z"]
-    assert z["max_current_A"] == pytest.approx(20.0 / z["impedance_ohm"], rel=1e-12), (
-        "voltage-limited current amplitude V_max/|Z| (Ohm's law), 1e-12"
+    from coils.thermal import WindingPack, steady_state
+
+    pack = WindingPack(z["winding_pack_side_m"], z["radius_m"], 0.7, 0.5, 10.0, 0.9)
+    i = z["max_current_A"]
+    r = float(steady_state(pack, z["resistance_20C_ohm"], i, 25.0).resistance_ohm)
+    z_ohm = math.hypot(r, 2 * math.pi * 2.0 * z["inductance_H"])
+    assert i == pytest.approx(20.0 / z_ohm, rel=1e-9), (
+        "voltage-limited current amplitude V_max/|Z| (Ohm's law) with R at the winding's own "
+        "mean temperature at that current, 1e-9"
     )
     assert z["max_current_limited_by"] == "voltage"
     assert out["current_limiting_axes"] == ["z"], "fewest turns per metre: z is weakest"
