@@ -191,7 +191,7 @@ def limit_state(pack: WindingPack, hot_spot_C: Any, ambient_C: Any) -> LimitStat
 
     Solves r_c Q(T_s) = T_hot - T_s for the surface temperature (Q the surface loss, r_c the
     centre resistance) by Newton's method from T_s = T_hot; the residual is convex and
-    increasing, so the iterates fall monotonically onto the root (10 fixed steps, no branch; 6 reach machine precision).
+    increasing, so the iterates fall monotonically onto the root (10 fixed steps, no branch; 6 reach machine precision near the root).
 
     Parameters
     ----------

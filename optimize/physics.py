@@ -276,9 +276,10 @@ def _voltage_cap_T(
 ) -> Any:
     """Largest centre field the drive voltage of axis k allows, |Z(R(I))| I = V (numpy).
 
-    R(I) rises with the current (self-consistent heating), so the root in I lies in
-    [0, V/|Z(R(T_amb))|]; the Illinois method (bracketed regula falsi) finds it, vectorised over
-    f, until every residual is below 1e-13 V.
+    R(I) rises with the current (self-consistent heating), so the root in I lies between
+    hi = V/|Z(R(0))| and lo = V/|Z(R(hi))|; a secant kept inside that bracket (bisecting where
+    the bracket has not halved in two steps) finds it,
+    vectorised over f, until every residual is below 1e-12 V (or the bracket 1e-14 wide).
     """
     from coils.electrical import impedance_ohm
 
@@ -297,27 +298,24 @@ def _voltage_cap_T(
 
     r_cold = winding_resistance_ohm(0.0, k, c, amb)
     hi = np.array(np.broadcast_to(volt / np.asarray(impedance_ohm(r_cold, ind, f)), shape))
-    lo = np.zeros(shape)
-    e_hi, e_lo = excess(hi), -np.broadcast_to(volt, shape).astype(float)  # e_hi >= 0
-    i1 = hi.copy()
-    for _ in range(100):  # Illinois (regula falsi that halves a stale end): bracketed
-        i1 = np.where(
-            e_hi > e_lo, hi - e_hi * (hi - lo) / np.where(e_hi > e_lo, e_hi - e_lo, 1.0), hi
-        )
+    e_hi = excess(hi)  # >= 0: R only grows with the current
+    # V/|Z(R(hi))| undershoots: |Z(R(lo))| lo <= |Z(R(hi))| lo = V, a tight lower end
+    lo = hi * volt / (e_hi + volt)
+    e_lo = np.minimum(excess(lo), 0.0)
+    x0, ex0, x1, ex1 = lo, e_lo, hi, e_hi
+    i1 = hi
+    widths = [hi - lo, hi - lo]
+    for _ in range(200):  # secant kept in the bracket; bisect where it has not halved in 2 steps
+        den = np.where(ex1 != ex0, ex1 - ex0, 1.0)
+        i1 = np.where(ex1 != ex0, x1 - ex1 * (x1 - x0) / den, 0.5 * (lo + hi))
+        slow = (hi - lo) > 0.5 * widths[-2]
+        i1 = np.where((i1 > lo) & (i1 < hi) & ~slow, i1, 0.5 * (lo + hi))
         e1 = excess(i1)
-        if not np.any(np.abs(e1) > 1e-13 * volt):
+        if not np.any((np.abs(e1) > 1e-12 * volt) & (hi - lo > 1e-14 * hi)):
             break
-        right = e1 > 0
-        hi, e_hi, e_lo = (
-            np.where(right, i1, hi),
-            np.where(right, e1, e_hi),
-            np.where(right, 0.5 * e_lo, e_lo),
-        )
-        lo, e_lo, e_hi = (
-            np.where(right, lo, i1),
-            np.where(right, e_lo, e1),
-            np.where(right, e_hi, 0.5 * e_hi),
-        )
+        widths.append(hi - lo)
+        hi, lo = np.where(e1 > 0, i1, hi), np.where(e1 > 0, lo, i1)
+        x0, ex0, x1, ex1 = x1, ex1, i1, e1
     return i1 / per_amp
 
 
