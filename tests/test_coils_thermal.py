@@ -175,3 +175,19 @@ def test_optimiser_and_evaluate_agree_on_the_session_hot_spot():
     assert res.field_amplitude_T == pytest.approx(ev.field_amplitude_T, rel=1e-6), (
         "IPOPT on the CasADi hot-spot term reaches the field the numpy bisection allows (1e-6)"
     )
+
+
+@pytest.mark.parametrize("session", [None, "operation.session_min=20"])
+def test_limit_terms_numpy_and_casadi_agree(session):
+    from optimize import physics as ph
+
+    m = prepare(build_model(load_design(None, [session] if session else [])))
+    b, f = ca.SX.sym("b"), ca.SX.sym("f")
+    terms = ph.limit_terms(f, b, m.constants, m.limits, 25.0)
+    fn = ca.Function("g", [b, f], [ca.vertcat(*[t.value for t in terms])])
+    for field, freq in ((0.004, 0.7), (0.0119, 2.0), (0.03, 4.5)):
+        expected = [
+            float(t.value) for t in ph.limit_terms(freq, field, m.constants, m.limits, 25.0)
+        ]
+        got = np.array(fn(field, freq)).ravel()
+        assert np.allclose(got, expected, rtol=1e-12, atol=0), "numpy and CasADi limits, 1e-12"
