@@ -267,6 +267,8 @@ def _power_cap_T(c: Constants, allowed_W: Any, ambient_temperature_C: float) -> 
     cap = _bisect_field_T(
         lambda b: total_loss_W(b, c, ambient_temperature_C), allowed, allowed.shape
     )
+    if len(_HOT_SPOT_CAPS) > 256:
+        _HOT_SPOT_CAPS.clear()
     _HOT_SPOT_CAPS[key] = (c, cap)
     return cap
 
