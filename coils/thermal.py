@@ -277,9 +277,11 @@ def steady_state(
     p = p_amb + slope * (ts - ambient_C)
     resid = surface_loss_W(pack, ts, ambient_C) - p
     converged = bk.abs(resid) <= 1e-9 * bk.fmax(p, 1e-12) + 1e-12
-    runaway = bk.where(ok_denom * converged, 0.0, 1.0)
-    ts = bk.where(ok_denom, ts, ambient_C + 1e4)  # internal runaway: a bound far above limits
-    p = bk.where(ok_denom, p, surface_loss_W(pack, ts, ambient_C))
+    stable = _surface_loss_slope_W_per_K(pack, ts) - slope > 0.0  # cooling outgrows heating
+    valid = ok_denom * converged * stable * (ts >= ambient_C - 1e-9)
+    runaway = bk.where(valid, 0.0, 1.0)
+    ts = bk.where(valid, ts, ambient_C + 1e4)  # runaway: a bound far above any limit
+    p = bk.where(valid, p, surface_loss_W(pack, ts, ambient_C))
     mean = ts + r_m * p
     return SteadyState(
         surface_C=ts,
