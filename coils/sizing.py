@@ -1,28 +1,40 @@
 """Per-axis electrical and thermal sizing of a three-axis system at one current and frequency.
 
-For each pair at current amplitude I and frequency f: R at the winding temperature, series L,
-|Z|, voltage amplitude |Z| I, copper loss R I²/2, temperature rise P/G (convective surface),
-and the rotating field the pairs make at that current for the worst heading (at the centre axis
-k needs A_k = B0 sqrt(1 - n_k²)/g_k, so the heading ⟂ axis k asks the most of it and the
-worst-case amplitude at current I is min_k g_k I; the axes within 1e-9 of the minimum are all
-reported). What the voltage, power, temperature and exposure limits then allow is not computed
-here: it is :func:`optimize.physics.field_capacity_T`, the one definition of the limits that
-``evaluate`` and ``optimize`` use (``spiralcap coils`` prints it).
+For each pair at current amplitude I and frequency f: the self-consistent steady thermal state
+(:func:`coils.thermal.steady_state`: surface, mean and hot-spot temperatures, resistance at the
+mean winding temperature), series L, |Z|, voltage amplitude |Z| I, copper loss R I²/2, heat
+capacity and lumped time constant, and the rotating field the pairs make at that current for
+the worst heading (at the centre axis k needs A_k = B0 sqrt(1 - n_k²)/g_k, so the heading ⟂
+axis k asks the most of it and the worst-case amplitude at current I is min_k g_k I; the axes
+within 1e-9 of the minimum are all reported). The total copper loss is that of the heading that
+draws the most at the current limit (each heading driven at the largest field its most loaded
+axis allows), not all three axes at full current, which no rotating field asks for. What the
+voltage, power, temperature and exposure limits then allow is not computed here: it is
+:func:`optimize.physics.field_capacity_T`, the one definition of the limits that ``evaluate``
+and ``optimize`` use.
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
-from coils.electrical import copper_loss_W, impedance_ohm, temperature_rise_K
-from coils.system import ThreeAxisHelmholtz
+import numpy as np
 
-__all__ = ["AxisSizing", "SystemSizing", "size_system"]
+from coils.electrical import impedance_ohm
+from coils.system import ThreeAxisHelmholtz
+from coils.thermal import WindingPack, radiation_coefficient_W_m2K, steady_state, transient
+
+__all__ = ["AxisSizing", "SystemSizing", "WorstHeading", "size_system", "winding_pack"]
 
 
 @dataclass(frozen=True)
 class AxisSizing:
-    """Sizing of one pair (both coils in series) at the operating point; names carry units."""
+    """Sizing of one pair (both coils in series) at the operating point; names carry units.
+
+    Temperatures are the steady, self-consistent state at this current (NaN if the pair runs
+    away thermally); ``time_constant_s`` is the lumped τ of :func:`coils.thermal.transient`.
+    """
 
     axis: str
     radius_m: float
@@ -32,6 +44,7 @@ class AxisSizing:
     winding_pack_side_m: float
     wire_length_m: float
     field_per_amp_T_per_A: float
+    resistance_20C_ohm: float
     resistance_ohm: float
     self_inductance_H: float
     mutual_inductance_H: float
@@ -39,10 +52,24 @@ class AxisSizing:
     impedance_ohm: float
     voltage_amplitude_V: float
     power_W: float
-    thermal_conductance_W_per_K: float
+    surface_conductance_W_per_K: float
+    surface_temperature_C: float
+    mean_temperature_C: float
+    hot_spot_temperature_C: float
     temperature_rise_K: float
-    coil_temperature_C: float
+    heat_capacity_J_per_K: float
+    time_constant_s: float
     field_amplitude_T: float
+
+
+@dataclass(frozen=True)
+class WorstHeading:
+    """The heading drawing the most copper loss with its busiest axis at the current limit."""
+
+    heading: tuple[float, float, float]
+    field_amplitude_T: float
+    current_amplitudes_A: tuple[float, float, float]
+    total_power_W: float
 
 
 @dataclass(frozen=True)
@@ -51,13 +78,29 @@ class SystemSizing:
 
     frequency_hz: float
     current_amplitude_A: float
-    winding_temperature_C: float
     ambient_temperature_C: float
     heat_transfer_coefficient_W_m2K: float
+    winding_conductivity_W_mK: float
+    surface_emissivity: float
     axes: tuple[AxisSizing, AxisSizing, AxisSizing]
+    worst_heading: WorstHeading
     total_power_W: float
     current_limited_rotating_field_T: float
     current_limiting_axes: tuple[str, ...]
+
+
+def winding_pack(
+    pair, conductivity_W_mK: float, heat_transfer_coefficient_W_m2K: float, emissivity: float
+) -> WindingPack:
+    """The :class:`coils.thermal.WindingPack` of a :class:`coils.HelmholtzPair`."""
+    return WindingPack(
+        pack_side_m=pair.winding_pack_side_m,
+        mean_radius_m=pair.radius_m,
+        packing_factor=pair.packing_factor,
+        conductivity_W_mK=conductivity_W_mK,
+        heat_transfer_coefficient_W_m2K=heat_transfer_coefficient_W_m2K,
+        emissivity=emissivity,
+    )
 
 
 def size_system(
@@ -65,9 +108,11 @@ def size_system(
     *,
     frequency_hz: float,
     current_amplitude_A: float,
-    winding_temperature_C: float,
     ambient_temperature_C: float,
     heat_transfer_coefficient_W_m2K: float,
+    winding_conductivity_W_mK: float = 0.5,
+    surface_emissivity: float = 0.9,
+    headings: np.ndarray | None = None,
 ) -> SystemSizing:
     """Evaluate every pair at one current amplitude and frequency.
 
@@ -79,25 +124,39 @@ def size_system(
         Drive frequency, Hz.
     current_amplitude_A : float
         Current amplitude of every pair, and the current limit, A.
-    winding_temperature_C : float
-        Copper temperature for the resistance, °C.
     ambient_temperature_C : float
         Air temperature, °C.
     heat_transfer_coefficient_W_m2K : float
         Convective coefficient from the winding surface, W/(m²·K).
+    winding_conductivity_W_mK : float
+        Effective transverse conductivity of the packs, W/(m·K).
+    surface_emissivity : float
+        Grey-body emissivity of the winding surface.
+    headings : ndarray, shape (h, 3), optional
+        Unit headings for the worst-heading total (default: the three axes).
 
     Returns
     -------
     SystemSizing
     """
     axes = []
+    states = []
     for pair in system.pairs:
-        r = pair.resistance_ohm(winding_temperature_C)
+        pack = winding_pack(
+            pair, winding_conductivity_W_mK, heat_transfer_coefficient_W_m2K, surface_emissivity
+        )
+        r20 = pair.resistance_ohm(20.0)
+        st = steady_state(pack, r20, current_amplitude_A, ambient_temperature_C)
+        if float(st.runaway) > 0.5:  # no steady state: report NaN, not the bounding iterate
+            st = type(st)(*(math.nan,) * 5, runaway=1.0)
+        states.append((pack, r20))
+        r = float(st.resistance_ohm)
         z = float(impedance_ohm(r, pair.series_inductance_H, frequency_hz))
         g = pair.centre_field_per_amp_T_per_A
-        cond = pair.thermal_conductance_W_per_K(heat_transfer_coefficient_W_m2K)
-        power = float(copper_loss_W(r, current_amplitude_A))
-        rise = float(temperature_rise_K(power, cond))
+        h_r = radiation_coefficient_W_m2K(st.surface_C, ambient_temperature_C, surface_emissivity)
+        tau = transient(
+            pack, r20, current_amplitude_A, ambient_temperature_C, 0.0, st.surface_C
+        ).time_constant_s
         axes.append(
             AxisSizing(
                 axis=pair.axis,
@@ -108,29 +167,77 @@ def size_system(
                 winding_pack_side_m=pair.winding_pack_side_m,
                 wire_length_m=pair.wire_length_m,
                 field_per_amp_T_per_A=g,
+                resistance_20C_ohm=r20,
                 resistance_ohm=r,
                 self_inductance_H=pair.self_inductance_H,
                 mutual_inductance_H=pair.mutual_inductance_H,
                 inductance_H=pair.series_inductance_H,
                 impedance_ohm=z,
                 voltage_amplitude_V=z * current_amplitude_A,
-                power_W=power,
-                thermal_conductance_W_per_K=cond,
-                temperature_rise_K=rise,
-                coil_temperature_C=ambient_temperature_C + rise,
+                power_W=float(st.power_W),
+                surface_conductance_W_per_K=float(
+                    pack.surface_area_m2 * (heat_transfer_coefficient_W_m2K + h_r)
+                ),
+                surface_temperature_C=float(st.surface_C),
+                mean_temperature_C=float(st.mean_C),
+                hot_spot_temperature_C=float(st.hot_spot_C),
+                temperature_rise_K=float(st.hot_spot_C) - ambient_temperature_C,
+                heat_capacity_J_per_K=float(pack.heat_capacity_J_per_K),
+                time_constant_s=float(tau),
                 field_amplitude_T=g * current_amplitude_A,
             )
         )
     weakest = min(a.field_amplitude_T for a in axes)
     tied = tuple(a.axis for a in axes if a.field_amplitude_T <= weakest * (1.0 + 1e-9))
+    worst = _worst_heading(system, states, current_amplitude_A, ambient_temperature_C, headings)
     return SystemSizing(
         frequency_hz=frequency_hz,
         current_amplitude_A=current_amplitude_A,
-        winding_temperature_C=winding_temperature_C,
         ambient_temperature_C=ambient_temperature_C,
         heat_transfer_coefficient_W_m2K=heat_transfer_coefficient_W_m2K,
+        winding_conductivity_W_mK=winding_conductivity_W_mK,
+        surface_emissivity=surface_emissivity,
         axes=tuple(axes),
-        total_power_W=sum(a.power_W for a in axes),
+        worst_heading=worst,
+        total_power_W=worst.total_power_W,
         current_limited_rotating_field_T=weakest,
         current_limiting_axes=tied,
+    )
+
+
+def _worst_heading(
+    system: ThreeAxisHelmholtz,
+    states: list,
+    current_A: float,
+    ambient_C: float,
+    headings: np.ndarray | None,
+) -> WorstHeading:
+    """Per heading: the field at which its busiest axis reaches the current limit, the currents
+    (A_k = B0 sqrt(1 - n_k²)/g_k) and their self-consistent copper loss; the largest loss."""
+    h = np.eye(3) if headings is None else np.asarray(headings, dtype=float)
+    h = h / np.linalg.norm(h, axis=1, keepdims=True)
+    g = np.array([p.centre_field_per_amp_T_per_A for p in system.pairs])
+    per_T = np.sqrt(np.clip(1.0 - h**2, 0.0, 1.0)) / g  # (h, 3) A per T
+    field = current_A / np.max(per_T, axis=1)
+    currents = field[:, None] * per_T
+    runs = [
+        steady_state(pack, r20, currents[:, k], ambient_C) for k, (pack, r20) in enumerate(states)
+    ]
+    loss = np.sum(
+        [
+            np.where(np.asarray(st.runaway) > 0.5, np.nan, np.asarray(st.power_W, dtype=float))
+            for st in runs
+        ],
+        axis=0,
+    )
+    i = int(np.argmax(np.where(np.isnan(loss), np.inf, loss)))  # NaN: thermal runaway
+    return WorstHeading(
+        heading=(float(h[i, 0]), float(h[i, 1]), float(h[i, 2])),
+        field_amplitude_T=float(field[i]),
+        current_amplitudes_A=(
+            float(currents[i, 0]),
+            float(currents[i, 1]),
+            float(currents[i, 2]),
+        ),
+        total_power_W=float(loss[i]),
     )

@@ -8,10 +8,12 @@
 from optimize.evaluate import (
     Check,
     Evaluation,
+    FrequencyBound,
     MarginGrid,
     WorstRequired,
     evaluate,
     margin_grid,
+    max_frequency_hz,
     step_out_frequency_hz,
     worst_required,
 )
@@ -29,6 +31,7 @@ __all__ = [
     "DesignModel",
     "Evaluation",
     "FreeVariable",
+    "FrequencyBound",
     "HardwareResult",
     "Limits",
     "MarginGrid",
@@ -40,6 +43,7 @@ __all__ = [
     "evaluate",
     "exposure_level_T",
     "margin_grid",
+    "max_frequency_hz",
     "optimize_design",
     "prepare",
     "step_out_frequency_hz",

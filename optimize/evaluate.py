@@ -55,6 +55,10 @@ class Evaluation:
     safety_factor: float
     lag_angle_rad: float
     step_out_frequency_hz: float
+    step_out_beyond_search: bool
+    max_frequency_hz: float
+    max_frequency_limited_by: str
+    max_frequency_beyond_search: bool
     speed_m_s: float
     spiral_turns: float
     checks: tuple[Check, ...]
@@ -172,35 +176,99 @@ def self_lock_check(model: DesignModel, alpha_rad: float) -> Check:
     )
 
 
+#: Frequency range searched for the step-out and the drive's largest frequency, Hz.
+SEARCH_RANGE_HZ = (0.01, 200.0)
+STEP_OUT_SEARCH_HZ = SEARCH_RANGE_HZ  # the name the JSON layer reads
+
+
+def operating_field_T(model: DesignModel, frequency_hz):
+    """The centre field the coils are driven at: the fixed one, or the largest the limits allow."""
+    model = prepare(model)
+    if model.field_amplitude_T is not None:
+        return np.broadcast_to(float(model.field_amplitude_T), np.shape(frequency_hz)).astype(float)
+    field, _, _ = ph.field_capacity_T(
+        frequency_hz, model.constants, model.limits, model.ambient_temperature_C
+    )
+    return field
+
+
+@dataclass(frozen=True)
+class FrequencyBound:
+    """Where a margin reaches zero along frequency: ``beyond_search`` if it does not below
+    ``frequency_hz`` (then the search bound); 0 if the margin is negative from the start."""
+
+    frequency_hz: float
+    beyond_search: bool
+
+
+def _first_zero(margin, f_lo: float, f_hi: float) -> FrequencyBound:
+    grid = np.geomspace(f_lo, f_hi, 400)
+    m = np.asarray(margin(grid), dtype=float)
+    if m[0] <= 0:
+        return FrequencyBound(0.0, False)
+    below = np.nonzero(m <= 0)[0]
+    if below.size == 0:
+        return FrequencyBound(float(f_hi), True)
+    i = below[0]
+    root = brentq(
+        lambda f: float(margin(np.asarray(f))), grid[i - 1], grid[i], xtol=1e-12, rtol=1e-14
+    )
+    return FrequencyBound(float(root), False)
+
+
 def step_out_frequency_hz(
     model: DesignModel,
     alpha_rad: float,
-    f_lo: float = STEP_OUT_SEARCH_HZ[0],
-    f_hi: float = STEP_OUT_SEARCH_HZ[1],
-) -> float:
-    """Lowest frequency at which the margin reaches zero at this helical angle (inf if none).
+    field_T: float | None = None,
+    f_lo: float = SEARCH_RANGE_HZ[0],
+    f_hi: float = SEARCH_RANGE_HZ[1],
+) -> FrequencyBound:
+    """Frequency at which the magnet steps out at the operating field.
 
-    The field the coils can make falls with frequency (inductive voltage, exposure) while the
-    tissue torque rises, so beyond this frequency the magnet cannot keep synchronous.
+    The capsule keeps synchronous while the largest synchronous torque at the field it is
+    driven with (``field_T``; default the operating field at the operating frequency) exceeds
+    the required torque, which rises with frequency (tissue viscosity); the step-out is where
+    the two are equal. Evaluating at this frequency with ``operation.field_amplitude_mT`` fixed
+    at that field gives zero margin.
     """
     model = prepare(model)
-    grid = np.geomspace(f_lo, f_hi, 400)
-    m = margin_grid(model, alpha_rad, grid)["margin_Nm"]
-    if m[0] <= 0:
-        return 0.0
-    below = np.nonzero(m <= 0)[0]
-    if below.size == 0:
-        return float("inf")
-    i = below[0]
-    return float(
-        brentq(
-            lambda f: float(margin_grid(model, alpha_rad, f)["margin_Nm"]),
-            grid[i - 1],
-            grid[i],
-            xtol=1e-10,
-            rtol=1e-12,
+    c = model.constants
+    if field_T is None:
+        field_T = float(operating_field_T(model, model.frequency_hz))
+    avail = float(ph.available_torque_Nm(field_T, c))
+
+    def margin(f):
+        return avail - worst_required(model, alpha_rad, f).total_Nm
+
+    return _first_zero(margin, f_lo, f_hi)
+
+
+def max_frequency_hz(
+    model: DesignModel,
+    alpha_rad: float,
+    f_lo: float = SEARCH_RANGE_HZ[0],
+    f_hi: float = SEARCH_RANGE_HZ[1],
+) -> tuple[FrequencyBound, str]:
+    """Highest frequency at which the drive still holds a positive margin, and what limits it.
+
+    The field is re-maximised at every frequency (it falls with frequency through the
+    inductive voltage and the exposure level while the tissue torque rises); returns the bound
+    and the limit that sets the field there.
+    """
+    model = prepare(model)
+    c = model.constants
+
+    def margin(f):
+        field, _, _ = ph.field_capacity_T(f, c, model.limits, model.ambient_temperature_C)
+        return (
+            np.asarray(ph.available_torque_Nm(field, c))
+            - worst_required(model, alpha_rad, f).total_Nm
         )
-    )
+
+    bound = _first_zero(margin, f_lo, f_hi)
+    at = bound.frequency_hz if bound.frequency_hz > 0 else f_lo
+    cap = ph.field_capacity(at, c, model.limits, model.ambient_temperature_C)
+    return bound, cap.limited_by
 
 
 def evaluate(
@@ -224,13 +292,13 @@ def evaluate(
         else float(helical_angle_rad)
     )
     f = model.frequency_hz if frequency_hz is None else float(frequency_hz)
-    field, caps, unit_terms = ph.field_capacity_T(f, c, model.limits, model.ambient_temperature_C)
-    field = float(field)
-    binding = unit_terms[int(np.argmin([float(x) for x in caps]))].name
     if field_amplitude_T is None:
         field_amplitude_T = model.field_amplitude_T
-    if field_amplitude_T is not None:
-        field, binding = float(field_amplitude_T), "field_amplitude"
+    if field_amplitude_T is None:
+        cap = ph.field_capacity(f, c, model.limits, model.ambient_temperature_C)
+        field, binding = cap.field_T, cap.limited_by
+    else:
+        field, binding = float(field_amplitude_T), "fixed"
     avail = float(ph.available_torque_Nm(field, c))
     res, thr, required, worst = (float(np.asarray(v)) for v in worst_required(model, alpha, f))
     margin = avail - required
@@ -243,6 +311,8 @@ def evaluate(
     # the lag behind the field at which the magnet's torque m B sin(lag) meets the load; 90 deg
     # (the most it can give) when the load exceeds it: the magnet then cannot stay synchronous
     lag = float(np.arcsin(min(max(required / avail, 0.0), 1.0))) if avail > 0 else np.pi / 2
+    step_out = step_out_frequency_hz(model, alpha, field)
+    fmax, fmax_by = max_frequency_hz(model, alpha)
     return Evaluation(
         helical_angle_rad=alpha,
         frequency_hz=f,
@@ -258,7 +328,11 @@ def evaluate(
         margin_Nm=margin,
         safety_factor=avail / required if required > 0 else float("inf"),
         lag_angle_rad=lag,
-        step_out_frequency_hz=step_out_frequency_hz(model, alpha),
+        step_out_frequency_hz=step_out.frequency_hz,
+        step_out_beyond_search=step_out.beyond_search,
+        max_frequency_hz=fmax.frequency_hz,
+        max_frequency_limited_by=fmax_by,
+        max_frequency_beyond_search=fmax.beyond_search,
         speed_m_s=speed,
         spiral_turns=turns,
         checks=tuple(checks),

@@ -6,15 +6,18 @@ amplitude at the centre ``B0`` (T) — as floats, numpy arrays (vectorised sweep
 symbols (the optimiser). :mod:`optimize.evaluate` and :mod:`optimize.problem` both build on it,
 so ``evaluate`` at the optimiser's answer reports the optimiser's margin.
 
-Limits are written ``value(f, B0) <= allowed`` with ``value`` proportional to ``B0**power``;
-the largest field a frequency allows is therefore ``min over limits of
-(allowed / value(f, 1)) ** (1 / power)``.
+Limits are written ``value(f, B0) <= allowed``, most with ``value`` proportional to
+``B0**power``, so the largest field a frequency allows is ``min over limits of
+(allowed / value(f, 1)) ** (1 / power)``; the one that is not a power law (the hot spot at the
+end of a session, ``power`` None) is inverted by bisection on the same expression.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 from typing import Any
+
+import numpy as np
 
 import capsule as cap
 import torque_model as tm
@@ -48,7 +51,7 @@ class LimitTerm:
     unit: str
     value: Any
     allowed: Any
-    power: int
+    power: int | None
 
     @property
     def utilisation(self) -> Any:
@@ -59,23 +62,108 @@ class LimitTerm:
 _AXES = ("x", "y", "z")
 
 
+def winding_temperatures_C(
+    current_A: Any, k: int, c: Constants, ambient_temperature_C: float
+) -> tuple[Any, Any, Any]:
+    """(surface, mean, hot spot) of axis k at a current amplitude, °C: steady or session end."""
+    from coils.thermal import steady_state, transient
+
+    r20 = float(c.resistance_20C_ohm[k])
+    steady = steady_state(c.packs[k], r20, current_A, ambient_temperature_C)
+    if c.session_s is None:
+        return steady.surface_C, steady.mean_C, steady.hot_spot_C
+    run = transient(
+        c.packs[k], r20, current_A, ambient_temperature_C, c.session_s, steady.surface_C
+    )
+    return run.surface_C, run.mean_C, run.hot_spot_C
+
+
+def winding_resistance_ohm(
+    current_A: Any, k: int, c: Constants, ambient_temperature_C: float
+) -> Any:
+    """Resistance of pair k carrying ``current_A``, Ω: at its own mean winding temperature.
+
+    Self-consistent with the heating (steady, or at the end of the session), or at
+    ``c.winding_temperature_C`` if the design fixes the copper temperature.
+    """
+    from coils.electrical import copper_resistivity_ohm_m
+    from spiralcap.constants import COPPER_RESISTIVITY_20C_ohm_m
+
+    if c.winding_temperature_C is None:
+        temp = winding_temperatures_C(current_A, k, c, ambient_temperature_C)[1]
+    else:
+        temp = c.winding_temperature_C
+    return (
+        float(c.resistance_20C_ohm[k])
+        * copper_resistivity_ohm_m(temp)
+        / COPPER_RESISTIVITY_20C_ohm_m
+    )
+
+
+def hot_spot_rise_K(current_A: Any, k: int, c: Constants, ambient_temperature_C: float) -> Any:
+    """Hot-spot rise of axis k above ambient at current amplitude ``current_A``, K.
+
+    Steady (``c.session_s`` None): :func:`coils.thermal.steady_state` (self-consistent
+    resistance, convection and exact radiation). With a session: the end of a lumped run from
+    ambient (:func:`coils.thermal.transient`, radiation linearised at the steady surface
+    temperature of the same current). Beyond thermal runaway the rise is a finite upper bound
+    far above any limit (coils.thermal.steady_state). Increasing in the current.
+    """
+    return winding_temperatures_C(current_A, k, c, ambient_temperature_C)[2] - ambient_temperature_C
+
+
+def total_loss_W(
+    field_T: Any, c: Constants, ambient_temperature_C: float, memo: dict | None = None
+) -> Any:
+    """Copper loss of the heading that draws the most, Σ_k R_k(I_hk) I_hk² / 2, W.
+
+    I_hk = B0 sqrt(1 - n_hk²) / g_k for heading h, each pair at its own self-consistent
+    resistance (:func:`winding_resistance_ohm`).
+    """
+    w = np.asarray(c.power_weights_per_T2, dtype=float)  # (1 - n²) / (2 g²)
+    per_amp = np.round(np.sqrt(2.0 * w), 15)  # I_hk / B0; few distinct values per axis
+    memo = {} if memo is None else memo
+    worst: Any = None
+    for h in range(w.shape[0]):
+        loss: Any = 0.0
+        for k in range(3):
+            if per_amp[h, k] > 0:
+                key = (k, float(per_amp[h, k]))
+                if key not in memo:
+                    cur = field_T * key[1]
+                    memo[key] = (cur, winding_resistance_ohm(cur, k, c, ambient_temperature_C))
+                cur, r = memo[key]
+                loss = loss + 0.5 * r * cur * cur
+        worst = loss if worst is None else bk.fmax(worst, loss)
+    return worst
+
+
 def limit_terms(
     frequency_hz: Any, field_T: Any, c: Constants, limits: Limits, ambient_temperature_C: float
 ) -> list[LimitTerm]:
     """Every hardware and exposure limit at rotation frequency ``f`` and centre field ``B0``.
 
     Per axis k the worst-heading current amplitude is ``I_k = B0 * current_per_tesla[k]``; its
-    drive voltage ``|R_k + j 2πf L_k| I_k`` (coils.voltage_amplitude_V), its steady temperature
-    ``ambient + (R_k I_k² / 2) / G_k`` (coils.copper_loss_W, coils.temperature_rise_K); the total
-    copper loss is that of the worst heading; the exposure level is ICNIRP 2010's.
+    drive voltage ``|R_k + j 2πf L_k| I_k`` (coils.voltage_amplitude_V) with R_k from
+    :func:`winding_resistance_ohm`, each pair at its own self-consistent mean winding
+    temperature; the total copper loss is that of the worst heading (:func:`total_loss_W`); the
+    exposure level is ICNIRP 2010's.
+
+    The temperature limit applies to the winding hot spot, steady or at the end of a session
+    (:func:`hot_spot_rise_K`): term ``hot_spot_k``, the rise above ambient in K, not a power law
+    of the field (``power`` None).
     """
     import coils
 
     terms: list[LimitTerm] = []
-    rise_allowed = limits.coil_temperature_C - ambient_temperature_C
+    fixed_r = c.winding_temperature_C is not None  # then every term but the hot spot is a power law
+    amb = ambient_temperature_C
+    memo: dict = {}
     for k, ax in enumerate(_AXES):
-        current = field_T * c.current_per_tesla_A_per_T[k]
-        r, ind = c.resistance_ohm[k], c.inductance_H[k]
+        per_amp = float(np.round(c.current_per_tesla_A_per_T[k], 15))
+        current = field_T * per_amp
+        r, ind = winding_resistance_ohm(current, k, c, amb), float(c.inductance_H[k])
+        memo[(k, per_amp)] = (current, r)
         terms.append(
             LimitTerm(f"current_{ax}", "limits.current_A", "A", current, limits.current_A, 1)
         )
@@ -86,13 +174,17 @@ def limit_terms(
                 "V",
                 coils.voltage_amplitude_V(r, ind, frequency_hz, current),
                 limits.voltage_V,
-                1,
+                1 if fixed_r else None,
             )
         )
-        rise = coils.temperature_rise_K(coils.copper_loss_W(r, current), c.conductance_W_per_K[k])
         terms.append(
             LimitTerm(
-                f"temperature_rise_{ax}", "limits.coil_temperature_C", "K", rise, rise_allowed, 2
+                f"hot_spot_{ax}",
+                "limits.coil_temperature_C",
+                "K",
+                hot_spot_rise_K(current, k, c, ambient_temperature_C),
+                limits.coil_temperature_C - ambient_temperature_C,
+                None,
             )
         )
     terms.append(
@@ -100,9 +192,9 @@ def limit_terms(
             "power",
             "limits.power_W",
             "W",
-            field_T * field_T * c.power_per_tesla2_W_per_T2,
+            total_loss_W(field_T, c, amb, memo),
             limits.power_W,
-            2,
+            2 if fixed_r else None,
         )
     )
     if limits.field_exposure != "off":
@@ -119,18 +211,170 @@ def limit_terms(
     return terms
 
 
+def _bisect_field_T(
+    value: Any, allowed: Any, shape: tuple[int, ...], steps: int = 80
+) -> np.ndarray:
+    """Largest B0 with ``value(B0) <= allowed`` for a value increasing in B0 (numpy).
+
+    Bracket [0, hi] with hi doubled from 1 mT until it violates, then bisection to machine
+    precision (80 halvings of a bracket at most 2^60 wide).
+    """
+    lo = np.zeros(shape)
+    hi = np.full(shape, 1e-3)
+    for _ in range(60):
+        over = ~(np.asarray(value(hi), dtype=float) <= allowed)  # NaN (runaway) is over
+        if np.all(over):
+            break
+        hi = np.where(over, hi, 2.0 * hi)
+    for _ in range(steps):
+        mid = 0.5 * (lo + hi)
+        ok = np.asarray(value(mid), dtype=float) <= allowed
+        lo, hi = np.where(ok, mid, lo), np.where(ok, hi, mid)
+    return lo
+
+
+_HOT_SPOT_CAPS: dict[tuple, tuple[Any, np.ndarray]] = {}
+
+
+def _hot_spot_cap_T(k: int, c: Constants, allowed_K: Any, ambient_temperature_C: float) -> Any:
+    """Largest centre field the hot-spot limit of axis k allows (bisection; cached per model)."""
+    allowed = np.asarray(allowed_K, dtype=float)
+    per_amp = float(c.current_per_tesla_A_per_T[k])
+    if per_amp <= 0:  # an axis no heading uses carries no current: no cap
+        return np.full(allowed.shape, np.inf)
+    key = (id(c), k, allowed.tobytes(), allowed.shape, float(ambient_temperature_C))
+    hit = _HOT_SPOT_CAPS.get(key)
+    if hit is not None and hit[0] is c:
+        return hit[1]
+
+    def value(b: Any) -> Any:
+        return hot_spot_rise_K(b * per_amp, k, c, ambient_temperature_C)
+
+    cap = _bisect_field_T(value, allowed, allowed.shape)
+    if len(_HOT_SPOT_CAPS) > 256:
+        _HOT_SPOT_CAPS.clear()
+    _HOT_SPOT_CAPS[key] = (c, cap)
+    return cap
+
+
+def _power_cap_T(c: Constants, allowed_W: Any, ambient_temperature_C: float) -> Any:
+    """Largest centre field the copper-power limit allows (bisection; depends on B0 only)."""
+    allowed = np.asarray(allowed_W, dtype=float)
+    key = (id(c), "power", allowed.tobytes(), allowed.shape, float(ambient_temperature_C))
+    hit = _HOT_SPOT_CAPS.get(key)
+    if hit is not None and hit[0] is c:
+        return hit[1]
+    cap = _bisect_field_T(
+        lambda b: total_loss_W(b, c, ambient_temperature_C), allowed, allowed.shape
+    )
+    if len(_HOT_SPOT_CAPS) > 256:
+        _HOT_SPOT_CAPS.clear()
+    _HOT_SPOT_CAPS[key] = (c, cap)
+    return cap
+
+
+def _voltage_cap_T(
+    k: int, frequency_hz: Any, c: Constants, allowed_V: Any, ambient_temperature_C: float
+) -> Any:
+    """Largest centre field the drive voltage of axis k allows, |Z(R(I))| I = V (numpy).
+
+    R(I) rises with the current (self-consistent heating), so the root in I lies between
+    hi = V/|Z(R(0))| and lo = V/|Z(R(hi))|; a secant kept inside that bracket (bisecting where
+    the bracket has not halved in two steps) finds it,
+    vectorised over f, until every residual is below 1e-12 V (or the bracket 1e-14 wide).
+    """
+    from coils.electrical import impedance_ohm
+
+    per_amp = float(c.current_per_tesla_A_per_T[k])
+    f = np.asarray(frequency_hz, dtype=float)
+    volt = np.asarray(allowed_V, dtype=float)
+    shape = np.broadcast_shapes(f.shape, volt.shape)
+    if per_amp <= 0:
+        return np.full(shape, np.inf)
+    ind = float(c.inductance_H[k])
+    amb = ambient_temperature_C
+
+    def excess(i: Any) -> Any:
+        r = np.asarray(winding_resistance_ohm(i, k, c, amb), dtype=float)
+        return np.asarray(impedance_ohm(r, ind, f), dtype=float) * i - volt
+
+    r_cold = winding_resistance_ohm(0.0, k, c, amb)
+    hi = np.array(np.broadcast_to(volt / np.asarray(impedance_ohm(r_cold, ind, f)), shape))
+    e_hi = excess(hi)  # >= 0: R only grows with the current
+    # V/|Z(R(hi))| undershoots: |Z(R(lo))| lo <= |Z(R(hi))| lo = V, a tight lower end
+    lo = hi * volt / (e_hi + volt)
+    e_lo = np.minimum(excess(lo), 0.0)
+    x0, ex0, x1, ex1 = lo, e_lo, hi, e_hi
+    i1 = hi
+    widths = [hi - lo, hi - lo]
+    for _ in range(200):  # secant kept in the bracket; bisect where it has not halved in 2 steps
+        den = np.where(ex1 != ex0, ex1 - ex0, 1.0)
+        i1 = np.where(ex1 != ex0, x1 - ex1 * (x1 - x0) / den, 0.5 * (lo + hi))
+        slow = (hi - lo) > 0.5 * widths[-2]
+        i1 = np.where((i1 > lo) & (i1 < hi) & ~slow, i1, 0.5 * (lo + hi))
+        e1 = excess(i1)
+        if not np.any((np.abs(e1) > 1e-12 * volt) & (hi - lo > 1e-14 * hi)):
+            break
+        widths.append(hi - lo)
+        hi, lo = np.where(e1 > 0, i1, hi), np.where(e1 > 0, lo, i1)
+        x0, ex0, x1, ex1 = x1, ex1, i1, e1
+    return i1 / per_amp
+
+
 def field_capacity_T(
     frequency_hz: Any, c: Constants, limits: Limits, ambient_temperature_C: float
 ) -> tuple[Any, list[Any], list[LimitTerm]]:
-    """Largest centre field each limit allows at ``f`` (numpy only): (min, caps, unit terms)."""
-    import numpy as np
+    """Largest centre field each limit allows at ``f`` (numpy only): (min, caps, unit terms).
 
+    Power-law terms invert in closed form; the session hot-spot term (``power`` None) by a
+    vectorised bisection on the same expression (:func:`_bisect_field_T`).
+    """
     unit = limit_terms(frequency_hz, 1.0, c, limits, ambient_temperature_C)
-    with np.errstate(divide="ignore"):  # an axis no heading uses carries no current: no cap
-        caps = [
-            np.divide(t.allowed, np.asarray(t.value, dtype=float)) ** (1.0 / t.power) for t in unit
-        ]
+    caps = []
+    for t in unit:
+        if t.power is None and t.name.startswith("hot_spot_"):  # depends on B0 only, not on f
+            caps.append(
+                _hot_spot_cap_T(_AXES.index(t.name[-1]), c, t.allowed, ambient_temperature_C)
+            )
+            continue
+        if t.power is None and t.name == "power":
+            caps.append(_power_cap_T(c, t.allowed, ambient_temperature_C))
+            continue
+        if t.power is None:  # voltage with the self-consistent resistance
+            caps.append(
+                _voltage_cap_T(
+                    _AXES.index(t.name[-1]), frequency_hz, c, t.allowed, ambient_temperature_C
+                )
+            )
+            continue
+        with np.errstate(divide="ignore"):  # an axis no heading uses carries no current: no cap
+            caps.append(np.divide(t.allowed, np.asarray(t.value, dtype=float)) ** (1.0 / t.power))
     return np.minimum.reduce(np.broadcast_arrays(*caps)), caps, unit
+
+
+@dataclass(frozen=True)
+class FieldCapacity:
+    """The largest centre field the limits allow at one frequency, and the limit that sets it."""
+
+    field_T: float
+    limited_by: str
+    limit_key: str
+    caps_T: dict[str, float]
+
+
+def field_capacity(
+    frequency_hz: float, c: Constants, limits: Limits, ambient_temperature_C: float
+) -> FieldCapacity:
+    """:func:`field_capacity_T` at one frequency with the binding limit named (computed once)."""
+    best, caps, terms = field_capacity_T(frequency_hz, c, limits, ambient_temperature_C)
+    values = [float(x) for x in caps]
+    i = int(np.argmin(values))
+    return FieldCapacity(
+        field_T=float(best),
+        limited_by=terms[i].name,
+        limit_key=terms[i].key,
+        caps_T={t.name: v for t, v in zip(terms, values)},
+    )
 
 
 def available_torque_Nm(field_T: Any, c: Constants) -> Any:

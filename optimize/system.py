@@ -121,13 +121,22 @@ class DesignModel:
         Unit headings the capsule must be steerable along.
     points_m : ndarray, shape (n, 3)
         Workspace points, m, relative to the coil centre.
-    winding_temperature_C, ambient_temperature_C : float
-        Copper temperature for the resistance, and the surrounding air, °C.
+    winding_temperature_C : float or None
+        Copper temperature for the resistance in the voltage and power limits, °C; None (the
+        default): the mean winding temperature of the thermal limit state, solved
+        self-consistently (:mod:`coils.thermal`).
+    ambient_temperature_C : float
+        Surrounding air, °C.
     heat_transfer_coefficient_W_m2K : float
         Convective coefficient from the winding surface, W/(m²·K).
+    winding_conductivity_W_mK : float
+        Effective transverse conductivity of the winding packs, W/(m·K).
+    surface_emissivity : float
+        Grey-body emissivity of the winding surface.
+    session_s : float or None
+        Length of a continuous run from ambient, s; None: steady state.
     field_amplitude_T : float or None
-        Operating rotating-field amplitude at the centre, T; None drives the coils at the
-        largest field every limit allows at the operating frequency.
+        Fixed operating field amplitude at the centre, T; None: the largest the limits allow.
     sizing : optimize.hardware.Sizing or None
         Hardware the optimiser may choose (free variables, standard wires, least bore).
     """
@@ -141,9 +150,12 @@ class DesignModel:
     limits: Limits
     requirements: Requirements
     bounds: Bounds
-    winding_temperature_C: float = 40.0
+    winding_temperature_C: float | None = None
     ambient_temperature_C: float = 25.0
     heat_transfer_coefficient_W_m2K: float = 10.0
+    winding_conductivity_W_mK: float = 0.5
+    surface_emissivity: float = 0.9
+    session_s: float | None = None
     field_amplitude_T: float | None = None
     sizing: Any = None
     constants: Any = field(default=None, compare=False, repr=False)
@@ -155,19 +167,23 @@ class Constants:
 
     ``current_per_tesla_A_per_T[k]``: current amplitude axis k needs per tesla of rotating field
     for the worst heading, max over headings of sqrt(1 - n_k²) / g_k.
-    ``power_per_tesla2_W_per_T2``: copper loss per T² for the worst heading,
-    max over headings of Σ_k (1 - n_k²) R_k / (2 g_k²).
+    ``power_weights_per_T2[h, k]``: (1 - n_k²) / (2 g_k²) for heading h, so that the copper
+    loss per T² of heading h is Σ_k w_hk R_k (the resistance depends on the limits).
+    ``packs``: the thermal description of each pair (:class:`coils.thermal.WindingPack`);
+    ``resistance_20C_ohm``: pair resistances at 20 °C; ``winding_temperature_C``: a fixed copper
+    temperature for the voltage/power resistance, or None (self-consistent);
+    ``session_s``: run length, s, or None (steady).
     ``workspace_factor``: weakest field the magnet sees during a turn, over every workspace point
     and heading, per tesla of centre amplitude (minor semi-axis of the field ellipse).
     ``copper_mass_kg[k]``: copper of pair k (both coils), wire length x area x density.
     """
 
     gains_T_per_A: np.ndarray
-    resistance_ohm: np.ndarray
+    resistance_20C_ohm: np.ndarray
     inductance_H: np.ndarray
-    conductance_W_per_K: np.ndarray
+    packs: tuple
     current_per_tesla_A_per_T: np.ndarray
-    power_per_tesla2_W_per_T2: float
+    power_weights_per_T2: np.ndarray
     workspace_factor: float
     moment_Am2: float
     body_diameter_m: float
@@ -177,23 +193,33 @@ class Constants:
     helix_diameter_m: float
     copper_mass_kg: np.ndarray
     starts: int = 1
+    winding_temperature_C: float | None = None
+    session_s: float | None = None
 
 
 def precompute(model: DesignModel) -> Constants:
     """Reduce coils, headings and workspace to the constants of the margin and the limits."""
     import capsule as cap
+    from coils.thermal import WindingPack
 
     pairs = model.coils.pairs
     g = np.asarray(model.coils.centre_gains_T_per_A, dtype=float)
-    r = np.array([p.resistance_ohm(model.winding_temperature_C) for p in pairs])
+    r20 = np.array([p.resistance_ohm(20.0) for p in pairs])
     ind = np.array([p.series_inductance_H for p in pairs])
-    cond = np.array(
-        [p.thermal_conductance_W_per_K(model.heat_transfer_coefficient_W_m2K) for p in pairs]
+    packs = tuple(
+        WindingPack(
+            pack_side_m=p.winding_pack_side_m,
+            mean_radius_m=p.radius_m,
+            packing_factor=p.packing_factor,
+            conductivity_W_mK=model.winding_conductivity_W_mK,
+            heat_transfer_coefficient_W_m2K=model.heat_transfer_coefficient_W_m2K,
+            emissivity=model.surface_emissivity,
+        )
+        for p in pairs
     )
     n2 = np.asarray(model.headings, dtype=float) ** 2  # (h, 3)
     s = np.sqrt(np.clip(1.0 - n2, 0.0, 1.0))  # (h, 3)
     current_per_T = np.max(s / g, axis=0)
-    power_per_T2 = float(np.max(np.sum(s**2 * r / (2.0 * g**2), axis=1)))
     factor = min(
         float(np.min(model.coils.rotating_field_semi_axes_T(model.points_m, h, 1.0)[0]))
         for h in model.headings
@@ -201,11 +227,11 @@ def precompute(model: DesignModel) -> Constants:
     body, spiral = model.capsule.body, model.capsule.spiral
     return Constants(
         gains_T_per_A=g,
-        resistance_ohm=r,
+        resistance_20C_ohm=r20,
         inductance_H=ind,
-        conductance_W_per_K=cond,
+        packs=packs,
         current_per_tesla_A_per_T=current_per_T,
-        power_per_tesla2_W_per_T2=power_per_T2,
+        power_weights_per_T2=s**2 / (2.0 * g**2),
         workspace_factor=factor,
         moment_Am2=float(model.capsule.magnet.moment_Am2),
         body_diameter_m=body.diameter_m,
@@ -217,6 +243,8 @@ def precompute(model: DesignModel) -> Constants:
             [COPPER_DENSITY_kg_m3 * p.wire_length_m * p.wire_area_m2 for p in pairs]
         ),
         starts=int(spiral.starts),
+        winding_temperature_C=model.winding_temperature_C,
+        session_s=model.session_s,
     )
 
 

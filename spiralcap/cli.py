@@ -24,6 +24,7 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "fit": ("fit", "identify tissue parameters from bench torque measurements (CSV)"),
     "evaluate": ("evaluate", "the design at its operating point: field, torques, margin, limits"),
     "optimize": ("optimize", "choose helical angle, frequency and coil currents for most margin"),
+    "waveforms": ("waveforms", "coil currents, voltages and field for a sequence of headings"),
     "sweep": ("sweep", "evaluate or re-optimise across a grid of design keys"),
     "uncertainty": ("uncertainty", "step-out probability and margin spread over uncertain tissue"),
     "report": ("report", "write the engineering report (self-contained HTML, optional PDF)"),

@@ -133,9 +133,9 @@ MAGNET_GRADES = ("N35", "N42", "N45", "N48", "N52")
 KEYS: dict[str, Key] = {
     # --- coils ---------------------------------------------------------------------------------
     "coils.winding_temperature_C": _between(
-        "copper temperature for the winding resistance (default: limits.coil_temperature_C, "
-        "the hottest allowed, which is self-consistent wherever the thermal limit binds); "
-        "range: cold-room ambient to the 250 °C of the hottest enamel class",
+        "fixed copper temperature for the resistance in the voltage and power limits (default: "
+        "the mean winding temperature solved with the heating, coils.thermal); range: "
+        "cold-room ambient to the 250 °C of the hottest enamel class",
         None,
         -50.0,
         250.0,
@@ -439,7 +439,7 @@ KEYS.update(
             open_=False,
         ),
         "limits.coil_temperature_C": _between(
-            "hottest steady coil temperature allowed; range: -50 to 250 °C, the hottest enamel "
+            "hottest winding temperature allowed (the hot spot at the pack centre); range: -50 to 250 °C, the hottest enamel "
             "insulation class (IEC 60317)",
             90.0,
             -50.0,
@@ -557,7 +557,34 @@ def _free_range(key: str) -> Key:
 KEYS.update({f"optimize.free.{k}": _free_range(k) for k in FREEABLE_KEYS})
 
 # --- coils as they really run (issue 10) ---
-KEYS.update({})
+KEYS.update(
+    {
+        "coils.winding_conductivity_W_mK": _between(
+            "effective transverse thermal conductivity of the winding pack (impregnated round "
+            "wire 0.3-1.0; Simpson, Wrobel & Mellor, IEEE Trans. Ind. Appl. 49(6), 2013)",
+            0.5,
+            0.01,
+            400.0,
+            open_=False,
+        ),
+        "coils.surface_emissivity": _between(
+            "grey-body emissivity of the winding surface (varnish or enamel ~0.9; "
+            "Incropera & DeWitt Table A.11; 0 switches radiation off)",
+            0.9,
+            0.0,
+            1.0,
+            open_=False,
+        ),
+        "operation.session_min": _between(
+            "length of one continuous run from ambient: the temperature limit then applies at "
+            "its end (absent: steady state)",
+            None,
+            0.0,
+            1.0e5,
+            open_=True,
+        ),
+    }
+)
 
 
 # --- tissue uncertainty (issue 11) ---
@@ -751,7 +778,7 @@ def defaults() -> dict[str, Any]:
     return {k: s.default for k, s in KEYS.items() if s.default is not None}
 
 
-def winding_temperature_C(design: Any) -> float:
-    """Copper temperature for the resistance: the key if set, else the coil temperature limit."""
+def winding_temperature_C(design: Any) -> float | None:
+    """Fixed copper temperature for the resistance, or None (solved with the heating)."""
     value = design.get("coils.winding_temperature_C")
-    return float(design["limits.coil_temperature_C"] if value is None else value)
+    return None if value is None else float(value)

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import importlib
 import json
+import math
 from pathlib import Path
 
 import pytest
@@ -107,7 +108,7 @@ def test_json_output(run_cli, capsys, tmp_path: Path) -> None:
         "temperature_rise_K",
         "wire_length_m",
         "impedance_ohm",
-        "coil_temperature_C",
+        "hot_spot_temperature_C",
         "max_rotating_field_T",
         "max_current_A",
     }
@@ -118,9 +119,12 @@ def test_json_output(run_cli, capsys, tmp_path: Path) -> None:
     assert z["power_W"] == pytest.approx(z["resistance_ohm"] * 15.0**2 / 2, rel=1e-12), (
         "copper loss of a sinusoidal current R I^2/2, 1e-12"
     )
-    assert z["coil_temperature_C"] == pytest.approx(25 + z["temperature_rise_K"], rel=1e-12), (
-        "coil temperature = ambient + rise, 1e-12"
+    assert z["hot_spot_temperature_C"] == pytest.approx(25 + z["temperature_rise_K"], rel=1e-12), (
+        "hot-spot temperature = ambient + rise, 1e-12"
     )
+    assert z["resistance_ohm"] == pytest.approx(
+        z["resistance_20C_ohm"] * (1 + 0.00393 * (z["mean_temperature_C"] - 20)), rel=1e-12
+    ), "resistance at the mean winding temperature (IEC 60028 alpha = 0.00393/K), 1e-12"
     assert out["current_limiting_axes"] == ["z"], "fewest turns per metre: z is weakest"
     region = out["uniform_region"]
     assert region["radius_1pct_m"] < region["radius_5pct_m"] < 0.3, (
@@ -142,8 +146,15 @@ def test_limits_by_hand_and_shared_with_evaluate(run_cli, capsys) -> None:
     assert run_cli(["coils", "--json", *sets]) == 0
     out = json.loads(capsys.readouterr().out)
     z = out["axes"]["z"]
-    assert z["max_current_A"] == pytest.approx(20.0 / z["impedance_ohm"], rel=1e-12), (
-        "voltage-limited current amplitude V_max/|Z| (Ohm's law), 1e-12"
+    from coils.thermal import WindingPack, steady_state
+
+    pack = WindingPack(z["winding_pack_side_m"], z["radius_m"], 0.7, 0.5, 10.0, 0.9)
+    i = z["max_current_A"]
+    r = float(steady_state(pack, z["resistance_20C_ohm"], i, 25.0).resistance_ohm)
+    z_ohm = math.hypot(r, 2 * math.pi * 2.0 * z["inductance_H"])
+    assert i == pytest.approx(20.0 / z_ohm, rel=1e-9), (
+        "voltage-limited current amplitude V_max/|Z| (Ohm's law) with R at the winding's own "
+        "mean temperature at that current, 1e-9"
     )
     assert z["max_current_limited_by"] == "voltage"
     assert out["current_limiting_axes"] == ["z"], "fewest turns per metre: z is weakest"

@@ -61,15 +61,21 @@ def test_icnirp_2010_reference_levels(kind, f, level):
     )
 
 
-def test_step_out_frequency_is_where_the_margin_vanishes():
+def test_max_frequency_is_where_the_drive_margin_vanishes():
     m = _model()
     ev = evaluate(m)
-    f = ev.step_out_frequency_hz
-    assert 0 < f < math.inf, "step-out is a finite positive frequency for the built-in design"
+    f = ev.max_frequency_hz
+    assert 0 < f < math.inf and not ev.max_frequency_beyond_search, (
+        "the drive's largest frequency is finite and positive for the built-in design"
+    )
     at = float(margin_grid(m, ev.helical_angle_rad, f)["margin_Nm"])
-    assert abs(at) < 1e-12, "margin is zero at the step-out frequency (brentq, 1e-12 N·m)"
+    assert abs(at) < 1e-12, "drive margin is zero at max_frequency_hz (brentq, 1e-12 N·m)"
     assert float(margin_grid(m, ev.helical_angle_rad, 0.99 * f)["margin_Nm"]) > 0, (
-        "margin is still positive just below the step-out frequency"
+        "margin is still positive just below the drive's largest frequency"
+    )
+    assert ev.max_frequency_limited_by == "voltage_x", "inductive voltage of the x pair sets it"
+    assert ev.step_out_frequency_hz > ev.max_frequency_hz, (
+        "at the operating field the capsule steps out above where the drive runs out"
     )
 
 

@@ -112,10 +112,15 @@ def build_model(design: Design):
         winding_temperature_C=winding_temperature_C(d),
         ambient_temperature_C=d["coils.ambient_temperature_C"],
         heat_transfer_coefficient_W_m2K=d["coils.heat_transfer_coefficient_W_m2K"],
+        winding_conductivity_W_mK=d["coils.winding_conductivity_W_mK"],
+        surface_emissivity=d["coils.surface_emissivity"],
+        session_s=None
+        if d.get("operation.session_min") is None
+        else to_si("operation.session_min", d["operation.session_min"]),
         field_amplitude_T=(
             None
             if d.get("operation.field_amplitude_mT") is None
-            else d["operation.field_amplitude_mT"] * 1e-3
+            else to_si("operation.field_amplitude_mT", d["operation.field_amplitude_mT"])
         ),
         sizing=build_sizing(d),
     )

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-from dataclasses import asdict
 from typing import Any
 
 from spiralcap.commands._common import (
@@ -12,9 +11,6 @@ from spiralcap.commands._common import (
     format_table,
     print_json,
 )
-from spiralcap.schema import winding_temperature_C
-
-_TOLERANCES = (("1pct", 0.01), ("5pct", 0.05))
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -25,87 +21,17 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_geometry_plot_argument(parser)
 
 
-def _uniform(system: Any) -> dict[str, Any]:
-    from coils import uniform_region
-
-    out: dict[str, Any] = {}
-    for name, tol in _TOLERANCES:
-        region = uniform_region(system, tol)
-        out[f"radius_{name}_m"] = region.radius_m
-        out[f"worst_field_direction_{name}"] = region.field_direction
-        out[f"limiting_ray_{name}"] = region.limiting_ray
-        for pair in system.pairs:
-            out.setdefault("per_axis", {}).setdefault(pair.axis, {})[f"radius_{name}_m"] = (
-                uniform_region(pair, tol).radius_m
-            )
-    return out
-
-
 def _axes_words(axes: tuple[str, ...]) -> str:
     if len(axes) == 1:
         return f"{axes[0]} axis"
     return ", ".join(axes[:-1]) + f" and {axes[-1]} axes alike"
 
 
-def _within_limits(design: Any) -> dict[str, Any]:
-    """What every limit allows at the design's frequency, worst heading: the one definition.
-
-    The numbers come from :func:`optimize.physics.field_capacity_T`, the same function
-    ``evaluate`` and ``optimize`` use, so the three commands always agree.
-    """
-    import numpy as np
-
-    from optimize import physics, prepare
-    from spiralcap.assemble import build_model
-
-    model = prepare(build_model(design))
-    c = model.constants
-    best, caps, terms = physics.field_capacity_T(
-        model.frequency_hz, c, model.limits, model.ambient_temperature_C
-    )
-    caps = [float(x) for x in caps]
-    binding = terms[caps.index(min(caps))]
-    per_axis = {}
-    for k, ax in enumerate("xyz"):
-        own = [(cap, t.name) for cap, t in zip(caps, terms) if t.name.endswith(f"_{ax}")]
-        cap, name = min(own)
-        if not np.isfinite(cap):  # no heading uses this axis: it carries no current, caps nothing
-            cap, name = float(best), f"unused_{ax}"
-        per_axis[ax] = {
-            "max_rotating_field_T": cap,
-            "max_current_A": cap * float(c.current_per_tesla_A_per_T[k]),
-            "max_current_limited_by": name[: -len(f"_{ax}")],
-        }
-    return {
-        "max_rotating_field_T": float(best),
-        "limited_by": binding.name,
-        "limit_key": binding.key,
-        # limits on an axis no heading uses cap nothing and are left out
-        "per_limit_max_field_T": {t.name: cap for t, cap in zip(terms, caps) if np.isfinite(cap)},
-        "axes": per_axis,
-    }
-
-
 def sizing_payload(design: Any) -> dict[str, Any]:
-    """The dict ``spiralcap coils --json`` prints: per-axis sizing, uniformity, field limits."""
-    from coils import size_system
-    from spiralcap.assemble.coils import build_coils
+    """The dict ``spiralcap coils --json`` prints (spiralcap.analysis.coils)."""
+    from spiralcap.analysis.coils import analyse_coils, coils_payload
 
-    system = build_coils(design)
-    sizing = size_system(
-        system,
-        frequency_hz=design["operation.frequency_hz"],
-        current_amplitude_A=design["limits.current_A"],
-        winding_temperature_C=winding_temperature_C(design),
-        ambient_temperature_C=design["coils.ambient_temperature_C"],
-        heat_transfer_coefficient_W_m2K=design["coils.heat_transfer_coefficient_W_m2K"],
-    )
-    payload = asdict(sizing)
-    limits = _within_limits(design)
-    payload["axes"] = {a["axis"]: {**a, **limits["axes"][a["axis"]]} for a in payload["axes"]}
-    payload["rotating_field_within_limits"] = {k: v for k, v in limits.items() if k != "axes"}
-    payload["uniform_region"] = _uniform(system)
-    return {"design": getattr(design, "source", "design"), **payload}
+    return coils_payload(analyse_coils(design))
 
 
 def _text(p: dict[str, Any]) -> str:
@@ -124,8 +50,8 @@ def _text(p: dict[str, Any]) -> str:
             a["impedance_ohm"],
             a["voltage_amplitude_V"],
             a["power_W"],
-            a["temperature_rise_K"],
-            a["coil_temperature_C"],
+            a["surface_temperature_C"],
+            a["hot_spot_temperature_C"],
             a["field_amplitude_T"] * 1e3,
         ]
         for a in axes
@@ -144,8 +70,8 @@ def _text(p: dict[str, Any]) -> str:
             "Z_ohm",
             "V_amp_V",
             "P_W",
-            "rise_K",
-            "coil_C",
+            "surf_C",
+            "hot_C",
             "B_mT",
         ],
         rows,
@@ -166,17 +92,63 @@ def _text(p: dict[str, Any]) -> str:
         ],
     )
     w = p["rotating_field_within_limits"]
+    wh = p["worst_heading"]
+    op = p["operating_point"]
+    session = op["session_s"]
+    therm = format_table(
+        [
+            "axis",
+            "I_A",
+            "R_ohm",
+            "P_W",
+            "surface_C",
+            "mean_C",
+            "hot_spot_C",
+            "C_kJ_per_K",
+            "tau_min",
+        ]
+        + (["session_end_hot_C"] if session is not None else []),
+        [
+            [
+                t["axis"],
+                t["current_A"],
+                t["resistance_ohm"],
+                t["power_W"],
+                t["surface_temperature_C"],
+                t["mean_temperature_C"],
+                t["hot_spot_temperature_C"],
+                t["heat_capacity_J_per_K"] * 1e-3,
+                t["time_constant_s"] / 60.0,
+            ]
+            + ([t["session_hot_spot_temperature_C"]] if session is not None else [])
+            for t in (op["axes"][ax] for ax in "xyz")
+        ],
+    )
+    run_words = (
+        "steady state"
+        if session is None
+        else f"a {session / 60:g} min run from ambient (limit applies at its end)"
+    )
     lines = [
         f"design: {p['design']}",
         f"current amplitude {p['current_amplitude_A']:g} A per pair at {p['frequency_hz']:g} Hz; "
-        f"copper at {p['winding_temperature_C']:g} °C, ambient {p['ambient_temperature_C']:g} °C, "
-        f"h = {p['heat_transfer_coefficient_W_m2K']:g} W/(m²·K)",
+        f"ambient {p['ambient_temperature_C']:g} °C, h = {p['heat_transfer_coefficient_W_m2K']:g} "
+        f"W/(m²·K), emissivity {p['surface_emissivity']:g}, winding k = "
+        f"{p['winding_conductivity_W_mK']:g} W/(m·K); R at the self-consistent mean temperature",
         "",
+        "each pair alone at the current limit (steady; NaN: thermal runaway):",
         table,
-        f"total copper loss: {p['total_power_W']:.4g} W",
+        f"total copper loss at the current limit, worst heading "
+        f"({', '.join(f'{x:.3g}' for x in wh['heading'])}): {p['total_power_W']:.4g} W "
+        f"at {wh['field_amplitude_T'] * 1e3:.4g} mT",
         "",
-        "largest current each pair may carry, worst heading (current, voltage, temperature):",
+        "largest current each pair may carry, worst heading (current, voltage, hot spot):",
         limits,
+        "",
+        f"at the operating field {op['field_amplitude_T'] * 1e3:.4g} mT"
+        f"{' (fixed)' if op['field_fixed'] else ''}, worst-heading currents, {run_words}; "
+        f"limit {op['limit_temperature_C']:g} °C at the hot spot:",
+        therm,
         "",
         "uniform region of the three-axis system (worst of 13 static field directions):",
         f"  ±1 %: radius {uniform['radius_1pct_m']:.4g} m;  "
@@ -189,13 +161,6 @@ def _text(p: dict[str, Any]) -> str:
         f" ({w['limit_key']}); the power limit alone allows "
         f"{w['per_limit_max_field_T']['power'] * 1e3:.4g} mT",
     ]
-    hottest = max(axes, key=lambda a: a["coil_temperature_C"])
-    if hottest["coil_temperature_C"] > p["winding_temperature_C"]:
-        lines.append(
-            f"note: at {p['current_amplitude_A']:g} A the {hottest['axis']} coils would "
-            f"reach {hottest['coil_temperature_C']:.4g} °C, above the "
-            f"{p['winding_temperature_C']:g} °C at which R was evaluated"
-        )
     return "\n".join(lines)
 
 

@@ -67,7 +67,11 @@ def format_evaluation(ev) -> str:
         ),
         f"margin              {ev.margin_Nm * mnm:.4g} mN·m (safety factor "
         f"{safety_factor_text(ev.safety_factor)})",
-        f"step-out frequency  {step_out_text(ev.step_out_frequency_hz)}",
+        f"step-out frequency  {step_out_text(ev.step_out_frequency_hz)}"
+        " at this field; the "
+        f"drive holds a margin up to {ev.max_frequency_hz:.4g} Hz"
+        f"{' or more' if ev.max_frequency_beyond_search else ''} "
+        f"(limited by {ev.max_frequency_limited_by})",
         f"forward speed       {ev.speed_m_s * 1e3:.4g} mm/s, spiral turns {ev.spiral_turns:.3g}",
         "",
         format_table(

@@ -82,15 +82,10 @@ def versions() -> dict[str, str]:
 
 
 def coil_sizing_json(design: Design) -> tuple[dict[str, Any], str]:
-    """The dict ``spiralcap coils --json`` prints for ``design``, and where it came from.
+    """The dict ``spiralcap coils --json`` prints for ``design``, and where it came from."""
+    from spiralcap.analysis.coils import analyse_coils, coils_payload
 
-    The report's only remaining import from ``spiralcap.commands``: helper i10 (issue 13 item
-    2) moves ``sizing_payload`` into an application module; this line then imports it from
-    there and the report imports nothing from the CLI layer.
-    """
-    from spiralcap.commands.coils import sizing_payload
-
-    return sizing_payload(design), "spiralcap.commands.coils.sizing_payload(design)"
+    return coils_payload(analyse_coils(design)), "spiralcap.analysis.coils.analyse_coils(design)"
 
 
 def uniform_radii_m(coils_json: dict[str, Any]) -> dict[str, dict[float, float]]:

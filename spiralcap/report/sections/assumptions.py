@@ -114,16 +114,20 @@ def build(ctx: Context) -> Section:
             " — mutual inductance of coaxial circles by "
             "Maxwell's elliptic-integral formula [5] averaged over both winding packs; self "
             "inductance by Stefan's formula for a square section [6]; series pair 2L + 2M. DC "
-            "copper resistance at coils.winding_temperature_C, by default the coil temperature "
-            "limit (IEC 60028 resistivity and temperature coefficient [9]); at these frequencies "
+            "copper resistance at each pack's mean winding temperature, solved with the heating "
+            "(or at coils.winding_temperature_C if set; IEC 60028 resistivity and temperature "
+            "coefficient [9]); at these frequencies "
             "the skin depth exceeds the wire radius. Voltage amplitude |R + j2πfL|·I.",
         ],
         [
             Strong("Heating"),
-            " — steady state, each winding pack isothermal, convection from its "
-            "outer surface with coils.heat_transfer_coefficient_W_m2K: ΔT = P / (h·A). No "
-            "conduction to the frame, no radiation, no transient (a conservative simplification "
-            "for continuous operation).",
+            " — each square winding pack conducts its uniform copper loss to its faces with "
+            "coils.winding_conductivity_W_mK (hot spot 0.0737 q‴a²/k above the faces, Carslaw & "
+            "Jaeger) and sheds it by convection (coils.heat_transfer_coefficient_W_m2K) and "
+            "radiation (coils.surface_emissivity); the temperature limit applies to the hot spot, "
+            "steady or at the end of operation.session_min (lumped transient from ambient, "
+            "steady internal gradient assumed throughout: conservative). No conduction to the "
+            "frame (docs/coils-thermal.md).",
         ],
         [
             Strong("Magnet and magnetic torque"),

@@ -16,16 +16,16 @@ SIZING_ROWS: tuple[tuple[str, str, str, float], ...] = (
     ("winding_pack_side_m", "winding-pack side", "mm", 1e3),
     ("wire_length_m", "wire length per pair", "m", 1.0),
     ("field_per_amp_T_per_A", "centre field per ampere", "mT/A", 1e3),
-    ("resistance_ohm", "resistance of the pair (winding temperature)", "Ω", 1.0),
+    ("resistance_ohm", "resistance of the pair (mean winding temperature)", "Ω", 1.0),
     ("self_inductance_H", "self inductance of one coil", "mH", 1e3),
     ("mutual_inductance_H", "mutual inductance of the two coils", "mH", 1e3),
     ("inductance_H", "series inductance of the pair (2L + 2M)", "mH", 1e3),
     ("impedance_ohm", "impedance |R + jωL| at the operating frequency", "Ω", 1.0),
     ("voltage_amplitude_V", "drive-voltage amplitude at the current limit", "V", 1.0),
     ("power_W", "copper loss at the current limit", "W", 1.0),
-    ("thermal_conductance_W_per_K", "convective thermal conductance", "W/K", 1.0),
-    ("temperature_rise_K", "steady temperature rise at the current limit", "K", 1.0),
-    ("coil_temperature_C", "coil temperature at the current limit", "°C", 1.0),
+    ("surface_conductance_W_per_K", "surface conductance (convection + radiation)", "W/K", 1.0),
+    ("surface_temperature_C", "steady surface temperature at the current limit", "°C", 1.0),
+    ("hot_spot_temperature_C", "steady hot-spot temperature at the current limit", "°C", 1.0),
     ("field_amplitude_T", "centre field at the current limit", "mT", 1e3),
     ("max_current_A", "largest current inside all limits", "A", 1.0),
     ("max_current_limited_by", "which limit sets it", "", 1.0),
@@ -96,11 +96,9 @@ def build(ctx: Context) -> Section:
             ctx.num(f"{c}.current_amplitude_A", unit="A"),
             " and the operating frequency ",
             ctx.num(f"{c}.frequency_hz", unit="Hz"),
-            ", copper resistance at ",
-            ctx.num(f"{c}.winding_temperature_C", unit="°C"),
-            ", ambient ",
+            ", copper resistance at the self-consistent mean winding temperature, ambient ",
             ctx.num(f"{c}.ambient_temperature_C", unit="°C"),
-            ". All three pairs at that current dissipate ",
+            ". The heading that draws the most at that current dissipates ",
             ctx.num(f"{c}.total_power_W", unit="W"),
             ". Inside every limit the largest rotating field (worst heading) is ",
             ctx.num(f"{c}.rotating_field_within_limits.max_rotating_field_T", 1e3, "mT"),
@@ -135,7 +133,7 @@ def build(ctx: Context) -> Section:
         geometry,
     ]
     limit_C = design["limits.coil_temperature_C"]
-    hot = [a for a in axes if ctx.value(f"{c}.axes.{a}.coil_temperature_C") > limit_C]
+    hot = [a for a in axes if not ctx.value(f"{c}.axes.{a}.hot_spot_temperature_C") <= limit_C]
     if hot:
         blocks.append(
             Paragraph(
@@ -143,7 +141,7 @@ def build(ctx: Context) -> Section:
                     "At the full current limit the ",
                     ", ".join(hot),
                     f" coils would exceed limits.coil_temperature_C = {limit_C:g} °C (e.g. ",
-                    ctx.num(f"{c}.axes.{hot[0]}.coil_temperature_C", unit="°C"),
+                    ctx.num(f"{c}.axes.{hot[0]}.hot_spot_temperature_C", unit="°C"),
                     "), so the evaluation and the optimiser drive them below that current.",
                 ],
                 kind="note",

@@ -1,0 +1,268 @@
+"""The coil analysis behind ``spiralcap coils`` and the report's coil section.
+
+:func:`analyse_coils` sizes every pair at the current limit (coils.size_system), takes what the
+limits allow from :func:`optimize.physics.field_capacity` (the one definition that ``evaluate``
+and ``optimize`` use, binding limit named once there), the thermal state of each pair at the
+operating point (steady, or at the end of ``operation.session_min``, with its heating curve),
+and the uniform regions. :func:`coils_payload` is the JSON form ``spiralcap coils --json``
+prints.
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass
+from typing import Any
+
+import numpy as np
+
+_TOLERANCES = (("1pct", 0.01), ("5pct", 0.05))
+_AXES = ("x", "y", "z")
+
+
+@dataclass(frozen=True)
+class AxisLimit:
+    """Largest current one pair may carry inside every limit (worst heading), and why."""
+
+    axis: str
+    max_current_A: float
+    max_current_limited_by: str
+    max_rotating_field_T: float
+
+
+@dataclass(frozen=True)
+class HeatingCurve:
+    """Lumped heating of one pair from ambient at its operating current (°C against s)."""
+
+    axis: str
+    current_A: float
+    time_s: np.ndarray
+    surface_C: np.ndarray
+    mean_C: np.ndarray
+    hot_spot_C: np.ndarray
+    time_constant_s: float
+    heat_capacity_J_per_K: float
+    final_mean_C: float
+    final_hot_spot_C: float
+
+
+@dataclass(frozen=True)
+class AxisOperatingThermal:
+    """Thermal state of one pair at the operating field (worst-heading current).
+
+    Steady temperatures always; ``session_*`` at the end of the session (None without one).
+    ``resistance_ohm`` is at the mean winding temperature of the run (session end, or steady):
+    the resistance ``spiralcap waveforms`` drives with.
+    """
+
+    axis: str
+    current_A: float
+    resistance_ohm: float
+    power_W: float
+    surface_temperature_C: float
+    mean_temperature_C: float
+    hot_spot_temperature_C: float
+    heat_capacity_J_per_K: float
+    time_constant_s: float
+    session_hot_spot_temperature_C: float | None
+    session_mean_temperature_C: float | None
+
+
+@dataclass(frozen=True)
+class UniformRegions:
+    """Radii of the ±1 % and ±5 % spheres (three-axis system and each pair alone), m."""
+
+    radius_1pct_m: float
+    radius_5pct_m: float
+    worst_field_direction_1pct: tuple[float, ...]
+    worst_field_direction_5pct: tuple[float, ...]
+    limiting_ray_1pct: tuple[float, ...]
+    limiting_ray_5pct: tuple[float, ...]
+    per_axis_radius_1pct_m: dict[str, float]
+    per_axis_radius_5pct_m: dict[str, float]
+
+
+@dataclass(frozen=True)
+class CoilAnalysis:
+    """Everything ``spiralcap coils`` reports (SI; names carry units)."""
+
+    design: str
+    sizing: Any  # coils.SystemSizing at the current limit
+    capacity: Any  # optimize.physics.FieldCapacity at the operating frequency
+    axis_limits: tuple[AxisLimit, ...]
+    operating_field_T: float
+    operating_field_fixed: bool
+    session_s: float | None
+    limit_temperature_C: float
+    operating: tuple[AxisOperatingThermal, ...]
+    heating: tuple[HeatingCurve, ...]
+    uniform: UniformRegions
+
+
+def _uniform(system: Any) -> UniformRegions:
+    from coils import uniform_region
+
+    whole = {name: uniform_region(system, tol) for name, tol in _TOLERANCES}
+    per = {
+        name: {p.axis: float(uniform_region(p, tol).radius_m) for p in system.pairs}
+        for name, tol in _TOLERANCES
+    }
+    return UniformRegions(
+        radius_1pct_m=float(whole["1pct"].radius_m),
+        radius_5pct_m=float(whole["5pct"].radius_m),
+        worst_field_direction_1pct=tuple(float(x) for x in whole["1pct"].field_direction),
+        worst_field_direction_5pct=tuple(float(x) for x in whole["5pct"].field_direction),
+        limiting_ray_1pct=tuple(float(x) for x in whole["1pct"].limiting_ray),
+        limiting_ray_5pct=tuple(float(x) for x in whole["5pct"].limiting_ray),
+        per_axis_radius_1pct_m=per["1pct"],
+        per_axis_radius_5pct_m=per["5pct"],
+    )
+
+
+def operating_thermal(
+    model: Any, field_T: float
+) -> tuple[list[AxisOperatingThermal], list[HeatingCurve]]:
+    """Thermal state and heating curve of each pair at centre field ``field_T`` (worst heading).
+
+    ``model`` is a prepared :class:`optimize.DesignModel`."""
+    from coils.thermal import steady_state, transient
+    from optimize import physics
+    from spiralcap.constants import COPPER_TEMPERATURE_COEFFICIENT_per_K as ALPHA
+
+    c, amb = model.constants, model.ambient_temperature_C
+    out, curves = [], []
+    for k, ax in enumerate(_AXES):
+        current = field_T * float(c.current_per_tesla_A_per_T[k])
+        pack, r20 = c.packs[k], float(c.resistance_20C_ohm[k])
+        st = steady_state(pack, r20, current, amb)
+        tau = float(transient(pack, r20, current, amb, 0.0, st.surface_C).time_constant_s)
+        session = None
+        if c.session_s is not None:
+            session = physics.winding_temperatures_C(current, k, c, amb)
+        span = 4.0 * tau if np.isfinite(tau) and tau > 0 else 3600.0
+        if c.session_s is not None:
+            span = max(span, 1.2 * c.session_s)
+        t = np.linspace(0.0, span, 241)
+        run = transient(pack, r20, current, amb, t, st.surface_C)
+        out.append(
+            AxisOperatingThermal(
+                axis=ax,
+                current_A=current,
+                resistance_ohm=float(st.resistance_ohm)
+                if session is None
+                else r20 * (1.0 + ALPHA * (float(session[1]) - 20.0)),
+                power_W=float(st.power_W),
+                surface_temperature_C=float(st.surface_C),
+                mean_temperature_C=float(st.mean_C),
+                hot_spot_temperature_C=float(st.hot_spot_C),
+                heat_capacity_J_per_K=float(pack.heat_capacity_J_per_K),
+                time_constant_s=tau,
+                session_hot_spot_temperature_C=None if session is None else float(session[2]),
+                session_mean_temperature_C=None if session is None else float(session[1]),
+            )
+        )
+        curves.append(
+            HeatingCurve(
+                axis=ax,
+                current_A=current,
+                time_s=t,
+                surface_C=np.asarray(run.surface_C, dtype=float),
+                mean_C=np.asarray(run.mean_C, dtype=float),
+                hot_spot_C=np.asarray(run.hot_spot_C, dtype=float),
+                time_constant_s=tau,
+                heat_capacity_J_per_K=float(run.heat_capacity_J_per_K),
+                final_mean_C=float(run.final_mean_C),
+                final_hot_spot_C=float(run.final_hot_spot_C),
+            )
+        )
+    return out, curves
+
+
+def analyse_coils(design: Any) -> CoilAnalysis:
+    """The coil analysis of a validated design (see the module docstring)."""
+    from coils import size_system
+    from optimize import physics, prepare
+    from spiralcap.assemble import build_model
+
+    model = prepare(build_model(design))
+    c = model.constants
+    sizing = size_system(
+        model.coils,
+        frequency_hz=model.frequency_hz,
+        current_amplitude_A=model.limits.current_A,
+        ambient_temperature_C=model.ambient_temperature_C,
+        heat_transfer_coefficient_W_m2K=model.heat_transfer_coefficient_W_m2K,
+        winding_conductivity_W_mK=model.winding_conductivity_W_mK,
+        surface_emissivity=model.surface_emissivity,
+        headings=model.headings,
+    )
+    cap = physics.field_capacity(model.frequency_hz, c, model.limits, model.ambient_temperature_C)
+    limits = []
+    for k, ax in enumerate(_AXES):
+        own = [(v, name) for name, v in cap.caps_T.items() if name.endswith(f"_{ax}")]
+        best, name = min(own)
+        limits.append(
+            AxisLimit(
+                axis=ax,
+                max_current_A=best * float(c.current_per_tesla_A_per_T[k]),
+                max_current_limited_by=name[: -len(f"_{ax}")],
+                max_rotating_field_T=best,
+            )
+        )
+    fixed = model.field_amplitude_T is not None
+    field = cap.field_T if model.field_amplitude_T is None else float(model.field_amplitude_T)
+    operating, curves = operating_thermal(model, field)
+    return CoilAnalysis(
+        design=str(getattr(design, "source", "design")),
+        sizing=sizing,
+        capacity=cap,
+        axis_limits=tuple(limits),
+        operating_field_T=field,
+        operating_field_fixed=fixed,
+        session_s=c.session_s,
+        limit_temperature_C=float(model.limits.coil_temperature_C),
+        operating=tuple(operating),
+        heating=tuple(curves),
+        uniform=_uniform(model.coils),
+    )
+
+
+def coils_payload(a: CoilAnalysis) -> dict[str, Any]:
+    """The JSON dict of ``spiralcap coils --json`` (units in every key)."""
+    sizing = asdict(a.sizing)
+    lim = {x.axis: asdict(x) for x in a.axis_limits}
+    op = {x.axis: asdict(x) for x in a.operating}
+    sizing["axes"] = {s["axis"]: {**s, **lim[s["axis"]]} for s in sizing["axes"]}
+    u = a.uniform
+    uniform: dict[str, Any] = {
+        "radius_1pct_m": u.radius_1pct_m,
+        "radius_5pct_m": u.radius_5pct_m,
+        "worst_field_direction_1pct": list(u.worst_field_direction_1pct),
+        "worst_field_direction_5pct": list(u.worst_field_direction_5pct),
+        "limiting_ray_1pct": list(u.limiting_ray_1pct),
+        "limiting_ray_5pct": list(u.limiting_ray_5pct),
+        "per_axis": {
+            ax: {
+                "radius_1pct_m": u.per_axis_radius_1pct_m[ax],
+                "radius_5pct_m": u.per_axis_radius_5pct_m[ax],
+            }
+            for ax in _AXES
+        },
+    }
+    return {
+        "design": a.design,
+        **sizing,
+        "rotating_field_within_limits": {
+            "max_rotating_field_T": a.capacity.field_T,
+            "limited_by": a.capacity.limited_by,
+            "limit_key": a.capacity.limit_key,
+            "per_limit_max_field_T": dict(a.capacity.caps_T),
+        },
+        "operating_point": {
+            "field_amplitude_T": a.operating_field_T,
+            "field_fixed": a.operating_field_fixed,
+            "session_s": a.session_s,
+            "limit_temperature_C": a.limit_temperature_C,
+            "axes": op,
+        },
+        "uniform_region": uniform,
+    }
