@@ -80,7 +80,5 @@ def test_builtin_design_unchanged(command: str, capsys: pytest.CaptureFixture[st
 
 
 if __name__ == "__main__":  # regenerate the pinned file
-    PINNED.write_text(
-        json.dumps({c: _run(c) for c in COMMANDS}, indent=1, sort_keys=True) + "\n"
-    )
+    PINNED.write_text(json.dumps({c: _run(c) for c in COMMANDS}, indent=1, sort_keys=True) + "\n")
     print(f"wrote {PINNED}", file=sys.stderr)
