@@ -21,7 +21,7 @@ from typing import Any
 
 import numpy as np
 
-from coils.loop import loop_terms
+from coils.loop import loop_terms, loop_terms_rows
 from spiralcap import backend as bk
 
 __all__ = ["AXES", "FilamentSet", "gauss_legendre_pack"]
@@ -124,12 +124,48 @@ class FilamentSet:
         S, T : ndarray (n, n_currents) or CasADi (1, n_currents)
             S in T/(A·m), T in T/A.
         """
-        mats = self._matrices(bk.is_casadi(points))
+        if not bk.is_casadi(points):
+            P = np.ascontiguousarray(np.asarray(points, dtype=float).T)
+            S, T = self._terms_rows(P)
+            return S.T, T.T
+        mats = self._matrices(True)
         zeta = points @ mats["along"]
         rho_sq = (points * points) @ mats["across"]
         rho = bk.sqrt_guarded(rho_sq)  # finite derivatives on the axis
         s, b_z = loop_terms(mats["radii"], zeta - mats["centres"], rho, rho_sq)
         return s @ mats["weights"], (b_z - s * zeta) @ mats["weights"]
+
+    def _terms_rows(self, P: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """S and T as (n_currents, n) rows for points given as (3, n) rows (numpy path).
+
+        ρ² and ρ are computed once per axis (3 rows) and shared by every filament on that axis
+        (both coils of a pair and all their quadrature nodes); the filament terms come from
+        :func:`coils.loop.loop_terms_rows` with one row per filament. All filaments of a drive
+        column share its axis a_k, so T_k = Σ N_l b_z,l - p_{a_k} S_k.
+        """
+        rows = self._rows()
+        P_sq = P * P
+        rho_sq = P_sq.sum(axis=0) - P_sq  # (3, n): distance² from the x, y, z axes
+        rho = np.sqrt(rho_sq)
+        dz = P[self.axes]
+        dz -= rows["centres"]
+        s, b_z = loop_terms_rows(rows["radii"], dz, rho[self.axes], rho_sq[self.axes])
+        S = rows["weights"] @ s
+        T = rows["weights"] @ b_z
+        T -= P[list(self.column_axes)] * S
+        return S, T
+
+    def _rows(self) -> dict[str, np.ndarray]:
+        if "rows" not in self._mats:
+            weights = np.zeros((self.n_currents, len(self.radii_m)))
+            weights[self.columns, np.arange(len(self.radii_m))] = self.turns
+            self._mats["rows"] = {
+                "radii": np.asarray(self.radii_m, dtype=float)[:, None],
+                "centres": np.asarray(self.centres_m, dtype=float)[:, None],
+                "weights": weights,
+                "direction": self._matrices(False)["direction"].T.copy(),
+            }
+        return self._mats["rows"]
 
     def field(self, points: Any, currents: Any) -> Any:
         """Field B = G(p) I, T, for numpy (n, 3) points or a CasADi (1, 3) row.
@@ -146,15 +182,21 @@ class FilamentSet:
         ndarray (n, 3) or CasADi (1, 3)
             Magnetic flux density, T.
         """
-        if not bk.is_casadi(points) and len(points) > CHUNK_POINTS:
-            out = np.empty((len(points), 3))
-            for start in range(0, len(points), CHUNK_POINTS):
-                stop = start + CHUNK_POINTS
-                out[start:stop] = self.field(points[start:stop], currents)
-            return out
-        S, T = self.terms(points)
-        direction = self._matrices(bk.is_casadi(points))["direction"]
-        return points * (S @ currents) + (T * currents.T) @ direction
+        if bk.is_casadi(points):
+            S, T = self.terms(points)
+            direction = self._matrices(True)["direction"]
+            return points * (S @ currents) + (T * currents.T) @ direction
+        points = np.asarray(points, dtype=float)
+        currents = np.asarray(currents, dtype=float)
+        direction = self._rows()["direction"]
+        out = np.empty((len(points), 3))
+        for start in range(0, len(points), CHUNK_POINTS):
+            P = np.ascontiguousarray(points[start : start + CHUNK_POINTS].T)
+            S, T = self._terms_rows(P)
+            B = P * (currents.T @ S)
+            B += direction @ (T * currents)
+            out[start : start + CHUNK_POINTS] = B.T
+        return out
 
     def field_matrix(self, points: np.ndarray) -> np.ndarray:
         """G(p), shape (n, 3, n_currents), T/A, with B(p) = G(p) @ I (numpy path).
@@ -165,11 +207,10 @@ class FilamentSet:
             Field points, m.
         """
         out = np.empty((len(points), 3, self.n_currents))
-        direction = self._matrices(False)["direction"]
+        direction = self._rows()["direction"]
         for start in range(0, len(points), CHUNK_POINTS):
-            p = points[start : start + CHUNK_POINTS]
-            S, T = self.terms(p)
-            out[start : start + CHUNK_POINTS] = (
-                p[:, :, None] * S[:, None, :] + T[:, None, :] * direction.T[None, :, :]
-            )
+            P = np.ascontiguousarray(points[start : start + CHUNK_POINTS].T)
+            S, T = self._terms_rows(P)
+            G = P[:, None, :] * S[None, :, :] + direction[:, :, None] * T[None, :, :]
+            out[start : start + CHUNK_POINTS] = G.transpose(2, 0, 1)
         return out

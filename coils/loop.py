@@ -28,10 +28,18 @@ import math
 from fractions import Fraction
 from typing import Any
 
+import numpy as np
+
 from spiralcap import backend as bk
 from spiralcap.constants import MU0_T_m_per_A
 
-__all__ = ["SERIES_BELOW", "coaxial_mutual_inductance_H", "loop_field", "loop_terms"]
+__all__ = [
+    "SERIES_BELOW",
+    "coaxial_mutual_inductance_H",
+    "loop_field",
+    "loop_terms",
+    "loop_terms_rows",
+]
 
 #: Below this elliptic parameter m the series form of g(m) is used: 5 terms truncate at
 #: < 1e-16 relative; above it the closed form loses < 1e-9 relative in B_ρ, which is
@@ -99,6 +107,83 @@ def loop_terms(radius_m: Any, dz_m: Any, rho_m: Any, rho_sq_m2: Any) -> tuple[An
     b_z = common * ((R * R - rho_sq_m2 - dz_sq) * E + alpha_sq * K)
     b_rho_over_rho = common * (16.0 * R * R) * dz_m * inv_beta_sq * _g(m, K, E)
     return b_rho_over_rho, b_z
+
+
+def _g_series(m: np.ndarray) -> np.ndarray:
+    """The Maclaurin series of g(m) on a numpy array (Horner, in place)."""
+    out = np.full_like(m, _G_COEFFS[-1])
+    for c in reversed(_G_COEFFS[:-1]):
+        out *= m
+        out += c
+    return out
+
+
+def loop_terms_rows(
+    radius_m: np.ndarray, dz_m: np.ndarray, rho_m: np.ndarray, rho_sq_m2: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`loop_terms` for numpy arrays only, laid out one row per filament, few temporaries.
+
+    The same formulas as :func:`loop_terms` (Smythe 1968 §7.10; Simpson et al. 2001), written
+    with in-place numpy operations for the batch field: ``radius_m`` is a column (L, 1), the
+    other arguments are (L, n) rows (filament l, point j), so every elementwise loop runs along
+    a contiguous row. α² and β² come from the shared q = R² + ρ² + ζ² and u = 2Rρ
+    (β² = q + u, α² = q - u); the series branch of g(m) is evaluated only where
+    m < ``SERIES_BELOW`` (on and near the axis), not everywhere. Agrees with :func:`loop_terms`
+    to rounding (tested to 1e-13 relative).
+
+    Parameters
+    ----------
+    radius_m : ndarray, shape (L, 1)
+        Loop radii R, m.
+    dz_m : ndarray, shape (L, n)
+        Axial distance ζ of each point from each loop plane, m (read only).
+    rho_m, rho_sq_m2 : ndarray, shape (L, n)
+        Distance ρ of each point from each loop's axis, m, and ρ², m².
+
+    Returns
+    -------
+    b_rho_over_rho, b_z : ndarray, shape (L, n)
+        B_ρ / ρ in T/(A·m) and B_z in T/A, per ampere-turn.
+    """
+    R_sq = radius_m * radius_m
+    q = dz_m * dz_m
+    q += rho_sq_m2
+    q += R_sq  # R² + ρ² + ζ²
+    u = rho_m * (2.0 * radius_m)  # 2Rρ
+    inv_beta_sq = q + u
+    np.reciprocal(inv_beta_sq, out=inv_beta_sq)
+    alpha_sq = q
+    alpha_sq -= u
+    m = u * inv_beta_sq
+    m *= 2.0  # 4Rρ/β²
+    K, E = bk.ellipke(m)
+    common = np.sqrt(inv_beta_sq)
+    common /= alpha_sq
+    common *= MU0_T_m_per_A / (2.0 * math.pi)
+    b_z = u
+    np.subtract(2.0 * R_sq, u, out=b_z)
+    b_z -= alpha_sq  # R² - ρ² - ζ²
+    b_z *= E
+    alpha_sq *= K
+    b_z += alpha_sq
+    b_z *= common
+    g = alpha_sq  # g(m) = [E - K + m (K - E/2)] / m²
+    np.multiply(E, -0.5, out=g)
+    g += K
+    g *= m
+    g += E
+    g -= K
+    np.maximum(m, SERIES_BELOW, out=K)
+    K *= K
+    g /= K
+    near_axis = np.nonzero(m < SERIES_BELOW)
+    if near_axis[0].size:
+        g[near_axis] = _g_series(m[near_axis])
+    g *= common
+    g *= dz_m
+    g *= inv_beta_sq
+    g *= 16.0 * R_sq
+    return g, b_z
 
 
 def loop_field(radius_m: Any, z0_m: Any, rho_m: Any, z_m: Any) -> tuple[Any, Any]:
