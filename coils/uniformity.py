@@ -1,7 +1,8 @@
 """Field uniformity: relative deviation of |B| from its centre value, and the uniform sphere.
 
 The uniform-region radius is found along rays from the centre: for each ray the first radius
-at which |deviation| exceeds the tolerance (a scan on a radial grid, then bisection), and the
+at which |deviation| exceeds the tolerance (a scan on a radial grid, then a bracketed root; all
+rays in the same array calls), and the
 sphere radius is the smallest over the rays. The rays are a Fibonacci lattice on the sphere plus
 the axes and the face and body diagonals, where the extremes of a symmetric system lie.
 """
@@ -13,7 +14,6 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from scipy.optimize import minimize
 
 from coils.pair import HelmholtzPair
 from coils.system import ThreeAxisHelmholtz
@@ -44,6 +44,9 @@ _SYMMETRY_DIRECTIONS /= np.linalg.norm(_SYMMETRY_DIRECTIONS, axis=1, keepdims=Tr
 _FIBONACCI_RAYS = 400
 _RADIAL_STEPS = 200
 _BISECTIONS = 40
+#: Bracketed root: width below this fraction of r_max, within this many false-position steps.
+_ROOT_XTOL = 1e-14
+_ROOT_MAX_ITER = 30
 
 
 def _rays() -> np.ndarray:
@@ -67,9 +70,12 @@ def _field_function(coils: Any, currents_A: Any) -> Callable[[np.ndarray], np.nd
     raise InputError("system", type(coils).__name__, "a HelmholtzPair or ThreeAxisHelmholtz")
 
 
-def _deviation(field: Callable[[np.ndarray], np.ndarray], points: np.ndarray) -> np.ndarray:
-    centre = np.linalg.norm(field(np.zeros((1, 3)))[0])
-    return np.linalg.norm(field(points), axis=1) / centre - 1.0
+def _deviation(
+    field: Callable[[np.ndarray], np.ndarray], points: np.ndarray, centre_T: float | None = None
+) -> np.ndarray:
+    if centre_T is None:
+        centre_T = float(np.linalg.norm(field(np.zeros((1, 3)))[0]))
+    return np.linalg.norm(field(points), axis=1) / centre_T - 1.0
 
 
 def uniformity(system: Any, points_m: Any, currents_A: Any = None) -> np.ndarray:
@@ -94,22 +100,86 @@ def uniformity(system: Any, points_m: Any, currents_A: Any = None) -> np.ndarray
 
 
 def _first_crossing(
-    field: Callable[[np.ndarray], np.ndarray], tolerance: float, r_max: float, rays: np.ndarray
+    field: Callable[[np.ndarray], np.ndarray],
+    tolerance: float,
+    r_max: float,
+    rays: np.ndarray,
+    r_scan: float | None = None,
 ) -> np.ndarray:
-    """First radius along each ray where |deviation| > tolerance (r_max if none), m."""
+    """First radius along each ray where |deviation| > tolerance (r_max if none), m.
+
+    All rays at once: the radial grid of ``_RADIAL_STEPS`` steps up to ``r_max`` (cut after
+    ``r_scan`` when given: rays with no crossing before it report r_max) in one field call, then
+    the bracketed root of every ray together (:func:`_bracketed_root`).
+    """
+    centre = float(np.linalg.norm(field(np.zeros((1, 3)))[0]))
     radii = np.linspace(0.0, r_max, _RADIAL_STEPS + 1)[1:]
+    if r_scan is not None:
+        radii = radii[: int(np.searchsorted(radii, r_scan)) + 1]
     pts = (radii[None, :, None] * rays[:, None, :]).reshape(-1, 3)
-    outside = (np.abs(_deviation(field, pts)) > tolerance).reshape(len(rays), len(radii))
+    outside = (np.abs(_deviation(field, pts, centre)) > tolerance).reshape(len(rays), len(radii))
     hit = outside.any(axis=1)
     first = np.argmax(outside, axis=1)
     hi = np.where(hit, radii[first], r_max)
     lo = np.where(first > 0, radii[np.maximum(first - 1, 0)], 0.0)
     lo = np.where(hit, lo, r_max)
-    for _ in range(_BISECTIONS):
-        mid = 0.5 * (lo + hi)
-        out = np.abs(_deviation(field, mid[:, None] * rays)) > tolerance
-        hi, lo = np.where(out, mid, hi), np.where(out, lo, mid)
+    return _bracketed_root(field, tolerance, rays, lo, hi, centre, r_max)
+
+
+def _bracketed_root(
+    field: Callable[[np.ndarray], np.ndarray],
+    tolerance: float,
+    rays: np.ndarray,
+    lo: np.ndarray,
+    hi: np.ndarray,
+    centre_T: float,
+    r_max: float,
+) -> np.ndarray:
+    """Root of |deviation(r u)| = tolerance in [lo, hi] for every ray u at once, m.
+
+    Illinois false position (Dowell & Jarratt, BIT 11, 1971), vectorised over the rays: the
+    bracket [lo, hi] (inside at lo, outside at hi) shrinks on both sides superlinearly; the
+    iteration stops when every bracket is narrower than ``_ROOT_XTOL`` r_max, or falls back to
+    bisection after ``_ROOT_MAX_ITER``. Returns the inner end lo (inside the tolerance).
+    """
+
+    def f(r: np.ndarray, u: np.ndarray) -> np.ndarray:
+        return np.abs(_deviation(field, r[:, None] * u, centre_T)) - tolerance
+
+    xtol = _ROOT_XTOL * r_max
+    lo, hi = lo.copy(), hi.copy()
+    todo = np.nonzero(hi - lo > xtol)[0]
+    if todo.size == 0:
+        return lo
+    f_lo = np.where(lo[todo] > 0.0, f(lo[todo], rays[todo]), -tolerance)
+    f_hi = f(hi[todo], rays[todo])
+    side = np.zeros(todo.size, dtype=int)  # +1 if hi moved last, -1 if lo moved last
+    for it in range(_ROOT_MAX_ITER + _BISECTIONS):
+        a, b = lo[todo], hi[todo]
+        if it < _ROOT_MAX_ITER:
+            x = b - f_hi * (b - a) / (f_hi - f_lo)
+            x = np.where((x > a) & (x < b), x, 0.5 * (a + b))
+        else:
+            x = 0.5 * (a + b)
+        fx = f(x, rays[todo])
+        out = fx > 0.0
+        hi[todo] = np.where(out, x, b)
+        lo[todo] = np.where(out, a, x)
+        f_lo = np.where(out, np.where(side > 0, 0.5 * f_lo, f_lo), fx)
+        f_hi = np.where(out, fx, np.where(side < 0, 0.5 * f_hi, f_hi))
+        side = np.where(out, 1, -1)
+        keep = hi[todo] - lo[todo] > xtol
+        if not keep.any():
+            break
+        todo, f_lo, f_hi, side = todo[keep], f_lo[keep], f_hi[keep], side[keep]
     return lo
+
+
+#: Direction refinement: a (2k+1)² grid in the tangent plane of the worst lattice ray, zoomed
+#: by k per level from a half-width of 0.1 (about 6 degrees, the lattice spacing / 2).
+_REFINE_HALF_WIDTH = 0.1
+_REFINE_K = 4
+_REFINE_LEVELS = 8
 
 
 def _radius(
@@ -118,39 +188,38 @@ def _radius(
     """Smallest first-crossing radius over the rays (m) and the ray where it occurs.
 
     With ``refine`` the crossing radius is then minimised over directions near the worst
-    lattice ray (Nelder-Mead in its tangent plane), so the answer does not hang on the lattice
-    spacing (about 10 degrees).
+    lattice ray, so the answer does not hang on the lattice spacing (about 10 degrees): a grid
+    of (2k+1)² directions in the ray's tangent plane, each with its bracketed root, all in
+    array calls; the grid is re-centred on its best direction and shrunk k-fold per level, down
+    to a half-width of 0.1 / k**(levels - 1) (~6e-6 rad). Only crossings below the best so far
+    matter, so each level scans the radii up to it.
     """
     rays = _rays()
     crossing = _first_crossing(field, tolerance, r_max, rays)
-    best = int(np.argmin(crossing))
+    tie = _ROOT_XTOL * r_max  # crossings closer than the root tolerance are ties: first ray wins
+    best = int(np.argmax(crossing <= crossing.min() + tie))
     u0 = rays[best]
-    if not refine or crossing[best] >= r_max:
-        return float(crossing[best]), u0
+    best_r, best_u = float(crossing[best]), u0
+    if not refine or best_r >= r_max:
+        return best_r, best_u
     e1 = np.cross(u0, np.eye(3)[int(np.argmin(np.abs(u0)))])
     e1 /= np.linalg.norm(e1)
     e2 = np.cross(u0, e1)
-
-    def ray(ab: np.ndarray) -> np.ndarray:
-        u = u0 + ab[0] * e1 + ab[1] * e2
-        return u / np.linalg.norm(u)
-
-    def crossing_at(ab: np.ndarray) -> float:
-        return float(_first_crossing(field, tolerance, r_max, ray(ab)[None, :])[0])
-
-    res = minimize(
-        crossing_at,
-        np.zeros(2),
-        method="Nelder-Mead",
-        options={
-            "initial_simplex": [[0, 0], [0.1, 0], [0, 0.1]],
-            "xatol": 1e-4,
-            "fatol": 1e-9 * r_max,
-        },
-    )
-    if res.fun < crossing[best]:
-        return float(res.fun), ray(res.x)
-    return float(crossing[best]), u0
+    steps = np.linspace(-1.0, 1.0, 2 * _REFINE_K + 1)
+    a, b = (g.ravel() for g in np.meshgrid(steps, steps, indexing="ij"))
+    centre = np.zeros(2)
+    half = _REFINE_HALF_WIDTH
+    step = r_max / _RADIAL_STEPS
+    for _ in range(_REFINE_LEVELS):
+        ab = centre + half * np.column_stack([a, b])
+        rays = u0 + ab[:, :1] * e1 + ab[:, 1:] * e2
+        rays /= np.linalg.norm(rays, axis=1, keepdims=True)
+        crossing = _first_crossing(field, tolerance, r_max, rays, r_scan=best_r + step)
+        k = int(np.argmin(crossing))
+        if crossing[k] < best_r - tie:
+            best_r, best_u, centre = float(crossing[k]), rays[k], ab[k]
+        half /= _REFINE_K
+    return best_r, best_u
 
 
 @dataclass(frozen=True)
