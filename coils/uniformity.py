@@ -2,8 +2,7 @@
 
 The uniform-region radius is found along rays from the centre: for each ray the first radius
 at which |deviation| exceeds the tolerance (a scan on a radial grid, then a bracketed root; all
-rays in the same array calls), and the
-sphere radius is the smallest over the rays. The rays are a Fibonacci lattice on the sphere plus
+rays in the same array calls), and the sphere radius is the smallest over the rays. The rays are a Fibonacci lattice on the sphere plus
 the axes and the face and body diagonals, where the extremes of a symmetric system lie.
 """
 
@@ -11,6 +10,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
+from functools import lru_cache
 from typing import Any
 
 import numpy as np
@@ -222,6 +222,44 @@ def _radius(
     return best_r, best_u
 
 
+#: Meridian lattice of an axisymmetric field (a pair alone): polar angles 0..180 deg.
+_MERIDIAN_RAYS = 181
+
+
+def _radius_axisymmetric(
+    field: Callable[[np.ndarray], np.ndarray], tolerance: float, r_max: float, axis: int
+) -> tuple[float, np.ndarray]:
+    """As :func:`_radius` for a field symmetric about ``axis``: rays in one meridian half-plane.
+
+    |B| depends only on the polar angle θ from the axis, so the sphere's extreme is on a ray
+    of one half-plane: a 1-degree lattice in θ, then the same zoomed refinement in θ alone.
+    """
+    e_axis, e_perp = np.eye(3)[axis], np.eye(3)[(axis + 1) % 3]
+
+    def rays_at(theta: np.ndarray) -> np.ndarray:
+        return np.cos(theta)[:, None] * e_axis + np.sin(theta)[:, None] * e_perp
+
+    thetas = np.linspace(0.0, np.pi, _MERIDIAN_RAYS)
+    crossing = _first_crossing(field, tolerance, r_max, rays_at(thetas))
+    tie = _ROOT_XTOL * r_max
+    best = int(np.argmax(crossing <= crossing.min() + tie))
+    best_r, best_theta = float(crossing[best]), float(thetas[best])
+    if best_r >= r_max:
+        return best_r, rays_at(np.array([best_theta]))[0]
+    half = thetas[1] - thetas[0]
+    steps = np.linspace(-1.0, 1.0, 2 * _REFINE_K + 1)
+    step = r_max / _RADIAL_STEPS
+    centre = best_theta
+    for _ in range(_REFINE_LEVELS):
+        theta = centre + half * steps
+        crossing = _first_crossing(field, tolerance, r_max, rays_at(theta), r_scan=best_r + step)
+        k = int(np.argmin(crossing))
+        if crossing[k] < best_r - tie:
+            best_r, best_theta, centre = float(crossing[k]), float(theta[k]), float(theta[k])
+        half /= _REFINE_K
+    return best_r, rays_at(np.array([best_theta]))[0]
+
+
 @dataclass(frozen=True)
 class UniformRegion:
     """Result of :func:`uniform_region`.
@@ -242,6 +280,21 @@ class UniformRegion:
     tolerance: float
     limiting_ray: np.ndarray
     field_direction: np.ndarray
+
+
+@lru_cache(maxsize=1)
+def _scan_matrix(system: ThreeAxisHelmholtz) -> np.ndarray:
+    """G(p) on the ray lattice x radial grid, shape (rays * radii, 3, 3), T/A.
+
+    Cached for the last system (frozen, hashable; ~6 MB): both tolerances rank the field
+    directions on the same scan, so G on its ~85,000 points is computed once.
+    """
+    rays = _rays()
+    r_max = min(p.radius_m for p in system.pairs)
+    radii = np.linspace(0.0, r_max, _RADIAL_STEPS + 1)[1:]
+    G = system.field_matrix((radii[None, :, None] * rays[:, None, :]).reshape(-1, 3))
+    G.flags.writeable = False
+    return G
 
 
 def uniform_region(
@@ -271,7 +324,9 @@ def uniform_region(
     tol = check_positive("tolerance", tolerance)
     if isinstance(system_or_pair, HelmholtzPair):
         field = _field_function(system_or_pair, None)
-        radius, ray = _radius(field, tol, system_or_pair.radius_m)
+        radius, ray = _radius_axisymmetric(
+            field, tol, system_or_pair.radius_m, system_or_pair.axis_index
+        )
         return UniformRegion(radius, tol, ray, np.eye(3)[system_or_pair.axis_index])
     if not isinstance(system_or_pair, ThreeAxisHelmholtz):
         raise InputError(
@@ -294,10 +349,11 @@ def uniform_region(
         # then refine every direction within one grid step of the worst.
         rays = _rays()
         radii = np.linspace(0.0, r_max, _RADIAL_STEPS + 1)[1:]
-        G = system_or_pair.field_matrix((radii[None, :, None] * rays[:, None, :]).reshape(-1, 3))
+        G = _scan_matrix(system_or_pair)
         coarse = []
         for c in currents:
-            dev = np.linalg.norm(G @ c, axis=1) / np.linalg.norm(gains * c) - 1.0
+            b = G @ c
+            dev = np.sqrt(np.einsum("ij,ij->i", b, b)) / np.linalg.norm(gains * c) - 1.0
             outside = (np.abs(dev) > tol).reshape(len(rays), len(radii))
             first = np.where(outside.any(axis=1), np.argmax(outside, axis=1), len(radii) - 1)
             coarse.append(radii[first].min())

@@ -32,7 +32,6 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
-from scipy import optimize, stats
 
 from spiralcap.errors import DataError, InputError
 from torque_model.model import contact_factor_m3
@@ -297,6 +296,8 @@ def identify(
 
 
 def _solve(fun: Any, jac: Any, q0: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> Any:
+    from scipy import optimize  # ~0.25 s to import: only when fitting
+
     return optimize.least_squares(
         fun,
         q0,
@@ -336,6 +337,8 @@ def _profile_to_bounds(
     if dof <= 0:
         return {}
     ssr = 2.0 * best.cost
+    from scipy import stats  # ~0.3 s to import: only when fitting
+
     threshold = ssr / dof * float(stats.f.ppf(0.95, 1, dof))
     out: dict[int, list[str]] = {}
     for i in range(n_par):
@@ -433,6 +436,8 @@ def _result(
         corr = cov_log / np.sqrt(np.outer(np.diag(cov_log), np.diag(cov_log)))
     corr[in_null, :] = np.nan
     corr[:, in_null] = np.nan
+    from scipy import stats
+
     t = float(stats.t.ppf(0.975, dof)) if dof > 0 else math.nan
     se = p * se_log
     cond = float((sv_max / sv[-1]) ** 2) if sv[-1] > 0 else math.inf
