@@ -194,9 +194,9 @@ class Spiral:
     """
 
     helical_angle_rad: float
-    wire_diameter_m: float = 1e-3
-    wound_length_m: float = 15e-3
-    starts: int = 1
+    wire_diameter_m: float
+    wound_length_m: float
+    starts: int
 
     def __post_init__(self) -> None:
         a = self.helical_angle_rad

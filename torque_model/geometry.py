@@ -49,15 +49,18 @@ radius R_h; the tube section gives 11.667, 11.416, 11.339, 11.304 mm.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
 from spiralcap import backend as bk
+from spiralcap.errors import InputError, check_positive
 
 __all__ = [
     "NEWTON_STEPS",
     "QUADRATURE_NODES",
+    "ContactGeometry",
     "end_contact_moment_m2",
     "equivalent_diameter_m",
 ]
@@ -68,6 +71,47 @@ NEWTON_STEPS = 40
 QUADRATURE_NODES = 24
 
 _GL_X, _GL_W = np.polynomial.legendre.leggauss(QUADRATURE_NODES)
+
+
+@dataclass(frozen=True)
+class ContactGeometry:
+    """The capsule as the intestine touches it: the dimensions the torque model reads, SI.
+
+    No defaults: the design file (``spiralcap.schema``) holds the product's default capsule and
+    :data:`torque_model.PAPER_CAPSULE` the one of Zhou et al. 2013.
+
+    Parameters
+    ----------
+    body_diameter_m : float
+        Capsule diameter D (cylinder and hemispherical ends), m (> 0).
+    body_length_m : float
+        Overall capsule length including both hemispherical ends, m (> 0).
+    wire_diameter_m : float
+        Spiral wire diameter d_w, m (> 0).
+    wound_length_m : float
+        Axial length of the spiral, m (> 0); the rest of the cylinder, if any, touches at D.
+    starts : int
+        Number of spiral wires (>= 1); the paper used 1.
+
+    Raises
+    ------
+    InputError
+        A dimension that is not a finite number > 0, or ``starts`` not a whole number >= 1.
+    """
+
+    body_diameter_m: float
+    body_length_m: float
+    wire_diameter_m: float
+    wound_length_m: float
+    starts: int
+
+    def __post_init__(self) -> None:
+        for name in ("body_diameter_m", "body_length_m", "wire_diameter_m", "wound_length_m"):
+            object.__setattr__(self, name, check_positive(name, getattr(self, name)))
+        n = self.starts
+        if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
+            raise InputError("starts", n, "a whole number >= 1")
+        object.__setattr__(self, "starts", int(n))
 
 
 def _tangency_cos(psi_m: Any, R: Any, r_w: Any, R_h: Any) -> Any:
@@ -91,10 +135,7 @@ def _tangency_cos(psi_m: Any, R: Any, r_w: Any, R_h: Any) -> Any:
 
 
 def equivalent_diameter_m(
-    helical_angle_rad: Any,
-    body_diameter_m: Any = 11e-3,
-    wire_diameter_m: Any = 1e-3,
-    starts: int = 1,
+    helical_angle_rad: Any, body_diameter_m: Any, wire_diameter_m: Any, starts: int
 ) -> Any:
     """Diameter D' of the circle with the perimeter of the deformed lumen (Zhou 2013, Fig. 8).
 
@@ -104,9 +145,9 @@ def equivalent_diameter_m(
         Angle between the spiral wire and the capsule's cross-section plane, rad
         (valid above about 1.8 deg for the paper's capsule; see the module docstring).
     body_diameter_m : float, array or CasADi
-        Diameter D of the capsule's cylindrical part, m (PillCam SB2: 11 mm).
+        Diameter D of the capsule's cylindrical part, m (the paper's PillCam SB2: 11 mm).
     wire_diameter_m : float, array or CasADi
-        Diameter d_w of the spiral wire, m (paper: 1 mm).
+        Diameter d_w of the spiral wire, m (the paper's: 1 mm).
     starts : int
         Number of spiral wires (starts), equally spaced round the circumference; each
         cross-section cuts each once. The paper's capsules have one. Valid while neighbouring

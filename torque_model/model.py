@@ -26,8 +26,8 @@ from __future__ import annotations
 from typing import Any
 
 from spiralcap import backend as bk
-from torque_model.geometry import end_contact_moment_m2, equivalent_diameter_m
-from torque_model.tissue import TissueParameters
+from torque_model.geometry import ContactGeometry, end_contact_moment_m2, equivalent_diameter_m
+from torque_model.tissue import TissueParameters, ViscoelasticConstants
 
 __all__ = [
     "angular_frequency_rad_s",
@@ -71,7 +71,7 @@ def strain(diameter_after_m: Any, lumen_diameter_m: Any, wall_thickness_m: Any) 
     return (diameter_after_m - lumen_diameter_m) / (lumen_diameter_m + wall_thickness_m)
 
 
-def relaxation_modulus_Pa(time_s: Any, tissue: TissueParameters) -> Any:
+def relaxation_modulus_Pa(time_s: Any, tissue: ViscoelasticConstants) -> Any:
     """Eq. 2 bracket: E1 exp(-t E1/eta1) + E2 exp(-t E2/eta2) + E3, Pa, at time t (s)."""
     t = tissue
     return (
@@ -90,7 +90,7 @@ def stress_Pa(azimuth_rad: Any, frequency_hz: Any, strain_: Any, tissue: TissueP
     return strain_ * relaxation_modulus_Pa(azimuth_rad / omega, tissue)
 
 
-def relaxation_integral_Pa(frequency_hz: Any, tissue: TissueParameters) -> Any:
+def relaxation_integral_Pa(frequency_hz: Any, tissue: ViscoelasticConstants) -> Any:
     """int_0^{2 pi} of the eq. 4 bracket over one revolution, Pa (times rad), in closed form.
 
         I(omega) = omega eta1 (1 - exp(-2 pi E1/(omega eta1)))
@@ -143,27 +143,14 @@ def torque_breakdown_Nm(
     helical_angle_rad: Any,
     frequency_hz: Any,
     tissue: TissueParameters,
-    *,
-    body_diameter_m: float = 11e-3,
-    body_length_m: float = 26e-3,
-    wire_diameter_m: float = 1e-3,
-    wound_length_m: float = 15e-3,
-    starts: int = 1,
+    geometry: ContactGeometry,
 ) -> dict[str, Any]:
     """The resistive torque split into wound section, unwound cylinder and both ends, N·m.
 
     Same arguments as :func:`resistive_torque_Nm`; returns a dict with ``"wound"``,
     ``"cylinder"``, ``"ends"`` and ``"total"``.
     """
-    parts = contact_factors_m3(
-        helical_angle_rad,
-        tissue,
-        body_diameter_m=body_diameter_m,
-        body_length_m=body_length_m,
-        wire_diameter_m=wire_diameter_m,
-        wound_length_m=wound_length_m,
-        starts=starts,
-    )
+    parts = contact_factors_m3(helical_angle_rad, tissue, geometry)
     integral = relaxation_integral_Pa(frequency_hz, tissue)
     out = {k: v * integral for k, v in parts.items()}
     out["total"] = out["wound"] + out["cylinder"] + out["ends"]
@@ -171,47 +158,45 @@ def torque_breakdown_Nm(
 
 
 def contact_factors_m3(
-    helical_angle_rad: Any,
-    tissue: TissueParameters,
-    *,
-    body_diameter_m: float = 11e-3,
-    body_length_m: float = 26e-3,
-    wire_diameter_m: float = 1e-3,
-    wound_length_m: float = 15e-3,
-    starts: int = 1,
+    helical_angle_rad: Any, tissue: TissueParameters, geometry: ContactGeometry
 ) -> dict[str, Any]:
     """Geometric factors G with torque = G x I(omega), m^3, for each part of the contact.
 
     G = mu d int eps(z) D_after(z)/2 dz over the part: ``"wound"`` (D_after = D', length
-    ``wound_length_m``), ``"cylinder"`` (D_after = D over the unwound cylindrical length
+    ``geometry.wound_length_m``), ``"cylinder"`` (D_after = D over the unwound cylindrical length
     ``body_length_m - body_diameter_m - wound_length_m``, if positive) and ``"ends"`` (both
     hemispheres, :func:`torque_model.geometry.end_contact_moment_m2`). Strains are clipped at 0.
     They hold everything but the five viscoelastic constants, which enter through
     :func:`relaxation_integral_Pa` only; :func:`torque_model.identify` uses this split.
     """
     mu_d = tissue.friction_coefficient * tissue.wall_thickness_m
+    g = geometry
 
     def per_length(diameter_after: Any) -> Any:
         eps = bk.fmax(strain(diameter_after, tissue.lumen_diameter_m, tissue.wall_thickness_m), 0.0)
         return mu_d * eps * 0.5 * diameter_after
 
-    d_prime = equivalent_diameter_m(helical_angle_rad, body_diameter_m, wire_diameter_m, starts)
-    cylinder_length = bk.fmax(body_length_m - body_diameter_m - wound_length_m, 0.0)
+    d_prime = equivalent_diameter_m(
+        helical_angle_rad, g.body_diameter_m, g.wire_diameter_m, g.starts
+    )
+    cylinder_length = bk.fmax(g.body_length_m - g.body_diameter_m - g.wound_length_m, 0.0)
     ends = (
         2.0
         * mu_d
-        * end_contact_moment_m2(body_diameter_m, tissue.lumen_diameter_m, tissue.wall_thickness_m)
+        * end_contact_moment_m2(g.body_diameter_m, tissue.lumen_diameter_m, tissue.wall_thickness_m)
     )
     return {
-        "wound": per_length(d_prime) * wound_length_m,
-        "cylinder": per_length(body_diameter_m) * cylinder_length,
+        "wound": per_length(d_prime) * g.wound_length_m,
+        "cylinder": per_length(g.body_diameter_m) * cylinder_length,
         "ends": ends,
     }
 
 
-def contact_factor_m3(helical_angle_rad: Any, tissue: TissueParameters, **geometry: float) -> Any:
+def contact_factor_m3(
+    helical_angle_rad: Any, tissue: TissueParameters, geometry: ContactGeometry
+) -> Any:
     """Sum of :func:`contact_factors_m3`: torque = contact_factor_m3 x relaxation_integral_Pa."""
-    parts = contact_factors_m3(helical_angle_rad, tissue, **geometry)
+    parts = contact_factors_m3(helical_angle_rad, tissue, geometry)
     return parts["wound"] + parts["cylinder"] + parts["ends"]
 
 
@@ -219,12 +204,7 @@ def resistive_torque_Nm(
     helical_angle_rad: Any,
     frequency_hz: Any,
     tissue: TissueParameters,
-    *,
-    body_diameter_m: float = 11e-3,
-    body_length_m: float = 26e-3,
-    wire_diameter_m: float = 1e-3,
-    wound_length_m: float = 15e-3,
-    starts: int = 1,
+    geometry: ContactGeometry,
 ) -> Any:
     """Torque the intestine resists a spiral capsule's rotation with (Zhou 2013 eqs. 2-8), N·m.
 
@@ -236,16 +216,11 @@ def resistive_torque_Nm(
         Rotation frequency f > 0, Hz. Broadcasts against ``helical_angle_rad`` (numpy).
     tissue : TissueParameters
         Viscoelastic constants (calibrated scale), lumen, wall, friction.
-    body_diameter_m : float
-        Capsule diameter D (cylinder and hemispherical ends), m.
-    body_length_m : float
-        Overall capsule length including both hemispherical ends, m.
-    wire_diameter_m : float
-        Spiral wire diameter d_w, m.
-    wound_length_m : float
-        Axial length of the spiral, m; the rest of the cylinder (if any) touches at diameter D.
-    starts : int
-        Number of spiral wires (:func:`torque_model.equivalent_diameter_m`); the paper used 1.
+    geometry : ContactGeometry
+        The capsule: body diameter D and overall length, spiral wire diameter d_w, wound length
+        (the rest of the cylinder, if any, touches at diameter D) and number of starts
+        (:func:`torque_model.equivalent_diameter_m`). The paper's capsule is
+        :data:`torque_model.PAPER_CAPSULE`.
 
     Returns
     -------
@@ -253,13 +228,4 @@ def resistive_torque_Nm(
         The resistive torque, N·m: wound section (D_after = D'), unwound cylinder and the two
         hemispherical ends (D_after(z) where wider than the lumen).
     """
-    return torque_breakdown_Nm(
-        helical_angle_rad,
-        frequency_hz,
-        tissue,
-        body_diameter_m=body_diameter_m,
-        body_length_m=body_length_m,
-        wire_diameter_m=wire_diameter_m,
-        wound_length_m=wound_length_m,
-        starts=starts,
-    )["total"]
+    return torque_breakdown_Nm(helical_angle_rad, frequency_hz, tissue, geometry)["total"]

@@ -9,14 +9,33 @@ from __future__ import annotations
 
 import dataclasses
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Protocol
 
 from spiralcap.errors import InputError, check_positive
 
-__all__ = ["PRESET_NAMES", "TissueParameters", "preset"]
+__all__ = ["VISCOELASTIC_FIELDS", "TissueParameters", "ViscoelasticConstants"]
 
 #: The viscoelastic fields (moduli and viscosities), in the order the identification uses.
 VISCOELASTIC_FIELDS = ("E1_Pa", "E2_Pa", "E3_Pa", "eta1_Pa_s", "eta2_Pa_s")
+
+
+class ViscoelasticConstants(Protocol):
+    """What the relaxation integral reads: the five constants, floats or CasADi values, SI.
+
+    :class:`TissueParameters` is one; the identification passes CasADi symbols through the same
+    model function to differentiate it.
+    """
+
+    @property
+    def E1_Pa(self) -> Any: ...
+    @property
+    def E2_Pa(self) -> Any: ...
+    @property
+    def E3_Pa(self) -> Any: ...
+    @property
+    def eta1_Pa_s(self) -> Any: ...
+    @property
+    def eta2_Pa_s(self) -> Any: ...
 
 
 @dataclass(frozen=True)
@@ -121,33 +140,3 @@ _DESIGN_KEYS = (
     "wall_thickness_mm",
     "friction_coefficient",
 )
-
-
-def _registry() -> dict[str, Any]:
-    from torque_model.parameters import zhou2013
-
-    return {"zhou2013-sample2": zhou2013.SAMPLE2, "zhou2013-sample3": zhou2013.SAMPLE3}
-
-
-PRESET_NAMES = ("zhou2013-sample2", "zhou2013-sample3")
-
-
-def preset(name: str) -> TissueParameters:
-    """The calibrated tissue set the tool uses for ``name`` (see ``docs/torque-model.md``).
-
-    Parameters
-    ----------
-    name : str
-        ``"zhou2013-sample2"`` or ``"zhou2013-sample3"``.
-
-    Raises
-    ------
-    InputError
-        An unknown name.
-    """
-    sets = _registry()
-    if name not in sets:
-        raise InputError("tissue.preset", name, "one of " + ", ".join(repr(n) for n in sets))
-    from torque_model.parameters.zhou2013 import calibrated_tissue
-
-    return calibrated_tissue(sets[name], name)

@@ -7,10 +7,13 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterable, Sequence
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from matplotlib.axes import Axes
+
+if TYPE_CHECKING:
+    from torque_model import ContactGeometry
 
 __all__ = ["plot_fit", "plot_torque_vs_frequency", "save_figure"]
 
@@ -25,7 +28,7 @@ def plot_torque_vs_frequency(
     *,
     frequency_hz: Sequence[float] | None = None,
     paper_points: Iterable[Any] | None = None,
-    geometry: dict[str, float] | None = None,
+    geometry: ContactGeometry | None = None,
 ) -> dict[str, list[Any]]:
     """Model torque against frequency for several helical angles, with the paper's points.
 
@@ -42,8 +45,8 @@ def plot_torque_vs_frequency(
     paper_points : iterable of torque_model.PaperPoint, optional
         Points to overlay (default: :data:`torque_model.PAPER_POINTS` of the tissue's sample
         when the tissue is a Zhou 2013 preset, else none). Pass ``()`` for none.
-    geometry : dict, optional
-        Capsule geometry keyword arguments of :func:`torque_model.resistive_torque_Nm` (m).
+    geometry : torque_model.ContactGeometry, optional
+        The capsule (default :data:`torque_model.PAPER_CAPSULE`, the paper's).
 
     Returns
     -------
@@ -62,7 +65,7 @@ def plot_torque_vs_frequency(
     curves, points = [], []
     colours = {}
     for angle in helical_angles_deg:
-        tau = tm.resistive_torque_Nm(math.radians(angle), f, tissue, **(geometry or {}))
+        tau = tm.resistive_torque_Nm(math.radians(angle), f, tissue, geometry or tm.PAPER_CAPSULE)
         (line,) = ax.plot(f, np.asarray(tau) * 1e3, label=f"model, α = {angle:g}°")
         colours[float(angle)] = line.get_color()
         curves.append(line)
