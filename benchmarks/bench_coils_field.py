@@ -1,6 +1,6 @@
 """Field speed of ``coils`` against magpylib on the same six loops, in one process.
 
-Prints throughput at 10^6 points (target >= 5x magpylib, issue 13) and the single-point call rate
+Prints throughput at 10^6 points (target >= 5x magpylib) and the single-point call rate
 (target >= 20x magpylib's single-point ``getB``). Our single-point path is the compiled CasADi
 Function behind ``ThreeAxisHelmholtz.point_field`` (called through a CasADi buffer), the one a
 point-at-a-time optimiser uses. Asserts nothing; run ``python benchmarks/bench_coils_field.py``.

@@ -3,7 +3,7 @@
 Each is timed against the bare ``python -c "import numpy, scipy.special, casadi"`` (the
 libraries every command needs), run in turn in the same loop so that a load change on the
 machine hits them alike; the medians over ``--repeat`` rounds and their ratios are printed
-(target <= 2.5x, issue 13). Asserts nothing; run ``python benchmarks/bench_startup.py``.
+(target <= 2.5x). Asserts nothing; run ``python benchmarks/bench_startup.py``.
 """
 
 from __future__ import annotations

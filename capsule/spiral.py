@@ -71,7 +71,7 @@ def lead_m(helical_angle_rad: Any, helix_diameter_m: Any) -> Any:
 
     Notes
     -----
-    Unrolled helix (a right triangle of base ``pi D_h``); DESIGN.md section 4.2.
+    Unrolled helix (a right triangle of base ``pi D_h``); the helical angle to the cross-section plane as in Zhou et al. 2013, section II-A.
     """
     return bk.pi * helix_diameter_m * bk.tan(helical_angle_rad)
 

@@ -2,8 +2,8 @@
 
 ``tests/data/builtin_pinned.json`` holds the outputs of ``spiralcap evaluate --json``,
 ``spiralcap coils --json`` and ``spiralcap optimize --json`` on the built-in design as computed
-before the refactors of issue 13 (fast field, vectorised uniform-region search, ContactGeometry,
-identification through the model function), minus the wall time and IPOPT iteration count. The
+before the refactors of the batch field, the uniform-region search, the capsule geometry of the
+torque model and the identification's Jacobian, minus the wall time and IPOPT iteration count. The
 refactors must not change any number: every pinned leaf must still be there and agree to 1e-9
 relative (1e-15 absolute floor for exact zeros).
 
@@ -73,7 +73,7 @@ def test_builtin_design_unchanged(command: str, capsys: pytest.CaptureFixture[st
         if isinstance(old, float) and isinstance(new, (int, float)):
             assert math.isclose(new, old, rel_tol=REL, abs_tol=ABS), (
                 f"{command} {path}: {new!r} != pinned {old!r} (rel {REL}, abs {ABS}; "
-                "pinned before the issue-13 refactors)"
+                "pinned before the refactors)"
             )
         else:
             assert new == old, f"{command} {path}: {new!r} != pinned {old!r}"

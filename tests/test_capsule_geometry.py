@@ -69,7 +69,7 @@ def test_lead_is_advance_of_a_helix_at_the_helical_angle() -> None:
             f"helix tangent angle vs alpha at {deg} deg (parametric helix), rel 1e-12"
         )
         assert lead == pytest.approx(math.pi * D_H * math.tan(alpha), rel=1e-15), (
-            "pi D_h tan(alpha), DESIGN.md 4.2, rel 1e-15"
+            "pi D_h tan(alpha), unrolled helix, rel 1e-15"
         )
     assert capsule.lead_m(math.radians(10), D_H) == pytest.approx(6.6473706e-3, rel=1e-7), (
         "hand value pi * 12 mm * tan(10 deg) = 6.6473706 mm, rel 1e-7"

@@ -128,7 +128,7 @@ def test_domain_packages_import_only_the_core_of_spiralcap(package: str) -> None
 
 @pytest.mark.xfail(
     reason="report/data.py still calls commands.coils.sizing_payload; the coil analysis moves "
-    "to an application module both consume (issue 13, item 2: another branch)",
+    "to an application module both consume (another branch)",
     strict=False,
 )
 def test_report_imports_nothing_from_commands() -> None:

@@ -107,10 +107,10 @@ def test_design_md_figures_come_from_the_capsule_radius_variant() -> None:
         a = math.radians(deg)
         variant = _hull_diameter(5.5, _wrapped_ellipse(5.5, 0.5, a, centre_radius=5.5))
         assert variant == pytest.approx(value, abs=0.006), (
-            "DESIGN.md 4.3 D' figures = hull with the cut's width laid on radius R (2 decimals)"
+            "the earlier D' figures (docs/torque-model.md) = hull with the cut's width laid on radius R (2 decimals)"
         )
         assert float(equivalent_diameter_m(a, 11e-3, 1e-3, 1)) * 1e3 < value, (
-            "the tube-centre (R_h) construction gives a smaller D' than DESIGN.md's figures"
+            "the tube-centre (R_h) construction gives a smaller D' than the earlier figures"
         )
 
 

@@ -42,7 +42,7 @@ paper's capsule (D = 11 mm, d_w = 1 mm, one start) alpha > 1.75 deg (at 1.6 deg 
 round the back and the formula overestimates D' by 0.3 %). Below about 2 deg neighbouring turns
 nearly touch anyway (lead pi D_h tan(alpha)).
 
-DESIGN.md quoted D' = 11.71, 11.44, 11.35, 11.31 mm at 5, 10, 15, 20 deg: those numbers come
+An earlier note for this project quoted D' = 11.71, 11.44, 11.35, 11.31 mm at 5, 10, 15, 20 deg: those numbers come
 from measuring the cut's angular half-width on the capsule radius R instead of the wire's centre
 radius R_h; the tube section gives 11.667, 11.416, 11.339, 11.304 mm.
 """
