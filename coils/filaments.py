@@ -96,7 +96,7 @@ class FilamentSet:
             weights[np.arange(L), self.columns] = self.turns
             direction = np.zeros((ncol, 3))
             direction[np.arange(ncol), self.column_axes] = 1.0
-            mats = {
+            mats: dict[str, Any] = {
                 "along": along,
                 "across": 1.0 - along,
                 "weights": weights,

@@ -102,7 +102,7 @@ def size_system(
             AxisSizing(
                 axis=pair.axis,
                 radius_m=pair.radius_m,
-                separation_m=pair.separation_m,
+                separation_m=pair.spacing_m,
                 turns=pair.turns,
                 wire_diameter_m=pair.wire_diameter_m,
                 winding_pack_side_m=pair.winding_pack_side_m,
@@ -129,7 +129,7 @@ def size_system(
         winding_temperature_C=winding_temperature_C,
         ambient_temperature_C=ambient_temperature_C,
         heat_transfer_coefficient_W_m2K=heat_transfer_coefficient_W_m2K,
-        axes=tuple(axes),
+        axes=(axes[0], axes[1], axes[2]),
         total_power_W=sum(a.power_W for a in axes),
         current_limited_rotating_field_T=weakest,
         current_limiting_axes=tied,

@@ -8,6 +8,7 @@ the workspace minus the largest required torque (resistive + thrust) over the ti
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -64,6 +65,12 @@ class Evaluation:
     def failed(self) -> list[Check]:
         """The requirements and limits that do not hold."""
         return [c for c in self.checks if not c.ok]
+
+
+def _three(values: Any) -> tuple[float, float, float]:
+    """The x, y, z values of a length-3 array as floats."""
+    x, y, z = (float(v) for v in values)
+    return x, y, z
 
 
 def worst_required(model: DesignModel, alpha, f):
@@ -163,7 +170,7 @@ def evaluate(
         field_amplitude_T=field,
         field_limited_by=binding,
         workspace_factor=c.workspace_factor,
-        current_amplitudes_A=tuple(float(x) for x in field * c.current_per_tesla_A_per_T),
+        current_amplitudes_A=_three(field * c.current_per_tesla_A_per_T),
         magnetic_torque_Nm=avail,
         resistive_torque_Nm=res,
         thrust_torque_Nm=thr,

@@ -12,16 +12,17 @@ from __future__ import annotations
 
 import time
 from dataclasses import replace
+from typing import Any
 
 import casadi as ca
 import numpy as np
 
 from optimize import problem as pb
-from optimize.evaluate import evaluate, margin_grid, worst_required
+from optimize.evaluate import _three, evaluate, margin_grid, worst_required
 from optimize.result import BindingLimit, OptimizationResult, Shortfall
 from optimize.system import DesignModel, prepare
 
-_IPOPT_OPTIONS = {
+_IPOPT_OPTIONS: dict[str, Any] = {
     "ipopt.print_level": 0,
     "print_time": False,
     "ipopt.sb": "yes",
@@ -104,7 +105,7 @@ def _build(model: DesignModel, scales: pb.Scales, relaxed: bool):
     x = ca.SX.sym("x", 4)
     s = ca.SX.sym("s", 3) if relaxed else None
     obj, rows, info = pb.expressions(x, model, scales, relax=s)
-    z = ca.vertcat(x, s) if relaxed else x
+    z = ca.vertcat(x, s) if s is not None else x
     nlp = {"x": z, "f": obj, "g": ca.vertcat(*rows)}
     return ca.nlpsol("spiralcap_design", "ipopt", nlp, _IPOPT_OPTIONS), info
 
@@ -228,6 +229,7 @@ def _infeasible(model, scales, starts, iterations, t0, status_text, ev=None):
         iterations += int(solver.stats().get("iter_count", 0))
         if best is None or float(sol["f"]) < best[0]:
             best = (float(sol["f"]), sol)
+    assert best is not None  # at least one start was solved
     xs = np.asarray(best[1]["x"]).ravel()
     alpha, f = xs[0] * pb.ALPHA_REF_rad, xs[1] * pb.F_REF_hz
     ev = evaluate(model, alpha, f)
@@ -257,7 +259,7 @@ def _result(
     allocations = []
     for h in model.headings:
         amps, phases = model.coils.rotating_allocation(h, ev.field_amplitude_T)
-        allocations.append((tuple(float(a) for a in amps), tuple(float(p) for p in phases)))
+        allocations.append((_three(amps), _three(phases)))
     return OptimizationResult(
         status=status,
         objective=model.bounds.objective,
@@ -268,7 +270,7 @@ def _result(
         safety_factor=ev.safety_factor,
         current_amplitudes_A=ev.current_amplitudes_A,
         current_phases_rad=tuple(allocations),
-        headings=tuple(tuple(float(c) for c in h) for h in model.headings),
+        headings=tuple(_three(h) for h in model.headings),
         speed_m_s=ev.speed_m_s,
         step_out_frequency_hz=ev.step_out_frequency_hz,
         binding_limits=binding,

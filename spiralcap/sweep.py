@@ -13,6 +13,7 @@ import math
 from collections.abc import Callable, Sequence
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, replace
+from typing import Any
 
 import numpy as np
 
@@ -120,9 +121,9 @@ def _evaluate_vectorised(design: Design, inputs: dict[str, np.ndarray]) -> dict[
     from spiralcap.assemble import build_model
 
     model = prepare(build_model(design))
-    alpha = model.capsule.spiral.helical_angle_rad
-    f = model.frequency_hz
-    groups: dict[str, dict[str, np.ndarray]] = {"limits": {}, "requirements": {}}
+    alpha: Any = model.capsule.spiral.helical_angle_rad
+    f: Any = model.frequency_hz
+    groups: dict[str, dict[str, Any]] = {"limits": {}, "requirements": {}}
     for key, values in inputs.items():
         where, attr, factor = _VECTOR_KEYS[key]
         if where == "alpha":

@@ -103,6 +103,7 @@ def run(args: argparse.Namespace) -> int:
     )
     written = [write_text_atomic(args.output, report.html)]
     if args.pdf is not None:
+        assert report.pdf is not None  # built with pdf=True
         written.append(write_text_atomic(args.pdf, report.pdf))
     for path in written:
         _shareable(path)

@@ -26,7 +26,7 @@ def plot_torque_vs_frequency(
     tissue: Any = None,
     helical_angles_deg: Sequence[float] = (5.0, 10.0, 15.0, 20.0),
     *,
-    frequency_hz: Sequence[float] | None = None,
+    frequency_hz: Sequence[float] | np.ndarray | None = None,
     paper_points: Iterable[Any] | None = None,
     geometry: ContactGeometry | None = None,
 ) -> dict[str, list[Any]]:
@@ -91,7 +91,7 @@ def plot_torque_vs_frequency(
 
 
 def plot_fit(
-    ax: Axes, fit_result: Any, *, frequency_hz: Sequence[float] | None = None
+    ax: Axes, fit_result: Any, *, frequency_hz: Sequence[float] | np.ndarray | None = None
 ) -> dict[str, list[Any]]:
     """Measured points and the fitted model curve for each helical angle in a fit.
 

@@ -121,7 +121,8 @@ class _Pages:
             width_ratios=[MARGIN_IN, w_avail, MARGIN_IN],
             height_ratios=[MARGIN_IN, h_avail, MARGIN_IN],
         )
-        top, bottom = grid[1][1].subfigures(2, 1, height_ratios=[height, h_avail - height])
+        cell = grid[1][1]  # type: ignore[index]  # subfigures(3, 3) is a 3 x 3 array
+        top, bottom = cell.subfigures(2, 1, height_ratios=[height, h_avail - height])
         block.draw(top)
         rest = h_avail - height
         y = 1.0 - 0.15 / rest

@@ -80,6 +80,7 @@ def _draw_maps(maps: Any, workspace_radius_m: float) -> Any:
                 legend=False,
                 label_contours=False,
             )
+        assert drawn is not None  # three maps drawn above
         fig.colorbar(
             drawn["filled"],
             ax=list(axs),

@@ -71,11 +71,10 @@ def _allocation_table(ctx: Context) -> Table:
     for i, a in enumerate(ctx.value("optimize.current_allocation")):
         p = f"optimize.current_allocation.{i}"
         heading = "[" + ", ".join(f"{c:.3g}" for c in a["heading"]) + "]"
-        rows.append(
-            [heading]
-            + [ctx.num(f"{p}.amplitudes_A.{k}") for k in "xyz"]
-            + [ctx.num(f"{p}.phases_deg.{k}") for k in "xyz"]
-        )
+        row: list[Cell] = [heading]
+        row += [ctx.num(f"{p}.amplitudes_A.{k}") for k in "xyz"]
+        row += [ctx.num(f"{p}.phases_deg.{k}") for k in "xyz"]
+        rows.append(row)
     return Table(
         ["heading (unit vector)", "I_x (A)", "I_y (A)", "I_z (A)", "φ_x (°)", "φ_y (°)", "φ_z (°)"],
         rows,
@@ -119,15 +118,16 @@ def build(ctx: Context) -> Section:
             kind="ok" if feasible else "alert",
         )
     ]
+    currents: list[list[Cell]] = [
+        [f"current amplitude, {k} pair", "A", ctx.num(f"{o}.current_amplitudes_A.{k}")]
+        for k in "xyz"
+    ]
     rows: list[list[Cell]] = [
         ["status", "", str(ctx.value(f"{o}.status"))],
         ["helical angle", "°", ctx.num(f"{o}.helical_angle_deg")],
         ["rotation frequency", "Hz", ctx.num(f"{o}.frequency_hz")],
         ["rotating field at the centre", "mT", ctx.num(f"{o}.field_amplitude_T", 1e3)],
-        *[
-            [f"current amplitude, {k} pair", "A", ctx.num(f"{o}.current_amplitudes_A.{k}")]
-            for k in "xyz"
-        ],
+        *currents,
         ["torque margin", "mN·m", ctx.num(f"{o}.margin_Nm", 1e3)],
         ["safety factor", "–", ctx.num(f"{o}.safety_factor")],
         ["forward speed", "mm/s", ctx.num(f"{o}.speed_m_s", 1e3)],
