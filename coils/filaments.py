@@ -17,16 +17,19 @@ so the field matrix is G(p) = p S^T + diag-like T and B = G(p) I.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, Literal
 
 import numpy as np
 
 from coils.loop import loop_terms, loop_terms_rows
 from spiralcap import backend as bk
+from spiralcap.backend import Scalar
 
 __all__ = ["AXES", "FilamentSet", "gauss_legendre_pack"]
 
-AXES = ("x", "y", "z")
+#: A coil axis, as the option strings the pairs and the design use.
+Axis = Literal["x", "y", "z"]
+AXES: tuple[Axis, Axis, Axis] = ("x", "y", "z")
 
 #: Points per chunk on the numpy path: keeps the (chunk, filaments) temporaries in cache.
 CHUNK_POINTS = 8192
@@ -87,7 +90,7 @@ class FilamentSet:
         """Number of drive currents."""
         return len(self.column_axes)
 
-    def _matrices(self, casadi: bool) -> dict[str, Any]:
+    def _matrices(self, casadi: bool) -> dict[str, Scalar]:
         if casadi not in self._mats:
             L, ncol = len(self.radii_m), self.n_currents
             along = np.zeros((3, L))
@@ -111,7 +114,7 @@ class FilamentSet:
             self._mats[casadi] = mats
         return self._mats[casadi]
 
-    def terms(self, points: Any) -> tuple[Any, Any]:
+    def terms(self, points: Scalar) -> tuple[Scalar, Scalar]:
         """S and T of the module docstring at each point.
 
         Parameters
@@ -167,7 +170,7 @@ class FilamentSet:
             }
         return self._mats["rows"]
 
-    def field(self, points: Any, currents: Any) -> Any:
+    def field(self, points: Scalar, currents: Scalar) -> Scalar:
         """Field B = G(p) I, T, for numpy (n, 3) points or a CasADi (1, 3) row.
 
         Parameters

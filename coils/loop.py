@@ -26,11 +26,11 @@ from __future__ import annotations
 
 import math
 from fractions import Fraction
-from typing import Any
 
 import numpy as np
 
 from spiralcap import backend as bk
+from spiralcap.backend import Scalar
 from spiralcap.constants import MU0_T_m_per_A
 
 __all__ = [
@@ -66,7 +66,7 @@ def _g_series_coefficients(terms: int) -> tuple[float, ...]:
 _G_COEFFS = _g_series_coefficients(_SERIES_TERMS)
 
 
-def _g(m: Any, K: Any, E: Any) -> Any:
+def _g(m: Scalar, K: Scalar, E: Scalar) -> Scalar:
     """g(m) = [E - K + m (K - E/2)] / m², series below SERIES_BELOW (finite for all m)."""
     series = _G_COEFFS[-1]
     for c in reversed(_G_COEFFS[:-1]):
@@ -76,7 +76,9 @@ def _g(m: Any, K: Any, E: Any) -> Any:
     return bk.where(m < SERIES_BELOW, series, closed)
 
 
-def loop_terms(radius_m: Any, dz_m: Any, rho_m: Any, rho_sq_m2: Any) -> tuple[Any, Any]:
+def loop_terms(
+    radius_m: Scalar, dz_m: Scalar, rho_m: Scalar, rho_sq_m2: Scalar
+) -> tuple[Scalar, Scalar]:
     """(B_ρ/ρ, B_z) of one filament carrying one ampere, finite on the axis.
 
     Parameters
@@ -186,7 +188,7 @@ def loop_terms_rows(
     return g, b_z
 
 
-def loop_field(radius_m: Any, z0_m: Any, rho_m: Any, z_m: Any) -> tuple[Any, Any]:
+def loop_field(radius_m: Scalar, z0_m: Scalar, rho_m: Scalar, z_m: Scalar) -> tuple[Scalar, Scalar]:
     """Field of one circular filament per ampere-turn (exact, elliptic integrals).
 
     The loop lies in the plane z = z0 with its centre on the axis; current circulates
@@ -217,7 +219,7 @@ def loop_field(radius_m: Any, z0_m: Any, rho_m: Any, z_m: Any) -> tuple[Any, Any
     return rho_m * s, b_z
 
 
-def coaxial_mutual_inductance_H(radius1_m: Any, radius2_m: Any, distance_m: Any) -> Any:
+def coaxial_mutual_inductance_H(radius1_m: Scalar, radius2_m: Scalar, distance_m: Scalar) -> Scalar:
     """Mutual inductance of two coaxial circular filaments (one turn each), H.
 
     Maxwell, *Treatise* (1873) §701: with k² = m = 4 a b / ((a + b)² + d²),

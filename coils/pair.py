@@ -16,7 +16,7 @@ from typing import Any
 import numpy as np
 
 from coils.electrical import copper_resistivity_ohm_m
-from coils.filaments import AXES, FilamentSet, gauss_legendre_pack
+from coils.filaments import AXES, Axis, FilamentSet, gauss_legendre_pack
 from coils.loop import coaxial_mutual_inductance_H, loop_field
 from spiralcap.constants import MU0_T_m_per_A
 from spiralcap.errors import InputError, check_positive
@@ -71,7 +71,7 @@ class HelmholtzPair:
 
     radius_m: float
     turns: int
-    axis: str = "z"
+    axis: Axis = "z"
     separation_m: float | None = None
     wire_diameter_m: float = 2.5e-3
     packing_factor: float = 0.7

@@ -141,8 +141,12 @@ def available_torque_Nm(field_T: Any, c: Constants) -> Any:
 
 
 def required_torques_Nm(
-    helical_angle_rad: Any, frequency_hz: Any, c: Constants, tissues: tuple, req: Requirements
-) -> list[tuple[Any, Any]]:
+    helical_angle_rad: bk.Scalar,
+    frequency_hz: bk.Scalar,
+    c: Constants,
+    tissues: tuple,
+    req: Requirements,
+) -> list[tuple[bk.Scalar, bk.Scalar]]:
     """(resistive, thrust) torque for every tissue set, N·m.
 
     Resistive: the Zhou 2013 tissue model (torque_model.resistive_torque_Nm). Thrust: the screw

@@ -13,14 +13,25 @@ iteration, which gives exact values and exact derivatives (7 steps reach machine
 
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, TypeAlias
 
 import casadi as _ca
 import numpy as _np
 from scipy import special as _special
 
+#: A value a physics function of the optimisation variables accepts and returns: a float, a
+#: numpy array (broadcast elementwise) or a CasADi SX/MX/DM. Meant as
+#: ``float | numpy.ndarray | casadi.SX | casadi.MX | casadi.DM``; spelled ``Any`` for the type
+#: checker because a union cannot say "all SX or all MX", and CasADi's stubs (rightly) reject
+#: ``SX * MX``, so every arithmetic expression on the union would be flagged.
+Scalar: TypeAlias = Any
+#: The numpy-only counterpart (a float or an array), for functions with no CasADi path.
+Array: TypeAlias = "float | _np.ndarray"
+
 __all__ = [
     "AGM_STEPS",
+    "Array",
+    "Scalar",
     "abs",
     "arccos",
     "arcsin",
@@ -53,8 +64,8 @@ def is_casadi(*args: Any) -> bool:
     return any(isinstance(a, _CASADI_TYPES) for a in args)
 
 
-def _unary(np_fn, ca_fn):
-    def fn(x):
+def _unary(np_fn: Any, ca_fn: Any) -> Any:
+    def fn(x: Scalar) -> Scalar:
         return ca_fn(x) if isinstance(x, _CASADI_TYPES) else np_fn(x)
 
     fn.__name__ = np_fn.__name__
@@ -75,29 +86,29 @@ abs = _unary(_np.abs, _ca.fabs)
 square = _unary(_np.square, lambda x: x * x)
 
 
-def arctan2(y: Any, x: Any) -> Any:
+def arctan2(y: Scalar, x: Scalar) -> Scalar:
     """Four-quadrant arctangent ``atan2(y, x)``."""
     return _ca.atan2(y, x) if is_casadi(y, x) else _np.arctan2(y, x)
 
 
-def where(condition: Any, if_true: Any, if_false: Any) -> Any:
+def where(condition: Scalar, if_true: Scalar, if_false: Scalar) -> Scalar:
     """``condition ? if_true : if_false`` elementwise (``numpy.where`` / ``casadi.if_else``)."""
     if is_casadi(condition, if_true, if_false):
         return _ca.if_else(condition, if_true, if_false)
     return _np.where(condition, if_true, if_false)
 
 
-def fmax(a: Any, b: Any) -> Any:
+def fmax(a: Scalar, b: Scalar) -> Scalar:
     """Elementwise maximum."""
     return _ca.fmax(a, b) if is_casadi(a, b) else _np.maximum(a, b)
 
 
-def fmin(a: Any, b: Any) -> Any:
+def fmin(a: Scalar, b: Scalar) -> Scalar:
     """Elementwise minimum."""
     return _ca.fmin(a, b) if is_casadi(a, b) else _np.minimum(a, b)
 
 
-def sqrt_guarded(x: Any) -> Any:
+def sqrt_guarded(x: Scalar) -> Scalar:
     """``sqrt(x)`` for ``x >= 0`` whose derivative stays finite at ``x = 0`` on the CasADi path.
 
     CasADi differentiates both branches of ``if_else``, so the argument of the square root is
@@ -110,13 +121,13 @@ def sqrt_guarded(x: Any) -> Any:
     return _np.sqrt(x)
 
 
-def softplus(x: Any, sharpness: float = 1.0) -> Any:
+def softplus(x: Scalar, sharpness: float = 1.0) -> Scalar:
     """Smooth ``max(x, 0)``: ``log(1 + exp(s x)) / s``, overflow-safe on both paths."""
     s = sharpness
     return (fmax(s * x, 0.0) + log(1.0 + exp(-abs(s * x)))) / s
 
 
-def _agm_K_E(m: Any) -> tuple[Any, Any]:
+def _agm_K_E(m: Scalar) -> tuple[Scalar, Scalar]:
     """Complete elliptic integrals K(m), E(m) by a fixed-count AGM (CasADi path)."""
     a = 1.0
     b = _ca.sqrt(1.0 - m)
@@ -131,17 +142,17 @@ def _agm_K_E(m: Any) -> tuple[Any, Any]:
     return k, k * (1.0 - c_sq_sum)
 
 
-def ellipk(m: Any) -> Any:
+def ellipk(m: Scalar) -> Scalar:
     """Complete elliptic integral of the first kind K(m), parameter ``m = k**2`` (scipy's)."""
     return _agm_K_E(m)[0] if isinstance(m, _CASADI_TYPES) else _special.ellipk(m)
 
 
-def ellipe(m: Any) -> Any:
+def ellipe(m: Scalar) -> Scalar:
     """Complete elliptic integral of the second kind E(m), parameter ``m = k**2`` (scipy's)."""
     return _agm_K_E(m)[1] if isinstance(m, _CASADI_TYPES) else _special.ellipe(m)
 
 
-def ellipke(m: Any) -> tuple[Any, Any]:
+def ellipke(m: Scalar) -> tuple[Scalar, Scalar]:
     """Both K(m) and E(m); on the CasADi path they share one AGM iteration."""
     if isinstance(m, _CASADI_TYPES):
         return _agm_K_E(m)

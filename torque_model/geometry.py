@@ -50,11 +50,11 @@ radius R_h; the tube section gives 11.667, 11.416, 11.339, 11.304 mm.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 
 from spiralcap import backend as bk
+from spiralcap.backend import Scalar
 from spiralcap.errors import InputError, check_positive
 
 __all__ = [
@@ -114,7 +114,7 @@ class ContactGeometry:
         object.__setattr__(self, "starts", int(n))
 
 
-def _tangency_cos(psi_m: Any, R: Any, r_w: Any, R_h: Any) -> Any:
+def _tangency_cos(psi_m: Scalar, R: Scalar, r_w: Scalar, R_h: Scalar) -> Scalar:
     """cos t* of the common tangent point on the bump edge (Newton on F(c) from c = 1)."""
     psi2 = psi_m * psi_m
     R2 = R * R
@@ -135,8 +135,8 @@ def _tangency_cos(psi_m: Any, R: Any, r_w: Any, R_h: Any) -> Any:
 
 
 def equivalent_diameter_m(
-    helical_angle_rad: Any, body_diameter_m: Any, wire_diameter_m: Any, starts: int
-) -> Any:
+    helical_angle_rad: Scalar, body_diameter_m: Scalar, wire_diameter_m: Scalar, starts: int
+) -> Scalar:
     """Diameter D' of the circle with the perimeter of the deformed lumen (Zhou 2013, Fig. 8).
 
     Parameters
@@ -187,8 +187,8 @@ def equivalent_diameter_m(
 
 
 def end_contact_moment_m2(
-    body_diameter_m: Any, lumen_diameter_m: Any, wall_thickness_m: Any
-) -> Any:
+    body_diameter_m: Scalar, lumen_diameter_m: Scalar, wall_thickness_m: Scalar
+) -> Scalar:
     """Integral of strain x moment arm over one hemispherical end: int eps(z) D_after(z)/2 dz.
 
     The end is a hemisphere of radius R = D/2 (Zhou 2013, section III-B: "the spherical radius,

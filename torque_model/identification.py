@@ -30,7 +30,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
-from typing import Any, NamedTuple
+from typing import Any, Literal, NamedTuple
 
 import numpy as np
 
@@ -40,6 +40,9 @@ from torque_model.model import contact_factor_m3, relaxation_integral_Pa
 from torque_model.tissue import VISCOELASTIC_FIELDS, TissueParameters
 
 __all__ = ["DEFAULT_BOUNDS", "PARAMETER_NAMES", "FitResult", "identify"]
+
+#: How the fit gets its Jacobian: exact (the model's, by CasADi) or scipy's finite differences.
+JacobianMethod = Literal["analytic", "2-point", "3-point"]
 
 #: The identified parameters, SI names, in the order of every array in :class:`FitResult`.
 PARAMETER_NAMES = VISCOELASTIC_FIELDS
@@ -202,7 +205,7 @@ def identify(
     *,
     relative: bool = True,
     bounds: Mapping[str, tuple[float, float]] | None = None,
-    jacobian: str = "analytic",
+    jacobian: JacobianMethod = "analytic",
     profile_bounds: bool = True,
 ) -> FitResult:
     """Fit E1, E2, E3, eta1, eta2 to measured torque against frequency (bounded TRF).
