@@ -21,7 +21,7 @@ from typing import Any, Literal
 
 import numpy as np
 
-from coils.loop import loop_terms, loop_terms_rows
+from coils.loop import ROW_SCRATCH, loop_terms, loop_terms_rows
 from spiralcap import backend as bk
 from spiralcap.backend import Scalar
 
@@ -138,25 +138,55 @@ class FilamentSet:
         s, b_z = loop_terms(mats["radii"], zeta - mats["centres"], rho, rho_sq)
         return s @ mats["weights"], (b_z - s * zeta) @ mats["weights"]
 
-    def _terms_rows(self, P: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def _terms_rows(
+        self, P: np.ndarray, work: dict[str, np.ndarray] | None = None
+    ) -> tuple[np.ndarray, np.ndarray]:
         """S and T as (n_currents, n) rows for points given as (3, n) rows (numpy path).
 
         ρ² and ρ are computed once per axis (3 rows) and shared by every filament on that axis
         (both coils of a pair and all their quadrature nodes); the filament terms come from
         :func:`coils.loop.loop_terms_rows` with one row per filament. All filaments of a drive
-        column share its axis a_k, so T_k = Σ N_l b_z,l - p_{a_k} S_k.
+        column share its axis a_k, so T_k = Σ N_l b_z,l - p_{a_k} S_k. ``work`` holds the
+        buffers of :meth:`_workspace` for this n (results are views into it).
         """
         rows = self._rows()
-        P_sq = P * P
-        rho_sq = P_sq.sum(axis=0) - P_sq  # (3, n): distance² from the x, y, z axes
-        rho = np.sqrt(rho_sq)
-        dz = P[self.axes]
+        w = self._workspace(P.shape[1]) if work is None else work
+        P_sq, rho_sq3, rho3 = w["P_sq"], w["rho_sq3"], w["rho3"]
+        np.multiply(P, P, out=P_sq)
+        np.subtract(P_sq.sum(axis=0), P_sq, out=rho_sq3)  # distance² from the x, y, z axes
+        np.sqrt(rho_sq3, out=rho3)
+        dz, rho, rho_sq = w["dz"], w["rho"], w["rho_sq"]
+        np.take(P, self.axes, axis=0, out=dz)
         dz -= rows["centres"]
-        s, b_z = loop_terms_rows(rows["radii"], dz, rho[self.axes], rho_sq[self.axes])
-        S = rows["weights"] @ s
-        T = rows["weights"] @ b_z
-        T -= P[list(self.column_axes)] * S
+        np.take(rho3, self.axes, axis=0, out=rho)
+        np.take(rho_sq3, self.axes, axis=0, out=rho_sq)
+        s, b_z = loop_terms_rows(rows["radii"], dz, rho, rho_sq, w["scratch"])
+        S, T, tmp = w["S"], w["T"], w["tmp"]
+        np.matmul(rows["weights"], s, out=S)
+        np.matmul(rows["weights"], b_z, out=T)
+        np.take(P, rows["column_axes"], axis=0, out=tmp)
+        tmp *= S
+        T -= tmp
         return S, T
+
+    def _workspace(self, n: int) -> dict[str, np.ndarray]:
+        """Buffers for :meth:`_terms_rows` on n points, reused chunk after chunk."""
+        L, k = len(self.radii_m), self.n_currents
+        shapes = {
+            "P": (3, n),
+            "P_sq": (3, n),
+            "rho_sq3": (3, n),
+            "rho3": (3, n),
+            "dz": (L, n),
+            "rho": (L, n),
+            "rho_sq": (L, n),
+            "scratch": (ROW_SCRATCH, L, n),
+            "S": (k, n),
+            "T": (k, n),
+            "tmp": (k, n),
+            "B": (3, n),
+        }
+        return {name: np.empty(shape) for name, shape in shapes.items()}
 
     def _rows(self) -> dict[str, np.ndarray]:
         if "rows" not in self._mats:
@@ -166,6 +196,7 @@ class FilamentSet:
                 "radii": np.asarray(self.radii_m, dtype=float)[:, None],
                 "centres": np.asarray(self.centres_m, dtype=float)[:, None],
                 "weights": weights,
+                "column_axes": np.asarray(self.column_axes, dtype=np.intp),
                 "direction": self._matrices(False)["direction"].T.copy(),
             }
         return self._mats["rows"]
@@ -193,11 +224,17 @@ class FilamentSet:
         currents = np.asarray(currents, dtype=float)
         direction = self._rows()["direction"]
         out = np.empty((len(points), 3))
+        work: dict[str, np.ndarray] = {}
         for start in range(0, len(points), CHUNK_POINTS):
-            P = np.ascontiguousarray(points[start : start + CHUNK_POINTS].T)
-            S, T = self._terms_rows(P)
-            B = P * (currents.T @ S)
-            B += direction @ (T * currents)
+            chunk = points[start : start + CHUNK_POINTS]
+            if work.get("P", np.empty((3, 0))).shape[1] != len(chunk):
+                work = self._workspace(len(chunk))
+            P, B = work["P"], work["B"]
+            np.copyto(P, chunk.T)
+            S, T = self._terms_rows(P, work)
+            np.multiply(P, currents.T @ S, out=B)
+            T *= currents
+            B += direction @ T
             out[start : start + CHUNK_POINTS] = B.T
         return out
 
@@ -211,9 +248,14 @@ class FilamentSet:
         """
         out = np.empty((len(points), 3, self.n_currents))
         direction = self._rows()["direction"]
+        work: dict[str, np.ndarray] = {}
         for start in range(0, len(points), CHUNK_POINTS):
-            P = np.ascontiguousarray(points[start : start + CHUNK_POINTS].T)
-            S, T = self._terms_rows(P)
+            chunk = points[start : start + CHUNK_POINTS]
+            if work.get("P", np.empty((3, 0))).shape[1] != len(chunk):
+                work = self._workspace(len(chunk))
+            P = work["P"]
+            np.copyto(P, chunk.T)
+            S, T = self._terms_rows(P, work)
             G = P[:, None, :] * S[None, :, :] + direction[:, :, None] * T[None, :, :]
             out[start : start + CHUNK_POINTS] = G.transpose(2, 0, 1)
         return out

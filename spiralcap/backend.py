@@ -152,11 +152,19 @@ def ellipe(m: Scalar) -> Scalar:
     return _agm_K_E(m)[1] if isinstance(m, _CASADI_TYPES) else _special.ellipe(m)
 
 
-def ellipke(m: Scalar) -> tuple[Scalar, Scalar]:
-    """Both K(m) and E(m); on the CasADi path they share one AGM iteration."""
+def ellipke(m: Scalar, out: tuple[_np.ndarray, _np.ndarray] | None = None) -> tuple[Scalar, Scalar]:
+    """Both K(m) and E(m); on the CasADi path they share one AGM iteration.
+
+    On the numpy path they are scipy's Cephes ``ellipk`` and ``ellipe`` (each a polynomial pair
+    and a logarithm, 2.5e-16 relative); ``out`` = (K, E) arrays to write them into. A shared
+    numpy AGM or Carlson pass was measured slower than the two compiled calls (about 1.2x at
+    7 steps, 10^6 values), so they stay separate on this path.
+    """
     if isinstance(m, _CASADI_TYPES):
         return _agm_K_E(m)
-    return _special.ellipk(m), _special.ellipe(m)
+    if out is None:
+        return _special.ellipk(m), _special.ellipe(m)
+    return _special.ellipk(m, out=out[0]), _special.ellipe(m, out=out[1])
 
 
 __all__.append("ellipke")
