@@ -16,6 +16,8 @@ so the field matrix is G(p) = p S^T + diag-like T and B = G(p) I.
 
 from __future__ import annotations
 
+import math
+import threading
 from dataclasses import dataclass, field
 from typing import Any, Literal
 
@@ -30,6 +32,9 @@ __all__ = ["AXES", "FilamentSet", "gauss_legendre_pack"]
 #: A coil axis, as the option strings the pairs and the design use.
 Axis = Literal["x", "y", "z"]
 AXES: tuple[Axis, Axis, Axis] = ("x", "y", "z")
+
+#: Per-thread scratch of the numpy path (see FilamentSet._workspace).
+_WORK = threading.local()
 
 #: Points per chunk on the numpy path: keeps the (chunk, filaments) temporaries in cache.
 CHUNK_POINTS = 8192
@@ -130,7 +135,7 @@ class FilamentSet:
         if not bk.is_casadi(points):
             P = np.ascontiguousarray(np.asarray(points, dtype=float).T)
             S, T = self._terms_rows(P)
-            return S.T, T.T
+            return S.T.copy(), T.T.copy()
         mats = self._matrices(True)
         zeta = points @ mats["along"]
         rho_sq = (points * points) @ mats["across"]
@@ -170,8 +175,17 @@ class FilamentSet:
         return S, T
 
     def _workspace(self, n: int) -> dict[str, np.ndarray]:
-        """Buffers for :meth:`_terms_rows` on n points, reused chunk after chunk."""
+        """Buffers for :meth:`_terms_rows` on n points, reused chunk after chunk.
+
+        Scratch only (no content survives a call), so the last one built in this thread is
+        kept and handed to any filament set of the same sizes: repeated small calls skip the
+        allocation, and a big batch keeps its pages.
+        """
         L, k = len(self.radii_m), self.n_currents
+        key = (L, k, n)
+        cached = getattr(_WORK, "last", None)
+        if cached is not None and cached[0] == key:
+            return cached[1]
         shapes = {
             "P": (3, n),
             "P_sq": (3, n),
@@ -186,7 +200,15 @@ class FilamentSet:
             "tmp": (k, n),
             "B": (3, n),
         }
-        return {name: np.empty(shape) for name, shape in shapes.items()}
+        sizes = [math.prod(shape) for shape in shapes.values()]
+        flat = np.empty(sum(sizes))  # one allocation, carved into contiguous views
+        ends = np.cumsum(sizes)
+        work = {
+            name: flat[end - size : end].reshape(shape)
+            for (name, shape), size, end in zip(shapes.items(), sizes, ends, strict=True)
+        }
+        _WORK.last = (key, work)
+        return work
 
     def _rows(self) -> dict[str, np.ndarray]:
         if "rows" not in self._mats:
@@ -224,11 +246,9 @@ class FilamentSet:
         currents = np.asarray(currents, dtype=float)
         direction = self._rows()["direction"]
         out = np.empty((len(points), 3))
-        work: dict[str, np.ndarray] = {}
         for start in range(0, len(points), CHUNK_POINTS):
             chunk = points[start : start + CHUNK_POINTS]
-            if work.get("P", np.empty((3, 0))).shape[1] != len(chunk):
-                work = self._workspace(len(chunk))
+            work = self._workspace(len(chunk))
             P, B = work["P"], work["B"]
             np.copyto(P, chunk.T)
             S, T = self._terms_rows(P, work)
@@ -248,11 +268,9 @@ class FilamentSet:
         """
         out = np.empty((len(points), 3, self.n_currents))
         direction = self._rows()["direction"]
-        work: dict[str, np.ndarray] = {}
         for start in range(0, len(points), CHUNK_POINTS):
             chunk = points[start : start + CHUNK_POINTS]
-            if work.get("P", np.empty((3, 0))).shape[1] != len(chunk):
-                work = self._workspace(len(chunk))
+            work = self._workspace(len(chunk))
             P = work["P"]
             np.copyto(P, chunk.T)
             S, T = self._terms_rows(P, work)
