@@ -122,7 +122,7 @@ def _g_series(m: np.ndarray) -> np.ndarray:
 
 
 #: Scratch rows :func:`loop_terms_rows` needs, as the first axis of its ``scratch`` array.
-ROW_SCRATCH = 7
+ROW_SCRATCH = 12
 
 
 def loop_terms_rows(
@@ -161,7 +161,7 @@ def loop_terms_rows(
     """
     if scratch is None:
         scratch = np.empty((ROW_SCRATCH, *dz_m.shape))
-    q, u, inv_beta_sq, m, K, E, common = scratch
+    q, u, inv_beta_sq, m, K, E, common, x = scratch[:8]
     R_sq = radius_m * radius_m
     np.multiply(dz_m, dz_m, out=q)
     q += rho_sq_m2
@@ -173,7 +173,8 @@ def loop_terms_rows(
     alpha_sq -= u
     np.multiply(u, inv_beta_sq, out=m)
     m *= 2.0  # 4Rρ/β²
-    bk.ellipke(m, out=(K, E))
+    np.multiply(alpha_sq, inv_beta_sq, out=x)  # 1 - m = α²/β², exact next to the wire
+    bk.ellipke(m, out=(K, E), complement=x, scratch=scratch[8:])
     np.sqrt(inv_beta_sq, out=common)
     common /= alpha_sq
     common *= MU0_T_m_per_A / (2.0 * math.pi)
