@@ -194,8 +194,8 @@ def loop_terms_rows(
     np.maximum(m, SERIES_BELOW, out=K)
     K *= K
     g /= K
-    near_axis = np.nonzero(m < SERIES_BELOW)
-    if near_axis[0].size:
+    near_axis = m < SERIES_BELOW
+    if near_axis.any():
         g[near_axis] = _g_series(m[near_axis])
     g *= common
     g *= dz_m
