@@ -42,6 +42,7 @@ __all__ = [
     "ellipe",
     "ellipk",
     "exp",
+    "expm1",
     "fmax",
     "fmin",
     "is_casadi",
@@ -81,6 +82,7 @@ arctan = _unary(_np.arctan, _ca.atan)
 arcsin = _unary(_np.arcsin, _ca.asin)
 arccos = _unary(_np.arccos, _ca.acos)
 exp = _unary(_np.exp, _ca.exp)
+expm1 = _unary(_np.expm1, _ca.expm1)
 log = _unary(_np.log, _ca.log)
 sqrt = _unary(_np.sqrt, _ca.sqrt)
 abs = _unary(_np.abs, _ca.fabs)

@@ -162,7 +162,13 @@ class _RelaxationIntegral:
         self.freq = freq
         q = ca.SX.sym("log_p", len(PARAMETER_NAMES))
         integral = relaxation_integral_Pa(ca.DM(freq), _Constants(*ca.vertsplit(ca.exp(q))))
-        self._jacobian = ca.Function("dI_dlogp", [q], [ca.jacobian(integral, q)])
+        fn = ca.Function("dI_dlogp", [q], [ca.densify(ca.jacobian(integral, q))])
+        # Called a thousand times per fit: through a buffer, without DM conversions.
+        self._q = np.zeros(len(PARAMETER_NAMES))
+        self._jac = np.zeros(freq.size * len(PARAMETER_NAMES))
+        self._buffer, self._trigger = fn.buffer()
+        self._buffer.set_arg(0, self._q.data)
+        self._buffer.set_res(0, self._jac.data)
 
     def value(self, p: np.ndarray) -> np.ndarray:
         """I at p = (E1, E2, E3, eta1, eta2) (SI), shape (n,), Pa."""
@@ -170,7 +176,9 @@ class _RelaxationIntegral:
 
     def jacobian(self, q: np.ndarray) -> np.ndarray:
         """dI/dlog(p) at q = log p, shape (n, 5), Pa."""
-        return np.asarray(self._jacobian(q), dtype=float)
+        self._q[:] = q
+        self._trigger()
+        return self._jac.reshape(len(PARAMETER_NAMES), -1).T.copy()  # CasADi is column-major
 
 
 def _as_points(name: str, values: Any, n: int | None) -> np.ndarray:

@@ -105,8 +105,8 @@ def relaxation_integral_Pa(frequency_hz: Scalar, tissue: ViscoelasticConstants) 
     w1 = omega * t.eta1_Pa_s
     w2 = omega * t.eta2_Pa_s
     return (
-        w1 * (1.0 - bk.exp(-2.0 * bk.pi * t.E1_Pa / w1))
-        + w2 * (1.0 - bk.exp(-2.0 * bk.pi * t.E2_Pa / w2))
+        -w1 * bk.expm1(-2.0 * bk.pi * t.E1_Pa / w1)  # 1 - exp(-x) without cancellation
+        - w2 * bk.expm1(-2.0 * bk.pi * t.E2_Pa / w2)
         + 2.0 * bk.pi * t.E3_Pa
     )
 
