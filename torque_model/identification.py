@@ -162,7 +162,7 @@ class _RelaxationIntegral:
         self.freq = freq
         q = ca.SX.sym("log_p", len(PARAMETER_NAMES))
         integral = relaxation_integral_Pa(ca.DM(freq), _Constants(*ca.vertsplit(ca.exp(q))))
-        fn = ca.Function("dI_dlogp", [q], [ca.densify(ca.jacobian(integral, q))])
+        fn: Any = ca.Function("dI_dlogp", [q], [ca.densify(ca.jacobian(integral, q))])
         # Called a thousand times per fit: through a buffer, without DM conversions.
         self._q = np.zeros(len(PARAMETER_NAMES))
         self._jac = np.zeros(freq.size * len(PARAMETER_NAMES))
