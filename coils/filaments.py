@@ -36,8 +36,14 @@ AXES: tuple[Axis, Axis, Axis] = ("x", "y", "z")
 #: Per-thread scratch of the numpy path (see FilamentSet._workspace).
 _WORK = threading.local()
 
-#: Points per chunk on the numpy path: keeps the (chunk, filaments) temporaries in cache.
-CHUNK_POINTS = 8192
+#: Point-filament pairs per chunk on the numpy path: bounds the scratch (about 7 MB) and keeps
+#: it reused, whatever the number of filaments.
+CHUNK_ELEMENTS = 49152
+
+
+def _chunk(n_filaments: int) -> int:
+    """Points per chunk: about CHUNK_ELEMENTS point-filament pairs (8192 points for six loops)."""
+    return max(64, CHUNK_ELEMENTS // max(n_filaments, 1))
 
 
 def gauss_legendre_pack(side_m: float, counts: tuple[int, int]) -> tuple[np.ndarray, ...]:
@@ -246,8 +252,9 @@ class FilamentSet:
         currents = np.asarray(currents, dtype=float)
         direction = self._rows()["direction"]
         out = np.empty((len(points), 3))
-        for start in range(0, len(points), CHUNK_POINTS):
-            chunk = points[start : start + CHUNK_POINTS]
+        step = _chunk(len(self.radii_m))
+        for start in range(0, len(points), step):
+            chunk = points[start : start + step]
             work = self._workspace(len(chunk))
             P, B = work["P"], work["B"]
             np.copyto(P, chunk.T)
@@ -255,7 +262,7 @@ class FilamentSet:
             np.multiply(P, currents.T @ S, out=B)
             T *= currents
             B += direction @ T
-            out[start : start + CHUNK_POINTS] = B.T
+            out[start : start + step] = B.T
         return out
 
     def field_matrix(self, points: np.ndarray) -> np.ndarray:
@@ -268,12 +275,13 @@ class FilamentSet:
         """
         out = np.empty((len(points), 3, self.n_currents))
         direction = self._rows()["direction"]
-        for start in range(0, len(points), CHUNK_POINTS):
-            chunk = points[start : start + CHUNK_POINTS]
+        step = _chunk(len(self.radii_m))
+        for start in range(0, len(points), step):
+            chunk = points[start : start + step]
             work = self._workspace(len(chunk))
             P = work["P"]
             np.copyto(P, chunk.T)
             S, T = self._terms_rows(P, work)
             G = P[:, None, :] * S[None, :, :] + direction[:, :, None] * T[None, :, :]
-            out[start : start + CHUNK_POINTS] = G.transpose(2, 0, 1)
+            out[start : start + step] = G.transpose(2, 0, 1)
         return out
