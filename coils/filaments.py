@@ -41,6 +41,18 @@ _WORK = threading.local()
 CHUNK_ELEMENTS = 49152
 
 
+def _groups(axes: np.ndarray) -> tuple[list[int], int] | None:
+    """(axis of each group, filaments per group) if the filaments come in contiguous runs of
+    equal length, one run per axis (every pair and system here); else None."""
+    axes = np.asarray(axes)
+    starts = np.flatnonzero(np.r_[True, axes[1:] != axes[:-1]])
+    counts = np.diff(np.r_[starts, axes.size])
+    order = axes[starts].tolist()
+    if len(set(order)) != len(order) or np.any(counts != counts[0]):
+        return None
+    return order, int(counts[0])
+
+
 def _chunk(n_filaments: int) -> int:
     """Points per chunk: about CHUNK_ELEMENTS point-filament pairs (8192 points for six loops)."""
     return max(64, CHUNK_ELEMENTS // max(n_filaments, 1))
@@ -166,12 +178,27 @@ class FilamentSet:
         np.multiply(P, P, out=P_sq)
         np.subtract(P_sq.sum(axis=0), P_sq, out=rho_sq3)  # distance² from the x, y, z axes
         np.sqrt(rho_sq3, out=rho3)
-        dz, rho, rho_sq = w["dz"], w["rho"], w["rho_sq"]
-        np.take(P, self.axes, axis=0, out=dz)
-        dz -= rows["centres"]
-        np.take(rho3, self.axes, axis=0, out=rho)
-        np.take(rho_sq3, self.axes, axis=0, out=rho_sq)
-        s, b_z = loop_terms_rows(rows["radii"], dz, rho, rho_sq, w["scratch"])
+        n = P.shape[1]
+        if rows["groups"] is not None:  # g axes of k filaments each: broadcast, no gathers
+            axes, k = rows["groups"]
+            g = len(axes)
+            dz = w["dz"].reshape(g, k, n)
+            np.subtract(P[axes, None, :], rows["centres"].reshape(g, k, 1), out=dz)
+            s, b_z = loop_terms_rows(
+                rows["radii"].reshape(g, k, 1),
+                dz,
+                rho3[axes, None, :],
+                rho_sq3[axes, None, :],
+                w["scratch"].reshape(ROW_SCRATCH, g, k, n),
+            )
+            s, b_z = s.reshape(-1, n), b_z.reshape(-1, n)
+        else:
+            dz, rho, rho_sq = w["dz"], w["rho"], w["rho_sq"]
+            np.take(P, self.axes, axis=0, out=dz)
+            dz -= rows["centres"]
+            np.take(rho3, self.axes, axis=0, out=rho)
+            np.take(rho_sq3, self.axes, axis=0, out=rho_sq)
+            s, b_z = loop_terms_rows(rows["radii"], dz, rho, rho_sq, w["scratch"])
         S, T, tmp = w["S"], w["T"], w["tmp"]
         np.matmul(rows["weights"], s, out=S)
         np.matmul(rows["weights"], b_z, out=T)
@@ -225,6 +252,7 @@ class FilamentSet:
                 "centres": np.asarray(self.centres_m, dtype=float)[:, None],
                 "weights": weights,
                 "column_axes": np.asarray(self.column_axes, dtype=np.intp),
+                "groups": _groups(self.axes),
                 "direction": self._matrices(False)["direction"].T.copy(),
             }
         return self._mats["rows"]

@@ -234,3 +234,26 @@ def test_row_kernel_matches_generic_loop_terms() -> None:
     assert np.allclose(s_new[:, :3], s_ref[:, :3], rtol=1e-12, atol=0), (
         "B_rho/rho on and next to the axis (series branch), rel 1e-12"
     )
+
+
+def test_filament_order_does_not_matter(nested_system) -> None:
+    """Grouped filaments (broadcast path) and a shuffled list (gather path) give one field."""
+    from coils.filaments import FilamentSet
+
+    fs = nested_system.filament_set
+    order = np.random.default_rng(8).permutation(len(fs.radii_m))
+    shuffled = FilamentSet(
+        axes=fs.axes[order],
+        radii_m=fs.radii_m[order],
+        centres_m=fs.centres_m[order],
+        turns=fs.turns[order],
+        columns=fs.columns[order],
+        column_axes=fs.column_axes,
+    )
+    pts = np.random.default_rng(9).uniform(-0.2, 0.2, (3000, 3))
+    currents = np.array([[1.3], [-0.7], [2.1]])
+    a, b = fs.field(pts, currents), shuffled.field(pts, currents)
+    assert np.allclose(a, b, rtol=1e-13, atol=1e-13 * np.abs(a).max()), (
+        "sum over filaments is order-independent, rel 1e-13"
+    )
+    assert np.allclose(fs.field_matrix(pts), shuffled.field_matrix(pts), rtol=1e-13, atol=1e-18)
