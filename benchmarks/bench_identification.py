@@ -27,7 +27,7 @@ def _case(
     repeat: int = 7,
 ) -> None:
     angle = math.radians(10.0)
-    clean = np.asarray(tm.resistive_torque_Nm(angle, f, truth))
+    clean = np.asarray(tm.resistive_torque_Nm(angle, f, truth, tm.PAPER_CAPSULE))
     y = clean * (1 + noise * np.random.default_rng(2013).normal(size=f.size))
     print(f"{name}: {f.size} points, {noise:.1%} noise")
     ref = None
@@ -35,7 +35,7 @@ def _case(
         for profile in (True, False):
             t, fit = median_time(
                 lambda jac=jac, profile=profile: tm.identify(
-                    f, y, angle, base, jacobian=jac, profile_bounds=profile
+                    f, y, angle, base, tm.PAPER_CAPSULE, jacobian=jac, profile_bounds=profile
                 ),
                 repeat,
             )
@@ -54,7 +54,10 @@ def main() -> None:
     _case("wide-band curve, identifiable tissue", np.geomspace(0.05, 20.0, 30), rich, 0.002, base)
     t_model, _ = median_time(
         lambda: tm.resistive_torque_Nm(
-            np.radians(np.linspace(2, 45, 1000))[:, None], np.linspace(0.5, 5, 100), base
+            np.radians(np.linspace(2, 45, 1000))[:, None],
+            np.linspace(0.5, 5, 100),
+            base,
+            tm.PAPER_CAPSULE,
         ),
         5,
     )

@@ -1,20 +1,25 @@
 """Benchmark: CasADi/IPOPT design solve vs scipy SLSQP with finite differences, same problem.
 
 Run: python benchmarks/bench_optimize.py
-Prints the optimum of each and the speed ratio (issue 5 target: IPOPT >= 10x SLSQP), and the
+Prints the optimum of each and the speed ratio (target: IPOPT >= 10x SLSQP; docs/optimisation.md), and the
 time of a 10^5-point vectorised evaluation sweep (target about a second). Asserts nothing.
 """
 
 from __future__ import annotations
+
+import sys
+from pathlib import Path
 
 import numpy as np
 from _timing import median_time
 
 from optimize import margin_grid, optimize_design, prepare
 from optimize import solve as solve_module
-from optimize.reference import solve_slsqp
 from spiralcap.assemble import build_model
 from spiralcap.design import load_design
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
+from reference_slsqp import solve_slsqp
 
 
 def main() -> None:

@@ -1,4 +1,4 @@
-"""The capsule shell: a cylinder closed by two hemispherical ends (PillCam SB2 by default).
+"""The capsule shell: a cylinder closed by two hemispherical ends.
 
 Geometry only; no physics. The spiral is wound on the cylindrical part and the magnet sits
 inside the shell (see :mod:`capsule.magnet` for the fit test).
@@ -19,8 +19,9 @@ GEOMETRY_RTOL = 1e-9
 class Body:
     """Capsule shell: cylinder of diameter ``diameter_m`` with hemispherical ends.
 
-    Defaults are the PillCam SB2 used by Zhou et al. (2013), section II.A: 11 mm diameter,
-    26 mm overall length. The shell thickness is an assumption (not given in the paper).
+    No defaults: the design file (``spiralcap.schema``) holds the product's default capsule
+    (the PillCam SB2 of Zhou et al. 2013, section II.A: 11 mm x 26 mm; the shell thickness is
+    an assumption, the paper gives none).
 
     Parameters
     ----------
@@ -38,9 +39,9 @@ class Body:
         Naming ``diameter_m``, ``length_m`` or ``shell_thickness_m``.
     """
 
-    diameter_m: float = 11e-3
-    length_m: float = 26e-3
-    shell_thickness_m: float = 0.5e-3
+    diameter_m: float
+    length_m: float
+    shell_thickness_m: float
 
     def __post_init__(self) -> None:
         for name in ("diameter_m", "length_m", "shell_thickness_m"):

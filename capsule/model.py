@@ -104,7 +104,7 @@ class CapsuleFigures:
     lead_m : float
         Advance per revolution of each start, m.
     pitch_m : float
-        Same as ``lead_m`` (the advance per turn, DESIGN.md 4.2).
+        Same as ``lead_m`` (the advance per turn, pi D_h tan(alpha); :func:`capsule.lead_m`).
     wire_spacing_m : float
         Axial distance between neighbouring wires, ``lead / starts``, m.
     turns : float

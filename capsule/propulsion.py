@@ -1,6 +1,6 @@
 """Propulsion kinematics of a spiral capsule: forward speed and the torque to push a load.
 
-The model is a documented default meant to be replaced (DESIGN.md section 4.2). Assumptions:
+The model is a documented default meant to be replaced (docs/optimisation.md, Margin: the thrust torque). Assumptions:
 
 * the spiral is a rigid screw turning in a compliant nut formed by the intestinal wall;
 * the wall-wire contact is Coulomb friction with the tissue's friction coefficient ``mu``

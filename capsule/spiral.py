@@ -71,7 +71,7 @@ def lead_m(helical_angle_rad: Any, helix_diameter_m: Any) -> Any:
 
     Notes
     -----
-    Unrolled helix (a right triangle of base ``pi D_h``); DESIGN.md section 4.2.
+    Unrolled helix (a right triangle of base ``pi D_h``); the helical angle to the cross-section plane as in Zhou et al. 2013, section II-A.
     """
     return bk.pi * helix_diameter_m * bk.tan(helical_angle_rad)
 
@@ -194,9 +194,9 @@ class Spiral:
     """
 
     helical_angle_rad: float
-    wire_diameter_m: float = 1e-3
-    wound_length_m: float = 15e-3
-    starts: int = 1
+    wire_diameter_m: float
+    wound_length_m: float
+    starts: int
 
     def __post_init__(self) -> None:
         a = self.helical_angle_rad

@@ -4,7 +4,7 @@
 follows with a lag angle ``delta`` behind the field, and the torque it delivers is
 ``m B0 sin(delta)``; the most it can deliver is ``m B0`` at ``delta = 90°``. A load above that
 makes the capsule step out of synchrony (it stalls and jitters instead of turning).
-DESIGN.md section 4.2; any electromagnetism text, e.g. Jackson, *Classical Electrodynamics*,
+docs/optimisation.md, Margin; any electromagnetism text, e.g. Jackson, *Classical Electrodynamics*,
 3rd ed., eq. (5.1) for the torque on a dipole.
 """
 

@@ -16,7 +16,7 @@ from typing import Any
 import numpy as np
 
 from coils.electrical import copper_resistivity_ohm_m
-from coils.filaments import AXES, FilamentSet, gauss_legendre_pack
+from coils.filaments import AXES, Axis, FilamentSet, gauss_legendre_pack
 from coils.loop import coaxial_mutual_inductance_H, loop_field
 from spiralcap.constants import MU0_T_m_per_A
 from spiralcap.errors import InputError, check_positive
@@ -71,7 +71,7 @@ class HelmholtzPair:
 
     radius_m: float
     turns: int
-    axis: str = "z"
+    axis: Axis = "z"
     separation_m: float | None = None
     wire_diameter_m: float = 2.5e-3
     packing_factor: float = 0.7
@@ -101,7 +101,7 @@ class HelmholtzPair:
                 f"a wire thin enough that the winding pack side (now {side:.4g} m "
                 f"for {self.turns} turns) is below radius_m = {self.radius_m:.4g} m",
             )
-        if side >= self.separation_m:
+        if side >= sep:
             raise InputError(
                 "separation_m",
                 self.separation_m,
@@ -114,6 +114,11 @@ class HelmholtzPair:
     def axis_index(self) -> int:
         """0, 1 or 2 for x, y or z."""
         return AXES.index(self.axis)
+
+    @property
+    def spacing_m(self) -> float:
+        """Distance between the two coil planes, m (``separation_m``, R when not given)."""
+        return self.radius_m if self.separation_m is None else self.separation_m
 
     @property
     def wire_area_m2(self) -> float:
@@ -139,7 +144,7 @@ class HelmholtzPair:
     def filament_set(self) -> FilamentSet:
         """The field model: both coils as Gauss-Legendre filament grids, one drive column."""
         dr, dz, w = gauss_legendre_pack(self.winding_pack_side_m, self.filaments)
-        half = 0.5 * self.separation_m
+        half = 0.5 * self.spacing_m
         n = len(w)
         return FilamentSet(
             axes=np.full(2 * n, self.axis_index),

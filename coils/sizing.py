@@ -161,7 +161,7 @@ def size_system(
             AxisSizing(
                 axis=pair.axis,
                 radius_m=pair.radius_m,
-                separation_m=pair.separation_m,
+                separation_m=pair.spacing_m,
                 turns=pair.turns,
                 wire_diameter_m=pair.wire_diameter_m,
                 winding_pack_side_m=pair.winding_pack_side_m,
@@ -197,7 +197,7 @@ def size_system(
         heat_transfer_coefficient_W_m2K=heat_transfer_coefficient_W_m2K,
         winding_conductivity_W_mK=winding_conductivity_W_mK,
         surface_emissivity=surface_emissivity,
-        axes=tuple(axes),
+        axes=(axes[0], axes[1], axes[2]),
         worst_heading=worst,
         total_power_W=worst.total_power_W,
         current_limited_rotating_field_T=weakest,

@@ -44,9 +44,9 @@ class PointEvaluator:
         self._outputs = [np.zeros(function.nnz_out(i)) for i in range(function.n_out())]
         self._buffer, self._trigger = function.buffer()
         for i, a in enumerate(self._inputs):
-            self._buffer.set_arg(i, memoryview(a))
+            self._buffer.set_arg(i, a.data)
         for i, a in enumerate(self._outputs):
-            self._buffer.set_res(i, memoryview(a))
+            self._buffer.set_res(i, a.data)
 
     def __call__(self, *args: Any) -> np.ndarray | tuple[np.ndarray, ...]:
         """Evaluate; arguments and results flattened column-major (CasADi order)."""

@@ -1,8 +1,8 @@
 """Field uniformity: relative deviation of |B| from its centre value, and the uniform sphere.
 
 The uniform-region radius is found along rays from the centre: for each ray the first radius
-at which |deviation| exceeds the tolerance (a scan on a radial grid, then bisection), and the
-sphere radius is the smallest over the rays. The rays are a Fibonacci lattice on the sphere plus
+at which |deviation| exceeds the tolerance (a scan on a radial grid, then a bracketed root; all
+rays in the same array calls), and the sphere radius is the smallest over the rays. The rays are a Fibonacci lattice on the sphere plus
 the axes and the face and body diagonals, where the extremes of a symmetric system lie.
 """
 
@@ -10,10 +10,10 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
+from functools import lru_cache
 from typing import Any
 
 import numpy as np
-from scipy.optimize import minimize
 
 from coils.pair import HelmholtzPair
 from coils.system import ThreeAxisHelmholtz
@@ -44,6 +44,9 @@ _SYMMETRY_DIRECTIONS /= np.linalg.norm(_SYMMETRY_DIRECTIONS, axis=1, keepdims=Tr
 _FIBONACCI_RAYS = 400
 _RADIAL_STEPS = 200
 _BISECTIONS = 40
+#: Bracketed root: width below this fraction of r_max, within this many false-position steps.
+_ROOT_XTOL = 1e-14
+_ROOT_MAX_ITER = 30
 
 
 def _rays() -> np.ndarray:
@@ -67,9 +70,12 @@ def _field_function(coils: Any, currents_A: Any) -> Callable[[np.ndarray], np.nd
     raise InputError("system", type(coils).__name__, "a HelmholtzPair or ThreeAxisHelmholtz")
 
 
-def _deviation(field: Callable[[np.ndarray], np.ndarray], points: np.ndarray) -> np.ndarray:
-    centre = np.linalg.norm(field(np.zeros((1, 3)))[0])
-    return np.linalg.norm(field(points), axis=1) / centre - 1.0
+def _deviation(
+    field: Callable[[np.ndarray], np.ndarray], points: np.ndarray, centre_T: float | None = None
+) -> np.ndarray:
+    if centre_T is None:
+        centre_T = float(np.linalg.norm(field(np.zeros((1, 3)))[0]))
+    return np.linalg.norm(field(points), axis=1) / centre_T - 1.0
 
 
 def uniformity(system: Any, points_m: Any, currents_A: Any = None) -> np.ndarray:
@@ -94,22 +100,86 @@ def uniformity(system: Any, points_m: Any, currents_A: Any = None) -> np.ndarray
 
 
 def _first_crossing(
-    field: Callable[[np.ndarray], np.ndarray], tolerance: float, r_max: float, rays: np.ndarray
+    field: Callable[[np.ndarray], np.ndarray],
+    tolerance: float,
+    r_max: float,
+    rays: np.ndarray,
+    r_scan: float | None = None,
 ) -> np.ndarray:
-    """First radius along each ray where |deviation| > tolerance (r_max if none), m."""
+    """First radius along each ray where |deviation| > tolerance (r_max if none), m.
+
+    All rays at once: the radial grid of ``_RADIAL_STEPS`` steps up to ``r_max`` (cut after
+    ``r_scan`` when given: rays with no crossing before it report r_max) in one field call, then
+    the bracketed root of every ray together (:func:`_bracketed_root`).
+    """
+    centre = float(np.linalg.norm(field(np.zeros((1, 3)))[0]))
     radii = np.linspace(0.0, r_max, _RADIAL_STEPS + 1)[1:]
+    if r_scan is not None:
+        radii = radii[: int(np.searchsorted(radii, r_scan)) + 1]
     pts = (radii[None, :, None] * rays[:, None, :]).reshape(-1, 3)
-    outside = (np.abs(_deviation(field, pts)) > tolerance).reshape(len(rays), len(radii))
+    outside = (np.abs(_deviation(field, pts, centre)) > tolerance).reshape(len(rays), len(radii))
     hit = outside.any(axis=1)
     first = np.argmax(outside, axis=1)
     hi = np.where(hit, radii[first], r_max)
     lo = np.where(first > 0, radii[np.maximum(first - 1, 0)], 0.0)
     lo = np.where(hit, lo, r_max)
-    for _ in range(_BISECTIONS):
-        mid = 0.5 * (lo + hi)
-        out = np.abs(_deviation(field, mid[:, None] * rays)) > tolerance
-        hi, lo = np.where(out, mid, hi), np.where(out, lo, mid)
+    return _bracketed_root(field, tolerance, rays, lo, hi, centre, r_max)
+
+
+def _bracketed_root(
+    field: Callable[[np.ndarray], np.ndarray],
+    tolerance: float,
+    rays: np.ndarray,
+    lo: np.ndarray,
+    hi: np.ndarray,
+    centre_T: float,
+    r_max: float,
+) -> np.ndarray:
+    """Root of |deviation(r u)| = tolerance in [lo, hi] for every ray u at once, m.
+
+    Illinois false position (Dowell & Jarratt, BIT 11, 1971), vectorised over the rays: the
+    bracket [lo, hi] (inside at lo, outside at hi) shrinks on both sides superlinearly; the
+    iteration stops when every bracket is narrower than ``_ROOT_XTOL`` r_max, or falls back to
+    bisection after ``_ROOT_MAX_ITER``. Returns the inner end lo (inside the tolerance).
+    """
+
+    def f(r: np.ndarray, u: np.ndarray) -> np.ndarray:
+        return np.abs(_deviation(field, r[:, None] * u, centre_T)) - tolerance
+
+    xtol = _ROOT_XTOL * r_max
+    lo, hi = lo.copy(), hi.copy()
+    todo = np.nonzero(hi - lo > xtol)[0]
+    if todo.size == 0:
+        return lo
+    f_lo = np.where(lo[todo] > 0.0, f(lo[todo], rays[todo]), -tolerance)
+    f_hi = f(hi[todo], rays[todo])
+    side = np.zeros(todo.size, dtype=int)  # +1 if hi moved last, -1 if lo moved last
+    for it in range(_ROOT_MAX_ITER + _BISECTIONS):
+        a, b = lo[todo], hi[todo]
+        if it < _ROOT_MAX_ITER:
+            x = b - f_hi * (b - a) / (f_hi - f_lo)
+            x = np.where((x > a) & (x < b), x, 0.5 * (a + b))
+        else:
+            x = 0.5 * (a + b)
+        fx = f(x, rays[todo])
+        out = fx > 0.0
+        hi[todo] = np.where(out, x, b)
+        lo[todo] = np.where(out, a, x)
+        f_lo = np.where(out, np.where(side > 0, 0.5 * f_lo, f_lo), fx)
+        f_hi = np.where(out, fx, np.where(side < 0, 0.5 * f_hi, f_hi))
+        side = np.where(out, 1, -1)
+        keep = hi[todo] - lo[todo] > xtol
+        if not keep.any():
+            break
+        todo, f_lo, f_hi, side = todo[keep], f_lo[keep], f_hi[keep], side[keep]
     return lo
+
+
+#: Direction refinement: a (2k+1)² grid in the tangent plane of the worst lattice ray, zoomed
+#: by k per level from a half-width of 0.1 (about 6 degrees, the lattice spacing / 2).
+_REFINE_HALF_WIDTH = 0.1
+_REFINE_K = 4
+_REFINE_LEVELS = 8
 
 
 def _radius(
@@ -118,39 +188,76 @@ def _radius(
     """Smallest first-crossing radius over the rays (m) and the ray where it occurs.
 
     With ``refine`` the crossing radius is then minimised over directions near the worst
-    lattice ray (Nelder-Mead in its tangent plane), so the answer does not hang on the lattice
-    spacing (about 10 degrees).
+    lattice ray, so the answer does not hang on the lattice spacing (about 10 degrees): a grid
+    of (2k+1)² directions in the ray's tangent plane, each with its bracketed root, all in
+    array calls; the grid is re-centred on its best direction and shrunk k-fold per level, down
+    to a half-width of 0.1 / k**(levels - 1) (~6e-6 rad). Only crossings below the best so far
+    matter, so each level scans the radii up to it.
     """
     rays = _rays()
     crossing = _first_crossing(field, tolerance, r_max, rays)
-    best = int(np.argmin(crossing))
+    tie = _ROOT_XTOL * r_max  # crossings closer than the root tolerance are ties: first ray wins
+    best = int(np.argmax(crossing <= crossing.min() + tie))
     u0 = rays[best]
-    if not refine or crossing[best] >= r_max:
-        return float(crossing[best]), u0
+    best_r, best_u = float(crossing[best]), u0
+    if not refine or best_r >= r_max:
+        return best_r, best_u
     e1 = np.cross(u0, np.eye(3)[int(np.argmin(np.abs(u0)))])
     e1 /= np.linalg.norm(e1)
     e2 = np.cross(u0, e1)
+    steps = np.linspace(-1.0, 1.0, 2 * _REFINE_K + 1)
+    a, b = (g.ravel() for g in np.meshgrid(steps, steps, indexing="ij"))
+    centre = np.zeros(2)
+    half = _REFINE_HALF_WIDTH
+    step = r_max / _RADIAL_STEPS
+    for _ in range(_REFINE_LEVELS):
+        ab = centre + half * np.column_stack([a, b])
+        rays = u0 + ab[:, :1] * e1 + ab[:, 1:] * e2
+        rays /= np.linalg.norm(rays, axis=1, keepdims=True)
+        crossing = _first_crossing(field, tolerance, r_max, rays, r_scan=best_r + step)
+        k = int(np.argmin(crossing))
+        if crossing[k] < best_r - tie:
+            best_r, best_u, centre = float(crossing[k]), rays[k], ab[k]
+        half /= _REFINE_K
+    return best_r, best_u
 
-    def ray(ab: np.ndarray) -> np.ndarray:
-        u = u0 + ab[0] * e1 + ab[1] * e2
-        return u / np.linalg.norm(u)
 
-    def crossing_at(ab: np.ndarray) -> float:
-        return float(_first_crossing(field, tolerance, r_max, ray(ab)[None, :])[0])
+#: Meridian lattice of an axisymmetric field (a pair alone): polar angles 0..180 deg.
+_MERIDIAN_RAYS = 181
 
-    res = minimize(
-        crossing_at,
-        np.zeros(2),
-        method="Nelder-Mead",
-        options={
-            "initial_simplex": [[0, 0], [0.1, 0], [0, 0.1]],
-            "xatol": 1e-4,
-            "fatol": 1e-9 * r_max,
-        },
-    )
-    if res.fun < crossing[best]:
-        return float(res.fun), ray(res.x)
-    return float(crossing[best]), u0
+
+def _radius_axisymmetric(
+    field: Callable[[np.ndarray], np.ndarray], tolerance: float, r_max: float, axis: int
+) -> tuple[float, np.ndarray]:
+    """As :func:`_radius` for a field symmetric about ``axis``: rays in one meridian half-plane.
+
+    |B| depends only on the polar angle θ from the axis, so the sphere's extreme is on a ray
+    of one half-plane: a 1-degree lattice in θ, then the same zoomed refinement in θ alone.
+    """
+    e_axis, e_perp = np.eye(3)[axis], np.eye(3)[(axis + 1) % 3]
+
+    def rays_at(theta: np.ndarray) -> np.ndarray:
+        return np.cos(theta)[:, None] * e_axis + np.sin(theta)[:, None] * e_perp
+
+    thetas = np.linspace(0.0, np.pi, _MERIDIAN_RAYS)
+    crossing = _first_crossing(field, tolerance, r_max, rays_at(thetas))
+    tie = _ROOT_XTOL * r_max
+    best = int(np.argmax(crossing <= crossing.min() + tie))
+    best_r, best_theta = float(crossing[best]), float(thetas[best])
+    if best_r >= r_max:
+        return best_r, rays_at(np.array([best_theta]))[0]
+    half = thetas[1] - thetas[0]
+    steps = np.linspace(-1.0, 1.0, 2 * _REFINE_K + 1)
+    step = r_max / _RADIAL_STEPS
+    centre = best_theta
+    for _ in range(_REFINE_LEVELS):
+        theta = centre + half * steps
+        crossing = _first_crossing(field, tolerance, r_max, rays_at(theta), r_scan=best_r + step)
+        k = int(np.argmin(crossing))
+        if crossing[k] < best_r - tie:
+            best_r, best_theta, centre = float(crossing[k]), float(theta[k]), float(theta[k])
+        half /= _REFINE_K
+    return best_r, rays_at(np.array([best_theta]))[0]
 
 
 @dataclass(frozen=True)
@@ -173,6 +280,21 @@ class UniformRegion:
     tolerance: float
     limiting_ray: np.ndarray
     field_direction: np.ndarray
+
+
+@lru_cache(maxsize=1)
+def _scan_matrix(system: ThreeAxisHelmholtz) -> np.ndarray:
+    """G(p) on the ray lattice x radial grid, shape (rays * radii, 3, 3), T/A.
+
+    Cached for the last system (frozen, hashable; ~6 MB): both tolerances rank the field
+    directions on the same scan, so G on its ~85,000 points is computed once.
+    """
+    rays = _rays()
+    r_max = min(p.radius_m for p in system.pairs)
+    radii = np.linspace(0.0, r_max, _RADIAL_STEPS + 1)[1:]
+    G = system.field_matrix((radii[None, :, None] * rays[:, None, :]).reshape(-1, 3))
+    G.flags.writeable = False
+    return G
 
 
 def uniform_region(
@@ -202,7 +324,9 @@ def uniform_region(
     tol = check_positive("tolerance", tolerance)
     if isinstance(system_or_pair, HelmholtzPair):
         field = _field_function(system_or_pair, None)
-        radius, ray = _radius(field, tol, system_or_pair.radius_m)
+        radius, ray = _radius_axisymmetric(
+            field, tol, system_or_pair.radius_m, system_or_pair.axis_index
+        )
         return UniformRegion(radius, tol, ray, np.eye(3)[system_or_pair.axis_index])
     if not isinstance(system_or_pair, ThreeAxisHelmholtz):
         raise InputError(
@@ -225,10 +349,11 @@ def uniform_region(
         # then refine every direction within one grid step of the worst.
         rays = _rays()
         radii = np.linspace(0.0, r_max, _RADIAL_STEPS + 1)[1:]
-        G = system_or_pair.field_matrix((radii[None, :, None] * rays[:, None, :]).reshape(-1, 3))
+        G = _scan_matrix(system_or_pair)
         coarse = []
         for c in currents:
-            dev = np.linalg.norm(G @ c, axis=1) / np.linalg.norm(gains * c) - 1.0
+            b = G @ c
+            dev = np.sqrt(np.einsum("ij,ij->i", b, b)) / np.linalg.norm(gains * c) - 1.0
             outside = (np.abs(dev) > tol).reshape(len(rays), len(radii))
             first = np.where(outside.any(axis=1), np.argmax(outside, axis=1), len(radii) - 1)
             coarse.append(radii[first].min())

@@ -11,9 +11,9 @@ from dataclasses import dataclass
 from typing import Any, NamedTuple
 
 import numpy as np
-from scipy.optimize import brentq
 
 from optimize import physics as ph
+from optimize._roots import brentq
 from optimize.system import DesignModel, prepare
 
 #: Relative tolerance with which requirements are judged met (an optimum sits on its bounds).

@@ -383,25 +383,23 @@ def available_torque_Nm(field_T: Any, c: Constants) -> Any:
 
 
 def required_torques_Nm(
-    helical_angle_rad: Any, frequency_hz: Any, c: Constants, tissues: tuple, req: Requirements
-) -> list[tuple[Any, Any]]:
+    helical_angle_rad: bk.Scalar,
+    frequency_hz: bk.Scalar,
+    c: Constants,
+    tissues: tuple,
+    req: Requirements,
+) -> list[tuple[bk.Scalar, bk.Scalar]]:
     """(resistive, thrust) torque for every tissue set, N·m.
 
     Resistive: the Zhou 2013 tissue model (torque_model.resistive_torque_Nm). Thrust: the screw
     torque to push ``req.axial_load_N`` (capsule.thrust_torque_Nm) with that tissue's friction.
     """
+    geometry = tm.ContactGeometry(
+        c.body_diameter_m, c.body_length_m, c.wire_diameter_m, c.wound_length_m, c.starts
+    )
     out = []
     for tissue in tissues:
-        res = tm.resistive_torque_Nm(
-            helical_angle_rad,
-            frequency_hz,
-            tissue,
-            body_diameter_m=c.body_diameter_m,
-            body_length_m=c.body_length_m,
-            wire_diameter_m=c.wire_diameter_m,
-            wound_length_m=c.wound_length_m,
-            starts=c.starts,
-        )
+        res = tm.resistive_torque_Nm(helical_angle_rad, frequency_hz, tissue, geometry)
         thr = cap.thrust_torque_Nm(
             req.axial_load_N, c.helix_diameter_m, helical_angle_rad, tissue.friction_coefficient
         )

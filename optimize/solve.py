@@ -25,7 +25,7 @@ from optimize.compiled import (
     compile_problem,
     structure_of,
 )
-from optimize.evaluate import evaluate, margin_grid, worst_required
+from optimize.evaluate import _three, evaluate, margin_grid, worst_required
 from optimize.nlp import Solution
 from optimize.result import BindingLimit, OptimizationResult, Shortfall
 from optimize.system import DesignModel, prepare
@@ -353,7 +353,7 @@ def _result(
     allocations: list[Any] = []
     for h in model.headings:
         amps, phases = model.coils.rotating_allocation(h, ev.field_amplitude_T)
-        allocations.append((tuple(float(a) for a in amps), tuple(float(p) for p in phases)))
+        allocations.append((_three(amps), _three(phases)))
     return OptimizationResult(
         status=status,
         objective=model.bounds.objective,

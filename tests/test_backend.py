@@ -69,3 +69,36 @@ def test_sqrt_guarded_has_finite_derivative_at_zero():
     val, d = (float(v) for v in f(4.0))
     assert (val, d) == (2.0, 0.25), "away from 0 it is the plain square root and its slope"
     assert bk.sqrt_guarded(np.array([0.0, 4.0])).tolist() == [0.0, 2.0], "numpy path"
+
+
+def test_ellipke_one_pass_matches_cephes_everywhere() -> None:
+    """bk.ellipke's own log-plus-polynomials pair against scipy's Cephes ellipk/ellipe."""
+    m = np.concatenate(
+        [
+            np.linspace(0.0, 1.0, 20001),
+            1.0 - np.geomspace(1e-16, 1e-2, 600),
+            np.geomspace(1e-12, 0.1, 50),
+        ]
+    )
+    m = m[m < 1.0]
+    K, E = bk.ellipke(m)
+    assert np.max(np.abs(K / special.ellipk(m) - 1.0)) < 5e-16, "K vs Cephes ellpk, rel 5e-16"
+    assert np.max(np.abs(E / special.ellipe(m) - 1.0)) < 5e-16, "E vs Cephes ellpe, rel 5e-16"
+    x = 1.0 - m
+    K2, E2 = bk.ellipke(m, complement=x)
+    assert np.array_equal(K2, K) and np.array_equal(E2, E), "complement = 1 - m gives the same"
+    edge = np.concatenate([np.full(600, 0.5), [1.0, -0.5]])
+    Ke, Ee = bk.ellipke(edge)
+    assert Ke[-2] == np.inf and Ee[-2] == 1.0, "K(1) = inf, E(1) = 1 (A&S 17.3.11-12 limits)"
+    assert Ke[-1] == pytest.approx(special.ellipk(-0.5), rel=1e-15), "m < 0 falls back to scipy"
+
+
+def test_ellipke_numpy_path_matches_casadi_agm() -> None:
+    m = np.linspace(0.0, 0.999, 1000)  # >= 512 values: the polynomial path
+    sym = ca.SX.sym("m")
+    agm = ca.Function("ke", [sym], list(bk.ellipke(sym)))
+    k_ca, e_ca = (np.array(v).ravel() for v in agm.map(m.size)(m))
+    k_np, e_np = bk.ellipke(m)
+    assert np.allclose(k_np, k_ca, rtol=1e-13, atol=0) and np.allclose(
+        e_np, e_ca, rtol=1e-13, atol=0
+    ), "one-pass numpy K, E vs the CasADi AGM (Abramowitz & Stegun 17.6), rel 1e-13"

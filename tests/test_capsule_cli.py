@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import importlib
 import json
 import math
 import re
@@ -12,25 +11,12 @@ from pathlib import Path
 import pytest
 
 import spiralcap
-from spiralcap import cli
 from spiralcap.design import load_design
 from spiralcap.errors import InputError
 
 _PKG = Path(spiralcap.__file__).parent
 #: Zhou et al. 2013 II.C: friction coefficient of intestine sample 2 (the default preset).
 _SAMPLE2_MU = 0.28
-
-
-@pytest.fixture
-def assemble() -> types.ModuleType:
-    """``spiralcap.assemble``, the design -> domain-object builders."""
-    return importlib.import_module("spiralcap.assemble")
-
-
-@pytest.fixture
-def run_cli():
-    """``spiralcap.cli.main``."""
-    return cli.main
 
 
 def _build(assemble: types.ModuleType, *overrides: str):
@@ -139,7 +125,7 @@ def test_cli_json_default(run_cli, capsys) -> None:
         assert key in out, f"JSON must carry {key}"
     lead = math.pi * 12e-3 * math.tan(math.radians(10.0))
     assert out["pitch_m"] == pytest.approx(lead, rel=1e-12), (
-        "pi D_h tan(alpha) with D_h = 12 mm at 10 deg (DESIGN.md 4.2), rel 1e-12"
+        "pi D_h tan(alpha) with D_h = 12 mm at 10 deg (Zhou et al. 2013 II-A convention), rel 1e-12"
     )
     assert out["speed_m_s"] == pytest.approx(0.5 * 2.0 * lead, rel=1e-12), (
         "slip 0.5 x 2 Hz x lead (schema defaults), rel 1e-12"

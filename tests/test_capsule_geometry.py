@@ -12,12 +12,24 @@ from spiralcap.errors import InputError
 
 D_H = 12e-3  # 11 mm PillCam SB2 + 1 mm wire (Zhou et al. 2013, section II.A)
 L_W = 15e-3  # wound length of the paper's capsules
+#: The paper's PillCam SB2 shell, 11 x 26 mm (Zhou et al. 2013 II.A); 0.5 mm wall (assumed).
+PAPER_BODY = {"diameter_m": 11e-3, "length_m": 26e-3, "shell_thickness_m": 0.5e-3}
+#: The paper's spiral: one 1 mm wire over 15 mm (II.A).
+PAPER_SPIRAL = {"wire_diameter_m": 1e-3, "wound_length_m": 15e-3, "starts": 1}
 
 
-def test_body_defaults_are_pillcam_sb2() -> None:
-    b = capsule.Body()
+def paper_body() -> capsule.Body:
+    return capsule.Body(**PAPER_BODY)
+
+
+def paper_spiral(helical_angle_rad, **changes) -> capsule.Spiral:
+    return capsule.Spiral(helical_angle_rad, **{**PAPER_SPIRAL, **changes})
+
+
+def test_pillcam_sb2_body() -> None:
+    b = paper_body()
     assert (b.diameter_m, b.length_m) == (11e-3, 26e-3), (
-        "PillCam SB2 11 x 26 mm (Zhou et al. 2013 II.A / DESIGN.md 4.2), exact"
+        "PillCam SB2 11 x 26 mm (Zhou et al. 2013 II.A), exact"
     )
     assert b.radius_m == b.end_radius_m == 5.5e-3, "hemispherical ends: radius D/2, exact"
     assert b.cylinder_length_m == pytest.approx(15e-3, rel=1e-12), (
@@ -39,7 +51,7 @@ def test_body_defaults_are_pillcam_sb2() -> None:
 )
 def test_body_rejects_bad_sizes(kwargs: dict, name: str) -> None:
     with pytest.raises(InputError) as err:
-        capsule.Body(**kwargs)
+        capsule.Body(**{**PAPER_BODY, **kwargs})
     assert err.value.key == name, f"InputError must name {name} (CONTRIBUTING: errors name key)"
 
 
@@ -57,7 +69,7 @@ def test_lead_is_advance_of_a_helix_at_the_helical_angle() -> None:
             f"helix tangent angle vs alpha at {deg} deg (parametric helix), rel 1e-12"
         )
         assert lead == pytest.approx(math.pi * D_H * math.tan(alpha), rel=1e-15), (
-            "pi D_h tan(alpha), DESIGN.md 4.2, rel 1e-15"
+            "pi D_h tan(alpha), unrolled helix, rel 1e-15"
         )
     assert capsule.lead_m(math.radians(10), D_H) == pytest.approx(6.6473706e-3, rel=1e-7), (
         "hand value pi * 12 mm * tan(10 deg) = 6.6473706 mm, rel 1e-7"
@@ -66,7 +78,7 @@ def test_lead_is_advance_of_a_helix_at_the_helical_angle() -> None:
 
 def test_helix_diameter_is_wire_centre_line() -> None:
     assert capsule.helix_diameter_m(11e-3, 1e-3) == pytest.approx(12e-3, rel=1e-15), (
-        "D + d_w for a wire lying on the body (DESIGN.md 4.2), rel 1e-15"
+        "D + d_w for a wire lying on the body (Zhou et al. 2013 II.A), rel 1e-15"
     )
 
 
@@ -126,15 +138,15 @@ def test_clearance_angle_makes_neighbouring_wires_touch() -> None:
 
 
 def test_spiral_dataclass_convenience() -> None:
-    body = capsule.Body()
-    s = capsule.Spiral(math.radians(10.0), starts=2)
+    body = paper_body()
+    s = paper_spiral(math.radians(10.0), starts=2)
     assert s.helix_diameter_m(body) == pytest.approx(D_H, rel=1e-15), "D + d_w, rel 1e-15"
     assert s.wire_spacing_m(body) == pytest.approx(s.lead_m(body) / 2, rel=1e-15), (
-        "axial pitch between wires = lead / starts (DESIGN.md 4.2), rel 1e-15"
+        "axial pitch between wires = lead / starts (Zhou et al. 2013 II.A), rel 1e-15"
     )
     assert s.helical_angle_deg == pytest.approx(10.0, rel=1e-15), "rad -> deg, rel 1e-15"
     for value in (np.float64(0.2), np.array(0.2), np.float32(0.2)):
-        assert capsule.Spiral(value).helical_angle_rad == pytest.approx(0.2, rel=1e-7), (
+        assert paper_spiral(value).helical_angle_rad == pytest.approx(0.2, rel=1e-7), (
             "an optimiser's numpy scalar result is a valid angle (float32 rounding, rel 1e-7)"
         )
     for bad in (
@@ -146,7 +158,7 @@ def test_spiral_dataclass_convenience() -> None:
         {"helical_angle_rad": 0.1, "starts": 0},
     ):
         with pytest.raises(InputError):
-            capsule.Spiral(**bad)
+            capsule.Spiral(**{**PAPER_SPIRAL, **bad})
 
 
 def _fits_by_distance_to_axis_segment(r_in: float, l_cyl: float, d: float, length: float) -> bool:
@@ -158,7 +170,7 @@ def _fits_by_distance_to_axis_segment(r_in: float, l_cyl: float, d: float, lengt
 
 
 def test_magnet_fit_matches_distance_to_axis_segment() -> None:
-    body = capsule.Body()
+    body = paper_body()
     rng = np.random.default_rng(7)
     for d, length in rng.uniform([0.5e-3, 0.5e-3], [12e-3, 30e-3], size=(400, 2)):
         m = capsule.Magnet(d, length, 1.3)
@@ -171,7 +183,7 @@ def test_magnet_fit_matches_distance_to_axis_segment() -> None:
 
 
 def test_magnet_fit_names_the_size_at_fault() -> None:
-    body = capsule.Body()
+    body = paper_body()
     assert capsule.magnet_fit_problem(body, capsule.Magnet(6e-3, 10e-3, 1.3)) is None, (
         "default 6 x 10 mm magnet fits a 10 mm cavity (hand)"
     )
@@ -187,12 +199,12 @@ def test_magnet_fit_names_the_size_at_fault() -> None:
 
 
 def test_geometry_problems_of_a_capsule() -> None:
-    body, magnet = capsule.Body(), capsule.Magnet(6e-3, 10e-3, 1.3)
+    body, magnet = paper_body(), capsule.Magnet(6e-3, 10e-3, 1.3)
     fields = {
         f
         for f, _ in capsule.geometry_problems(
             body,
-            capsule.Spiral(math.radians(1.0), wire_diameter_m=3e-3, wound_length_m=16e-3),
+            paper_spiral(math.radians(1.0), wire_diameter_m=3e-3, wound_length_m=16e-3),
             capsule.Magnet(20e-3, 10e-3, 1.3),
         )
     }
@@ -203,5 +215,5 @@ def test_geometry_problems_of_a_capsule() -> None:
         "spiral.helical_angle_rad",
     }, fields
     with pytest.raises(InputError) as err:
-        capsule.Capsule(body, capsule.Spiral(0.2, wound_length_m=20e-3), magnet)
+        capsule.Capsule(body, paper_spiral(0.2, wound_length_m=20e-3), magnet)
     assert err.value.key == "spiral.wound_length_m"

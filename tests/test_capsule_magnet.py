@@ -19,7 +19,7 @@ def test_moment_is_remanence_times_volume_over_mu0() -> None:
     volume = math.pi * 3e-3**2 * 10e-3
     assert m.volume_m3 == pytest.approx(volume, rel=1e-15), "pi r^2 l by hand, rel 1e-15"
     assert m.moment_Am2 == pytest.approx(1.345 * volume / MU0_T_m_per_A, rel=1e-15), (
-        "m = B_r V / mu0 (DESIGN.md 4.2), rel 1e-15"
+        "m = B_r V / mu0 (docs/optimisation.md, Margin), rel 1e-15"
     )
     ref = magpy.magnet.Cylinder(polarization=(1.345, 0, 0), dimension=(6e-3, 10e-3))
     assert m.moment_Am2 == pytest.approx(np.linalg.norm(ref.dipole_moment), rel=1e-8), (
@@ -144,7 +144,7 @@ def test_torque_perpendicular_to_moment_and_field() -> None:
 def test_synchronous_torque_and_lag() -> None:
     m, b0 = 0.3, 10e-3
     assert capsule.max_synchronous_torque_Nm(m, b0) == pytest.approx(3e-3, rel=1e-15), (
-        "m B0 by hand = 3 mN m (DESIGN.md 4.2), rel 1e-15"
+        "m B0 by hand = 3 mN m (docs/optimisation.md, Margin), rel 1e-15"
     )
     loads = np.linspace(-2.9e-3, 2.9e-3, 11)
     lag = capsule.lag_angle_rad(loads, m, b0)
@@ -162,7 +162,7 @@ def test_forward_speed_and_thrust_torque() -> None:
     lead = capsule.lead_m(math.radians(10.0), 12e-3)
     assert capsule.forward_speed_m_s(2.0, lead, 0.5) == pytest.approx(
         0.5 * 2.0 * lead, rel=1e-15
-    ), "eta f lead (DESIGN.md 4.2), rel 1e-15"
+    ), "eta f lead (docs/optimisation.md, Margin), rel 1e-15"
     f_load, mu = 0.05, 0.28
     for deg in (5.0, 10.0, 20.0, 40.0):
         a = math.radians(deg)

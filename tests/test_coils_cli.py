@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import importlib
 import json
 import math
 from pathlib import Path
@@ -10,24 +9,11 @@ from pathlib import Path
 import pytest
 
 import spiralcap
-from spiralcap import cli
 from spiralcap.constants import MU0_T_m_per_A
 from spiralcap.design import load_design
 from spiralcap.errors import InputError
 
 _PKG = Path(spiralcap.__file__).parent
-
-
-@pytest.fixture
-def run_cli():
-    """``spiralcap.cli.main``."""
-    return cli.main
-
-
-@pytest.fixture
-def build_coils():
-    """``spiralcap.assemble.coils.build_coils``."""
-    return importlib.import_module("spiralcap.assemble.coils").build_coils
 
 
 def test_default_design_builds_in_si(build_coils) -> None:
@@ -161,7 +147,7 @@ def test_limits_by_hand_and_shared_with_evaluate(run_cli, capsys) -> None:
     w = out["rotating_field_within_limits"]
     assert w["max_rotating_field_T"] == pytest.approx(
         min(out["axes"][a]["max_rotating_field_T"] for a in "xyz"), rel=1e-12
-    ), "worst heading: min_k g_k I_max,k (DESIGN.md 4.1 allocation), power not binding here"
+    ), "worst heading: min_k g_k I_max,k (docs/optimisation.md, Limits), power not binding here"
     assert run_cli(["evaluate", "--json", *sets]) == 0
     ev = json.loads(capsys.readouterr().out)
     assert ev["field_amplitude_T"] == pytest.approx(w["max_rotating_field_T"], rel=1e-12), (

@@ -209,3 +209,51 @@ def test_div_and_curl_vanish_inside_workspace() -> None:
         assert np.max(np.abs(fd - jac)) < 1e-6 * scale, (
             "exact CasADi Jacobian vs central differences of the numpy field, 1e-6 |B|/R"
         )
+
+
+def test_row_kernel_matches_generic_loop_terms() -> None:
+    """The in-place batch kernel restates loop_terms; both must agree everywhere, axis included."""
+    from coils.loop import SERIES_BELOW, loop_terms, loop_terms_rows
+
+    rng = np.random.default_rng(5)
+    radius = np.array([[0.3], [0.35], [0.4]])
+    rho = np.concatenate([[0.0, 1e-9, 1e-4], rng.uniform(0.0, 0.6, 400)])
+    dz = np.concatenate([[0.0, 0.1, -0.2], rng.uniform(-0.4, 0.4, 400)])
+    rho2, dz2 = np.broadcast_to(rho, (3, rho.size)).copy(), np.broadcast_to(dz, (3, dz.size)).copy()
+    s_new, bz_new = loop_terms_rows(radius, dz2, rho2, rho2 * rho2)
+    s_ref, bz_ref = loop_terms(radius, dz2, rho2, rho2 * rho2)
+    m = 4 * radius * rho2 / ((radius + rho2) ** 2 + dz2**2)
+    assert (m < SERIES_BELOW).sum() >= 3 and (m >= SERIES_BELOW).sum() > 100, "both branches hit"
+    b_abs = np.hypot(bz_ref, rho2 * s_ref)
+    assert np.all(np.abs(bz_new - bz_ref) <= 1e-12 * b_abs), (
+        "kernel vs loop_terms B_z, 1e-12 |B| (both lose a few digits next to the wire)"
+    )
+    assert np.all(np.abs(rho2 * (s_new - s_ref)) <= 1e-12 * b_abs), (
+        "kernel vs loop_terms B_rho, 1e-12 |B|"
+    )
+    assert np.allclose(s_new[:, :3], s_ref[:, :3], rtol=1e-12, atol=0), (
+        "B_rho/rho on and next to the axis (series branch), rel 1e-12"
+    )
+
+
+def test_filament_order_does_not_matter(nested_system) -> None:
+    """Grouped filaments (broadcast path) and a shuffled list (gather path) give one field."""
+    from coils.filaments import FilamentSet
+
+    fs = nested_system.filament_set
+    order = np.random.default_rng(8).permutation(len(fs.radii_m))
+    shuffled = FilamentSet(
+        axes=fs.axes[order],
+        radii_m=fs.radii_m[order],
+        centres_m=fs.centres_m[order],
+        turns=fs.turns[order],
+        columns=fs.columns[order],
+        column_axes=fs.column_axes,
+    )
+    pts = np.random.default_rng(9).uniform(-0.2, 0.2, (3000, 3))
+    currents = np.array([[1.3], [-0.7], [2.1]])
+    a, b = fs.field(pts, currents), shuffled.field(pts, currents)
+    assert np.allclose(a, b, rtol=1e-13, atol=1e-13 * np.abs(a).max()), (
+        "sum over filaments is order-independent, rel 1e-13"
+    )
+    assert np.allclose(fs.field_matrix(pts), shuffled.field_matrix(pts), rtol=1e-13, atol=1e-18)

@@ -45,7 +45,7 @@ def test_centre_allocation_makes_the_rotating_field(system, heading) -> None:
     n = np.asarray(heading, float) / np.linalg.norm(heading)
     want = B0_T * np.sqrt(1 - n**2) / system.centre_gains_T_per_A
     assert np.allclose(amps, want, rtol=1e-12, atol=1e-18), (
-        "A_k = B0 sqrt(1 - n_k^2) / g_k (DESIGN.md 4.1), rel 1e-12"
+        "A_k = B0 sqrt(1 - n_k^2) / g_k (docs/optimisation.md, Limits), rel 1e-12"
     )
     assert np.allclose(
         system.rotating_current_per_tesla_A_per_T(heading) * B0_T, amps, rtol=1e-14, atol=0

@@ -26,7 +26,7 @@ def test_current_limited_field_by_hand():
     )
     ev = evaluate(m)
     g = np.asarray(m.coils.centre_gains_T_per_A)
-    expected = m.limits.current_A * g.min()  # every heading: h_k = 1 (DESIGN.md 4.1)
+    expected = m.limits.current_A * g.min()  # every heading: h_k = 1 (docs/optimisation.md, Limits)
     assert ev.field_amplitude_T == pytest.approx(expected, rel=1e-12), (
         "only the current binds: B0 = min_k g_k I_max (centre allocation), 1e-12"
     )
@@ -116,4 +116,4 @@ def test_failing_requirement_is_reported(capsys):
         "step_out_frequency_hz",
         "speed_m_s",
     ):
-        assert isinstance(out[key], float), f"evaluate --json has {key} (issue 4)"
+        assert isinstance(out[key], float), f"evaluate --json has {key} (README)"

@@ -9,12 +9,12 @@ from dataclasses import replace
 import casadi as ca
 import numpy as np
 import pytest
+from reference_slsqp import solve_slsqp
 from scipy.optimize import minimize_scalar
 
 from optimize import evaluate, margin_grid, optimize_design, prepare
 from optimize import physics as ph
 from optimize import problem as pb
-from optimize.reference import solve_slsqp
 from optimize.solve import scales_for
 from spiralcap.assemble import build_model
 from spiralcap.assemble.system import constraint_key
@@ -72,7 +72,7 @@ def test_cli_round_trip_optimize_then_evaluate(capsys):
         "binding_limits",
         "solve_time_s",
     ):
-        assert key in opt, f"optimize --json has {key} (issue 5)"
+        assert key in opt, f"optimize --json has {key} (README)"
     assert (
         main(
             [
@@ -87,7 +87,7 @@ def test_cli_round_trip_optimize_then_evaluate(capsys):
         == 0
     )
     ev = json.loads(capsys.readouterr().out)
-    assert ev["feasible"] is True, "evaluate at the returned point: feasible: true (issue 5)"
+    assert ev["feasible"] is True, "evaluate at the returned point: feasible: true (README)"
     assert math.isclose(ev["margin_Nm"], opt["margin_Nm"], rel_tol=1e-9), (
         "evaluate --json margin equals optimize --json margin (1e-9 relative)"
     )
@@ -192,7 +192,7 @@ def test_numpy_and_casadi_expressions_agree(model):
 def test_impossible_speed_is_infeasible_and_named(capsys):
     code = main(["optimize", "--json", "--set", "requirements.min_speed_mm_s=500"])
     out = json.loads(capsys.readouterr().out)
-    assert code == 3, "infeasible design: exit status 3 (issue 5)"
+    assert code == 3, "infeasible design: exit status 3 (README)"
     assert out["status"] == "infeasible"
     assert "requirements.min_speed_mm_s" in [s["key"] for s in out["shortfalls"]], (
         "the shortfall names the speed requirement"

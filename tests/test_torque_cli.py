@@ -48,7 +48,9 @@ def test_torque_json_matches_model(capsys) -> None:
     data = _json(capsys, "torque")
     assert data["frequency_hz"] == [0.5, 1.0, 1.5, 2.0, 2.5, 3.0], "default 0.5..3 Hz"
     assert data["helical_angle_deg"] == 10.0 and data["tissue"] == "zhou2013-sample2"
-    model = tm.resistive_torque_Nm(math.radians(10), np.array(data["frequency_hz"]), SAMPLE2)
+    model = tm.resistive_torque_Nm(
+        math.radians(10), np.array(data["frequency_hz"]), SAMPLE2, tm.PAPER_CAPSULE
+    )
     assert np.allclose(data["torque_Nm"], model, rtol=1e-12), "CLI = torque_model (1e-12)"
     assert np.allclose(data["torque_mNm"], np.asarray(data["torque_Nm"]) * 1e3, rtol=1e-12)
 
@@ -92,7 +94,7 @@ def test_torque_plot(tmp_path: Path, capsys) -> None:
 def _synthetic_csv(tmp_path: Path) -> Path:
     f = np.tile(np.linspace(0.5, 3.0, 11), 2)
     a = np.repeat([5.0, 10.0], 11)
-    y = np.asarray(tm.resistive_torque_Nm(np.radians(a), f, SAMPLE2)) * 1e3
+    y = np.asarray(tm.resistive_torque_Nm(np.radians(a), f, SAMPLE2, tm.PAPER_CAPSULE)) * 1e3
     y = y * (1 + 0.02 * np.random.default_rng(4).normal(size=y.size))
     return _write_csv(tmp_path / "bench.csv", f, y, a)
 
@@ -118,14 +120,15 @@ def test_fit_round_trip_through_set(tmp_path: Path, capsys) -> None:
     tissue = build_tissues(design)[0]
     freq = np.asarray(fit["data"]["frequency_hz"])
     angle = np.radians(fit["data"]["helical_angle_deg"])
-    again = np.asarray(tm.resistive_torque_Nm(angle, freq, tissue)) * 1e3
+    again = np.asarray(tm.resistive_torque_Nm(angle, freq, tissue, tm.PAPER_CAPSULE)) * 1e3
     assert np.allclose(again, fit["data"]["fitted_torque_mNm"], rtol=1e-12), (
         "--set tissue.KEY=VALUE for each fitted key reproduces the fitted curve (1e-12)"
     )
     set_args = [arg for s in sets for arg in ("--set", s)]
     torque = _json(capsys, "torque", *set_args, "--frequency", "1.25")
     assert torque["torque_mNm"][0] == pytest.approx(
-        float(tm.resistive_torque_Nm(math.radians(10), 1.25, tissue)) * 1e3, rel=1e-12
+        float(tm.resistive_torque_Nm(math.radians(10), 1.25, tissue, tm.PAPER_CAPSULE)) * 1e3,
+        rel=1e-12,
     )
 
 

@@ -19,7 +19,12 @@ def test_plot_torque_vs_frequency_returns_artists() -> None:
     assert "Hz" in ax.get_xlabel() and "mN" in ax.get_ylabel(), "units on the axes"
     x, y = drawn.curves[1].get_data()
     expected = (
-        np.asarray(tm.resistive_torque_Nm(math.radians(10), x, tm.preset("zhou2013-sample2"))) * 1e3
+        np.asarray(
+            tm.resistive_torque_Nm(
+                math.radians(10), x, tm.preset("zhou2013-sample2"), tm.PAPER_CAPSULE
+            )
+        )
+        * 1e3
     )
     assert np.allclose(y, expected), "curve is the model in mN·m"
 
@@ -27,7 +32,13 @@ def test_plot_torque_vs_frequency_returns_artists() -> None:
 def test_plot_fit_returns_artists() -> None:
     base = tm.preset("zhou2013-sample2")
     f = np.linspace(0.5, 3, 8)
-    fit = tm.identify(f, np.asarray(tm.resistive_torque_Nm(0.17, f, base)), 0.17, base)
+    fit = tm.identify(
+        f,
+        np.asarray(tm.resistive_torque_Nm(0.17, f, base, tm.PAPER_CAPSULE)),
+        0.17,
+        base,
+        tm.PAPER_CAPSULE,
+    )
     ax = Figure().add_subplot()
     drawn = plot_fit(ax, fit)
     assert len(drawn.curves) == 1 and len(drawn.points) == 1

@@ -67,7 +67,7 @@ def _tube_section(R: float, r_w: float, alpha: float, n: int = 240) -> np.ndarra
 def test_d_prime_matches_convex_hull_of_exact_tube_section(alpha_deg: float) -> None:
     alpha = math.radians(alpha_deg)
     reference = _hull_diameter(5.5, _tube_section(5.5, 0.5, alpha))
-    model = float(equivalent_diameter_m(alpha, 11.0, 1.0))
+    model = float(equivalent_diameter_m(alpha, 11.0, 1.0, 1))
     assert model == pytest.approx(reference, rel=1e-4), (
         f"D' at {alpha_deg} deg vs scipy ConvexHull of the exact tube section (wrapped-ellipse "
         "approximation, tolerance 1e-4 relative)"
@@ -107,20 +107,23 @@ def test_design_md_figures_come_from_the_capsule_radius_variant() -> None:
         a = math.radians(deg)
         variant = _hull_diameter(5.5, _wrapped_ellipse(5.5, 0.5, a, centre_radius=5.5))
         assert variant == pytest.approx(value, abs=0.006), (
-            "DESIGN.md 4.3 D' figures = hull with the cut's width laid on radius R (2 decimals)"
+            "the earlier D' figures (docs/torque-model.md) = hull with the cut's width laid on radius R (2 decimals)"
         )
-        assert float(equivalent_diameter_m(a, 11e-3, 1e-3)) * 1e3 < value, (
-            "the tube-centre (R_h) construction gives a smaller D' than DESIGN.md's figures"
+        assert float(equivalent_diameter_m(a, 11e-3, 1e-3, 1)) * 1e3 < value, (
+            "the tube-centre (R_h) construction gives a smaller D' than the earlier figures"
         )
 
 
 def test_d_prime_derivative_casadi_matches_finite_difference() -> None:
     a = ca.SX.sym("a")
-    fn = ca.Function("dD", [a], [ca.jacobian(equivalent_diameter_m(a), a)])
+    fn = ca.Function("dD", [a], [ca.jacobian(equivalent_diameter_m(a, 11e-3, 1e-3, 1), a)])
     for deg in (2.0, 5.0, 10.0, 30.0, 70.0):
         x = math.radians(deg)
         h = 1e-6
-        fd = (equivalent_diameter_m(x + h) - equivalent_diameter_m(x - h)) / (2 * h)
+        fd = (
+            equivalent_diameter_m(x + h, 11e-3, 1e-3, 1)
+            - equivalent_diameter_m(x - h, 11e-3, 1e-3, 1)
+        ) / (2 * h)
         assert float(fn(x)) == pytest.approx(fd, rel=1e-6), (
             "CasADi dD'/dalpha vs central difference of the numpy path (tolerance 1e-6)"
         )
@@ -128,15 +131,15 @@ def test_d_prime_derivative_casadi_matches_finite_difference() -> None:
 
 def test_d_prime_numpy_and_casadi_agree() -> None:
     a = ca.SX.sym("a")
-    fn = ca.Function("D", [a], [equivalent_diameter_m(a, 11e-3, 1e-3)])
+    fn = ca.Function("D", [a], [equivalent_diameter_m(a, 11e-3, 1e-3, 1)])
     for x in np.radians([1.6, 5.0, 10.0, 20.0, 60.0]):
-        assert float(fn(x)) == pytest.approx(float(equivalent_diameter_m(x)), rel=1e-12, abs=0), (
-            "numpy vs CasADi SX D' (1e-12)"
-        )
+        assert float(fn(x)) == pytest.approx(
+            float(equivalent_diameter_m(x, 11e-3, 1e-3, 1)), rel=1e-12, abs=0
+        ), "numpy vs CasADi SX D' (1e-12)"
 
 
 def test_d_prime_limits() -> None:
-    D = np.asarray(equivalent_diameter_m(np.radians(np.linspace(2, 89, 200))))
+    D = np.asarray(equivalent_diameter_m(np.radians(np.linspace(2, 89, 200)), 11e-3, 1e-3, 1))
     assert np.all(np.diff(D) < 0), "D' falls as the helical angle grows (paper section II-C)"
     assert D[-1] > 11e-3 and D[-1] < 11.3e-3, "a round bump of 1 mm adds < 0.3 mm to D' at 89 deg"
 

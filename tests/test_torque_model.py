@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import casadi as ca
@@ -25,7 +26,7 @@ def test_paper_points_sample2(point: tm.PaperPoint) -> None:
     model = (
         float(
             tm.resistive_torque_Nm(
-                math.radians(point.helical_angle_deg), point.frequency_hz, SAMPLE2
+                math.radians(point.helical_angle_deg), point.frequency_hz, SAMPLE2, tm.PAPER_CAPSULE
             )
         )
         * 1e3
@@ -55,15 +56,17 @@ def test_literal_reading_arithmetic() -> None:
     p = published_tissue(2)
     a = math.radians(10)
     for f, expected in ((0.5, 1.602e-6), (3.0, 5.258e-6)):
-        assert float(tm.resistive_torque_Nm(a, f, p)) == pytest.approx(expected, rel=1e-3), (
-            "Table I read literally in SI: docs/torque-model.md section 2 table (1e-3)"
-        )
+        assert float(tm.resistive_torque_Nm(a, f, p, tm.PAPER_CAPSULE)) == pytest.approx(
+            expected, rel=1e-3
+        ), "Table I read literally in SI: docs/torque-model.md section 2 table (1e-3)"
 
 
 def test_factor_scales_torque_and_keeps_shape() -> None:
     p = published_tissue(2)
     f = np.array([0.5, 1.0, 2.0, 3.0])
-    ratio = tm.resistive_torque_Nm(0.2, f, SAMPLE2) / tm.resistive_torque_Nm(0.2, f, p)
+    ratio = tm.resistive_torque_Nm(0.2, f, SAMPLE2, tm.PAPER_CAPSULE) / tm.resistive_torque_Nm(
+        0.2, f, p, tm.PAPER_CAPSULE
+    )
     assert np.allclose(ratio, zhou2013.CALIBRATION_FACTOR, rtol=1e-12), (
         "torque is linear in a common factor on E1..eta2 (eqs. 2-8: exponents hold E/eta only)"
     )
@@ -71,7 +74,10 @@ def test_factor_scales_torque_and_keeps_shape() -> None:
 
 def test_frequency_shape_matches_paper() -> None:
     a = math.radians(10)
-    shape = float(tm.resistive_torque_Nm(a, 3.0, SAMPLE2) / tm.resistive_torque_Nm(a, 0.5, SAMPLE2))
+    shape = float(
+        tm.resistive_torque_Nm(a, 3.0, SAMPLE2, tm.PAPER_CAPSULE)
+        / tm.resistive_torque_Nm(a, 0.5, SAMPLE2, tm.PAPER_CAPSULE)
+    )
     assert shape == pytest.approx(1.8 / 0.6, rel=0.12), (
         "tau(3 Hz)/tau(0.5 Hz) vs the paper's 1.8/0.6 for capsule No. 2 (section II-C, 12 %)"
     )
@@ -81,7 +87,7 @@ def test_torque_rises_with_frequency_and_falls_with_angle() -> None:
     f = np.linspace(0.2, 5.0, 25)
     a = np.radians(np.linspace(3.0, 40.0, 20))[:, None]
     for tissue in (SAMPLE2, SAMPLE3):
-        tau = np.asarray(tm.resistive_torque_Nm(a, f, tissue))
+        tau = np.asarray(tm.resistive_torque_Nm(a, f, tissue, tm.PAPER_CAPSULE))
         assert tau.shape == (20, 25), "alpha (20, 1) and f (25,) broadcast to (20, 25)"
         assert np.all(np.diff(tau, axis=1) > 0), (
             f"{tissue.name}: torque rises with frequency (paper section II-C, Figs. 4-5)"
@@ -122,7 +128,7 @@ def test_normal_load_is_pressure_integrated_over_the_arc() -> None:
 
 
 def test_breakdown_sums_and_ends_are_small() -> None:
-    parts = tm.torque_breakdown_Nm(math.radians(10), 1.0, SAMPLE2)
+    parts = tm.torque_breakdown_Nm(math.radians(10), 1.0, SAMPLE2, tm.PAPER_CAPSULE)
     assert float(parts["total"]) == pytest.approx(
         float(parts["wound"] + parts["cylinder"] + parts["ends"]), rel=1e-14
     ), "parts sum"
@@ -130,31 +136,33 @@ def test_breakdown_sums_and_ends_are_small() -> None:
     assert 0 < float(parts["ends"]) < 0.02 * float(parts["total"]), (
         "ends touch over 0.74 mm only (z_c = sqrt(5.5^2 - 5.45^2) mm): < 2 % of the torque"
     )
-    longer = tm.torque_breakdown_Nm(math.radians(10), 1.0, SAMPLE2, body_length_m=30e-3)
+    longer = tm.torque_breakdown_Nm(
+        math.radians(10), 1.0, SAMPLE2, dataclasses.replace(tm.PAPER_CAPSULE, body_length_m=30e-3)
+    )
     assert float(longer["cylinder"]) > 0, "a 4 mm unwound cylinder at D > lumen adds torque"
 
 
 def test_numpy_and_casadi_agree() -> None:
     a, f = ca.SX.sym("alpha"), ca.SX.sym("f")
     for tissue in (SAMPLE2, SAMPLE3):
-        tau = tm.resistive_torque_Nm(a, f, tissue)
+        tau = tm.resistive_torque_Nm(a, f, tissue, tm.PAPER_CAPSULE)
         fn = ca.Function("tau", [a, f], [tau, ca.gradient(tau, a), ca.gradient(tau, f)])
         for deg in (2.0, 5.0, 10.0, 25.0, 60.0):
             for hz in (0.5, 1.7, 3.0, 6.0):
                 x = math.radians(deg)
                 val, da, df = (float(v) for v in fn(x, hz))
-                ref = float(tm.resistive_torque_Nm(x, hz, tissue))
+                ref = float(tm.resistive_torque_Nm(x, hz, tissue, tm.PAPER_CAPSULE))
                 assert val == pytest.approx(ref, rel=1e-12, abs=0), (
                     "numpy vs CasADi SX resistive torque (CONTRIBUTING: 1e-12)"
                 )
                 h = 1e-6
                 fd_a = (
-                    tm.resistive_torque_Nm(x + h, hz, tissue)
-                    - tm.resistive_torque_Nm(x - h, hz, tissue)
+                    tm.resistive_torque_Nm(x + h, hz, tissue, tm.PAPER_CAPSULE)
+                    - tm.resistive_torque_Nm(x - h, hz, tissue, tm.PAPER_CAPSULE)
                 ) / (2 * h)
                 fd_f = (
-                    tm.resistive_torque_Nm(x, hz + h, tissue)
-                    - tm.resistive_torque_Nm(x, hz - h, tissue)
+                    tm.resistive_torque_Nm(x, hz + h, tissue, tm.PAPER_CAPSULE)
+                    - tm.resistive_torque_Nm(x, hz - h, tissue, tm.PAPER_CAPSULE)
                 ) / (2 * h)
                 assert da == pytest.approx(fd_a, rel=1e-6), "d tau/d alpha vs central difference"
                 assert df == pytest.approx(fd_f, rel=1e-6), "d tau/d f vs central difference"
@@ -162,25 +170,28 @@ def test_numpy_and_casadi_agree() -> None:
 
 def test_casadi_mx_path() -> None:
     a, f = ca.MX.sym("alpha"), ca.MX.sym("f")
-    fn = ca.Function("tau", [a, f], [tm.resistive_torque_Nm(a, f, SAMPLE2)])
+    fn = ca.Function("tau", [a, f], [tm.resistive_torque_Nm(a, f, SAMPLE2, tm.PAPER_CAPSULE)])
     assert float(fn(0.2, 2.0)) == pytest.approx(
-        float(tm.resistive_torque_Nm(0.2, 2.0, SAMPLE2)), rel=1e-12
+        float(tm.resistive_torque_Nm(0.2, 2.0, SAMPLE2, tm.PAPER_CAPSULE)), rel=1e-12
     ), "numpy vs CasADi MX (1e-12)"
 
 
 def test_sample3_same_order_as_sample2() -> None:
     f = np.array([0.5, 3.0])
     for deg in (5.0, 10.0, 15.0, 20.0):
-        tau3 = np.asarray(tm.resistive_torque_Nm(math.radians(deg), f, SAMPLE3)) * 1e3
+        tau3 = (
+            np.asarray(tm.resistive_torque_Nm(math.radians(deg), f, SAMPLE3, tm.PAPER_CAPSULE))
+            * 1e3
+        )
         assert np.all((tau3 > 0.2) & (tau3 < 5.0)), (
             "sample 3: 'the same order of magnitude' as sample 2's 0.6-2.3 mN·m (section II-C)"
         )
-    parts = tm.torque_breakdown_Nm(math.radians(15), 1.0, SAMPLE3)
+    parts = tm.torque_breakdown_Nm(math.radians(15), 1.0, SAMPLE3, tm.PAPER_CAPSULE)
     assert float(parts["ends"]) == 0.0, "11.1 mm lumen > 11 mm capsule: ends do not touch"
 
 
 def test_no_contact_no_torque() -> None:
     wide = SAMPLE2.replace(lumen_diameter_m=13e-3)
-    assert float(tm.resistive_torque_Nm(math.radians(10), 1.0, wide)) == 0.0, (
+    assert float(tm.resistive_torque_Nm(math.radians(10), 1.0, wide, tm.PAPER_CAPSULE)) == 0.0, (
         "a lumen wider than D' is not strained (eq. 6 clipped at zero)"
     )

@@ -5,8 +5,8 @@ Everything physical is SI. The model functions run on floats, numpy arrays and C
 paper's eqs. 2-8 and the calibration of its parameter sets.
 """
 
-from torque_model.data import CAPSULE_ANGLES_DEG, PAPER_POINTS, PaperPoint
-from torque_model.geometry import end_contact_moment_m2, equivalent_diameter_m
+from torque_model.data import CAPSULE_ANGLES_DEG, PAPER_CAPSULE, PAPER_POINTS, PaperPoint
+from torque_model.geometry import ContactGeometry, end_contact_moment_m2, equivalent_diameter_m
 from torque_model.identification import PARAMETER_NAMES, FitResult, identify
 from torque_model.model import (
     angular_frequency_rad_s,
@@ -23,13 +23,16 @@ from torque_model.model import (
     stress_Pa,
     torque_breakdown_Nm,
 )
-from torque_model.tissue import PRESET_NAMES, TissueParameters, preset
+from torque_model.presets import PRESET_NAMES, preset
+from torque_model.tissue import TissueParameters
 
 __all__ = [
     "CAPSULE_ANGLES_DEG",
+    "PAPER_CAPSULE",
     "PAPER_POINTS",
     "PARAMETER_NAMES",
     "PRESET_NAMES",
+    "ContactGeometry",
     "FitResult",
     "PaperPoint",
     "TissueParameters",

@@ -16,7 +16,7 @@ import math
 
 import numpy as np
 
-from torque_model.data import PAPER_POINTS, PaperPoint
+from torque_model.data import PAPER_CAPSULE, PAPER_POINTS, PaperPoint
 from torque_model.model import resistive_torque_Nm
 from torque_model.parameters import zhou2013
 
@@ -46,7 +46,11 @@ def fit_calibration_factor() -> float:
     pts = calibration_points()
     r = np.array(
         [
-            float(resistive_torque_Nm(math.radians(p.helical_angle_deg), p.frequency_hz, tissue))
+            float(
+                resistive_torque_Nm(
+                    math.radians(p.helical_angle_deg), p.frequency_hz, tissue, PAPER_CAPSULE
+                )
+            )
             / (p.torque_mNm * 1e-3)
             for p in pts
         ]

@@ -10,7 +10,19 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-__all__ = ["CAPSULE_ANGLES_DEG", "PAPER_POINTS", "PaperPoint"]
+from torque_model.geometry import ContactGeometry
+
+__all__ = ["CAPSULE_ANGLES_DEG", "PAPER_CAPSULE", "PAPER_POINTS", "PaperPoint"]
+
+#: The paper's capsules (section II-A): a PillCam SB2 shell, 11 mm x 26 mm, with one 1 mm wire
+#: wound over 15 mm; only the helical angle differs between capsules No. 1-4.
+PAPER_CAPSULE = ContactGeometry(
+    body_diameter_m=11e-3,
+    body_length_m=26e-3,
+    wire_diameter_m=1e-3,
+    wound_length_m=15e-3,
+    starts=1,
+)
 
 #: Helical angle of each of the paper's capsules, deg (section II-A).
 CAPSULE_ANGLES_DEG = {1: 5.0, 2: 10.0, 3: 15.0, 4: 20.0}

@@ -42,22 +42,25 @@ paper's capsule (D = 11 mm, d_w = 1 mm, one start) alpha > 1.75 deg (at 1.6 deg 
 round the back and the formula overestimates D' by 0.3 %). Below about 2 deg neighbouring turns
 nearly touch anyway (lead pi D_h tan(alpha)).
 
-DESIGN.md quoted D' = 11.71, 11.44, 11.35, 11.31 mm at 5, 10, 15, 20 deg: those numbers come
+An earlier note for this project quoted D' = 11.71, 11.44, 11.35, 11.31 mm at 5, 10, 15, 20 deg: those numbers come
 from measuring the cut's angular half-width on the capsule radius R instead of the wire's centre
 radius R_h; the tube section gives 11.667, 11.416, 11.339, 11.304 mm.
 """
 
 from __future__ import annotations
 
-from typing import Any
+from dataclasses import dataclass
 
 import numpy as np
 
 from spiralcap import backend as bk
+from spiralcap.backend import Scalar
+from spiralcap.errors import InputError, check_positive
 
 __all__ = [
     "NEWTON_STEPS",
     "QUADRATURE_NODES",
+    "ContactGeometry",
     "end_contact_moment_m2",
     "equivalent_diameter_m",
 ]
@@ -70,7 +73,48 @@ QUADRATURE_NODES = 24
 _GL_X, _GL_W = np.polynomial.legendre.leggauss(QUADRATURE_NODES)
 
 
-def _tangency_cos(psi_m: Any, R: Any, r_w: Any, R_h: Any) -> Any:
+@dataclass(frozen=True)
+class ContactGeometry:
+    """The capsule as the intestine touches it: the dimensions the torque model reads, SI.
+
+    No defaults: the design file (``spiralcap.schema``) holds the product's default capsule and
+    :data:`torque_model.PAPER_CAPSULE` the one of Zhou et al. 2013.
+
+    Parameters
+    ----------
+    body_diameter_m : float
+        Capsule diameter D (cylinder and hemispherical ends), m (> 0).
+    body_length_m : float
+        Overall capsule length including both hemispherical ends, m (> 0).
+    wire_diameter_m : float
+        Spiral wire diameter d_w, m (> 0).
+    wound_length_m : float
+        Axial length of the spiral, m (> 0); the rest of the cylinder, if any, touches at D.
+    starts : int
+        Number of spiral wires (>= 1); the paper used 1.
+
+    Raises
+    ------
+    InputError
+        A dimension that is not a finite number > 0, or ``starts`` not a whole number >= 1.
+    """
+
+    body_diameter_m: float
+    body_length_m: float
+    wire_diameter_m: float
+    wound_length_m: float
+    starts: int
+
+    def __post_init__(self) -> None:
+        for name in ("body_diameter_m", "body_length_m", "wire_diameter_m", "wound_length_m"):
+            object.__setattr__(self, name, check_positive(name, getattr(self, name)))
+        n = self.starts
+        if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
+            raise InputError("starts", n, "a whole number >= 1")
+        object.__setattr__(self, "starts", int(n))
+
+
+def _tangency_cos(psi_m: Scalar, R: Scalar, r_w: Scalar, R_h: Scalar) -> Scalar:
     """cos t* of the common tangent point on the bump edge (Newton on F(c) from c = 1)."""
     psi2 = psi_m * psi_m
     R2 = R * R
@@ -91,11 +135,8 @@ def _tangency_cos(psi_m: Any, R: Any, r_w: Any, R_h: Any) -> Any:
 
 
 def equivalent_diameter_m(
-    helical_angle_rad: Any,
-    body_diameter_m: Any = 11e-3,
-    wire_diameter_m: Any = 1e-3,
-    starts: int = 1,
-) -> Any:
+    helical_angle_rad: Scalar, body_diameter_m: Scalar, wire_diameter_m: Scalar, starts: int
+) -> Scalar:
     """Diameter D' of the circle with the perimeter of the deformed lumen (Zhou 2013, Fig. 8).
 
     Parameters
@@ -104,9 +145,9 @@ def equivalent_diameter_m(
         Angle between the spiral wire and the capsule's cross-section plane, rad
         (valid above about 1.8 deg for the paper's capsule; see the module docstring).
     body_diameter_m : float, array or CasADi
-        Diameter D of the capsule's cylindrical part, m (PillCam SB2: 11 mm).
+        Diameter D of the capsule's cylindrical part, m (the paper's PillCam SB2: 11 mm).
     wire_diameter_m : float, array or CasADi
-        Diameter d_w of the spiral wire, m (paper: 1 mm).
+        Diameter d_w of the spiral wire, m (the paper's: 1 mm).
     starts : int
         Number of spiral wires (starts), equally spaced round the circumference; each
         cross-section cuts each once. The paper's capsules have one. Valid while neighbouring
@@ -146,8 +187,8 @@ def equivalent_diameter_m(
 
 
 def end_contact_moment_m2(
-    body_diameter_m: Any, lumen_diameter_m: Any, wall_thickness_m: Any
-) -> Any:
+    body_diameter_m: Scalar, lumen_diameter_m: Scalar, wall_thickness_m: Scalar
+) -> Scalar:
     """Integral of strain x moment arm over one hemispherical end: int eps(z) D_after(z)/2 dz.
 
     The end is a hemisphere of radius R = D/2 (Zhou 2013, section III-B: "the spherical radius,

@@ -10,8 +10,9 @@ same family (``scipy.optimize.least_squares(method="trf")``) with three choices 
 - lumen, wall thickness and friction stay those of the base tissue.
 
 The torque factorises exactly as G(alpha) x I(omega; E, eta) (:func:`torque_model.model.
-contact_factors_m3`), so the geometry is evaluated once per point and the Jacobian of I is
-analytic. Uncertainty: s^2 (J^T J)^-1 in log-parameters (J from the solution, s^2 the residual
+contact_factors_m3`), so the geometry is evaluated once per point; I and its Jacobian both come
+from the model's one :func:`~torque_model.model.relaxation_integral_Pa` (values on the numpy
+path, the exact Jacobian by CasADi's algorithmic differentiation of the same function). Uncertainty: s^2 (J^T J)^-1 in log-parameters (J from the solution, s^2 the residual
 variance on n - 5 degrees of freedom), carried to the physical parameters by the delta method
 (se(p) = p se(log p)); 95 % intervals are Wald intervals p +- t(0.975, n-5) se(p). A parameter is
 *not pinned down* when its interval is wider than the value itself (half-width > 100 %), when it
@@ -28,17 +29,20 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
-from typing import Any
+from dataclasses import dataclass
+from typing import Any, Literal, NamedTuple
 
 import numpy as np
-from scipy import optimize, stats
 
 from spiralcap.errors import DataError, InputError
-from torque_model.model import contact_factor_m3
+from torque_model.geometry import ContactGeometry
+from torque_model.model import contact_factor_m3, relaxation_integral_Pa
 from torque_model.tissue import VISCOELASTIC_FIELDS, TissueParameters
 
 __all__ = ["DEFAULT_BOUNDS", "PARAMETER_NAMES", "FitResult", "identify"]
+
+#: How the fit gets its Jacobian: exact (the model's, by CasADi) or scipy's finite differences.
+JacobianMethod = Literal["analytic", "2-point", "3-point"]
 
 #: The identified parameters, SI names, in the order of every array in :class:`FitResult`.
 PARAMETER_NAMES = VISCOELASTIC_FIELDS
@@ -93,8 +97,8 @@ class FitResult:
         Half the sum of squared residuals.
     success : bool
         The optimiser's convergence flag; ``message`` its words.
-    geometry : dict[str, float]
-        Capsule geometry used (m, and ``starts``), for :meth:`predict_Nm`.
+    geometry : ContactGeometry
+        Capsule geometry used, for :meth:`predict_Nm`.
     """
 
     tissue: TissueParameters
@@ -115,7 +119,7 @@ class FitResult:
     cost: float
     success: bool
     message: str
-    geometry: dict[str, float] = field(default_factory=dict)
+    geometry: ContactGeometry
 
     @property
     def pinned_down(self) -> tuple[str, ...]:
@@ -131,25 +135,50 @@ class FitResult:
         """The fitted model's torque at other frequencies (Hz) and angles (rad), N·m."""
         from torque_model.model import resistive_torque_Nm
 
-        return resistive_torque_Nm(helical_angle_rad, frequency_hz, self.tissue, **self.geometry)
+        return resistive_torque_Nm(helical_angle_rad, frequency_hz, self.tissue, self.geometry)
 
 
-def _relaxation_integral_and_gradient(
-    freq: np.ndarray, p: np.ndarray
-) -> tuple[np.ndarray, np.ndarray]:
-    """I(omega) of eq. 4 over one turn and dI/dlog(p) (n x 5), p = (E1, E2, E3, eta1, eta2)."""
-    E1, E2, E3, eta1, eta2 = p
-    omega = 2.0 * math.pi * freq
-    value = np.full_like(omega, 2.0 * math.pi * E3)
-    grad = np.zeros((omega.size, 5))
-    grad[:, 2] = 2.0 * math.pi * E3
-    for E, eta, iE, ieta in ((E1, eta1, 0, 3), (E2, eta2, 1, 4)):
-        x = 2.0 * math.pi * E / (omega * eta)
-        one_minus = -np.expm1(-x)
-        value = value + omega * eta * one_minus
-        grad[:, iE] = E * 2.0 * math.pi * np.exp(-x)  # E dI/dE
-        grad[:, ieta] = eta * omega * (one_minus - x * np.exp(-x))  # eta dI/deta
-    return value, grad
+class _Constants(NamedTuple):
+    """The five viscoelastic constants alone (floats or CasADi), in :data:`PARAMETER_NAMES` order."""
+
+    E1_Pa: Any
+    E2_Pa: Any
+    E3_Pa: Any
+    eta1_Pa_s: Any
+    eta2_Pa_s: Any
+
+
+class _RelaxationIntegral:
+    """I(omega) of eq. 4 over one turn at fixed frequencies, and dI/dlog(p), from the model.
+
+    Both come from :func:`torque_model.model.relaxation_integral_Pa`: values on its numpy path,
+    the n x 5 Jacobian in log-parameters q = log p by CasADi's algorithmic differentiation of
+    the same expression (compiled once per fit).
+    """
+
+    def __init__(self, freq: np.ndarray) -> None:
+        import casadi as ca
+
+        self.freq = freq
+        q = ca.SX.sym("log_p", len(PARAMETER_NAMES))
+        integral = relaxation_integral_Pa(ca.DM(freq), _Constants(*ca.vertsplit(ca.exp(q))))
+        fn: Any = ca.Function("dI_dlogp", [q], [ca.densify(ca.jacobian(integral, q))])
+        # Called a thousand times per fit: through a buffer, without DM conversions.
+        self._q = np.zeros(len(PARAMETER_NAMES))
+        self._jac = np.zeros(freq.size * len(PARAMETER_NAMES))
+        self._buffer, self._trigger = fn.buffer()
+        self._buffer.set_arg(0, self._q.data)
+        self._buffer.set_res(0, self._jac.data)
+
+    def value(self, p: np.ndarray) -> np.ndarray:
+        """I at p = (E1, E2, E3, eta1, eta2) (SI), shape (n,), Pa."""
+        return np.asarray(relaxation_integral_Pa(self.freq, _Constants(*p)), dtype=float)
+
+    def jacobian(self, q: np.ndarray) -> np.ndarray:
+        """dI/dlog(p) at q = log p, shape (n, 5), Pa."""
+        self._q[:] = q
+        self._trigger()
+        return self._jac.reshape(len(PARAMETER_NAMES), -1).T.copy()  # CasADi is column-major
 
 
 def _as_points(name: str, values: Any, n: int | None) -> np.ndarray:
@@ -180,15 +209,11 @@ def identify(
     torque_Nm: Sequence[float] | np.ndarray,
     helical_angle_rad: float | Sequence[float] | np.ndarray,
     base_tissue: TissueParameters,
+    geometry: ContactGeometry,
     *,
-    body_diameter_m: float = 11e-3,
-    body_length_m: float = 26e-3,
-    wire_diameter_m: float = 1e-3,
-    wound_length_m: float = 15e-3,
-    starts: int = 1,
     relative: bool = True,
     bounds: Mapping[str, tuple[float, float]] | None = None,
-    jacobian: str = "analytic",
+    jacobian: JacobianMethod = "analytic",
     profile_bounds: bool = True,
 ) -> FitResult:
     """Fit E1, E2, E3, eta1, eta2 to measured torque against frequency (bounded TRF).
@@ -204,10 +229,8 @@ def identify(
         are fitted jointly.
     base_tissue : TissueParameters
         Supplies the fixed lumen, wall thickness and friction, and the starting point.
-    body_diameter_m, body_length_m, wire_diameter_m, wound_length_m : float
-        Capsule geometry, m (as :func:`torque_model.resistive_torque_Nm`).
-    starts : int
-        Number of spiral wires.
+    geometry : ContactGeometry
+        The capsule (as :func:`torque_model.resistive_torque_Nm`).
     relative : bool
         Relative residuals (default) or absolute ones in N·m.
     bounds : mapping, optional
@@ -245,14 +268,7 @@ def identify(
     if jacobian not in ("analytic", "2-point", "3-point"):
         raise InputError("jacobian", jacobian, "'analytic', '2-point' or '3-point'")
     lo, hi = _bounds(bounds)
-    geometry = {
-        "body_diameter_m": body_diameter_m,
-        "body_length_m": body_length_m,
-        "wire_diameter_m": wire_diameter_m,
-        "wound_length_m": wound_length_m,
-        "starts": starts,
-    }
-    G = np.asarray(contact_factor_m3(angle, base_tissue, **geometry), dtype=float)
+    G = np.asarray(contact_factor_m3(angle, base_tissue, geometry), dtype=float)
     if np.any(G <= 0):
         i = int(np.flatnonzero(G <= 0)[0])
         raise DataError(
@@ -261,17 +277,17 @@ def identify(
         )
     scale = 1.0 / torque if relative else np.full(n, 1.0 / np.median(torque))
 
+    integral = _RelaxationIntegral(freq)
+
     def residuals(q: np.ndarray) -> np.ndarray:
-        value, _ = _relaxation_integral_and_gradient(freq, np.exp(q))
-        return (G * value - torque) * scale
+        return (G * integral.value(np.exp(q)) - torque) * scale
 
     def jac(q: np.ndarray) -> np.ndarray:
-        _, grad = _relaxation_integral_and_gradient(freq, np.exp(q))
-        return (G * scale)[:, None] * grad
+        return (G * scale)[:, None] * integral.jacobian(q)
 
     fit_jac = jac if jacobian == "analytic" else jacobian
     best = None
-    for q0 in _starts(base_tissue, freq, torque, G, scale, lo, hi):
+    for q0 in _starts(base_tissue, integral, torque, G, scale, lo, hi):
         sol = _solve(residuals, fit_jac, q0, lo, hi)
         if best is None or sol.cost < best.cost:
             best = sol
@@ -297,6 +313,8 @@ def identify(
 
 
 def _solve(fun: Any, jac: Any, q0: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> Any:
+    from scipy import optimize  # ~0.25 s to import: only when fitting
+
     return optimize.least_squares(
         fun,
         q0,
@@ -336,6 +354,8 @@ def _profile_to_bounds(
     if dof <= 0:
         return {}
     ssr = 2.0 * best.cost
+    from scipy import stats  # ~0.3 s to import: only when fitting
+
     threshold = ssr / dof * float(stats.f.ppf(0.95, 1, dof))
     out: dict[int, list[str]] = {}
     for i in range(n_par):
@@ -380,7 +400,7 @@ def _bounds(bounds: Mapping[str, tuple[float, float]] | None) -> tuple[np.ndarra
 
 def _starts(
     base: TissueParameters,
-    freq: np.ndarray,
+    integral: _RelaxationIntegral,
     torque: np.ndarray,
     G: np.ndarray,
     scale: np.ndarray,
@@ -389,8 +409,7 @@ def _starts(
 ) -> list[np.ndarray]:
     """The base set rescaled by the best common factor, then fixed log-perturbations of it."""
     p0 = np.array([max(getattr(base, k), 1e-3) for k in PARAMETER_NAMES])
-    value, _ = _relaxation_integral_and_gradient(freq, p0)
-    m = G * value * scale
+    m = G * integral.value(p0) * scale
     y = torque * scale
     k = float(m @ y / (m @ m))
     q0 = np.log(p0 * k)
@@ -411,7 +430,7 @@ def _result(
     lo: np.ndarray,
     hi: np.ndarray,
     base: TissueParameters,
-    geometry: dict[str, float],
+    geometry: ContactGeometry,
     J: np.ndarray,
     profile: dict[int, list[str]] | None,
 ) -> FitResult:
@@ -433,6 +452,8 @@ def _result(
         corr = cov_log / np.sqrt(np.outer(np.diag(cov_log), np.diag(cov_log)))
     corr[in_null, :] = np.nan
     corr[:, in_null] = np.nan
+    from scipy import stats
+
     t = float(stats.t.ppf(0.975, dof)) if dof > 0 else math.nan
     se = p * se_log
     cond = float((sv_max / sv[-1]) ** 2) if sv[-1] > 0 else math.inf
@@ -465,7 +486,7 @@ def _result(
         flags[name] = tuple(why)
     values = dict(zip(PARAMETER_NAMES, p.tolist(), strict=True))
     tissue = base.replace(name="fit", **values)
-    pred = G * _relaxation_integral_and_gradient(freq, p)[0]
+    pred = G * np.asarray(relaxation_integral_Pa(freq, _Constants(*p)), dtype=float)
     return FitResult(
         tissue=tissue,
         values=values,

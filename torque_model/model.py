@@ -23,11 +23,10 @@ frequency). The reading of eqs. 7-8 and the calibration are in ``docs/torque-mod
 
 from __future__ import annotations
 
-from typing import Any
-
 from spiralcap import backend as bk
-from torque_model.geometry import end_contact_moment_m2, equivalent_diameter_m
-from torque_model.tissue import TissueParameters
+from spiralcap.backend import Scalar
+from torque_model.geometry import ContactGeometry, end_contact_moment_m2, equivalent_diameter_m
+from torque_model.tissue import TissueParameters, ViscoelasticConstants
 
 __all__ = [
     "angular_frequency_rad_s",
@@ -46,12 +45,12 @@ __all__ = [
 ]
 
 
-def angular_frequency_rad_s(frequency_hz: Any) -> Any:
+def angular_frequency_rad_s(frequency_hz: Scalar) -> Scalar:
     """Eq. 5: omega = 2 pi f, rad/s, from the rotation frequency f in Hz."""
     return 2.0 * bk.pi * frequency_hz
 
 
-def strain(diameter_after_m: Any, lumen_diameter_m: Any, wall_thickness_m: Any) -> Any:
+def strain(diameter_after_m: Scalar, lumen_diameter_m: Scalar, wall_thickness_m: Scalar) -> Scalar:
     """Eq. 6: circumferential strain (D_after - D_before) / (D_before + d), dimensionless.
 
     Parameters
@@ -71,7 +70,7 @@ def strain(diameter_after_m: Any, lumen_diameter_m: Any, wall_thickness_m: Any) 
     return (diameter_after_m - lumen_diameter_m) / (lumen_diameter_m + wall_thickness_m)
 
 
-def relaxation_modulus_Pa(time_s: Any, tissue: TissueParameters) -> Any:
+def relaxation_modulus_Pa(time_s: Scalar, tissue: ViscoelasticConstants) -> Scalar:
     """Eq. 2 bracket: E1 exp(-t E1/eta1) + E2 exp(-t E2/eta2) + E3, Pa, at time t (s)."""
     t = tissue
     return (
@@ -81,7 +80,9 @@ def relaxation_modulus_Pa(time_s: Any, tissue: TissueParameters) -> Any:
     )
 
 
-def stress_Pa(azimuth_rad: Any, frequency_hz: Any, strain_: Any, tissue: TissueParameters) -> Any:
+def stress_Pa(
+    azimuth_rad: Scalar, frequency_hz: Scalar, strain_: Scalar, tissue: TissueParameters
+) -> Scalar:
     """Eq. 4: hoop stress at azimuth theta (rad) behind first contact, Pa.
 
     The tissue at azimuth theta has been strained for t = theta / omega (section III-B).
@@ -90,7 +91,7 @@ def stress_Pa(azimuth_rad: Any, frequency_hz: Any, strain_: Any, tissue: TissueP
     return strain_ * relaxation_modulus_Pa(azimuth_rad / omega, tissue)
 
 
-def relaxation_integral_Pa(frequency_hz: Any, tissue: TissueParameters) -> Any:
+def relaxation_integral_Pa(frequency_hz: Scalar, tissue: ViscoelasticConstants) -> Scalar:
     """int_0^{2 pi} of the eq. 4 bracket over one revolution, Pa (times rad), in closed form.
 
         I(omega) = omega eta1 (1 - exp(-2 pi E1/(omega eta1)))
@@ -115,7 +116,7 @@ def relaxation_integral_Pa(frequency_hz: Any, tissue: TissueParameters) -> Any:
 _TINY = 1e-200
 
 
-def _relaxed_arm(omega: Any, modulus: float, viscosity: float) -> Any:
+def _relaxed_arm(omega: Scalar, modulus: float, viscosity: float) -> Scalar:
     """One Maxwell arm of I(omega): omega eta (1 - e^(-x)), x = 2 pi E / (omega eta), Pa.
 
     Written as 2 pi E phi(x) with phi(x) = -expm1(-x) / x: no cancellation where x is small
@@ -127,12 +128,14 @@ def _relaxed_arm(omega: Any, modulus: float, viscosity: float) -> Any:
     return 2.0 * bk.pi * modulus * (-bk.expm1(-x) / x)
 
 
-def hoop_pressure_Pa(stress: Any, wall_thickness_m: Any, diameter_after_m: Any) -> Any:
+def hoop_pressure_Pa(stress: Scalar, wall_thickness_m: Scalar, diameter_after_m: Scalar) -> Scalar:
     """Eq. 3: contact pressure of a thin-walled cylinder, p = 2 sigma d / D_after, Pa."""
     return 2.0 * stress * wall_thickness_m / diameter_after_m
 
 
-def normal_load_per_length_N_m(frequency_hz: Any, strain_: Any, tissue: TissueParameters) -> Any:
+def normal_load_per_length_N_m(
+    frequency_hz: Scalar, strain_: Scalar, tissue: TissueParameters
+) -> Scalar:
     """Normal load per unit axial length of one cross-section, N/m.
 
     int_0^{2 pi} p(theta) (D_after/2) dtheta with eq. 3 = d eps I(omega): the diameter cancels.
@@ -140,14 +143,16 @@ def normal_load_per_length_N_m(frequency_hz: Any, strain_: Any, tissue: TissuePa
     return tissue.wall_thickness_m * strain_ * relaxation_integral_Pa(frequency_hz, tissue)
 
 
-def friction_per_length_N_m(frequency_hz: Any, strain_: Any, tissue: TissueParameters) -> Any:
+def friction_per_length_N_m(
+    frequency_hz: Scalar, strain_: Scalar, tissue: TissueParameters
+) -> Scalar:
     """Eq. 7 per unit axial length: circumferential Coulomb friction mu x normal load, N/m."""
     return tissue.friction_coefficient * normal_load_per_length_N_m(frequency_hz, strain_, tissue)
 
 
 def section_torque_per_length_N(
-    frequency_hz: Any, diameter_after_m: Any, tissue: TissueParameters
-) -> Any:
+    frequency_hz: Scalar, diameter_after_m: Scalar, tissue: TissueParameters
+) -> Scalar:
     """Eq. 8 per unit axial length: friction x D_after/2, N·m/m, for a section of diameter D_after.
 
     The strain is clipped at zero (a section narrower than the lumen does not touch).
@@ -157,30 +162,17 @@ def section_torque_per_length_N(
 
 
 def torque_breakdown_Nm(
-    helical_angle_rad: Any,
-    frequency_hz: Any,
+    helical_angle_rad: Scalar,
+    frequency_hz: Scalar,
     tissue: TissueParameters,
-    *,
-    body_diameter_m: float = 11e-3,
-    body_length_m: float = 26e-3,
-    wire_diameter_m: float = 1e-3,
-    wound_length_m: float = 15e-3,
-    starts: int = 1,
-) -> dict[str, Any]:
+    geometry: ContactGeometry,
+) -> dict[str, Scalar]:
     """The resistive torque split into wound section, unwound cylinder and both ends, N·m.
 
     Same arguments as :func:`resistive_torque_Nm`; returns a dict with ``"wound"``,
     ``"cylinder"``, ``"ends"`` and ``"total"``.
     """
-    parts = contact_factors_m3(
-        helical_angle_rad,
-        tissue,
-        body_diameter_m=body_diameter_m,
-        body_length_m=body_length_m,
-        wire_diameter_m=wire_diameter_m,
-        wound_length_m=wound_length_m,
-        starts=starts,
-    )
+    parts = contact_factors_m3(helical_angle_rad, tissue, geometry)
     integral = relaxation_integral_Pa(frequency_hz, tissue)
     out = {k: v * integral for k, v in parts.items()}
     out["total"] = out["wound"] + out["cylinder"] + out["ends"]
@@ -188,61 +180,54 @@ def torque_breakdown_Nm(
 
 
 def contact_factors_m3(
-    helical_angle_rad: Any,
-    tissue: TissueParameters,
-    *,
-    body_diameter_m: float = 11e-3,
-    body_length_m: float = 26e-3,
-    wire_diameter_m: float = 1e-3,
-    wound_length_m: float = 15e-3,
-    starts: int = 1,
-) -> dict[str, Any]:
+    helical_angle_rad: Scalar, tissue: TissueParameters, geometry: ContactGeometry
+) -> dict[str, Scalar]:
     """Geometric factors G with torque = G x I(omega), m^3, for each part of the contact.
 
     G = mu d int eps(z) D_after(z)/2 dz over the part: ``"wound"`` (D_after = D', length
-    ``wound_length_m``), ``"cylinder"`` (D_after = D over the unwound cylindrical length
+    ``geometry.wound_length_m``), ``"cylinder"`` (D_after = D over the unwound cylindrical length
     ``body_length_m - body_diameter_m - wound_length_m``, if positive) and ``"ends"`` (both
     hemispheres, :func:`torque_model.geometry.end_contact_moment_m2`). Strains are clipped at 0.
     They hold everything but the five viscoelastic constants, which enter through
     :func:`relaxation_integral_Pa` only; :func:`torque_model.identify` uses this split.
     """
     mu_d = tissue.friction_coefficient * tissue.wall_thickness_m
+    g = geometry
 
-    def per_length(diameter_after: Any) -> Any:
+    def per_length(diameter_after: Scalar) -> Scalar:
         eps = bk.fmax(strain(diameter_after, tissue.lumen_diameter_m, tissue.wall_thickness_m), 0.0)
         return mu_d * eps * 0.5 * diameter_after
 
-    d_prime = equivalent_diameter_m(helical_angle_rad, body_diameter_m, wire_diameter_m, starts)
-    cylinder_length = bk.fmax(body_length_m - body_diameter_m - wound_length_m, 0.0)
+    d_prime = equivalent_diameter_m(
+        helical_angle_rad, g.body_diameter_m, g.wire_diameter_m, g.starts
+    )
+    cylinder_length = bk.fmax(g.body_length_m - g.body_diameter_m - g.wound_length_m, 0.0)
     ends = (
         2.0
         * mu_d
-        * end_contact_moment_m2(body_diameter_m, tissue.lumen_diameter_m, tissue.wall_thickness_m)
+        * end_contact_moment_m2(g.body_diameter_m, tissue.lumen_diameter_m, tissue.wall_thickness_m)
     )
     return {
-        "wound": per_length(d_prime) * wound_length_m,
-        "cylinder": per_length(body_diameter_m) * cylinder_length,
+        "wound": per_length(d_prime) * g.wound_length_m,
+        "cylinder": per_length(g.body_diameter_m) * cylinder_length,
         "ends": ends,
     }
 
 
-def contact_factor_m3(helical_angle_rad: Any, tissue: TissueParameters, **geometry: float) -> Any:
+def contact_factor_m3(
+    helical_angle_rad: Scalar, tissue: TissueParameters, geometry: ContactGeometry
+) -> Scalar:
     """Sum of :func:`contact_factors_m3`: torque = contact_factor_m3 x relaxation_integral_Pa."""
-    parts = contact_factors_m3(helical_angle_rad, tissue, **geometry)
+    parts = contact_factors_m3(helical_angle_rad, tissue, geometry)
     return parts["wound"] + parts["cylinder"] + parts["ends"]
 
 
 def resistive_torque_Nm(
-    helical_angle_rad: Any,
-    frequency_hz: Any,
+    helical_angle_rad: Scalar,
+    frequency_hz: Scalar,
     tissue: TissueParameters,
-    *,
-    body_diameter_m: float = 11e-3,
-    body_length_m: float = 26e-3,
-    wire_diameter_m: float = 1e-3,
-    wound_length_m: float = 15e-3,
-    starts: int = 1,
-) -> Any:
+    geometry: ContactGeometry,
+) -> Scalar:
     """Torque the intestine resists a spiral capsule's rotation with (Zhou 2013 eqs. 2-8), N·m.
 
     Parameters
@@ -253,16 +238,11 @@ def resistive_torque_Nm(
         Rotation frequency f > 0, Hz. Broadcasts against ``helical_angle_rad`` (numpy).
     tissue : TissueParameters
         Viscoelastic constants (calibrated scale), lumen, wall, friction.
-    body_diameter_m : float
-        Capsule diameter D (cylinder and hemispherical ends), m.
-    body_length_m : float
-        Overall capsule length including both hemispherical ends, m.
-    wire_diameter_m : float
-        Spiral wire diameter d_w, m.
-    wound_length_m : float
-        Axial length of the spiral, m; the rest of the cylinder (if any) touches at diameter D.
-    starts : int
-        Number of spiral wires (:func:`torque_model.equivalent_diameter_m`); the paper used 1.
+    geometry : ContactGeometry
+        The capsule: body diameter D and overall length, spiral wire diameter d_w, wound length
+        (the rest of the cylinder, if any, touches at diameter D) and number of starts
+        (:func:`torque_model.equivalent_diameter_m`). The paper's capsule is
+        :data:`torque_model.PAPER_CAPSULE`.
 
     Returns
     -------
@@ -270,13 +250,4 @@ def resistive_torque_Nm(
         The resistive torque, N·m: wound section (D_after = D'), unwound cylinder and the two
         hemispherical ends (D_after(z) where wider than the lumen).
     """
-    return torque_breakdown_Nm(
-        helical_angle_rad,
-        frequency_hz,
-        tissue,
-        body_diameter_m=body_diameter_m,
-        body_length_m=body_length_m,
-        wire_diameter_m=wire_diameter_m,
-        wound_length_m=wound_length_m,
-        starts=starts,
-    )["total"]
+    return torque_breakdown_Nm(helical_angle_rad, frequency_hz, tissue, geometry)["total"]

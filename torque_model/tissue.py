@@ -9,15 +9,34 @@ from __future__ import annotations
 
 import dataclasses
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Protocol
 
 from spiralcap.constants import design_unit, from_si
 from spiralcap.errors import InputError, check_positive
 
-__all__ = ["PRESET_NAMES", "TissueParameters", "preset"]
+__all__ = ["VISCOELASTIC_FIELDS", "TissueParameters", "ViscoelasticConstants"]
 
 #: The viscoelastic fields (moduli and viscosities), in the order the identification uses.
 VISCOELASTIC_FIELDS = ("E1_Pa", "E2_Pa", "E3_Pa", "eta1_Pa_s", "eta2_Pa_s")
+
+
+class ViscoelasticConstants(Protocol):
+    """What the relaxation integral reads: the five constants, floats or CasADi values, SI.
+
+    :class:`TissueParameters` is one; the identification passes CasADi symbols through the same
+    model function to differentiate it.
+    """
+
+    @property
+    def E1_Pa(self) -> Any: ...
+    @property
+    def E2_Pa(self) -> Any: ...
+    @property
+    def E3_Pa(self) -> Any: ...
+    @property
+    def eta1_Pa_s(self) -> Any: ...
+    @property
+    def eta2_Pa_s(self) -> Any: ...
 
 
 @dataclass(frozen=True)
@@ -117,33 +136,3 @@ def _si(key: str) -> tuple[str, float]:
     """A tissue design key's SI field name and factor, from the one unit table."""
     unit, si_unit, factor = design_unit(key)
     return (key[: len(key) - len(unit)] + si_unit if unit else key), factor
-
-
-def _registry() -> dict[str, Any]:
-    from torque_model.parameters import zhou2013
-
-    return {"zhou2013-sample2": zhou2013.SAMPLE2, "zhou2013-sample3": zhou2013.SAMPLE3}
-
-
-PRESET_NAMES = ("zhou2013-sample2", "zhou2013-sample3")
-
-
-def preset(name: str) -> TissueParameters:
-    """The calibrated tissue set the tool uses for ``name`` (see ``docs/torque-model.md``).
-
-    Parameters
-    ----------
-    name : str
-        ``"zhou2013-sample2"`` or ``"zhou2013-sample3"``.
-
-    Raises
-    ------
-    InputError
-        An unknown name.
-    """
-    sets = _registry()
-    if name not in sets:
-        raise InputError("tissue.preset", name, "one of " + ", ".join(repr(n) for n in sets))
-    from torque_model.parameters.zhou2013 import calibrated_tissue
-
-    return calibrated_tissue(sets[name], name)

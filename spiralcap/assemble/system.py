@@ -36,7 +36,9 @@ def build_model(design: Design):
         Cross-key problems: bounds in the wrong order, a coil limit below ambient temperature.
     """
     from optimize.system import Bounds, DesignModel, Limits, Requirements, workspace_points
-    from spiralcap.assemble import build_capsule, build_coils, build_tissues
+    from spiralcap.assemble.capsule import build_capsule
+    from spiralcap.assemble.coils import build_coils
+    from spiralcap.assemble.tissue import build_tissues
 
     d = design
     for lo, hi in (

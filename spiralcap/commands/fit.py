@@ -159,7 +159,7 @@ def run(args: argparse.Namespace) -> int:
         np.asarray(data["torque_mNm"]) * 1e-3,
         np.radians(angle_deg),
         base,
-        **geometry_from_design(design),
+        geometry_from_design(design),
     )
     table = result.tissue.as_design_table()
     if args.output:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import math
+from typing import Any
 
 from spiralcap.commands._common import (
     add_design_arguments,
@@ -36,22 +37,23 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
 
 
-def geometry_from_design(design) -> dict[str, float]:
-    """The capsule geometry keyword arguments of torque_model.resistive_torque_Nm, SI.
+def geometry_from_design(design: Any) -> Any:
+    """The design's capsule as a ``torque_model.ContactGeometry`` (SI).
 
     The capsule is assembled first, so the same cross-key checks hold as for ``evaluate`` (a
     helical angle whose turns overlap, a wire too thick for the body, ...).
     """
+    import torque_model as tm
     from spiralcap.assemble import build_capsule
 
     build_capsule(design)
-    return {
-        "body_diameter_m": design["capsule.diameter_mm"] * 1e-3,
-        "body_length_m": design["capsule.length_mm"] * 1e-3,
-        "wire_diameter_m": design["capsule.spiral.wire_diameter_mm"] * 1e-3,
-        "wound_length_m": design["capsule.spiral.wound_length_mm"] * 1e-3,
-        "starts": int(design["capsule.spiral.starts"]),
-    }
+    return tm.ContactGeometry(
+        body_diameter_m=design["capsule.diameter_mm"] * 1e-3,
+        body_length_m=design["capsule.length_mm"] * 1e-3,
+        wire_diameter_m=design["capsule.spiral.wire_diameter_mm"] * 1e-3,
+        wound_length_m=design["capsule.spiral.wound_length_mm"] * 1e-3,
+        starts=int(design["capsule.spiral.starts"]),
+    )
 
 
 def run(args: argparse.Namespace) -> int:
@@ -75,15 +77,15 @@ def run(args: argparse.Namespace) -> int:
     d_prime = float(
         tm.equivalent_diameter_m(
             math.radians(angle_deg),
-            geometry["body_diameter_m"],
-            geometry["wire_diameter_m"],
-            geometry["starts"],
+            geometry.body_diameter_m,
+            geometry.wire_diameter_m,
+            geometry.starts,
         )
     )
     rows = []
     for tissue in tissues:
         tau = np.asarray(
-            tm.resistive_torque_Nm(math.radians(angle_deg), f, tissue, **geometry), dtype=float
+            tm.resistive_torque_Nm(math.radians(angle_deg), f, tissue, geometry), dtype=float
         )
         rows.append(
             {"tissue": tissue.name, "torque_Nm": tau.tolist(), "torque_mNm": (tau * 1e3).tolist()}

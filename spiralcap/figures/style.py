@@ -11,7 +11,7 @@ from __future__ import annotations
 from typing import Any
 
 #: rcParams for report figures (used inside ``matplotlib.rc_context``).
-REPORT_RC: dict[str, Any] = {
+REPORT_RC: dict[Any, Any] = {  # matplotlib types its keys as a Literal of rc names
     "font.size": 10.0,
     "axes.titlesize": 10.5,
     "axes.labelsize": 10.0,

@@ -7,10 +7,13 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterable, Sequence
-from typing import Any, NamedTuple
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 from matplotlib.axes import Axes
+
+if TYPE_CHECKING:
+    from torque_model import ContactGeometry
 
 __all__ = ["TorqueDrawn", "plot_fit", "plot_torque_vs_frequency", "save_figure"]
 
@@ -31,9 +34,9 @@ def plot_torque_vs_frequency(
     tissue: Any = None,
     helical_angles_deg: Sequence[float] = (5.0, 10.0, 15.0, 20.0),
     *,
-    frequency_hz: Any = None,
+    frequency_hz: Sequence[float] | np.ndarray | None = None,
     paper_points: Iterable[Any] | None = None,
-    geometry: dict[str, float] | None = None,
+    geometry: ContactGeometry | None = None,
 ) -> TorqueDrawn:
     """Model torque against frequency for several helical angles, with the paper's points.
 
@@ -50,8 +53,8 @@ def plot_torque_vs_frequency(
     paper_points : iterable of torque_model.PaperPoint, optional
         Points to overlay (default: :data:`torque_model.PAPER_POINTS` of the tissue's sample
         when the tissue is a Zhou 2013 preset, else none). Pass ``()`` for none.
-    geometry : dict, optional
-        Capsule geometry keyword arguments of :func:`torque_model.resistive_torque_Nm` (m).
+    geometry : torque_model.ContactGeometry, optional
+        The capsule (default :data:`torque_model.PAPER_CAPSULE`, the paper's).
 
     Returns
     -------
@@ -72,7 +75,7 @@ def plot_torque_vs_frequency(
     curves, points = [], []
     colours = {}
     for k, angle in enumerate(helical_angles_deg):
-        tau = tm.resistive_torque_Nm(math.radians(angle), f, tissue, **(geometry or {}))
+        tau = tm.resistive_torque_Nm(math.radians(angle), f, tissue, geometry or tm.PAPER_CAPSULE)
         (line,) = ax.plot(
             f,
             np.asarray(tau) * 1e3,
@@ -106,7 +109,7 @@ def plot_torque_vs_frequency(
 
 
 def plot_fit(
-    ax: Axes, fit_result: Any, *, frequency_hz: Sequence[float] | None = None
+    ax: Axes, fit_result: Any, *, frequency_hz: Sequence[float] | np.ndarray | None = None
 ) -> TorqueDrawn:
     """Measured points and the fitted model curve for each helical angle in a fit.
 

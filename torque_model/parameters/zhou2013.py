@@ -24,6 +24,7 @@ from collections.abc import Mapping
 from typing import Any
 
 from spiralcap.errors import InputError
+from torque_model.tissue import TissueParameters
 
 #: The keys a parameter set must have, exactly (units in the names).
 KEYS = (
@@ -106,8 +107,8 @@ SAMPLE2_CALIBRATED = calibrated(SAMPLE2)
 SAMPLE3_CALIBRATED = calibrated(SAMPLE3)
 
 
-def calibrated_tissue(values: Mapping[str, Any], name: str, factor: float = CALIBRATION_FACTOR):
+def calibrated_tissue(
+    values: Mapping[str, Any], name: str, factor: float = CALIBRATION_FACTOR
+) -> TissueParameters:
     """The calibrated set as a :class:`torque_model.TissueParameters` (SI)."""
-    from torque_model.tissue import TissueParameters
-
     return TissueParameters.from_design_table(calibrated(values, factor), name=name)

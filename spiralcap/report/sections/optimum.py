@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import Any, cast
+from typing import Any
 
 from spiralcap.report.document import Cell, FigureBlock, Paragraph, Ref, Section, Table
 from spiralcap.report.sections._util import SHOWN_UNITS, Context, readable
@@ -126,10 +126,7 @@ def build(ctx: Context) -> Section:
         ["rotation frequency", "Hz", ctx.num(f"{o}.frequency_hz")],
         ["rotating field at the centre", "mT", ctx.num(f"{o}.field_amplitude_T", 1e3)],
         *[
-            cast(
-                list[Cell],
-                [f"current amplitude, {k} pair", "A", ctx.num(f"{o}.current_amplitudes_A.{k}")],
-            )
+            [f"current amplitude, {k} pair", "A", ctx.num(f"{o}.current_amplitudes_A.{k}")]
             for k in "xyz"
         ],
         ["torque margin", "mN·m", ctx.num(f"{o}.margin_Nm", 1e3)],

@@ -26,7 +26,7 @@ def tissue_payload(data: Any) -> dict[str, Any]:
 
     The sets are the design's (``TissueParameters.as_design_table``); the model torques at the
     paper's points come from :func:`torque_model.resistive_torque_Nm` with the paper's capsule
-    geometry (the function's defaults) and the calibrated preset of that sample.
+    geometry (``torque_model.PAPER_CAPSULE``) and the calibrated preset of that sample.
     """
     import torque_model as tm
     from torque_model.parameters.zhou2013 import CALIBRATION_FACTOR
@@ -35,7 +35,9 @@ def tissue_payload(data: Any) -> dict[str, Any]:
     for p in tm.PAPER_POINTS:
         tissue = tm.preset(f"zhou2013-sample{p.sample}")
         model = float(
-            tm.resistive_torque_Nm(math.radians(p.helical_angle_deg), p.frequency_hz, tissue)
+            tm.resistive_torque_Nm(
+                math.radians(p.helical_angle_deg), p.frequency_hz, tissue, tm.PAPER_CAPSULE
+            )
         )
         points.append(
             {

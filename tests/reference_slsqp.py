@@ -1,7 +1,7 @@
-"""A second, independent solver for the same design problem: scipy SLSQP, finite differences.
+"""Test oracle: a second, independent solver for the same design problem (scipy SLSQP, FD).
 
 Used by the tests (IPOPT and SLSQP must agree) and by ``benchmarks/bench_optimize.py`` (speed
-ratio). It evaluates exactly the same expressions (:func:`optimize.problem.expressions`) on
+ratio); it lives with the tests, not in the ``optimize`` package. It evaluates exactly the same expressions (:func:`optimize.problem.expressions`) on
 floats, so any difference is the solver's, not the model's.
 """
 

@@ -1,0 +1,35 @@
+"""The named tissue sets a design can ask for (``tissue.preset``): calibrated Zhou 2013 samples.
+
+Kept apart from :mod:`torque_model.tissue` so that the parameter modules may import
+:class:`~torque_model.tissue.TissueParameters` without a cycle (tissue <- parameters <- presets).
+"""
+
+from __future__ import annotations
+
+from spiralcap.errors import InputError
+from torque_model.parameters import zhou2013
+from torque_model.tissue import TissueParameters
+
+__all__ = ["PRESET_NAMES", "preset"]
+
+_SETS = {"zhou2013-sample2": zhou2013.SAMPLE2, "zhou2013-sample3": zhou2013.SAMPLE3}
+
+PRESET_NAMES = tuple(_SETS)
+
+
+def preset(name: str) -> TissueParameters:
+    """The calibrated tissue set the tool uses for ``name`` (see ``docs/torque-model.md``).
+
+    Parameters
+    ----------
+    name : str
+        ``"zhou2013-sample2"`` or ``"zhou2013-sample3"``.
+
+    Raises
+    ------
+    InputError
+        An unknown name.
+    """
+    if name not in _SETS:
+        raise InputError("tissue.preset", name, "one of " + ", ".join(repr(n) for n in _SETS))
+    return zhou2013.calibrated_tissue(_SETS[name], name)
