@@ -167,7 +167,7 @@ def assess_fit(fit: Any, presets: dict[str, Any] | None = None) -> FitQuality:
     ratios: dict[str, float] = {}
     for name, p in sets.items():
         ref = base.replace(**{k: getattr(p, k) for k in VISCOELASTIC_FIELDS})
-        pred = np.asarray(resistive_torque_Nm(angle, f, ref, **fit.geometry), dtype=float)
+        pred = np.asarray(resistive_torque_Nm(angle, f, ref, fit.geometry), dtype=float)
         ratios[name] = float(np.median(y / pred))
     plausible = True
     if not any(1 / PLAUSIBLE_FACTOR <= r <= PLAUSIBLE_FACTOR for r in ratios.values()):
