@@ -497,7 +497,8 @@ KEYS.update(
 KEYS.update(
     {
         "requirements.min_safety_factor": _between(
-            "least available / required torque for every tissue set (1: margin >= 0)",
+            "least available / required torque for every tissue set (1: margin >= 0); range: "
+            "1 to 100 (beyond 100 the requirement says nothing the margin does not)",
             1.0,
             1.0,
             100.0,

@@ -346,7 +346,10 @@ def test_fit_flags_torques_1000x_off(tmp_path):
     import torque_model as tm
 
     t = tm.preset("zhou2013-sample2")
-    y = np.asarray(tm.resistive_torque_Nm(math.radians(10), np.array(FREQ), t)) * 1e3
+    y = (
+        np.asarray(tm.resistive_torque_Nm(math.radians(10), np.array(FREQ), t, tm.PAPER_CAPSULE))
+        * 1e3
+    )
     good = _csv(tmp_path, "good.csv", FREQ, y)
     off = _csv(tmp_path, "off.csv", FREQ, y * 1000)
     _, out, _ = sound(["fit", good, "--json"], allowed=(0,))

@@ -103,7 +103,11 @@ def test_fit_output_feeds_covariance_from(capsys, tmp_path):
     t = tm.preset("zhou2013-sample2")
     f = np.geomspace(0.01, 50, 30)
     rng = np.random.default_rng(1)
-    y = tm.resistive_torque_Nm(np.radians(10), f, t) * 1e3 * (1 + 0.02 * rng.standard_normal(30))
+    y = (
+        tm.resistive_torque_Nm(np.radians(10), f, t, tm.PAPER_CAPSULE)
+        * 1e3
+        * (1 + 0.02 * rng.standard_normal(30))
+    )
     csv = tmp_path / "bench.csv"
     csv.write_text("frequency_hz,torque_mNm\n" + "".join(f"{a},{b}\n" for a, b in zip(f, y)))
     fit_toml = tmp_path / "fit.toml"

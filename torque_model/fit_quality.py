@@ -125,7 +125,7 @@ def assess_fit(fit: Any, presets: dict[str, Any] | None = None) -> FitQuality:
     FitQuality
     """
     from torque_model.model import resistive_torque_Nm
-    from torque_model.tissue import PRESET_NAMES, preset
+    from torque_model.presets import PRESET_NAMES, preset
 
     y = np.asarray(fit.torque_Nm, dtype=float)
     f = np.asarray(fit.frequency_hz, dtype=float)

@@ -107,7 +107,10 @@ class ContactGeometry:
 
     def __post_init__(self) -> None:
         for name in ("body_diameter_m", "body_length_m", "wire_diameter_m", "wound_length_m"):
-            object.__setattr__(self, name, check_positive(name, getattr(self, name)))
+            value = getattr(self, name)
+            if bk.is_casadi(value):  # a symbol of the NLP (free hardware, parameters): unchecked
+                continue
+            object.__setattr__(self, name, check_positive(name, value))
         n = self.starts
         if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
             raise InputError("starts", n, "a whole number >= 1")
