@@ -130,6 +130,10 @@ class DesignModel:
         largest field every limit allows at the operating frequency.
     sizing : optimize.hardware.Sizing or None
         Hardware the optimiser may choose (free variables, standard wires, least bore).
+    scenarios : optimize.robust.ScenarioSet or None
+        Tissue scenarios drawn from the design's uncertainty, for the objectives and rows that
+        judge a design over them (``margin_p05``, the step-out probability constraint); their
+        numbers are parameters of the compiled problem.
     """
 
     coils: Any
@@ -146,6 +150,7 @@ class DesignModel:
     heat_transfer_coefficient_W_m2K: float = 10.0
     field_amplitude_T: float | None = None
     sizing: Any = None
+    scenarios: Any = field(default=None, compare=False, repr=False)
     constants: Any = field(default=None, compare=False, repr=False)
 
 
