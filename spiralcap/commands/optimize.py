@@ -127,9 +127,10 @@ def format_result(res) -> str:
                     "limits (more field, a stronger magnet or a lighter load would help)"
                 )
             else:
+                u = f" {label}" if label else ""
                 lines.append(
-                    f"  {constraint_key(s.name)}: needs {s.needed / factor:.4g} {label}, best reachable "
-                    f"{s.best / factor:.4g} {label} (short by {s.short_by / factor:.4g})"
+                    f"  {constraint_key(s.name)}: needs {s.needed / factor:.4g}{u}, best reachable "
+                    f"{s.best / factor:.4g}{u} (short by {s.short_by / factor:.4g})"
                 )
     return "\n".join(lines)
 
