@@ -55,8 +55,10 @@ def main() -> None:
     det_model = replace(base, bounds=replace(base.bounds, objective="margin"))
     optimize_design(det_model)
     t_det, _ = median_time(lambda: optimize_design(det_model), 5)
-    print(f"deterministic margin solve {t_det * 1e3:.0f} ms; robust / deterministic "
-          f"{t_again / t_det:.0f}x")
+    print(
+        f"deterministic margin solve {t_det * 1e3:.0f} ms; robust / deterministic "
+        f"{t_again / t_det:.0f}x"
+    )
     small = design.with_values({"optimize.scenarios": 256})
     axes = [parse_over("requirements.axial_load_mN=20:90:8")]
     sweep(small, axes[:1], optimize=True)  # compile the warm and the cold solver

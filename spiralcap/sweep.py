@@ -217,7 +217,8 @@ def _optimize_chunk(
     parameters, so the chunk re-solves one compiled solver."""
     from optimize import optimize_design
 
-    rows, previous = [], None
+    rows: list[tuple] = []
+    previous: Any = None
     for i, model in enumerate(_models(design, inputs)):
         warm = previous if previous is not None and previous.feasible else None
         previous = optimize_design(model, warm_start=warm)
