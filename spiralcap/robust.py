@@ -98,22 +98,37 @@ def robust_optimum(design: Any, samples: int = OUT_OF_SAMPLE) -> RobustCheck:
     det = optimize_design(replace(base, bounds=replace(base.bounds, objective="margin")))
     return RobustCheck(
         result=res,
-        in_sample=rb.in_sample(model, res),
-        out_of_sample=_fresh(design, model, res, samples, fresh),
+        in_sample=rb.in_sample(robust_model(*_as_built(design, res)), res),
+        out_of_sample=_fresh(design, res, samples, fresh),
         deterministic=det,
-        deterministic_out_of_sample=_fresh(design, model, det, samples, fresh),
+        deterministic_out_of_sample=_fresh(design, det, samples, fresh),
         fresh_seed=fresh,
         objective=model.bounds.objective,
         max_stepout_probability=model.scenarios.max_stepout_probability,
     )
 
 
-def _fresh(design: Any, model: Any, res: Any, samples: int, seed: int) -> Any:
+def _as_built(design: Any, res: Any) -> tuple[Any, Any]:
+    """The design (and its model) with the optimum's sized hardware, if it sized any."""
+    from spiralcap.assemble import build_model
+
+    if res.hardware is None:
+        return design, None
+    from spiralcap.assemble.system import hardware_design_values
+
+    sized = design.with_values(hardware_design_values(res.hardware.discrete))
+    return sized, build_model(sized)
+
+
+def _fresh(design: Any, res: Any, samples: int, seed: int) -> Any:
+    """The optimum's margin distribution over ``samples`` fresh tissues (its own hardware)."""
     from optimize import uncertainty as uq
+    from spiralcap.assemble import build_model
     from spiralcap.assemble.tissue import build_uncertainty
 
+    built, model = _as_built(design, res)
     p = uq.margin_problem(
-        model,
+        model if model is not None else build_model(built),
         build_uncertainty(design),
         res.helical_angle_rad,
         res.frequency_hz,
