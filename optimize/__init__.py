@@ -23,6 +23,9 @@ from optimize.result import BindingLimit, HardwareResult, OptimizationResult, Sh
 from optimize.solve import optimize_design, with_operating_point
 from optimize.system import Bounds, DesignModel, Limits, Requirements, prepare
 
+# registers the objective margin_p05 and the step-out probability rows (problem hooks)
+from optimize import robust as _robust  # noqa: F401  isort: skip
+
 __all__ = [
     "ICNIRP2010_LEVELS_T",
     "BindingLimit",

@@ -1,7 +1,8 @@
 """The compiled design NLP: one IPOPT solver per problem *structure*, memoised by value.
 
 A :class:`Structure` is what is compiled in (objective, tissue sets, exposure kind, spiral
-starts, relaxation, warm-start options, registered hooks, free hardware); every number of the
+starts, relaxation, warm-start options, registered hooks, free hardware, how many tissue
+scenarios); every number of the
 design is a parameter filled by :meth:`CompiledProblem.parameters`. ``compile_problem`` is an
 LRU cache on the frozen structure (no ``id()`` keys), so sweeps and repeated solves reuse it.
 """
@@ -53,6 +54,7 @@ class Structure:
     warm: bool = False
     hooks: tuple = ()
     hardware: hw.HardwareStructure | None = None
+    scenarios: Any = None  # DesignModel.scenarios.structure (counts, which rows)
 
 
 def structure_of(
@@ -72,6 +74,7 @@ def structure_of(
         warm,
         (tuple(pb.CONSTRAINTS), pb.OBJECTIVES[model.bounds.objective]),
         hardware,
+        model.scenarios.structure if model.scenarios is not None else None,
     )
 
 
@@ -94,6 +97,8 @@ class CompiledProblem:
             **pb.parameter_values("scale", scales),
             "ambient_temperature_C": model.ambient_temperature_C,
         }
+        if model.scenarios is not None:
+            values.update(model.scenarios.parameter_values())
         return self.nlp.parameter_vector(
             {k: v for k, v in values.items() if k in self.nlp.param_slices}
         )
@@ -134,6 +139,9 @@ def compile_problem(structure: Structure) -> CompiledProblem:
         scales,
         constants=c,
         relax=relax,
+        variable=b.variable,
+        parameter=b.parameter,
+        scenarios=structure.scenarios,
     )
     obj, terms = pb.all_terms(ctx, structure.objective)
     if hs is not None:

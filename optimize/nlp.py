@@ -57,14 +57,25 @@ class NLPBuilder:
         self._value: list[Any] = []
         self._dgda: list[Any] = []
         self._f: Any = None
+        self._names: set[str] = set()
+        self._start: list[Any] = []
 
-    def variable(self, name: str, ref: float, lo: float = -np.inf, hi: float = np.inf) -> Any:
-        """A scalar variable (bounds in physical units); returns its physical expression."""
-        if any(v.name == name for v in self._vars):
+    def variable(
+        self, name: str, ref: float, lo: float = -np.inf, hi: float = np.inf, start: Any = None
+    ) -> Any:
+        """A scalar variable (bounds in physical units); returns its physical expression.
+
+        ``start``: an expression of the variables declared before and the parameters that
+        gives this one's initial value when a solve's start does not name it (an auxiliary
+        epigraph variable started where its rows hold).
+        """
+        if name in self._names:
             raise ValueError(f"variable {name!r} declared twice")
         s = ca.SX.sym(name)
+        self._names.add(name)
         self._vars.append(_Var(name, float(ref), float(lo), float(hi)))
         self._xsym.append(s)
+        self._start.append(s if start is None else start / float(ref))
         return s * float(ref)
 
     def parameter(self, name: str, shape: tuple[int, ...] = ()) -> Any:
@@ -114,8 +125,16 @@ class NLPBuilder:
             [ca.vertcat(*self._allowed), ca.vertcat(*self._dgda), ca.vertcat(*self._value)],
         )
         funcs = ca.Function("fg", [x, p], [self._f, g])
+        start = ca.Function("start", [x, p], [ca.vertcat(*self._start)])
         return CompiledNLP(
-            solver, tuple(self._vars), dict(self._params), tuple(self._rows), dldp, allowed, funcs
+            solver,
+            tuple(self._vars),
+            dict(self._params),
+            tuple(self._rows),
+            dldp,
+            allowed,
+            funcs,
+            start,
         )
 
 
@@ -170,8 +189,9 @@ class Solution:
 class CompiledNLP:
     """A compiled problem: solve with parameter values by name, warm starts and new bounds."""
 
-    def __init__(self, solver, variables, params, rows, dldp, allowed, funcs) -> None:
+    def __init__(self, solver, variables, params, rows, dldp, allowed, funcs, start=None) -> None:
         self.solver = solver
+        self.start = start
         self.variables: tuple[_Var, ...] = variables
         self.var_index = {v.name: i for i, v in enumerate(variables)}
         self.rows: tuple[Row, ...] = rows
@@ -212,8 +232,17 @@ class CompiledNLP:
         bounds: Mapping[str, tuple[float, float]] | None = None,
         lam_g0: np.ndarray | None = None,
     ) -> Solution:
-        """One IPOPT solve from ``x0`` (physical by name, or a scaled vector)."""
-        x0s = self.scale(x0) if isinstance(x0, Mapping) else np.asarray(x0, dtype=float)
+        """One IPOPT solve from ``x0`` (physical by name, or a scaled vector).
+
+        Variables ``x0`` does not name start at their declared ``start`` expression (else 0).
+        """
+        if isinstance(x0, Mapping):
+            x0s = self.scale(x0)
+            missing = [i for i, v in enumerate(self.variables) if v.name not in x0]
+            if missing and self.start is not None:
+                x0s[missing] = np.asarray(self.start(x0s, p)).ravel()[missing]
+        else:
+            x0s = np.asarray(x0, dtype=float)
         bounds = bounds or {}
         lo = np.array([bounds.get(v.name, (v.lo, v.hi))[0] / v.ref for v in self.variables])
         hi = np.array([bounds.get(v.name, (v.lo, v.hi))[1] / v.ref for v in self.variables])

@@ -17,7 +17,10 @@ sensitivities ``d objective / d allowed``.
 
 Extending the problem (hook): ``register_objective(name, spec)`` adds an objective and
 ``register_constraint(builder)`` adds rows; both receive the :class:`Context` of backend-generic
-expressions and return :class:`Term` objects. The core is not touched.
+expressions and return :class:`Term` objects. In the compiled problem the context can also
+declare auxiliary variables and parameters (``ctx.variable``, ``ctx.parameter``), and carries
+the structure of the model's tissue scenarios (``ctx.scenarios``; :mod:`optimize.robust` uses
+all three for its CVaR objective and step-out constraint). The core is not touched.
 """
 
 from __future__ import annotations
@@ -90,6 +93,14 @@ class Context:
     available_Nm: Any
     required_Nm: tuple  # per tissue: resistive + thrust
     relax: Any = None  # (speed, turns, safety) slacks in the relaxed problem
+    #: In the compiled problem: ``variable(name, ref, lo, hi)`` declares an auxiliary scaled
+    #: variable (returns its physical expression) and ``parameter(name, shape)`` a parameter
+    #: (returns its symbol); None on plain numbers (:func:`expressions`).
+    variable: Callable[..., Any] | None = None
+    parameter: Callable[..., Any] | None = None
+    #: The structure of the model's tissue scenarios (``DesignModel.scenarios.structure``:
+    #: how many per tissue set, which rows), or None; their numbers are parameters.
+    scenarios: Any = None
 
 
 @dataclass(frozen=True)
@@ -242,6 +253,9 @@ def make_context(
     requirements: Any = None,
     ambient_temperature_C: Any = None,
     relax: Any = None,
+    variable: Callable[..., Any] | None = None,
+    parameter: Callable[..., Any] | None = None,
+    scenarios: Any = None,
 ) -> Context:
     """The :class:`Context` at physical variables ``x = (alpha, f, B0, t)``."""
     c = model.constants if constants is None else constants
@@ -264,6 +278,9 @@ def make_context(
         available_Nm=ph.available_torque_Nm(field, c),
         required_Nm=needs,
         relax=relax,
+        variable=variable,
+        parameter=parameter,
+        scenarios=scenarios,
     )
 
 
@@ -271,17 +288,33 @@ def all_terms(ctx: Context, objective: str) -> tuple[Any, list[Term]]:
     """Objective F (to minimise) and every term: objective rows, core rows, registered rows.
 
     In the relaxed problem (``ctx.relax`` set) F is the sum of the slacks and the objective's
-    own epigraph rows are left out.
+    own rows are left out (its ``build`` is not called); a registered row of kind
+    "requirement" gets its own slack there (variable ``slack[<row>]``), so a requirement a hook
+    adds is diagnosed like the core ones.
     """
     spec = OBJECTIVES[objective]
-    obj, own = spec.build(ctx)
-    terms = [*own] if ctx.relax is None else []
+    if ctx.relax is None:
+        obj, own = spec.build(ctx)
+        terms = [*own]
+    else:
+        obj, terms = ctx.relax[0] + ctx.relax[1] + ctx.relax[2], []
     terms += core_terms(ctx)
     for builder in CONSTRAINTS:
-        terms += builder(ctx)
-    if ctx.relax is not None:
-        obj = ctx.relax[0] + ctx.relax[1] + ctx.relax[2]
+        for term in builder(ctx):
+            if (
+                ctx.relax is not None
+                and ctx.variable is not None
+                and term.row.kind == "requirement"
+            ):
+                slack = ctx.variable(f"slack[{term.row.name}]", 1.0, 0.0, np.inf)
+                term = replace(term, form=functools.partial(_slackened, form=term.form, s=slack))
+                obj = obj + slack
+            terms.append(term)
     return obj, terms
+
+
+def _slackened(value: Any, allowed: Any, *, form: Callable[[Any, Any], Any], s: Any) -> Any:
+    return form(value, allowed) - s
 
 
 def expressions(

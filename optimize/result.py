@@ -52,8 +52,9 @@ class Shortfall:
 
     @property
     def short_by(self) -> float:
-        """needed - best (in ``unit``)."""
-        return self.needed - self.best
+        """|needed - best| (in ``unit``): how far the closest design stays from the need (a
+        minimum reached from below, or a maximum such as a step-out probability from above)."""
+        return abs(self.needed - self.best)
 
 
 @dataclass(frozen=True)

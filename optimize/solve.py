@@ -20,11 +20,7 @@ from typing import Any
 import numpy as np
 
 from optimize import problem as pb
-from optimize.compiled import (
-    _SLACKS,
-    compile_problem,
-    structure_of,
-)
+from optimize.compiled import compile_problem, structure_of
 from optimize.evaluate import _three, evaluate, margin_grid, worst_required
 from optimize.nlp import Solution
 from optimize.result import BindingLimit, OptimizationResult, Shortfall
@@ -195,8 +191,7 @@ def optimize_design(
         return _infeasible(model, scales, grid or [], iterations, tried, t0, status_text, ev)
     binding = _binding(model, scales, best)
     x_named = {
-        "helical_angle": alpha,
-        "frequency": f,
+        **{k: v for k, v in xs.items() if k not in ("field_scaled", "t")},  # + hooks' variables
         "field_T": field,
         "t_value": xs["t"] * _obj_scale(model, scales),
     }
@@ -211,20 +206,29 @@ def optimize_design(
         tried,
         t0,
         "optimal: every requirement met inside every limit",
-        objective_value=_objective_value(model, ev),
+        objective_value=_objective_value(model, ev, best.f, scales),
         solution=(x_named, best.lam_g),
         field_set=field_set,
     )
+
+
+_BUILT_IN = ("margin", "ratio", "power", "copper_mass")
 
 
 def _obj_scale(model: DesignModel, scales: pb.Scales) -> float:
     return float(pb.OBJECTIVES[model.bounds.objective].scale(scales))
 
 
-def _objective_value(model: DesignModel, ev: Any) -> float:
-    """The reported objective at an evaluation: margin, safety factor, power or copper mass."""
+def _objective_value(
+    model: DesignModel, ev: Any, f: float = float("nan"), scales: pb.Scales | None = None
+) -> float:
+    """The reported objective at an evaluation: margin, safety factor, power or copper mass;
+    for a registered objective, ``U = -sense · scale · F`` from the solver's ``F``."""
     obj = model.bounds.objective
     c = model.constants
+    if obj not in _BUILT_IN and scales is not None:
+        spec = pb.OBJECTIVES[obj]
+        return float(-spec.sense * spec.scale(scales) * f)
     if obj == "ratio":
         return ev.safety_factor
     if obj == "power":
@@ -297,8 +301,9 @@ def _infeasible(model, scales, starts, iterations, tried, t0, status_text, ev=No
     bounds = {**variable_bounds(model), "t": (0.0, 0.0)}
     starts = starts or initial_points(model, scales, model.bounds.starts)
     best = None
+    slacks = [v.name for v in problem.nlp.variables if v.name.startswith("slack")]
     for x0 in starts:
-        sol = problem.nlp.solve({**x0, "t": 0.0, **dict.fromkeys(_SLACKS, 1.0)}, p, bounds)
+        sol = problem.nlp.solve({**x0, "t": 0.0, **dict.fromkeys(slacks, 1.0)}, p, bounds)
         iterations += sol.iterations
         tried += 1
         if best is None or sol.f < best.f:
@@ -313,7 +318,7 @@ def _infeasible(model, scales, starts, iterations, tried, t0, status_text, ev=No
     ev = evaluate(model, alpha, f, field_amplitude_T=field)
     shortfalls = tuple(
         Shortfall(c.name, c.unit, c.allowed, c.value) for c in ev.failed() if c.sense == ">="
-    )
+    ) + _hook_shortfalls(best)
     if not shortfalls:  # the relaxed optimum meets everything: IPOPT failed for another reason
         shortfalls = (Shortfall("solver", "", 0.0, 0.0),)
     names = ", ".join(s.name for s in shortfalls)
@@ -332,6 +337,18 @@ def _infeasible(model, scales, starts, iterations, tried, t0, status_text, ev=No
         solution=None,
         field_set=field is not None,
     )
+
+
+def _hook_shortfalls(sol: Solution) -> tuple[Shortfall, ...]:
+    """Registered requirement rows the relaxed optimum needs a slack for (``slack[<row>]``),
+    with the row's allowed value and the value it reaches there."""
+    allowed, _, value = sol.allowed()
+    out = []
+    for i, row in enumerate(sol.nlp.rows):
+        name = f"slack[{row.name}]"
+        if name in sol.nlp.var_index and sol.value(name) > 1e-7:
+            out.append(Shortfall(row.name, row.unit, float(allowed[i]), float(value[i])))
+    return tuple(out)
 
 
 def _result(

@@ -139,6 +139,10 @@ class DesignModel:
         Fixed operating field amplitude at the centre, T; None: the largest the limits allow.
     sizing : optimize.hardware.Sizing or None
         Hardware the optimiser may choose (free variables, standard wires, least bore).
+    scenarios : optimize.robust.ScenarioSet or None
+        Tissue scenarios drawn from the design's uncertainty, for the objectives and rows that
+        judge a design over them (``margin_p05``, the step-out probability constraint); their
+        numbers are parameters of the compiled problem.
     """
 
     coils: Any
@@ -158,6 +162,7 @@ class DesignModel:
     session_s: float | None = None
     field_amplitude_T: float | None = None
     sizing: Any = None
+    scenarios: Any = field(default=None, compare=False, repr=False)
     constants: Any = field(default=None, compare=False, repr=False)
 
 

@@ -271,15 +271,25 @@ def margin_problem(
     uncertainty: TissueUncertainty,
     helical_angle_rad: float | None = None,
     frequency_hz: float | None = None,
+    *,
+    field_T: float | None = None,
 ) -> MarginProblem:
-    """The :class:`MarginProblem` of ``model`` at its operating point (or the given one)."""
+    """The :class:`MarginProblem` of ``model`` at its operating point (or the given one).
+
+    The field is ``field_T``, else the model's set field (``operation.field_amplitude_mT``,
+    capped at what the limits allow), else the largest every limit allows at the frequency —
+    as :func:`optimize.evaluate`.
+    """
     model = prepare(model)
     c = model.constants
     alpha = (
         model.capsule.spiral.helical_angle_rad if helical_angle_rad is None else helical_angle_rad
     )
     f = model.frequency_hz if frequency_hz is None else frequency_hz
-    field_T, _, _ = ph.field_capacity_T(f, c, model.limits, model.ambient_temperature_C)
+    if field_T is None:
+        field_T, _, _ = ph.field_capacity_T(f, c, model.limits, model.ambient_temperature_C)
+        if model.field_amplitude_T is not None:  # a set field, capped as evaluate caps it
+            field_T = min(float(model.field_amplitude_T), float(field_T))
     return MarginProblem(
         helical_angle_rad=float(alpha),
         frequency_hz=float(f),

@@ -39,6 +39,8 @@ _VECTOR_KEYS: dict[str, str] = {
 #: rebuilds the model each time (~10 ms), re-optimisation solves an NLP each time (~0.1-1 s).
 MAX_POINTS = {"vectorised": 250_000, "points": 20_000, "optimize": 5_000}
 EVALUATE_COLUMNS = ("margin_Nm", "safety_factor", "field_amplitude_T", "speed_m_s", "feasible")
+#: Consecutive grid points re-optimised as one warm-started chain (one task).
+OPTIMIZE_CHUNK = 16
 OPTIMIZE_COLUMNS = (
     "status",
     "helical_angle_deg",
@@ -198,16 +200,6 @@ def _at(design: Design, inputs: dict[str, np.ndarray], i: int) -> Design:
     return design.with_values(values)
 
 
-def _optimize_one(design: Design) -> tuple:
-    from optimize import optimize_design
-    from spiralcap.assemble import build_model
-    from spiralcap.commands.uncertainty import robust_solve, wants_robust
-
-    if wants_robust(design):  # margin_p05 / max_stepout_probability (optimize/robust.py)
-        return _row(robust_solve(design).optimization)
-    return _row(optimize_design(build_model(design)))
-
-
 def _row(r) -> tuple:
     return (
         r.status,
@@ -224,16 +216,16 @@ def _models(design: Design, inputs: dict[str, np.ndarray]):
     """The model at every grid point: limits and requirements replaced in one built model,
     any other key rebuilt from the design."""
     from optimize import prepare
-    from spiralcap.assemble import build_model
+    from spiralcap.robust import optimization_model
 
     n = len(next(iter(inputs.values())))
     light = all(_VECTOR_KEYS.get(k, "") in ("limits", "requirements") for k in inputs)
     if "limits.coil_temperature_C" in inputs and design.get("coils.winding_temperature_C") is None:
         light = False  # the winding resistance is taken at the temperature limit
-    base = prepare(build_model(design)) if light else None
+    base = prepare(optimization_model(design)) if light else None
     for i in range(n):
         if base is None:
-            yield build_model(_at(design, inputs, i))
+            yield optimization_model(_at(design, inputs, i))
             continue
         groups: dict[str, dict[str, Any]] = {"limits": {}, "requirements": {}}
         for key, values in inputs.items():
@@ -245,29 +237,53 @@ def _models(design: Design, inputs: dict[str, np.ndarray]):
         )
 
 
-def _optimize_points(design, inputs, workers, progress, dask=None) -> dict[str, np.ndarray]:
-    """Re-optimise at every point: one compiled solver (the problem's numbers are parameters),
-    each point warm-started from the previous point's optimum; worker processes or a Dask
-    cluster if asked (each point then solved on its own)."""
+def _optimize_chunk(
+    design: Design, inputs: dict[str, np.ndarray], progress: Callable[[int], None] | None = None
+) -> list[tuple]:
+    """Re-optimise the points of one chunk, each warm-started from the previous optimum
+    (variables and multipliers; the first from the grid starts). The problem's numbers are
+    parameters, so the chunk re-solves one compiled solver."""
     from optimize import optimize_design
-    from spiralcap.commands.uncertainty import wants_robust
 
+    rows: list[tuple] = []
+    previous: Any = None
+    for i, model in enumerate(_models(design, inputs)):
+        warm = previous if previous is not None and previous.feasible else None
+        previous = optimize_design(model, warm_start=warm)
+        rows.append(_row(previous))
+        if progress:
+            progress(i + 1)
+    return rows
+
+
+def _optimize_points(design, inputs, workers, progress, dask=None) -> dict[str, np.ndarray]:
+    """Re-optimise at every point, in chunks of :data:`OPTIMIZE_CHUNK` consecutive points.
+
+    A chunk is a warm-started chain from a cold first point and is fixed by its index range,
+    so the rows are the same bit for bit here, in worker processes or on a Dask cluster.
+    """
     n = len(next(iter(inputs.values())))
-    rows = []
-    if workers > 1 or dask is not None or wants_robust(design):
+    chunks = [
+        {k: v[s : s + OPTIMIZE_CHUNK] for k, v in inputs.items()}
+        for s in range(0, n, OPTIMIZE_CHUNK)
+    ]
+    if workers > 1 or dask is not None:
         from spiralcap.parallel import map_tasks
 
-        designs = [(_at(design, inputs, i),) for i in range(n)]
-        # in worker processes or on a Dask cluster: the same rows in the same order
-        rows = map_tasks(_optimize_one, designs, workers=workers, dask=dask, progress=progress)
+        parts = map_tasks(
+            _optimize_chunk,
+            [(design, c) for c in chunks],
+            workers=workers,
+            dask=dask,
+            progress=(lambda done, _: progress(min(done * OPTIMIZE_CHUNK, n), n))
+            if progress
+            else None,
+        )
     else:
-        previous = None
-        for i, model in enumerate(_models(design, inputs)):
-            res = optimize_design(
-                model, warm_start=previous if previous is not None and previous.feasible else None
-            )
-            previous = res
-            rows.append(_row(res))
-            if progress:
-                progress(i + 1, n)
+        parts = []
+        for j, c in enumerate(chunks):
+            done = j * OPTIMIZE_CHUNK
+            report = (lambda i, d=done: progress(d + i, n)) if progress else None
+            parts.append(_optimize_chunk(design, c, report))
+    rows = [r for part in parts for r in part]
     return {k: np.array([r[j] for r in rows]) for j, k in enumerate(OPTIMIZE_COLUMNS)}

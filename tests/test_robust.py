@@ -82,11 +82,15 @@ def test_robust_needs_uncertainty(capsys):
     assert "optimize.objective" in capsys.readouterr().err
 
 
-def test_scenario_margins_numpy_and_casadi_agree():
-    import casadi as ca
+def test_compiled_scenario_rows_equal_numpy_margins():
+    """The scenario data are parameters of the compiled NLP: its CVaR rows at a point, with
+    t = 0 and u = 0, are -m_s/tau_ref for every scenario and tissue set; numpy gives m_s."""
+    from dataclasses import replace
 
     from optimize import prepare
     from optimize import robust as rb
+    from optimize.compiled import compile_problem, structure_of
+    from optimize.solve import scales_for
     from spiralcap.assemble import build_model
     from spiralcap.assemble.tissue import build_uncertainty
     from spiralcap.design import load_design
@@ -100,12 +104,80 @@ def test_scenario_margins_numpy_and_casadi_agree():
             "tissue.uncertainty.wall_thickness_sigma_mm=0.2",
         ],
     )
-    model = prepare(build_model(design))
-    _, arrays = rb.scenario_tissues(model.tissues, build_uncertainty(design), 64, 3)
-    x = ca.SX.sym("x", 3)
-    sym = rb.scenario_margins(x[0], x[1], x[2], model, rb._as_dm(arrays))
-    fn = ca.Function("m", [x], [ca.vertcat(*sym)])
-    point = (0.3, 1.7, 8e-3)
-    got = np.asarray(fn(point)).ravel()
-    ref = np.concatenate(rb.scenario_margins(*point, model, arrays))
-    assert np.allclose(got, ref, rtol=1e-12, atol=1e-18), "CasADi and numpy scenario margins"
+    base = build_model(design)
+    base = replace(base, bounds=replace(base.bounds, objective="margin_p05"))
+    model = prepare(rb.with_scenarios(base, build_uncertainty(design), scenarios=64, seed=3))
+    scales = scales_for(model)
+    problem = compile_problem(structure_of(model))
+    nlp = problem.nlp
+    alpha, f, field = 0.3, 1.7, 8e-3
+    x = nlp.scale({"helical_angle": alpha, "frequency": f, "field_scaled": field / scales.field_T})
+    _, g = nlp.evaluate(x, problem.parameters(model, scales))
+    c, sc = model.constants, model.scenarios
+    ref = rb.scenario_margins(alpha, f, field, c, model.requirements, sc.tissues)
+    for k, tissue in enumerate(model.tissues):
+        rows = [nlp.row_names.index(f"cvar[{tissue.name}][{s}]") for s in range(64)]
+        assert np.allclose(-g[rows] * scales.torque_Nm, ref[k], rtol=1e-12, atol=1e-18), (
+            "compiled CasADi scenario rows equal the numpy scenario margins (1e-12)"
+        )
+    # another seed: same structure, same compiled solver, other parameter values
+    other = prepare(rb.with_scenarios(base, build_uncertainty(design), scenarios=64, seed=4))
+    assert compile_problem(structure_of(other)) is problem, "re-solves reuse the compiled NLP"
+
+
+def test_stepout_row_multiplier_is_the_finite_difference_in_p():
+    """The step-out row's multiplier (common solve path) is d margin / d p: central difference
+    of re-solves at p ± 1e-4 (inside one piece of the piecewise-smooth CVaR_p: p·S in (3, 4))."""
+    from optimize import optimize_design
+    from optimize import robust as rb
+    from spiralcap.assemble import build_model
+    from spiralcap.assemble.tissue import build_uncertainty
+    from spiralcap.design import load_design
+
+    design = load_design(
+        None,
+        [
+            "tissue.uncertainty.scale_sigma_log=0.4",
+            "tissue.uncertainty.lumen_diameter_sigma_mm=0.3",
+            "requirements.min_spiral_turns=0",
+            "optimize.starts=1",
+        ],
+    )
+    model, unc = build_model(design), build_uncertainty(design)
+
+    def solve(p):
+        return optimize_design(
+            rb.with_scenarios(model, unc, scenarios=256, max_stepout_probability=p)
+        )
+
+    mid = solve(0.0135)
+    row = next(b for b in mid.binding_limits if b.name == "stepout_probability")
+    fd = (solve(0.0136).objective_value - solve(0.0134).objective_value) / 2e-4
+    assert row.sensitivity > 0 and row.sensitivity == pytest.approx(fd, rel=0.01), (
+        f"d margin / d max_stepout_probability: multiplier {row.sensitivity:.4g} N·m vs "
+        f"central difference {fd:.4g} N·m (envelope theorem; 1 %, the O(h²) error)"
+    )
+    assert row.value <= 0.0135, "the reported value is the in-sample step-out share <= p"
+
+
+def test_robust_sweep_chain_equals_cold_solves():
+    """sweep --optimize with margin_p05 warm-starts a chain on one compiled NLP; every point
+    equals an independent solve of that point (1e-7)."""
+    import math
+
+    from optimize import optimize_design
+    from spiralcap.design import load_design
+    from spiralcap.robust import robust_model
+    from spiralcap.sweep import parse_over, sweep
+
+    design = load_design(None, [s for s in ROBUST if s != "--set"]).with_values(
+        {"optimize.objective": "margin_p05", "optimize.scenarios": 128}
+    )
+    res = sweep(design, [parse_over("requirements.axial_load_mN=20:80:3")], optimize=True)
+    for i, load in enumerate(res.inputs["requirements.axial_load_mN"]):
+        cold = optimize_design(
+            robust_model(design.with_values({"requirements.axial_load_mN": load}))
+        )
+        assert math.isclose(res.outputs["margin_Nm"][i], cold.margin_Nm, rel_tol=1e-7), (
+            "warm-started robust sweep point equals a cold multi-start solve (1e-7)"
+        )

@@ -142,3 +142,17 @@ def test_bad_uncertainty_is_an_input_error(kwargs):
 
     with pytest.raises(InputError):
         uq.TissueUncertainty(**kwargs)
+
+
+def test_a_set_field_is_the_field_of_the_samples():
+    """operation.field_amplitude_mT: the study's nominal margin is evaluate()'s at that field."""
+    design = load_design(
+        None, ["tissue.uncertainty.scale_sigma_log=0.3", "operation.field_amplitude_mT=6"]
+    )
+    model = build_model(design)
+    p = uq.margin_problem(model, build_uncertainty(design))
+    ev = evaluate(model)
+    assert math.isclose(ev.field_amplitude_T, 6e-3, rel_tol=1e-12)
+    assert math.isclose(p.nominal_margin_Nm(), ev.margin_Nm, rel_tol=1e-12), (
+        "nominal margin of the samples = evaluate() at the set field (same physics, 1e-12)"
+    )

@@ -148,6 +148,7 @@ _CONSTRAINT_KEYS = {
     "frequency_max": "optimize.frequency_max_hz",
     "frequency_min": "optimize.frequency_min_hz",
     "solver": "optimize.starts",
+    "stepout_probability": "requirements.max_stepout_probability",
 }
 
 

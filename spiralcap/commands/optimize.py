@@ -128,9 +128,10 @@ def format_result(res) -> str:
                     "limits (more field, a stronger magnet or a lighter load would help)"
                 )
             else:
+                u = f" {label}" if label else ""
                 lines.append(
-                    f"  {constraint_key(s.name)}: needs {s.needed / factor:.4g} {label}, best reachable "
-                    f"{s.best / factor:.4g} {label} (short by {s.short_by / factor:.4g})"
+                    f"  {constraint_key(s.name)}: needs {s.needed / factor:.4g}{u}, best reachable "
+                    f"{s.best / factor:.4g}{u} (short by {s.short_by / factor:.4g})"
                 )
     return "\n".join(lines)
 
@@ -161,18 +162,45 @@ def _turns(values: dict[str, float]) -> dict[str, float]:
     return {f"coils.{k.split('.')[0]}.turns": v for k, v in values.items() if k.endswith(".turns")}
 
 
+def format_robust(rc) -> str:
+    """Text lines for the scenarios of a robust optimum (:class:`spiralcap.robust.RobustCheck`)."""
+    from spiralcap.robust import robust_to_dict
+
+    ins, oos, d_oos = rc.in_sample, rc.out_of_sample, rc.deterministic_out_of_sample
+    rel = robust_to_dict(rc)["out_of_sample"]["p05_relative_to_claim"]
+    p = rc.max_stepout_probability
+    cons = f", P(step-out) <= {p:g} (CVaR)" if p is not None else ""
+    return "\n".join(
+        [
+            f"tissue scenarios    {ins.scenarios} (Sobol', seed {ins.seed}); objective "
+            f"{rc.objective}{cons}",
+            f"in-sample           margin p05 {ins.margin_p05_Nm * 1e3:.4g} mN·m, CVaR05 "
+            f"{ins.cvar_Nm * 1e3:.4g} mN·m, P(step-out) {100 * ins.stepout_probability:.3g} %",
+            f"out-of-sample       margin p05 {oos.margin_percentiles_Nm['p05'] * 1e3:.4g} mN·m"
+            + (f" ({100 * rel:+.2g} % vs claim)" if rel is not None else "")
+            + f", P(step-out) {100 * oos.stepout_probability:.3g} % "
+            f"({oos.samples} fresh samples, seed {rc.fresh_seed})",
+            f"deterministic opt.  {rc.deterministic.helical_angle_deg:.4g} deg, "
+            f"{rc.deterministic.frequency_hz:.4g} Hz: out-of-sample margin p05 "
+            f"{d_oos.margin_percentiles_Nm['p05'] * 1e3:.4g} mN·m, P(step-out) "
+            f"{100 * d_oos.stepout_probability:.3g} %",
+        ]
+    )
+
+
 def run(args: argparse.Namespace) -> int:
     from optimize import optimize_design
-    from spiralcap.assemble import build_model
+    from spiralcap.robust import optimization_model, robust_optimum, robust_to_dict, wants_robust
     from spiralcap.serialize import optimization_to_dict
 
     args.overrides = [*args.overrides, *(parse_free(e) for e in args.free)]
     design = design_from_args(args)
-    from spiralcap.commands.uncertainty import run_robust, wants_robust
-
-    if wants_robust(design):  # issue 11: scenario NLP (optimize/robust.py); port to i9's NLP
-        return run_robust(args, design)
-    res = optimize_design(build_model(design))
+    rc = None
+    if wants_robust(design):  # margin_p05 / max_stepout_probability: over tissue scenarios
+        rc = robust_optimum(design)
+        res = rc.result
+    else:
+        res = optimize_design(optimization_model(design))
     written = None
     if args.output and res.status == "optimal":
         from spiralcap.assemble.system import optimum_design_toml
@@ -181,11 +209,15 @@ def run(args: argparse.Namespace) -> int:
         written = write_text_atomic(args.output, optimum_design_toml(design, res))
     if args.json:
         payload = {"design": design.source, **optimization_to_dict(res)}
+        if rc is not None:
+            payload["robust"] = robust_to_dict(rc)
         if written is not None:
             payload["written"] = str(written)
         print_json(payload)
     else:
         print(format_result(res))
+        if rc is not None:
+            print(format_robust(rc))
         if written is not None:
             print(f"wrote the optimised design to {written}")
         elif args.output:

@@ -154,7 +154,9 @@ def collect(
     ev = evaluate(model)
     lap("evaluate")
     say("optimize")
-    res = optimize_design(model)
+    from spiralcap.robust import optimization_model
+
+    res = optimize_design(optimization_model(design, model))  # with tissue scenarios if asked
     lap("optimize")
     evaluate_json = _jsonable({"design": design.source, **evaluation_to_dict(ev)})
     optimize_json = _jsonable({"design": design.source, **optimization_to_dict(res)})

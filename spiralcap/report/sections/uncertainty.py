@@ -19,9 +19,9 @@ REPORT_SOBOL_BASE = 1 << 11
 
 
 def collect(design: Any, *, workers: int = 1, dask: str | None = None, model: Any = None) -> Any:
-    """The uncertainty study of ``design`` (commands.uncertainty.Study), or None without one."""
+    """The uncertainty study of ``design`` (spiralcap.uncertainty.Study), or None without one."""
     from spiralcap.assemble.tissue import build_uncertainty
-    from spiralcap.commands.uncertainty import study
+    from spiralcap.uncertainty import study
 
     if not build_uncertainty(design).active:
         return None
@@ -39,7 +39,7 @@ def payload(st: Any) -> dict[str, Any] | None:
     """The study as the embedded JSON's ``"uncertainty"`` entry (None without one)."""
     if st is None:
         return None
-    from spiralcap.commands.uncertainty import study_to_dict
+    from spiralcap.uncertainty import study_to_dict
 
     out = study_to_dict(st)
     out.pop("elapsed_s", None)  # the report's numbers must not change from run to run
