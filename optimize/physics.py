@@ -382,6 +382,13 @@ def available_torque_Nm(field_T: Any, c: Constants) -> Any:
     return cap.max_synchronous_torque_Nm(c.moment_Am2, field_T * c.workspace_factor)
 
 
+def contact_geometry(c: Constants) -> tm.ContactGeometry:
+    """The capsule as the tissue model sees it (symbols pass through for free hardware)."""
+    return tm.ContactGeometry(
+        c.body_diameter_m, c.body_length_m, c.wire_diameter_m, c.wound_length_m, c.starts
+    )
+
+
 def required_torques_Nm(
     helical_angle_rad: bk.Scalar,
     frequency_hz: bk.Scalar,
@@ -394,9 +401,7 @@ def required_torques_Nm(
     Resistive: the Zhou 2013 tissue model (torque_model.resistive_torque_Nm). Thrust: the screw
     torque to push ``req.axial_load_N`` (capsule.thrust_torque_Nm) with that tissue's friction.
     """
-    geometry = tm.ContactGeometry(
-        c.body_diameter_m, c.body_length_m, c.wire_diameter_m, c.wound_length_m, c.starts
-    )
+    geometry = contact_geometry(c)
     out = []
     for tissue in tissues:
         res = tm.resistive_torque_Nm(helical_angle_rad, frequency_hz, tissue, geometry)

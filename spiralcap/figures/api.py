@@ -226,17 +226,12 @@ def tissue_torque(
     from spiralcap.figures.torque import plot_torque_vs_frequency
 
     fig, ax = _axes(ax, (7.0, 4.2))
-    cap = model.capsule
-    geometry = {
-        "body_diameter_m": cap.body.diameter_m,
-        "body_length_m": cap.body.length_m,
-        "wire_diameter_m": cap.spiral.wire_diameter_m,
-        "wound_length_m": cap.spiral.wound_length_m,
-        "starts": int(cap.spiral.starts),
-    }
+    from optimize import physics, prepare
+
+    geometry = physics.contact_geometry(prepare(model).constants)
     points = [(o, w) for o, w in ((evaluation, "as entered"), (result, "optimum")) if o]
     if not points:
-        points = [(cap.spiral, "design")]
+        points = [(model.capsule.spiral, "design")]
     f_hi = max([3.5] + [1.1 * o.frequency_hz for o, _ in points if hasattr(o, "frequency_hz")])
     f = np.linspace(0.1, f_hi, 80)
     lines = []

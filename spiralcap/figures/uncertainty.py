@@ -116,7 +116,7 @@ def save_uncertainty_figure(path: str, result: Any) -> dict[str, Any]:
 
     from spiralcap.design import write_text_atomic
 
-    with matplotlib.rc_context(REPORT_RC):  # type: ignore[arg-type]
+    with matplotlib.rc_context(REPORT_RC):
         fig = Figure(figsize=(11.0, 4.4), layout="constrained")
         ax1, ax2 = fig.subplots(1, 2, width_ratios=[1.4, 1.0])
         drawn = {**plot_margin_distribution(ax1, result), **plot_sobol(ax2, result)}

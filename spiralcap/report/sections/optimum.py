@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, cast
 
 from spiralcap.report.document import Cell, FigureBlock, Paragraph, Ref, Section, Table
 from spiralcap.report.sections._util import SHOWN_UNITS, Context, readable
@@ -125,10 +125,13 @@ def build(ctx: Context) -> Section:
         ["helical angle", "°", ctx.num(f"{o}.helical_angle_deg")],
         ["rotation frequency", "Hz", ctx.num(f"{o}.frequency_hz")],
         ["rotating field at the centre", "mT", ctx.num(f"{o}.field_amplitude_T", 1e3)],
-        *[
-            [f"current amplitude, {k} pair", "A", ctx.num(f"{o}.current_amplitudes_A.{k}")]
+        *(
+            cast(
+                list[Cell],
+                [f"current amplitude, {k} pair", "A", ctx.num(f"{o}.current_amplitudes_A.{k}")],
+            )
             for k in "xyz"
-        ],
+        ),
         ["torque margin", "mN·m", ctx.num(f"{o}.margin_Nm", 1e3)],
         ["safety factor", "–", ctx.num(f"{o}.safety_factor")],
         ["forward speed", "mm/s", ctx.num(f"{o}.speed_m_s", 1e3)],
