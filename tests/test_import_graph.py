@@ -126,11 +126,6 @@ def test_domain_packages_import_only_the_core_of_spiralcap(package: str) -> None
     assert not leaks, f"{package} imports the spiralcap application beyond its core: {leaks}"
 
 
-@pytest.mark.xfail(
-    reason="report/data.py still calls commands.coils.sizing_payload; the coil analysis moves "
-    "to an application module both consume (another branch)",
-    strict=False,
-)
 def test_report_imports_nothing_from_commands() -> None:
     leaks = {
         f"{name} -> {target}"
