@@ -89,12 +89,15 @@ def _draw_heating(data: Any, session_s: float | None) -> Any:
     def draw(fig: Any) -> None:
         from spiralcap.figures.thermal import plot_heating_curves
 
+        ax = fig.subplots()
         plot_heating_curves(
-            fig.subplots(),
+            ax,
             data.heating,
             limit_C=float(data.design["limits.coil_temperature_C"]),
             session_s=session_s,
         )
+        # beside the axes: above the limit (a short session) the curves fill the lower right
+        ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7.5)
 
     return draw
 
@@ -144,7 +147,7 @@ def heating_blocks(ctx: Context) -> list[Any]:
     )
     return [
         Paragraph(parts),
-        FigureBlock("fig-heating", caption, _draw_heating(ctx.data, session_s), size_in=(6.0, 2.6)),
+        FigureBlock("fig-heating", caption, _draw_heating(ctx.data, session_s), size_in=(7.5, 2.8)),
     ]
 
 
