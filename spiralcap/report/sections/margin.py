@@ -182,7 +182,8 @@ def build(ctx: Context) -> Section:
                     Ref("fig-margin-map"),
                     ") the feasible region is bounded by the minimum speed (low frequency, "
                     "small angle), the minimum number of spiral turns (large angle) and the "
-                    "step-out boundary where the margin reaches zero.",
+                    "boundary where the margin reaches zero: with the field the largest the "
+                    "limits allow, the drive's maximum frequency at each angle.",
                 ]
             )
         )
@@ -192,7 +193,8 @@ def build(ctx: Context) -> Section:
                 "Worst-case torque margin over helical angle and rotation frequency "
                 "(optimize.margin_grid on a 90 × 90 grid inside the optimiser's angle bounds). "
                 "Hatched: a requirement (minimum speed, spiral turns, positive margin) is not "
-                "met; thick black line: margin = 0, where the capsule steps out; open circle: "
+                "met; thick black line: margin = 0, where the capsule steps out even at the "
+                "largest field (the drive's maximum frequency); open circle: "
                 "the best feasible grid point; star: the optimiser's optimum; diamond: the "
                 "design as entered.",
                 _draw_map(ctx.data),

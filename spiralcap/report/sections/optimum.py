@@ -182,7 +182,7 @@ def build(ctx: Context) -> Section:
         ["torque margin", "mN·m", ctx.num(f"{o}.margin_Nm", 1e3)],
         ["safety factor", "–", ctx.num(f"{o}.safety_factor")],
         ["forward speed", "mm/s", ctx.num(f"{o}.speed_m_s", 1e3)],
-        ["step-out frequency", "Hz", ctx.num(f"{o}.step_out_frequency_hz")],
+        ["step-out frequency at the operating field", "Hz", ctx.num(f"{o}.step_out_frequency_hz")],
     ]
     blocks.append(
         Table(
