@@ -154,12 +154,14 @@ def curve(model: Any, alpha: Any, f: Any, x: np.ndarray) -> Curve:
     )
 
 
-def frequency_range_hz(model: Any, step_out_hz: float) -> np.ndarray:
-    """Frequencies of the margin-against-frequency curve: past the step-out and the bounds."""
+def frequency_range_hz(model: Any, *marks_hz: float) -> np.ndarray:
+    """Frequencies of the margin-against-frequency curve: past the optimiser's bounds and past
+    every frequency in ``marks_hz`` (step-out, the drive's maximum) that was found."""
     b = model.bounds
     hi = 1.5 * b.frequency_max_hz
-    if math.isfinite(step_out_hz) and step_out_hz > 0:
-        hi = max(hi, 1.3 * step_out_hz)
+    for mark in marks_hz:
+        if math.isfinite(mark) and mark > 0:
+            hi = max(hi, 1.3 * mark)
     hi = max(hi, 1.2 * model.frequency_hz)
     return np.linspace(0.02 * hi, hi, CURVE_POINTS)
 
@@ -262,16 +264,26 @@ def uniformity_profiles(
     return d, out
 
 
+def _marks_hz(ev: Any) -> tuple[float, ...]:
+    """The step-out and maximum frequencies of an evaluation that lie inside the search."""
+    out = []
+    if not getattr(ev, "step_out_beyond_search", False):
+        out.append(float(ev.step_out_frequency_hz))
+    if hasattr(ev, "max_frequency_hz") and not ev.max_frequency_beyond_search:
+        out.append(float(ev.max_frequency_hz))
+    return tuple(out)
+
+
 def frequency_curves(model: Any, evaluation: Any, result: Any = None) -> tuple[Curve, Curve | None]:
     """Margin against frequency at the design's helical angle and at the optimum's.
 
     The frequency range runs past both step-out frequencies and the optimiser's bounds; the
     optimum's curve is None when the optimisation found no feasible design (or none is given).
     """
-    f_grid = frequency_range_hz(model, evaluation.step_out_frequency_hz)
+    f_grid = frequency_range_hz(model, *_marks_hz(evaluation))
     feasible = result is not None and result.status == "optimal"
     if feasible:
-        f_grid = np.union1d(f_grid, frequency_range_hz(model, result.step_out_frequency_hz))
+        f_grid = np.union1d(f_grid, frequency_range_hz(model, *_marks_hz(result.evaluation)))
     design = curve(model, evaluation.helical_angle_rad, f_grid, f_grid)
     optimum = curve(model, result.helical_angle_rad, f_grid, f_grid) if feasible else None
     return design, optimum

@@ -63,17 +63,29 @@ def _figure(fig: Any, size_in: tuple[float, float]) -> Any:
     return Figure(figsize=size_in, layout="constrained")
 
 
+def _found(ev: Any, name: str) -> float | None:
+    """``ev.<name>_hz`` (step_out_frequency or max_frequency), None where the search ran out."""
+    value = getattr(ev, f"{name}_hz" if name == "max_frequency" else f"{name}_frequency_hz", None)
+    if value is None or getattr(ev, f"{name}_beyond_search", False):
+        return None
+    return float(value)
+
+
 def margin_vs_frequency(
     model: Any, evaluation: Any, result: Any = None, *, ax: Any = None, curves: Any = None
 ) -> Plot:
     """Margin against frequency at the design's helical angle (and the optimum's).
+
+    Each curve takes the largest field the limits allow at every frequency, so it crosses zero
+    at the drive's maximum frequency (``max_frequency_hz``, dash-dot); the step-out frequency
+    at the operating field (``step_out_frequency_hz``, dashed) is drawn beside it.
 
     ``curves`` may pass precomputed :func:`spiralcap.curves.frequency_curves` output.
     """
     from spiralcap.curves import frequency_curves
     from spiralcap.figures.design import plot_margin_vs_frequency
 
-    fig, ax = _axes(ax, (7.5, 4.4))
+    fig, ax = _axes(ax, (7.5, 5.4))
     design, optimum = curves if curves is not None else frequency_curves(model, evaluation, result)
     ev = evaluation
     drawn = [
@@ -82,9 +94,11 @@ def margin_vs_frequency(
             design.x,
             design.margin_Nm,
             feasible=design.feasible,
-            step_out_frequency_hz=ev.step_out_frequency_hz,
+            step_out_frequency_hz=_found(ev, "step_out"),
             operating_frequency_hz=ev.frequency_hz,
             label=f"as entered, α = {ev.helical_angle_deg:.3g}°",
+            max_frequency_hz=_found(ev, "max_frequency"),
+            max_frequency_limited_by=getattr(ev, "max_frequency_limited_by", ""),
         )
     ]
     if optimum is not None:
@@ -95,14 +109,18 @@ def margin_vs_frequency(
                 optimum.margin_Nm,
                 feasible=optimum.feasible,
                 style_index=1,
-                step_out_frequency_hz=result.step_out_frequency_hz,
+                step_out_frequency_hz=_found(result.evaluation, "step_out"),
                 operating_frequency_hz=result.frequency_hz,
                 label=f"optimum, α = {result.helical_angle_deg:.3g}°",
                 shade=False,
+                max_frequency_hz=_found(result.evaluation, "max_frequency"),
+                max_frequency_limited_by=result.evaluation.max_frequency_limited_by,
             )
         )
         lo, hi = ax.get_ylim()
         ax.set_ylim(lo, max(hi, 1.1e3 * float(max(design.margin_Nm.max(), result.margin_Nm))))
+    # two curves, each with its step-out and maximum frequency: the legend goes below the axes
+    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.16), ncols=2, fontsize=7.5)
     return Plot(fig, ax, tuple(drawn))
 
 

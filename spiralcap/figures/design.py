@@ -44,6 +44,7 @@ class MarginFrequencyDrawn(NamedTuple):
     step_out: Any
     operating: Any
     below_zero: Any
+    max_frequency: Any = None
 
 
 class MarginAngleDrawn(NamedTuple):
@@ -134,6 +135,8 @@ def plot_margin_vs_frequency(
     label: str = "margin",
     style_index: int = 0,
     shade: bool = True,
+    max_frequency_hz: float | None = None,
+    max_frequency_limited_by: str = "",
 ) -> MarginFrequencyDrawn:
     """Worst-case torque margin against rotation frequency at one helical angle.
 
@@ -151,8 +154,9 @@ def plot_margin_vs_frequency(
         curve where one fails is drawn thin and dotted (each curve carries its own feasibility,
         so an operating point is never drawn inside another curve's infeasible range).
     step_out_frequency_hz : float, optional
-        Where the margin reaches zero (``Evaluation.step_out_frequency_hz``), Hz; marked with a
-        vertical line and its value.
+        Where the capsule steps out at the operating field (``Evaluation.step_out_frequency_hz``:
+        the magnet's largest synchronous torque at that field equals the required torque), Hz;
+        marked with a dashed vertical line and its value.
     operating_frequency_hz : float, optional
         The operating (or optimal) frequency, Hz; marked on the curve.
     label : str
@@ -162,6 +166,12 @@ def plot_margin_vs_frequency(
     shade : bool
         Hatch the region below zero margin (the capsule steps out there, whatever the curve);
         only the first of several curves should.
+    max_frequency_hz : float, optional
+        The drive's largest frequency with a positive margin, the field re-maximised at every
+        frequency (``Evaluation.max_frequency_hz``; where this curve, drawn at the largest
+        field the limits allow, crosses zero), Hz; marked with a dash-dot vertical line.
+    max_frequency_limited_by : str
+        What limits the field there (``Evaluation.max_frequency_limited_by``), for the label.
 
     Returns
     -------
@@ -210,7 +220,21 @@ def plot_margin_vs_frequency(
             color=style["color"],
             linestyle=(0, (4, 2)),
             linewidth=1.2,
-            label=f"step-out, {step_out_frequency_hz:.3g} Hz",
+            label=f"step-out at the operating field, {step_out_frequency_hz:.3g} Hz",
+        )
+    max_line = None
+    if max_frequency_hz is not None and np.isfinite(max_frequency_hz) and max_frequency_hz > 0:
+        by = (
+            f", {max_frequency_limited_by.replace('_', ' ')} limit"
+            if max_frequency_limited_by
+            else ""
+        )
+        max_line = ax.axvline(
+            max_frequency_hz,
+            color=style["color"],
+            linestyle=(0, (7, 2, 1.5, 2)),
+            linewidth=1.6,
+            label=f"drive's max. frequency, {max_frequency_hz:.3g} Hz{by}",
         )
     if operating_frequency_hz is not None:
         y = float(np.interp(operating_frequency_hz, f, m))
@@ -235,7 +259,7 @@ def plot_margin_vs_frequency(
     ax.set_xlabel("rotation frequency f (Hz)")
     ax.set_ylabel(_MARGIN_LABEL)
     ax.legend(loc="best", fontsize=7.5)
-    return MarginFrequencyDrawn(line, bad_line, zero, step_out, operating, below)
+    return MarginFrequencyDrawn(line, bad_line, zero, step_out, operating, below, max_line)
 
 
 def plot_margin_vs_angle(

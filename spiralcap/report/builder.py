@@ -34,10 +34,14 @@ def report_payload(data: Any) -> dict[str, Any]:
     """The JSON embedded in the HTML: the CLI's dicts and the report's other numbers."""
     from spiralcap import __version__
     from spiralcap.presentation import jsonable as _jsonable
+    from spiralcap.report.sections import uncertainty
     from spiralcap.report.sections.tissue import tissue_payload
     from spiralcap.report.sections.tradeoffs import power_sweep_payload
 
     design = data.design
+    extra: dict[str, Any] = {}
+    if data.uncertainty is not None:  # only with tissue uncertainty: the layout is unchanged
+        extra["uncertainty"] = uncertainty.payload(data.uncertainty)
     return _jsonable(
         {
             "format": DATA_FORMAT,
@@ -49,6 +53,7 @@ def report_payload(data: Any) -> dict[str, Any]:
             "coils_source": data.coils_note,
             "tissue": tissue_payload(data),
             "tradeoffs": {"power_sweep": power_sweep_payload(data)},
+            **extra,
             "versions": data.versions,
         }
     )

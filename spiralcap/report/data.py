@@ -34,7 +34,14 @@ from spiralcap.curves import (
 )
 from spiralcap.design import Design
 
-__all__ = ["ReportData", "coil_sizing_json", "collect", "uniform_radii_m", "versions"]
+__all__ = [
+    "ReportData",
+    "coil_sizing_json",
+    "collect",
+    "design_has_uncertainty",
+    "uniform_radii_m",
+    "versions",
+]
 
 
 @dataclass(frozen=True)
@@ -60,6 +67,10 @@ class ReportData:
     timings_s: dict[str, float] = field(default_factory=dict)
     comparison: Any = None
     margin_map: MarginMap | None = None
+    #: spiralcap.uncertainty.Study, only when the design has tissue uncertainty.
+    uncertainty: Any = None
+    #: spiralcap.analysis.coils.HeatingCurve per pair, at the operating field.
+    heating: tuple[Any, ...] = ()
 
     @property
     def feasible(self) -> bool:
@@ -99,6 +110,13 @@ def uniform_radii_m(coils_json: dict[str, Any]) -> dict[str, dict[float, float]]
         axis: {tol: float(per_axis[axis][f"radius_{round(100 * tol)}pct_m"]) for tol in TOLERANCES}
         for axis in per_axis
     }
+
+
+def design_has_uncertainty(design: Design) -> bool:
+    """True when any ``tissue.uncertainty.*`` sigma is positive or a covariance is named."""
+    from spiralcap.assemble.tissue import build_uncertainty
+
+    return bool(build_uncertainty(design).active)
 
 
 def collect(
@@ -162,8 +180,12 @@ def collect(
     optimize_json = _jsonable({"design": design.source, **optimization_to_dict(res)})
 
     say("coil sizing")
-    coils_json, coils_note = coil_sizing_json(design)
-    coils_json = _jsonable(coils_json)
+    from spiralcap.analysis.coils import analyse_coils, coils_payload
+
+    analysis = analyse_coils(design)  # once: the dict the CLI prints and the heating curves
+    coils_json = _jsonable(coils_payload(analysis))
+    coils_note = "spiralcap.analysis.coils.analyse_coils(design)"
+    heating = analysis.heating
     lap("coils")
 
     say("margin curves")
@@ -186,6 +208,13 @@ def collect(
         model.coils, MAP_EXTENT * min(p.radius_m for p in model.coils.pairs)
     )
     lap("field maps")
+    from spiralcap.report.sections import uncertainty as _uncertainty
+
+    uncertainty = None
+    if design_has_uncertainty(design):  # the built-in design has none: no extra work
+        say("uncertainty")
+        uncertainty = _uncertainty.collect(design, model=model)
+        lap("uncertainty")
     comparison = None
     if compare is not None:
         from spiralcap.compare import compare_designs
@@ -213,4 +242,6 @@ def collect(
         timings_s=timings,
         margin_map=mmap,
         comparison=comparison,
+        uncertainty=uncertainty,
+        heating=heating,
     )

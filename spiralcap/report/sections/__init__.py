@@ -14,6 +14,7 @@ from spiralcap.report.sections import (
     summary,
     tissue,
     tradeoffs,
+    uncertainty,
 )
 from spiralcap.report.sections._util import Context
 
@@ -21,14 +22,17 @@ __all__ = ["Context", "build_sections"]
 
 
 def build_sections(ctx: Context, command: str) -> list[Section]:
-    """Every section of the report, in reading order (the comparison only when asked for)."""
+    """Every section of the report, in reading order (the comparison only when asked for, the
+    tissue uncertainty only when the design has one)."""
     compared = comparison.build(ctx)
+    uncertain = uncertainty.build(ctx, getattr(ctx.data, "uncertainty", None))
     return [
         summary.build(ctx),
         inputs.build(ctx),
         coils.build(ctx),
         tissue.build(ctx),
         margin.build(ctx),
+        *([uncertain] if uncertain is not None else []),
         optimum.build(ctx),
         tradeoffs.build(ctx),
         *([compared] if compared is not None else []),

@@ -85,6 +85,72 @@ def _draw_profiles(data: Any) -> Any:
     return draw
 
 
+def _draw_heating(data: Any, session_s: float | None) -> Any:
+    def draw(fig: Any) -> None:
+        from spiralcap.figures.thermal import plot_heating_curves
+
+        ax = fig.subplots()
+        plot_heating_curves(
+            ax,
+            data.heating,
+            limit_C=float(data.design["limits.coil_temperature_C"]),
+            session_s=session_s,
+        )
+        # beside the axes: above the limit (a short session) the curves fill the lower right
+        ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7.5)
+
+    return draw
+
+
+def heating_blocks(ctx: Context) -> list[Any]:
+    """The heating of the windings at the operating field: a sentence and the heating curves.
+
+    The curves are :attr:`spiralcap.analysis.coils.CoilAnalysis.heating` (lumped heating from
+    ambient at each pair's worst-heading current, the hot spot above the mean by the steady
+    gradient's ratio); the numbers are those of ``spiralcap coils --json``.
+    """
+    if not ctx.data.heating:
+        return []
+    op = "coils.operating_point"
+    axes = list(ctx.value(f"{op}.axes"))
+    hot = max(axes, key=lambda a: ctx.value(f"{op}.axes.{a}.hot_spot_temperature_C"))
+    # the session keys appear in the coils JSON only with operation.session_min
+    session_s = None
+    if ctx.data.design.get("operation.session_min") is not None:
+        session_s = float(ctx.value(f"{op}.session_s"))
+    a = f"{op}.axes.{hot}"
+    parts: list[Any] = [
+        Strong("Heating. "),
+        "At the operating field ",
+        ctx.num(f"{op}.field_amplitude_T", 1e3, "mT"),
+        f" the {hot} pair runs hottest: its hot spot settles at ",
+        ctx.num(f"{a}.hot_spot_temperature_C", unit="°C"),
+        " (time constant ",
+        ctx.num(f"{a}.time_constant_s", 1 / 60, "min"),
+        ")",
+    ]
+    if session_s is not None:
+        parts += [
+            " and reaches ",
+            ctx.num(f"{a}.session_hot_spot_temperature_C", unit="°C"),
+            " at the end of the ",
+            ctx.num(f"{op}.session_s", 1 / 60, "min"),
+            " session (operation.session_min), where the limit applies",
+        ]
+    parts += [" (", Ref("fig-heating"), ")."]
+    caption = (
+        "Winding temperature of each pair from switch-on at ambient, at its current for the "
+        "worst heading of the operating field (lumped heating with the pack's thermal "
+        "capacity; solid: hot spot at the pack centre, dotted: mean). Dashed: "
+        "limits.coil_temperature_C, applied to the hot spot"
+        + ("; dash-dot: end of the session." if session_s is not None else " in steady state.")
+    )
+    return [
+        Paragraph(parts),
+        FigureBlock("fig-heating", caption, _draw_heating(ctx.data, session_s), size_in=(7.5, 2.8)),
+    ]
+
+
 def build(ctx: Context) -> Section:
     """The coil-sizing section."""
     c = "coils"
@@ -194,4 +260,5 @@ def build(ctx: Context) -> Section:
             size_in=(7.0, 4.0),
         )
     )
+    blocks += heating_blocks(ctx)
     return Section("coils", "Coil sizing and field uniformity", blocks)

@@ -25,7 +25,8 @@ EVALUATION_ROWS: tuple[tuple[str, str, str, float], ...] = (
     ("margin_Nm", "torque margin", "mN·m", 1e3),
     ("safety_factor", "safety factor", "–", 1.0),
     ("lag_angle_deg", "lag angle of the magnet behind the field", "°", 1.0),
-    ("step_out_frequency_hz", "step-out frequency at this helical angle", "Hz", 1.0),
+    ("step_out_frequency_hz", "step-out frequency at the operating field", "Hz", 1.0),
+    ("max_frequency_hz", "drive's maximum frequency (field re-maximised)", "Hz", 1.0),
     ("speed_m_s", "forward speed", "mm/s", 1e3),
     ("spiral_turns", "spiral turns over the wound length", "–", 1.0),
     ("feasible", "every requirement and limit met", "", 1.0),
@@ -75,6 +76,17 @@ def checks_table(ctx: Context, prefix: str, caption: str, ident: str) -> Table:
     )
 
 
+def _max_frequency_parts(ctx: Context, prefix: str) -> list[Any]:
+    """The drive's maximum frequency of the evaluation at ``prefix`` and what limits it."""
+    value = ctx.value(f"{prefix}.max_frequency_hz")
+    by = str(ctx.value(f"{prefix}.max_frequency_limited_by")).replace("_", " ")
+    if ctx.value(f"{prefix}.max_frequency_beyond_search"):
+        return [f"beyond {value:g} Hz"]
+    if value == 0:
+        return ["no frequency"]
+    return [ctx.num(f"{prefix}.max_frequency_hz", unit="Hz"), f" ({by} limit)"]
+
+
 def _draw_frequency(data: Any) -> Any:
     def draw(fig: Any) -> None:
         from spiralcap.figures.api import margin_vs_frequency
@@ -120,11 +132,16 @@ def build(ctx: Context) -> Section:
             "headings minus the largest required torque (tissue resistive + thrust) over the tissue "
             "sets, with the coils driven at the largest rotating field every limit allows at that "
             "frequency (docs/optimisation.md). It falls with frequency: the tissue torque rises and "
-            "the inductive drive voltage and the exposure limit cut the field. At the design's "
-            "helical angle the margin reaches zero, and the capsule steps out of synchrony, at ",
+            "the inductive drive voltage and the exposure limit cut the field. Driven at the "
+            "operating field, the capsule steps out of synchrony at ",
             *step_out_parts(ctx, f"{e}.step_out_frequency_hz"),
-            "; at the optimum's helical angle at ",
+            " at the design's helical angle and at ",
             *step_out_parts(ctx, f"{o}.step_out_frequency_hz"),
+            " at the optimum's; with the field raised to what the limits allow at each "
+            "frequency, the drive keeps a positive margin up to ",
+            *_max_frequency_parts(ctx, e),
+            " and ",
+            *_max_frequency_parts(ctx, f"{o}.evaluation"),
             " (",
             Ref("fig-margin-frequency"),
             "). ",
@@ -147,12 +164,14 @@ def build(ctx: Context) -> Section:
         FigureBlock(
             "fig-margin-frequency",
             "Worst-case torque margin against rotation frequency at the design's helical angle "
-            "and at the optimum's, from optimize.margin_grid. Each curve is solid where every "
-            "requirement holds at its own angle and thin and dotted where one fails (at low "
-            "frequency the capsule is too slow); dashed vertical lines: step-out frequencies "
-            "(margin = 0); stars: the operating points; hatched: negative margin.",
+            "and at the optimum's, the field the largest the limits allow at each frequency "
+            "(optimize.margin_grid). Each curve is solid where every requirement holds at its "
+            "own angle and thin and dotted where one fails; dash-dot vertical lines: the "
+            "drive's maximum frequency (max_frequency_hz, where the curve reaches zero); dashed: "
+            "the step-out frequency at the operating field (step_out_frequency_hz); stars: the "
+            "operating points; hatched: negative margin.",
             _draw_frequency(ctx.data),
-            size_in=(7.5, 4.4),
+            size_in=(7.5, 5.0),
         )
     )
     if ctx.data.margin_map is not None:
@@ -163,7 +182,8 @@ def build(ctx: Context) -> Section:
                     Ref("fig-margin-map"),
                     ") the feasible region is bounded by the minimum speed (low frequency, "
                     "small angle), the minimum number of spiral turns (large angle) and the "
-                    "step-out boundary where the margin reaches zero.",
+                    "boundary where the margin reaches zero: with the field the largest the "
+                    "limits allow, the drive's maximum frequency at each angle.",
                 ]
             )
         )
@@ -173,7 +193,8 @@ def build(ctx: Context) -> Section:
                 "Worst-case torque margin over helical angle and rotation frequency "
                 "(optimize.margin_grid on a 90 × 90 grid inside the optimiser's angle bounds). "
                 "Hatched: a requirement (minimum speed, spiral turns, positive margin) is not "
-                "met; thick black line: margin = 0, where the capsule steps out; open circle: "
+                "met; thick black line: margin = 0, where the capsule steps out even at the "
+                "largest field (the drive's maximum frequency); open circle: "
                 "the best feasible grid point; star: the optimiser's optimum; diamond: the "
                 "design as entered.",
                 _draw_map(ctx.data),

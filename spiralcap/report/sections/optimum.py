@@ -4,10 +4,57 @@ from __future__ import annotations
 
 from typing import Any, cast
 
-from spiralcap.report.document import Cell, FigureBlock, Paragraph, Ref, Section, Table
+from spiralcap.report.document import Cell, Code, FigureBlock, Paragraph, Ref, Section, Table
 from spiralcap.report.sections._util import SHOWN_UNITS, Context, readable
 from spiralcap.report.sections.margin import checks_table
 from spiralcap.report.sections.summary import binding_gain
+
+
+def changed_values(design: Any, result: Any) -> dict[str, Any]:
+    """The keys ``spiralcap optimize -o`` writes with a value other than the input design's.
+
+    From :func:`spiralcap.assemble.system.optimum_values` (angle, frequency, the field where
+    set, freed hardware at its discrete optimum); the optimiser's own ``optimize.free.*``
+    switches are not design values and are left out, as in the written file.
+    """
+    from spiralcap.assemble.system import _FREE_PREFIX, optimum_values
+
+    out = {}
+    for key, value in optimum_values(design, result).items():
+        old = design.get(key)
+        if key.startswith(_FREE_PREFIX):
+            continue
+        same = (
+            isinstance(value, float)
+            and isinstance(old, (int, float))
+            and abs(value - old) <= 1e-12 * max(abs(value), abs(old))
+        )
+        if old != value and not same:
+            out[key] = value
+    return out
+
+
+def design_file_blocks(ctx: Context) -> list[Any]:
+    """The optimised design file as the keys it changes, and how to write the whole file."""
+    from spiralcap.design import _to_toml
+
+    changed = changed_values(ctx.data.design, ctx.data.optimization)
+    if not changed:
+        return [Paragraph(["The optimum is the design as entered: no design key changes."])]
+    return [
+        Paragraph(
+            [
+                "The optimised design file differs from the input design in these keys; "
+                "`spiralcap optimize DESIGN -o best.toml` writes the complete file, and "
+                "`spiralcap evaluate best.toml` reproduces the optimum."
+            ]
+        ),
+        Code(
+            _to_toml(changed, comments=False).strip() + "\n",
+            caption="The optimised design's changed keys "
+            "(spiralcap.assemble.system.optimum_values)",
+        ),
+    ]
 
 
 def _binding_table(ctx: Context) -> Table:
@@ -135,7 +182,7 @@ def build(ctx: Context) -> Section:
         ["torque margin", "mN·m", ctx.num(f"{o}.margin_Nm", 1e3)],
         ["safety factor", "–", ctx.num(f"{o}.safety_factor")],
         ["forward speed", "mm/s", ctx.num(f"{o}.speed_m_s", 1e3)],
-        ["step-out frequency", "Hz", ctx.num(f"{o}.step_out_frequency_hz")],
+        ["step-out frequency at the operating field", "Hz", ctx.num(f"{o}.step_out_frequency_hz")],
     ]
     blocks.append(
         Table(
@@ -160,6 +207,7 @@ def build(ctx: Context) -> Section:
             )
         else:
             blocks.append(Paragraph(["No limit binds at the optimum."]))
+        blocks += design_file_blocks(ctx)
     else:
         blocks.append(_shortfall_table(ctx))
     blocks.append(

@@ -74,7 +74,7 @@ def _draw(data: Any) -> Any:
         from spiralcap.figures.api import tissue_torque
         from spiralcap.figures.torque import plot_torque_vs_frequency
 
-        left, right = fig.subplots(2, 1)
+        left, right = fig.subplots(1, 2)
         plot_torque_vs_frequency(left, tm.preset("zhou2013-sample2"))
         left.set_title("paper's capsules (11 × 26 mm), sample 2")
         _dedupe_legend(left, loc="upper left", fontsize=8, ncols=2)
@@ -133,13 +133,13 @@ def build(ctx: Context) -> Section:
     )
     fig = FigureBlock(
         "fig-tissue-torque",
-        "Tissue resistive torque against rotation frequency. Top: the paper's capsules "
+        "Tissue resistive torque against rotation frequency. Left: the paper's capsules "
         "(helical angles 5–20°) in the calibrated sample-2 tissue, with the torques the paper "
         "states (markers only: filled circles calibration, open squares validation; the model is "
-        "drawn as lines without markers). Bottom: this design's capsule "
+        "drawn as lines without markers). Right: this design's capsule "
         "geometry in each of its tissue sets, at the helical angle as entered and at the "
         "optimum; vertical lines mark the two operating frequencies.",
         _draw(ctx.data),
-        size_in=(7.0, 8.0),
+        size_in=(9.0, 4.6),
     )
     return Section("tissue", "Tissue resistive torque", [intro, fig, set_table, point_table])
