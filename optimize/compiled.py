@@ -53,6 +53,9 @@ class Structure:
     warm: bool = False
     hooks: tuple = ()
     hardware: hw.HardwareStructure | None = None
+    headings: int = 13
+    fixed_winding_temperature: bool = False
+    session: bool = False
 
 
 def structure_of(
@@ -72,6 +75,9 @@ def structure_of(
         warm,
         (tuple(pb.CONSTRAINTS), pb.OBJECTIVES[model.bounds.objective]),
         hardware,
+        len(model.headings),
+        model.winding_temperature_C is not None,
+        model.session_s is not None,
     )
 
 
@@ -88,7 +94,7 @@ class CompiledProblem:
         """The parameter vector of ``model`` (prepared) with ``scales`` (and sizing values)."""
         values = {
             **(extra or {}),
-            **pb.parameter_values("constant", model.constants),
+            **constant_values(model.constants),
             **pb.parameter_values("limit", model.limits),
             **pb.parameter_values("requirement", model.requirements),
             **pb.parameter_values("scale", scales),
@@ -112,10 +118,13 @@ def compile_problem(structure: Structure) -> CompiledProblem:
     from optimize.system import Limits, Requirements
 
     hs = structure.hardware
+    loss = None
     if hs is None:
-        c = _symbolic_constants(b, structure.spiral_starts)
+        c = _symbolic_constants(b, structure)
     else:
         c, hw_expr, quantities = hw.symbolic_constants(b, hs, structure.spiral_starts)
+        c = _with_thermal_parameters(b, structure, c)
+        loss = quantities[3]["power_W"]
     lim = Limits(
         current_A=b.parameter("limit.current_A"),
         voltage_V=b.parameter("limit.voltage_V"),
@@ -134,6 +143,7 @@ def compile_problem(structure: Structure) -> CompiledProblem:
         scales,
         constants=c,
         relax=relax,
+        loss_W=loss,
     )
     obj, terms = pb.all_terms(ctx, structure.objective)
     if hs is not None:
@@ -160,13 +170,84 @@ class _Template:
     constants: Any = None
 
 
-def _symbolic_constants(b: NLPBuilder, spiral_starts: int) -> Any:
+#: Constants fields that are per-pair vectors (3,); the heading table is (headings, 3).
+_VECTOR_FIELDS = (
+    "gains_T_per_A",
+    "resistance_20C_ohm",
+    "inductance_H",
+    "current_per_tesla_A_per_T",
+    "copper_mass_kg",
+)
+_SCALAR_FIELDS = (
+    "workspace_factor",
+    "moment_Am2",
+    "body_diameter_m",
+    "body_length_m",
+    "wire_diameter_m",
+    "wound_length_m",
+    "helix_diameter_m",
+)
+#: WindingPack fields that are parameters, one value per pair (coils.thermal.WindingPack).
+PACK_FIELDS = (
+    "pack_side_m",
+    "mean_radius_m",
+    "packing_factor",
+    "conductivity_W_mK",
+    "heat_transfer_coefficient_W_m2K",
+    "emissivity",
+)
+
+
+def constant_values(c: Any) -> dict[str, Any]:
+    """The values of the ``constant.*`` parameters for numeric :class:`Constants` ``c``."""
+    out: dict[str, Any] = {f"constant.{n}": np.asarray(getattr(c, n), float) for n in _VECTOR_FIELDS}
+    out.update({f"constant.{n}": float(getattr(c, n)) for n in _SCALAR_FIELDS})
+    out["constant.heading_current_per_tesla_A_per_T"] = np.asarray(
+        c.heading_current_per_tesla_A_per_T, float
+    )
+    for n in PACK_FIELDS:
+        out[f"constant.pack.{n}"] = np.array([float(getattr(p, n)) for p in c.packs])
+    if c.winding_temperature_C is not None:
+        out["constant.winding_temperature_C"] = float(c.winding_temperature_C)
+    if c.session_s is not None:
+        out["constant.session_s"] = float(c.session_s)
+    return out
+
+
+def _heading_table(b: NLPBuilder, name: str, headings: int) -> Any:
+    flat = b.parameter(name, (headings, 3))  # row-major: [3 h + k]
+    return ca.reshape(flat, 3, headings).T
+
+
+def _with_thermal_parameters(b: NLPBuilder, structure: Structure, c: Any) -> Any:
+    """``c`` with the winding temperature / session as parameters where the structure has them."""
+    from dataclasses import replace
+
+    return replace(
+        c,
+        winding_temperature_C=(
+            b.parameter("constant.winding_temperature_C")
+            if structure.fixed_winding_temperature
+            else None
+        ),
+        session_s=b.parameter("constant.session_s") if structure.session else None,
+    )
+
+
+def _symbolic_constants(b: NLPBuilder, structure: Structure) -> Any:
+    """Constants of a fixed design as named parameters (packs included)."""
+    from coils.thermal import WindingPack
     from optimize.system import Constants
 
-    kw: dict[str, Any] = {}
-    for fl in Constants.__dataclass_fields__.values():
-        if fl.name == "starts":
-            continue
-        shape = (3,) if fl.type in ("np.ndarray",) else ()
-        kw[fl.name] = b.parameter(f"constant.{fl.name}", shape)
-    return Constants(**kw, starts=spiral_starts)
+    kw: dict[str, Any] = {n: b.parameter(f"constant.{n}", (3,)) for n in _VECTOR_FIELDS}
+    kw.update({n: b.parameter(f"constant.{n}") for n in _SCALAR_FIELDS})
+    pack = {n: b.parameter(f"constant.pack.{n}", (3,)) for n in PACK_FIELDS}
+    table = _heading_table(b, "constant.heading_current_per_tesla_A_per_T", structure.headings)
+    c = Constants(
+        **kw,
+        packs=tuple(WindingPack(**{n: pack[n][k] for n in PACK_FIELDS}) for k in range(3)),
+        power_weights_per_T2=0.5 * table * table,
+        heading_current_per_tesla_A_per_T=table,
+        starts=structure.spiral_starts,
+    )
+    return _with_thermal_parameters(b, structure, c)

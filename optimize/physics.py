@@ -68,7 +68,7 @@ def winding_temperatures_C(
     """(surface, mean, hot spot) of axis k at a current amplitude, °C: steady or session end."""
     from coils.thermal import steady_state, transient
 
-    r20 = float(c.resistance_20C_ohm[k])
+    r20 = c.resistance_20C_ohm[k]
     steady = steady_state(c.packs[k], r20, current_A, ambient_temperature_C)
     if c.session_s is None:
         return steady.surface_C, steady.mean_C, steady.hot_spot_C
@@ -94,7 +94,7 @@ def winding_resistance_ohm(
     else:
         temp = c.winding_temperature_C
     return (
-        float(c.resistance_20C_ohm[k])
+        c.resistance_20C_ohm[k]
         * copper_resistivity_ohm_m(temp)
         / COPPER_RESISTIVITY_20C_ohm_m
     )
@@ -112,34 +112,69 @@ def hot_spot_rise_K(current_A: Any, k: int, c: Constants, ambient_temperature_C:
     return winding_temperatures_C(current_A, k, c, ambient_temperature_C)[2] - ambient_temperature_C
 
 
-def total_loss_W(
-    field_T: Any, c: Constants, ambient_temperature_C: float, memo: dict | None = None
-) -> Any:
-    """Copper loss of the heading that draws the most, Σ_k R_k(I_hk) I_hk² / 2, W.
+def _number(x: Any) -> float | None:
+    """``x`` as a float if it is a plain number (numpy scalar included), else None."""
+    if bk.is_casadi(x) or np.ndim(x) != 0:
+        return None
+    return float(x)
 
-    I_hk = B0 sqrt(1 - n_hk²) / g_k for heading h, each pair at its own self-consistent
-    resistance (:func:`winding_resistance_ohm`).
+
+def heading_losses_W(
+    field_T: Any, c: Constants, ambient_temperature_C: Any, memo: dict | None = None
+) -> list[Any]:
+    """Copper loss of every heading, Σ_k R_k(I_hk) I_hk² / 2, W (backend-generic).
+
+    I_hk = B0 · ``c.heading_current_per_tesla_A_per_T[h, k]`` (sqrt(1 - n_hk²) / g_k), each
+    pair at its own self-consistent resistance (:func:`winding_resistance_ohm`). With numbers,
+    currents per tesla that recur (few distinct values per axis) share one thermal solve through
+    ``memo``; with CasADi values every (heading, axis) is its own expression.
     """
-    w = np.asarray(c.power_weights_per_T2, dtype=float)  # (1 - n²) / (2 g²)
-    per_amp = np.round(np.sqrt(2.0 * w), 15)  # I_hk / B0; few distinct values per axis
+    a = c.heading_current_per_tesla_A_per_T
     memo = {} if memo is None else memo
-    worst: Any = None
-    for h in range(w.shape[0]):
+    out: list[Any] = []
+    for h in range(a.shape[0]):
         loss: Any = 0.0
         for k in range(3):
-            if per_amp[h, k] > 0:
-                key = (k, float(per_amp[h, k]))
-                if key not in memo:
-                    cur = field_T * key[1]
-                    memo[key] = (cur, winding_resistance_ohm(cur, k, c, ambient_temperature_C))
-                cur, r = memo[key]
-                loss = loss + 0.5 * r * cur * cur
+            per_amp = a[h, k]
+            num = _number(per_amp)
+            if num is not None and num <= 0:
+                continue
+            key = None if num is None else (k, round(num, 15))
+            if key is None or key not in memo:
+                cur = field_T * per_amp
+                r = winding_resistance_ohm(cur, k, c, ambient_temperature_C)
+                if key is None:
+                    loss = loss + 0.5 * r * cur * cur
+                    continue
+                memo[key] = (cur, r)
+            cur, r = memo[key]
+            loss = loss + 0.5 * r * cur * cur
+        out.append(loss)
+    return out
+
+
+def total_loss_W(
+    field_T: Any, c: Constants, ambient_temperature_C: Any, memo: dict | None = None
+) -> Any:
+    """Copper loss of the heading that draws the most, max_h Σ_k R_k(I_hk) I_hk² / 2, W.
+
+    See :func:`heading_losses_W`; the resistance is each pair's at its own mean winding
+    temperature at that current (steady or at the end of the session).
+    """
+    worst: Any = None
+    for loss in heading_losses_W(field_T, c, ambient_temperature_C, memo):
         worst = loss if worst is None else bk.fmax(worst, loss)
     return worst
 
 
 def limit_terms(
-    frequency_hz: Any, field_T: Any, c: Constants, limits: Limits, ambient_temperature_C: float
+    frequency_hz: Any,
+    field_T: Any,
+    c: Constants,
+    limits: Limits,
+    ambient_temperature_C: Any,
+    *,
+    loss_W: Any = None,
 ) -> list[LimitTerm]:
     """Every hardware and exposure limit at rotation frequency ``f`` and centre field ``B0``.
 
@@ -152,6 +187,10 @@ def limit_terms(
     The temperature limit applies to the winding hot spot, steady or at the end of a session
     (:func:`hot_spot_rise_K`): term ``hot_spot_k``, the rise above ambient in K, not a power law
     of the field (``power`` None).
+
+    Every argument may be a number, a numpy array or a CasADi value (the NLP builds the same
+    terms with its variables and parameters). ``loss_W``: the worst-heading loss if the caller
+    has it already (the sizing NLP's epigraph variable); default :func:`total_loss_W`.
     """
     import coils
 
@@ -160,10 +199,12 @@ def limit_terms(
     amb = ambient_temperature_C
     memo: dict = {}
     for k, ax in enumerate(_AXES):
-        per_amp = float(np.round(c.current_per_tesla_A_per_T[k], 15))
+        per_amp = c.current_per_tesla_A_per_T[k]
         current = field_T * per_amp
-        r, ind = winding_resistance_ohm(current, k, c, amb), float(c.inductance_H[k])
-        memo[(k, per_amp)] = (current, r)
+        r, ind = winding_resistance_ohm(current, k, c, amb), c.inductance_H[k]
+        num = _number(per_amp)
+        if num is not None:
+            memo[(k, round(num, 15))] = (current, r)
         terms.append(
             LimitTerm(f"current_{ax}", "limits.current_A", "A", current, limits.current_A, 1)
         )
@@ -192,7 +233,7 @@ def limit_terms(
             "power",
             "limits.power_W",
             "W",
-            total_loss_W(field_T, c, amb, memo),
+            total_loss_W(field_T, c, amb, memo) if loss_W is None else loss_W,
             limits.power_W,
             2 if fixed_r else None,
         )
