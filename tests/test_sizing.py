@@ -204,8 +204,11 @@ def test_sizing_rows_equal_fixed_rows_at_the_same_hardware(model):
     extra = hw.sizing_parameters(model, hw.frozen_factors(model), hw.bore_m(model))
     point = {"helical_angle": 0.3, "frequency": 1.2, "field_scaled": 0.8, "t": 0.1}
     here = hw.hardware_of(model)
-    p_ref = model.constants.power_per_tesla2_W_per_T2 * scales.field_T**2 / scales.power_W
-    xs = sized.nlp.scale({**point, **{n: here[n] for n in names}, "power_per_T2_scaled": p_ref})
+    from optimize.physics import total_loss_W
+
+    loss = total_loss_W(point["field_scaled"] * scales.field_T, model.constants, model.ambient_temperature_C)
+    p_ref = float(loss) / scales.power_W
+    xs = sized.nlp.scale({**point, **{n: here[n] for n in names}, "power_W_scaled": p_ref})
     _, g_sized = sized.nlp.evaluate(xs, sized.parameters(model, scales, extra))
     _, g_fixed = fixed.nlp.evaluate(fixed.nlp.scale(point), fixed.parameters(model, scales))
     by_name = dict(zip(sized.nlp.row_names, g_sized))
