@@ -94,7 +94,7 @@ def _text(p: dict[str, Any]) -> str:
     w = p["rotating_field_within_limits"]
     wh = p["worst_heading"]
     op = p["operating_point"]
-    session = op["session_s"]
+    session = op.get("session_s")
     therm = format_table(
         [
             "axis",
