@@ -201,8 +201,9 @@ def analyse_coils(design: Any) -> CoilAnalysis:
     for k, ax in enumerate(_AXES):
         own = [(v, name) for name, v in cap.caps_T.items() if name.endswith(f"_{ax}")]
         best, name = min(own)
-        # an axis no heading uses carries no current (0 A, not inf x 0)
-        amps = best * float(per[k]) if per[k] > 0 else 0.0
+        if not np.isfinite(best):  # no heading uses this axis: it carries no current, caps nothing
+            best, name = cap.field_T, f"unused_{ax}"
+        amps = best * float(per[k])
         limits.append(
             AxisLimit(
                 axis=ax,
