@@ -200,7 +200,9 @@ PACK_FIELDS = (
 
 def constant_values(c: Any) -> dict[str, Any]:
     """The values of the ``constant.*`` parameters for numeric :class:`Constants` ``c``."""
-    out: dict[str, Any] = {f"constant.{n}": np.asarray(getattr(c, n), float) for n in _VECTOR_FIELDS}
+    out: dict[str, Any] = {
+        f"constant.{n}": np.asarray(getattr(c, n), float) for n in _VECTOR_FIELDS
+    }
     out.update({f"constant.{n}": float(getattr(c, n)) for n in _SCALAR_FIELDS})
     out["constant.heading_current_per_tesla_A_per_T"] = np.asarray(
         c.heading_current_per_tesla_A_per_T, float

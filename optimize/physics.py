@@ -93,11 +93,7 @@ def winding_resistance_ohm(
         temp = winding_temperatures_C(current_A, k, c, ambient_temperature_C)[1]
     else:
         temp = c.winding_temperature_C
-    return (
-        c.resistance_20C_ohm[k]
-        * copper_resistivity_ohm_m(temp)
-        / COPPER_RESISTIVITY_20C_ohm_m
-    )
+    return c.resistance_20C_ohm[k] * copper_resistivity_ohm_m(temp) / COPPER_RESISTIVITY_20C_ohm_m
 
 
 def hot_spot_rise_K(current_A: Any, k: int, c: Constants, ambient_temperature_C: float) -> Any:

@@ -109,9 +109,9 @@ def test_power_sensitivity_to_the_safety_factor_is_analytic(power_result):
     b = next(b for b in res.binding_limits if b.name.startswith("safety_factor["))
     b0, h = res.field_amplitude_T, 1e-5
     c, amb = m.constants, m.ambient_temperature_C
-    dp = (
-        float(total_loss_W(b0 * (1 + h), c, amb)) - float(total_loss_W(b0 * (1 - h), c, amb))
-    ) / (2 * h)  # = P'(B0) B0
+    dp = (float(total_loss_W(b0 * (1 + h), c, amb)) - float(total_loss_W(b0 * (1 - h), c, amb))) / (
+        2 * h
+    )  # = P'(B0) B0
     assert math.isclose(b.sensitivity, dp / 2.0, rel_tol=1e-6), (
         "multiplier of the safety-factor row = P'(B0) B0 / SF (envelope theorem)"
     )

@@ -206,7 +206,9 @@ def test_sizing_rows_equal_fixed_rows_at_the_same_hardware(model):
     here = hw.hardware_of(model)
     from optimize.physics import total_loss_W
 
-    loss = total_loss_W(point["field_scaled"] * scales.field_T, model.constants, model.ambient_temperature_C)
+    loss = total_loss_W(
+        point["field_scaled"] * scales.field_T, model.constants, model.ambient_temperature_C
+    )
     p_ref = float(loss) / scales.power_W
     xs = sized.nlp.scale({**point, **{n: here[n] for n in names}, "power_W_scaled": p_ref})
     _, g_sized = sized.nlp.evaluate(xs, sized.parameters(model, scales, extra))
