@@ -139,6 +139,10 @@ def test_optimize_output_reproduced_by_evaluate(tmp_path, capsys):
     ev = json.loads(capsys.readouterr().out)
     for k in ("margin_Nm", "helical_angle_deg", "frequency_hz"):
         assert math.isclose(ev[k], opt[k], rel_tol=1e-6), f"evaluate best.toml: same {k}, 1e-6"
+    limits = [b["name"] for b in opt["binding_limits"] if b["key"].startswith("limits.")]
+    assert limits == [ev["field_limited_by"]] == ["hot_spot_x"], (
+        "the optimiser's binding limit is the one evaluate says sets the field (the hot spot)"
+    )
     # 2.864 mN·m since the hot spot (issue 10: convection + radiation, 65 K rise) replaced the
     # lumped mean-temperature limit (2.639 mN·m)
     assert math.isclose(opt["margin_Nm"] * 1e3, 2.864, rel_tol=1e-3), "built-in optimum 2.864 mN·m"
@@ -228,3 +232,30 @@ def test_margin_optimum_ignores_a_set_field(model):
     fixed = optimize_design(replace(model, field_amplitude_T=3e-3))
     assert math.isclose(fixed.margin_Nm, free.margin_Nm, rel_tol=1e-9)
     assert math.isclose(fixed.field_amplitude_T, free.field_amplitude_T, rel_tol=1e-9)
+
+
+@pytest.mark.parametrize(
+    "sets",
+    [[], ["operation.session_min=20"], ["coils.winding_temperature_C=60"]],
+    ids=["steady", "session", "fixed-copper-temperature"],
+)
+def test_compiled_rows_with_parameter_constants_equal_the_numeric_rows(sets):
+    """The compiled NLP builds Constants (thermal packs included) from named parameters; its
+    rows at a point equal the rows with the numeric Constants of the design (1e-10): the hot
+    spot, the self-consistent resistance and the loss are the same expressions."""
+    from optimize.solve import scales_for
+
+    m = prepare(build_model(load_design(None, sets)))
+    scales = scales_for(m)
+    problem = compile_problem(structure_of(m))
+    names = problem.nlp.row_names
+    for point in ((0.3, 1.2, 0.8), (0.6, 3.0, 1.1)):
+        x = {"helical_angle": point[0], "frequency": point[1], "field_scaled": point[2], "t": 0.1}
+        _, g = problem.nlp.evaluate(problem.nlp.scale(x), problem.parameters(m, scales))
+        scaled = (point[0] / pb.ALPHA_REF_rad, point[1] / pb.F_REF_hz, point[2], 0.1)
+        _, g_np, rows = pb.expressions(scaled, m, scales)
+        by_name = dict(zip(names, np.asarray(g).ravel()))
+        for row, value in zip(rows, g_np):
+            assert math.isclose(by_name[row.name], float(value), rel_tol=1e-10, abs_tol=1e-12), (
+                f"{row.name}: parameter Constants and numeric Constants agree (1e-10)"
+            )

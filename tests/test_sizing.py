@@ -190,11 +190,16 @@ def test_least_copper_relaxation_bounds_the_discrete_design(model):
     )
 
 
-def test_sizing_rows_equal_fixed_rows_at_the_same_hardware(model):
+@pytest.mark.parametrize("session", [False, True], ids=["steady", "session"])
+def test_sizing_rows_equal_fixed_rows_at_the_same_hardware(model, session):
     """With the frozen factors taken at the design, the sizing NLP's rows (hardware as
     variables) equal the fixed-hardware rows (precomputed Constants) at the same point: the
-    expressions of optimize.hardware are the coil objects' numbers, to 1e-9."""
+    expressions of optimize.hardware are the coil objects' numbers, to 1e-9 — the thermal packs
+    (hot spot, self-consistent resistance), steady or at the end of a 20 min session, included."""
     from optimize.solve import compile_problem, scales_for, structure_of
+
+    if session:
+        model = prepare(build_model(load_design(None, ["operation.session_min=20"])))
 
     names = ("x.turns", "y.wire_diameter_m", "z.radius_m")
     hs = hw.HardwareStructure(names, hw.helmholtz_flags(model), len(model.headings))
