@@ -253,8 +253,10 @@ def _bisect_field_T(
 ) -> np.ndarray:
     """Largest B0 with ``value(B0) <= allowed`` for a value increasing in B0 (numpy).
 
-    Bracket [0, hi] with hi doubled from 1 mT until it violates, then bisection to machine
-    precision (80 halvings of a bracket at most 2^60 wide).
+    Bracket [lo, hi] with hi doubled from 1 mT until it violates, then bisection to machine
+    precision (80 halvings of a bracket at most 2^60 wide); a single limit value (the usual
+    case: the hot spot and the power depend on B0 alone) by Brent's method in the same bracket
+    (:func:`_brent_below`, ~10 evaluations instead of ~80).
     """
     lo = np.zeros(shape)
     hi = np.full(shape, 1e-3)
@@ -262,12 +264,32 @@ def _bisect_field_T(
         over = ~(np.asarray(value(hi), dtype=float) <= allowed)  # NaN (runaway) is over
         if np.all(over):
             break
+        lo = np.where(over, lo, hi)
         hi = np.where(over, hi, 2.0 * hi)
+    if lo.size == 1 and np.all(over):  # one limit value: Brent's method in the bracket
+        return np.full(shape, _brent_below(value, float(allowed), float(lo), float(hi)))
     for _ in range(steps):
         mid = 0.5 * (lo + hi)
         ok = np.asarray(value(mid), dtype=float) <= allowed
         lo, hi = np.where(ok, mid, lo), np.where(ok, hi, mid)
     return lo
+
+
+def _brent_below(value: Any, allowed: float, lo: float, hi: float) -> float:
+    """Root of value(b) = allowed in [lo, hi] (value(lo) <= allowed < value(hi)) by Brent's
+    method to machine precision, returned on the allowed side (value(b) <= allowed)."""
+    from scipy.optimize import brentq
+
+    def excess(b: float) -> float:
+        v = float(np.asarray(value(b), dtype=float))
+        return v - allowed if np.isfinite(v) else abs(allowed) + 1.0  # NaN (runaway) is over
+
+    if excess(lo) > 0:
+        return lo
+    root = float(brentq(excess, lo, hi, xtol=1e-300, rtol=8.9e-16, maxiter=200))
+    while root > lo and excess(root) > 0:  # step back onto the allowed side
+        root = float(np.nextafter(root, lo))
+    return root
 
 
 _HOT_SPOT_CAPS: dict[tuple, tuple[Any, np.ndarray]] = {}
