@@ -56,6 +56,7 @@ class Structure:
     headings: int = 13
     fixed_winding_temperature: bool = False
     session: bool = False
+    heading_pattern: tuple = ()  # see heading_pattern(); () builds every entry on its own
 
 
 def structure_of(
@@ -78,7 +79,31 @@ def structure_of(
         len(model.headings),
         model.winding_temperature_C is not None,
         model.session_s is not None,
+        heading_pattern(model.headings),
     )
+
+
+def heading_pattern(headings: Any) -> tuple:
+    """Which headings share a current per tesla on each axis (a property of the headings alone).
+
+    Per axis k: ``(entries, worst)`` with ``entries[h]`` the first heading whose
+    sqrt(1 - n_k²) equals heading h's (-1 where it is 0: no current) and ``worst`` the heading
+    with the largest. The NLP builds one node per distinct entry, so a thermal solve is shared
+    by the headings that carry the same current (optimize.physics.heading_losses_W).
+    """
+    s = np.sqrt(np.clip(1.0 - np.asarray(headings, dtype=float) ** 2, 0.0, 1.0))
+    out = []
+    for k in range(3):
+        col = s[:, k]
+        entries = []
+        for h, v in enumerate(col):
+            if v <= 0:
+                entries.append(-1)
+                continue
+            entries.append(next(j for j in range(h + 1) if abs(col[j] - v) <= 1e-12 * v))
+        worst = int(np.argmax(col))
+        out.append((tuple(entries), entries[worst]))
+    return tuple(out)
 
 
 @dataclass(frozen=True)
@@ -122,7 +147,9 @@ def compile_problem(structure: Structure) -> CompiledProblem:
     if hs is None:
         c = _symbolic_constants(b, structure)
     else:
-        c, hw_expr, quantities = hw.symbolic_constants(b, hs, structure.spiral_starts)
+        c, hw_expr, quantities = hw.symbolic_constants(
+            b, hs, structure.spiral_starts, structure.heading_pattern
+        )
         c = _with_thermal_parameters(b, structure, c)
         loss = quantities[3]["power_W"]
     lim = Limits(
@@ -221,6 +248,29 @@ def _heading_table(b: NLPBuilder, name: str, headings: int) -> Any:
     return ca.reshape(flat, 3, headings).T
 
 
+def shared_heading_table(entry: Any, pattern: tuple, headings: int) -> tuple[Any, Any]:
+    """(table (headings, 3), per-axis worst column (3,)) with one node per distinct entry.
+
+    ``entry(h, k)`` builds the value of heading h on axis k; ``pattern`` is
+    :func:`heading_pattern`'s. Zero entries are the constant 0.
+    """
+    nodes: dict[tuple[int, int], Any] = {}
+    cols, worst = [], []
+    for k, (entries, top) in enumerate(pattern):
+        col = []
+        for h in range(headings):
+            first = entries[h]
+            if first < 0:
+                col.append(ca.SX(0.0))
+                continue
+            if (first, k) not in nodes:
+                nodes[(first, k)] = entry(first, k)
+            col.append(nodes[(first, k)])
+        cols.append(ca.vertcat(*col))
+        worst.append(nodes[(top, k)] if top >= 0 else ca.SX(0.0))
+    return ca.horzcat(*cols), ca.vertcat(*worst)
+
+
 def _with_thermal_parameters(b: NLPBuilder, structure: Structure, c: Any) -> Any:
     """``c`` with the winding temperature / session as parameters where the structure has them."""
     from dataclasses import replace
@@ -245,6 +295,10 @@ def _symbolic_constants(b: NLPBuilder, structure: Structure) -> Any:
     kw.update({n: b.parameter(f"constant.{n}") for n in _SCALAR_FIELDS})
     pack = {n: b.parameter(f"constant.pack.{n}", (3,)) for n in PACK_FIELDS}
     table = _heading_table(b, "constant.heading_current_per_tesla_A_per_T", structure.headings)
+    if structure.heading_pattern:  # one node per distinct current (shared thermal solves)
+        table, kw["current_per_tesla_A_per_T"] = shared_heading_table(
+            lambda h, k: table[h, k], structure.heading_pattern, structure.headings
+        )
     c = Constants(
         **kw,
         packs=tuple(WindingPack(**{n: pack[n][k] for n in PACK_FIELDS}) for k in range(3)),

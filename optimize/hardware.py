@@ -277,9 +277,13 @@ class HardwareStructure:
     headings: int
 
 
-def symbolic_constants(b: Any, hs: HardwareStructure, spiral_starts: int) -> tuple[Any, Any, list]:
+def symbolic_constants(
+    b: Any, hs: HardwareStructure, spiral_starts: int, pattern: tuple = ()
+) -> tuple[Any, Any, list]:
     """Constants as expressions of the hardware (free: variables, fixed: parameters).
 
+    ``pattern``: :func:`optimize.compiled.heading_pattern` of the headings (headings with the
+    same current share one node, hence one thermal solve); () builds every entry on its own.
     Returns (constants, hardware expressions by name, geometry terms builder args).
     """
     import casadi as ca
@@ -326,6 +330,13 @@ def symbolic_constants(b: Any, hs: HardwareStructure, spiral_starts: int) -> tup
     # tied headings is not smooth); its rows are added with the geometry terms
     power = b.variable("power_W_scaled", 1.0, 0.0, np.inf) * b.parameter("scale.power_W")
     per_tesla = ca.horzcat(*(s_all[:, k] / g[k] for k in range(3)))
+    worst = ca.vertcat(*(s_max[k] / g[k] for k in range(3)))
+    if pattern:
+        from optimize.compiled import shared_heading_table
+
+        per_tesla, worst = shared_heading_table(
+            lambda h, k: s_all[h, k] / g[k], pattern, hs.headings
+        )
     conductivity, emissivity = b.parameter("hw.conductivity"), b.parameter("hw.emissivity")
     packs = tuple(
         WindingPack(
@@ -352,7 +363,7 @@ def symbolic_constants(b: Any, hs: HardwareStructure, spiral_starts: int) -> tup
             )
         ),
         packs=packs,
-        current_per_tesla_A_per_T=ca.vertcat(*(s_max[k] / g[k] for k in range(3))),
+        current_per_tesla_A_per_T=worst,
         power_weights_per_T2=0.5 * per_tesla * per_tesla,
         heading_current_per_tesla_A_per_T=per_tesla,
         workspace_factor=b.parameter("frozen.workspace_factor"),

@@ -86,13 +86,18 @@ def winding_resistance_ohm(
     Self-consistent with the heating (steady, or at the end of the session), or at
     ``c.winding_temperature_C`` if the design fixes the copper temperature.
     """
+    if c.winding_temperature_C is None:
+        mean_C = winding_temperatures_C(current_A, k, c, ambient_temperature_C)[1]
+        return _resistance_at(mean_C, k, c)
+    return _resistance_at(None, k, c)
+
+
+def _resistance_at(mean_C: Any, k: int, c: Constants) -> Any:
+    """R of pair k at the mean winding temperature ``mean_C`` (or the design's fixed one)."""
     from coils.electrical import copper_resistivity_ohm_m
     from spiralcap.constants import COPPER_RESISTIVITY_20C_ohm_m
 
-    if c.winding_temperature_C is None:
-        temp = winding_temperatures_C(current_A, k, c, ambient_temperature_C)[1]
-    else:
-        temp = c.winding_temperature_C
+    temp = mean_C if c.winding_temperature_C is None else c.winding_temperature_C
     return c.resistance_20C_ohm[k] * copper_resistivity_ohm_m(temp) / COPPER_RESISTIVITY_20C_ohm_m
 
 
@@ -109,10 +114,23 @@ def hot_spot_rise_K(current_A: Any, k: int, c: Constants, ambient_temperature_C:
 
 
 def _number(x: Any) -> float | None:
-    """``x`` as a float if it is a plain number (numpy scalar included), else None."""
-    if bk.is_casadi(x) or np.ndim(x) != 0:
+    """``x`` as a float if it is a plain number (numpy or CasADi constant), else None."""
+    if bk.is_casadi(x):
+        return float(x) if x.numel() == 1 and x.is_constant() else None
+    if np.ndim(x) != 0:
         return None
     return float(x)
+
+
+def _memo_key(k: int, per_amp: Any) -> tuple | None:
+    """Key under which a current per tesla shares its thermal solve: its value (numbers) or
+    its CasADi node (the NLP reuses one node for headings with the same current); None: none."""
+    num = _number(per_amp)
+    if num is not None:
+        return (k, round(num, 15))
+    if bk.is_casadi(per_amp) and per_amp.numel() == 1:
+        return (k, "node", per_amp.element_hash())
+    return None
 
 
 def heading_losses_W(
@@ -123,7 +141,7 @@ def heading_losses_W(
     I_hk = B0 · ``c.heading_current_per_tesla_A_per_T[h, k]`` (sqrt(1 - n_hk²) / g_k), each
     pair at its own self-consistent resistance (:func:`winding_resistance_ohm`). With numbers,
     currents per tesla that recur (few distinct values per axis) share one thermal solve through
-    ``memo``; with CasADi values every (heading, axis) is its own expression.
+    ``memo``; with CasADi values, entries that are the same node do (:func:`_memo_key`).
     """
     a = c.heading_current_per_tesla_A_per_T
     memo = {} if memo is None else memo
@@ -135,7 +153,7 @@ def heading_losses_W(
             num = _number(per_amp)
             if num is not None and num <= 0:
                 continue
-            key = None if num is None else (k, round(num, 15))
+            key = _memo_key(k, per_amp)
             if key is None or key not in memo:
                 cur = field_T * per_amp
                 r = winding_resistance_ohm(cur, k, c, ambient_temperature_C)
@@ -197,10 +215,12 @@ def limit_terms(
     for k, ax in enumerate(_AXES):
         per_amp = c.current_per_tesla_A_per_T[k]
         current = field_T * per_amp
-        r, ind = winding_resistance_ohm(current, k, c, amb), c.inductance_H[k]
-        num = _number(per_amp)
-        if num is not None:
-            memo[(k, round(num, 15))] = (current, r)
+        _, mean_C, hot_C = winding_temperatures_C(current, k, c, amb)  # one thermal solve
+        r = _resistance_at(mean_C, k, c)
+        ind = c.inductance_H[k]
+        key = _memo_key(k, per_amp)
+        if key is not None:
+            memo[key] = (current, r)
         terms.append(
             LimitTerm(f"current_{ax}", "limits.current_A", "A", current, limits.current_A, 1)
         )
@@ -219,7 +239,7 @@ def limit_terms(
                 f"hot_spot_{ax}",
                 "limits.coil_temperature_C",
                 "K",
-                hot_spot_rise_K(current, k, c, ambient_temperature_C),
+                hot_C - ambient_temperature_C,  # hot_spot_rise_K, from the same solve
                 limits.coil_temperature_C - ambient_temperature_C,
                 None,
             )
