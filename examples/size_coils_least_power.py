@@ -6,7 +6,8 @@ Run: python examples/size_coils_least_power.py
 
 from __future__ import annotations
 
-from optimize import evaluate, optimize_design
+from optimize import evaluate, optimize_design, prepare
+from optimize.physics import winding_resistance_ohm
 from spiralcap.assemble import build_model
 from spiralcap.assemble.system import optimum_values
 from spiralcap.design import load_design
@@ -39,8 +40,10 @@ print(
 )
 print()
 print("axis  turns  wire mm  wire m  copper kg  R ohm   L mH   I A    V V")
-for ax, pair, current in zip("xyz", model.coils.pairs, ev.current_amplitudes_A):
-    r = pair.resistance_ohm(model.winding_temperature_C)
+model = prepare(model)
+for k, (ax, pair, current) in enumerate(zip("xyz", model.coils.pairs, ev.current_amplitudes_A)):
+    # at the pair's own mean winding temperature carrying this current (coils.thermal)
+    r = float(winding_resistance_ohm(current, k, model.constants, model.ambient_temperature_C))
     mass = 8890.0 * pair.wire_length_m * pair.wire_area_m2
     volts = next(c.value for c in ev.checks if c.name == f"voltage_{ax}")
     print(

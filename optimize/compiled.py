@@ -54,6 +54,10 @@ class Structure:
     warm: bool = False
     hooks: tuple = ()
     hardware: hw.HardwareStructure | None = None
+    headings: int = 13
+    fixed_winding_temperature: bool = False
+    session: bool = False
+    heading_pattern: tuple = ()  # see heading_pattern(); () builds every entry on its own
     scenarios: Any = None  # DesignModel.scenarios.structure (counts, which rows)
 
 
@@ -74,8 +78,35 @@ def structure_of(
         warm,
         (tuple(pb.CONSTRAINTS), pb.OBJECTIVES[model.bounds.objective]),
         hardware,
+        len(model.headings),
+        model.winding_temperature_C is not None,
+        model.session_s is not None,
+        heading_pattern(model.headings),
         model.scenarios.structure if model.scenarios is not None else None,
     )
+
+
+def heading_pattern(headings: Any) -> tuple:
+    """Which headings share a current per tesla on each axis (a property of the headings alone).
+
+    Per axis k: ``(entries, worst)`` with ``entries[h]`` the first heading whose
+    sqrt(1 - n_k²) equals heading h's (-1 where it is 0: no current) and ``worst`` the heading
+    with the largest. The NLP builds one node per distinct entry, so a thermal solve is shared
+    by the headings that carry the same current (optimize.physics.heading_losses_W).
+    """
+    s = np.sqrt(np.clip(1.0 - np.asarray(headings, dtype=float) ** 2, 0.0, 1.0))
+    out = []
+    for k in range(3):
+        col = s[:, k]
+        entries = []
+        for h, v in enumerate(col):
+            if v <= 0:
+                entries.append(-1)
+                continue
+            entries.append(next(j for j in range(h + 1) if abs(col[j] - v) <= 1e-12 * v))
+        worst = int(np.argmax(col))
+        out.append((tuple(entries), entries[worst]))
+    return tuple(out)
 
 
 @dataclass(frozen=True)
@@ -91,7 +122,7 @@ class CompiledProblem:
         """The parameter vector of ``model`` (prepared) with ``scales`` (and sizing values)."""
         values = {
             **(extra or {}),
-            **pb.parameter_values("constant", model.constants),
+            **constant_values(model.constants),
             **pb.parameter_values("limit", model.limits),
             **pb.parameter_values("requirement", model.requirements),
             **pb.parameter_values("scale", scales),
@@ -117,10 +148,15 @@ def compile_problem(structure: Structure) -> CompiledProblem:
     from optimize.system import Limits, Requirements
 
     hs = structure.hardware
+    loss = None
     if hs is None:
-        c = _symbolic_constants(b, structure.spiral_starts)
+        c = _symbolic_constants(b, structure)
     else:
-        c, hw_expr, quantities = hw.symbolic_constants(b, hs, structure.spiral_starts)
+        c, hw_expr, quantities = hw.symbolic_constants(
+            b, hs, structure.spiral_starts, structure.heading_pattern
+        )
+        c = _with_thermal_parameters(b, structure, c)
+        loss = quantities[3]["power_W"]
     lim = Limits(
         current_A=b.parameter("limit.current_A"),
         voltage_V=b.parameter("limit.voltage_V"),
@@ -142,6 +178,7 @@ def compile_problem(structure: Structure) -> CompiledProblem:
         variable=b.variable,
         parameter=b.parameter,
         scenarios=structure.scenarios,
+        loss_W=loss,
     )
     obj, terms = pb.all_terms(ctx, structure.objective)
     if hs is not None:
@@ -168,13 +205,113 @@ class _Template:
     constants: Any = None
 
 
-def _symbolic_constants(b: NLPBuilder, spiral_starts: int) -> Any:
+#: Constants fields that are per-pair vectors (3,); the heading table is (headings, 3).
+_VECTOR_FIELDS = (
+    "gains_T_per_A",
+    "resistance_20C_ohm",
+    "inductance_H",
+    "current_per_tesla_A_per_T",
+    "copper_mass_kg",
+)
+_SCALAR_FIELDS = (
+    "workspace_factor",
+    "moment_Am2",
+    "body_diameter_m",
+    "body_length_m",
+    "wire_diameter_m",
+    "wound_length_m",
+    "helix_diameter_m",
+)
+#: WindingPack fields that are parameters, one value per pair (coils.thermal.WindingPack).
+PACK_FIELDS = (
+    "pack_side_m",
+    "mean_radius_m",
+    "packing_factor",
+    "conductivity_W_mK",
+    "heat_transfer_coefficient_W_m2K",
+    "emissivity",
+)
+
+
+def constant_values(c: Any) -> dict[str, Any]:
+    """The values of the ``constant.*`` parameters for numeric :class:`Constants` ``c``."""
+    out: dict[str, Any] = {
+        f"constant.{n}": np.asarray(getattr(c, n), float) for n in _VECTOR_FIELDS
+    }
+    out.update({f"constant.{n}": float(getattr(c, n)) for n in _SCALAR_FIELDS})
+    out["constant.heading_current_per_tesla_A_per_T"] = np.asarray(
+        c.heading_current_per_tesla_A_per_T, float
+    )
+    for n in PACK_FIELDS:
+        out[f"constant.pack.{n}"] = np.array([float(getattr(p, n)) for p in c.packs])
+    if c.winding_temperature_C is not None:
+        out["constant.winding_temperature_C"] = float(c.winding_temperature_C)
+    if c.session_s is not None:
+        out["constant.session_s"] = float(c.session_s)
+    return out
+
+
+def _heading_table(b: NLPBuilder, name: str, headings: int) -> Any:
+    flat = b.parameter(name, (headings, 3))  # row-major: [3 h + k]
+    return ca.reshape(flat, 3, headings).T
+
+
+def shared_heading_table(entry: Any, pattern: tuple, headings: int) -> tuple[Any, Any]:
+    """(table (headings, 3), per-axis worst column (3,)) with one node per distinct entry.
+
+    ``entry(h, k)`` builds the value of heading h on axis k; ``pattern`` is
+    :func:`heading_pattern`'s. Zero entries are the constant 0.
+    """
+    nodes: dict[tuple[int, int], Any] = {}
+    cols, worst = [], []
+    for k, (entries, top) in enumerate(pattern):
+        col = []
+        for h in range(headings):
+            first = entries[h]
+            if first < 0:
+                col.append(ca.SX(0.0))
+                continue
+            if (first, k) not in nodes:
+                nodes[(first, k)] = entry(first, k)
+            col.append(nodes[(first, k)])
+        cols.append(ca.vertcat(*col))
+        worst.append(nodes[(top, k)] if top >= 0 else ca.SX(0.0))
+    return ca.horzcat(*cols), ca.vertcat(*worst)
+
+
+def _with_thermal_parameters(b: NLPBuilder, structure: Structure, c: Any) -> Any:
+    """``c`` with the winding temperature / session as parameters where the structure has them."""
+    from dataclasses import replace
+
+    return replace(
+        c,
+        winding_temperature_C=(
+            b.parameter("constant.winding_temperature_C")
+            if structure.fixed_winding_temperature
+            else None
+        ),
+        session_s=b.parameter("constant.session_s") if structure.session else None,
+    )
+
+
+def _symbolic_constants(b: NLPBuilder, structure: Structure) -> Any:
+    """Constants of a fixed design as named parameters (packs included)."""
+    from coils.thermal import WindingPack
     from optimize.system import Constants
 
-    kw: dict[str, Any] = {}
-    for fl in Constants.__dataclass_fields__.values():
-        if fl.name == "starts":
-            continue
-        shape = (3,) if fl.type in ("np.ndarray",) else ()
-        kw[fl.name] = b.parameter(f"constant.{fl.name}", shape)
-    return Constants(**kw, starts=spiral_starts)
+    kw: dict[str, Any] = {n: b.parameter(f"constant.{n}", (3,)) for n in _VECTOR_FIELDS}
+    kw.update({n: b.parameter(f"constant.{n}") for n in _SCALAR_FIELDS})
+    pack = {n: b.parameter(f"constant.pack.{n}", (3,)) for n in PACK_FIELDS}
+    table = _heading_table(b, "constant.heading_current_per_tesla_A_per_T", structure.headings)
+    if structure.heading_pattern:  # one node per distinct current (shared thermal solves)
+        table, kw["current_per_tesla_A_per_T"] = shared_heading_table(
+            lambda h, k: table[h, k], structure.heading_pattern, structure.headings
+        )
+    c = Constants(
+        **kw,
+        packs=tuple(WindingPack(**{n: pack[n][k] for n in PACK_FIELDS}) for k in range(3)),
+        power_weights_per_T2=0.5 * table * table,
+        heading_current_per_tesla_A_per_T=table,
+        starts=structure.spiral_starts,
+    )
+    return _with_thermal_parameters(b, structure, c)

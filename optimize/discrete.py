@@ -17,6 +17,7 @@ import itertools
 import math
 import time
 from dataclasses import replace
+from typing import Any
 
 import numpy as np
 
@@ -122,9 +123,8 @@ def size_design(model: DesignModel) -> OptimizationResult:
     problem = compile_problem(structure_of(exact, hardware=hs))
     bounds = {**variable_bounds(exact), **{v.name: (v.lo, v.hi) for v in free}}
     scales = scales_for(exact)
-    p_scaled = float(exact.constants.power_per_tesla2_W_per_T2) * scales.field_T**2 / scales.power_W
     starts = [
-        {**x, **hw_now, "power_per_T2_scaled": p_scaled}
+        {**x, **hw_now, "power_W_scaled": _loss_scaled(exact, x, scales)}
         for x in initial_points(exact, scales, model.bounds.starts)
     ]
     iterations, outer, best, frozen_prev = 0, 0, None, None
@@ -218,6 +218,15 @@ def size_design(model: DesignModel) -> OptimizationResult:
         message=f"optimal: {len(free)} hardware quantities sized ({feasible} of {tried} "
         "buildable neighbours feasible); every requirement met inside every limit",
     )
+
+
+def _loss_scaled(model: DesignModel, x: dict[str, float], scales: Any) -> float:
+    """The sizing NLP's loss epigraph variable at a start: worst-heading loss / power scale."""
+    from optimize.physics import total_loss_W
+
+    field = x["field_scaled"] * scales.field_T
+    loss = total_loss_W(field, model.constants, model.ambient_temperature_C)
+    return float(loss) / scales.power_W
 
 
 def _copper_mass_kg(values: dict[str, float], model: DesignModel) -> float:

@@ -9,7 +9,9 @@ backend-generic expressions of the hardware (numpy floats or CasADi symbols), so
 - resistance ρ(T) · 2N·2πR / (π d²/4); copper mass density · 2N·2πR · π d²/4;
 - self inductance by Stefan's formula (Rosa & Grover 1912, eq. 91) and the mutual inductance
   N² M(R, R, s) by Maxwell's formula (coils.coaxial_mutual_inductance_H), times a pack
-  correction; thermal conductance h · 2 · 4c · 2πR (coils.HelmholtzPair);
+  correction; the thermal winding pack (side c = sqrt(N π d²/4 / packing), mean radius R:
+  coils.thermal.WindingPack) is an exact function of the turns, wire and radius, so the hot
+  spot and the self-consistent resistance follow the freed hardware with no frozen factor;
 - magnet moment B_r π/4 (D² − D_i²) L / μ0 (capsule.Magnet).
 
 Frozen per outer iteration (recomputed exactly at each new hardware, then re-solved, until they
@@ -275,14 +277,19 @@ class HardwareStructure:
     headings: int
 
 
-def symbolic_constants(b: Any, hs: HardwareStructure, spiral_starts: int) -> tuple[Any, Any, list]:
+def symbolic_constants(
+    b: Any, hs: HardwareStructure, spiral_starts: int, pattern: tuple = ()
+) -> tuple[Any, Any, list]:
     """Constants as expressions of the hardware (free: variables, fixed: parameters).
 
+    ``pattern``: :func:`optimize.compiled.heading_pattern` of the headings (headings with the
+    same current share one node, hence one thermal solve); () builds every entry on its own.
     Returns (constants, hardware expressions by name, geometry terms builder args).
     """
     import casadi as ca
 
     import capsule as cap
+    from coils.thermal import WindingPack
     from optimize.system import Constants
 
     hw: dict[str, Any] = {}
@@ -301,7 +308,8 @@ def symbolic_constants(b: Any, hs: HardwareStructure, spiral_starts: int) -> tup
         b.parameter("frozen.gain_correction", (3,)),
         b.parameter("frozen.mutual_correction", (3,)),
     )
-    s_max, s2 = b.parameter("heading.s", (3,)), b.parameter("heading.s2", (hs.headings * 3,))
+    s_max = b.parameter("heading.s", (3,))
+    s_all = ca.reshape(b.parameter("heading.s_all", (hs.headings, 3)), 3, hs.headings).T
     q = []
     for k, ax in enumerate(AXES):
         r = hw[f"{ax}.radius_m"]
@@ -317,31 +325,47 @@ def symbolic_constants(b: Any, hs: HardwareStructure, spiral_starts: int) -> tup
             )
         )
     g = [gcorr[k] * q[k]["gain_T_per_A"] for k in range(3)]
-    res = [q[k]["resistance_ohm"] for k in range(3)]
-    # worst-heading copper loss per T²: an epigraph variable above every heading's loss (a max
-    # of tied headings is not smooth); its rows are returned with the geometry terms
-    p_ref = b.parameter("scale.power_W") / (b.parameter("scale.field_T") ** 2)
-    power = b.variable("power_per_T2_scaled", 1.0, 0.0, np.inf) * p_ref
-    heading_loss = [
-        sum(s2[3 * h + k] * res[k] / (2.0 * g[k] * g[k]) for k in range(3))
-        for h in range(hs.headings)
-    ]
+    res = [q[k]["resistance_ohm"] for k in range(3)]  # at 20 °C ("hw.resistivity" is ρ20)
+    # worst-heading copper loss, W: an epigraph variable above every heading's loss (a max of
+    # tied headings is not smooth); its rows are added with the geometry terms
+    power = b.variable("power_W_scaled", 1.0, 0.0, np.inf) * b.parameter("scale.power_W")
+    per_tesla = ca.horzcat(*(s_all[:, k] / g[k] for k in range(3)))
+    worst = ca.vertcat(*(s_max[k] / g[k] for k in range(3)))
+    if pattern:
+        from optimize.compiled import shared_heading_table
+
+        per_tesla, worst = shared_heading_table(
+            lambda h, k: s_all[h, k] / g[k], pattern, hs.headings
+        )
+    conductivity, emissivity = b.parameter("hw.conductivity"), b.parameter("hw.emissivity")
+    packs = tuple(
+        WindingPack(
+            pack_side_m=q[k]["side_m"],
+            mean_radius_m=hw[f"{AXES[k]}.radius_m"],
+            packing_factor=packing,
+            conductivity_W_mK=conductivity,
+            heat_transfer_coefficient_W_m2K=hcoef,
+            emissivity=emissivity,
+        )
+        for k in range(3)
+    )
     body_d, body_l = b.parameter("body.diameter_m"), b.parameter("body.length_m")
     wire_sp = hw["spiral.wire_diameter_m"]
     d_mag, l_mag = hw["magnet.diameter_m"], hw["magnet.length_m"]
     d_in, br = b.parameter("magnet.inner_diameter_m"), b.parameter("magnet.remanence_T")
     c = Constants(
         gains_T_per_A=ca.vertcat(*g),
-        resistance_ohm=ca.vertcat(*res),
+        resistance_20C_ohm=ca.vertcat(*res),
         inductance_H=ca.vertcat(
             *(
                 2.0 * q[k]["self_inductance_H"] + 2.0 * mcorr[k] * q[k]["mutual_filament_H"]
                 for k in range(3)
             )
         ),
-        conductance_W_per_K=ca.vertcat(*(q[k]["conductance_W_per_K"] for k in range(3))),
-        current_per_tesla_A_per_T=ca.vertcat(*(s_max[k] / g[k] for k in range(3))),
-        power_per_tesla2_W_per_T2=power,
+        packs=packs,
+        current_per_tesla_A_per_T=worst,
+        power_weights_per_T2=0.5 * per_tesla * per_tesla,
+        heading_current_per_tesla_A_per_T=per_tesla,
         workspace_factor=b.parameter("frozen.workspace_factor"),
         moment_Am2=br * 0.25 * bk.pi * (d_mag * d_mag - d_in * d_in) * l_mag / MU0_T_m_per_A,
         body_diameter_m=body_d,
@@ -352,7 +376,7 @@ def symbolic_constants(b: Any, hs: HardwareStructure, spiral_starts: int) -> tup
         copper_mass_kg=ca.vertcat(*(q[k]["copper_mass_kg"] for k in range(3))),
         starts=spiral_starts,
     )
-    q.append({"heading_loss": heading_loss, "power_per_T2": power})
+    q.append({"power_W": power})
     return c, hw, q
 
 
@@ -369,11 +393,11 @@ def geometry_terms(b: Any, hs: HardwareStructure, hw: dict, q: list, ctx: Any) -
     def upper(v: Any, a: Any) -> Any:
         return v / a - 1.0
 
-    extra = q[3]
-    for h, loss in enumerate(extra["heading_loss"]):
-        out.append(
-            Term(Row(f"heading_loss[{h}]", "epigraph", "W/T²"), loss, extra["power_per_T2"], upper)
-        )
+    from optimize.physics import heading_losses_W
+
+    losses = heading_losses_W(ctx.field, ctx.constants, ctx.ambient_temperature_C)
+    for h, loss in enumerate(losses):
+        out.append(Term(Row(f"heading_loss[{h}]", "epigraph", "W"), loss, q[3]["power_W"], upper))
 
     if free & {f"{ax}.{qq}" for ax in AXES for qq in COIL_QUANTITIES}:
         sep = b.parameter("hw.separation_m", (3,))
@@ -431,7 +455,7 @@ def geometry_terms(b: Any, hs: HardwareStructure, hw: dict, q: list, ctx: Any) -
 
 def sizing_parameters(model: Any, frozen: Frozen, min_bore_m: float) -> dict[str, Any]:
     """Values of the hardware, body, heading and frozen parameters of a sizing problem."""
-    import coils
+    from spiralcap.constants import COPPER_RESISTIVITY_20C_ohm_m
 
     hw = hardware_of(model)
     pairs = model.coils.pairs
@@ -442,12 +466,14 @@ def sizing_parameters(model: Any, frozen: Frozen, min_bore_m: float) -> dict[str
     values.update(
         {
             "hw.packing": pairs[0].packing_factor,
-            "hw.resistivity": float(coils.copper_resistivity_ohm_m(model.winding_temperature_C)),
+            "hw.resistivity": COPPER_RESISTIVITY_20C_ohm_m,  # the resistance at 20 °C
             "hw.h": model.heat_transfer_coefficient_W_m2K,
+            "hw.conductivity": model.winding_conductivity_W_mK,
+            "hw.emissivity": model.surface_emissivity,
             "hw.separation_m": np.array([p.separation_m for p in pairs]),
             "hw.min_bore_m": min_bore_m,
             "heading.s": np.max(np.sqrt(s2), axis=0),
-            "heading.s2": s2.ravel(),
+            "heading.s_all": np.sqrt(s2),
             "body.diameter_m": body.diameter_m,
             "body.length_m": body.length_m,
             "body.inner_radius_m": body.inner_radius_m,

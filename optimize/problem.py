@@ -101,6 +101,7 @@ class Context:
     #: The structure of the model's tissue scenarios (``DesignModel.scenarios.structure``:
     #: how many per tissue set, which rows), or None; their numbers are parameters.
     scenarios: Any = None
+    loss_W: Any = None  # worst-heading copper loss at the field (self-consistent resistance)
 
 
 @dataclass(frozen=True)
@@ -152,8 +153,12 @@ def _ratio(ctx: Context) -> tuple[Any, list[Term]]:
 
 
 def copper_power_W(ctx: Context) -> Any:
-    """Worst-heading copper loss at the field, W (the ``power`` limit's value)."""
-    return ctx.field * ctx.field * ctx.constants.power_per_tesla2_W_per_T2
+    """Worst-heading copper loss at the field, W (the ``power`` limit's value).
+
+    Each pair's resistance is at its own mean winding temperature at the operating current
+    (steady, or at the end of the session; optimize.physics.total_loss_W), not at the limit.
+    """
+    return ctx.loss_W
 
 
 def copper_mass_kg(ctx: Context) -> Any:
@@ -213,7 +218,9 @@ def core_terms(ctx: Context) -> list[Term]:
                 functools.partial(_safety_row, need=need, tau=tau, slack=relax[2]),
             )
         )
-    for term in ph.limit_terms(ctx.frequency, ctx.field, c, ctx.limits, ctx.ambient_temperature_C):
+    for term in ph.limit_terms(
+        ctx.frequency, ctx.field, c, ctx.limits, ctx.ambient_temperature_C, loss_W=ctx.loss_W
+    ):
         out.append(Term(Row(term.name, "limit", term.unit), term.value, term.allowed, _upper))
     out.append(
         Term(
@@ -256,12 +263,20 @@ def make_context(
     variable: Callable[..., Any] | None = None,
     parameter: Callable[..., Any] | None = None,
     scenarios: Any = None,
+    loss_W: Any = None,
 ) -> Context:
-    """The :class:`Context` at physical variables ``x = (alpha, f, B0, t)``."""
+    """The :class:`Context` at physical variables ``x = (alpha, f, B0, t)``.
+
+    ``loss_W``: the worst-heading copper loss expression if the caller has one (the sizing
+    NLP's epigraph variable); default :func:`optimize.physics.total_loss_W` at the field.
+    """
     c = model.constants if constants is None else constants
     req = model.requirements if requirements is None else requirements
     alpha, f, field, t = x[0], x[1], x[2], x[3]
     needs = tuple(r + th for r, th in ph.required_torques_Nm(alpha, f, c, model.tissues, req))
+    amb = model.ambient_temperature_C if ambient_temperature_C is None else ambient_temperature_C
+    if loss_W is None:
+        loss_W = ph.total_loss_W(field, c, amb)
     return Context(
         alpha=alpha,
         frequency=f,
@@ -271,9 +286,7 @@ def make_context(
         limits=model.limits if limits is None else limits,
         requirements=req,
         tissues=model.tissues,
-        ambient_temperature_C=(
-            model.ambient_temperature_C if ambient_temperature_C is None else ambient_temperature_C
-        ),
+        ambient_temperature_C=amb,
         scales=scales,
         available_Nm=ph.available_torque_Nm(field, c),
         required_Nm=needs,
@@ -281,6 +294,7 @@ def make_context(
         variable=variable,
         parameter=parameter,
         scenarios=scenarios,
+        loss_W=loss_W,
     )
 
 

@@ -19,6 +19,7 @@ from typing import Any
 
 import numpy as np
 
+from optimize import physics as ph
 from optimize import problem as pb
 from optimize.compiled import compile_problem, structure_of
 from optimize.evaluate import _three, evaluate, margin_grid, worst_required
@@ -40,7 +41,7 @@ def scales_for(model: DesignModel) -> pb.Scales:
     return pb.Scales(
         field_T=field,
         torque_Nm=max(abs(need), 1e-9),
-        power_W=max(field * field * float(c.power_per_tesla2_W_per_T2), 1e-9),
+        power_W=max(float(ph.total_loss_W(field, c, model.ambient_temperature_C)), 1e-9),
         mass_kg=max(float(np.sum(c.copper_mass_kg)), 1e-9),
     )
 
@@ -231,8 +232,8 @@ def _objective_value(
         return float(-spec.sense * spec.scale(scales) * f)
     if obj == "ratio":
         return ev.safety_factor
-    if obj == "power":
-        return ev.field_amplitude_T**2 * float(c.power_per_tesla2_W_per_T2)
+    if obj == "power":  # each pair at its own mean winding temperature at this current
+        return float(ph.total_loss_W(ev.field_amplitude_T, c, model.ambient_temperature_C))
     if obj == "copper_mass":
         return float(np.sum(c.copper_mass_kg))
     return ev.margin_Nm

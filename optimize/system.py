@@ -181,6 +181,11 @@ class Constants:
     ``workspace_factor``: weakest field the magnet sees during a turn, over every workspace point
     and heading, per tesla of centre amplitude (minor semi-axis of the field ellipse).
     ``copper_mass_kg[k]``: copper of pair k (both coils), wire length x area x density.
+    ``heading_current_per_tesla_A_per_T[h, k]``: sqrt(1 - n_hk²) / g_k, the current amplitude
+    axis k carries per tesla for heading h (``current_per_tesla_A_per_T`` is its column max).
+
+    Every field may hold CasADi values (the NLP builds it from parameters and, when sizing,
+    from hardware variables: :mod:`optimize.compiled`, :mod:`optimize.hardware`).
     """
 
     gains_T_per_A: np.ndarray
@@ -197,9 +202,10 @@ class Constants:
     wound_length_m: float
     helix_diameter_m: float
     copper_mass_kg: np.ndarray
+    heading_current_per_tesla_A_per_T: Any = None
     starts: int = 1
-    winding_temperature_C: float | None = None
-    session_s: float | None = None
+    winding_temperature_C: Any = None
+    session_s: Any = None
 
 
 def precompute(model: DesignModel) -> Constants:
@@ -247,6 +253,7 @@ def precompute(model: DesignModel) -> Constants:
         copper_mass_kg=np.array(
             [COPPER_DENSITY_kg_m3 * p.wire_length_m * p.wire_area_m2 for p in pairs]
         ),
+        heading_current_per_tesla_A_per_T=s / g,
         starts=int(spiral.starts),
         winding_temperature_C=model.winding_temperature_C,
         session_s=model.session_s,

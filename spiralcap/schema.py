@@ -497,8 +497,8 @@ KEYS.update(
 KEYS.update(
     {
         "requirements.min_safety_factor": _between(
-            "least available / required torque for every tissue set (1: margin >= 0); range: "
-            "1 to 100 (beyond 100 the requirement says nothing the margin does not)",
+            "least available / required torque for every tissue set (1: margin >= 0); range: 1 to "
+            "100, beyond any design margin a 1-2 mN·m magnet torque can give",
             1.0,
             1.0,
             100.0,
@@ -506,7 +506,8 @@ KEYS.update(
         ),
         "operation.field_amplitude_mT": _between(
             "rotating-field amplitude at the coil centre (default: the largest every limit "
-            "allows at the operating frequency)",
+            "allows at the operating frequency); range: up to 1 T, far above what air-cored "
+            "Helmholtz coils make",
             None,
             0.0,
             1000.0,
@@ -518,7 +519,8 @@ KEYS.update(
         ),
         "requirements.min_bore_m": _between(
             "least clear diameter inside every coil pair when coil hardware is freed "
-            "(default: what the design as entered has)",
+            "(default: what the design as entered has); range: up to 10 m, larger than any coil "
+            "system",
             None,
             0.0,
             10.0,
@@ -562,7 +564,8 @@ KEYS.update(
     {
         "coils.winding_conductivity_W_mK": _between(
             "effective transverse thermal conductivity of the winding pack (impregnated round "
-            "wire 0.3-1.0; Simpson, Wrobel & Mellor, IEEE Trans. Ind. Appl. 49(6), 2013)",
+            "wire 0.3-1.0; Simpson, Wrobel & Mellor, IEEE Trans. Ind. Appl. 49(6), 2013); "
+            "range: still-air voids (0.01) to solid copper (400)",
             0.5,
             0.01,
             400.0,
@@ -578,7 +581,7 @@ KEYS.update(
         ),
         "operation.session_min": _between(
             "length of one continuous run from ambient: the temperature limit then applies at "
-            "its end (absent: steady state)",
+            "its end (absent: steady state); range: up to 1e5 min (~70 days), steady long before",
             None,
             0.0,
             1.0e5,
@@ -601,7 +604,8 @@ KEYS.update(
     {
         "tissue.uncertainty.scale_sigma_log": _between(
             "standard deviation of ln(k), k a log-normal factor common to all five moduli and "
-            "viscosities of every tissue set (the calibration's uncertainty; 0: none)",
+            "viscosities of every tissue set (the calibration's uncertainty; 0: none); range: up "
+            "to 2 (a factor e^2 ~ 7 per standard deviation)",
             0.0,
             0.0,
             2.0,
@@ -609,7 +613,8 @@ KEYS.update(
         ),
         **{
             f"tissue.uncertainty.{p}_sigma_log": _between(
-                f"standard deviation of ln({p}) on its own (independent of the others; 0: none)",
+                f"standard deviation of ln({p}) on its own (independent of the others; 0: none); "
+                "range: up to 2 (a factor e^2 ~ 7 per standard deviation)",
                 0.0,
                 0.0,
                 2.0,
@@ -618,17 +623,24 @@ KEYS.update(
             for p in ("E1", "E2", "E3", "eta1", "eta2")
         },
         "tissue.uncertainty.friction_sigma_log": _between(
-            "standard deviation of ln(friction coefficient) (0: none)", 0.0, 0.0, 2.0, open_=False
+            "standard deviation of ln(friction coefficient) (0: none); range: up to 2 (a factor "
+            "e^2 ~ 7 per standard deviation)",
+            0.0,
+            0.0,
+            2.0,
+            open_=False,
         ),
         "tissue.uncertainty.lumen_diameter_sigma_mm": _between(
-            "standard deviation of the lumen diameter (normal, truncated at 10 % of nominal)",
+            "standard deviation of the lumen diameter (normal, truncated at 10 % of nominal); "
+            "range: up to 20 mm, the size of the lumen itself",
             0.0,
             0.0,
             20.0,
             open_=False,
         ),
         "tissue.uncertainty.wall_thickness_sigma_mm": _between(
-            "standard deviation of the wall thickness (normal, truncated at 10 % of nominal)",
+            "standard deviation of the wall thickness (normal, truncated at 10 % of nominal); "
+            "range: up to 5 mm, thicker than the intestinal wall",
             0.0,
             0.0,
             5.0,

@@ -219,9 +219,9 @@ def _models(design: Design, inputs: dict[str, np.ndarray]):
     from spiralcap.robust import optimization_model
 
     n = len(next(iter(inputs.values())))
+    # the Constants do not depend on the limits (the winding resistance is self-consistent with
+    # the heating at each current, not taken at the temperature limit): one model serves all
     light = all(_VECTOR_KEYS.get(k, "") in ("limits", "requirements") for k in inputs)
-    if "limits.coil_temperature_C" in inputs and design.get("coils.winding_temperature_C") is None:
-        light = False  # the winding resistance is taken at the temperature limit
     base = prepare(optimization_model(design)) if light else None
     for i in range(n):
         if base is None:

@@ -175,6 +175,8 @@ def test_optimiser_and_evaluate_agree_on_the_session_hot_spot():
     assert res.field_amplitude_T == pytest.approx(ev.field_amplitude_T, rel=1e-6), (
         "IPOPT on the CasADi hot-spot term reaches the field the numpy bisection allows (1e-6)"
     )
+    assert "hot_spot_x" in {b.name for b in res.binding_limits}, "the optimiser's binding row"
+    assert res.margin_Nm == pytest.approx(ev.margin_Nm, rel=1e-6)
 
 
 @pytest.mark.parametrize("session", [None, "operation.session_min=20"])

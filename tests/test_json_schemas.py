@@ -39,6 +39,20 @@ CASES = [
     ("sweep", ["sweep", "--over", "operation.frequency_hz=0.5:3:3", *ZERO_TORQUE]),
     ("sweep", ["sweep", "--over", "coils.x.turns=300:400:2"]),
     ("sweep", ["sweep", "--optimize", "--over", "limits.current_A=0.01:15:2"]),
+    ("waveforms", ["waveforms", "--heading", "1,0,0", "--heading", "0,1,0", "--dwell-s", "2"]),
+    ("compare", ["compare", "builtin", "builtin", "--set", "2:limits.power_W=3000"]),
+    (
+        "uncertainty",
+        [
+            "uncertainty",
+            "--samples",
+            "256",
+            "--sobol-samples",
+            "64",
+            "--set",
+            "tissue.uncertainty.scale_sigma_log=0.3",
+        ],
+    ),
 ]
 
 

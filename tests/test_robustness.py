@@ -387,6 +387,25 @@ def test_unwritable_outputs_are_refused_first(tmp_path, argv):
     sound([a.format(afile=afile) for a in argv], allowed=(2,))
 
 
+@pytest.mark.parametrize(
+    "flag, argv",
+    [
+        ("-o", ["optimize", "-o", "{afile}/best.toml"]),
+        ("--csv", ["waveforms", "--csv", "{afile}/w.csv"]),  # before the missing --heading
+        (
+            "--plot",
+            ["waveforms", "--heading", "1,0,0", "--dwell-s", "1", "--plot", "{afile}/w.png"],
+        ),
+        ("--plot", ["coils", "--plot", "{afile}/g.png"]),
+    ],
+)
+def test_outputs_of_the_newer_commands_are_checked_first(tmp_path, flag, argv):
+    afile = tmp_path / "afile"
+    afile.write_text("x")
+    _, _, err = sound([a.format(afile=afile) for a in argv], allowed=(2,))
+    assert flag in err, f"the one-line error names {flag} (checked before any computation)"
+
+
 def test_output_that_is_the_input_is_refused(tmp_path):
     design = tmp_path / "d.toml"
     design.write_text(GOOD)

@@ -190,11 +190,16 @@ def test_least_copper_relaxation_bounds_the_discrete_design(model):
     )
 
 
-def test_sizing_rows_equal_fixed_rows_at_the_same_hardware(model):
+@pytest.mark.parametrize("session", [False, True], ids=["steady", "session"])
+def test_sizing_rows_equal_fixed_rows_at_the_same_hardware(model, session):
     """With the frozen factors taken at the design, the sizing NLP's rows (hardware as
     variables) equal the fixed-hardware rows (precomputed Constants) at the same point: the
-    expressions of optimize.hardware are the coil objects' numbers, to 1e-9."""
+    expressions of optimize.hardware are the coil objects' numbers, to 1e-9 — the thermal packs
+    (hot spot, self-consistent resistance), steady or at the end of a 20 min session, included."""
     from optimize.solve import compile_problem, scales_for, structure_of
+
+    if session:
+        model = prepare(build_model(load_design(None, ["operation.session_min=20"])))
 
     names = ("x.turns", "y.wire_diameter_m", "z.radius_m")
     hs = hw.HardwareStructure(names, hw.helmholtz_flags(model), len(model.headings))
@@ -204,8 +209,13 @@ def test_sizing_rows_equal_fixed_rows_at_the_same_hardware(model):
     extra = hw.sizing_parameters(model, hw.frozen_factors(model), hw.bore_m(model))
     point = {"helical_angle": 0.3, "frequency": 1.2, "field_scaled": 0.8, "t": 0.1}
     here = hw.hardware_of(model)
-    p_ref = model.constants.power_per_tesla2_W_per_T2 * scales.field_T**2 / scales.power_W
-    xs = sized.nlp.scale({**point, **{n: here[n] for n in names}, "power_per_T2_scaled": p_ref})
+    from optimize.physics import total_loss_W
+
+    loss = total_loss_W(
+        point["field_scaled"] * scales.field_T, model.constants, model.ambient_temperature_C
+    )
+    p_ref = float(loss) / scales.power_W
+    xs = sized.nlp.scale({**point, **{n: here[n] for n in names}, "power_W_scaled": p_ref})
     _, g_sized = sized.nlp.evaluate(xs, sized.parameters(model, scales, extra))
     _, g_fixed = fixed.nlp.evaluate(fixed.nlp.scale(point), fixed.parameters(model, scales))
     by_name = dict(zip(sized.nlp.row_names, g_sized))

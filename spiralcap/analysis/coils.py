@@ -196,14 +196,18 @@ def analyse_coils(design: Any) -> CoilAnalysis:
         headings=model.headings,
     )
     cap = physics.field_capacity(model.frequency_hz, c, model.limits, model.ambient_temperature_C)
+    per = np.asarray(c.current_per_tesla_A_per_T, dtype=float)
     limits = []
     for k, ax in enumerate(_AXES):
         own = [(v, name) for name, v in cap.caps_T.items() if name.endswith(f"_{ax}")]
         best, name = min(own)
+        if not np.isfinite(best):  # no heading uses this axis: it carries no current, caps nothing
+            best, name = cap.field_T, f"unused_{ax}"
+        amps = best * float(per[k])
         limits.append(
             AxisLimit(
                 axis=ax,
-                max_current_A=best * float(c.current_per_tesla_A_per_T[k]),
+                max_current_A=amps,
                 max_current_limited_by=name[: -len(f"_{ax}")],
                 max_rotating_field_T=best,
             )
@@ -260,9 +264,10 @@ def coils_payload(a: CoilAnalysis) -> dict[str, Any]:
         "operating_point": {
             "field_amplitude_T": a.operating_field_T,
             "field_fixed": a.operating_field_fixed,
-            "session_s": a.session_s,
+            **({} if a.session_s is None else {"session_s": a.session_s}),
             "limit_temperature_C": a.limit_temperature_C,
-            "axes": op,
+            # one type per field: the session_* temperatures only with a session
+            "axes": {ax: {k: v for k, v in d.items() if v is not None} for ax, d in op.items()},
         },
         "uniform_region": uniform,
     }

@@ -7,7 +7,9 @@ from typing import Any
 
 from spiralcap.commands._common import (
     add_design_arguments,
+    check_outputs,
     design_from_args,
+    design_paths,
     format_table,
     print_json,
 )
@@ -94,7 +96,7 @@ def _text(p: dict[str, Any]) -> str:
     w = p["rotating_field_within_limits"]
     wh = p["worst_heading"]
     op = p["operating_point"]
-    session = op["session_s"]
+    session = op.get("session_s")
     therm = format_table(
         [
             "axis",
@@ -168,6 +170,7 @@ def run(args: argparse.Namespace) -> int:
     """Print the sizing table (or JSON); with --plot also draw the geometry view."""
     from spiralcap.commands._plot import check_figure_path, write_geometry
 
+    check_outputs({"--plot": args.plot}, design_paths(args))
     if args.plot:
         check_figure_path("--plot", args.plot)
     design = design_from_args(args)

@@ -54,7 +54,12 @@ def format_evaluation(ev) -> str:
         f"operating point     helical angle {ev.helical_angle_deg:.3g} deg, "
         f"{ev.frequency_hz:.4g} Hz",
         f"rotating field      {ev.field_amplitude_T * 1e3:.4g} mT at the centre "
-        f"(limited by {ev.field_limited_by}); weakest over workspace x{ev.workspace_factor:.4f}",
+        + (
+            "(fixed: operation.field_amplitude_mT)"
+            if ev.field_limited_by == "fixed"
+            else f"(limited by {ev.field_limited_by})"
+        )
+        + f"; weakest over workspace x{ev.workspace_factor:.4f}",
         "currents            "
         + ", ".join(f"{ax} {i:.4g} A" for ax, i in zip("xyz", ev.current_amplitudes_A)),
         f"magnetic torque     {ev.magnetic_torque_Nm * mnm:.4g} mN·m (synchronous, worst point)",

@@ -9,7 +9,13 @@ from __future__ import annotations
 import argparse
 import math
 
-from spiralcap.commands._common import add_design_arguments, design_from_args, print_json
+from spiralcap.commands._common import (
+    add_design_arguments,
+    check_outputs,
+    design_from_args,
+    design_paths,
+    print_json,
+)
 
 #: how to show a sensitivity per SI unit in engineering units: unit -> (label, factor)
 _ENGINEERING = {
@@ -193,6 +199,7 @@ def run(args: argparse.Namespace) -> int:
     from spiralcap.robust import optimization_model, robust_optimum, robust_to_dict, wants_robust
     from spiralcap.serialize import optimization_to_dict
 
+    check_outputs({"-o": args.output}, design_paths(args))
     args.overrides = [*args.overrides, *(parse_free(e) for e in args.free)]
     design = design_from_args(args)
     rc = None

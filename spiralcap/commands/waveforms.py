@@ -14,7 +14,13 @@ import io
 import math
 from typing import Any
 
-from spiralcap.commands._common import add_design_arguments, design_from_args, print_json
+from spiralcap.commands._common import (
+    add_design_arguments,
+    check_outputs,
+    design_from_args,
+    design_paths,
+    print_json,
+)
 from spiralcap.errors import InputError
 
 EXIT_LIMIT = 3
@@ -154,6 +160,11 @@ def _words(s: Any) -> str:
 
 def run(args: argparse.Namespace) -> int:
     """Sample, check, write; exit 3 if a limit is exceeded."""
+    from spiralcap.commands._plot import check_figure_path
+
+    check_outputs({"--csv": args.csv, "--plot": args.plot}, design_paths(args))
+    if args.plot:
+        check_figure_path("--plot", args.plot)
     if not args.heading:
         raise InputError("--heading", None, "at least one heading X,Y,Z")
     headings = [parse_heading(h) for h in args.heading]

@@ -60,6 +60,9 @@ class Table:
     """A table: header row, body rows, an optional caption; cells are text or numbers.
 
     ``wrap`` names the column (index) whose text may wrap in the PDF (the longest text column).
+    ``compact``: typeset small and tight in the PDF (long reference tables; HTML unchanged).
+    ``pdf_rows``: the rows the PDF shows instead of ``rows`` (a shorter printed table; the HTML
+    shows ``rows``).
     """
 
     headers: Sequence[str]
@@ -67,6 +70,8 @@ class Table:
     caption: str = ""
     wrap: int | None = None
     id: str = ""
+    compact: bool = False
+    pdf_rows: Sequence[Sequence[Cell]] | None = None
 
 
 @dataclass(frozen=True)

@@ -151,13 +151,16 @@ def _table(t: Table) -> str:
         f"[*{s(header_with_unit(h, u))}*]" for h, u in zip(t.headers, units, strict=True)
     )
     body = []
-    for row in t.rows:
+    for row in t.rows if t.pdf_rows is None else t.pdf_rows:
         body.append(", ".join(_cell(c, u) for c, u in zip(row, units, strict=False)))
+    inset = "inset: (x: 3pt, y: 2pt), " if t.compact else ""
     table = (
-        f"table(columns: ({cols},), align: ({align},), table.header({head}),\n"
+        f"table(columns: ({cols},), {inset}align: ({align},), table.header({head}),\n"
         + ",\n".join(body)
         + ")"
     )
+    if t.compact:  # small type and tight cells; the caption keeps the document's size
+        table = f"[#set text(size: 6.5pt); #set par(leading: 0.4em); #{table}]"
     if not t.caption:
         return f"#{table}\n"
     label = f" <{_label(t.id)}>" if t.id else ""
