@@ -18,6 +18,7 @@ import numpy as np
 
 from optimize import hardware as hw
 from optimize import problem as pb
+from optimize.headings import heading_pattern, shared_heading_table
 from optimize.nlp import CompiledNLP, NLPBuilder
 from optimize.system import DesignModel
 
@@ -84,29 +85,6 @@ def structure_of(
         heading_pattern(model.headings),
         model.scenarios.structure if model.scenarios is not None else None,
     )
-
-
-def heading_pattern(headings: Any) -> tuple:
-    """Which headings share a current per tesla on each axis (a property of the headings alone).
-
-    Per axis k: ``(entries, worst)`` with ``entries[h]`` the first heading whose
-    sqrt(1 - n_k²) equals heading h's (-1 where it is 0: no current) and ``worst`` the heading
-    with the largest. The NLP builds one node per distinct entry, so a thermal solve is shared
-    by the headings that carry the same current (optimize.physics.heading_losses_W).
-    """
-    s = np.sqrt(np.clip(1.0 - np.asarray(headings, dtype=float) ** 2, 0.0, 1.0))
-    out = []
-    for k in range(3):
-        col = s[:, k]
-        entries = []
-        for h, v in enumerate(col):
-            if v <= 0:
-                entries.append(-1)
-                continue
-            entries.append(next(j for j in range(h + 1) if abs(col[j] - v) <= 1e-12 * v))
-        worst = int(np.argmax(col))
-        out.append((tuple(entries), entries[worst]))
-    return tuple(out)
 
 
 @dataclass(frozen=True)
@@ -254,29 +232,6 @@ def constant_values(c: Any) -> dict[str, Any]:
 def _heading_table(b: NLPBuilder, name: str, headings: int) -> Any:
     flat = b.parameter(name, (headings, 3))  # row-major: [3 h + k]
     return ca.reshape(flat, 3, headings).T
-
-
-def shared_heading_table(entry: Any, pattern: tuple, headings: int) -> tuple[Any, Any]:
-    """(table (headings, 3), per-axis worst column (3,)) with one node per distinct entry.
-
-    ``entry(h, k)`` builds the value of heading h on axis k; ``pattern`` is
-    :func:`heading_pattern`'s. Zero entries are the constant 0.
-    """
-    nodes: dict[tuple[int, int], Any] = {}
-    cols, worst = [], []
-    for k, (entries, top) in enumerate(pattern):
-        col = []
-        for h in range(headings):
-            first = entries[h]
-            if first < 0:
-                col.append(ca.SX(0.0))
-                continue
-            if (first, k) not in nodes:
-                nodes[(first, k)] = entry(first, k)
-            col.append(nodes[(first, k)])
-        cols.append(ca.vertcat(*col))
-        worst.append(nodes[(top, k)] if top >= 0 else ca.SX(0.0))
-    return ca.horzcat(*cols), ca.vertcat(*worst)
 
 
 def _with_thermal_parameters(b: NLPBuilder, structure: Structure, c: Any) -> Any:

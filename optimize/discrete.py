@@ -16,8 +16,9 @@ import bisect
 import itertools
 import math
 import time
+from collections.abc import Callable
 from dataclasses import replace
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -96,18 +97,24 @@ def buildable(
     return m
 
 
-def size_design(model: DesignModel) -> OptimizationResult:
-    """Size the free hardware of ``model`` (``model.sizing``) for its objective."""
-    from optimize.solve import (
-        _binding,
-        compile_problem,
-        initial_points,
-        optimize_design,
-        scales_for,
-        structure_of,
-        variable_bounds,
-    )
+class FixedHardwareSolver(NamedTuple):
+    """What sizing needs of the fixed-hardware solve; :mod:`optimize.solve` passes itself in
+    (so this module does not import it: no import cycle)."""
 
+    optimize_design: Callable[..., OptimizationResult]
+    binding: Callable[..., Any]
+    initial_points: Callable[..., Any]
+    scales_for: Callable[..., Any]
+    variable_bounds: Callable[..., Any]
+
+
+def size_design(model: DesignModel, solver: FixedHardwareSolver) -> OptimizationResult:
+    """Size the free hardware of ``model`` (``model.sizing``) for its objective."""
+    from optimize.compiled import compile_problem, structure_of
+
+    optimize_design, _binding = solver.optimize_design, solver.binding
+    initial_points, scales_for = solver.initial_points, solver.scales_for
+    variable_bounds = solver.variable_bounds
     t0 = time.perf_counter()
     sizing = model.sizing
     fixed_model = replace(model, sizing=None)
@@ -153,7 +160,9 @@ def size_design(model: DesignModel) -> OptimizationResult:
     spec = pb.OBJECTIVES[model.bounds.objective]
     scale = float(spec.scale(scales))
     if best is None:
-        return _no_design(fixed_model, t0, iterations, "the relaxed sizing problem has no solution")
+        return _no_design(
+            solver, fixed_model, t0, iterations, "the relaxed sizing problem has no solution"
+        )
     relaxed = {v.name: best.value(v.name) for v in free}
     relaxed_obj = -spec.sense * scale * best.f if spec.uses_t else scale * best.f
     if model.bounds.objective == "copper_mass":  # the mass alone, at the unrounded hardware
@@ -187,6 +196,7 @@ def size_design(model: DesignModel) -> OptimizationResult:
             winner = (values, res)
     if winner is None:
         return _no_design(
+            solver,
             fixed_model,
             t0,
             iterations,
@@ -257,11 +267,11 @@ def _settled(a: hw.Frozen, b: hw.Frozen) -> bool:
     return all(np.allclose(x, y, rtol=_OUTER_RTOL, atol=0.0) for x, y in pairs)
 
 
-def _no_design(model: DesignModel, t0: float, iterations: int, why: str) -> OptimizationResult:
+def _no_design(
+    solver: FixedHardwareSolver, model: DesignModel, t0: float, iterations: int, why: str
+) -> OptimizationResult:
     """An infeasible result: the fixed-hardware solve's shortfalls at the given hardware."""
-    from optimize.solve import optimize_design
-
-    res = optimize_design(model)
+    res = solver.optimize_design(model)
     shortfalls = res.shortfalls or (Shortfall("hardware", "", 0.0, 0.0),)
     return replace(
         res,

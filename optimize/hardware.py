@@ -282,7 +282,7 @@ def symbolic_constants(
 ) -> tuple[Any, Any, list]:
     """Constants as expressions of the hardware (free: variables, fixed: parameters).
 
-    ``pattern``: :func:`optimize.compiled.heading_pattern` of the headings (headings with the
+    ``pattern``: :func:`optimize.headings.heading_pattern` of the headings (headings with the
     same current share one node, hence one thermal solve); () builds every entry on its own.
     Returns (constants, hardware expressions by name, geometry terms builder args).
     """
@@ -332,7 +332,7 @@ def symbolic_constants(
     per_tesla = ca.horzcat(*(s_all[:, k] / g[k] for k in range(3)))
     worst = ca.vertcat(*(s_max[k] / g[k] for k in range(3)))
     if pattern:
-        from optimize.compiled import shared_heading_table
+        from optimize.headings import shared_heading_table
 
         per_tesla, worst = shared_heading_table(
             lambda h, k: s_all[h, k] / g[k], pattern, hs.headings

@@ -118,9 +118,12 @@ def optimize_design(
     ``grid_starts=False`` tries only the warm start (the discrete search's neighbours).
     """
     if model.sizing is not None and model.sizing.free:
-        from optimize.discrete import size_design
+        from optimize.discrete import FixedHardwareSolver, size_design
 
-        return size_design(model)
+        solver = FixedHardwareSolver(
+            optimize_design, _binding, initial_points, scales_for, variable_bounds
+        )
+        return size_design(model, solver)
     t0 = time.perf_counter()
     model = prepare(model)
     scales = scales_for(model)
