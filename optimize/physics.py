@@ -298,7 +298,7 @@ def _bisect_field_T(
 def _brent_below(value: Any, allowed: float, lo: float, hi: float) -> float:
     """Root of value(b) = allowed in [lo, hi] (value(lo) <= allowed < value(hi)) by Brent's
     method to machine precision, returned on the allowed side (value(b) <= allowed)."""
-    from scipy.optimize import brentq
+    from optimize._roots import brentq
 
     def excess(b: float) -> float:
         v = float(np.asarray(value(b), dtype=float))
