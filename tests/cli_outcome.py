@@ -62,3 +62,15 @@ def sound(argv: list[str], allowed: tuple[int, ...] = (0, 2, 3)) -> tuple[int, s
     if rc in (0, 3):
         assert "Warning" not in err, f"{argv}: a warning on stderr: {err[-400:]}"
     return rc, out, err
+
+
+#: Options that make the required torque zero (no axial load, a lumen wider than the capsule,
+#: one tissue set): the infinite safety factor case.
+ZERO_TORQUE = [
+    "--set",
+    "requirements.axial_load_mN=0",
+    "--set",
+    "tissue.lumen_diameter_mm=30",
+    "--set",
+    "tissue.worst_case_presets=[]",
+]

@@ -10,20 +10,12 @@ import json
 from pathlib import Path
 
 import pytest
-from cli_outcome import bad_numbers, sound
+from cli_outcome import ZERO_TORQUE, bad_numbers, sound
 
 jsonschema = pytest.importorskip("jsonschema")
 
 DOCS = Path(__file__).resolve().parents[1] / "docs" / "json"
 CSV = str(Path(__file__).resolve().parents[1] / "examples" / "bench_synthetic_sample2.csv")
-ZERO_TORQUE = [
-    "--set",
-    "requirements.axial_load_mN=0",
-    "--set",
-    "tissue.lumen_diameter_mm=30",
-    "--set",
-    "tissue.worst_case_presets=[]",
-]
 
 CASES = [
     ("evaluate", ["evaluate"]),

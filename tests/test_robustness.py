@@ -12,7 +12,7 @@ import os
 
 import numpy as np
 import pytest
-from cli_outcome import sound
+from cli_outcome import ZERO_TORQUE, sound
 
 from spiralcap.design import load_design, write_text_atomic
 from spiralcap.errors import DataError, InputError
@@ -103,16 +103,6 @@ def test_out_of_range_values_are_refused_naming_the_key(expr):
     _, _, err = sound(["evaluate", "--json", "--set", expr], allowed=(2,))
     key = expr.split("=")[0]
     assert key in err or "--set" in err, f"{expr}: the message names the key"
-
-
-ZERO_TORQUE = [
-    "--set",
-    "requirements.axial_load_mN=0",
-    "--set",
-    "tissue.lumen_diameter_mm=30",
-    "--set",
-    "tissue.worst_case_presets=[]",
-]
 
 
 def test_zero_required_torque_reports_an_unbounded_safety_factor():

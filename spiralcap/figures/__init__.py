@@ -12,19 +12,9 @@ result objects and an optional ``ax=`` -- are available here (imported on first 
 
 from typing import Any
 
-_API = (
-    "Plot",
-    "field_maps",
-    "geometry",
-    "limit_utilisation",
-    "margin_map",
-    "margin_vs_angle",
-    "margin_vs_frequency",
-    "margin_vs_power",
-    "tissue_torque",
-    "torque_budget",
-    "uniformity_profile",
-)
+from spiralcap.figures.api import __all__ as _names  # the api module imports numpy only
+
+_API = tuple(_names)
 __all__ = list(_API)
 
 
