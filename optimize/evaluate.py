@@ -28,7 +28,6 @@ class Check:
     """One requirement or limit: ``value`` against ``allowed`` (``sense`` '<=' or '>=')."""
 
     name: str
-    key: str
     unit: str
     value: float
     allowed: float
@@ -171,9 +170,7 @@ def self_lock_margin(model: DesignModel, alpha_rad):
 def self_lock_check(model: DesignModel, alpha_rad: float) -> Check:
     """The named check "the spiral self-locks: alpha + atan mu >= 90 deg" (ok while > 0)."""
     margin = float(self_lock_margin(model, alpha_rad))
-    return Check(
-        "self_lock", "capsule.spiral.helical_angle_deg", "rad", margin, 0.0, ">", margin > 0
-    )
+    return Check("self_lock", "rad", margin, 0.0, ">", margin > 0)
 
 
 #: Frequency range searched for the step-out and the drive's largest frequency, Hz.
@@ -355,10 +352,9 @@ def _checks(
 ) -> list[Check]:
     req, tol = model.requirements, FEASIBILITY_RTOL
     out = [
-        Check("margin", "margin_Nm", "N·m", margin, 0.0, ">=", margin >= -tol * required),
+        Check("margin", "N·m", margin, 0.0, ">=", margin >= -tol * required),
         Check(
             "speed",
-            "requirements.min_speed_mm_s",
             "m/s",
             speed,
             req.min_speed_m_s,
@@ -371,7 +367,6 @@ def _checks(
         out.append(
             Check(
                 "safety_factor",
-                "requirements.min_safety_factor",
                 "1",
                 sf,
                 req.min_safety_factor,
@@ -383,7 +378,6 @@ def _checks(
         out.append(
             Check(
                 "spiral_turns",
-                "requirements.min_spiral_turns",
                 "turns",
                 turns,
                 req.min_spiral_turns,
@@ -393,5 +387,5 @@ def _checks(
         )
     for t in ph.limit_terms(f, field, model.constants, model.limits, model.ambient_temperature_C):
         value, allowed = float(t.value), float(t.allowed)
-        out.append(Check(t.name, t.key, t.unit, value, allowed, "<=", value <= allowed * (1 + tol)))
+        out.append(Check(t.name, t.unit, value, allowed, "<=", value <= allowed * (1 + tol)))
     return out

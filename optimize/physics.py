@@ -47,7 +47,6 @@ class LimitTerm:
     """One limit at one operating point: ``value <= allowed`` (units in ``unit``)."""
 
     name: str
-    key: str
     unit: str
     value: Any
     allowed: Any
@@ -221,13 +220,10 @@ def limit_terms(
         key = _memo_key(k, per_amp)
         if key is not None:
             memo[key] = (current, r)
-        terms.append(
-            LimitTerm(f"current_{ax}", "limits.current_A", "A", current, limits.current_A, 1)
-        )
+        terms.append(LimitTerm(f"current_{ax}", "A", current, limits.current_A, 1))
         terms.append(
             LimitTerm(
                 f"voltage_{ax}",
-                "limits.voltage_V",
                 "V",
                 coils.voltage_amplitude_V(r, ind, frequency_hz, current),
                 limits.voltage_V,
@@ -237,7 +233,6 @@ def limit_terms(
         terms.append(
             LimitTerm(
                 f"hot_spot_{ax}",
-                "limits.coil_temperature_C",
                 "K",
                 hot_C - ambient_temperature_C,  # hot_spot_rise_K, from the same solve
                 limits.coil_temperature_C - ambient_temperature_C,
@@ -247,7 +242,6 @@ def limit_terms(
     terms.append(
         LimitTerm(
             "power",
-            "limits.power_W",
             "W",
             total_loss_W(field_T, c, amb, memo) if loss_W is None else loss_W,
             limits.power_W,
@@ -258,7 +252,6 @@ def limit_terms(
         terms.append(
             LimitTerm(
                 "field_exposure",
-                "limits.field_exposure",
                 "T",
                 field_T,
                 exposure_level_T(frequency_hz, limits.field_exposure),
@@ -437,7 +430,6 @@ class FieldCapacity:
 
     field_T: float
     limited_by: str
-    limit_key: str
     caps_T: dict[str, float]
 
 
@@ -451,7 +443,6 @@ def field_capacity(
     return FieldCapacity(
         field_T=float(best),
         limited_by=terms[i].name,
-        limit_key=terms[i].key,
         caps_T={t.name: v for t, v in zip(terms, values)},
     )
 

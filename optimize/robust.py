@@ -140,12 +140,12 @@ def with_scenarios(
     from optimize import uncertainty as uq
 
     if not uncertainty.active:
-        raise InputError("tissue.uncertainty", "none", "an uncertain input for tissue scenarios")
+        raise InputError("uncertainty", "none", "an uncertain input for tissue scenarios")
     if isinstance(scenarios, bool) or not isinstance(scenarios, int) or scenarios < 2:
-        raise InputError("optimize.scenarios", scenarios, "a whole number >= 2")
+        raise InputError("scenarios", scenarios, "a whole number >= 2")
     p = max_stepout_probability
     if p is not None and not (0.0 < p < 1.0):
-        raise InputError("requirements.max_stepout_probability", p, "a probability in (0, 1)")
+        raise InputError("max_stepout_probability", p, "a probability in (0, 1)")
     u = uq.latent_uniforms(len(uncertainty.factors()), 0, scenarios, seed, "sobol")
     arrays = uq.perturbed_tissues(model.tissues, uncertainty, u)
     return replace(model, scenarios=ScenarioSet(arrays, u, seed, beta, p))
@@ -222,7 +222,7 @@ def _epigraph_terms(name: str, rows: list[Any], ctx: pb.Context) -> list[pb.Term
 def _needs_scenarios(ctx: pb.Context) -> None:
     if ctx.scenarios is None or ctx.variable is None or ctx.parameter is None:
         raise InputError(
-            "optimize.objective",
+            "objective",
             "margin_p05",
             "tissue scenarios: a [tissue.uncertainty] table (optimize.robust.with_scenarios)",
         )
@@ -292,7 +292,7 @@ def in_sample(model: DesignModel, result: Any) -> InSample:
     model = prepare(model)
     sc = model.scenarios
     if sc is None:
-        raise InputError("tissue.uncertainty", "none", "a model with tissue scenarios")
+        raise InputError("model.scenarios", "none", "a model with tissue scenarios")
     per_set = scenario_margins(
         result.helical_angle_rad,
         result.frequency_hz,

@@ -452,7 +452,7 @@ def sobol_indices(
 
     factors = problem.uncertainty.factors()
     if not factors:
-        raise InputError("tissue.uncertainty", "none", "at least one uncertain input")
+        raise InputError("uncertainty", "none", "at least one uncertain input")
     groups = [g for _, g in factors]
     unique = list(dict.fromkeys(groups))
     if len(unique) == 1:  # one input explains everything; SALib needs two groups
@@ -512,7 +512,7 @@ def closed_form_stepout_probability(problem: MarginProblem) -> float:
     ``ln k ~ N(0, σ²)``, P(m < 0) = P(k > k*) = 1 − Φ(ln k*/σ).
     """
     if len(problem.tissues) != 1 or problem.uncertainty.factors() != [("scale", "scale")]:
-        raise InputError("tissue.uncertainty", "more than the scale factor", "scale only, one set")
+        raise InputError("uncertainty", "more than the scale factor", "scale only, one set")
     ((res, thr),) = ph.required_torques_Nm(
         problem.helical_angle_rad,
         problem.frequency_hz,

@@ -108,8 +108,12 @@ def _finite_fields(out: dict[str, Any], margin_Nm: float) -> dict[str, Any]:
 
 
 def evaluation_to_dict(ev: Any) -> dict[str, Any]:
-    """JSON-ready figures of an :class:`optimize.Evaluation`."""
-    return _finite_fields(to_dict(ev), ev.margin_Nm)
+    """JSON-ready figures of an :class:`optimize.Evaluation` (each check with its design key)."""
+    from spiralcap.assemble.system import check_key
+
+    out = to_dict(ev)
+    out["checks"] = [{"name": c["name"], "key": check_key(c["name"]), **c} for c in out["checks"]]
+    return _finite_fields(out, ev.margin_Nm)
 
 
 _OBJECTIVE_UNITS = {

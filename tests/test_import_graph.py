@@ -135,3 +135,21 @@ def test_report_imports_nothing_from_commands() -> None:
         if target.startswith("spiralcap.commands")
     }
     assert not leaks, f"the report imports the CLI: {leaks}"
+
+
+def test_no_design_file_key_inside_optimize() -> None:
+    """optimize/ names its rows and checks; the application maps them to design keys
+    (spiralcap.assemble.system.constraint_key / check_key), so no key string lives there."""
+    import ast
+
+    from spiralcap.schema import KEYS
+
+    tables = {k.split(".", 1)[0] + "." for k in KEYS}
+    found = []
+    for path in sorted((ROOT / "optimize").glob("*.py")):
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.Constant) and isinstance(node.value, str):
+                text = node.value
+                if " " not in text and any(text.startswith(t) for t in tables) and text in KEYS:
+                    found.append(f"{path.name}:{node.lineno}: {text}")
+    assert not found, f"design-file keys inside optimize/ (issue 13): {found}"

@@ -252,13 +252,15 @@ def coils_payload(a: CoilAnalysis) -> dict[str, Any]:
             for ax in _AXES
         },
     }
+    from spiralcap.assemble.system import constraint_key
+
     return {
         "design": a.design,
         **sizing,
         "rotating_field_within_limits": {
             "max_rotating_field_T": a.capacity.field_T,
             "limited_by": a.capacity.limited_by,
-            "limit_key": a.capacity.limit_key,
+            "limit_key": constraint_key(a.capacity.limited_by),
             "per_limit_max_field_T": dict(a.capacity.caps_T),
         },
         "operating_point": {

@@ -152,6 +152,15 @@ _CONSTRAINT_KEYS = {
 }
 
 
+def check_key(name: str) -> str:
+    """The design key behind a check of :func:`optimize.evaluate` (its name, e.g. ``hot_spot_x``).
+
+    As :func:`constraint_key`, except that the self-locking check names the helical angle itself
+    (in the optimiser the same row is bounded through the angle's upper bound).
+    """
+    return "capsule.spiral.helical_angle_deg" if name == "self_lock" else constraint_key(name)
+
+
 def constraint_key(name: str) -> str:
     """The design key behind an optimiser constraint name ('' when none).
 

@@ -39,11 +39,13 @@ def format_evaluation(ev) -> str:
 
     mnm = 1e3
 
+    from spiralcap.assemble.system import check_key
+
     def check_row(c) -> list:
         unit, factor = shown(c.unit)
         return [
             c.name,
-            c.key,
+            check_key(c.name),
             c.value * factor,
             f"{c.sense} {c.allowed * factor:.4g}",
             unit,
