@@ -10,7 +10,6 @@ numbers bit for bit.
 from __future__ import annotations
 
 import argparse
-import sys
 
 from spiralcap.commands._common import add_design_arguments, design_from_args, print_json
 from spiralcap.uncertainty import (
@@ -111,17 +110,21 @@ def run(args: argparse.Namespace) -> int:
     if args.plot:
         check_plot_path(args.plot)
     design = design_from_args(args)
-    progress = _progress if sys.stderr.isatty() and not args.json else None
-    st = study(
-        design,
-        samples=args.samples,
-        seed=args.seed,
-        method=args.method,
-        sobol_base=args.sobol_samples,
-        workers=args.workers,
-        dask=args.dask,
-        progress=progress,
-    )
+    from spiralcap.progress import progress_bar
+
+    with progress_bar(
+        "sampling tissues", unit="chunk", enabled=False if args.json else None
+    ) as bar:
+        st = study(
+            design,
+            samples=args.samples,
+            seed=args.seed,
+            method=args.method,
+            sobol_base=args.sobol_samples,
+            workers=args.workers,
+            dask=args.dask,
+            progress=bar,
+        )
     if args.plot:
         from spiralcap.figures.uncertainty import save_uncertainty_figure
 
@@ -133,10 +136,3 @@ def run(args: argparse.Namespace) -> int:
         if args.plot:
             print(f"wrote {args.plot}")
     return 0
-
-
-def _progress(done: int, total: int) -> None:
-    sys.stderr.write(f"\rchunks {done}/{total}")
-    if done == total:
-        sys.stderr.write("\n")
-    sys.stderr.flush()
