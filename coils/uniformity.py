@@ -479,6 +479,14 @@ def uniform_regions(
             "system_or_pair", type(system_or_pair).__name__, "a HelmholtzPair or ThreeAxisHelmholtz"
         )
     system = system_or_pair
+    if pair_regions is not None and (
+        len(pair_regions) != 3
+        or any(len(regs) != len(tols) for regs in pair_regions)
+        or any(r.tolerance != t for regs in pair_regions for r, t in zip(regs, tols))
+    ):
+        raise InputError(
+            "pair_regions", "mismatched", "pair_uniform_regions(system.pairs, tolerances)"
+        )
     r_max = min(p.radius_m for p in system.pairs)
     gains = system.centre_gains_T_per_A
     if currents_A is not None:

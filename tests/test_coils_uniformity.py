@@ -7,6 +7,7 @@ import pytest
 from scipy.optimize import brentq
 
 import coils
+from spiralcap.errors import InputError
 
 
 def on_axis_deviation(z_over_r: float) -> float:
@@ -187,3 +188,9 @@ def test_similar_pairs_are_searched_once(nested_system, monkeypatch) -> None:
     calls.clear()
     thick = coils.pair_uniform_regions(_system("thick").pairs, tols)
     assert len(calls) == 3 and len(thick) == 3, "packs not similar bit for bit: each searched"
+
+
+def test_pair_regions_must_be_for_the_same_tolerances(nested_system) -> None:
+    pairs = coils.pair_uniform_regions(nested_system.pairs, (0.01,))
+    with pytest.raises(InputError, match="pair_regions"):
+        coils.uniform_regions(nested_system, (0.05,), pair_regions=pairs)
