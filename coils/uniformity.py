@@ -14,7 +14,6 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
-from functools import lru_cache
 from typing import Any
 
 import numpy as np
@@ -382,19 +381,46 @@ class UniformRegion:
     field_direction: np.ndarray
 
 
-@lru_cache(maxsize=1)
-def _scan_matrix(system: ThreeAxisHelmholtz) -> np.ndarray:
-    """G(p) on the ray lattice x radial grid, shape (rays * radii, 3, 3), T/A.
+#: Radial steps per block of the direction ranking (the grid is scanned outward block by block).
+_RANK_BLOCK = 20
 
-    Cached for the last system (frozen, hashable; ~6 MB): both tolerances rank the field
-    directions on the same scan, so G on its ~85,000 points is computed once.
+
+def _rank_directions(
+    system: ThreeAxisHelmholtz, currents: list[np.ndarray], tols: tuple[float, ...], r_max: float
+) -> list[list[int]]:
+    """Per tolerance, the field directions within one grid step of the worst on the scan grid.
+
+    The worst direction's first crossing (smallest over the rays) is ranked on the ray lattice
+    x radial grid, with G(p) and |B| of every direction in one product per block of radii.
+    Blocks go outward until every tolerance has its earliest crossing i and the radii up to
+    i + 1 (all a direction needs to be within one step of it); crossings further out change no
+    candidate, so the answer is that of the whole grid.
     """
     rays = _rays()
-    r_max = min(p.radius_m for p in system.pairs)
     radii = np.linspace(0.0, r_max, _RADIAL_STEPS + 1)[1:]
-    G = system.field_matrix((radii[None, :, None] * rays[:, None, :]).reshape(-1, 3))
-    G.flags.writeable = False
-    return G
+    C = np.column_stack(currents)
+    centre = np.linalg.norm(system.centre_gains_T_per_A[:, None] * C, axis=0)
+    blocks: list[np.ndarray] = []
+    done = 0
+    while done < len(radii):
+        stop = min(done + _RANK_BLOCK, len(radii))
+        pts = (radii[None, done:stop, None] * rays[:, None, :]).reshape(-1, 3)
+        B = system.field_matrix(pts) @ C  # (points, 3, directions)
+        dev = np.sqrt(np.einsum("ijk,ijk->ik", B, B)) / centre - 1.0
+        blocks.append(np.abs(dev).T.reshape(len(currents), len(rays), stop - done))
+        done = stop
+        absdev = np.concatenate(blocks, axis=2)
+        earliest = [np.nonzero((absdev > tol).any(axis=(0, 1)))[0] for tol in tols]
+        if all(e.size and e[0] + 1 < done for e in earliest):
+            break
+    step = radii[0]
+    out = []
+    for tol in tols:
+        outside = absdev > tol
+        first = np.where(outside.any(axis=2), np.argmax(outside, axis=2), len(radii) - 1)
+        coarse = radii[first].min(axis=1)
+        out.append([k for k, r in enumerate(coarse) if r <= coarse.min() + step])
+    return out
 
 
 def _pair_similarity_key(pair: HelmholtzPair) -> tuple[bytes, bytes, bytes]:
@@ -500,21 +526,9 @@ def uniform_regions(
         currents = [n / gains for n in _SYMMETRY_DIRECTIONS]
     candidates = [[0] for _ in tols]
     if len(currents) > 1:
-        # Rank the directions on the scan grid alone, with G(p) computed once for all of them
-        # and |B| of every direction in one product, then refine every direction within one
+        # Rank the directions on the scan grid alone, then refine every direction within one
         # grid step of the worst (per tolerance).
-        n_rays = len(_rays())
-        radii = np.linspace(0.0, r_max, _RADIAL_STEPS + 1)[1:]
-        C = np.column_stack(currents)
-        B = _scan_matrix(system) @ C  # (points, 3, directions)
-        dev = np.sqrt(np.einsum("ijk,ijk->ik", B, B)) / np.linalg.norm(gains[:, None] * C, axis=0)
-        absdev = np.abs(dev - 1.0).T.reshape(len(currents), n_rays, len(radii))
-        step = radii[0]
-        for i, tol in enumerate(tols):
-            outside = absdev > tol
-            first = np.where(outside.any(axis=2), np.argmax(outside, axis=2), len(radii) - 1)
-            coarse = radii[first].min(axis=1)
-            candidates[i] = [k for k, r in enumerate(coarse) if r <= coarse.min() + step]
+        candidates = _rank_directions(system, currents, tols, r_max)
     # Every candidate direction searched once for all the tolerances it is a candidate of.
     found: dict[tuple[int, int], tuple[float, np.ndarray]] = {}
     for k in sorted(set().union(*candidates)):

@@ -194,3 +194,20 @@ def test_pair_regions_must_be_for_the_same_tolerances(nested_system) -> None:
     pairs = coils.pair_uniform_regions(nested_system.pairs, (0.01,))
     with pytest.raises(InputError, match="pair_regions"):
         coils.uniform_regions(nested_system, (0.05,), pair_regions=pairs)
+
+
+@pytest.mark.parametrize("name", ["thick", "close"])
+def test_ranking_block_by_block_equals_the_whole_grid(name: str, monkeypatch) -> None:
+    """The direction ranking stops scanning outward early; the candidates are the whole grid's."""
+    import sys
+
+    module = sys.modules["coils.uniformity"]
+    system, tols = _system(name), (0.002, 0.01, 0.05, 0.2)
+    gains = system.centre_gains_T_per_A
+    currents = [n / gains for n in module._SYMMETRY_DIRECTIONS]
+    r_max = min(p.radius_m for p in system.pairs)
+    early = module._rank_directions(system, currents, tols, r_max)
+    monkeypatch.setattr(module, "_RANK_BLOCK", module._RADIAL_STEPS)
+    assert early == module._rank_directions(system, currents, tols, r_max), (
+        "same candidate directions as ranking on the whole radial grid"
+    )
