@@ -14,7 +14,14 @@ from coils.pair import HelmholtzPair
 from coils.rotating import heading_frame
 from coils.sizing import AxisSizing, SystemSizing, size_system
 from coils.system import ThreeAxisHelmholtz
-from coils.uniformity import UniformRegion, uniform_region, uniform_region_radius_m, uniformity
+from coils.uniformity import (
+    UniformRegion,
+    pair_uniform_regions,
+    uniform_region,
+    uniform_region_radius_m,
+    uniform_regions,
+    uniformity,
+)
 
 __all__ = [
     "AxisSizing",
@@ -28,10 +35,12 @@ __all__ = [
     "heading_frame",
     "impedance_ohm",
     "loop_field",
+    "pair_uniform_regions",
     "size_system",
     "temperature_rise_K",
     "uniform_region",
     "uniform_region_radius_m",
+    "uniform_regions",
     "uniformity",
     "voltage_amplitude_V",
 ]

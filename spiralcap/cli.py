@@ -45,8 +45,12 @@ class _Parser(argparse.ArgumentParser):
         self.exit(2, f"{self.prog}: error: {text} (see `{self.prog} --help`)\n")
 
 
-def build_parser() -> argparse.ArgumentParser:
-    """The full parser; subcommand modules add their own arguments."""
+def build_parser(only: str | None = None) -> argparse.ArgumentParser:
+    """The full parser; subcommand modules add their own arguments.
+
+    With ``only`` (a name in :data:`COMMANDS`) every subcommand is still listed, but only that
+    one's module is imported and given its arguments: what :func:`main` needs to run it.
+    """
     parser = _Parser(
         prog="spiralcap",
         description="Design tool for magnetically actuated spiral-type capsule endoscopes.",
@@ -55,6 +59,8 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     for name, (module, help_) in COMMANDS.items():
         p = sub.add_parser(name, help=help_, description=help_)
+        if only is not None and name != only:
+            continue
         mod = importlib.import_module(f"spiralcap.commands.{module}")
         mod.add_arguments(p)
         p.set_defaults(_module=mod)
@@ -63,7 +69,10 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     """Entry point: parse, run, and turn every expected error into one line and an exit status."""
-    parser = build_parser()
+    words = sys.argv[1:] if argv is None else argv
+    # The top-level parser has only options, so its first other word names the subcommand.
+    command = next((w for w in words if not w.startswith("-")), None)
+    parser = build_parser(command if command in COMMANDS else None)
     args = parser.parse_args(argv)
     try:
         return int(args._module.run(args) or 0)

@@ -99,12 +99,15 @@ class CoilAnalysis:
 
 
 def _uniform(system: Any) -> UniformRegions:
-    from coils import uniform_region
+    from coils.uniformity import pair_uniform_regions, uniform_regions
 
-    whole = {name: uniform_region(system, tol) for name, tol in _TOLERANCES}
+    tols = [tol for _, tol in _TOLERANCES]
+    pairs = pair_uniform_regions(system.pairs, tols)
+    regions = uniform_regions(system, tols, pair_regions=pairs)
+    whole = {name: r for (name, _), r in zip(_TOLERANCES, regions)}
     per = {
-        name: {p.axis: float(uniform_region(p, tol).radius_m) for p in system.pairs}
-        for name, tol in _TOLERANCES
+        name: {p.axis: float(pairs[k][i].radius_m) for k, p in enumerate(system.pairs)}
+        for i, (name, _) in enumerate(_TOLERANCES)
     }
     return UniformRegions(
         radius_1pct_m=float(whole["1pct"].radius_m),
