@@ -36,6 +36,8 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
+import numpy as np
+
 from spiralcap import backend as bk
 from spiralcap.constants import (
     COPPER_RESISTIVITY_20C_ohm_m,
@@ -176,6 +178,22 @@ def _surface_loss_slope_W_per_K(pack: WindingPack, surface_C: Any) -> Any:
     )
 
 
+def _where(condition: Any, if_true: Any, if_false: Any) -> Any:
+    """:func:`spiralcap.backend.where`, a Python float where numpy gives a 0-d array.
+
+    Same values; the Newton loops that follow run several times faster on scalars than on 0-d
+    arrays (the evaluation paths call them thousands of times).
+    """
+    return _plain(bk.where(condition, if_true, if_false))
+
+
+def _plain(x: Any) -> Any:
+    """A Python float for a numpy scalar or 0-d array (same value), anything else as it is."""
+    if isinstance(x, np.generic) or (isinstance(x, np.ndarray) and x.ndim == 0):
+        return float(x)
+    return x
+
+
 class _Faces:
     """:func:`surface_loss_W` and its slope with the pack's invariants computed once.
 
@@ -286,19 +304,22 @@ def steady_state(
     ambient_C : float
         Ambient air, °C.
     """
+    resistance_20C_ohm, current_amplitude_A, ambient_C = (
+        _plain(x) for x in (resistance_20C_ohm, current_amplitude_A, ambient_C)
+    )
     alpha = COPPER_TEMPERATURE_COEFFICIENT_per_K
     half_i2 = 0.5 * current_amplitude_A * current_amplitude_A
     r_m = pack.mean_resistance_K_per_W
     denom = 1.0 - alpha * resistance_20C_ohm * half_i2 * r_m
     ok_denom = denom > 0.0
-    safe = bk.where(ok_denom, denom, 1.0)
+    safe = _where(ok_denom, denom, 1.0)
     p_amb = _resistance_ohm(resistance_20C_ohm, ambient_C) * half_i2 / safe  # P at T_s = T_a
     slope = alpha * resistance_20C_ohm * half_i2 / safe  # dP/dT_s
     faces = _Faces(pack, ambient_C)
     g0 = faces.slope_W_per_K(ambient_C + 0.0 * slope) - slope
     ok_start = g0 > 0.0
-    ts = ambient_C + p_amb / bk.where(ok_start, g0, 1.0)
-    ts = bk.where(ok_start, ts, ambient_C + 5000.0)
+    ts = ambient_C + p_amb / _where(ok_start, g0, 1.0)
+    ts = _where(ok_start, ts, ambient_C + 5000.0)
     for _ in range(_NEWTON_STEPS):
         p = p_amb + slope * (ts - ambient_C)
         resid = faces.loss_W(ts) - p
@@ -308,9 +329,9 @@ def steady_state(
     converged = bk.abs(resid) <= 1e-9 * bk.fmax(p, 1e-12) + 1e-12
     stable = faces.slope_W_per_K(ts) - slope > 0.0  # cooling outgrows heating
     valid = ok_denom * converged * stable * (ts >= ambient_C - 1e-9)
-    runaway = bk.where(valid, 0.0, 1.0)
-    ts = bk.where(valid, ts, ambient_C + 1e4)  # runaway: a bound far above any limit
-    p = bk.where(valid, p, faces.loss_W(ts))
+    runaway = _where(valid, 0.0, 1.0)
+    ts = _where(valid, ts, ambient_C + 1e4)  # runaway: a bound far above any limit
+    p = _where(valid, p, faces.loss_W(ts))
     mean = ts + r_m * p
     return SteadyState(
         surface_C=ts,
@@ -326,8 +347,8 @@ def _relative_growth(x: Any) -> Any:
     """(1 - e^{-x}) / x, continuous through x = 0 and overflow-safe (x >= -50 is used)."""
     x = bk.fmax(x, -50.0)
     small = bk.abs(x) < 1e-4
-    xs = bk.where(small, 1.0, x)
-    return bk.where(small, 1.0 - 0.5 * x + x * x / 6.0, (1.0 - bk.exp(-xs)) / xs)
+    xs = _where(small, 1.0, x)
+    return _where(small, 1.0 - 0.5 * x + x * x / 6.0, (1.0 - bk.exp(-xs)) / xs)
 
 
 @dataclass(frozen=True)
