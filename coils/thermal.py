@@ -36,6 +36,8 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
+import numpy as np
+
 from spiralcap import backend as bk
 from spiralcap.constants import (
     COPPER_RESISTIVITY_20C_ohm_m,
@@ -176,6 +178,49 @@ def _surface_loss_slope_W_per_K(pack: WindingPack, surface_C: Any) -> Any:
     )
 
 
+def _where(condition: Any, if_true: Any, if_false: Any) -> Any:
+    """:func:`spiralcap.backend.where`, a Python float where numpy gives a 0-d array.
+
+    Same values; the Newton loops that follow run several times faster on scalars than on 0-d
+    arrays (the evaluation paths call them thousands of times).
+    """
+    return _plain(bk.where(condition, if_true, if_false))
+
+
+def _plain(x: Any) -> Any:
+    """A Python float for a numpy scalar or 0-d array (same value), anything else as it is."""
+    if isinstance(x, np.generic) or (isinstance(x, np.ndarray) and x.ndim == 0):
+        return float(x)
+    return x
+
+
+class _Faces:
+    """:func:`surface_loss_W` and its slope with the pack's invariants computed once.
+
+    The Newton loops below evaluate both a dozen times per solve; the same operations in the
+    same order as :func:`surface_loss_W` / :func:`_surface_loss_slope_W_per_K` (bit-identical
+    numbers), but the face area, ``ε σ``, ``4 ε σ`` and ``T_a`` enter the CasADi graph once.
+    """
+
+    def __init__(self, pack: WindingPack, ambient_C: Any) -> None:
+        self.area = pack.surface_area_m2
+        self.h = pack.heat_transfer_coefficient_W_m2K
+        self.eps_sigma = pack.emissivity * STEFAN_BOLTZMANN_W_m2K4
+        self.four_eps_sigma = 4.0 * pack.emissivity * STEFAN_BOLTZMANN_W_m2K4
+        self.ambient_C = ambient_C
+        self.ta = ambient_C + _KELVIN
+        self.ta2 = self.ta * self.ta
+
+    def loss_W(self, surface_C: Any) -> Any:
+        ts, ta = surface_C + _KELVIN, self.ta
+        h_r = self.eps_sigma * (ts * ts + self.ta2) * (ts + ta)
+        return self.area * (self.h + h_r) * (surface_C - self.ambient_C)
+
+    def slope_W_per_K(self, surface_C: Any) -> Any:
+        ts = surface_C + _KELVIN
+        return self.area * (self.h + self.four_eps_sigma * ts * ts * ts)
+
+
 @dataclass(frozen=True)
 class LimitState:
     """The steady state whose hot spot sits exactly at the limit (temperatures °C, loss W)."""
@@ -202,11 +247,12 @@ def limit_state(pack: WindingPack, hot_spot_C: Any, ambient_C: Any) -> LimitStat
         Ambient air, °C.
     """
     r_c = pack.centre_resistance_K_per_W
+    faces = _Faces(pack, ambient_C)
     ts = hot_spot_C + 0.0 * r_c
     for _ in range(_NEWTON_STEPS):
-        resid = r_c * surface_loss_W(pack, ts, ambient_C) + ts - hot_spot_C
-        ts = ts - resid / (r_c * _surface_loss_slope_W_per_K(pack, ts) + 1.0)
-    power = surface_loss_W(pack, ts, ambient_C)
+        resid = r_c * faces.loss_W(ts) + ts - hot_spot_C
+        ts = ts - resid / (r_c * faces.slope_W_per_K(ts) + 1.0)
+    power = faces.loss_W(ts)
     return LimitState(
         surface_C=ts,
         mean_C=ts + pack.mean_resistance_K_per_W * power,
@@ -258,30 +304,34 @@ def steady_state(
     ambient_C : float
         Ambient air, °C.
     """
+    resistance_20C_ohm, current_amplitude_A, ambient_C = (
+        _plain(x) for x in (resistance_20C_ohm, current_amplitude_A, ambient_C)
+    )
     alpha = COPPER_TEMPERATURE_COEFFICIENT_per_K
     half_i2 = 0.5 * current_amplitude_A * current_amplitude_A
     r_m = pack.mean_resistance_K_per_W
     denom = 1.0 - alpha * resistance_20C_ohm * half_i2 * r_m
     ok_denom = denom > 0.0
-    safe = bk.where(ok_denom, denom, 1.0)
+    safe = _where(ok_denom, denom, 1.0)
     p_amb = _resistance_ohm(resistance_20C_ohm, ambient_C) * half_i2 / safe  # P at T_s = T_a
     slope = alpha * resistance_20C_ohm * half_i2 / safe  # dP/dT_s
-    g0 = _surface_loss_slope_W_per_K(pack, ambient_C + 0.0 * slope) - slope
+    faces = _Faces(pack, ambient_C)
+    g0 = faces.slope_W_per_K(ambient_C + 0.0 * slope) - slope
     ok_start = g0 > 0.0
-    ts = ambient_C + p_amb / bk.where(ok_start, g0, 1.0)
-    ts = bk.where(ok_start, ts, ambient_C + 5000.0)
+    ts = ambient_C + p_amb / _where(ok_start, g0, 1.0)
+    ts = _where(ok_start, ts, ambient_C + 5000.0)
     for _ in range(_NEWTON_STEPS):
         p = p_amb + slope * (ts - ambient_C)
-        resid = surface_loss_W(pack, ts, ambient_C) - p
-        ts = ts - resid / (_surface_loss_slope_W_per_K(pack, ts) - slope)
+        resid = faces.loss_W(ts) - p
+        ts = ts - resid / (faces.slope_W_per_K(ts) - slope)
     p = p_amb + slope * (ts - ambient_C)
-    resid = surface_loss_W(pack, ts, ambient_C) - p
+    resid = faces.loss_W(ts) - p
     converged = bk.abs(resid) <= 1e-9 * bk.fmax(p, 1e-12) + 1e-12
-    stable = _surface_loss_slope_W_per_K(pack, ts) - slope > 0.0  # cooling outgrows heating
+    stable = faces.slope_W_per_K(ts) - slope > 0.0  # cooling outgrows heating
     valid = ok_denom * converged * stable * (ts >= ambient_C - 1e-9)
-    runaway = bk.where(valid, 0.0, 1.0)
-    ts = bk.where(valid, ts, ambient_C + 1e4)  # runaway: a bound far above any limit
-    p = bk.where(valid, p, surface_loss_W(pack, ts, ambient_C))
+    runaway = _where(valid, 0.0, 1.0)
+    ts = _where(valid, ts, ambient_C + 1e4)  # runaway: a bound far above any limit
+    p = _where(valid, p, faces.loss_W(ts))
     mean = ts + r_m * p
     return SteadyState(
         surface_C=ts,
@@ -297,8 +347,8 @@ def _relative_growth(x: Any) -> Any:
     """(1 - e^{-x}) / x, continuous through x = 0 and overflow-safe (x >= -50 is used)."""
     x = bk.fmax(x, -50.0)
     small = bk.abs(x) < 1e-4
-    xs = bk.where(small, 1.0, x)
-    return bk.where(small, 1.0 - 0.5 * x + x * x / 6.0, (1.0 - bk.exp(-xs)) / xs)
+    xs = _where(small, 1.0, x)
+    return _where(small, 1.0 - 0.5 * x + x * x / 6.0, (1.0 - bk.exp(-xs)) / xs)
 
 
 @dataclass(frozen=True)

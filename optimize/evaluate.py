@@ -274,12 +274,15 @@ def evaluate(
     frequency_hz: float | None = None,
     *,
     field_amplitude_T: float | None = None,
+    frequency_bounds: bool = True,
 ) -> Evaluation:
     """Evaluate the design at its operating point (or at the given angle, frequency, field).
 
     The field is ``field_amplitude_T`` if given, else the model's set field
     (``model.field_amplitude_T``), else the largest every limit allows at the frequency; a set
     field is checked against the limits like any other operating value.
+    ``frequency_bounds=False`` skips the step-out and highest-frequency searches (NaN there; no
+    check depends on them): for candidates only compared by margin and feasibility.
     """
     model = prepare(model)
     c, req = model.constants, model.requirements
@@ -308,8 +311,12 @@ def evaluate(
     # the lag behind the field at which the magnet's torque m B sin(lag) meets the load; 90 deg
     # (the most it can give) when the load exceeds it: the magnet then cannot stay synchronous
     lag = float(np.arcsin(min(max(required / avail, 0.0), 1.0))) if avail > 0 else np.pi / 2
-    step_out = step_out_frequency_hz(model, alpha, field)
-    fmax, fmax_by = max_frequency_hz(model, alpha)
+    if frequency_bounds:
+        step_out = step_out_frequency_hz(model, alpha, field)
+        fmax, fmax_by = max_frequency_hz(model, alpha)
+    else:
+        step_out = fmax = FrequencyBound(float("nan"), False)
+        fmax_by = ""
     return Evaluation(
         helical_angle_rad=alpha,
         frequency_hz=f,

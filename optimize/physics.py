@@ -145,14 +145,21 @@ def heading_losses_W(
     a = c.heading_current_per_tesla_A_per_T
     memo = {} if memo is None else memo
     out: list[Any] = []
+    rows = a.tolist() if isinstance(a, np.ndarray) else None  # numbers: plain floats, same values
     for h in range(a.shape[0]):
         loss: Any = 0.0
         for k in range(3):
-            per_amp = a[h, k]
-            num = _number(per_amp)
-            if num is not None and num <= 0:
-                continue
-            key = _memo_key(k, per_amp)
+            if rows is not None:
+                per_amp = num = rows[h][k]
+                if num <= 0:
+                    continue
+                key: tuple | None = (k, round(num, 15))  # as _memo_key
+            else:
+                per_amp = a[h, k]
+                num = _number(per_amp)
+                if num is not None and num <= 0:
+                    continue
+                key = _memo_key(k, per_amp)
             if key is None or key not in memo:
                 cur = field_T * per_amp
                 r = winding_resistance_ohm(cur, k, c, ambient_temperature_C)

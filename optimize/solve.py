@@ -107,6 +107,7 @@ def optimize_design(
     warm_start: OptimizationResult | dict | None = None,
     diagnose: bool = True,
     grid_starts: bool = True,
+    frequency_bounds: bool = True,
 ) -> OptimizationResult:
     """Best design of ``model`` for its objective; see the module notes.
 
@@ -115,7 +116,9 @@ def optimize_design(
     grid starts only if it fails. A model with free hardware (``model.sizing``) is sized by
     :func:`optimize.discrete.size_design`. ``diagnose=False`` skips the relaxed problem that
     says what is out of reach when nothing is feasible (the status is still 'infeasible');
-    ``grid_starts=False`` tries only the warm start (the discrete search's neighbours).
+    ``grid_starts=False`` tries only the warm start (the discrete search's neighbours);
+    ``frequency_bounds=False`` leaves the evaluation's step-out and highest frequency NaN
+    (:func:`optimize.evaluate.evaluate`; neighbours compared by their objective only).
     """
     if model.sizing is not None and model.sizing.free:
         from optimize.discrete import FixedHardwareSolver, size_design
@@ -163,7 +166,7 @@ def optimize_design(
             break
     status_text = best.status if best is not None else "no start"
     if (best is None or not best.success) and not diagnose:
-        ev = evaluate(model)
+        ev = evaluate(model, frequency_bounds=frequency_bounds)
         return _result(
             model,
             "infeasible",
@@ -190,7 +193,7 @@ def optimize_design(
     # an explicit field only where the optimum's differs from the largest the limits allow (or
     # the model carries a set field the optimiser was free to move)
     given = field if field_set else (capacity if model.field_amplitude_T is not None else None)
-    ev = evaluate(model, alpha, f, field_amplitude_T=given)
+    ev = evaluate(model, alpha, f, field_amplitude_T=given, frequency_bounds=frequency_bounds)
     if not ev.feasible:
         return _infeasible(model, scales, grid or [], iterations, tried, t0, status_text, ev)
     binding = _binding(model, scales, best)

@@ -64,7 +64,10 @@ _CASADI_TYPES = (_ca.SX, _ca.MX, _ca.DM)
 
 def is_casadi(*args: Any) -> bool:
     """True if any argument is a CasADi SX, MX or DM value."""
-    return any(isinstance(a, _CASADI_TYPES) for a in args)
+    for a in args:  # a plain loop: called on every backend operation
+        if isinstance(a, _CASADI_TYPES):
+            return True
+    return False
 
 
 def _unary(np_fn: Any, ca_fn: Any) -> Any:

@@ -1,0 +1,72 @@
+"""The shortcuts the speed work took change no number (benchmarks/bench_sizing.py).
+
+- coils.thermal.steady_state on a Python float, a numpy scalar, a 0-d array and inside a vector
+  gives the same bits (the scalar path runs on floats; elementwise IEEE arithmetic is exact).
+- evaluate / optimize_design with ``frequency_bounds=False`` (sweep rows, the discrete search's
+  neighbours) equal the full call in everything but the skipped step-out and highest-frequency
+  searches.
+"""
+
+import dataclasses
+import math
+
+import numpy as np
+import pytest
+
+from coils import thermal as th
+from optimize import evaluate, optimize_design, prepare
+from spiralcap.assemble import build_model
+from spiralcap.design import load_design
+
+_SKIPPED = {
+    "step_out_frequency_hz",
+    "max_frequency_hz",
+    "max_frequency_limited_by",
+    "step_out_beyond_search",
+    "max_frequency_beyond_search",
+}
+
+
+@pytest.fixture(scope="module")
+def model():
+    return prepare(build_model(load_design()))
+
+
+def test_steady_state_scalar_types_and_vector_agree_bit_for_bit(model):
+    c = model.constants
+    currents = [0.5, 4.0, 11.0, 30.0, 400.0]  # 400 A: runaway (the bound branch)
+    for k in range(3):
+        vec = th.steady_state(c.packs[k], c.resistance_20C_ohm[k], np.array(currents), 20.0)
+        for i, cur in enumerate(currents):
+            for arg in (cur, np.float64(cur), np.array(cur)):
+                one = th.steady_state(c.packs[k], c.resistance_20C_ohm[k], arg, 20.0)
+                for f in dataclasses.fields(one):
+                    a = float(getattr(one, f.name))
+                    b = float(np.asarray(getattr(vec, f.name))[i])
+                    assert a == b, (
+                        f"axis {k}, {cur} A as {type(arg).__name__}: {f.name} {a!r} (scalar) "
+                        f"vs {b!r} (vector element); the scalar path must give the same bits"
+                    )
+
+
+def test_evaluate_without_frequency_bounds_is_the_full_evaluation(model):
+    full = evaluate(model)
+    quick = evaluate(model, frequency_bounds=False)
+    assert math.isnan(quick.step_out_frequency_hz) and math.isnan(quick.max_frequency_hz)
+    for f in dataclasses.fields(full):
+        if f.name in _SKIPPED:
+            continue
+        assert getattr(quick, f.name) == getattr(full, f.name), (
+            f"{f.name}: frequency_bounds=False must change only the skipped searches"
+        )
+
+
+def test_optimize_without_frequency_bounds_same_optimum(model):
+    full = optimize_design(model)
+    quick = optimize_design(model, frequency_bounds=False)
+    same = ("status", "helical_angle_rad", "frequency_hz", "field_amplitude_T", "margin_Nm")
+    for name in (*same, "objective_value", "current_amplitudes_A"):
+        assert getattr(quick, name) == getattr(full, name), (
+            f"{name}: the optimum must not depend on frequency_bounds (bit for bit)"
+        )
+    assert [b.name for b in quick.binding_limits] == [b.name for b in full.binding_limits]
