@@ -31,8 +31,9 @@ __all__ = [
     "uniformity",
 ]
 
-#: The axes, the six face diagonals and the four body diagonals (up to sign).
-_SYMMETRY_DIRECTIONS = np.array(
+#: The 13 symmetry directions of a cube, unit vectors: the axes, the six face diagonals and the
+#: four body diagonals (up to sign); also the default headings (optimize.system).
+CUBE_DIRECTIONS = np.array(
     [
         [1, 0, 0],
         [0, 1, 0],
@@ -50,7 +51,9 @@ _SYMMETRY_DIRECTIONS = np.array(
     ],
     dtype=float,
 )
-_SYMMETRY_DIRECTIONS /= np.linalg.norm(_SYMMETRY_DIRECTIONS, axis=1, keepdims=True)
+CUBE_DIRECTIONS /= np.linalg.norm(CUBE_DIRECTIONS, axis=1, keepdims=True)
+CUBE_DIRECTIONS.flags.writeable = False
+_SYMMETRY_DIRECTIONS = CUBE_DIRECTIONS
 _FIBONACCI_RAYS = 400
 _RADIAL_STEPS = 200
 _BISECTIONS = 40

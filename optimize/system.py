@@ -15,26 +15,6 @@ import numpy as np
 
 from spiralcap.constants import COPPER_DENSITY_kg_m3
 
-#: The 13 symmetry directions of a cube: 3 axes, 6 face diagonals, 4 body diagonals.
-_CUBE_DIRECTIONS = np.array(
-    [
-        [1, 0, 0],
-        [0, 1, 0],
-        [0, 0, 1],
-        [1, 1, 0],
-        [1, -1, 0],
-        [1, 0, 1],
-        [1, 0, -1],
-        [0, 1, 1],
-        [0, 1, -1],
-        [1, 1, 1],
-        [1, 1, -1],
-        [1, -1, 1],
-        [-1, 1, 1],
-    ],
-    dtype=float,
-)
-
 
 def default_headings() -> np.ndarray:
     """Unit headings standing for "every heading": the 13 cube symmetry directions.
@@ -43,7 +23,9 @@ def default_headings() -> np.ndarray:
     sphere (per-axis current peaks when the heading is ⟂ that axis; the power, a quadratic form
     in the heading, peaks on an axis); the diagonals add the off-centre field shapes.
     """
-    return _CUBE_DIRECTIONS / np.linalg.norm(_CUBE_DIRECTIONS, axis=1, keepdims=True)
+    from coils.uniformity import CUBE_DIRECTIONS
+
+    return CUBE_DIRECTIONS.copy()
 
 
 def workspace_points(radius_m: float) -> np.ndarray:
