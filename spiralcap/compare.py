@@ -97,6 +97,7 @@ def evaluation_rows(evaluations: Sequence[Any]) -> tuple[Row, ...]:
         _row("required torque", "N·m", [e.required_torque_Nm for e in evaluations]),
         _row("forward speed", "m/s", [e.speed_m_s for e in evaluations]),
         _row("step-out frequency", "Hz", [e.step_out_frequency_hz for e in evaluations]),
+        _row("drive's maximum frequency", "Hz", [e.max_frequency_hz for e in evaluations]),
     ]
     for k, axis in enumerate("xyz"):
         rows.append(
