@@ -34,7 +34,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
-from scipy import special, stats
+from scipy import special
 
 from optimize import physics as ph
 from optimize.system import DesignModel, prepare
@@ -523,4 +523,5 @@ def closed_form_stepout_probability(problem: MarginProblem) -> float:
     k_star = (problem.available_torque_Nm - float(thr)) / float(res)
     if k_star <= 0:
         return 1.0
-    return float(stats.norm.sf(math.log(k_star) / problem.uncertainty.scale_sigma_log))
+    # the normal survival function Φ(-z) as scipy.special.ndtr: scipy.stats costs 0.3 s to import
+    return float(special.ndtr(-math.log(k_star) / problem.uncertainty.scale_sigma_log))
