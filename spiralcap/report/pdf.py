@@ -271,11 +271,14 @@ def render_pdf(
     """
     import typst
 
+    from spiralcap.report.render import matplotlib_font_dir
+
     source, figures = typst_source(front, sections, footer, svgs)
     pdf = typst.compile(
         source.encode("utf-8"),
         format="pdf",
         sys_inputs=figures,
+        font_paths=[matplotlib_font_dir()],  # the figures' text is DejaVu Sans, as drawn
         ignore_system_fonts=True,
         timestamp=0,
     )
