@@ -31,6 +31,10 @@ class InputError(SpiralcapError, ValueError):
         shown = _short_repr(value)
         super().__init__(f"{where + ': ' if where else ''}{key} = {shown}: {allowed}")
 
+    def __reduce__(self) -> tuple[Any, ...]:
+        # rebuilt from its fields, so it crosses to and from worker processes whole
+        return (type(self), (self.key, self.value, self.allowed, self.where))
+
 
 def _short_repr(value: Any, limit: int = 240) -> str:
     """``repr`` of a value cut to ``limit`` characters, so an error stays one short line."""

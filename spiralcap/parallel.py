@@ -142,3 +142,121 @@ def where(workers: int = 1, dask: str | None = None) -> str:
     if dask is not None:
         return f"Dask cluster at {dask}"
     return f"{workers} local worker processes" if workers > 1 else "this process"
+
+
+# ---------------------------------------------------------------------------------------------
+# Forked work inside one command: results computed in this process's own memory image.
+#
+# The report runs its independent analyses, and then its figures, on the machine's cores. Forked
+# children start in a few milliseconds with everything already imported and computed (no
+# pickling of inputs, closures allowed); only results come back, pickled through a pipe. Fork
+# exists on Linux and macOS; elsewhere (Windows) :func:`can_fork` is False and the callers run
+# the same functions in this process, with the same results.
+
+
+def can_fork() -> bool:
+    """True where worker processes can be forked (POSIX)."""
+    import multiprocessing
+
+    return "fork" in multiprocessing.get_all_start_methods()
+
+
+def available_cores() -> int:
+    """Cores this process may run on (its CPU affinity where the OS tells, else the count)."""
+    import os
+
+    try:
+        return len(os.sched_getaffinity(0))
+    except (AttributeError, OSError):
+        return os.cpu_count() or 1
+
+
+def _child(send: Any, fn: Callable[..., Any], args: tuple) -> None:
+    try:
+        result: tuple[bool, Any] = (True, fn(*args))
+    except BaseException as exc:  # sent back and raised in the parent
+        import traceback
+
+        result = (False, (exc, traceback.format_exc()))
+    try:
+        send.send(result)
+    except Exception as exc:  # the result or the error did not pickle
+        send.send((False, (None, f"{type(exc).__name__}: {exc}")))
+    send.close()
+
+
+class Forked:
+    """``fn(*args)`` running in a forked child process; :meth:`result` waits for its value.
+
+    ``fn`` may be a closure (nothing is pickled on the way in); the value (or the exception
+    raised) must pickle on the way back.
+    """
+
+    def __init__(self, fn: Callable[..., Any], *args: Any) -> None:
+        import multiprocessing
+        import warnings
+
+        ctx = multiprocessing.get_context("fork")
+        self._recv, send = ctx.Pipe(duplex=False)
+        self._proc = ctx.Process(target=_child, args=(send, fn, args))
+        with warnings.catch_warnings():
+            # Python >= 3.12 warns that forking a process with threads (OpenBLAS's pool) may
+            # deadlock; the children only compute (numpy, CasADi, matplotlib) and OpenBLAS
+            # re-initialises its pool after fork (pthread_atfork)
+            warnings.simplefilter("ignore", DeprecationWarning)
+            self._proc.start()
+        send.close()
+
+    def result(self) -> Any:
+        """The child's return value; its exception is raised here if it raised one."""
+        try:
+            ok, value = self._recv.recv()
+        except EOFError:
+            ok, value = (
+                False,
+                (None, f"the worker process ended with exit code {self._proc.exitcode}"),
+            )
+        finally:
+            self._recv.close()
+            self._proc.join()
+        if ok:
+            return value
+        exc, text = value
+        if isinstance(exc, BaseException):
+            raise exc
+        raise RuntimeError(f"a worker process failed: {text.strip().splitlines()[-1]}")
+
+
+def map_forked(fn: Callable[[Any], Any], items: Sequence[Any], processes: int) -> list[Any]:
+    """``[fn(x) for x in items]`` on this process and ``processes - 1`` forked children.
+
+    Items are handed out one at a time from a shared counter, in order, to whichever process is
+    free (the slow ones do not hold the others up); results come back in ``items`` order.
+    """
+    n = len(items)
+    if processes < 2 or n < 2 or not can_fork():
+        return [fn(x) for x in items]
+    import multiprocessing
+
+    counter = multiprocessing.get_context("fork").Value("i", 0)
+
+    def claim() -> int:
+        with counter.get_lock():
+            i = int(counter.value)
+            counter.value = i + 1
+        return i
+
+    def work() -> dict[int, Any]:
+        done = {}
+        while (i := claim()) < n:
+            done[i] = fn(items[i])
+        return done
+
+    children = [Forked(work) for _ in range(min(processes, n) - 1)]
+    try:
+        results = work()
+    finally:  # the children are always waited for, also when this process's share failed
+        shares = [child.result() for child in children]
+    for share in shares:
+        results.update(share)
+    return [results[i] for i in range(n)]

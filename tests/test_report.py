@@ -47,7 +47,8 @@ def report(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Any]:
     html_path, pdf_path = out / "report.html", out / "report.pdf"
     buf = io.StringIO()
     with contextlib.redirect_stdout(buf):
-        status = main(["report", "-o", str(html_path), "--pdf", str(pdf_path)])
+        # two processes (analyses and figures shared out); the serial run is compared below
+        status = main(["report", "-o", str(html_path), "--pdf", str(pdf_path), "--workers", "2"])
     text = html_path.read_text(encoding="utf-8")
     match = re.search(
         r'<script type="application/json" id="spiralcap-data">\s*(.*?)\s*'
@@ -120,6 +121,30 @@ def test_report_command_succeeds_and_writes_both_files(report: dict[str, Any]) -
         if p.name not in ("report.html", "report.pdf")
     ]
     assert leftovers == [], "atomic writes leave no temporary files behind"
+
+
+def _comparable(html: str, path: Path) -> str:
+    """The HTML without what differs between two runs: the time stamp, the output path and
+    the analysis times."""
+    html = html.replace(str(path), "REPORT.html")
+    html = re.sub(r"\d{4}-\d\d-\d\d \d\d:\d\d UTC", "DATE", html)
+    html = re.sub(r'("[a-z_]*time_s": )[0-9.e+-]+', r"\1T", html)  # the solver's wall time
+    return re.sub(r"Analysis times:[^<]*", "Analysis times: ...", html)
+
+
+def test_report_in_one_process_is_the_report_on_two(report: dict[str, Any], tmp_path: Path) -> None:
+    html_path = tmp_path / "serial.html"
+    with contextlib.redirect_stdout(io.StringIO()):
+        status = main(["report", "-o", str(html_path), "--workers", "1"])
+    assert status == report["status"]
+    one = _comparable(html_path.read_text(encoding="utf-8"), html_path)
+    two = _comparable(
+        report["html"].replace(f" --pdf {report['pdf_path']}", ""), report["html_path"]
+    )
+    assert one == two, (
+        "--workers 1 (everything in this process) and --workers 2 (analyses and figures "
+        "forked) write the same report, numbers and SVG figures byte for byte"
+    )
 
 
 def test_html_is_self_contained(report: dict[str, Any], parsed: _Collector) -> None:

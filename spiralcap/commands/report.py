@@ -40,6 +40,9 @@ REPORT_STAGES = (
     "field maps",
 )
 _HTML_SUFFIXES = (".html", ".htm")
+#: Default ``--workers``: the cores available, up to this many (three groups of analyses run
+#: at once, then the figures are shared out; more processes than that buy little).
+AUTO_WORKERS_MAX = 4
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -60,9 +63,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--workers",
         type=int,
-        default=1,
+        default=None,
         metavar="N",
-        help="worker processes for the power-budget re-optimisation sweep (default 1)",
+        help="processes to share the analyses and figures over (default: the cores this "
+        f"process may use, at most {AUTO_WORKERS_MAX}; 1 runs everything in this process; the "
+        "report is the same either way)",
     )
     parser.add_argument(
         "--compare",
@@ -110,6 +115,10 @@ def check_output_paths(output: str, pdf: str | None, design_path: str | list[str
 def run(args: argparse.Namespace) -> int:
     """Build and write the report; see the module notes for the exit status."""
     t0 = time.perf_counter()
+    if args.workers is None:
+        from spiralcap.parallel import available_cores
+
+        args.workers = min(available_cores(), AUTO_WORKERS_MAX)
     if not 1 <= args.workers <= 64:
         raise InputError("--workers", args.workers, "a whole number in [1, 64]")
     check_output_paths(args.output, args.pdf, getattr(args, "design", None))

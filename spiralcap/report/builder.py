@@ -89,9 +89,11 @@ def build_report(
     design : Design
         A validated design.
     pdf : bool
-        Also render the PDF (matplotlib PdfPages; text pages and one page per figure).
+        Also render the PDF (Typst, from the same sections and figures).
     workers : int
-        Worker processes for the power-budget re-optimisation sweep.
+        Processes to use: the analyses (:func:`spiralcap.report.data.collect`) and the figures
+        (:func:`spiralcap.report.render.render_figures`) are shared out over them; 1 runs
+        everything in this process. The report is the same either way.
     command : str
         The command line to print in the reproducibility section.
     progress : callable, optional
@@ -122,7 +124,7 @@ def build_report(
     front = front_matter(design, sha, stamp, payload["spiralcap_version"])
     footer = f"{front.title} · {design.source} · SHA-256 {sha[:12]}…"
     say("figures")
-    svgs = render_figures(sections)
+    svgs = render_figures(sections, workers=workers)
     say("HTML")
     html = render_html(front, sections, payload, footer, svgs)
     pdf_bytes, pages = None, 0

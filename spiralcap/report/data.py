@@ -119,6 +119,104 @@ def design_has_uncertainty(design: Design) -> bool:
     return bool(build_uncertainty(design).active)
 
 
+def _stopwatch() -> tuple[dict[str, float], Callable[[str], None]]:
+    """``(timings, lap)``: ``lap(name)`` records the seconds since the previous lap."""
+    timings: dict[str, float] = {}
+    t = time.perf_counter()
+
+    def lap(name: str) -> None:
+        nonlocal t
+        now = time.perf_counter()
+        timings[name] = now - t
+        t = now
+
+    return timings, lap
+
+
+def _core_stage(
+    design: Design, model: Any, say: Callable[[str], None]
+) -> tuple[dict[str, Any], dict[str, float]]:
+    """Evaluation, optimisation and the margin curves and map around both (and the tissue
+    uncertainty study when the design has one)."""
+    from optimize import evaluate, optimize_design
+    from spiralcap.presentation import jsonable as _jsonable
+    from spiralcap.robust import optimization_model
+    from spiralcap.serialize import evaluation_to_dict, optimization_to_dict
+
+    timings, lap = _stopwatch()
+    say("evaluate")
+    ev = evaluate(model)
+    lap("evaluate")
+    say("optimize")
+    res = optimize_design(optimization_model(design, model))  # with tissue scenarios if asked
+    lap("optimize")
+    say("margin curves")
+    freq_design, freq_opt = frequency_curves(model, ev, res)
+    angle_opt = angle_curve(
+        model, angle_range_rad(model, ev.helical_angle_rad, res.helical_angle_rad)
+    )
+    out: dict[str, Any] = {
+        "evaluation": ev,
+        "optimization": res,
+        "evaluate_json": _jsonable({"design": design.source, **evaluation_to_dict(ev)}),
+        "optimize_json": _jsonable({"design": design.source, **optimization_to_dict(res)}),
+        "freq_design": freq_design,
+        "freq_optimum": freq_opt,
+        "angle_optimum": angle_opt,
+        "margin_map": margin_map(model, float(freq_design.x.max())),
+        "uncertainty": None,
+    }
+    lap("margin curves")
+    if design_has_uncertainty(design):  # the built-in design has none: no extra work
+        from spiralcap.report.sections import uncertainty as _uncertainty
+
+        say("uncertainty")
+        out["uncertainty"] = _uncertainty.collect(design, model=model)
+        lap("uncertainty")
+    return out, timings
+
+
+def _coil_stage(
+    design: Design, model: Any, say: Callable[[str], None]
+) -> tuple[dict[str, Any], dict[str, float]]:
+    """The coil analysis (the ``spiralcap coils --json`` dict, heating curves), field maps and
+    uniformity profiles."""
+    from spiralcap.analysis.coils import analyse_coils, coils_payload
+    from spiralcap.presentation import jsonable as _jsonable
+
+    timings, lap = _stopwatch()
+    say("coil sizing")
+    analysis = analyse_coils(design)  # once: the dict the CLI prints and the heating curves
+    coils_json = _jsonable(coils_payload(analysis))
+    lap("coils")
+    say("field maps")
+    half = MAP_EXTENT * min(p.radius_m for p in model.coils.pairs)
+    out = {
+        "coils_json": coils_json,
+        "coils_note": "spiralcap.analysis.coils.analyse_coils(design)",
+        "heating": analysis.heating,
+        "field_maps": field_maps(model.coils, uniform_radii_m(coils_json)),
+        "profile": uniformity_profiles(model.coils, half),
+    }
+    lap("field maps")
+    return out, timings
+
+
+def _power_stage(
+    design: Design, powers_W: np.ndarray, workers: int, say: Callable[[str], None]
+) -> tuple[dict[str, Any], dict[str, float]]:
+    """The best margin against the power budget, re-optimised at each (adaptively refined)."""
+    timings, lap = _stopwatch()
+    say("power sweep")
+    power_sweep = adaptive_power_sweep(design, powers_W, workers=workers)
+    out = {
+        "power_sweep": power_sweep,
+        "power_values_W": np.asarray(power_sweep.inputs["limits.power_W"], float),
+    }
+    lap("power sweep")
+    return out, timings
+
+
 def collect(
     design: Design,
     *,
@@ -129,6 +227,12 @@ def collect(
 ) -> ReportData:
     """Evaluate and optimise ``design`` and run the sweeps and field maps the report shows.
 
+    Three independent groups of analyses: the evaluation, optimisation and margin curves; the
+    coil analysis and field maps; the power-budget sweep. With ``workers >= 2`` (on a system
+    that can fork) the first and the last run in two forked processes while this one does the
+    coils and loads matplotlib for the figures; the results are the same numbers bit for bit
+    as with ``workers=1``, where everything runs here in turn.
+
     Parameters
     ----------
     design : Design
@@ -136,9 +240,10 @@ def collect(
     power_factors : tuple of float
         Power budgets of the trade-off sweep as multiples of ``limits.power_W``.
     workers : int
-        Worker processes for the re-optimisation sweep (1: in this process).
+        Processes to use (1: everything in this process). With more than 3 the power sweep
+        spreads its points over ``workers - 2`` processes of its own.
     progress : callable, optional
-        Called with the name of each stage as it starts.
+        Called with the name of each stage as it starts (as it finishes, when run in parallel).
     compare : Design, optional
         A second design to evaluate and optimise beside this one
         (:func:`spiralcap.compare.compare_designs`).
@@ -152,96 +257,51 @@ def collect(
     spiralcap.errors.InputError
         The design is inconsistent (raised by :func:`spiralcap.assemble.build_model`).
     """
-    from optimize import evaluate, optimize_design, prepare
+    from optimize import prepare
     from spiralcap.assemble import build_model
-    from spiralcap.presentation import jsonable as _jsonable
-    from spiralcap.serialize import evaluation_to_dict, optimization_to_dict
+    from spiralcap.parallel import Forked, can_fork
 
     say = progress or (lambda _stage: None)
-    timings: dict[str, float] = {}
-    t = time.perf_counter()
-
-    def lap(name: str) -> None:
-        nonlocal t
-        now = time.perf_counter()
-        timings[name] = now - t
-        t = now
-
-    say("evaluate")
     model = prepare(build_model(design))
-    ev = evaluate(model)
-    lap("evaluate")
-    say("optimize")
-    from spiralcap.robust import optimization_model
-
-    res = optimize_design(optimization_model(design, model))  # with tissue scenarios if asked
-    lap("optimize")
-    evaluate_json = _jsonable({"design": design.source, **evaluation_to_dict(ev)})
-    optimize_json = _jsonable({"design": design.source, **optimization_to_dict(res)})
-
-    say("coil sizing")
-    from spiralcap.analysis.coils import analyse_coils, coils_payload
-
-    analysis = analyse_coils(design)  # once: the dict the CLI prints and the heating curves
-    coils_json = _jsonable(coils_payload(analysis))
-    coils_note = "spiralcap.analysis.coils.analyse_coils(design)"
-    heating = analysis.heating
-    lap("coils")
-
-    say("margin curves")
-    freq_design, freq_opt = frequency_curves(model, ev, res)
-    angle_opt = angle_curve(
-        model, angle_range_rad(model, ev.helical_angle_rad, res.helical_angle_rad)
-    )
-    mmap = margin_map(model, float(freq_design.x.max()))
-    lap("margin curves")
-
-    say("power sweep")
     powers = design["limits.power_W"] * np.asarray(power_factors, dtype=float)
-    power_sweep = adaptive_power_sweep(design, powers, workers=workers)
-    powers = np.asarray(power_sweep.inputs["limits.power_W"], float)
-    lap("power sweep")
+    if workers >= 2 and can_fork():
+        # what the children import, imported once here before they are forked
+        import spiralcap.robust
+        import spiralcap.serialize
+        import spiralcap.sweep  # noqa: F401
 
-    say("field maps")
-    maps = field_maps(model.coils, uniform_radii_m(coils_json))
-    profile = uniformity_profiles(
-        model.coils, MAP_EXTENT * min(p.radius_m for p in model.coils.pairs)
-    )
-    lap("field maps")
-    from spiralcap.report.sections import uncertainty as _uncertainty
+        quiet = lambda _stage: None  # noqa: E731 -- the children print nothing
+        power_job = Forked(_power_stage, design, powers, max(1, workers - 2), quiet)
+        core_job = Forked(_core_stage, design, model, quiet)
+        coil, coil_t = _coil_stage(design, model, say)
+        from spiralcap.report.render import preload
 
-    uncertainty = None
-    if design_has_uncertainty(design):  # the built-in design has none: no extra work
-        say("uncertainty")
-        uncertainty = _uncertainty.collect(design, model=model)
-        lap("uncertainty")
+        preload()  # matplotlib, while the children compute
+        core, core_t = core_job.result()
+        for stage in core_t:
+            say(stage)
+        power, power_t = power_job.result()
+        say("power sweep")
+    else:
+        core, core_t = _core_stage(design, model, say)
+        coil, coil_t = _coil_stage(design, model, say)
+        power, power_t = _power_stage(design, powers, workers, say)
+    timings = {**core_t, **coil_t, **power_t}
     comparison = None
     if compare is not None:
         from spiralcap.compare import compare_designs
 
         say("comparison")
+        t = time.perf_counter()
         comparison = compare_designs([design, compare], ("this design", "compared design"))
-        lap("comparison")
+        timings["comparison"] = time.perf_counter() - t
     return ReportData(
         design=design,
         model=model,
-        evaluation=ev,
-        optimization=res,
-        evaluate_json=evaluate_json,
-        optimize_json=optimize_json,
-        coils_json=coils_json,
-        coils_note=coils_note,
-        freq_design=freq_design,
-        freq_optimum=freq_opt,
-        angle_optimum=angle_opt,
-        power_sweep=power_sweep,
-        power_values_W=powers,
-        field_maps=maps,
-        profile=profile,
+        **core,
+        **coil,
+        **power,
         versions=versions(),
         timings_s=timings,
-        margin_map=mmap,
         comparison=comparison,
-        uncertainty=uncertainty,
-        heating=heating,
     )

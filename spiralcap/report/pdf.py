@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import re
 from collections.abc import Mapping, Sequence
-from typing import Any
+from typing import Any, cast
 
 from spiralcap.report.document import (
     Bullets,
@@ -278,7 +278,7 @@ def render_pdf(
         source.encode("utf-8"),
         format="pdf",
         sys_inputs=figures,
-        font_paths=[matplotlib_font_dir()],  # the figures' text is DejaVu Sans, as drawn
+        font_paths=cast(Any, [matplotlib_font_dir()]),  # the figures' text: DejaVu, as drawn
         ignore_system_fonts=True,
         timestamp=0,
     )
