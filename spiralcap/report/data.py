@@ -217,6 +217,13 @@ def _power_stage(
     return out, timings
 
 
+def _core_then_power(
+    design: Design, model: Any, powers_W: np.ndarray, say: Callable[[str], None]
+) -> tuple[tuple[dict[str, Any], dict[str, float]], tuple[dict[str, Any], dict[str, float]]]:
+    """:func:`_core_stage`, then :func:`_power_stage` (one process, the compiled NLP shared)."""
+    return _core_stage(design, model, say), _power_stage(design, powers_W, 1, say)
+
+
 def collect(
     design: Design,
     *,
@@ -271,17 +278,21 @@ def collect(
         import spiralcap.sweep  # noqa: F401
 
         quiet = lambda _stage: None  # noqa: E731 -- the children print nothing
-        power_job = Forked(_power_stage, design, powers, max(1, workers - 2), quiet)
-        core_job = Forked(_core_stage, design, model, quiet)
+        if workers >= 3:  # a core each: the sweep compiles its own copy of the NLP
+            power_job = Forked(_power_stage, design, powers, max(1, workers - 2), quiet)
+            core_job = Forked(_core_stage, design, model, quiet)
+        else:  # one child, in turn: the sweep re-uses the NLP the optimisation compiled
+            both = Forked(_core_then_power, design, model, powers, quiet)
         coil, coil_t = _coil_stage(design, model, say)
         from spiralcap.report.render import preload
 
         preload()  # matplotlib, while the children compute
-        core, core_t = core_job.result()
-        for stage in core_t:
+        if workers >= 3:
+            (core, core_t), (power, power_t) = core_job.result(), power_job.result()
+        else:
+            (core, core_t), (power, power_t) = both.result()
+        for stage in (*core_t, "power sweep"):
             say(stage)
-        power, power_t = power_job.result()
-        say("power sweep")
     else:
         core, core_t = _core_stage(design, model, say)
         coil, coil_t = _coil_stage(design, model, say)
