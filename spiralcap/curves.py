@@ -172,22 +172,43 @@ def adaptive_power_sweep(
     *,
     refinements: int = POWER_REFINEMENTS,
     workers: int = 1,
+    model: Any = None,
 ) -> Any:
     """Re-optimise at each power budget, then bisect where the Pareto curve bends.
 
     Each refinement adds one budget, at the geometric mean of the interval whose ends differ
     most: by a change of the binding set or of the status (the knee, where power stops
-    binding), weighted by the change of margin and the interval's width in log power.
+    binding), weighted by the change of margin and the interval's width in log power. A
+    refinement is warm-started from the optimum at the lower end of its interval (the upper
+    one if the lower is infeasible; grid starts if neither is optimal), as a sweep's points
+    are from the previous point's.
+
+    Parameters
+    ----------
+    design : Design
+    powers_W : ndarray
+        The first budgets, W (re-optimised as one :func:`spiralcap.sweep.sweep`).
+    refinements : int
+        Budgets added adaptively.
+    workers : int
+        Worker processes for the first budgets (the refinements run here, one after another).
+    model : DesignModel, optional
+        ``spiralcap.robust.optimization_model(design)`` if the caller has it (prepared: its
+        Constants and their cached field caps are reused); built here otherwise.
 
     Returns
     -------
     spiralcap.sweep.SweepResult
         One axis, ``limits.power_W``, sorted by power.
     """
-    from spiralcap.sweep import Axis, SweepResult, sweep
+    from optimize import prepare
+    from spiralcap.robust import optimization_model
+    from spiralcap.sweep import Axis, SweepResult, optimize_row, sweep, with_values
 
     key = "limits.power_W"
-    first = sweep(design, [Axis(key, np.asarray(powers_W, float))], optimize=True, workers=workers)
+    base = prepare(optimization_model(design, model))  # one model for every budget
+    axis = Axis(key, np.asarray(powers_W, float))
+    first = sweep(design, [axis], optimize=True, workers=workers, model=base)
     p = np.asarray(first.inputs[key], float)
     out = {k: np.asarray(v) for k, v in first.outputs.items()}
     for _ in range(refinements):
@@ -201,9 +222,11 @@ def adaptive_power_sweep(
         )
         i = int(np.argmax(score))
         new = float(np.sqrt(p[i] * p[i + 1]))
-        one = sweep(design, [Axis(key, np.array([new]))], optimize=True)
+        ends = [{k: v[j] for k, v in out.items()} for j in (i, i + 1)]
+        warm = next((e for e in ends if e["status"] == "optimal"), None)
+        row = optimize_row(with_values(base, {key: new}), warm)
         p = np.insert(p, i + 1, new)
-        out = {k: np.insert(v, i + 1, one.outputs[k][0]) for k, v in out.items()}
+        out = {k: np.insert(v, i + 1, row[k]) for k, v in out.items()}
     return SweepResult((Axis(key, p),), {key: p}, out, first.mode)
 
 
