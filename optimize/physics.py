@@ -312,7 +312,29 @@ def _brent_below(value: Any, allowed: float, lo: float, hi: float) -> float:
     return root
 
 
+#: Field caps already solved, per Constants object: key -> (the Constants, the cap). The key
+#: holds ``id(c)`` and the stored object is compared with ``is``, so a recycled id never hits.
 _HOT_SPOT_CAPS: dict[tuple, tuple[Any, np.ndarray]] = {}
+
+
+def _array_key(x: np.ndarray) -> tuple:
+    return (x.tobytes(), x.shape)
+
+
+def _cached_cap(c: Constants, key: tuple, solve: Any) -> Any:
+    """``solve()`` memoised under ``key`` for the Constants object ``c`` (the same numbers:
+    the caps are deterministic functions of ``c`` and the key)."""
+    key = (id(c), *key)
+    hit = _HOT_SPOT_CAPS.get(key)
+    if hit is not None and hit[0] is c:
+        return hit[1]
+    cap = solve()
+    if isinstance(cap, np.ndarray):
+        cap.setflags(write=False)  # shared by every caller: read-only
+    if len(_HOT_SPOT_CAPS) > 256:
+        _HOT_SPOT_CAPS.clear()
+    _HOT_SPOT_CAPS[key] = (c, cap)
+    return cap
 
 
 def _hot_spot_cap_T(k: int, c: Constants, allowed_K: Any, ambient_temperature_C: float) -> Any:
@@ -321,41 +343,45 @@ def _hot_spot_cap_T(k: int, c: Constants, allowed_K: Any, ambient_temperature_C:
     per_amp = float(c.current_per_tesla_A_per_T[k])
     if per_amp <= 0:  # an axis no heading uses carries no current: no cap
         return np.full(allowed.shape, np.inf)
-    key = (id(c), k, allowed.tobytes(), allowed.shape, float(ambient_temperature_C))
-    hit = _HOT_SPOT_CAPS.get(key)
-    if hit is not None and hit[0] is c:
-        return hit[1]
 
     def value(b: Any) -> Any:
         return hot_spot_rise_K(b * per_amp, k, c, ambient_temperature_C)
 
-    cap = _bisect_field_T(value, allowed, allowed.shape)
-    if len(_HOT_SPOT_CAPS) > 256:
-        _HOT_SPOT_CAPS.clear()
-    _HOT_SPOT_CAPS[key] = (c, cap)
-    return cap
+    key = (k, *_array_key(allowed), float(ambient_temperature_C))
+    return _cached_cap(c, key, lambda: _bisect_field_T(value, allowed, allowed.shape))
 
 
 def _power_cap_T(c: Constants, allowed_W: Any, ambient_temperature_C: float) -> Any:
     """Largest centre field the copper-power limit allows (bisection; depends on B0 only)."""
     allowed = np.asarray(allowed_W, dtype=float)
-    key = (id(c), "power", allowed.tobytes(), allowed.shape, float(ambient_temperature_C))
-    hit = _HOT_SPOT_CAPS.get(key)
-    if hit is not None and hit[0] is c:
-        return hit[1]
-    cap = _bisect_field_T(
-        lambda b: total_loss_W(b, c, ambient_temperature_C), allowed, allowed.shape
+    key = ("power", *_array_key(allowed), float(ambient_temperature_C))
+    return _cached_cap(
+        c,
+        key,
+        lambda: _bisect_field_T(
+            lambda b: total_loss_W(b, c, ambient_temperature_C), allowed, allowed.shape
+        ),
     )
-    if len(_HOT_SPOT_CAPS) > 256:
-        _HOT_SPOT_CAPS.clear()
-    _HOT_SPOT_CAPS[key] = (c, cap)
-    return cap
 
 
 def _voltage_cap_T(
     k: int, frequency_hz: Any, c: Constants, allowed_V: Any, ambient_temperature_C: float
 ) -> Any:
     """Largest centre field the drive voltage of axis k allows, |Z(R(I))| I = V (numpy).
+
+    Cached per Constants object, frequencies, voltage and ambient (:func:`_voltage_cap_solve`):
+    the sweeps, curves and searches ask for the same frequencies again and again.
+    """
+    f = np.asarray(frequency_hz, dtype=float)
+    volt = np.asarray(allowed_V, dtype=float)
+    key = ("voltage", k, *_array_key(f), *_array_key(volt), float(ambient_temperature_C))
+    return _cached_cap(c, key, lambda: _voltage_cap_solve(k, f, c, volt, ambient_temperature_C))
+
+
+def _voltage_cap_solve(
+    k: int, frequency_hz: Any, c: Constants, allowed_V: Any, ambient_temperature_C: float
+) -> Any:
+    """:func:`_voltage_cap_T` solved.
 
     R(I) rises with the current (self-consistent heating), so the root in I lies between
     hi = V/|Z(R(0))| and lo = V/|Z(R(hi))|; a secant kept inside that bracket (bisecting where

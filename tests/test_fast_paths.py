@@ -5,6 +5,9 @@
 - evaluate / optimize_design with ``frequency_bounds=False`` (sweep rows, the discrete search's
   neighbours) equal the full call in everything but the skipped step-out and highest-frequency
   searches.
+- margin_grid on an angle x frequency grid solves the field capacity once per distinct
+  frequency, and the field caps are memoised per Constants object: the same bits as solving
+  every grid point afresh.
 """
 
 import dataclasses
@@ -70,3 +73,24 @@ def test_optimize_without_frequency_bounds_same_optimum(model):
             f"{name}: the optimum must not depend on frequency_bounds (bit for bit)"
         )
     assert [b.name for b in quick.binding_limits] == [b.name for b in full.binding_limits]
+
+
+def test_capacity_per_distinct_frequency_and_memoised_caps_same_bits(model):
+    from optimize import margin_grid
+    from optimize import physics as ph
+
+    b = model.bounds
+    a = np.linspace(b.helical_angle_min_rad, b.helical_angle_max_rad, 7)
+    f = np.geomspace(0.05, 40.0, 11)
+    aa, ff = np.meshgrid(a, f)
+    ph._HOT_SPOT_CAPS.clear()
+    grid = margin_grid(model, aa, ff, capacity=True).field_amplitude_T  # 11 solves, memoised
+    memo = ph.field_capacity_T(ff, model.constants, model.limits, model.ambient_temperature_C)
+    ph._HOT_SPOT_CAPS.clear()
+    fresh = ph.field_capacity_T(ff, model.constants, model.limits, model.ambient_temperature_C)
+    assert np.array_equal(grid, fresh[0]) and np.array_equal(memo[0], fresh[0]), (
+        "capacity per distinct frequency == every grid point solved afresh, bit for bit"
+    )
+    for cached, new in zip(memo[1], fresh[1]):
+        assert np.array_equal(cached, new), "memoised caps == caps solved afresh"
+    assert fresh[0].shape == aa.shape
