@@ -352,16 +352,28 @@ def _hot_spot_cap_T(k: int, c: Constants, allowed_K: Any, ambient_temperature_C:
 
 
 def _power_cap_T(c: Constants, allowed_W: Any, ambient_temperature_C: float) -> Any:
-    """Largest centre field the copper-power limit allows (bisection; depends on B0 only)."""
+    """Largest centre field the copper-power limit allows (bisection; depends on B0 only).
+
+    The loss at each scalar field tried is memoised per Constants object and ambient: every
+    budget's search brackets its root from the same fields (1, 2, 4, ... mT), so a sweep over
+    the power limit solves those once.
+    """
     allowed = np.asarray(allowed_W, dtype=float)
-    key = ("power", *_array_key(allowed), float(ambient_temperature_C))
-    return _cached_cap(
-        c,
-        key,
-        lambda: _bisect_field_T(
-            lambda b: total_loss_W(b, c, ambient_temperature_C), allowed, allowed.shape
-        ),
-    )
+    amb = float(ambient_temperature_C)
+    losses: dict[float, float] = _cached_cap(c, ("losses", amb), dict)
+
+    def loss(b: Any) -> Any:
+        if np.ndim(b) != 0:
+            return total_loss_W(b, c, amb)
+        key = float(b)
+        if key not in losses:
+            if len(losses) > 4096:
+                losses.clear()
+            losses[key] = float(total_loss_W(key, c, amb))
+        return losses[key]
+
+    key = ("power", *_array_key(allowed), amb)
+    return _cached_cap(c, key, lambda: _bisect_field_T(loss, allowed, allowed.shape))
 
 
 def _voltage_cap_T(

@@ -94,3 +94,19 @@ def test_capacity_per_distinct_frequency_and_memoised_caps_same_bits(model):
     for cached, new in zip(memo[1], fresh[1]):
         assert np.array_equal(cached, new), "memoised caps == caps solved afresh"
     assert fresh[0].shape == aa.shape
+
+
+def test_power_cap_with_memoised_losses_same_bits(model):
+    """The power cap memoises the loss at each scalar field its search tries (shared by every
+    budget of a sweep); each budget's cap equals a search without the memo, bit for bit."""
+    from optimize import physics as ph
+
+    c, amb = model.constants, model.ambient_temperature_C
+    ph._HOT_SPOT_CAPS.clear()
+    for budget in (250.0, 700.0, 1000.0, 1414.2, 4000.0):
+        memo = float(ph._power_cap_T(c, budget, amb))
+        plain = float(
+            ph._bisect_field_T(lambda b: ph.total_loss_W(b, c, amb), np.asarray(budget), ())
+        )
+        assert memo == plain, f"{budget} W: memoised power cap == plain search, bit for bit"
+        assert ph.total_loss_W(memo, c, amb) <= budget, "the cap is on the allowed side"
