@@ -110,3 +110,11 @@ def test_power_cap_with_memoised_losses_same_bits(model):
         )
         assert memo == plain, f"{budget} W: memoised power cap == plain search, bit for bit"
         assert ph.total_loss_W(memo, c, amb) <= budget, "the cap is on the allowed side"
+
+
+def test_coil_analysis_with_the_callers_model_is_the_same(model):
+    """analyse_coils reuses a model the caller built (the report's): the same payload."""
+    from spiralcap.analysis.coils import analyse_coils, coils_payload
+
+    design = load_design()
+    assert coils_payload(analyse_coils(design, model)) == coils_payload(analyse_coils(design))
