@@ -397,8 +397,10 @@ def _voltage_cap_solve(
 
     R(I) rises with the current (self-consistent heating), so the root in I lies between
     hi = V/|Z(R(0))| and lo = V/|Z(R(hi))|; a secant kept inside that bracket (bisecting where
-    the bracket has not halved in two steps) finds it,
-    vectorised over f, until every residual is below 1e-12 V (or the bracket 1e-14 wide).
+    the bracket has not halved in two steps) finds it, vectorised over f. Each element stops
+    at its first iterate with a residual below 1e-12 V (or a bracket 1e-14 wide) and keeps it,
+    so an element's cap does not depend on the others solved with it: the same bits as that
+    frequency solved alone.
     """
     from coils.electrical import impedance_ohm
 
@@ -423,6 +425,8 @@ def _voltage_cap_solve(
     e_lo = np.minimum(excess(lo), 0.0)
     x0, ex0, x1, ex1 = lo, e_lo, hi, e_hi
     i1 = hi
+    result = np.array(hi)
+    done = np.zeros(shape, dtype=bool)
     widths = [hi - lo, hi - lo]
     for _ in range(200):  # secant kept in the bracket; bisect where it has not halved in 2 steps
         den = np.where(ex1 != ex0, ex1 - ex0, 1.0)
@@ -430,12 +434,17 @@ def _voltage_cap_solve(
         slow = (hi - lo) > 0.5 * widths[-2]
         i1 = np.where((i1 > lo) & (i1 < hi) & ~slow, i1, 0.5 * (lo + hi))
         e1 = excess(i1)
-        if not np.any((np.abs(e1) > 1e-12 * volt) & (hi - lo > 1e-14 * hi)):
+        converged = ~((np.abs(e1) > 1e-12 * volt) & (hi - lo > 1e-14 * hi))
+        result = np.where(converged & ~done, i1, result)  # each element's first converged iterate
+        done = done | converged
+        if np.all(done):
             break
         widths.append(hi - lo)
         hi, lo = np.where(e1 > 0, i1, hi), np.where(e1 > 0, lo, i1)
         x0, ex0, x1, ex1 = x1, ex1, i1, e1
-    return i1 / per_amp
+    else:
+        result = np.where(done, result, i1)
+    return result / per_amp
 
 
 def field_capacity_T(

@@ -118,3 +118,16 @@ def test_coil_analysis_with_the_callers_model_is_the_same(model):
 
     design = load_design()
     assert coils_payload(analyse_coils(design, model)) == coils_payload(analyse_coils(design))
+
+
+def test_voltage_cap_of_a_frequency_does_not_depend_on_the_others(model):
+    """Each frequency of a vectorised voltage-cap solve keeps its own first converged iterate:
+    the cap at f is the same bits alone or among 60 others (curves == evaluate at a point)."""
+    from optimize import physics as ph
+
+    c, amb, volt = model.constants, model.ambient_temperature_C, model.limits.voltage_V
+    f = np.geomspace(0.05, 60.0, 61)
+    for k in range(3):
+        together = ph._voltage_cap_solve(k, f, c, volt, amb)
+        alone = [float(ph._voltage_cap_solve(k, float(x), c, volt, amb)) for x in f]
+        assert np.array_equal(together, alone), f"axis {k}: vector == scalar caps, bit for bit"
