@@ -193,8 +193,10 @@ def adaptive_power_sweep(
     workers : int
         Worker processes for the first budgets (the refinements run here, one after another).
     model : DesignModel, optional
-        ``spiralcap.robust.optimization_model(design)`` if the caller has it (prepared: its
-        Constants and their cached field caps are reused); built here otherwise.
+        ``spiralcap.assemble.build_model(design)`` if the caller has it (prepared: its
+        Constants and their cached field caps are reused); built here otherwise. Tissue
+        scenarios are added here when the design asks for them
+        (:func:`spiralcap.robust.optimization_model`).
 
     Returns
     -------

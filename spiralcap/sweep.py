@@ -289,7 +289,7 @@ def _optimize_points(
         {k: v[s : s + OPTIMIZE_CHUNK] for k, v in inputs.items()}
         for s in range(0, n, OPTIMIZE_CHUNK)
     ]
-    if workers > 1 or dask is not None:
+    if (workers > 1 and len(chunks) > 1) or dask is not None:  # one chunk: here, with base
         from spiralcap.parallel import map_tasks
 
         parts = map_tasks(
