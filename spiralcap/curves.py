@@ -173,6 +173,7 @@ def adaptive_power_sweep(
     refinements: int = POWER_REFINEMENTS,
     workers: int = 1,
     model: Any = None,
+    optimum: Any = None,
 ) -> Any:
     """Re-optimise at each power budget, then bisect where the Pareto curve bends.
 
@@ -197,6 +198,12 @@ def adaptive_power_sweep(
         Constants and their cached field caps are reused); built here otherwise. Tissue
         scenarios are added here when the design asks for them
         (:func:`spiralcap.robust.optimization_model`).
+    optimum : optimize.OptimizationResult, optional
+        The design's own optimum (``optimize_design`` of that model, at its ``limits.power_W``)
+        if the caller has it. Then the first budgets are two warm-started chains going out
+        from it, up and down in power (its own budget, if among them, is its row), in this
+        process, instead of a sweep whose first budget starts cold; the rows agree to the
+        solver's tolerance (1e-10 relative).
 
     Returns
     -------
@@ -209,10 +216,14 @@ def adaptive_power_sweep(
 
     key = "limits.power_W"
     base = prepare(optimization_model(design, model))  # one model for every budget
-    axis = Axis(key, np.asarray(powers_W, float))
-    first = sweep(design, [axis], optimize=True, workers=workers, model=base)
-    p = np.asarray(first.inputs[key], float)
-    out = {k: np.asarray(v) for k, v in first.outputs.items()}
+    if optimum is not None and optimum.status == "optimal":
+        p = np.sort(np.asarray(powers_W, float))
+        out = _chains_from(optimum, base, key, p, float(design[key]))
+    else:
+        axis = Axis(key, np.asarray(powers_W, float))
+        first = sweep(design, [axis], optimize=True, workers=workers, model=base)
+        p = np.asarray(first.inputs[key], float)
+        out = {k: np.asarray(v) for k, v in first.outputs.items()}
     for _ in range(refinements):
         margin = np.nan_to_num(np.asarray(out["margin_Nm"], float))
         changed = (out["binding_limits"][1:] != out["binding_limits"][:-1]) | (
@@ -229,7 +240,29 @@ def adaptive_power_sweep(
         row = optimize_row(with_values(base, {key: new}), warm)
         p = np.insert(p, i + 1, new)
         out = {k: np.insert(v, i + 1, row[k]) for k, v in out.items()}
-    return SweepResult((Axis(key, p),), {key: p}, out, first.mode)
+    return SweepResult((Axis(key, p),), {key: p}, out, "optimize")
+
+
+def _chains_from(
+    optimum: Any, base: Any, key: str, powers_W: np.ndarray, own_W: float
+) -> dict[str, np.ndarray]:
+    """Rows at sorted ``powers_W``: warm-started chains from ``optimum`` (at ``own_W``), up
+    through the budgets at or above it and down through those below."""
+    from spiralcap.sweep import OPTIMIZE_COLUMNS, optimize_row, result_row, with_values
+
+    anchor = result_row(optimum)
+    rows: list[Any] = [None] * len(powers_W)
+    up = [j for j in range(len(powers_W)) if powers_W[j] >= own_W]
+    down = [j for j in reversed(range(len(powers_W))) if powers_W[j] < own_W]
+    for chain in (up, down):
+        warm = anchor
+        for j in chain:
+            if powers_W[j] == own_W:
+                rows[j] = anchor
+            else:
+                rows[j] = optimize_row(with_values(base, {key: float(powers_W[j])}), warm)
+            warm = rows[j]
+    return {k: np.array([r[k] for r in rows]) for k in OPTIMIZE_COLUMNS}
 
 
 def field_maps(

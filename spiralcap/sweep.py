@@ -327,5 +327,9 @@ def optimize_row(model: Any, warm: dict[str, Any] | None = None) -> dict[str, An
             "frequency": float(warm["frequency_hz"]),
             "field_T": float(warm["field_amplitude_T"]),
         }
-    row = _row(optimize_design(model, warm_start=start, frequency_bounds=False))
-    return dict(zip(OPTIMIZE_COLUMNS, row))
+    return result_row(optimize_design(model, warm_start=start, frequency_bounds=False))
+
+
+def result_row(result: Any) -> dict[str, Any]:
+    """An :class:`optimize.OptimizationResult` as a row of :data:`OPTIMIZE_COLUMNS`."""
+    return dict(zip(OPTIMIZE_COLUMNS, _row(result)))

@@ -73,3 +73,26 @@ def test_adaptive_power_sweep_refines_the_knee_with_the_cold_optima():
         assert np.isclose(res.outputs["margin_Nm"][j], cold.margin_Nm, rtol=1e-8, atol=0), (
             f"refinement at {p[j]:.1f} W: warm start reaches the grid starts' optimum (1e-8)"
         )
+
+
+def test_adaptive_power_sweep_from_the_designs_optimum_gives_the_same_curve():
+    """Given the design's own optimum, the first budgets are warm chains out from it: the same
+    budgets, statuses and binding sets, margins within IPOPT's tolerance (1e-8 relative), and
+    the design's own budget is the optimum's row."""
+    from optimize import optimize_design, prepare
+    from spiralcap.assemble import build_model
+    from spiralcap.curves import POWER_FACTORS, adaptive_power_sweep
+
+    design = load_design()
+    model = prepare(build_model(design))
+    coarse = design["limits.power_W"] * np.asarray(POWER_FACTORS)
+    res = optimize_design(model)
+    fast = adaptive_power_sweep(design, coarse, model=model, optimum=res)
+    plain = adaptive_power_sweep(design, coarse, model=model)
+    p = fast.inputs["limits.power_W"]
+    assert np.array_equal(p, plain.inputs["limits.power_W"]), "the same budgets"
+    for k in ("status", "binding_limits"):
+        assert np.array_equal(fast.outputs[k], plain.outputs[k]), k
+    assert np.allclose(fast.outputs["margin_Nm"], plain.outputs["margin_Nm"], rtol=1e-8, atol=0)
+    own = int(np.flatnonzero(p == design["limits.power_W"])[0])
+    assert fast.outputs["margin_Nm"][own] == res.margin_Nm, "the design's budget: its optimum"
