@@ -248,7 +248,6 @@ def _heading_table(b: NLPBuilder, name: str, headings: int) -> Any:
 
 def _with_thermal_parameters(b: NLPBuilder, structure: Structure, c: Any) -> Any:
     """``c`` with the winding temperature / session as parameters where the structure has them."""
-
     return replace(
         c,
         winding_temperature_C=(

@@ -317,6 +317,11 @@ def _brent_below(value: Any, allowed: float, lo: float, hi: float) -> float:
 _HOT_SPOT_CAPS: dict[tuple, tuple[Any, np.ndarray]] = {}
 
 
+#: Largest frequency grid whose voltage caps are kept (the curves' and searches' grids are
+#: a few hundred points).
+_CACHED_SIZE = 4096
+
+
 def _array_key(x: np.ndarray) -> tuple:
     return (x.tobytes(), x.shape)
 
@@ -382,10 +387,13 @@ def _voltage_cap_T(
     """Largest centre field the drive voltage of axis k allows, |Z(R(I))| I = V (numpy).
 
     Cached per Constants object, frequencies, voltage and ambient (:func:`_voltage_cap_solve`):
-    the sweeps, curves and searches ask for the same frequencies again and again.
+    the sweeps, curves and searches ask for the same frequencies again and again (large
+    one-off grids, such as a vectorised sweep's, are solved without keeping them).
     """
     f = np.asarray(frequency_hz, dtype=float)
     volt = np.asarray(allowed_V, dtype=float)
+    if max(f.size, volt.size) > _CACHED_SIZE:
+        return _voltage_cap_solve(k, f, c, volt, ambient_temperature_C)
     key = ("voltage", k, *_array_key(f), *_array_key(volt), float(ambient_temperature_C))
     return _cached_cap(c, key, lambda: _voltage_cap_solve(k, f, c, volt, ambient_temperature_C))
 
