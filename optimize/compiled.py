@@ -10,7 +10,7 @@ LRU cache on the frozen structure (no ``id()`` keys), so sweeps and repeated sol
 from __future__ import annotations
 
 import functools
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import casadi as ca
@@ -115,7 +115,20 @@ class CompiledProblem:
 
 @functools.lru_cache(maxsize=16)
 def compile_problem(structure: Structure) -> CompiledProblem:
-    """Build and compile the NLP of ``structure`` (memoised by value)."""
+    """Build and compile the NLP of ``structure`` (memoised by value).
+
+    The warm-start variant shares the cold problem's expression graph and derivative
+    functions (:meth:`optimize.nlp.CompiledNLP.with_options`): only IPOPT's options differ, so
+    the NLP is built and differentiated once per structure whichever starts a caller uses.
+    """
+    if structure.warm:
+        cold = compile_problem(replace(structure, warm=False))
+        return CompiledProblem(structure, cold.nlp.with_options(_WARM_OPTIONS))
+    return CompiledProblem(structure, _build(structure).compile(IPOPT_OPTIONS))
+
+
+def _build(structure: Structure) -> NLPBuilder:
+    """The named variables, parameters, rows and objective of ``structure``'s NLP."""
     b = NLPBuilder()
     inf = np.inf
     alpha = b.variable("helical_angle", pb.ALPHA_REF_rad)
@@ -170,8 +183,7 @@ def compile_problem(structure: Structure) -> CompiledProblem:
         dg = ca.substitute(ca.jacobian(term.form(term.value, a), a), a, term.allowed)
         b.constrain(term.row, g, term.allowed, dg, term.value)
     b.minimize(obj)
-    options = _WARM_OPTIONS if structure.warm else IPOPT_OPTIONS
-    return CompiledProblem(structure, b.compile(options))
+    return b
 
 
 @dataclass(frozen=True)
@@ -236,8 +248,6 @@ def _heading_table(b: NLPBuilder, name: str, headings: int) -> Any:
 
 def _with_thermal_parameters(b: NLPBuilder, structure: Structure, c: Any) -> Any:
     """``c`` with the winding temperature / session as parameters where the structure has them."""
-    from dataclasses import replace
-
     return replace(
         c,
         winding_temperature_C=(

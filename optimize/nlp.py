@@ -114,7 +114,8 @@ class NLPBuilder:
         x = ca.vertcat(*self._xsym)
         p = ca.vertcat(*(s for s, _ in self._params.values())) if self._params else ca.SX(0, 1)
         g = ca.vertcat(*self._g) if self._g else ca.SX(0, 1)
-        solver = ca.nlpsol("spiralcap", "ipopt", {"x": x, "p": p, "f": self._f, "g": g}, options)
+        problem = {"x": x, "p": p, "f": self._f, "g": g}
+        solver = ca.nlpsol("spiralcap", "ipopt", problem, options)
         lam = ca.SX.sym("lam", g.shape[0])
         lagrangian = self._f + ca.dot(lam, g)
         # d(optimal objective)/d p = ∂L/∂p at the solution (envelope theorem)
@@ -135,6 +136,7 @@ class NLPBuilder:
             allowed,
             funcs,
             start,
+            problem,
         )
 
 
@@ -189,9 +191,13 @@ class Solution:
 class CompiledNLP:
     """A compiled problem: solve with parameter values by name, warm starts and new bounds."""
 
-    def __init__(self, solver, variables, params, rows, dldp, allowed, funcs, start=None) -> None:
+    def __init__(
+        self, solver, variables, params, rows, dldp, allowed, funcs, start=None, problem=None
+    ) -> None:
         self.solver = solver
         self.start = start
+        self._params = params
+        self._problem = problem
         self.variables: tuple[_Var, ...] = variables
         self.var_index = {v.name: i for i, v in enumerate(variables)}
         self.rows: tuple[Row, ...] = rows
@@ -205,6 +211,30 @@ class CompiledNLP:
             self.param_shapes[name] = shape
             k += n
         self.n_params = k
+
+    def with_options(self, options: Mapping[str, Any]) -> CompiledNLP:
+        """The same problem with an IPOPT solver of other ``options`` (warm-start settings).
+
+        The new solver reuses this one's derivative functions (gradient, constraint Jacobian,
+        Hessian of the Lagrangian: CasADi's ``cache`` option), so it costs well under a
+        millisecond instead of a fresh symbolic differentiation; it evaluates the very same
+        functions, so its iterates are those of a solver compiled from scratch bit for bit.
+        """
+        if self._problem is None:
+            raise ValueError("this problem was compiled without its expressions")
+        derived = {name: self.solver.get_function(name) for name in self.solver.get_function()}
+        solver = ca.nlpsol("spiralcap", "ipopt", self._problem, {**options, "cache": derived})
+        return CompiledNLP(
+            solver,
+            self.variables,
+            self._params,
+            self.rows,
+            self.dldp,
+            self.allowed,
+            self.funcs,
+            self.start,
+            self._problem,
+        )
 
     @property
     def row_names(self) -> tuple[str, ...]:

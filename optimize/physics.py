@@ -312,7 +312,34 @@ def _brent_below(value: Any, allowed: float, lo: float, hi: float) -> float:
     return root
 
 
+#: Field caps already solved, per Constants object: key -> (the Constants, the cap). The key
+#: holds ``id(c)`` and the stored object is compared with ``is``, so a recycled id never hits.
 _HOT_SPOT_CAPS: dict[tuple, tuple[Any, np.ndarray]] = {}
+
+
+#: Largest frequency grid whose voltage caps are kept (the curves' and searches' grids are
+#: a few hundred points).
+_CACHED_SIZE = 4096
+
+
+def _array_key(x: np.ndarray) -> tuple:
+    return (x.tobytes(), x.shape)
+
+
+def _cached_cap(c: Constants, key: tuple, solve: Any) -> Any:
+    """``solve()`` memoised under ``key`` for the Constants object ``c`` (the same numbers:
+    the caps are deterministic functions of ``c`` and the key)."""
+    key = (id(c), *key)
+    hit = _HOT_SPOT_CAPS.get(key)
+    if hit is not None and hit[0] is c:
+        return hit[1]
+    cap = solve()
+    if isinstance(cap, np.ndarray):
+        cap.setflags(write=False)  # shared by every caller: read-only
+    if len(_HOT_SPOT_CAPS) > 256:
+        _HOT_SPOT_CAPS.clear()
+    _HOT_SPOT_CAPS[key] = (c, cap)
+    return cap
 
 
 def _hot_spot_cap_T(k: int, c: Constants, allowed_K: Any, ambient_temperature_C: float) -> Any:
@@ -321,35 +348,37 @@ def _hot_spot_cap_T(k: int, c: Constants, allowed_K: Any, ambient_temperature_C:
     per_amp = float(c.current_per_tesla_A_per_T[k])
     if per_amp <= 0:  # an axis no heading uses carries no current: no cap
         return np.full(allowed.shape, np.inf)
-    key = (id(c), k, allowed.tobytes(), allowed.shape, float(ambient_temperature_C))
-    hit = _HOT_SPOT_CAPS.get(key)
-    if hit is not None and hit[0] is c:
-        return hit[1]
 
     def value(b: Any) -> Any:
         return hot_spot_rise_K(b * per_amp, k, c, ambient_temperature_C)
 
-    cap = _bisect_field_T(value, allowed, allowed.shape)
-    if len(_HOT_SPOT_CAPS) > 256:
-        _HOT_SPOT_CAPS.clear()
-    _HOT_SPOT_CAPS[key] = (c, cap)
-    return cap
+    key = (k, *_array_key(allowed), float(ambient_temperature_C))
+    return _cached_cap(c, key, lambda: _bisect_field_T(value, allowed, allowed.shape))
 
 
 def _power_cap_T(c: Constants, allowed_W: Any, ambient_temperature_C: float) -> Any:
-    """Largest centre field the copper-power limit allows (bisection; depends on B0 only)."""
+    """Largest centre field the copper-power limit allows (bisection; depends on B0 only).
+
+    The loss at each scalar field tried is memoised per Constants object and ambient: every
+    budget's search brackets its root from the same fields (1, 2, 4, ... mT), so a sweep over
+    the power limit solves those once.
+    """
     allowed = np.asarray(allowed_W, dtype=float)
-    key = (id(c), "power", allowed.tobytes(), allowed.shape, float(ambient_temperature_C))
-    hit = _HOT_SPOT_CAPS.get(key)
-    if hit is not None and hit[0] is c:
-        return hit[1]
-    cap = _bisect_field_T(
-        lambda b: total_loss_W(b, c, ambient_temperature_C), allowed, allowed.shape
-    )
-    if len(_HOT_SPOT_CAPS) > 256:
-        _HOT_SPOT_CAPS.clear()
-    _HOT_SPOT_CAPS[key] = (c, cap)
-    return cap
+    amb = float(ambient_temperature_C)
+    losses: dict[float, float] = _cached_cap(c, ("losses", amb), dict)
+
+    def loss(b: Any) -> Any:
+        if np.ndim(b) != 0:
+            return total_loss_W(b, c, amb)
+        key = float(b)
+        if key not in losses:
+            if len(losses) > 4096:
+                losses.clear()
+            losses[key] = float(total_loss_W(key, c, amb))
+        return losses[key]
+
+    key = ("power", *_array_key(allowed), amb)
+    return _cached_cap(c, key, lambda: _bisect_field_T(loss, allowed, allowed.shape))
 
 
 def _voltage_cap_T(
@@ -357,10 +386,29 @@ def _voltage_cap_T(
 ) -> Any:
     """Largest centre field the drive voltage of axis k allows, |Z(R(I))| I = V (numpy).
 
+    Cached per Constants object, frequencies, voltage and ambient (:func:`_voltage_cap_solve`):
+    the sweeps, curves and searches ask for the same frequencies again and again (large
+    one-off grids, such as a vectorised sweep's, are solved without keeping them).
+    """
+    f = np.asarray(frequency_hz, dtype=float)
+    volt = np.asarray(allowed_V, dtype=float)
+    if max(f.size, volt.size) > _CACHED_SIZE:
+        return _voltage_cap_solve(k, f, c, volt, ambient_temperature_C)
+    key = ("voltage", k, *_array_key(f), *_array_key(volt), float(ambient_temperature_C))
+    return _cached_cap(c, key, lambda: _voltage_cap_solve(k, f, c, volt, ambient_temperature_C))
+
+
+def _voltage_cap_solve(
+    k: int, frequency_hz: Any, c: Constants, allowed_V: Any, ambient_temperature_C: float
+) -> Any:
+    """:func:`_voltage_cap_T` solved.
+
     R(I) rises with the current (self-consistent heating), so the root in I lies between
     hi = V/|Z(R(0))| and lo = V/|Z(R(hi))|; a secant kept inside that bracket (bisecting where
-    the bracket has not halved in two steps) finds it,
-    vectorised over f, until every residual is below 1e-12 V (or the bracket 1e-14 wide).
+    the bracket has not halved in two steps) finds it, vectorised over f. Each element stops
+    at its first iterate with a residual below 1e-12 V (or a bracket 1e-14 wide) and keeps it,
+    so an element's cap does not depend on the others solved with it: the same bits as that
+    frequency solved alone.
     """
     from coils.electrical import impedance_ohm
 
@@ -385,6 +433,8 @@ def _voltage_cap_T(
     e_lo = np.minimum(excess(lo), 0.0)
     x0, ex0, x1, ex1 = lo, e_lo, hi, e_hi
     i1 = hi
+    result = np.array(hi)
+    done = np.zeros(shape, dtype=bool)
     widths = [hi - lo, hi - lo]
     for _ in range(200):  # secant kept in the bracket; bisect where it has not halved in 2 steps
         den = np.where(ex1 != ex0, ex1 - ex0, 1.0)
@@ -392,12 +442,17 @@ def _voltage_cap_T(
         slow = (hi - lo) > 0.5 * widths[-2]
         i1 = np.where((i1 > lo) & (i1 < hi) & ~slow, i1, 0.5 * (lo + hi))
         e1 = excess(i1)
-        if not np.any((np.abs(e1) > 1e-12 * volt) & (hi - lo > 1e-14 * hi)):
+        converged = ~((np.abs(e1) > 1e-12 * volt) & (hi - lo > 1e-14 * hi))
+        result = np.where(converged & ~done, i1, result)  # each element's first converged iterate
+        done = done | converged
+        if np.all(done):
             break
         widths.append(hi - lo)
         hi, lo = np.where(e1 > 0, i1, hi), np.where(e1 > 0, lo, i1)
         x0, ex0, x1, ex1 = x1, ex1, i1, e1
-    return i1 / per_amp
+    else:
+        result = np.where(done, result, i1)
+    return result / per_amp
 
 
 def field_capacity_T(

@@ -172,24 +172,58 @@ def adaptive_power_sweep(
     *,
     refinements: int = POWER_REFINEMENTS,
     workers: int = 1,
+    model: Any = None,
+    optimum: Any = None,
 ) -> Any:
     """Re-optimise at each power budget, then bisect where the Pareto curve bends.
 
     Each refinement adds one budget, at the geometric mean of the interval whose ends differ
     most: by a change of the binding set or of the status (the knee, where power stops
-    binding), weighted by the change of margin and the interval's width in log power.
+    binding), weighted by the change of margin and the interval's width in log power. A
+    refinement is warm-started from the optimum at the lower end of its interval (the upper
+    one if the lower is infeasible; grid starts if neither is optimal), as a sweep's points
+    are from the previous point's.
+
+    Parameters
+    ----------
+    design : Design
+    powers_W : ndarray
+        The first budgets, W (re-optimised as one :func:`spiralcap.sweep.sweep`).
+    refinements : int
+        Budgets added adaptively.
+    workers : int
+        Worker processes for the first budgets (the refinements run here, one after another).
+    model : DesignModel, optional
+        ``spiralcap.assemble.build_model(design)`` if the caller has it (prepared: its
+        Constants and their cached field caps are reused); built here otherwise. Tissue
+        scenarios are added here when the design asks for them
+        (:func:`spiralcap.robust.optimization_model`).
+    optimum : optimize.OptimizationResult, optional
+        The design's own optimum (``optimize_design`` of that model, at its ``limits.power_W``)
+        if the caller has it. Then the first budgets are two warm-started chains going out
+        from it, up and down in power (its own budget, if among them, is its row), in this
+        process, instead of a sweep whose first budget starts cold; the rows agree to the
+        solver's tolerance (1e-10 relative).
 
     Returns
     -------
     spiralcap.sweep.SweepResult
         One axis, ``limits.power_W``, sorted by power.
     """
-    from spiralcap.sweep import Axis, SweepResult, sweep
+    from optimize import prepare
+    from spiralcap.robust import optimization_model
+    from spiralcap.sweep import Axis, SweepResult, optimize_row, sweep, with_values
 
     key = "limits.power_W"
-    first = sweep(design, [Axis(key, np.asarray(powers_W, float))], optimize=True, workers=workers)
-    p = np.asarray(first.inputs[key], float)
-    out = {k: np.asarray(v) for k, v in first.outputs.items()}
+    base = prepare(optimization_model(design, model))  # one model for every budget
+    if optimum is not None and optimum.status == "optimal":
+        p = np.sort(np.asarray(powers_W, float))
+        out = _chains_from(optimum, base, key, p, float(design[key]))
+    else:
+        axis = Axis(key, np.asarray(powers_W, float))
+        first = sweep(design, [axis], optimize=True, workers=workers, model=base)
+        p = np.asarray(first.inputs[key], float)
+        out = {k: np.asarray(v) for k, v in first.outputs.items()}
     for _ in range(refinements):
         margin = np.nan_to_num(np.asarray(out["margin_Nm"], float))
         changed = (out["binding_limits"][1:] != out["binding_limits"][:-1]) | (
@@ -201,10 +235,34 @@ def adaptive_power_sweep(
         )
         i = int(np.argmax(score))
         new = float(np.sqrt(p[i] * p[i + 1]))
-        one = sweep(design, [Axis(key, np.array([new]))], optimize=True)
+        ends = [{k: v[j] for k, v in out.items()} for j in (i, i + 1)]
+        warm = next((e for e in ends if e["status"] == "optimal"), None)
+        row = optimize_row(with_values(base, {key: new}), warm)
         p = np.insert(p, i + 1, new)
-        out = {k: np.insert(v, i + 1, one.outputs[k][0]) for k, v in out.items()}
-    return SweepResult((Axis(key, p),), {key: p}, out, first.mode)
+        out = {k: np.insert(v, i + 1, row[k]) for k, v in out.items()}
+    return SweepResult((Axis(key, p),), {key: p}, out, "optimize")
+
+
+def _chains_from(
+    optimum: Any, base: Any, key: str, powers_W: np.ndarray, own_W: float
+) -> dict[str, np.ndarray]:
+    """Rows at sorted ``powers_W``: warm-started chains from ``optimum`` (at ``own_W``), up
+    through the budgets at or above it and down through those below."""
+    from spiralcap.sweep import OPTIMIZE_COLUMNS, optimize_row, result_row, with_values
+
+    anchor = result_row(optimum)
+    rows: list[Any] = [None] * len(powers_W)
+    up = [j for j in range(len(powers_W)) if powers_W[j] >= own_W]
+    down = [j for j in reversed(range(len(powers_W))) if powers_W[j] < own_W]
+    for chain in (up, down):
+        warm = anchor
+        for j in chain:
+            if powers_W[j] == own_W:
+                rows[j] = anchor
+            else:
+                rows[j] = optimize_row(with_values(base, {key: float(powers_W[j])}), warm)
+            warm = rows[j]
+    return {k: np.array([r[k] for r in rows]) for k in OPTIMIZE_COLUMNS}
 
 
 def field_maps(

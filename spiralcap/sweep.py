@@ -112,11 +112,15 @@ def sweep(
     workers: int = 1,
     progress: Callable[[int, int], None] | None = None,
     dask: str | None = None,
+    model: Any = None,
 ) -> SweepResult:
     """Evaluate (or re-optimise) ``design`` at every point of the grid spanned by ``axes``.
 
     ``workers`` local processes or a Dask scheduler at ``dask`` run the re-optimisations
     (:func:`spiralcap.parallel.map_tasks`); the rows do not depend on where they ran.
+    ``model``: ``optimization_model(design)`` already built (prepared or not), re-optimised in
+    this process where every swept key is a limit or a requirement instead of building it
+    again (same rows: the same model).
 
     Raises
     ------
@@ -140,7 +144,7 @@ def sweep(
         )
     inputs = _grid(axes)
     if optimize:
-        outputs = _optimize_points(design, inputs, workers, progress, dask)
+        outputs = _optimize_points(design, inputs, workers, progress, dask, model)
         mode = "optimize"
     elif all(a.key in _VECTOR_KEYS for a in axes):
         outputs = _evaluate_vectorised(design, inputs)
@@ -212,33 +216,48 @@ def _row(r) -> tuple:
     )
 
 
-def _models(design: Design, inputs: dict[str, np.ndarray]):
-    """The model at every grid point: limits and requirements replaced in one built model,
-    any other key rebuilt from the design."""
+def _light(keys: Any) -> bool:
+    """True when every key is a limit or a requirement (one built model serves every point)."""
+    return all(_VECTOR_KEYS.get(k, "") in ("limits", "requirements") for k in keys)
+
+
+def with_values(base: Any, values: dict[str, float]) -> Any:
+    """``base`` (a model) with limit and requirement keys set to ``values`` (design units)."""
+    groups: dict[str, dict[str, Any]] = {"limits": {}, "requirements": {}}
+    for key, value in values.items():
+        groups[_VECTOR_KEYS[key]][si_name(key)] = float(to_si(key, float(value)))
+    return replace(
+        base,
+        limits=replace(base.limits, **groups["limits"]),
+        requirements=replace(base.requirements, **groups["requirements"]),
+    )
+
+
+def _models(design: Design, inputs: dict[str, np.ndarray], base: Any = None):
+    """The model at every grid point: limits and requirements replaced in one built model
+    (``base``, else built here), any other key rebuilt from the design."""
     from optimize import prepare
     from spiralcap.robust import optimization_model
 
     n = len(next(iter(inputs.values())))
     # the Constants do not depend on the limits (the winding resistance is self-consistent with
     # the heating at each current, not taken at the temperature limit): one model serves all
-    light = all(_VECTOR_KEYS.get(k, "") in ("limits", "requirements") for k in inputs)
-    base = prepare(optimization_model(design)) if light else None
+    if _light(inputs):
+        base = prepare(base if base is not None else optimization_model(design))
+    else:
+        base = None
     for i in range(n):
         if base is None:
             yield optimization_model(_at(design, inputs, i))
             continue
-        groups: dict[str, dict[str, Any]] = {"limits": {}, "requirements": {}}
-        for key, values in inputs.items():
-            groups[_VECTOR_KEYS[key]][si_name(key)] = float(to_si(key, float(values[i])))
-        yield replace(
-            base,
-            limits=replace(base.limits, **groups["limits"]),
-            requirements=replace(base.requirements, **groups["requirements"]),
-        )
+        yield with_values(base, {key: float(values[i]) for key, values in inputs.items()})
 
 
 def _optimize_chunk(
-    design: Design, inputs: dict[str, np.ndarray], progress: Callable[[int], None] | None = None
+    design: Design,
+    inputs: dict[str, np.ndarray],
+    progress: Callable[[int], None] | None = None,
+    base: Any = None,
 ) -> list[tuple]:
     """Re-optimise the points of one chunk, each warm-started from the previous optimum
     (variables and multipliers; the first from the grid starts). The problem's numbers are
@@ -247,7 +266,7 @@ def _optimize_chunk(
 
     rows: list[tuple] = []
     previous: Any = None
-    for i, model in enumerate(_models(design, inputs)):
+    for i, model in enumerate(_models(design, inputs, base)):
         warm = previous if previous is not None and previous.feasible else None
         # the rows need no step-out or highest frequency: those searches are skipped
         previous = optimize_design(model, warm_start=warm, frequency_bounds=False)
@@ -257,7 +276,9 @@ def _optimize_chunk(
     return rows
 
 
-def _optimize_points(design, inputs, workers, progress, dask=None) -> dict[str, np.ndarray]:
+def _optimize_points(
+    design, inputs, workers, progress, dask=None, base=None
+) -> dict[str, np.ndarray]:
     """Re-optimise at every point, in chunks of :data:`OPTIMIZE_CHUNK` consecutive points.
 
     A chunk is a warm-started chain from a cold first point and is fixed by its index range,
@@ -268,7 +289,7 @@ def _optimize_points(design, inputs, workers, progress, dask=None) -> dict[str, 
         {k: v[s : s + OPTIMIZE_CHUNK] for k, v in inputs.items()}
         for s in range(0, n, OPTIMIZE_CHUNK)
     ]
-    if workers > 1 or dask is not None:
+    if (workers > 1 and len(chunks) > 1) or dask is not None:  # one chunk: here, with base
         from spiralcap.parallel import map_tasks
 
         parts = map_tasks(
@@ -285,6 +306,30 @@ def _optimize_points(design, inputs, workers, progress, dask=None) -> dict[str, 
         for j, c in enumerate(chunks):
             done = j * OPTIMIZE_CHUNK
             report = (lambda i, d=done: progress(d + i, n)) if progress else None
-            parts.append(_optimize_chunk(design, c, report))
+            parts.append(_optimize_chunk(design, c, report, base))
     rows = [r for part in parts for r in part]
     return {k: np.array([r[j] for r in rows]) for j, k in enumerate(OPTIMIZE_COLUMNS)}
+
+
+def optimize_row(model: Any, warm: dict[str, Any] | None = None) -> dict[str, Any]:
+    """One row of :data:`OPTIMIZE_COLUMNS`: ``model`` re-optimised (no step-out search).
+
+    ``warm``: a row of a neighbouring problem (``helical_angle_deg``, ``frequency_hz``,
+    ``field_amplitude_T``) to start from; its optimum need not be feasible here
+    (:func:`optimize.optimize_design` falls back to the grid starts when the warm start fails).
+    """
+    from optimize import optimize_design
+
+    start = None
+    if warm is not None and warm["status"] == "optimal":
+        start = {
+            "helical_angle": math.radians(float(warm["helical_angle_deg"])),
+            "frequency": float(warm["frequency_hz"]),
+            "field_T": float(warm["field_amplitude_T"]),
+        }
+    return result_row(optimize_design(model, warm_start=start, frequency_bounds=False))
+
+
+def result_row(result: Any) -> dict[str, Any]:
+    """An :class:`optimize.OptimizationResult` as a row of :data:`OPTIMIZE_COLUMNS`."""
+    return dict(zip(OPTIMIZE_COLUMNS, _row(result)))

@@ -5,6 +5,9 @@
 - evaluate / optimize_design with ``frequency_bounds=False`` (sweep rows, the discrete search's
   neighbours) equal the full call in everything but the skipped step-out and highest-frequency
   searches.
+- margin_grid on an angle x frequency grid solves the field capacity once per distinct
+  frequency, and the field caps are memoised per Constants object: the same bits as solving
+  every grid point afresh.
 """
 
 import dataclasses
@@ -70,3 +73,61 @@ def test_optimize_without_frequency_bounds_same_optimum(model):
             f"{name}: the optimum must not depend on frequency_bounds (bit for bit)"
         )
     assert [b.name for b in quick.binding_limits] == [b.name for b in full.binding_limits]
+
+
+def test_capacity_per_distinct_frequency_and_memoised_caps_same_bits(model):
+    from optimize import margin_grid
+    from optimize import physics as ph
+
+    b = model.bounds
+    a = np.linspace(b.helical_angle_min_rad, b.helical_angle_max_rad, 7)
+    f = np.geomspace(0.05, 40.0, 11)
+    aa, ff = np.meshgrid(a, f)
+    ph._HOT_SPOT_CAPS.clear()
+    grid = margin_grid(model, aa, ff, capacity=True).field_amplitude_T  # 11 solves, memoised
+    memo = ph.field_capacity_T(ff, model.constants, model.limits, model.ambient_temperature_C)
+    ph._HOT_SPOT_CAPS.clear()
+    fresh = ph.field_capacity_T(ff, model.constants, model.limits, model.ambient_temperature_C)
+    assert np.array_equal(grid, fresh[0]) and np.array_equal(memo[0], fresh[0]), (
+        "capacity per distinct frequency == every grid point solved afresh, bit for bit"
+    )
+    for cached, new in zip(memo[1], fresh[1]):
+        assert np.array_equal(cached, new), "memoised caps == caps solved afresh"
+    assert fresh[0].shape == aa.shape
+
+
+def test_power_cap_with_memoised_losses_same_bits(model):
+    """The power cap memoises the loss at each scalar field its search tries (shared by every
+    budget of a sweep); each budget's cap equals a search without the memo, bit for bit."""
+    from optimize import physics as ph
+
+    c, amb = model.constants, model.ambient_temperature_C
+    ph._HOT_SPOT_CAPS.clear()
+    for budget in (250.0, 700.0, 1000.0, 1414.2, 4000.0):
+        memo = float(ph._power_cap_T(c, budget, amb))
+        plain = float(
+            ph._bisect_field_T(lambda b: ph.total_loss_W(b, c, amb), np.asarray(budget), ())
+        )
+        assert memo == plain, f"{budget} W: memoised power cap == plain search, bit for bit"
+        assert ph.total_loss_W(memo, c, amb) <= budget, "the cap is on the allowed side"
+
+
+def test_coil_analysis_with_the_callers_model_is_the_same(model):
+    """analyse_coils reuses a model the caller built (the report's): the same payload."""
+    from spiralcap.analysis.coils import analyse_coils, coils_payload
+
+    design = load_design()
+    assert coils_payload(analyse_coils(design, model)) == coils_payload(analyse_coils(design))
+
+
+def test_voltage_cap_of_a_frequency_does_not_depend_on_the_others(model):
+    """Each frequency of a vectorised voltage-cap solve keeps its own first converged iterate:
+    the cap at f is the same bits alone or among 60 others (curves == evaluate at a point)."""
+    from optimize import physics as ph
+
+    c, amb, volt = model.constants, model.ambient_temperature_C, model.limits.voltage_V
+    f = np.geomspace(0.05, 60.0, 61)
+    for k in range(3):
+        together = ph._voltage_cap_solve(k, f, c, volt, amb)
+        alone = [float(ph._voltage_cap_solve(k, float(x), c, volt, amb)) for x in f]
+        assert np.array_equal(together, alone), f"axis {k}: vector == scalar caps, bit for bit"

@@ -39,3 +39,60 @@ def test_bad_over_exits_2(capsys):
     assert "--over" in capsys.readouterr().err
     assert main(["sweep", "--over", "operation.frequency_hz=-1:3:4"]) == 2
     assert "operation.frequency_hz" in capsys.readouterr().err
+
+
+def test_adaptive_power_sweep_refines_the_knee_with_the_cold_optima():
+    """The report's power trade-off: the refinements close in on the knee (where power stops
+    binding), each warm-started refinement is the optimum the grid starts find (1e-8 relative:
+    IPOPT's tolerance 1e-10 on the scaled problem), and reusing the caller's model gives the
+    same rows bit for bit."""
+    from dataclasses import replace
+
+    from optimize import optimize_design, prepare
+    from spiralcap.assemble import build_model
+    from spiralcap.curves import POWER_FACTORS, adaptive_power_sweep
+
+    design = load_design()
+    model = prepare(build_model(design))
+    coarse = design["limits.power_W"] * np.asarray(POWER_FACTORS)
+    res = adaptive_power_sweep(design, coarse, model=model)
+    again = adaptive_power_sweep(design, coarse)
+    p = res.inputs["limits.power_W"]
+    assert len(p) == len(coarse) + 4 and np.all(np.diff(p) > 0) and set(coarse) <= set(p)
+    for k, v in res.outputs.items():
+        assert np.array_equal(v, again.outputs[k]), f"{k}: the caller's model gives the same rows"
+    power_binds = np.array(["power" in b.split(";") for b in res.outputs["binding_limits"]])
+    knee = int(np.argmax(~power_binds))  # first budget where power no longer binds
+    assert 0 < knee and power_binds[:knee].all() and not power_binds[knee:].any()
+    assert p[knee] / p[knee - 1] < 1.1, (
+        "the knee is bracketed within 10 % (the coarse budgets: 2x apart)"
+    )
+    for j in np.flatnonzero(~np.isin(p, coarse)):
+        cold = optimize_design(replace(model, limits=replace(model.limits, power_W=float(p[j]))))
+        assert cold.status == res.outputs["status"][j] == "optimal"
+        assert np.isclose(res.outputs["margin_Nm"][j], cold.margin_Nm, rtol=1e-8, atol=0), (
+            f"refinement at {p[j]:.1f} W: warm start reaches the grid starts' optimum (1e-8)"
+        )
+
+
+def test_adaptive_power_sweep_from_the_designs_optimum_gives_the_same_curve():
+    """Given the design's own optimum, the first budgets are warm chains out from it: the same
+    budgets, statuses and binding sets, margins within IPOPT's tolerance (1e-8 relative), and
+    the design's own budget is the optimum's row."""
+    from optimize import optimize_design, prepare
+    from spiralcap.assemble import build_model
+    from spiralcap.curves import POWER_FACTORS, adaptive_power_sweep
+
+    design = load_design()
+    model = prepare(build_model(design))
+    coarse = design["limits.power_W"] * np.asarray(POWER_FACTORS)
+    res = optimize_design(model)
+    fast = adaptive_power_sweep(design, coarse, model=model, optimum=res)
+    plain = adaptive_power_sweep(design, coarse, model=model)
+    p = fast.inputs["limits.power_W"]
+    assert np.array_equal(p, plain.inputs["limits.power_W"]), "the same budgets"
+    for k in ("status", "binding_limits"):
+        assert np.array_equal(fast.outputs[k], plain.outputs[k]), k
+    assert np.allclose(fast.outputs["margin_Nm"], plain.outputs["margin_Nm"], rtol=1e-8, atol=0)
+    own = int(np.flatnonzero(p == design["limits.power_W"])[0])
+    assert fast.outputs["margin_Nm"][own] == res.margin_Nm, "the design's budget: its optimum"

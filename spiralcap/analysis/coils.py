@@ -180,13 +180,17 @@ def operating_thermal(
     return out, curves
 
 
-def analyse_coils(design: Any) -> CoilAnalysis:
-    """The coil analysis of a validated design (see the module docstring)."""
+def analyse_coils(design: Any, model: Any = None) -> CoilAnalysis:
+    """The coil analysis of a validated design (see the module docstring).
+
+    ``model``: ``spiralcap.assemble.build_model(design)`` if the caller has it (its Constants
+    and their cached field caps are reused); built here otherwise.
+    """
     from coils import size_system
     from optimize import physics, prepare
     from spiralcap.assemble import build_model
 
-    model = prepare(build_model(design))
+    model = prepare(model if model is not None else build_model(design))
     c = model.constants
     sizing = size_system(
         model.coils,
