@@ -207,6 +207,16 @@ class Forked:
             self._proc.start()
         send.close()
 
+    def cancel(self) -> None:
+        """Stop the child (its result is not wanted) and wait for it to end."""
+        self._proc.terminate()
+        self._proc.join()
+        self._recv.close()
+
+    def ready(self) -> bool:
+        """True once the child has sent its value (or error): :meth:`result` will not wait."""
+        return bool(self._recv.poll())
+
     def result(self) -> Any:
         """The child's return value; its exception is raised here if it raised one."""
         try:

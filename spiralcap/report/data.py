@@ -11,6 +11,7 @@ from __future__ import annotations
 import importlib.metadata
 import platform
 import time
+import types
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
@@ -186,7 +187,7 @@ def _coil_stage(
 
     timings, lap = _stopwatch()
     say("coil sizing")
-    analysis = analyse_coils(design)  # once: the dict the CLI prints and the heating curves
+    analysis = analyse_coils(design, model)  # once: the CLI's dict and the heating curves
     coils_json = _jsonable(coils_payload(analysis))
     lap("coils")
     say("field maps")
@@ -203,12 +204,20 @@ def _coil_stage(
 
 
 def _power_stage(
-    design: Design, powers_W: np.ndarray, workers: int, say: Callable[[str], None]
+    design: Design,
+    powers_W: np.ndarray,
+    workers: int,
+    say: Callable[[str], None],
+    model: Any = None,
+    optimum: Any = None,
 ) -> tuple[dict[str, Any], dict[str, float]]:
-    """The best margin against the power budget, re-optimised at each (adaptively refined)."""
+    """The best margin against the power budget, re-optimised at each (adaptively refined),
+    going out from the design's own optimum when given."""
     timings, lap = _stopwatch()
     say("power sweep")
-    power_sweep = adaptive_power_sweep(design, powers_W, workers=workers)
+    power_sweep = adaptive_power_sweep(
+        design, powers_W, workers=workers, model=model, optimum=optimum
+    )
     out = {
         "power_sweep": power_sweep,
         "power_values_W": np.asarray(power_sweep.inputs["limits.power_W"], float),
@@ -220,8 +229,18 @@ def _power_stage(
 def _core_then_power(
     design: Design, model: Any, powers_W: np.ndarray, say: Callable[[str], None]
 ) -> tuple[tuple[dict[str, Any], dict[str, float]], tuple[dict[str, Any], dict[str, float]]]:
-    """:func:`_core_stage`, then :func:`_power_stage` (one process, the compiled NLP shared)."""
-    return _core_stage(design, model, say), _power_stage(design, powers_W, 1, say)
+    """:func:`_core_stage`, then :func:`_power_stage` from its optimum (the compiled NLP and
+    the model's cached field caps shared)."""
+    core = _core_stage(design, model, say)
+    return core, _power_stage(design, powers_W, 1, say, model, core[0]["optimization"])
+
+
+def _model(design: Design) -> Any:
+    """The prepared design model (:func:`spiralcap.assemble.build_model`)."""
+    from optimize import prepare
+    from spiralcap.assemble import build_model
+
+    return prepare(build_model(design))
 
 
 def collect(
@@ -231,6 +250,7 @@ def collect(
     workers: int = 1,
     progress: Callable[[str], None] | None = None,
     compare: Design | None = None,
+    while_waiting: Callable[[Any, Callable[[], bool]], None] | None = None,
 ) -> ReportData:
     """Evaluate and optimise ``design`` and run the sweeps and field maps the report shows.
 
@@ -247,13 +267,18 @@ def collect(
     power_factors : tuple of float
         Power budgets of the trade-off sweep as multiples of ``limits.power_W``.
     workers : int
-        Processes to use (1: everything in this process). With more than 3 the power sweep
-        spreads its points over ``workers - 2`` processes of its own.
+        Processes to use (1: everything in this process; more than 2 gain nothing here).
     progress : callable, optional
         Called with the name of each stage as it starts (as it finishes, when run in parallel).
     compare : Design, optional
         A second design to evaluate and optimise beside this one
         (:func:`spiralcap.compare.compare_designs`).
+    while_waiting : callable, optional
+        With the analyses forked: called here as ``while_waiting(partial, busy)`` once the
+        coil analysis is done, while the other process still computes. ``partial`` has the
+        attributes ``design``, ``model`` and the coil stage's fields of :class:`ReportData`;
+        ``busy()`` is True while the other process is still computing. The report draws the
+        coil figures there.
 
     Returns
     -------
@@ -264,39 +289,35 @@ def collect(
     spiralcap.errors.InputError
         The design is inconsistent (raised by :func:`spiralcap.assemble.build_model`).
     """
-    from optimize import prepare
-    from spiralcap.assemble import build_model
     from spiralcap.parallel import Forked, can_fork
 
     say = progress or (lambda _stage: None)
-    model = prepare(build_model(design))
     powers = design["limits.power_W"] * np.asarray(power_factors, dtype=float)
     if workers >= 2 and can_fork():
-        # what the children import, imported once here before they are forked
+        model = _model(design)
+        # what the child imports, imported once here before it is forked (forking before
+        # these imports, to run them in both processes at once, measured slower)
         import spiralcap.robust
         import spiralcap.serialize
         import spiralcap.sweep  # noqa: F401
 
         quiet = lambda _stage: None  # noqa: E731 -- the children print nothing
-        if workers >= 3:  # a core each: the sweep compiles its own copy of the NLP
-            power_job = Forked(_power_stage, design, powers, max(1, workers - 2), quiet)
-            core_job = Forked(_core_stage, design, model, quiet)
-        else:  # one child, in turn: the sweep re-uses the NLP the optimisation compiled
-            both = Forked(_core_then_power, design, model, powers, quiet)
-        coil, coil_t = _coil_stage(design, model, say)
-        from spiralcap.report.render import preload
-
-        preload()  # matplotlib, while the children compute
-        if workers >= 3:
-            (core, core_t), (power, power_t) = core_job.result(), power_job.result()
-        else:
-            (core, core_t), (power, power_t) = both.result()
+        analyses = Forked(_core_then_power, design, model, powers, quiet)
+        try:
+            coil, coil_t = _coil_stage(design, model, say)
+            if while_waiting is not None:
+                partial = types.SimpleNamespace(design=design, model=model, **coil)
+                while_waiting(partial, lambda: not analyses.ready())
+        except BaseException:
+            analyses.cancel()
+            raise
+        (core, core_t), (power, power_t) = analyses.result()
         for stage in (*core_t, "power sweep"):
             say(stage)
     else:
-        core, core_t = _core_stage(design, model, say)
+        model = _model(design)
+        (core, core_t), (power, power_t) = _core_then_power(design, model, powers, say)
         coil, coil_t = _coil_stage(design, model, say)
-        power, power_t = _power_stage(design, powers, workers, say)
     timings = {**core_t, **coil_t, **power_t}
     comparison = None
     if compare is not None:

@@ -17,7 +17,7 @@ with an engine attached, ``savefig`` draws the whole figure twice (once only to 
 from __future__ import annotations
 
 import io
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from typing import Any, cast
 
 from spiralcap.report.document import FigureBlock, Section
@@ -80,38 +80,20 @@ def figure_png(block: FigureBlock, dpi: int = 150) -> bytes:
 
 
 def preload() -> None:
-    """Load what drawing the figures needs (about 0.3 s), e.g. while analyses run elsewhere.
+    """Import what drawing the figures needs (about 0.3 s), e.g. while analyses run elsewhere.
 
-    Imports matplotlib and the figure modules and draws one small figure with text and
-    mathtext, so the font lists and glyph caches are filled once here, not in every forked
-    process that draws.
+    Forked drawers then start with matplotlib and the figure modules loaded (matplotlib has no
+    other one-time cost: its font list loads on import, and a first figure costs what any
+    other does).
     """
-    global _PRELOADED
-    if _PRELOADED:
-        return
     import importlib
-
-    from matplotlib.figure import Figure
 
     for name in _FIGURE_MODULES:
         importlib.import_module(name)
-    fig = Figure(figsize=(2, 1), layout="constrained")
-    from matplotlib.backends.backend_svg import FigureCanvasSVG
-
-    FigureCanvasSVG(fig)
-    ax = fig.add_subplot()
-    ax.plot([0, 1], [0, 1], label="±1 %")
-    ax.set_xlabel(r"$f$ (Hz) α° mN·m")
-    ax.legend()
-    import matplotlib
-
-    with matplotlib.rc_context(cast(Any, {**_report_rc(), **SVG_RC})):
-        fig.savefig(io.StringIO(), format="svg")
-    _PRELOADED = True
 
 
-_PRELOADED = False
 _FIGURE_MODULES = (
+    "matplotlib.figure",
     "matplotlib.backends.backend_svg",
     "spiralcap.figures.api",
     "spiralcap.figures.coils",
@@ -123,23 +105,22 @@ _FIGURE_MODULES = (
 )
 
 
-def _report_rc() -> dict[str, Any]:
-    from spiralcap.figures.style import REPORT_RC
-
-    return REPORT_RC
-
-
-def render_figures(sections: Sequence[Section], *, workers: int = 1) -> dict[str, str]:
+def render_figures(
+    sections: Sequence[Section], *, workers: int = 1, drawn: Mapping[str, str] | None = None
+) -> dict[str, str]:
     """``figure id -> SVG text`` for every figure of the report, in reading order.
 
     With ``workers >= 2`` the figures are shared out, one at a time, between this process and
     ``workers - 1`` forked ones (:func:`spiralcap.parallel.map_forked`); each figure is drawn
-    by the same function either way, so the SVG text is the same.
+    by the same function either way, so the SVG text is the same. Figures in ``drawn`` (id ->
+    SVG, drawn earlier from the same function) are taken as they are.
     """
     from spiralcap.parallel import map_forked
 
+    done = dict(drawn or {})
     blocks = [b for s in sections for b in s.blocks if isinstance(b, FigureBlock)]
+    todo = [b for b in blocks if b.id not in done]
     if workers >= 2:
         preload()  # once, before forking, rather than in every process
-    svgs = map_forked(figure_svg, blocks, workers)
-    return {b.id: svg for b, svg in zip(blocks, svgs, strict=True)}
+    done.update(zip((b.id for b in todo), map_forked(figure_svg, todo, workers), strict=True))
+    return {b.id: done[b.id] for b in blocks}

@@ -102,6 +102,51 @@ def _draw_heating(data: Any, session_s: float | None) -> Any:
     return draw
 
 
+#: Size (in) of each figure :func:`coil_figures` draws.
+_SIZES_IN = {
+    "fig-geometry": (7.0, 3.5),
+    "fig-field-maps": (7.5, 3.5),
+    "fig-field-profiles": (7.0, 4.0),
+    "fig-heating": (7.5, 2.8),
+}
+
+
+def _session_s(design: Any, coils_json: Any) -> float | None:
+    """The session length (s) of the coils JSON; None without ``operation.session_min``."""
+    if design.get("operation.session_min") is None:
+        return None
+    return float(coils_json["operating_point"]["session_s"])
+
+
+def _workspace_m(data: Any) -> float:
+    return float(data.design["workspace.radius_m"])
+
+
+#: How each coil figure's draw(fig) is made from the report data.
+_FACTORIES: dict[str, Any] = {
+    "fig-geometry": lambda d: _draw_geometry(d.model, _workspace_m(d)),
+    "fig-field-maps": lambda d: _draw_maps(d, _workspace_m(d)),
+    "fig-field-profiles": _draw_profiles,
+    "fig-heating": lambda d: _draw_heating(d, _session_s(d.design, d.coils_json)),
+}
+
+
+def coil_figures(data: Any) -> dict[str, tuple[Any, tuple[float, float]]]:
+    """The coil section's figures, id -> (draw(fig), size in inches), in reading order.
+
+    They read only the design, the model and the coil analysis (``coils_json``, ``heating``,
+    ``field_maps``, ``profile`` of :class:`spiralcap.report.data.ReportData`), so a report on
+    several processes draws them while the optimisation is still running; :func:`build` makes
+    its figure blocks from the same functions.
+    """
+    ids = [k for k in _FACTORIES if k != "fig-heating" or data.heating]
+    return {k: (_FACTORIES[k](data), _SIZES_IN[k]) for k in ids}
+
+
+def _figure(data: Any, fig_id: str, caption: str) -> FigureBlock:
+    return FigureBlock(fig_id, caption, _FACTORIES[fig_id](data), size_in=_SIZES_IN[fig_id])
+
+
 def heating_blocks(ctx: Context) -> list[Any]:
     """The heating of the windings at the operating field: a sentence and the heating curves.
 
@@ -115,9 +160,7 @@ def heating_blocks(ctx: Context) -> list[Any]:
     axes = list(ctx.value(f"{op}.axes"))
     hot = max(axes, key=lambda a: ctx.value(f"{op}.axes.{a}.hot_spot_temperature_C"))
     # the session keys appear in the coils JSON only with operation.session_min
-    session_s = None
-    if ctx.data.design.get("operation.session_min") is not None:
-        session_s = float(ctx.value(f"{op}.session_s"))
+    session_s = _session_s(ctx.data.design, ctx.value("coils"))
     a = f"{op}.axes.{hot}"
     parts: list[Any] = [
         Strong("Heating. "),
@@ -147,7 +190,12 @@ def heating_blocks(ctx: Context) -> list[Any]:
     )
     return [
         Paragraph(parts),
-        FigureBlock("fig-heating", caption, _draw_heating(ctx.data, session_s), size_in=(7.5, 2.8)),
+        FigureBlock(
+            "fig-heating",
+            caption,
+            _draw_heating(ctx.data, session_s),
+            size_in=_SIZES_IN["fig-heating"],
+        ),
     ]
 
 
@@ -179,7 +227,8 @@ def build(ctx: Context) -> Section:
         ]
     )
     ws = float(design["workspace.radius_m"])
-    geometry = FigureBlock(
+    geometry = _figure(
+        ctx.data,
         "fig-geometry",
         "The hardware to scale. Left: section through the coil centre in the x–z plane, in mm: "
         "the x and z pairs cut through their winding packs (squares of the pack side at the "
@@ -188,8 +237,6 @@ def build(ctx: Context) -> Section:
         "to its own scale: shell, spiral wire at its helical angle over the wound length (front "
         "half thick, back half dashed) and the diametrically magnetised magnet with its "
         "moment m.",
-        _draw_geometry(ctx.data.model, ws),
-        size_in=(7.0, 3.5),
     )
     blocks: list[Any] = [
         intro,
@@ -236,7 +283,8 @@ def build(ctx: Context) -> Section:
         )
     )
     blocks.append(
-        FigureBlock(
+        _figure(
+            ctx.data,
             "fig-field-maps",
             "Signed deviation of |B| from its centre value (red: stronger, blue: weaker, dotted "
             "where weaker by more than 1 %, so the sign reads in greyscale) on planes "
@@ -245,19 +293,16 @@ def build(ctx: Context) -> Section:
             "along its axis), from coils.uniformity. Solid contour: ±1 %; dashed: ±5 %; dotted "
             "circles: the ±1 % and ±5 % spheres of that field direction (coils.uniform_region, "
             "radii in the sizing table); dash-dot circle: the design's workspace.",
-            _draw_maps(ctx.data, ws),
-            size_in=(7.5, 3.5),
         )
     )
     blocks.append(
-        FigureBlock(
+        _figure(
+            ctx.data,
             "fig-field-profiles",
             "Signed |B| deviation along each pair's axis and across it, that pair driven alone, "
             "out to where the deviation reaches about 10 %. Dashed lines: ±1 %; dotted: ±5 %. "
             "An ideal Helmholtz pair is flat to fourth order at the "
             "centre; the nested pairs' finite winding packs and spacing set the curvature.",
-            _draw_profiles(ctx.data),
-            size_in=(7.0, 4.0),
         )
     )
     blocks += heating_blocks(ctx)
