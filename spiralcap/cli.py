@@ -97,10 +97,16 @@ def console() -> None:  # pragma: no cover -- the installed ``spiralcap`` comman
     :func:`main` called from Python does not.
     """
     import gc
+    import os
 
     from spiralcap import runtime
 
     runtime.ONE_SHOT = True
+    # spiralcap's matrices are small: extra BLAS threads would only spin after each call (a
+    # third of the CPU time of `optimize`) and take a core from the report's worker processes.
+    # Set before numpy is first imported; a value the user set is kept.
+    for var in ("OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
+        os.environ.setdefault(var, "1")
     status = main()
     gc.freeze()
     sys.exit(status)

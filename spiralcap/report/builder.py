@@ -12,9 +12,6 @@ from spiralcap.report.document import FigureBlock, FrontMatter, Section
 from spiralcap.report.sections import Context, build_sections
 
 TITLE = "spiralcap engineering report"
-#: The coil figures drawn while the analyses run elsewhere, cheapest first (0.06, 0.06, 0.09,
-#: 0.19 s here), so one started just before the analyses finish holds the rest up least.
-_EARLY_ORDER = ("fig-heating", "fig-field-profiles", "fig-geometry", "fig-field-maps")
 #: Version of the embedded JSON's layout (``format`` entry).
 DATA_FORMAT = "spiralcap-report/1"
 
@@ -136,37 +133,40 @@ def _build(
     from spiralcap.report.html import render_html
     from spiralcap.report.render import render_figures
 
-    drawn: dict[str, str] = {}
+    early: list[Any] = []  # the coil figures' drawer, when the analyses run elsewhere
 
     def draw_coil_figures(partial: Any, busy: Callable[[], bool]) -> None:
-        # the analyses run in another process: load matplotlib and draw the figures that need
-        # only the coil analysis, as long as that process is still busy
-        from spiralcap.report.render import figure_svg, preload
+        # the analyses run in a forked process: load matplotlib here and draw the figures that
+        # need only the coil analysis in another, so both cores stay busy whichever finishes
+        # first (drawing them here would leave a core idle once the analyses are done)
+        from spiralcap.parallel import Forked
+        from spiralcap.report.render import draw_svgs, preload
         from spiralcap.report.sections.coils import coil_figures
 
         preload()
         figures = coil_figures(partial)
-        for fig_id in sorted(figures, key=_EARLY_ORDER.index):
-            if not busy():
-                break
-            draw, size = figures[fig_id]
-            drawn[fig_id] = figure_svg(FigureBlock(fig_id, "", draw, size_in=size))
+        early.append((frozenset(figures), Forked(draw_svgs, figures)))
 
-    data = collect(
-        design,
-        workers=workers,
-        progress=progress,
-        compare=compare,
-        while_waiting=draw_coil_figures,
-    )
-    payload = report_payload(data)
-    sections = build_sections(Context(data, payload), command)
-    stamp = _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
-    sha = payload["design"]["sha256"]
-    front = front_matter(design, sha, stamp, payload["spiralcap_version"])
-    footer = f"{front.title} · {design.source} · SHA-256 {sha[:12]}…"
-    say("figures")
-    svgs = render_figures(sections, workers=workers, drawn=drawn)
+    try:
+        data = collect(
+            design,
+            workers=workers,
+            progress=progress,
+            compare=compare,
+            while_waiting=draw_coil_figures,
+        )
+        payload = report_payload(data)
+        sections = build_sections(Context(data, payload), command)
+        stamp = _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
+        sha = payload["design"]["sha256"]
+        front = front_matter(design, sha, stamp, payload["spiralcap_version"])
+        footer = f"{front.title} · {design.source} · SHA-256 {sha[:12]}…"
+        say("figures")
+        svgs = render_figures(sections, workers=workers, elsewhere=early[0] if early else None)
+    except BaseException:
+        for _ids, job in early:
+            job.cancel()
+        raise
     say("HTML")
     html = render_html(front, sections, payload, footer, svgs)
     pdf_bytes, pages = None, 0

@@ -89,7 +89,11 @@ def versions() -> dict[str, str]:
             out[dist] = importlib.metadata.version(dist)
         except importlib.metadata.PackageNotFoundError:
             out[dist] = "not installed"
-    out["platform"] = platform.platform(terse=True)
+    # system, kernel release and machine; not platform.platform(), whose processor field runs
+    # `uname -p` in a subprocess (a fork of this whole process, 0.05 s of a report)
+    out["platform"] = "-".join(
+        p for p in (platform.system(), platform.release(), platform.machine()) if p
+    )
     return out
 
 

@@ -17,7 +17,7 @@ with an engine attached, ``savefig`` draws the whole figure twice (once only to 
 from __future__ import annotations
 
 import io
-from collections.abc import Mapping, Sequence
+from collections.abc import Collection, Mapping, Sequence
 from typing import Any, cast
 
 from spiralcap.report.document import FigureBlock, Section
@@ -105,22 +105,35 @@ _FIGURE_MODULES = (
 )
 
 
+def draw_svgs(figures: Mapping[str, tuple[Any, tuple[float, float]]]) -> dict[str, str]:
+    """``id -> SVG`` of figures given as ``id -> (draw(fig), size in inches)``."""
+    return {
+        k: figure_svg(FigureBlock(k, "", draw, size_in=size)) for k, (draw, size) in figures.items()
+    }
+
+
 def render_figures(
-    sections: Sequence[Section], *, workers: int = 1, drawn: Mapping[str, str] | None = None
+    sections: Sequence[Section],
+    *,
+    workers: int = 1,
+    elsewhere: tuple[Collection[str], Any] | None = None,
 ) -> dict[str, str]:
     """``figure id -> SVG text`` for every figure of the report, in reading order.
 
     With ``workers >= 2`` the figures are shared out, one at a time, between this process and
     ``workers - 1`` forked ones (:func:`spiralcap.parallel.map_forked`); each figure is drawn
-    by the same function either way, so the SVG text is the same. Figures in ``drawn`` (id ->
-    SVG, drawn earlier from the same function) are taken as they are.
+    by the same function either way, so the SVG text is the same. ``elsewhere`` is
+    ``(ids, job)``: figures already being drawn by a :class:`spiralcap.parallel.Forked` job
+    whose result is ``id -> SVG``; those are not drawn again.
     """
     from spiralcap.parallel import map_forked
 
-    done = dict(drawn or {})
     blocks = [b for s in sections for b in s.blocks if isinstance(b, FigureBlock)]
-    todo = [b for b in blocks if b.id not in done]
+    ids = set(elsewhere[0]) if elsewhere is not None else set()
+    todo = [b for b in blocks if b.id not in ids]
     if workers >= 2:
         preload()  # once, before forking, rather than in every process
-    done.update(zip((b.id for b in todo), map_forked(figure_svg, todo, workers), strict=True))
+    done = dict(zip((b.id for b in todo), map_forked(figure_svg, todo, workers), strict=True))
+    if elsewhere is not None:
+        done.update(elsewhere[1].result())
     return {b.id: done[b.id] for b in blocks}
