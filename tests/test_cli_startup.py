@@ -50,3 +50,37 @@ def test_parser_for_one_command_parses_as_the_full_parser() -> None:
     assert set(cli.build_parser("coils")._subparsers._group_actions[0].choices) == set(  # type: ignore[union-attr]
         cli.COMMANDS
     ), "every command is still listed in --help"
+
+
+def _console(argv: list[str], env_extra: dict[str, str]) -> subprocess.CompletedProcess[str]:
+    """Run the installed command's entry point (``spiralcap.cli.console``) in a fresh process;
+    it prints the BLAS thread setting it ran with on stderr at exit."""
+    env = dict(os.environ, PYTHONPATH=str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", ""))
+    env.pop("OPENBLAS_NUM_THREADS", None)
+    env.update(env_extra)
+    script = (
+        "import atexit, os, sys\n"
+        f"sys.argv = ['spiralcap', *{argv!r}]\n"
+        "atexit.register(lambda: print('BLAS', os.environ.get('OPENBLAS_NUM_THREADS'), "
+        "file=sys.stderr))\n"
+        "from spiralcap import cli\ncli.console()"
+    )
+    return subprocess.run(
+        [sys.executable, "-c", script], capture_output=True, text=True, env=env, cwd=ROOT
+    )
+
+
+def test_console_runs_a_command_single_threaded_unless_told_otherwise() -> None:
+    run = _console(["coils", "--json"], {})
+    assert run.returncode == 0, run.stderr
+    assert json.loads(run.stdout)["spiralcap_version"], "the command's JSON, whole"
+    assert "BLAS 1" in run.stderr, "the spiralcap command sets OPENBLAS_NUM_THREADS=1"
+    kept = _console(["coils", "--json"], {"OPENBLAS_NUM_THREADS": "3"})
+    assert kept.returncode == 0 and "BLAS 3" in kept.stderr, "a value the user set is kept"
+
+
+def test_console_bad_input_is_one_line_and_exit_2() -> None:
+    run = _console(["evaluate", "--set", "limits.power_W=-5"], {})
+    assert run.returncode == 2, run.stderr
+    lines = [x for x in run.stderr.splitlines() if not x.startswith("BLAS")]
+    assert len(lines) == 1 and "limits.power_W" in lines[0], run.stderr
