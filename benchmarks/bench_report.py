@@ -16,26 +16,13 @@ from __future__ import annotations
 
 import os
 import statistics
-import subprocess
-import sys
 import tempfile
 import time
 from pathlib import Path
 
-from _timing import median_time
+from _timing import median_time, run_cli
 
 ROOT = Path(__file__).resolve().parents[1]
-
-
-def _cli(*args: str) -> None:
-    env = {**os.environ, "PYTHONPATH": str(ROOT)}
-    subprocess.run(
-        [sys.executable, "-m", "spiralcap.cli", *args],
-        check=True,
-        capture_output=True,
-        env=env,
-        cwd=ROOT,
-    )
 
 
 def main() -> None:
@@ -46,10 +33,10 @@ def main() -> None:
     with tempfile.TemporaryDirectory() as tmp:
         html, pdf = str(Path(tmp) / "r.html"), str(Path(tmp) / "r.pdf")
         runs = {
-            "opt": lambda: _cli("optimize"),
-            "html": lambda: _cli("report", "-o", html, "--quiet"),
-            "one": lambda: _cli("report", "-o", html, "--quiet", "--workers", "1"),
-            "pdf": lambda: _cli("report", "-o", html, "--pdf", pdf, "--quiet"),
+            "opt": lambda: run_cli("optimize"),
+            "html": lambda: run_cli("report", "-o", html, "--quiet"),
+            "one": lambda: run_cli("report", "-o", html, "--quiet", "--workers", "1"),
+            "pdf": lambda: run_cli("report", "-o", html, "--pdf", pdf, "--quiet"),
         }
         times: dict[str, list[float]] = {k: [] for k in runs}
         for _ in range(5):  # interleaved, so a change of load on the machine hits all alike

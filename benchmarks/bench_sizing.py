@@ -11,14 +11,8 @@ Asserts nothing; prints the figures.
 
 from __future__ import annotations
 
-import os
-import subprocess
-import sys
-from pathlib import Path
+from _timing import median_time, run_cli
 
-from _timing import median_time
-
-ROOT = Path(__file__).resolve().parents[1]
 SIX = [
     f"--free=coils.{ax}.{key}"
     for ax in "xyz"
@@ -27,14 +21,7 @@ SIX = [
 
 
 def _cli(*args: str) -> None:
-    env = {**os.environ, "PYTHONPATH": str(ROOT)}
-    subprocess.run(
-        [sys.executable, "-m", "spiralcap.cli", *args],
-        check=False,
-        env=env,
-        stdout=subprocess.DEVNULL,
-        cwd=ROOT,
-    )
+    run_cli(*args, check=False)  # sizing runs may exit 3 (infeasible), still timed
 
 
 def main() -> None:

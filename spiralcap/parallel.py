@@ -213,10 +213,6 @@ class Forked:
         self._proc.join()
         self._recv.close()
 
-    def ready(self) -> bool:
-        """True once the child has sent its value (or error): :meth:`result` will not wait."""
-        return bool(self._recv.poll())
-
     def result(self) -> Any:
         """The child's return value; its exception is raised here if it raised one."""
         try:
@@ -263,10 +259,16 @@ def map_forked(fn: Callable[[Any], Any], items: Sequence[Any], processes: int) -
         return done
 
     children = [Forked(work) for _ in range(min(processes, n) - 1)]
+    failure: BaseException | None = None
     try:
         results = work()
-    finally:  # the children are always waited for, also when this process's share failed
-        shares = [child.result() for child in children]
-    for share in shares:
-        results.update(share)
+    except BaseException as exc:  # the children are waited for all the same
+        failure, results = exc, {}
+    for child in children:
+        try:
+            results.update(child.result())
+        except BaseException as exc:
+            failure = failure or exc
+    if failure is not None:
+        raise failure
     return [results[i] for i in range(n)]

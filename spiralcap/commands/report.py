@@ -40,8 +40,8 @@ REPORT_STAGES = (
     "field maps",
 )
 _HTML_SUFFIXES = (".html", ".htm")
-#: Default ``--workers``: the cores available, up to this many (three groups of analyses run
-#: at once, then the figures are shared out; more processes than that buy little).
+#: Default ``--workers``: the cores available, up to this many (the analyses run in one other
+#: process, then the figures are shared out; more processes than that buy little).
 AUTO_WORKERS_MAX = 4
 
 

@@ -129,13 +129,13 @@ def _build(
     progress: Callable[[str], None] | None,
     compare: Design | None,
 ) -> Report:
-    from spiralcap.report.data import collect
+    from spiralcap.report.data import CoilStage, collect
     from spiralcap.report.html import render_html
-    from spiralcap.report.render import render_figures
+    from spiralcap.report.render import DrawnElsewhere, render_figures
 
-    early: list[Any] = []  # the coil figures' drawer, when the analyses run elsewhere
+    early: list[DrawnElsewhere] = []  # the coil figures, when the analyses run elsewhere
 
-    def draw_coil_figures(partial: Any, busy: Callable[[], bool]) -> None:
+    def draw_coil_figures(coils: CoilStage) -> None:
         # the analyses run in a forked process: load matplotlib here and draw the figures that
         # need only the coil analysis in another, so both cores stay busy whichever finishes
         # first (drawing them here would leave a core idle once the analyses are done)
@@ -144,8 +144,8 @@ def _build(
         from spiralcap.report.sections.coils import coil_figures
 
         preload()
-        figures = coil_figures(partial)
-        early.append((frozenset(figures), Forked(draw_svgs, figures)))
+        figures = coil_figures(coils)
+        early.append(DrawnElsewhere(frozenset(figures), Forked(draw_svgs, figures)))
 
     try:
         data = collect(
@@ -164,8 +164,8 @@ def _build(
         say("figures")
         svgs = render_figures(sections, workers=workers, elsewhere=early[0] if early else None)
     except BaseException:
-        for _ids, job in early:
-            job.cancel()
+        for drawing in early:
+            drawing.cancel()
         raise
     say("HTML")
     html = render_html(front, sections, payload, footer, svgs)

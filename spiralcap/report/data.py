@@ -11,9 +11,8 @@ from __future__ import annotations
 import importlib.metadata
 import platform
 import time
-import types
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from typing import Any
 
 import numpy as np
@@ -36,8 +35,8 @@ from spiralcap.curves import (
 from spiralcap.design import Design
 
 __all__ = [
+    "CoilStage",
     "ReportData",
-    "coil_sizing_json",
     "collect",
     "design_has_uncertainty",
     "uniform_radii_m",
@@ -95,13 +94,6 @@ def versions() -> dict[str, str]:
         p for p in (platform.system(), platform.release(), platform.machine()) if p
     )
     return out
-
-
-def coil_sizing_json(design: Design) -> tuple[dict[str, Any], str]:
-    """The dict ``spiralcap coils --json`` prints for ``design``, and where it came from."""
-    from spiralcap.analysis.coils import analyse_coils, coils_payload
-
-    return coils_payload(analyse_coils(design)), "spiralcap.analysis.coils.analyse_coils(design)"
 
 
 def uniform_radii_m(coils_json: dict[str, Any]) -> dict[str, dict[float, float]]:
@@ -181,9 +173,27 @@ def _core_stage(
     return out, timings
 
 
+@dataclass(frozen=True)
+class CoilStage:
+    """The design, its model and the coil analysis: all the coil section's figures read.
+
+    Ready before the optimisation is, so a report on several processes draws those figures
+    while it runs (:func:`collect`'s ``while_waiting``). The fields after ``model`` are
+    :class:`ReportData`'s of the same names.
+    """
+
+    design: Design
+    model: Any
+    coils_json: dict[str, Any]
+    coils_note: str
+    heating: tuple[Any, ...]
+    field_maps: tuple[FieldMap, ...]
+    profile: tuple[np.ndarray, dict[str, np.ndarray]]
+
+
 def _coil_stage(
     design: Design, model: Any, say: Callable[[str], None]
-) -> tuple[dict[str, Any], dict[str, float]]:
+) -> tuple[CoilStage, dict[str, float]]:
     """The coil analysis (the ``spiralcap coils --json`` dict, heating curves), field maps and
     uniformity profiles."""
     from spiralcap.analysis.coils import analyse_coils, coils_payload
@@ -196,32 +206,27 @@ def _coil_stage(
     lap("coils")
     say("field maps")
     half = MAP_EXTENT * min(p.radius_m for p in model.coils.pairs)
-    out = {
-        "coils_json": coils_json,
-        "coils_note": "spiralcap.analysis.coils.analyse_coils(design)",
-        "heating": analysis.heating,
-        "field_maps": field_maps(model.coils, uniform_radii_m(coils_json)),
-        "profile": uniformity_profiles(model.coils, half),
-    }
+    stage = CoilStage(
+        design=design,
+        model=model,
+        coils_json=coils_json,
+        coils_note="spiralcap.analysis.coils.analyse_coils(design)",
+        heating=tuple(analysis.heating),
+        field_maps=field_maps(model.coils, uniform_radii_m(coils_json)),
+        profile=uniformity_profiles(model.coils, half),
+    )
     lap("field maps")
-    return out, timings
+    return stage, timings
 
 
 def _power_stage(
-    design: Design,
-    powers_W: np.ndarray,
-    workers: int,
-    say: Callable[[str], None],
-    model: Any = None,
-    optimum: Any = None,
+    design: Design, powers_W: np.ndarray, say: Callable[[str], None], model: Any, optimum: Any
 ) -> tuple[dict[str, Any], dict[str, float]]:
     """The best margin against the power budget, re-optimised at each (adaptively refined),
     going out from the design's own optimum when given."""
     timings, lap = _stopwatch()
     say("power sweep")
-    power_sweep = adaptive_power_sweep(
-        design, powers_W, workers=workers, model=model, optimum=optimum
-    )
+    power_sweep = adaptive_power_sweep(design, powers_W, model=model, optimum=optimum)
     out = {
         "power_sweep": power_sweep,
         "power_values_W": np.asarray(power_sweep.inputs["limits.power_W"], float),
@@ -236,7 +241,7 @@ def _core_then_power(
     """:func:`_core_stage`, then :func:`_power_stage` from its optimum (the compiled NLP and
     the model's cached field caps shared)."""
     core = _core_stage(design, model, say)
-    return core, _power_stage(design, powers_W, 1, say, model, core[0]["optimization"])
+    return core, _power_stage(design, powers_W, say, model, core[0]["optimization"])
 
 
 def _model(design: Design) -> Any:
@@ -254,14 +259,14 @@ def collect(
     workers: int = 1,
     progress: Callable[[str], None] | None = None,
     compare: Design | None = None,
-    while_waiting: Callable[[Any, Callable[[], bool]], None] | None = None,
+    while_waiting: Callable[[CoilStage], None] | None = None,
 ) -> ReportData:
     """Evaluate and optimise ``design`` and run the sweeps and field maps the report shows.
 
-    Three independent groups of analyses: the evaluation, optimisation and margin curves; the
-    coil analysis and field maps; the power-budget sweep. With ``workers >= 2`` (on a system
-    that can fork) the first and the last run in two forked processes while this one does the
-    coils and loads matplotlib for the figures; the results are the same numbers bit for bit
+    Two independent groups of analyses: the evaluation, optimisation, margin curves and the
+    power-budget sweep (warm-started from that optimum); the coil analysis and field maps. With
+    ``workers >= 2`` (on a system that can fork) the first runs in a forked process while this
+    one does the second (and ``while_waiting``); the results are the same numbers bit for bit
     as with ``workers=1``, where everything runs here in turn.
 
     Parameters
@@ -278,11 +283,9 @@ def collect(
         A second design to evaluate and optimise beside this one
         (:func:`spiralcap.compare.compare_designs`).
     while_waiting : callable, optional
-        With the analyses forked: called here as ``while_waiting(partial, busy)`` once the
-        coil analysis is done, while the other process still computes. ``partial`` has the
-        attributes ``design``, ``model`` and the coil stage's fields of :class:`ReportData`;
-        ``busy()`` is True while the other process is still computing. The report draws the
-        coil figures there.
+        With the analyses forked: called here as ``while_waiting(coils)`` once the coil
+        analysis (:class:`CoilStage`) is done, while the other process still computes. The
+        report starts drawing the coil figures there.
 
     Returns
     -------
@@ -310,8 +313,7 @@ def collect(
         try:
             coil, coil_t = _coil_stage(design, model, say)
             if while_waiting is not None:
-                partial = types.SimpleNamespace(design=design, model=model, **coil)
-                while_waiting(partial, lambda: not analyses.ready())
+                while_waiting(coil)
         except BaseException:
             analyses.cancel()
             raise
@@ -335,7 +337,7 @@ def collect(
         design=design,
         model=model,
         **core,
-        **coil,
+        **{f.name: getattr(coil, f.name) for f in fields(CoilStage)[2:]},
         **power,
         versions=versions(),
         timings_s=timings,
