@@ -4,7 +4,9 @@ The paper minimised the summed squared error with a trust-region reflective meth
 same family (``scipy.optimize.least_squares(method="trf")``) with three choices made explicit:
 
 - unknowns are the logarithms of E1, E2, E3, eta1, eta2 (positive, and scaled alike whatever
-  their magnitude), bounded in :data:`DEFAULT_BOUNDS`;
+  their magnitude), bounded in :data:`DEFAULT_BOUNDS` -- or of any subset of them and a common
+  ``scale`` on the others (``free=("scale",)``: the calibration factor alone, all a 0.5-3 Hz
+  curve can pin down), the rest held at the base tissue's values;
 - residuals are relative, (model - measured) / measured, so a curve from 0.5 to 3 mN·m weighs
   every point alike (``relative=False`` gives the paper's absolute errors);
 - lumen, wall thickness and friction stay those of the base tissue.
@@ -13,9 +15,10 @@ The torque factorises exactly as G(alpha) x I(omega; E, eta) (:func:`torque_mode
 contact_factors_m3`), so the geometry is evaluated once per point; I and its Jacobian both come
 from the model's one :func:`~torque_model.model.relaxation_integral_Pa` (values on the numpy
 path, the exact Jacobian by CasADi's algorithmic differentiation of the same function). Uncertainty: s^2 (J^T J)^-1 in log-parameters (J from the solution, s^2 the residual
-variance on n - 5 degrees of freedom), carried to the physical parameters by the delta method
-(se(p) = p se(log p)); 95 % intervals are Wald intervals p +- t(0.975, n-5) se(p). A parameter is
-*not pinned down* when its interval is wider than the value itself (half-width > 100 %), when it
+variance on n - k degrees of freedom, k free parameters); 95 % intervals are Wald intervals in
+the log, p x/÷ exp(t(0.975, n-k) se(log p)), so they stay positive (a parameter along a null
+direction has none: not identifiable). A parameter is *not pinned down* when its interval spans
+more than a factor e either way (t se(log p) > 1), when it
 lies along a null direction of J^T J (singular values below 1e-10 of the largest), when it is
 correlated with another at |r| > 0.99, or when it sits at a bound.
 
@@ -39,7 +42,7 @@ from torque_model.geometry import ContactGeometry
 from torque_model.model import contact_factor_m3, relaxation_integral_Pa
 from torque_model.tissue import VISCOELASTIC_FIELDS, TissueParameters
 
-__all__ = ["DEFAULT_BOUNDS", "PARAMETER_NAMES", "FitResult", "identify"]
+__all__ = ["DEFAULT_BOUNDS", "FREE_NAMES", "PARAMETER_NAMES", "FitResult", "identify"]
 
 #: How the fit gets its Jacobian: exact (the model's, by CasADi) or scipy's finite differences.
 JacobianMethod = Literal["analytic", "2-point", "3-point"]
@@ -47,8 +50,13 @@ JacobianMethod = Literal["analytic", "2-point", "3-point"]
 #: The identified parameters, SI names, in the order of every array in :class:`FitResult`.
 PARAMETER_NAMES = VISCOELASTIC_FIELDS
 
-#: Default bounds (SI): moduli 1 Pa - 1 GPa, viscosities 1 Pa·s - 10 GPa·s.
+#: What :func:`identify` can fit: a common ``scale`` on the constants held at the base tissue's
+#: values, and each constant itself.
+FREE_NAMES = ("scale", *PARAMETER_NAMES)
+
+#: Default bounds (SI): moduli 1 Pa - 1 GPa, viscosities 1 Pa·s - 10 GPa·s, scale 1e-6 - 1e6.
 DEFAULT_BOUNDS: dict[str, tuple[float, float]] = {
+    "scale": (1e-6, 1e6),
     "E1_Pa": (1.0, 1e9),
     "E2_Pa": (1.0, 1e9),
     "E3_Pa": (1.0, 1e9),
@@ -70,17 +78,29 @@ class FitResult:
     Attributes
     ----------
     tissue : TissueParameters
-        The base tissue with the five fitted constants (name ``"fit"``).
+        The base tissue with the fitted parameters applied (name ``"fit"``).
+    free : tuple of str
+        The fitted parameters, names from :data:`FREE_NAMES`, in the order of ``correlation``;
+        the constants not named are the base tissue's, times ``scale`` when it is free.
     values, standard_errors : dict[str, float]
-        Fitted value and standard error of each of :data:`PARAMETER_NAMES`, SI (Pa, Pa·s);
-        ``inf`` where the data do not determine the parameter, ``nan`` with no residual degree
-        of freedom.
+        Fitted value and standard error (delta method, ``value x se_log``) of each free
+        parameter, SI (Pa, Pa·s; ``scale`` dimensionless); ``inf`` where the data do not
+        determine the parameter, ``nan`` with no residual degree of freedom.
+    standard_errors_log : dict[str, float]
+        Standard error of the natural log of each free parameter (the fit's own coordinates).
     ci95 : dict[str, tuple[float, float]]
-        Wald 95 % confidence interval, SI.
+        95 % interval ``value x/÷ exp(t se_log)``: always positive; ``(0, inf)`` for a
+        parameter that is not identifiable (:attr:`identifiable`).
     flags : dict[str, tuple[str, ...]]
-        Why a parameter is not pinned down (empty tuple: pinned down).
+        Why a parameter is not pinned down (empty tuple: pinned down); other parameters are
+        named by their :data:`FREE_NAMES` name.
     correlation : numpy.ndarray
-        5 x 5 correlation matrix of the log-parameters (nan where undefined).
+        k x k correlation matrix of the log free parameters (nan where undefined).
+    covariance_log : numpy.ndarray or None
+        5 x 5 covariance of ln(E1, E2, E3, eta1, eta2) carried by the pinned-down free
+        parameters only (rows and columns of what the data leave loose are zero; a free
+        ``scale`` moves all constants it multiplies together); ``None`` when nothing is pinned
+        down.
     frequency_hz, helical_angle_rad, torque_Nm, predicted_Nm : numpy.ndarray
         The data points, and the fitted model at them (N·m).
     residuals : numpy.ndarray
@@ -90,7 +110,7 @@ class FitResult:
     residual_std : float
         s, the residual standard deviation on ``dof`` degrees of freedom (same unit as residuals).
     dof : int
-        Points minus parameters.
+        Points minus free parameters.
     condition_number : float
         Of J^T J in log-parameters.
     cost : float
@@ -102,11 +122,14 @@ class FitResult:
     """
 
     tissue: TissueParameters
+    free: tuple[str, ...]
     values: dict[str, float]
     standard_errors: dict[str, float]
+    standard_errors_log: dict[str, float]
     ci95: dict[str, tuple[float, float]]
     flags: dict[str, tuple[str, ...]]
     correlation: np.ndarray
+    covariance_log: np.ndarray | None
     frequency_hz: np.ndarray
     helical_angle_rad: np.ndarray
     torque_Nm: np.ndarray
@@ -123,13 +146,18 @@ class FitResult:
 
     @property
     def pinned_down(self) -> tuple[str, ...]:
-        """Parameters the data determine (no flag)."""
-        return tuple(n for n in PARAMETER_NAMES if not self.flags[n])
+        """Free parameters the data determine (no flag)."""
+        return tuple(n for n in self.free if not self.flags[n])
 
     @property
     def not_pinned_down(self) -> tuple[str, ...]:
-        """Parameters the data do not determine (at least one flag)."""
-        return tuple(n for n in PARAMETER_NAMES if self.flags[n])
+        """Free parameters the data do not determine (at least one flag)."""
+        return tuple(n for n in self.free if self.flags[n])
+
+    def identifiable(self, name: str) -> bool:
+        """Whether the data bound ``name`` at all (a finite, positive 95 % interval)."""
+        lo, hi = self.ci95[name]
+        return lo > 0 and math.isfinite(hi)
 
     def predict_Nm(self, frequency_hz: Any, helical_angle_rad: Any) -> Any:
         """The fitted model's torque at other frequencies (Hz) and angles (rad), N·m."""
@@ -215,8 +243,9 @@ def identify(
     bounds: Mapping[str, tuple[float, float]] | None = None,
     jacobian: JacobianMethod = "analytic",
     profile_bounds: bool = True,
+    free: Sequence[str] | None = None,
 ) -> FitResult:
-    """Fit E1, E2, E3, eta1, eta2 to measured torque against frequency (bounded TRF).
+    """Fit E1, E2, E3, eta1, eta2 (or the subset ``free``) to measured torque (bounded TRF).
 
     Parameters
     ----------
@@ -228,19 +257,24 @@ def identify(
         Helical angle of the capsule of each point (one value for all), rad; several capsules
         are fitted jointly.
     base_tissue : TissueParameters
-        Supplies the fixed lumen, wall thickness and friction, and the starting point.
+        Supplies the fixed lumen, wall thickness and friction, the constants not fitted, and
+        the starting point.
     geometry : ContactGeometry
         The capsule (as :func:`torque_model.resistive_torque_Nm`).
     relative : bool
         Relative residuals (default) or absolute ones in N·m.
     bounds : mapping, optional
-        ``{name: (low, high)}`` in SI for any of :data:`PARAMETER_NAMES`; others from
+        ``{name: (low, high)}`` in SI for any of :data:`FREE_NAMES`; others from
         :data:`DEFAULT_BOUNDS`.
     jacobian : {"analytic", "2-point", "3-point"}
         Exact Jacobian (default) or scipy's finite differences (the benchmark's reference).
     profile_bounds : bool
         Also test, by re-fitting with each parameter held at each bound, whether the data can
-        exclude the bound (profile F-test at 95 %); adds ten small fits.
+        exclude the bound (profile F-test at 95 %); adds two small fits per free parameter.
+    free : sequence of str, optional
+        The parameters to fit, names from :data:`FREE_NAMES` (default: the five constants).
+        ``"scale"`` multiplies every constant *not* named, held in the base tissue's ratios:
+        ``free=("scale",)`` fits only the calibration factor of the base set.
 
     Returns
     -------
@@ -249,25 +283,26 @@ def identify(
     Raises
     ------
     DataError
-        Fewer points than the five parameters, arrays of unequal length, or a point with a
+        Fewer points than free parameters, arrays of unequal length, or a point with a
         non-finite or non-positive frequency, torque or angle (named by its 1-based index).
     InputError
-        An unknown bound name, an empty bound interval, or an unknown ``jacobian``.
+        An unknown bound or free name, an empty bound interval, ``scale`` with all five
+        constants, or an unknown ``jacobian``.
     """
+    names = _free_names(free)
     freq = _as_points("frequency_hz", frequency_hz, None)
     n = freq.size
     torque = _as_points("torque_Nm", torque_Nm, n)
     angle = _as_points("helical_angle_rad", helical_angle_rad, n)
-    n_par = len(PARAMETER_NAMES)
+    n_par = len(names)
     if n < n_par:
         raise DataError(
-            f"{n} data points for {n_par} parameters ({', '.join(PARAMETER_NAMES)}):"
-            f" need at least {n_par}"
+            f"{n} data points for {n_par} parameters ({', '.join(names)}): need at least {n_par}"
         )
     _check_data(freq, torque, angle)
     if jacobian not in ("analytic", "2-point", "3-point"):
         raise InputError("jacobian", jacobian, "'analytic', '2-point' or '3-point'")
-    lo, hi = _bounds(bounds)
+    lo, hi = _bounds(bounds, names)
     G = np.asarray(contact_factor_m3(angle, base_tissue, geometry), dtype=float)
     if np.any(G <= 0):
         i = int(np.flatnonzero(G <= 0)[0])
@@ -278,25 +313,30 @@ def identify(
     scale = 1.0 / torque if relative else np.full(n, 1.0 / np.median(torque))
 
     integral = _RelaxationIntegral(freq)
+    p0 = np.array([max(getattr(base_tissue, k), 1e-3) for k in PARAMETER_NAMES])
+    A, c = _log_map(names, p0)
 
     def residuals(q: np.ndarray) -> np.ndarray:
-        return (G * integral.value(np.exp(q)) - torque) * scale
+        return (G * integral.value(np.exp(c + A @ q)) - torque) * scale
 
     def jac(q: np.ndarray) -> np.ndarray:
-        return (G * scale)[:, None] * integral.jacobian(q)
+        return (G * scale)[:, None] * (integral.jacobian(c + A @ q) @ A)
 
     fit_jac = jac if jacobian == "analytic" else jacobian
     best = None
-    for q0 in _starts(base_tissue, integral, torque, G, scale, lo, hi):
+    for q0 in _starts(names, p0, integral, torque, G, scale, lo, hi):
         sol = _solve(residuals, fit_jac, q0, lo, hi)
         if best is None or sol.cost < best.cost:
             best = sol
     assert best is not None
-    order = _slow_arm_first(best.x, lo, hi)
+    order = _slow_arm_first(names, best.x, lo, hi)
     best.x, best.active_mask = best.x[order], best.active_mask[order]
     profile = _profile_to_bounds(residuals, fit_jac, best, lo, hi, n) if profile_bounds else None
     return _result(
         best,
+        names,
+        A,
+        c,
         freq,
         angle,
         torque,
@@ -310,6 +350,43 @@ def identify(
         jac(best.x),
         profile,
     )
+
+
+def _free_names(free: Sequence[str] | None) -> tuple[str, ...]:
+    """The free parameters in :data:`FREE_NAMES` order, checked."""
+    if free is None:
+        return tuple(PARAMETER_NAMES)
+    wanted = list(free)
+    allowed = "one or more of " + ", ".join(FREE_NAMES)
+    if not wanted:
+        raise InputError("free", wanted, allowed)
+    for name in wanted:
+        if name not in FREE_NAMES:
+            raise InputError("free", name, allowed)
+        if wanted.count(name) > 1:
+            raise InputError("free", name, "each parameter named once")
+    if "scale" in wanted and all(k in wanted for k in PARAMETER_NAMES):
+        raise InputError(
+            "free",
+            ",".join(wanted),
+            "scale with at most four of the five constants (it multiplies the constants not named)",
+        )
+    return tuple(k for k in FREE_NAMES if k in wanted)
+
+
+def _log_map(names: tuple[str, ...], p0: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``A`` (5 x k) and ``c`` (5) with ln(E1, E2, E3, eta1, eta2) = c + A q, q = ln(free)."""
+    A = np.zeros((len(PARAMETER_NAMES), len(names)))
+    c = np.log(p0)
+    for j, name in enumerate(names):
+        if name == "scale":
+            for i, const in enumerate(PARAMETER_NAMES):
+                A[i, j] = 0.0 if const in names else 1.0
+        else:
+            i = PARAMETER_NAMES.index(name)
+            A[i, j] = 1.0
+            c[i] = 0.0
+    return A, c
 
 
 def _solve(fun: Any, jac: Any, q0: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> Any:
@@ -328,16 +405,25 @@ def _solve(fun: Any, jac: Any, q0: np.ndarray, lo: np.ndarray, hi: np.ndarray) -
     )
 
 
-def _slow_arm_first(q: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> list[int]:
+def _slow_arm_first(
+    names: tuple[str, ...], q: np.ndarray, lo: np.ndarray, hi: np.ndarray
+) -> list[int]:
     """Index order putting the slower Maxwell arm first (eta1/E1 >= eta2/E2).
 
     The model is symmetric under swapping the arms; Tables I and II list the slow arm first.
-    The order is kept if the swapped values would leave the bounds.
+    Only when both arms are free; the order is kept if the swapped values would leave the
+    bounds.
     """
-    swap = [1, 0, 2, 4, 3]
-    slow_first = (q[3] - q[0]) >= (q[4] - q[1])
+    keep = list(range(len(names)))
+    arm = ("E1_Pa", "E2_Pa", "eta1_Pa_s", "eta2_Pa_s")
+    if not all(k in names for k in arm):
+        return keep
+    e1, e2, h1, h2 = (names.index(k) for k in arm)
+    swap = keep.copy()
+    swap[e1], swap[e2], swap[h1], swap[h2] = e2, e1, h2, h1
+    slow_first = (q[h1] - q[e1]) >= (q[h2] - q[e2])
     inside = bool(np.all(q[swap] >= lo) and np.all(q[swap] <= hi))
-    return [0, 1, 2, 3, 4] if slow_first or not inside else swap
+    return keep if slow_first or not inside else swap
 
 
 def _profile_to_bounds(
@@ -376,30 +462,37 @@ def _profile_to_bounds(
 
             sub_jac = jac if isinstance(jac, str) else j_sub  # "2-point": finite differences
 
-            pad = 1e-9 * (hi[free] - lo[free])
-            z0 = np.clip(best.x[free], lo[free] + pad, hi[free] - pad)
-            sol = _solve(f_sub, sub_jac, z0, lo[free], hi[free])
-            if 2.0 * sol.cost - ssr < threshold:
+            if free:
+                pad = 1e-9 * (hi[free] - lo[free])
+                z0 = np.clip(best.x[free], lo[free] + pad, hi[free] - pad)
+                ssr_at_bound = 2.0 * _solve(f_sub, sub_jac, z0, lo[free], hi[free]).cost
+            else:  # one free parameter: nothing to re-fit
+                r = fun(q)
+                ssr_at_bound = float(r @ r)
+            if ssr_at_bound - ssr < threshold:
                 out.setdefault(i, []).append(side)
     return out
 
 
-def _bounds(bounds: Mapping[str, tuple[float, float]] | None) -> tuple[np.ndarray, np.ndarray]:
+def _bounds(
+    bounds: Mapping[str, tuple[float, float]] | None, names: tuple[str, ...]
+) -> tuple[np.ndarray, np.ndarray]:
     merged = dict(DEFAULT_BOUNDS)
     for key, pair in (bounds or {}).items():
         if key not in merged:
-            raise InputError(f"bounds.{key}", pair, "one of " + ", ".join(PARAMETER_NAMES))
+            raise InputError(f"bounds.{key}", pair, "one of " + ", ".join(FREE_NAMES))
         merged[key] = pair
-    lo = np.array([merged[k][0] for k in PARAMETER_NAMES], dtype=float)
-    hi = np.array([merged[k][1] for k in PARAMETER_NAMES], dtype=float)
-    for k, a, b in zip(PARAMETER_NAMES, lo, hi, strict=True):
+    lo = np.array([merged[k][0] for k in names], dtype=float)
+    hi = np.array([merged[k][1] for k in names], dtype=float)
+    for k, a, b in zip(names, lo, hi, strict=True):
         if not (0 < a < b < math.inf):
             raise InputError(f"bounds.{k}", (a, b), "0 < low < high < inf")
     return np.log(lo), np.log(hi)
 
 
 def _starts(
-    base: TissueParameters,
+    names: tuple[str, ...],
+    p0: np.ndarray,
     integral: _RelaxationIntegral,
     torque: np.ndarray,
     G: np.ndarray,
@@ -408,11 +501,12 @@ def _starts(
     hi: np.ndarray,
 ) -> list[np.ndarray]:
     """The base set rescaled by the best common factor, then fixed log-perturbations of it."""
-    p0 = np.array([max(getattr(base, k), 1e-3) for k in PARAMETER_NAMES])
     m = G * integral.value(p0) * scale
     y = torque * scale
     k = float(m @ y / (m @ m))
-    q0 = np.log(p0 * k)
+    q0 = np.array(
+        [math.log(k) if n == "scale" else math.log(p0[PARAMETER_NAMES.index(n)] * k) for n in names]
+    )
     rng = np.random.default_rng(20130501)
     starts = [q0] + [q0 + rng.normal(0.0, 1.5, q0.size) for _ in range(_N_STARTS - 1)]
     pad = 1e-9 * (hi - lo)
@@ -421,6 +515,9 @@ def _starts(
 
 def _result(
     sol: Any,
+    names: tuple[str, ...],
+    A: np.ndarray,
+    c: np.ndarray,
     freq: np.ndarray,
     angle: np.ndarray,
     torque: np.ndarray,
@@ -461,14 +558,15 @@ def _result(
         (sol.active_mask != 0) | (sol.x - lo < 1e-6 * (hi - lo)) | (hi - sol.x < 1e-6 * (hi - lo))
     )
     flags: dict[str, tuple[str, ...]] = {}
-    for i, name in enumerate(PARAMETER_NAMES):
+    for i, name in enumerate(names):
         why = []
         if in_null[i]:
             why.append("J^T J singular along it")
         if dof <= 0:
             why.append("no residual degree of freedom: uncertainty unknown")
         elif not in_null[i] and t * se_log[i] > REL_CI_LIMIT:
-            why.append(f"95 % interval +-{100 * t * se_log[i]:.3g} % of the value")
+            factor = math.exp(min(t * se_log[i], 700.0))
+            why.append(f"95 % interval spans a factor {factor:.3g} either way")
         if at_bound[i]:
             why.append("at a bound")
         sides = (profile or {}).get(i, [])
@@ -477,23 +575,36 @@ def _result(
                 f"profile reaches the {' and '.join(sides)} bound{'s' if len(sides) > 1 else ''}"
             )
         partners = [
-            PARAMETER_NAMES[j]
-            for j in range(n_par)
-            if j != i and abs(corr[i, j]) > CORRELATION_LIMIT
+            names[j] for j in range(n_par) if j != i and abs(corr[i, j]) > CORRELATION_LIMIT
         ]
         if partners:
             why.append("|correlation| > 0.99 with " + ", ".join(partners))
         flags[name] = tuple(why)
-    values = dict(zip(PARAMETER_NAMES, p.tolist(), strict=True))
-    tissue = base.replace(name="fit", **values)
-    pred = G * np.asarray(relaxation_integral_Pa(freq, _Constants(*p)), dtype=float)
+    pinned = np.array([not flags[k] for k in names])
+    cov5 = None
+    if pinned.any():
+        Ap = A[:, pinned]
+        cov5 = Ap @ cov_log[np.ix_(pinned, pinned)] @ Ap.T
+        cov5 = 0.5 * (cov5 + cov5.T)
+    p5 = np.exp(c + A @ sol.x)
+    tissue = base.replace(name="fit", **dict(zip(PARAMETER_NAMES, p5.tolist(), strict=True)))
+    pred = G * np.asarray(relaxation_integral_Pa(freq, _Constants(*p5)), dtype=float)
+    with np.errstate(over="ignore", invalid="ignore"):
+        half = np.exp(t * se_log)
+    ci95 = {
+        k: ((float(v / h), float(v * h)) if math.isfinite(v * h) and v / h > 0 else (0.0, math.inf))
+        for k, v, h in zip(names, p, half, strict=True)
+    }
     return FitResult(
         tissue=tissue,
-        values=values,
-        standard_errors=dict(zip(PARAMETER_NAMES, se.tolist(), strict=True)),
-        ci95={k: (v - t * e, v + t * e) for k, v, e in zip(PARAMETER_NAMES, p, se, strict=True)},
+        free=names,
+        values=dict(zip(names, p.tolist(), strict=True)),
+        standard_errors=dict(zip(names, se.tolist(), strict=True)),
+        standard_errors_log=dict(zip(names, se_log.tolist(), strict=True)),
+        ci95=ci95,
         flags=flags,
         correlation=corr,
+        covariance_log=cov5,
         frequency_hz=freq,
         helical_angle_rad=angle,
         torque_Nm=torque,

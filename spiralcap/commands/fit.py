@@ -1,5 +1,9 @@
 """``spiralcap fit DATA.csv``: identify the tissue's five viscoelastic constants from bench data.
 
+``--only scale`` (or any subset, ``--only scale,E1``) fits the named parameters with the rest
+held at the design's tissue: ``scale`` multiplies the constants not named, in their preset
+ratios -- the calibration factor, all a 0.5-3 Hz curve can pin down.
+
 The CSV has a header row with ``frequency_hz`` and ``torque_mNm`` and, optionally,
 ``helical_angle_deg`` (else every row takes the design's ``capsule.spiral.helical_angle_deg``);
 other columns are ignored, blank lines and lines starting with ``#`` are skipped. Lumen, wall
@@ -35,6 +39,7 @@ OPTIONAL = ("helical_angle_deg",)
 
 #: SI field -> (design key without "tissue.", factor SI -> design unit, unit text)
 _DISPLAY = {
+    "scale": ("scale", 1.0, "-"),
     "E1_Pa": ("E1_kPa", 1e-3, "kPa"),
     "E2_Pa": ("E2_kPa", 1e-3, "kPa"),
     "E3_Pa": ("E3_kPa", 1e-3, "kPa"),
@@ -59,6 +64,45 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--plot", metavar="FILE.png", help="draw the data and the fitted curves (png, pdf or svg)"
     )
+    parser.add_argument(
+        "--only",
+        metavar="NAMES",
+        help="fit only these, comma-separated: scale, E1, E2, E3, eta1, eta2 (the rest stay the "
+        "design's; scale multiplies the constants not named), e.g. --only scale",
+    )
+
+
+def parse_only(text: str | None) -> tuple[str, ...] | None:
+    """``--only`` as :data:`torque_model.FREE_NAMES` names (None: the five constants).
+
+    Accepts the short names (``E1``), the design keys (``E1_kPa``) and ``scale``.
+
+    Raises
+    ------
+    InputError
+        An unknown or repeated name, or ``scale`` with all five constants.
+    """
+    from spiralcap.errors import InputError
+    from torque_model.identification import FREE_NAMES
+
+    if text is None:
+        return None
+    by_name = {}
+    for si, (key, _, _) in _DISPLAY.items():
+        by_name[key.lower()] = si
+        by_name[key.split("_")[0].lower()] = si
+    allowed = "comma-separated names from scale, E1, E2, E3, eta1, eta2"
+    out: list[str] = []
+    for raw in text.split(","):
+        name = by_name.get(raw.strip().lower())
+        if name is None or name in out:
+            raise InputError("--only", text, allowed + " (each once)")
+        out.append(name)
+    if not out:
+        raise InputError("--only", text, allowed)
+    if "scale" in out and all(k in out for k in FREE_NAMES[1:]):
+        raise InputError("--only", text, "scale with at most four of the five constants")
+    return tuple(out)
 
 
 def read_bench_csv(path: str | Path) -> dict[str, list[float]]:
@@ -139,15 +183,16 @@ def run(args: argparse.Namespace) -> int:
 
     if args.plot:
         check_plot_path(args.plot)
+    free = parse_only(getattr(args, "only", None))
     check_outputs({"-o": args.output, "--plot": args.plot}, [args.data, *design_paths(args)])
     design = design_from_args(args)
     data = read_bench_csv(args.data)
     n = len(data["frequency_hz"])
-    n_par = len(tm.PARAMETER_NAMES)
-    if n < n_par:
+    names = [_DISPLAY[k][0].split("_")[0] for k in (free or tm.PARAMETER_NAMES)]
+    if n < len(names):
         raise DataError(
-            f"{args.data}: {n} data rows for {n_par} parameters (E1, E2, E3, eta1, "
-            f"eta2); need at least {n_par}"
+            f"{args.data}: {n} data rows for {len(names)} parameters ({', '.join(names)}); "
+            f"need at least {len(names)} (--only scale needs one)"
         )
     angle_deg = np.asarray(
         data.get("helical_angle_deg", [design["capsule.spiral.helical_angle_deg"]] * n), dtype=float
@@ -160,6 +205,7 @@ def run(args: argparse.Namespace) -> int:
         np.radians(angle_deg),
         base,
         geometry_from_design(design),
+        free=free,
     )
     table = result.tissue.as_design_table()
     if args.output:
@@ -197,24 +243,44 @@ def _check_angles(design: Any, angle_deg: Any, data_path: str) -> None:
             raise DataError(f"{data_path}: helical_angle_deg = {a:g}: {exc.allowed}") from None
 
 
+def _notes(flags: tuple[str, ...]) -> list[str]:
+    """A parameter's flags with other parameters named by their design keys (E3_kPa)."""
+    import re
+
+    def key(m: re.Match[str]) -> str:
+        return _DISPLAY[m.group(0)][0]
+
+    pattern = re.compile("|".join(re.escape(k) for k in sorted(_DISPLAY, key=len, reverse=True)))
+    return [pattern.sub(key, f) for f in flags]
+
+
 def fit_payload(
     result: Any, table: dict[str, float], data_path: str, design_source: str
 ) -> dict[str, Any]:
-    """The fit as a JSON-ready mapping (design units: kPa, kPa·s, mm, mN·m)."""
+    """The fit as a JSON-ready mapping (design units: kPa, kPa·s, mm, mN·m).
+
+    Every interval is the log-space one (positive); a parameter the data do not bound at all
+    has ``identifiable`` false and no ``ci95``.
+    """
     params = {}
-    for name in result.values:
+    for name in result.free:
         key, factor, unit = _DISPLAY[name]
-        lo, hi = result.ci95[name]
-        params[key] = {
+        entry: dict[str, Any] = {
             "value": result.values[name] * factor,
             "unit": unit,
             "standard_error": result.standard_errors[name] * factor,
-            "ci95": [lo * factor, hi * factor],
+            "standard_error_log": result.standard_errors_log[name],
+            "identifiable": result.identifiable(name),
             "pinned_down": not result.flags[name],
-            "flags": list(result.flags[name]),
+            "flags": _notes(result.flags[name]),
         }
+        if result.identifiable(name):
+            lo, hi = result.ci95[name]
+            entry["ci95"] = [lo * factor, hi * factor]
+        params[key] = entry
     return {
         "tissue": table,
+        "fitted": [_DISPLAY[n][0] for n in result.free],
         "parameters": params,
         "not_pinned_down": [_DISPLAY[n][0] for n in result.not_pinned_down],
         "data": {
@@ -255,9 +321,12 @@ def fit_quality_payload(quality: Any) -> dict[str, Any]:
 def tissue_toml(table: dict[str, float], data_path: str, result: Any) -> str:
     """The fitted tissue as a design-file ``[tissue]`` table, with provenance comments."""
     loose = ", ".join(_DISPLAY[n][0] for n in result.not_pinned_down) or "none"
+    fitted = ", ".join(_DISPLAY[n][0] for n in result.free)
     lines = [
         f"# spiralcap fit of {data_path}: {result.frequency_hz.size} points, "
         f"residual std {result.residual_std:.3g} (relative)",
+        f"# fitted: {fitted}; the other constants are the design's tissue"
+        + (" times scale" if "scale" in result.free else ""),
         f"# not pinned down by the data: {loose}",
         "",
         "[tissue]",
@@ -268,29 +337,43 @@ def tissue_toml(table: dict[str, float], data_path: str, result: Any) -> str:
 
 
 def covariance_log(result: Any) -> Any:
-    """The fit's covariance of ln(E1, E2, E3, eta1, eta2), or None where a parameter is loose.
+    """The 5 x 5 covariance of ln(E1, E2, E3, eta1, eta2) the pinned-down parameters carry.
 
-    ``s² (JᵀJ)⁻¹`` in log-parameters (torque_model.identification) rebuilt from the correlation
-    and the log standard errors ``se(p) / p``; None when any entry is not finite.
+    ``s² (JᵀJ)⁻¹`` of the pinned-down free parameters mapped onto the five constants
+    (torque_model.identification, ``FitResult.covariance_log``): rows and columns of constants
+    held fixed or left loose by the data are zero, a fitted ``scale`` moves the constants it
+    multiplies together. None when the data pin nothing down.
     """
     import numpy as np
 
-    names = list(result.values)
-    se_log = np.array([result.standard_errors[n] / result.values[n] for n in names])
-    cov = np.asarray(result.correlation, dtype=float) * np.outer(se_log, se_log)
-    return cov if np.all(np.isfinite(cov)) else None
+    cov = result.covariance_log
+    return None if cov is None or not np.all(np.isfinite(cov)) else np.asarray(cov, dtype=float)
 
 
 def covariance_toml(result: Any) -> list[str]:
-    """``[tissue.fit]`` lines with ``covariance_log`` (tissue.uncertainty.covariance_from)."""
+    """``[tissue.fit]`` lines with ``covariance_log`` (tissue.uncertainty.covariance_from).
+
+    Layout: ``[tissue.fit]`` holding ``covariance_log``, a 5 x 5 list of rows over ln(E1, E2,
+    E3, eta1, eta2); the parameters it covers are named in the comment above it.
+    """
     cov = covariance_log(result)
     head = ["", "# covariance of ln(E1, E2, E3, eta1, eta2) from the fit, for"]
     head.append("# tissue.uncertainty.covariance_from = <this file>")
     if cov is None:
         loose = ", ".join(_DISPLAY[n][0] for n in result.not_pinned_down) or "residual dof"
         return [*head, f"# not written: the data do not pin down {loose}"]
+    pinned = ", ".join(_DISPLAY[n][0] for n in result.pinned_down)
+    head.append(f"# carried by what the data pin down: {pinned}; rows and columns of constants")
+    head.append("# held fixed or not pinned down are zero (give those a *_sigma_log if uncertain)")
     rows = ",\n".join("  [" + ", ".join(repr(float(x)) for x in r) + "]" for r in cov)
     return [*head, "[tissue.fit]", f"covariance_log = [\n{rows},\n]"]
+
+
+def tm_parameter_names() -> tuple[str, ...]:
+    """The five constants' SI names (torque_model.PARAMETER_NAMES)."""
+    from torque_model.identification import PARAMETER_NAMES
+
+    return tuple(PARAMETER_NAMES)
 
 
 def _print_text(
@@ -302,7 +385,7 @@ def _print_text(
         f"{base_name}, design: {design_source})"
     )
     rows = []
-    for name in result.values:
+    for name in result.free:
         key, factor, unit = _DISPLAY[name]
         lo, hi = result.ci95[name]
         rows.append(
@@ -310,16 +393,24 @@ def _print_text(
                 key,
                 result.values[name] * factor,
                 unit,
-                result.standard_errors[name] * factor,
-                f"[{lo * factor:.4g}, {hi * factor:.4g}]",
+                math.exp(result.standard_errors_log[name]) if result.identifiable(name) else "-",
+                f"[{lo * factor:.4g}, {hi * factor:.4g}]"
+                if result.identifiable(name)
+                else "not identifiable",
                 "NOT pinned down" if result.flags[name] else "pinned down",
             ]
         )
     print(
-        format_table(["parameter", "value", "unit", "std error", "95 % interval", "status"], rows)
+        format_table(
+            ["parameter", "value", "unit", "std error ×/÷", "95 % interval", "status"], rows
+        )
     )
+    held = [_DISPLAY[k][0] for k in tm_parameter_names() if k not in result.free]
+    if held:
+        times = " (times scale)" if "scale" in result.free else ""
+        print(f"held at the design's tissue{times}: {', '.join(held)}")
     for name in result.not_pinned_down:
-        print(f"  {_DISPLAY[name][0]}: " + "; ".join(result.flags[name]))
+        print(f"  {_DISPLAY[name][0]}: " + "; ".join(_notes(result.flags[name])))
     fixed = result.tissue.as_design_table()
     print(
         f"fixed: lumen_diameter_mm = {fixed['lumen_diameter_mm']:.4g}, wall_thickness_mm = "
