@@ -116,21 +116,21 @@ def _plot(path: str, w: Any, model: Any) -> None:
 
     from spiralcap.design import write_text_atomic
     from spiralcap.figures.style import REPORT_RC
-    from spiralcap.figures.thermal import plot_waveforms
+    from spiralcap.figures.thermal import change_windows, draw_waveform_sequence
 
     rc: Any = REPORT_RC
     with matplotlib.rc_context(rc):
-        fig = Figure(figsize=(8.0, 7.0), layout="constrained")
-        axes = fig.subplots(3, 1, sharex=True)
-        plot_waveforms(
-            axes,
+        columns = len(change_windows(w))
+        fig = Figure(figsize=(max(8.0, 3.0 * columns + 1.0), 9.0), layout="constrained")
+        draw_waveform_sequence(
+            fig,
             w,
             current_limit_A=model.limits.current_A,
             voltage_limit_V=model.limits.voltage_V,
         )
-        axes[0].set_title(
-            f"{len(w.headings)} headings, {w.dwell_s:g} s each, {w.amplitude_T * 1e3:.4g} mT at "
-            f"{w.frequency_hz:g} Hz, plane change over {w.ramp_s:g} s"
+        fig.suptitle(
+            f"{w.amplitude_T * 1e3:.4g} mT at {w.frequency_hz:g} Hz, plane change over "
+            f"{w.ramp_s:g} s"
         )
         buf = io.BytesIO()
         suffix = str(path).rsplit(".", 1)[-1].lower() if "." in str(path) else "png"

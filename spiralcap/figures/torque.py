@@ -59,8 +59,10 @@ def plot_torque_vs_frequency(
     Returns
     -------
     TorqueDrawn
-        Model curves are lines without markers (distinct line styles); the paper's points are
-        markers only (filled circles: calibration, open squares: validation).
+        Model curves are lines without markers (distinct line styles), one per requested angle
+        and one for each paper capsule whose angle is not among them; the paper's points are
+        markers only (filled circles: calibration, open squares: validation), coloured as the
+        curve of their own angle and labelled with it.
     """
     import torque_model as tm
     from spiralcap.figures.style import LINESTYLES
@@ -72,14 +74,22 @@ def plot_torque_vs_frequency(
     if paper_points is None:
         sample = {"zhou2013-sample2": 2, "zhou2013-sample3": 3}.get(tissue.name)
         paper_points = [p for p in tm.PAPER_POINTS if p.sample == sample]
+    paper_points = list(paper_points)
     curves, points = [], []
     colours = {}
-    for k, angle in enumerate(helical_angles_deg):
-        tau = tm.resistive_torque_Nm(math.radians(angle), f, tissue, geometry or tm.PAPER_CAPSULE)
+    # every data set gets its own model curve: a paper capsule whose angle is not asked for
+    # is drawn at its own angle (No. 1 is 5 deg), never against another angle's line
+    angles = [float(a) for a in helical_angles_deg]
+    angles += sorted({float(p.helical_angle_deg) for p in paper_points} - set(angles))
+    for k, angle in enumerate(angles):
+        # the paper's capsules are the paper's geometry, whatever the design's
+        capsule = geometry if k < len(helical_angles_deg) and geometry else tm.PAPER_CAPSULE
+        tau = tm.resistive_torque_Nm(math.radians(angle), f, tissue, capsule)
         (line,) = ax.plot(
             f,
             np.asarray(tau) * 1e3,
-            label=f"model, α = {angle:g}°",
+            label=f"model, α = {angle:g}°"
+            + ("" if k < len(helical_angles_deg) else " (paper capsule's angle)"),
             linestyle=LINESTYLES[k % len(LINESTYLES)],
             marker="",
         )
@@ -98,7 +108,7 @@ def plot_torque_vs_frequency(
                 linewidths=1.4,
                 zorder=3,
                 edgecolors="k" if calibration else colour,
-                label=f"paper, No. {p.capsule} ({p.role})",
+                label=f"paper, No. {p.capsule}, α = {p.helical_angle_deg:g}° ({p.role})",
             )
         )
     ax.set_xlabel(_FREQ_LABEL)

@@ -1,0 +1,65 @@
+"""Figures that do not mislead (issue #20 item 6): own model curve per data set, waveforms."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from matplotlib.figure import Figure
+
+import torque_model as tm
+
+
+def test_torque_plot_draws_each_paper_capsule_at_its_own_angle() -> None:
+    from spiralcap.figures.torque import plot_torque_vs_frequency
+
+    ax = Figure().subplots()
+    drawn = plot_torque_vs_frequency(ax, tm.preset("zhou2013-sample2"), (10.0,))
+    labels = [c.get_label() for c in drawn.curves]
+    assert any("α = 5°" in lab for lab in labels), (
+        "paper capsule No. 1 is alpha = 5 deg (Zhou 2013): its points need the 5 deg model "
+        f"curve, not the 10 deg one: {labels}"
+    )
+    for pts in drawn.points:
+        assert "α = " in pts.get_label(), "each data set is labelled with its helical angle"
+    f = np.linspace(0.25, 3.5, 66)
+    five = next(c for c in drawn.curves if "α = 5°" in c.get_label())
+    ref = tm.resistive_torque_Nm(
+        math.radians(5), f, tm.preset("zhou2013-sample2"), tm.PAPER_CAPSULE
+    )
+    assert np.allclose(five.get_ydata(), np.asarray(ref) * 1e3, rtol=1e-12)
+    for p in (p for p in tm.PAPER_POINTS if p.sample == 2):
+        curve = next(c for c in drawn.curves if f"α = {p.helical_angle_deg:g}°" in c.get_label())
+        point = next(s for s in drawn.points if f"No. {p.capsule}," in s.get_label())
+        colour = point.get_edgecolor()[0] if p.role != "calibration" else point.get_facecolor()[0]
+        from matplotlib.colors import to_rgba
+
+        assert np.allclose(colour, to_rgba(curve.get_color())), (
+            f"No. {p.capsule} drawn in the colour of its own angle's curve"
+        )
+
+
+def test_waveform_sequence_one_panel_per_plane_change() -> None:
+    from coils.waveforms import heading_waveforms
+    from spiralcap.figures.thermal import draw_waveform_sequence
+
+    headings = np.array([[1, 0, 0], [0, 1, 0], [0, 0, 1]], dtype=float)
+    w = heading_waveforms(
+        np.eye(3) * 1e-3,
+        np.ones(3),
+        np.full(3, 1e-2),
+        headings,
+        amplitude_T=5e-3,
+        frequency_hz=2.0,
+        dwell_s=20.0,
+        ramp_s=0.5,
+    )
+    fig = Figure(figsize=(9, 9), layout="constrained")
+    drawn = draw_waveform_sequence(fig, w, current_limit_A=10.0, voltage_limit_V=100.0)
+    assert len(drawn.windows) == 2, "two plane changes: two zoomed columns"
+    for j, (t0, t1) in enumerate(drawn.window_s):
+        change = (j + 1) * 20.0
+        assert t0 < change < change + 0.5 < t1, "the window holds the change and its ramp"
+        assert (t1 - t0) * 2.0 <= 5.0, "a few cycles (at most 5 periods of 0.5 s), not 40"
+    env = drawn.overview[0].get_ydata()  # x pair's current amplitude
+    assert env[0] < 1e-9 and env[-1] > 4.0, "overview: the x pair steps up at the first change"
