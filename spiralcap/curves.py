@@ -82,13 +82,16 @@ class Curve:
 class MarginMap:
     """Margin and feasibility over helical angle x frequency (``optimize.margin_grid``).
 
-    ``margin_Nm`` and ``feasible`` have shape ``(len(frequency_hz), len(helical_angle_deg))``.
+    ``margin_Nm`` and ``feasible`` have shape ``(len(frequency_hz), len(helical_angle_deg))``;
+    ``failing`` (same shape, str) names the first requirement not met at each point other
+    than a negative margin (step-out, drawn as its own region), ``""`` where none is.
     """
 
     helical_angle_deg: np.ndarray
     frequency_hz: np.ndarray
     margin_Nm: np.ndarray
     feasible: np.ndarray
+    failing: np.ndarray | None = None
 
 
 #: Points per side of the angle x frequency margin map.
@@ -109,7 +112,62 @@ def margin_map(model: Any, f_max_hz: float) -> MarginMap:
         f,
         _grid_field(g, "margin_Nm").astype(float),
         _grid_field(g, "feasible").astype(bool),
+        failing_requirements(model, aa, g),
     )
+
+
+def failing_requirements(model: Any, alpha_rad: np.ndarray, grid: Any) -> np.ndarray:
+    """The first requirement not met at each point of a ``margin_grid`` (``""``: none).
+
+    In the order self-locking, spiral turns, speed, set field, safety factor, with
+    :data:`optimize.evaluate.FEASIBILITY_RTOL` as ``feasible`` allows; a point whose only
+    failure is a negative margin (it steps out) gets ``""``: the map draws that region itself.
+    Any other infeasible point left unnamed is ``"a requirement not met"``.
+    """
+    from optimize.evaluate import FEASIBILITY_RTOL, self_lock_margin
+
+    req = model.requirements
+    margin = _grid_field(grid, "margin_Nm").astype(float)
+    ok = _grid_field(grid, "feasible").astype(bool)
+    speed = _grid_field(grid, "speed_m_s").astype(float)
+    turns = _grid_field(grid, "spiral_turns").astype(float)
+    sf = _grid_field(grid, "safety_factor").astype(float)
+    field = _grid_field(grid, "field_amplitude_T").astype(float)
+    rtol = FEASIBILITY_RTOL
+
+    def text(value: Any, fmt: str, unit: str = "") -> str:
+        # a swept requirement is an array: name it without a number
+        return f" < {value:{fmt}}{unit}" if np.ndim(value) == 0 else " below the requirement"
+
+    checks = [
+        ("spiral self-locks", np.asarray(self_lock_margin(model, alpha_rad), float) <= 0),
+        (
+            "spiral turns" + text(req.min_spiral_turns, "g"),
+            turns < np.asarray(req.min_spiral_turns) * (1 - rtol),
+        ),
+        (
+            "speed" + text(np.asarray(req.min_speed_m_s) * 1e3, ".3g", " mm/s"),
+            speed < np.asarray(req.min_speed_m_s) * (1 - rtol),
+        ),
+    ]
+    if model.field_amplitude_T is not None:
+        checks.append(
+            (
+                "set field above what the drive holds",
+                field < model.field_amplitude_T * (1 - 10 * rtol),
+            )
+        )
+    checks.append(
+        (
+            "safety factor" + text(req.min_safety_factor, "g"),
+            (sf < np.asarray(req.min_safety_factor) * (1 - rtol)) & (margin >= 0),
+        )
+    )
+    out = np.full(margin.shape, "", dtype=object)
+    for name, bad in checks:
+        out[(out == "") & bad] = name
+    out[(out == "") & ~ok & (margin >= 0)] = "a requirement not met"
+    return out
 
 
 def _grid_field(grid: Any, name: str) -> np.ndarray:

@@ -155,8 +155,10 @@ def sweep(
     return SweepResult(tuple(axes), inputs, outputs, mode)
 
 
-def _evaluate_vectorised(design: Design, inputs: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
-    from optimize import margin_grid, prepare
+def _vector_model(design: Design, inputs: dict[str, np.ndarray]) -> tuple[Any, Any, Any]:
+    """The model with the swept limits and requirements as arrays, and the angle and frequency
+    at every point (rad, Hz)."""
+    from optimize import prepare
     from spiralcap.assemble import build_model
 
     model = prepare(build_model(design))
@@ -177,8 +179,28 @@ def _evaluate_vectorised(design: Design, inputs: dict[str, np.ndarray]) -> dict[
         requirements=replace(model.requirements, **groups["requirements"]),
     )
     n = len(next(iter(inputs.values())))
-    out = margin_grid(model, np.broadcast_to(alpha, (n,)), np.broadcast_to(f, (n,)))
+    return model, np.broadcast_to(alpha, (n,)), np.broadcast_to(f, (n,))
+
+
+def _evaluate_vectorised(design: Design, inputs: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+    from optimize import margin_grid
+
+    model, alpha, f = _vector_model(design, inputs)
+    out = margin_grid(model, alpha, f)
     return {k: np.asarray(out[k]) for k in EVALUATE_COLUMNS}
+
+
+def failing_requirements(design: Design, result: SweepResult) -> np.ndarray | None:
+    """The requirement that fails at each point of a vectorised sweep (``""``: none, or only
+    a negative margin), as :func:`spiralcap.curves.failing_requirements`; None for other
+    modes (their points are rebuilt or re-optimised one by one)."""
+    from optimize import margin_grid
+    from spiralcap.curves import failing_requirements as failing
+
+    if result.mode != "evaluate (vectorised)":
+        return None
+    model, alpha, f = _vector_model(design, result.inputs)
+    return failing(model, alpha, margin_grid(model, alpha, f))
 
 
 def _evaluate_points(design, inputs, progress) -> dict[str, np.ndarray]:

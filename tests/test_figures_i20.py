@@ -63,3 +63,48 @@ def test_waveform_sequence_one_panel_per_plane_change() -> None:
         assert (t1 - t0) * 2.0 <= 5.0, "a few cycles (at most 5 periods of 0.5 s), not 40"
     env = drawn.overview[0].get_ydata()  # x pair's current amplitude
     assert env[0] < 1e-9 and env[-1] > 4.0, "overview: the x pair steps up at the first change"
+
+
+def test_margin_map_levels_over_the_feasible_range_and_regions_named() -> None:
+    from optimize import evaluate, margin_grid, prepare
+    from spiralcap.assemble import build_model
+    from spiralcap.curves import frequency_range_hz, margin_map
+    from spiralcap.design import load_design
+    from spiralcap.figures.sweep import plot_margin_map
+
+    model = prepare(build_model(load_design()))
+    ev = evaluate(model)
+    grid = margin_map(model, float(frequency_range_hz(model, ev.step_out_frequency_hz).max()))
+    m = grid.margin_Nm * 1e3
+    assert grid.failing is not None
+    assert (grid.failing[grid.feasible] == "").all(), "a feasible point names no failure"
+    named = ~grid.feasible & (m >= 0)
+    assert (grid.failing[named] != "").all(), "every infeasible point that holds is named"
+    # independent: the speed requirement, v = f * pitch * slip (speed_m_s), fails at low f only
+    req = model.requirements
+    speed_bad = grid.failing == f"speed < {req.min_speed_m_s * 1e3:.3g} mm/s"
+    assert speed_bad.any()
+    aa, ff = np.meshgrid(np.radians(grid.helical_angle_deg), grid.frequency_hz)
+    g = margin_grid(model, aa, ff)
+    assert (g.speed_m_s[speed_bad] < req.min_speed_m_s).all()
+    ax = Figure(figsize=(7, 4.6), layout="constrained").subplots()
+    drawn = plot_margin_map(
+        ax,
+        grid.helical_angle_deg,
+        grid.frequency_hz,
+        grid.margin_Nm,
+        feasible=grid.feasible,
+        failing=grid.failing,
+    )
+    levels = np.asarray(drawn.filled.levels)
+    feasible_m = m[grid.feasible]
+    assert levels[0] >= 0 and levels[0] <= feasible_m.min() + 1e-12, (
+        "the first colour level at or below the least feasible margin, not at -18 mN·m"
+    )
+    assert levels[-1] >= feasible_m.max() and levels.size >= 6, "levels span the feasible range"
+    assert m.min() < 0 and drawn.regions[0] == "margin < 0: steps out", (
+        "negative margin: one region, named"
+    )
+    assert set(drawn.regions[1:]) == {n for n in grid.failing.ravel() if n}
+    texts = {t.get_text() for t in ax.texts}
+    assert set(drawn.regions[1:]) <= texts and "steps out" in texts, "each region named on the map"

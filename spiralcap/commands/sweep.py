@@ -111,7 +111,10 @@ def run(args: argparse.Namespace) -> int:
         from spiralcap.figures.sweep import draw_sweep
 
         size = (6.4, 4.6) if len(axes) == 2 else (6.4, 7.0)
-        write_figure(args.plot, lambda fig: draw_sweep(fig, result), size)
+        from spiralcap.sweep import failing_requirements
+
+        failing = failing_requirements(design, result) if len(result.axes) == 2 else None
+        write_figure(args.plot, lambda fig: draw_sweep(fig, result, failing), size)
     if args.csv:
         buf = io.StringIO()
         writer = csv.writer(buf)

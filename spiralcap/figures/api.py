@@ -204,6 +204,7 @@ def margin_map(
         grid.frequency_hz,
         grid.margin_Nm,
         feasible=grid.feasible,
+        failing=grid.failing,
         xlabel="helical angle α (deg)",
         ylabel="rotation frequency f (Hz)",
         marks=marks,

@@ -39,6 +39,7 @@ class MarginMapDrawn(NamedTuple):
     best: Any
     marks: list[Any]
     colorbar: Any
+    regions: list[str] = []
 
 
 class SweepDrawn(NamedTuple):
@@ -48,6 +49,10 @@ class SweepDrawn(NamedTuple):
     margin_map: MarginMapDrawn | None
 
 
+#: Hatches of the regions where a named requirement fails (the step-out region is "xx").
+REGION_HATCHES = ("///", "\\\\\\", "...", "++", "||", "--")
+
+
 def plot_margin_map(
     ax: Axes,
     x: Any,
@@ -55,12 +60,18 @@ def plot_margin_map(
     margin_Nm: Any,
     *,
     feasible: Any = None,
+    failing: Any = None,
     xlabel: str = "",
     ylabel: str = "",
     marks: dict[str, tuple[float, float]] | None = None,
     colorbar: bool = True,
 ) -> MarginMapDrawn:
-    """Worst-case margin over a grid of two variables, with the infeasible region hatched.
+    """Worst-case margin over a grid of two variables, each failing requirement its own region.
+
+    The colour levels span the margin over the feasible points (all levels go to designs that
+    could be chosen); where the margin is negative the capsule steps out: one grey,
+    cross-hatched region, not shades of red. Each other requirement that fails is hatched and
+    named on the map where it fails.
 
     Parameters
     ----------
@@ -71,7 +82,11 @@ def plot_margin_map(
     margin_Nm : array_like, shape (ny, nx)
         Margin at each grid point, N·m (shown in mN·m).
     feasible : array_like of bool, shape (ny, nx), optional
-        Whether every requirement holds; the rest is hatched.
+        Whether every requirement holds.
+    failing : array_like of str, shape (ny, nx), optional
+        The requirement that fails at each point (``""``: none, or only the margin), e.g.
+        :func:`spiralcap.curves.failing_requirements`; without it the infeasible points with
+        a positive margin are hatched as "a requirement not met".
     xlabel, ylabel : str
         Axis labels with units.
     marks : mapping label -> (x, y), optional
@@ -82,44 +97,88 @@ def plot_margin_map(
     Returns
     -------
     MarginMapDrawn
-        ``best`` marks the largest margin among the feasible grid points.
+        ``best`` marks the largest margin among the feasible grid points; ``infeasible`` is
+        the list of hatched regions (step-out first), ``regions`` their names.
     """
-    xs = np.asarray(x, float)
-    ys = np.asarray(y, float)
-    from matplotlib.colors import TwoSlopeNorm
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
     from matplotlib.ticker import MaxNLocator
 
+    xs = np.asarray(x, float)
+    ys = np.asarray(y, float)
     m = np.asarray(margin_Nm, float) * 1e3
-    lo, hi = float(np.nanmin(m)), float(np.nanmax(m))
-    lo, hi = min(lo, -1e-3 * abs(hi) - 1e-12), max(hi, 1e-3 * abs(lo) + 1e-12)
-    levels = MaxNLocator(nbins=18).tick_values(lo, hi)
-    norm = TwoSlopeNorm(0.0, vmin=float(levels[0]), vmax=float(levels[-1]))
-    filled = ax.contourf(xs, ys, m, levels=levels, cmap="RdBu", norm=norm, extend="both")
-    step_out = None
-    if np.nanmin(m) < 0 < np.nanmax(m):
-        step_out = ax.contour(xs, ys, m, levels=[0.0], colors="black", linewidths=2.2)
-        ax.clabel(step_out, fmt={0.0: "margin 0 (step-out)"}, fontsize=7.5)
-    infeasible = best = None
     ok = np.ones(m.shape, bool) if feasible is None else np.asarray(feasible, bool)
-    if (~ok).any():
-        infeasible = ax.contourf(
-            xs,
-            ys,
-            (~ok).astype(float),
-            levels=[0.5, 1.5],
-            colors="none",
-            hatches=["///"],
-        )
-        for coll in getattr(infeasible, "collections", [infeasible]):
-            coll.set_edgecolor("0.25")
-            coll.set_linewidth(0.0)
+    if failing is None:
+        names = np.where(~ok & (m >= 0), "a requirement not met", "").astype(object)
+    else:
+        names = np.asarray(failing, dtype=object)
+    shown = ok if ok.any() else m >= 0
+    lo = float(np.nanmin(m[shown])) if shown.any() else 0.0
+    hi = float(np.nanmax(m)) if np.isfinite(np.nanmax(m)) else lo + 1.0
+    lo = max(lo, 0.0)
+    if hi - lo <= 1e-9 * max(abs(hi), 1.0):
+        hi = lo + max(abs(lo) * 0.01, 1e-6)
+    levels = MaxNLocator(nbins=10).tick_values(lo, hi)
+    levels = levels[(levels >= 0.0) | (np.arange(levels.size) == 0)]
+    if levels[0] < 0:
+        levels[0] = 0.0
+    # the whole grid: negative margins fall below the first level and the step-out region
+    # is drawn over them, both bounded by the same interpolated zero line (no gap)
+    filled = ax.contourf(
+        xs,
+        ys,
+        m,
+        levels=levels,
+        cmap="viridis",
+        extend="both" if levels[0] > 0 or (m < 0).any() else "max",
+    )
     handles: list[Any] = []
-    from matplotlib.patches import Patch
-
-    if infeasible is not None:
-        handles.append(
-            Patch(facecolor="white", edgecolor="0.25", hatch="///", label="a requirement not met")
+    regions: list[Any] = []
+    region_names: list[str] = []
+    step_out = None
+    if (m < 0).any():
+        neg = ax.contourf(
+            xs, ys, m, levels=[float(np.nanmin(m)) - 1.0, 0.0], colors=["0.82"], hatches=["xx"]
         )
+        _hatch_edges(neg, "0.35")
+        regions.append(neg)
+        region_names.append("margin < 0: steps out")
+        handles.append(
+            Patch(facecolor="0.82", edgecolor="0.35", hatch="xx", label="margin < 0: steps out")
+        )
+        if (m > 0).any():
+            step_out = ax.contour(xs, ys, m, levels=[0.0], colors="black", linewidths=2.2)
+    distinct = [n for n in dict.fromkeys(names.ravel().tolist()) if n]
+    for k, name in enumerate(distinct):
+        mask = names == name
+        hatch = REGION_HATCHES[k % len(REGION_HATCHES)]
+        reg = ax.contourf(
+            xs, ys, mask.astype(float), levels=[0.5, 1.5], colors="none", hatches=[hatch]
+        )
+        _hatch_edges(reg, "0.15")
+        regions.append(reg)
+        region_names.append(name)
+        handles.append(Patch(facecolor="white", edgecolor="0.15", hatch=hatch, label=name))
+        j, i = _inside_point(mask)
+        ax.annotate(
+            name,
+            (xs[i], ys[j]),
+            ha="center",
+            va="center",
+            fontsize=7.5,
+            bbox={"boxstyle": "round,pad=0.2", "fc": "white", "ec": "0.3", "lw": 0.6},
+        )
+    if (m < 0).any():
+        j, i = _inside_point(m < 0)
+        ax.annotate(
+            "steps out",
+            (xs[i], ys[j]),
+            ha="center",
+            va="center",
+            fontsize=7.5,
+            bbox={"boxstyle": "round,pad=0.2", "fc": "white", "ec": "0.3", "lw": 0.6},
+        )
+    best = None
     if ok.any():
         masked = np.where(ok, m, -np.inf)
         j, i = np.unravel_index(int(np.argmax(masked)), m.shape)
@@ -150,17 +209,40 @@ def plot_margin_map(
         drawn_marks.append(mk)
         handles.append(mk)
     if step_out is not None:
-        from matplotlib.lines import Line2D
-
         handles.append(Line2D([], [], color="black", linewidth=2.2, label="margin = 0 (step-out)"))
     ax.set_xlabel(xlabel)
     ax.set_ylabel(ylabel)
     ax.grid(False)
-    ax.legend(handles=handles, loc="upper right", fontsize=7.5, framealpha=0.92)
+    ax.legend(
+        handles=handles,
+        loc="upper center",
+        bbox_to_anchor=(0.5, -0.16),
+        ncols=2,
+        fontsize=7.5,
+        framealpha=0.92,
+    )
     cbar = None
     if colorbar:
-        cbar = ax.figure.colorbar(filled, ax=ax, label="worst-case torque margin (mN·m)")
-    return MarginMapDrawn(filled, step_out, infeasible, best, drawn_marks, cbar)
+        cbar = ax.figure.colorbar(
+            filled, ax=ax, label="worst-case torque margin (mN·m), feasible range"
+        )
+    return MarginMapDrawn(filled, step_out, regions or None, best, drawn_marks, cbar, region_names)
+
+
+def _hatch_edges(contour: Any, colour: str) -> None:
+    for coll in getattr(contour, "collections", [contour]):
+        coll.set_edgecolor(colour)
+        coll.set_linewidth(0.0)
+
+
+def _inside_point(mask: np.ndarray) -> tuple[int, int]:
+    """The grid index deepest inside ``mask`` (farthest from its edge): where to name it."""
+    from scipy.ndimage import distance_transform_edt
+
+    padded = np.pad(mask, 1, constant_values=False)
+    depth = distance_transform_edt(padded)[1:-1, 1:-1]
+    j, i = np.unravel_index(int(np.argmax(depth)), mask.shape)
+    return int(j), int(i)
 
 
 def _label(key: str) -> str:
@@ -170,12 +252,14 @@ def _label(key: str) -> str:
     return f"{key} ({unit})" if unit else key
 
 
-def draw_sweep(fig: Any, result: Any) -> SweepDrawn:
+def draw_sweep(fig: Any, result: Any, failing: Any = None) -> SweepDrawn:
     """The figure of a sweep (:class:`spiralcap.sweep.SweepResult`) on ``fig``.
 
     One swept key: each numeric output against it, stacked, infeasible points (or failed
     re-optimisations) as crosses. Two keys: the margin map (:func:`plot_margin_map`), the
-    first key along x. More keys cannot be drawn on one figure.
+    first key along x, each failing requirement named where ``failing`` (one name per point,
+    :func:`spiralcap.sweep.failing_requirements`) gives it. More keys cannot be drawn on one
+    figure.
 
     Raises
     ------
@@ -245,6 +329,7 @@ def draw_sweep(fig: Any, result: Any) -> SweepDrawn:
             np.asarray(axes[1].values, float),
             np.nan_to_num(margin, nan=float(np.nanmin(margin))),
             feasible=ok,
+            failing=None if failing is None else np.asarray(failing, object).reshape(nx, ny).T,
             xlabel=_label(kx),
             ylabel=_label(ky),
         )
