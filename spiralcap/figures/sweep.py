@@ -39,7 +39,7 @@ class MarginMapDrawn(NamedTuple):
     best: Any
     marks: list[Any]
     colorbar: Any
-    regions: list[str] = []
+    regions: tuple[str, ...] = ()
 
 
 class SweepDrawn(NamedTuple):
@@ -118,7 +118,7 @@ def plot_margin_map(
     lo = max(lo, 0.0)
     if hi - lo <= 1e-9 * max(abs(hi), 1.0):
         hi = lo + max(abs(lo) * 0.01, 1e-6)
-    levels = MaxNLocator(nbins=10).tick_values(lo, hi)
+    levels = np.asarray(MaxNLocator(nbins=10).tick_values(lo, hi), dtype=float)
     levels = levels[(levels >= 0.0) | (np.arange(levels.size) == 0)]
     if levels[0] < 0:
         levels[0] = 0.0
@@ -181,7 +181,8 @@ def plot_margin_map(
     best = None
     if ok.any():
         masked = np.where(ok, m, -np.inf)
-        j, i = np.unravel_index(int(np.argmax(masked)), m.shape)
+        jb, ib = np.unravel_index(int(np.argmax(masked)), m.shape)
+        j, i = int(jb), int(ib)
         (best,) = ax.plot(
             [xs[i]],
             [ys[j]],
@@ -226,7 +227,9 @@ def plot_margin_map(
         cbar = ax.figure.colorbar(
             filled, ax=ax, label="worst-case torque margin (mN·m), feasible range"
         )
-    return MarginMapDrawn(filled, step_out, regions or None, best, drawn_marks, cbar, region_names)
+    return MarginMapDrawn(
+        filled, step_out, regions or None, best, drawn_marks, cbar, tuple(region_names)
+    )
 
 
 def _hatch_edges(contour: Any, colour: str) -> None:
