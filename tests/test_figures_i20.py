@@ -108,3 +108,26 @@ def test_margin_map_levels_over_the_feasible_range_and_regions_named() -> None:
     assert set(drawn.regions[1:]) == {n for n in grid.failing.ravel() if n}
     texts = {t.get_text() for t in ax.texts}
     assert set(drawn.regions[1:]) <= texts and "steps out" in texts, "each region named on the map"
+
+
+def test_no_sobol_panel_with_one_input(tmp_path) -> None:
+    from spiralcap.design import load_design
+    from spiralcap.report.document import FigureBlock, Paragraph, Table
+    from spiralcap.report.sections import uncertainty as sec
+    from spiralcap.report.sections._util import Context
+
+    design = load_design(None, ["tissue.uncertainty.scale_sigma_log=0.3"])
+    st = sec.collect(design)
+    section = sec.build(Context(None, {"uncertainty": sec.payload(st)}), st)
+    assert section is not None
+    assert "uncertainty-sobol" not in {b.id for b in section.blocks if isinstance(b, Table)}, (
+        "one input: its Sobol indices are 1 by construction, no table of them"
+    )
+    (block,) = [b for b in section.blocks if isinstance(b, FigureBlock)]
+    fig = Figure(figsize=block.size_in)
+    block.draw(fig)
+    assert len(fig.axes) == 2, "histogram and its CDF twin only: no single bar at 1"
+    assert "Right:" not in block.caption
+    assert any(
+        "One uncertain input" in str(b.parts) for b in section.blocks if isinstance(b, Paragraph)
+    )

@@ -236,6 +236,38 @@ def plot_margin_vs_frequency(
             linewidth=1.6,
             label=f"drive's max. frequency, {max_frequency_hz:.3g} Hz{by}",
         )
+    # each vertical line named on the line itself and capped with its curve's marker, so the
+    # four lines of two curves read apart in greyscale print too
+    short = label.split(",")[0]
+    for vline, what in ((step_out, "step-out"), (max_line, "drive max.")):
+        if vline is None:
+            continue
+        x = float(vline.get_xdata()[0])
+        ax.annotate(
+            f"{what}, {short}: {x:.3g} Hz",
+            (x, 0.98),
+            xycoords=("data", "axes fraction"),
+            xytext=(-2, 0),
+            textcoords="offset points",
+            rotation=90,
+            ha="right",
+            va="top",
+            fontsize=7,
+            color="0.1",
+            bbox={"boxstyle": "square,pad=0.1", "fc": "white", "ec": "none", "alpha": 0.85},
+        )
+        ax.plot(
+            [x],
+            [1.0],
+            transform=ax.get_xaxis_transform(),
+            marker=style["marker"],
+            color=style["color"],
+            markeredgecolor="black",
+            markersize=7,
+            linestyle="none",
+            clip_on=False,
+            zorder=6,
+        )
     if operating_frequency_hz is not None:
         y = float(np.interp(operating_frequency_hz, f, m))
         (operating,) = ax.plot(

@@ -64,6 +64,14 @@ def plot_margin_distribution(ax: Any, result: Any) -> dict[str, Any]:
     return {"hist": hist, "cdf": cdf, "stepout": stepout, "p05": line_p05, "nominal": line_nom}
 
 
+def sobol_panel(result: Any) -> bool:
+    """Whether a Sobol panel says anything: indices computed over two or more input groups.
+
+    With one uncertain input its indices are 1 by construction (a single bar at 1).
+    """
+    return result.sobol is not None and len(result.sobol.inputs) >= 2
+
+
 def plot_sobol(ax: Any, result: Any) -> dict[str, Any]:
     """First-order and total Sobol indices of the margin, horizontal bars with 95 % whiskers.
 
@@ -108,7 +116,8 @@ def plot_sobol(ax: Any, result: Any) -> dict[str, Any]:
 
 
 def save_uncertainty_figure(path: str, result: Any) -> dict[str, Any]:
-    """Both panels side by side, written atomically to ``path`` (png, pdf or svg)."""
+    """The distribution and, with two or more uncertain inputs, the Sobol panel beside it,
+    written atomically to ``path`` (png, pdf or svg)."""
     import io
 
     import matplotlib
@@ -117,9 +126,13 @@ def save_uncertainty_figure(path: str, result: Any) -> dict[str, Any]:
     from spiralcap.design import write_text_atomic
 
     with matplotlib.rc_context(REPORT_RC):
-        fig = Figure(figsize=(11.0, 4.4), layout="constrained")
-        ax1, ax2 = fig.subplots(1, 2, width_ratios=[1.4, 1.0])
-        drawn = {**plot_margin_distribution(ax1, result), **plot_sobol(ax2, result)}
+        if sobol_panel(result):
+            fig = Figure(figsize=(11.0, 4.4), layout="constrained")
+            ax1, ax2 = fig.subplots(1, 2, width_ratios=[1.4, 1.0])
+            drawn = {**plot_margin_distribution(ax1, result), **plot_sobol(ax2, result)}
+        else:  # one uncertain input (its index is 1) or none computed: no Sobol panel
+            fig = Figure(figsize=(6.6, 4.4), layout="constrained")
+            drawn = plot_margin_distribution(fig.subplots(), result)
         buf = io.BytesIO()
         suffix = str(path).rsplit(".", 1)[-1].lower() if "." in str(path) else "png"
         fig.savefig(buf, format=suffix, dpi=150)

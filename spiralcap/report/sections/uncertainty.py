@@ -47,10 +47,13 @@ def payload(st: Any) -> dict[str, Any] | None:
     return out
 
 
-def _draw(st: Any) -> Any:
+def _draw(st: Any, with_sobol: bool) -> Any:
     def draw(fig: Any) -> None:
         from spiralcap.figures.uncertainty import plot_margin_distribution, plot_sobol
 
+        if not with_sobol:
+            plot_margin_distribution(fig.subplots(), st.result)
+            return
         ax1, ax2 = fig.subplots(1, 2, width_ratios=[1.4, 1.0])
         plot_margin_distribution(ax1, st.result)
         plot_sobol(ax2, st.result)
@@ -103,8 +106,18 @@ def build(ctx: Context, st: Any) -> Section | None:
         id="uncertainty-percentiles",
         caption="Percentiles over the tissue samples; the speed is 0 where the capsule steps out.",
     )
+    from spiralcap.figures.uncertainty import sobol_panel
+
     blocks: list[Any] = [intro, risk, table]
-    if st.result.sobol is not None:
+    with_sobol = sobol_panel(st.result)
+    if st.result.sobol is not None and not with_sobol:
+        blocks.append(
+            Paragraph(
+                f"One uncertain input ({inputs}): it explains all of the margin's variance, so "
+                "no Sobol indices are shown."
+            )
+        )
+    if with_sobol:
         names = st.result.sobol.inputs
         blocks.append(
             Table(
@@ -123,14 +136,21 @@ def build(ctx: Context, st: Any) -> Section | None:
                 "with its interactions (total). Correlated fit parameters form one group.",
             )
         )
+    distribution = (
+        "distribution of the worst-case margin over the tissue samples (histogram, and "
+        "cumulative on the right axis); hatched, the step-out region"
+    )
     blocks.append(
         FigureBlock(
             "fig-uncertainty",
-            "Left: distribution of the worst-case margin over the tissue samples (histogram, "
-            "and cumulative on the right axis); hatched, the step-out region. Right: which "
-            "uncertain inputs drive the margin's spread (Sobol indices with 95 % intervals).",
-            _draw(st),
-            size_in=(10.0, 4.2),
+            (
+                f"Left: {distribution}. Right: which uncertain inputs drive the margin's "
+                "spread (Sobol indices with 95 % intervals)."
+            )
+            if with_sobol
+            else distribution[0].upper() + distribution[1:] + ".",
+            _draw(st, with_sobol),
+            size_in=(10.0, 4.2) if with_sobol else (6.6, 4.2),
         )
     )
     return Section("uncertainty", "Tissue uncertainty", blocks)
