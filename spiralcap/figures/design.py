@@ -239,10 +239,10 @@ def plot_margin_vs_frequency(
     # each vertical line named on the line itself and capped with its curve's marker, so the
     # four lines of two curves read apart in greyscale print too
     short = label.split(",")[0]
-    for vline, what in ((step_out, "step-out"), (max_line, "drive max.")):
-        if vline is None:
+    for x_line, what in ((step_out_frequency_hz, "step-out"), (max_frequency_hz, "drive max.")):
+        if x_line is None or not np.isfinite(x_line) or x_line <= 0:
             continue
-        x = float(vline.get_xdata()[0])
+        x = float(x_line)
         ax.annotate(
             f"{what}, {short}: {x:.3g} Hz",
             (x, 0.98),
