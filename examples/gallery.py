@@ -30,19 +30,26 @@ def main(
     power_factors: tuple[float, ...] | None = None,
     refinements: int | None = None,
     fmt: str = "svg",
+    uncertainty_samples: int = 1 << 14,
 ) -> list[Path]:
     """Write every report figure of the built-in design into ``out_dir``; return the paths."""
     import matplotlib
 
     from optimize import evaluate, optimize_design, prepare
     from spiralcap import figures
+    from spiralcap.analysis.coils import analyse_coils
     from spiralcap.assemble import build_model
     from spiralcap.design import load_design
     from spiralcap.figures.style import REPORT_RC
+    from spiralcap.uncertainty import study
 
     design = load_design()
     model = prepare(build_model(design))
     ev, res = evaluate(model), optimize_design(model)
+    # the report's uncertainty figure needs a [tissue.uncertainty] table: two inputs
+    uncertain = design.with_values(
+        {"tissue.uncertainty.scale_sigma_log": 0.3, "tissue.uncertainty.friction_sigma_log": 0.2}
+    )
     ws = float(design["workspace.radius_m"])
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
@@ -50,6 +57,7 @@ def main(
         "geometry": lambda: figures.geometry(model, workspace_radius_m=ws),
         "field-maps": lambda: figures.field_maps(model, workspace_radius_m=ws),
         "field-profiles": lambda: figures.uniformity_profile(model),
+        "heating": lambda: figures.heating(analyse_coils(design, model)),
         "tissue-torque": lambda: figures.tissue_torque(model, ev, res),
         "margin-frequency": lambda: figures.margin_vs_frequency(model, ev, res),
         "margin-map": lambda: figures.margin_map(model, res, ev),
@@ -58,6 +66,9 @@ def main(
         "margin-angle": lambda: figures.margin_vs_angle(model, res, ev),
         "margin-power": lambda: figures.margin_vs_power(
             design, factors=power_factors, refinements=refinements
+        ),
+        "uncertainty": lambda: figures.tissue_uncertainty(
+            study(uncertain, samples=uncertainty_samples, sobol_base=256).result
         ),
     }
     written = []

@@ -13,21 +13,25 @@ def test_gallery_writes_every_report_figure(tmp_path: Path) -> None:
     assert spec and spec.loader
     gallery = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(gallery)
-    written = gallery.main(str(tmp_path), power_factors=(0.5, 2.0), refinements=1, fmt="png")
+    written = gallery.main(
+        str(tmp_path),
+        power_factors=(0.5, 2.0),
+        refinements=1,
+        fmt="png",
+        uncertainty_samples=1024,
+    )
     names = {p.stem for p in written}
-    # the report's figure ids, without the "fig-" prefix
+    # the report's figure ids, read from the report's source (every "fig-..." it declares),
+    # without the "fig-" prefix: a figure added to the report must be added to the gallery
+    import re
+
+    sections = ROOT / "spiralcap" / "report" / "sections"
     report_ids = {
-        "geometry",
-        "field-maps",
-        "field-profiles",
-        "tissue-torque",
-        "margin-frequency",
-        "margin-map",
-        "torque-budget",
-        "utilisation",
-        "margin-angle",
-        "margin-power",
+        m
+        for f in sections.glob("*.py")
+        for m in re.findall(r'"fig-([a-z0-9-]+)"', f.read_text(encoding="utf-8"))
     }
+    assert len(report_ids) >= 12, report_ids
     assert report_ids <= names, f"every report figure drawn from Python: {report_ids - names}"
     for p in written:
         assert p.read_bytes().startswith(b"\x89PNG"), f"{p.name} is an image"

@@ -27,12 +27,14 @@ __all__ = [
     "Plot",
     "field_maps",
     "geometry",
+    "heating",
     "limit_utilisation",
     "margin_map",
     "margin_vs_angle",
     "margin_vs_frequency",
     "margin_vs_power",
     "tissue_torque",
+    "tissue_uncertainty",
     "torque_budget",
     "uniformity_profile",
 ]
@@ -400,3 +402,38 @@ def geometry(model: Any, *, fig: Any = None, workspace_radius_m: float | None = 
     fig = _figure(fig, (7.0, 3.5))
     drawn = draw_geometry(fig, model.coils, model.capsule, workspace_radius_m=workspace_radius_m)
     return Plot(fig, drawn.pairs["x"][0].axes, drawn)
+
+
+def heating(analysis: Any, *, ax: Any = None) -> Plot:
+    """Winding temperature of each pair from switch-on, at its operating current.
+
+    ``analysis``: :func:`spiralcap.analysis.coils.analyse_coils` of the design (its heating
+    curves, hot-spot limit and session length), as the report's coil section draws it.
+    """
+    from spiralcap.figures.thermal import plot_heating_curves
+
+    fig, ax = _axes(ax, (7.5, 2.8))
+    drawn = plot_heating_curves(
+        ax,
+        analysis.heating,
+        limit_C=float(analysis.limit_temperature_C),
+        session_s=analysis.session_s,
+    )
+    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7.5)
+    return Plot(fig, ax, drawn)
+
+
+def tissue_uncertainty(result: Any, *, fig: Any = None) -> Plot:
+    """The margin's distribution over the tissue samples, and its Sobol indices beside it
+    when there are two or more uncertain inputs (``result``: the ``result`` of
+    :func:`spiralcap.uncertainty.study`)."""
+    from spiralcap.figures.uncertainty import plot_margin_distribution, plot_sobol, sobol_panel
+
+    two = sobol_panel(result)
+    fig = _figure(fig, (10.0, 4.2) if two else (6.6, 4.2))
+    if not two:
+        ax = fig.subplots()
+        return Plot(fig, ax, plot_margin_distribution(ax, result))
+    ax1, ax2 = fig.subplots(1, 2, width_ratios=[1.4, 1.0])
+    drawn = {**plot_margin_distribution(ax1, result), **plot_sobol(ax2, result)}
+    return Plot(fig, ax1, drawn)
