@@ -49,7 +49,12 @@ nav.toc a { color: var(--note); text-decoration: none; }
 table { border-collapse: collapse; margin: 0.6rem 0 1rem; width: 100%; font-size: 0.9rem; }
 caption { caption-side: top; text-align: left; font-weight: bold; padding: 0.2rem 0; }
 th, td { border-bottom: 1px solid var(--rule); padding: 0.25rem 0.5rem; vertical-align: top;
-         text-align: left; overflow-wrap: anywhere; }
+         text-align: left; overflow-wrap: break-word; }
+td:first-child { overflow-wrap: anywhere; }
+#inputs-table td:first-child, #inputs-changed td:first-child { width: 17rem; }
+@media (max-width: 900px) {
+  #inputs-table td:first-child, #inputs-changed td:first-child { width: auto; }
+}
 th.n { text-align: right; }
 th { background: var(--shade); border-bottom: 2px solid var(--ink); }
 td.n { text-align: right; font-variant-numeric: tabular-nums; white-space: nowrap; }
