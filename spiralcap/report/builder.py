@@ -35,6 +35,7 @@ def report_payload(data: Any) -> dict[str, Any]:
     from spiralcap import __version__
     from spiralcap.presentation import jsonable as _jsonable
     from spiralcap.report.sections import uncertainty
+    from spiralcap.report.sections.conclusion import conclusion_payload
     from spiralcap.report.sections.tissue import tissue_payload
     from spiralcap.report.sections.tradeoffs import power_sweep_payload
 
@@ -54,6 +55,9 @@ def report_payload(data: Any) -> dict[str, Any]:
             "tissue": tissue_payload(data),
             "tradeoffs": {"power_sweep": power_sweep_payload(data)},
             **extra,
+            "conclusion": conclusion_payload(
+                data.evaluate_json, data.optimize_json, design, extra.get("uncertainty")
+            ),
             "versions": data.versions,
         }
     )

@@ -2,8 +2,17 @@
 
 from __future__ import annotations
 
-from spiralcap.report.document import Bullets, Equation, Inline, Paragraph, Section, Strong
+from spiralcap.report.document import (
+    Bullets,
+    Equation,
+    Inline,
+    Link,
+    Paragraph,
+    Section,
+    Strong,
+)
 from spiralcap.report.sections._util import Context
+from spiralcap.report.sections.conclusion import REFERENCES as CONCLUSION_REFERENCES
 
 #: The references the report cites (no URLs: the report must open offline and fetch nothing).
 REFERENCES: tuple[str, ...] = (
@@ -99,7 +108,11 @@ def build(ctx: Context) -> Section:
             "Tables 3–4, reference levels of magnetic flux density (rms): occupational 0.2/f² T "
             "for 1–8 Hz, 2.5·10⁻²/f T for 8–25 Hz, 1 mT above; general public 4·10⁻²/f² T, "
             "5·10⁻³/f T, 0.2 mT. Below 1 Hz the 1 Hz level is held. A circularly rotating field's "
-            "rms equals its amplitude, so the level bounds B0 directly.",
+            "rms equals its amplitude, so the level bounds B0 directly. Occupational levels "
+            "protect the operator and staff, public levels everyone else; neither covers the "
+            "patient (a medical exposure, see ",
+            Link("section Conclusion", "conclusion"),
+            ").",
         ],
         [
             Strong("Coil field"),
@@ -176,6 +189,6 @@ def build(ctx: Context) -> Section:
             *EQUATIONS,
             Bullets(items),
             Paragraph([Strong("References")]),
-            Bullets([[r] for r in REFERENCES]),
+            Bullets([[r] for r in (*REFERENCES, *CONCLUSION_REFERENCES)]),
         ],
     )

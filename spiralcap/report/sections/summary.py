@@ -161,14 +161,26 @@ def build(ctx: Context) -> Section:
             ],
             kind="alert",
         )
-    return Section("summary", "Summary", [*lines, verdict, _as_entered(ctx)])
+    # a review reads the design as entered first, then the optimum as a proposed change
+    proposed = Paragraph(
+        [
+            Strong("Proposed change: the optimum."),
+            " The optimiser re-chose the operating point inside the same hardware and limits; "
+            "adopting it is a change to the design (what to change first, and whether it is "
+            "safe: ",
+            Link("section Conclusion", "conclusion"),
+            ").",
+        ]
+    )
+    return Section("summary", "Summary", [_as_entered(ctx), proposed, *lines, verdict])
 
 
 def _as_entered(ctx: Context) -> Paragraph:
     e = "evaluate"
     failed = [c["name"] for c in ctx.value(f"{e}.checks") if not c["ok"]]
     parts: list[Any] = [
-        "The design as entered (helical angle ",
+        Strong("As entered."),
+        " The design as entered (helical angle ",
         ctx.num(f"{e}.helical_angle_deg", unit="°"),
         ", ",
         ctx.num(f"{e}.frequency_hz", unit="Hz"),
