@@ -243,7 +243,13 @@ def _fails_first(ctx: Context) -> Paragraph:
     c = "conclusion"
     parts: list[Inline] = [Strong("What would fail first under uncertainty. ")]
     rows = [r for r in ctx.value(f"{c}.checks_by_headroom") if r["ok"]]
-    if ctx.value(f"{c}.tissue_torque_headroom") is not None:
+    headroom = ctx.value(f"{c}.tissue_torque_headroom")
+    if headroom is not None and headroom < 0:
+        parts.append(
+            "As entered the capsule already steps out: the worst-case tissue torque exceeds "
+            "what the magnet delivers at the operating point. "
+        )
+    elif headroom is not None:
         parts += [
             "The tissue torque is the least certain input: the capsule steps out once the "
             "worst-case tissue's resistive torque rises ",
@@ -256,8 +262,9 @@ def _fails_first(ctx: Context) -> Paragraph:
         first = f"{readable(others[0]['name'])} ({others[0]['key']})"
         if others[0]["headroom"] == 0:
             parts.append(
-                f"Of the hardware limits and requirements, {first} is at its limit: any rise "
-                "in what it depends on (ambient, copper resistance, the drive) fails it first. "
+                f"Of the hardware limits and requirements, {first} is at its limit: it sets the "
+                "field as entered, so any drift against it (ambient, copper resistance, supply) "
+                "is met only by a lower field, and so a smaller margin. "
             )
         else:
             parts += [
