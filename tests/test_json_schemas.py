@@ -28,6 +28,7 @@ CASES = [
     ("capsule", ["capsule"]),
     ("torque", ["torque", "--frequency", "0.5", "2", "50"]),
     ("fit", ["fit", CSV]),
+    ("fit", ["fit", CSV, "--only", "scale,E1"]),
     ("sweep", ["sweep", "--over", "operation.frequency_hz=0.5:3:3", *ZERO_TORQUE]),
     ("sweep", ["sweep", "--over", "coils.x.turns=300:400:2"]),
     ("sweep", ["sweep", "--optimize", "--over", "limits.current_A=0.01:15:2"]),
