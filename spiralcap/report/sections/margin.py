@@ -192,8 +192,9 @@ def build(ctx: Context) -> Section:
                 "fig-margin-map",
                 "Worst-case torque margin over helical angle and rotation frequency "
                 "(optimize.margin_grid on a 90 × 90 grid inside the optimiser's angle bounds). "
-                "Hatched: a requirement (minimum speed, spiral turns, positive margin) is not "
-                "met; thick black line: margin = 0, where the capsule steps out even at the "
+                "Colour levels span the feasible margins; grey, cross-hatched: margin < 0, the "
+                "capsule steps out; each other hatched region is named by the requirement that "
+                "fails there; thick black line: margin = 0, where the capsule steps out even at the "
                 "largest field (the drive's maximum frequency); open circle: "
                 "the best feasible grid point; star: the optimiser's optimum; diamond: the "
                 "design as entered.",
