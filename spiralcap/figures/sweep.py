@@ -224,9 +224,7 @@ def plot_margin_map(
     )
     cbar = None
     if colorbar:
-        cbar = ax.figure.colorbar(
-            filled, ax=ax, label="worst-case torque margin (mN·m), feasible range"
-        )
+        cbar = ax.figure.colorbar(filled, ax=ax, label="worst-case margin (mN·m)")
     return MarginMapDrawn(
         filled, step_out, regions or None, best, drawn_marks, cbar, tuple(region_names)
     )
