@@ -192,10 +192,10 @@ def _evaluate_vectorised(design: Design, inputs: dict[str, np.ndarray]) -> dict[
 
 def failing_requirements(design: Design, result: SweepResult) -> np.ndarray | None:
     """The requirement that fails at each point of a vectorised sweep (``""``: none, or only
-    a negative margin), as :func:`spiralcap.curves.failing_requirements`; None for other
+    a negative margin), as :func:`spiralcap.feasibility.failing_requirements`; None for other
     modes (their points are rebuilt or re-optimised one by one)."""
     from optimize import margin_grid
-    from spiralcap.curves import failing_requirements as failing
+    from spiralcap.feasibility import failing_requirements as failing
 
     if result.mode != "evaluate (vectorised)":
         return None

@@ -85,7 +85,7 @@ def plot_margin_map(
         Whether every requirement holds.
     failing : array_like of str, shape (ny, nx), optional
         The requirement that fails at each point (``""``: none, or only the margin), e.g.
-        :func:`spiralcap.curves.failing_requirements`; without it the infeasible points with
+        :func:`spiralcap.feasibility.failing_requirements`; without it the infeasible points with
         a positive margin are hatched as "a requirement not met".
     xlabel, ylabel : str
         Axis labels with units.

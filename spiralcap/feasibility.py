@@ -1,0 +1,66 @@
+"""Which requirement fails where, on a grid of ``optimize.margin_grid`` (maps name regions)."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+
+def _grid_field(grid: Any, name: str) -> np.ndarray:
+    value = grid[name] if isinstance(grid, dict) else getattr(grid, name)
+    return np.asarray(value)
+
+
+def failing_requirements(model: Any, alpha_rad: np.ndarray, grid: Any) -> np.ndarray:
+    """The first requirement not met at each point of a ``margin_grid`` (``""``: none).
+
+    In the order self-locking, spiral turns, speed, set field, safety factor, with
+    :data:`optimize.evaluate.FEASIBILITY_RTOL` as ``feasible`` allows; a point whose only
+    failure is a negative margin (it steps out) gets ``""``: the map draws that region itself.
+    Any other infeasible point left unnamed is ``"a requirement not met"``.
+    """
+    from optimize.evaluate import FEASIBILITY_RTOL, self_lock_margin
+
+    req = model.requirements
+    margin = _grid_field(grid, "margin_Nm").astype(float)
+    ok = _grid_field(grid, "feasible").astype(bool)
+    speed = _grid_field(grid, "speed_m_s").astype(float)
+    turns = _grid_field(grid, "spiral_turns").astype(float)
+    sf = _grid_field(grid, "safety_factor").astype(float)
+    field = _grid_field(grid, "field_amplitude_T").astype(float)
+    rtol = FEASIBILITY_RTOL
+
+    def text(value: Any, fmt: str, unit: str = "") -> str:
+        # a swept requirement is an array: name it without a number
+        return f" < {value:{fmt}}{unit}" if np.ndim(value) == 0 else " below the requirement"
+
+    checks = [
+        ("spiral self-locks", np.asarray(self_lock_margin(model, alpha_rad), float) <= 0),
+        (
+            "spiral turns" + text(req.min_spiral_turns, "g"),
+            turns < np.asarray(req.min_spiral_turns) * (1 - rtol),
+        ),
+        (
+            "speed" + text(np.asarray(req.min_speed_m_s) * 1e3, ".3g", " mm/s"),
+            speed < np.asarray(req.min_speed_m_s) * (1 - rtol),
+        ),
+    ]
+    if model.field_amplitude_T is not None:
+        checks.append(
+            (
+                "set field above what the drive holds",
+                field < model.field_amplitude_T * (1 - 10 * rtol),
+            )
+        )
+    checks.append(
+        (
+            "safety factor" + text(req.min_safety_factor, "g"),
+            (sf < np.asarray(req.min_safety_factor) * (1 - rtol)) & (margin >= 0),
+        )
+    )
+    out = np.full(margin.shape, "", dtype=object)
+    for name, bad in checks:
+        out[(out == "") & bad] = name
+    out[(out == "") & ~ok & (margin >= 0)] = "a requirement not met"
+    return out
