@@ -131,3 +131,29 @@ def test_no_sobol_panel_with_one_input(tmp_path) -> None:
     assert any(
         "One uncertain input" in str(b.parts) for b in section.blocks if isinstance(b, Paragraph)
     )
+
+
+def test_margin_frequency_vertical_lines_named_on_the_lines() -> None:
+    from spiralcap.figures.design import plot_margin_vs_frequency
+
+    ax = Figure().subplots()
+    f = np.linspace(0.2, 10, 50)
+    for k, (name, so, mx) in enumerate((("as entered", 6.0, 4.1), ("optimum", 7.9, 4.7))):
+        plot_margin_vs_frequency(
+            ax,
+            f,
+            (4.0 - f) * 1e-3,
+            step_out_frequency_hz=so,
+            max_frequency_hz=mx,
+            label=f"{name}, α = 10°",
+            style_index=k,
+            shade=k == 0,
+        )
+    texts = [t.get_text() for t in ax.texts]
+    for expected in (
+        "step-out, as entered: 6 Hz",
+        "drive max., as entered: 4.1 Hz",
+        "step-out, optimum: 7.9 Hz",
+        "drive max., optimum: 4.7 Hz",
+    ):
+        assert expected in texts, f"each vertical line labelled on the line (greyscale): {texts}"
