@@ -92,7 +92,7 @@ def conclusion_payload(
                         "name": b["name"],
                         "key": b["key"],
                         "relaxing_means": b.get("relaxing_means", "relaxing"),
-                        # % of the objective gained per 1 % of the entered limit relaxed
+                        # % of the objective gained per 1 % of the bound relaxed (in the JSON unit of the limit)
                         "objective_percent_per_percent": gain * abs(allowed) / abs(objective),
                     }
                 )
@@ -232,7 +232,7 @@ def _change_first(ctx: Context) -> Paragraph:
         parts += [
             " Beyond that, the binding limit worth most is ",
             f"{readable(g['name'])} ({g['key']}): {g['relaxing_means']} it by 1 % of its "
-            "entered value gains ",
+            "bound gains ",
             ctx.num(f"{c}.limit_gains.0.objective_percent_per_percent", unit="%"),
             " of the objective.",
         ]
