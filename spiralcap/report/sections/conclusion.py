@@ -92,7 +92,7 @@ def conclusion_payload(
                         "name": b["name"],
                         "key": b["key"],
                         "relaxing_means": b.get("relaxing_means", "relaxing"),
-                        # % of the objective gained per 1 % of the bound relaxed (in the JSON unit of the limit)
+                        # % of the objective per 1 % of the bound relaxed (the JSON unit)
                         "objective_percent_per_percent": gain * abs(allowed) / abs(objective),
                     }
                 )
