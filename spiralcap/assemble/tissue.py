@@ -123,7 +123,7 @@ def _read_covariance(design: Mapping[str, Any], path: str) -> tuple[tuple[float,
             key,
             path,
             "a file from `spiralcap fit -o` with tissue.fit.covariance_log (the fit writes it "
-            "only when it pins down all five parameters)",
+            "only when the data pin down a fitted parameter; try `fit --only scale`)",
         )
     ok = (
         isinstance(raw, list)
