@@ -8,6 +8,7 @@ difference to the first design. Exit status 0; 2 for bad input.
 from __future__ import annotations
 
 import argparse
+import math
 
 from spiralcap.errors import InputError
 
@@ -53,10 +54,10 @@ def load_designs(paths: list[str], overrides: list[str]) -> list:
     ]
 
 
-def _cell(v) -> str:
-    from spiralcap.report.numbers import fmt
+def _cell(v, exact: bool = False) -> str:
+    from spiralcap.compare import shown_value
 
-    return fmt(v)
+    return shown_value(v, exact)
 
 
 def format_table(headers: list[str], rows: list[list[str]], left: int = 2) -> str:
@@ -80,7 +81,7 @@ def format_comparison(c) -> str:
         lines.append(
             format_table(
                 ["changed key", *labels],
-                [[k.key, *[_cell(v) for v in k.values]] for k in c.changed_keys],
+                [[k.key, *[_cell(v, exact=True) for v in k.values]] for k in c.changed_keys],
                 left=1,
             )
         )
@@ -95,7 +96,7 @@ def format_comparison(c) -> str:
         for r in rows:
             vals = r.shown_values()
             delta = ""
-            if r.differs and all(isinstance(v, float) for v in vals):
+            if r.differs and all(isinstance(v, float) and math.isfinite(v) for v in vals):
                 delta = f"{vals[-1] - vals[0]:+.4g}"
             body.append(
                 [
