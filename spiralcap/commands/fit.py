@@ -224,7 +224,8 @@ def fit_payload(
             "fitted_torque_mNm": result.predicted_Nm * 1e3,
             "relative_residual": (result.predicted_Nm - result.torque_Nm) / result.torque_Nm,
         },
-        "residual_std": result.residual_std,
+        "residual_std": residual_std(result),
+        "residual_std_basis": "rms" if result.dof <= 0 else "dof",
         "relative_residuals": result.relative,
         "dof": result.dof,
         "condition_number": result.condition_number,
@@ -233,6 +234,26 @@ def fit_payload(
         "data_file": str(data_path),
         "design": design_source,
     }
+
+
+def residual_std(result: Any) -> float:
+    """s on the residual degrees of freedom; with none left (as many rows as parameters) the
+    root-mean-square residual instead (s itself has no estimate then)."""
+    import numpy as np
+
+    if result.dof > 0 and math.isfinite(result.residual_std):
+        return float(result.residual_std)
+    r = np.asarray(result.residuals, dtype=float)
+    return float(np.sqrt(np.mean(r * r))) if r.size else 0.0
+
+
+def _num(value: float, factor: float = 1.0) -> str:
+    """A table number, or in words when it has no finite value (no nan, no inf printed)."""
+    if math.isnan(value):
+        return "unknown"
+    if math.isinf(value):
+        return "unbounded"
+    return f"{value * factor:.4g}"
 
 
 def fit_quality_payload(quality: Any) -> dict[str, Any]:
@@ -257,7 +278,7 @@ def tissue_toml(table: dict[str, float], data_path: str, result: Any) -> str:
     loose = ", ".join(_DISPLAY[n][0] for n in result.not_pinned_down) or "none"
     lines = [
         f"# spiralcap fit of {data_path}: {result.frequency_hz.size} points, "
-        f"residual std {result.residual_std:.3g} (relative)",
+        f"residual std {residual_std(result):.3g} (relative)",
         f"# not pinned down by the data: {loose}",
         "",
         "[tissue]",
@@ -310,8 +331,12 @@ def _print_text(
                 key,
                 result.values[name] * factor,
                 unit,
-                result.standard_errors[name] * factor,
-                f"[{lo * factor:.4g}, {hi * factor:.4g}]",
+                _num(result.standard_errors[name], factor),
+                f"[{_num(lo, factor)}, {_num(hi, factor)}]"
+                if math.isfinite(lo) and math.isfinite(hi)
+                else "unknown"
+                if result.dof <= 0
+                else "unbounded",
                 "NOT pinned down" if result.flags[name] else "pinned down",
             ]
         )
@@ -370,5 +395,9 @@ def _print_text(
             res_rows,
         )
     )
-    print(f"residual std {100 * result.residual_std:.3g} % (relative); optimiser: {result.message}")
+    basis = "" if result.dof > 0 else ", root mean square: no residual degree of freedom is left"
+    print(
+        f"residual std {100 * residual_std(result):.3g} % (relative{basis}); optimiser: "
+        f"{result.message}"
+    )
     print("to use: --set tissue.KEY=VALUE for each key of the JSON 'tissue' table, or -o FILE")
