@@ -466,7 +466,11 @@ def sobol_indices(
     }
     x = sa_sample.sample(spec, base_samples, calc_second_order=False, seed=seed)
     y = problem.margins_Nm(x)
-    res = sa_analyze.analyze(spec, y, calc_second_order=False, seed=seed, print_to_console=False)
+    # SALib seeds its bootstrap only `if seed:` (seed 0 would draw from the global state, so
+    # the confidence intervals would differ run to run); a Generator is always seeded, and for
+    # seed > 0 draws exactly what the int would
+    rng = np.random.default_rng(seed)
+    res = sa_analyze.analyze(spec, y, calc_second_order=False, seed=rng, print_to_console=False)
 
     def tup(a: Any) -> tuple[float, ...]:
         return tuple(float(v) for v in np.asarray(a).ravel())
