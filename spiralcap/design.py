@@ -376,6 +376,8 @@ def _stage(p: Path, data: bytes) -> str:
     all written, so a process killed mid-write leaves nothing behind; elsewhere ``mkstemp``.
     """
     p.parent.mkdir(parents=True, exist_ok=True)
+    # the temporary name must fit the file system's 255-byte limit however long the target's is
+    stem = os.fsencode(p.name)[:200].decode("utf-8", "ignore") or "out"
     umask = os.umask(0)
     os.umask(umask)
     flag = getattr(os, "O_TMPFILE", 0)
@@ -388,7 +390,7 @@ def _stage(p: Path, data: bytes) -> str:
             try:
                 _write_all(fd, data)
                 for _ in range(100):
-                    tmp = os.path.join(p.parent, f".{p.name}.{os.urandom(4).hex()}.part")
+                    tmp = os.path.join(p.parent, f".{stem}.{os.urandom(4).hex()}.part")
                     try:
                         os.link(f"/proc/self/fd/{fd}", tmp, follow_symlinks=True)
                         return tmp
@@ -398,7 +400,7 @@ def _stage(p: Path, data: bytes) -> str:
                 pass
             finally:
                 os.close(fd)
-    fd, tmp = tempfile.mkstemp(dir=p.parent, prefix=f".{p.name}.", suffix=".part")
+    fd, tmp = tempfile.mkstemp(dir=p.parent, prefix=f".{stem}.", suffix=".part")
     try:
         with os.fdopen(fd, "wb") as fh:
             fh.write(data)

@@ -173,3 +173,140 @@ def test_a_single_design_file_in_another_folder(tmp_path, monkeypatch):
 
     unc = build_uncertainty(load_design("d/design.toml"))
     assert np.allclose(unc.covariance_log, np.eye(5) * 0.09)
+
+
+# --- bounds before work, outputs checked first (issue 22 items 5) ------------------------------
+
+LONG = "a" * 300
+
+
+@pytest.mark.parametrize(
+    ("argv", "option"),
+    [
+        (["uncertainty", "--samples", "1e13"], "--samples"),
+        (["uncertainty", "--samples", "10000000000000"], "--samples"),
+        (["uncertainty", "--samples", "0"], "--samples"),
+        (["uncertainty", "--sobol-samples", "1e9"], "--sobol-samples"),
+        (["uncertainty", "--sobol-samples", "3"], "--sobol-samples"),
+        (["uncertainty", "--seed", "1e300"], "--seed"),
+        (["uncertainty", "--seed", "-1"], "--seed"),
+        (["uncertainty", "--workers", "1e6"], "--workers"),
+        (["sweep", "--over", "limits.power_W=500:900:2", "--workers", "100000"], "--workers"),
+        (["report", "-o", "r.html", "--workers", "1e9"], "--workers"),
+        (["uncertainty", "--samples", "2.5"], "--samples"),
+    ],
+)
+def test_count_options_are_bounded_before_work(tmp_path, monkeypatch, argv, option):
+    monkeypatch.chdir(tmp_path)
+    _, _, err = sound([*argv, "--set", "tissue.uncertainty.scale_sigma_log=0.3"], allowed=(2,))
+    assert option in err, err
+    assert os.listdir(tmp_path) == [], "nothing written"
+
+
+def test_samples_bound_names_its_reason():
+    _, _, err = sound(
+        ["uncertainty", "--samples", "1e13", "--set", "tissue.uncertainty.scale_sigma_log=0.3"],
+        allowed=(2,),
+    )
+    assert "--samples" in err and "67108864" in err and "memory" in err, err
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["coils"],
+        ["sweep", "--over", "limits.power_W=500:900:2"],
+        ["waveforms", "--heading", "1,0,0", "--dwell-s", "1"],
+        ["uncertainty", "--samples", "64", "--set", "tissue.uncertainty.scale_sigma_log=0.3"],
+        ["torque"],
+        ["fit", str(os.path.join(ROOT, "examples", "bench_synthetic_sample2.csv"))],
+    ],
+    ids=lambda a: a[0],
+)
+@pytest.mark.parametrize("plot", [LONG + ".png", "a.png/", "sub/" + LONG + "/f.png", "UNWRITABLE"])
+def test_plot_paths_are_refused_before_any_computation(tmp_path, monkeypatch, argv, plot):
+    """A file name over 255 bytes, a trailing slash, a folder where nothing can be created:
+    exit 2 naming --plot, before the computation (no traceback, nothing written)."""
+    monkeypatch.chdir(tmp_path)
+    if plot == "UNWRITABLE":
+        if not os.path.isdir("/proc/self"):
+            pytest.skip("needs /proc (a folder nobody can create files in, root included)")
+        plot = "/proc/f.png"
+    calls: list[str] = []
+    import spiralcap.assemble as assemble
+
+    real = assemble.build_model
+    monkeypatch.setattr(assemble, "build_model", lambda *a, **k: calls.append("b") or real(*a, **k))
+    _, _, err = sound([*argv, "--plot", plot], allowed=(2,))
+    assert "--plot" in err, err
+    assert not calls, "the output was checked after work began"
+    assert os.listdir(tmp_path) == [], "nothing written"
+
+
+def test_a_long_but_valid_file_name_is_written(tmp_path):
+    name = "b" * 251 + ".png"  # 255 bytes: the staging file's name must fit too
+    sound(["coils", "--plot", str(tmp_path / name)], allowed=(0,))
+    assert os.listdir(tmp_path) == [name]
+
+
+def test_unwritable_output_of_uncertainty_is_refused_first(tmp_path):
+    if not os.path.isdir("/proc/self"):
+        pytest.skip("needs /proc")
+    _, _, err = sound(
+        ["uncertainty", "--set", "tissue.uncertainty.scale_sigma_log=0.3", "--plot", "/proc/u.png"],
+        allowed=(2,),
+    )
+    assert "--plot" in err and "/proc" in err
+
+
+# --- tracebacks and warnings (subprocess: the promise is about stderr) ---------------------------
+
+
+@pytest.mark.parametrize(
+    ("argv", "words"),
+    [
+        (["waveforms", "--heading", "1,0,0", "--dwell-s", "5e-324"], ["--dwell-s"]),
+        (["waveforms", "--heading", "1,0,0", "--dwell-s", "1", "--ramp-s", "5e-324"], ["--ramp-s"]),
+        (["torque", "--frequency", "1e308"], ["--frequency", "100 Hz"]),
+        (["torque", "--frequency", "1e-200"], ["--frequency"]),
+    ],
+)
+def test_tiny_and_huge_numbers_are_one_line(argv, words):
+    proc = _spiralcap(*argv)
+    _one_line_exit_2(proc, *words)
+
+
+def test_fit_row_at_1e_200_hz_and_an_overlong_cell(tmp_path):
+    tiny = tmp_path / "tiny.csv"
+    tiny.write_text("frequency_hz,torque_mNm\n1e-200,0.3\n0.5,0.9\n1,1.2\n2,2.0\n3,2.5\n4,3\n")
+    _one_line_exit_2(_spiralcap("fit", str(tiny)), "tiny.csv", "frequency_hz", "0.001 Hz")
+    for cell in ("9" * 140_000, '"' + "9" * 140_000 + '"'):
+        long = tmp_path / "long.csv"
+        long.write_text(f"frequency_hz,torque_mNm\n1,{cell}\n")
+        _one_line_exit_2(_spiralcap("fit", str(long)), "long.csv", "line 2")
+        assert len(_spiralcap("fit", str(long)).stderr) < 600, "the cell is not echoed whole"
+
+
+def test_waveforms_heading_in_the_form_help_shows():
+    """`--heading -1,0,0` (a reversed axis, as `--help` writes it), not only `--heading=-1,0,0`."""
+    proc = _spiralcap(
+        "waveforms", "--heading", "-1,0,0", "--heading", "0,-1,0", "--dwell-s", "1", "--json"
+    )
+    assert proc.returncode == 0, proc.stderr
+    import json
+
+    doc = json.loads(proc.stdout)
+    assert np.allclose(doc["headings"], [[-1, 0, 0], [0, -1, 0]]), doc["headings"]
+    assert proc.stderr == ""
+
+
+def test_huge_heading_is_a_direction_like_workspace_headings():
+    proc = _spiralcap("waveforms", "--heading", "1e200,1e200,0", "--dwell-s", "1", "--json")
+    assert proc.returncode == 0 and proc.stderr == "", proc.stderr
+    import json
+
+    h = json.loads(proc.stdout)["headings"][0]
+    assert np.allclose(h, [2**-0.5, 2**-0.5, 0.0]), h
+    same = _spiralcap("waveforms", "--heading", "1,1,0", "--dwell-s", "1", "--json")
+    a, b = json.loads(proc.stdout), json.loads(same.stdout)
+    assert a["peaks"] == b["peaks"], "the same direction as 1,1,0"

@@ -31,6 +31,9 @@ REQUIRED = ("frequency_hz", "torque_mNm")
 TORQUE_RANGE_mNm = (1e-6, 1e5)
 #: Highest rotation frequency read, Hz (the design keys' range).
 FREQUENCY_MAX_hz = 100.0
+#: Lowest rotation frequency read, Hz (the range of operation.frequency_hz; a frequency such as
+#: 1e-200 Hz would overflow the fit's time scales).
+FREQUENCY_MIN_hz = 1e-3
 OPTIONAL = ("helical_angle_deg",)
 
 #: SI field -> (design key without "tissue.", factor SI -> design unit, unit text)
@@ -83,7 +86,7 @@ def read_bench_csv(path: str | Path) -> dict[str, list[float]]:
     if not lines:
         raise DataError(f"{p}: no header row (expected columns {', '.join(REQUIRED)})")
     header_line, header_text = lines[0]
-    header = [h.strip() for h in next(csv.reader([header_text]))]
+    header = [h.strip() for h in _split(header_text, f"{p} line {header_line}")]
     for col in REQUIRED:
         if col not in header:
             raise DataError(
@@ -93,8 +96,8 @@ def read_bench_csv(path: str | Path) -> dict[str, list[float]]:
     wanted = [c for c in REQUIRED + OPTIONAL if c in header]
     out: dict[str, list[float]] = {c: [] for c in wanted}
     for row_no, (line_no, line) in enumerate(lines[1:], start=1):
-        cells = next(csv.reader([line]))
         where = f"{p} line {line_no} (data row {row_no})"
+        cells = _split(line, where)
         for col in wanted:
             idx = header.index(col)
             raw = cells[idx].strip() if idx < len(cells) else ""
@@ -104,17 +107,33 @@ def read_bench_csv(path: str | Path) -> dict[str, list[float]]:
     return out
 
 
+def _short(raw: str, limit: int = 60) -> str:
+    return raw if len(raw) <= limit else raw[: limit - 3] + "..."
+
+
+def _split(line: str, where: str) -> list[str]:
+    """One CSV line as cells; a malformed line (a cell beyond the csv module's field limit of
+    131,072 characters, a stray quote) is a DataError naming the line."""
+    try:
+        return next(csv.reader([line]), [])
+    except csv.Error as exc:
+        raise DataError(f"{where}: not a CSV row ({exc})") from None
+
+
 def _cell(raw: str, col: str, where: str) -> float:
     if raw == "":
         raise DataError(f"{where}, column {col}: empty cell")
     try:
         value = float(raw)
     except ValueError:
-        raise DataError(f"{where}, column {col}: {raw!r} is not a number") from None
+        raise DataError(f"{where}, column {col}: {_short(raw)!r} is not a number") from None
     if not math.isfinite(value):
         raise DataError(f"{where}, column {col}: {raw!r} is not a finite number")
-    if col == "frequency_hz" and value <= 0:
-        raise DataError(f"{where}, column {col}: {raw} Hz; the frequency must be > 0")
+    if col == "frequency_hz" and value < FREQUENCY_MIN_hz:
+        raise DataError(
+            f"{where}, column {col}: {_short(raw)} Hz; at least {FREQUENCY_MIN_hz:g} Hz "
+            "(as operation.frequency_hz)"
+        )
     if col == "torque_mNm" and not TORQUE_RANGE_mNm[0] <= value <= TORQUE_RANGE_mNm[1]:
         raise DataError(
             f"{where}, column {col}: {raw} mN·m; a bench torque is in "
