@@ -310,3 +310,30 @@ def test_huge_heading_is_a_direction_like_workspace_headings():
     same = _spiralcap("waveforms", "--heading", "1,1,0", "--dwell-s", "1", "--json")
     a, b = json.loads(proc.stdout), json.loads(same.stdout)
     assert a["peaks"] == b["peaks"], "the same direction as 1,1,0"
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="needs FIFOs")
+def test_a_design_file_that_is_a_fifo_is_refused_within_seconds(tmp_path):
+    fifo = tmp_path / "design.toml"
+    os.mkfifo(fifo)
+    _one_line_exit_2(_spiralcap("evaluate", str(fifo), timeout=30), "design.toml", "regular file")
+    data = tmp_path / "bench.csv"
+    os.mkfifo(data)
+    _one_line_exit_2(_spiralcap("fit", str(data), timeout=30), "bench.csv", "regular file")
+
+
+def test_optimum_written_elsewhere_keeps_its_covariance(tmp_path, monkeypatch):
+    """`optimize -o` into another folder: the relative covariance_from is written absolute,
+    so the written design reads the same covariance."""
+    d, out = tmp_path / "d", tmp_path / "out"
+    d.mkdir()
+    (d / "design.toml").write_text("[tissue.uncertainty]\ncovariance_from = 'cov.toml'\n")
+    _cov_file(d / "cov.toml", np.eye(5) * 0.09)
+    monkeypatch.chdir(tmp_path)
+    sound(["optimize", "d/design.toml", "-o", str(out / "opt.toml")], allowed=(0,))
+    from spiralcap.assemble.tissue import build_uncertainty
+    from spiralcap.design import load_design
+
+    monkeypatch.chdir(d)
+    unc = build_uncertainty(load_design(out / "opt.toml"))
+    assert np.allclose(unc.covariance_log, np.eye(5) * 0.09)
