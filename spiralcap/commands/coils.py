@@ -151,8 +151,8 @@ def _text(p: dict[str, Any]) -> str:
         f"W/(m²·K), emissivity {p['surface_emissivity']:g}, winding k = "
         f"{p['winding_conductivity_W_mK']:g} W/(m·K); R at the self-consistent mean temperature",
         "",
-        "each pair alone at the current limit (steady state; runaway: none, the pair overheats "
-        "without bound):",
+        "each pair alone at the current limit (steady state; 'runaway': there is none, the pair "
+        "heats without bound):",
         table,
         f"total copper loss at the current limit, worst heading "
         f"({', '.join(f'{x:.3g}' for x in wh['heading'])}): {_watts(p['total_power_W'])} "
