@@ -125,8 +125,9 @@ def _read_covariance(design: Mapping[str, Any], path: str) -> tuple[tuple[float,
     try:
         table = read_toml_file(p, "covariance file")
     except DataError as exc:
+        why = str(exc).removeprefix(str(p)).lstrip(": ")  # the path is named once, as the value
         raise InputError(
-            key, str(p), f"a readable TOML file from `spiralcap fit -o` ({exc})"
+            key, str(p), f"a readable TOML file from `spiralcap fit -o` ({why})"
         ) from None
 
     def refuse(why: str) -> InputError:
