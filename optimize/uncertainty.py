@@ -176,8 +176,9 @@ def perturbed_tissues(tissues: tuple, unc: TissueUncertainty, u: np.ndarray) -> 
             log_k[i] += sig * col[short]
     if unc.covariance_log is not None:
         L = covariance_factor(np.asarray(unc.covariance_log, dtype=float))
-        zc = np.stack([col[f"fit{j}"] for j in range(L.shape[1])])
-        log_k += L @ zc
+        if L.shape[1]:  # rank 0 (every variance negligible): no fitted factor
+            zc = np.stack([col[f"fit{j}"] for j in range(L.shape[1])])
+            log_k += L @ zc
     k = np.exp(log_k)
     mu_k = np.exp(unc.friction_sigma_log * col["friction"]) if "friction" in col else 1.0
     d_lumen = _truncated_offset(

@@ -87,7 +87,9 @@ def test_unreadable_covariance_files_are_one_line(tmp_path, content, why):
         (np.eye(5) * 4.5, "up to 4"),
         (np.where(np.eye(5) > 0, np.inf, 0.0), "finite"),
         (np.where(np.eye(5) > 0, np.nan, 0.0), "finite"),
-        (np.zeros((5, 5)), "at least one variance > 0"),
+        (np.zeros((5, 5)), "at least one variance of 1e-12"),
+        (np.eye(5) * 5e-324, "at least one variance of 1e-12"),
+        (np.eye(5) * 1e-300, "at least one variance of 1e-12"),
         (-np.eye(5), "semi-definite"),
         (np.eye(5) * 0.1 + np.diag([0.05] * 4, 1), "symmetric"),
         # each |c_ij| <= sqrt(c_ii c_jj), yet not PSD: eigenvalue 1 - 2 * 0.9 < 0 ... of a 3-cycle

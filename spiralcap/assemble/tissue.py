@@ -96,6 +96,9 @@ def build_uncertainty(design: Mapping[str, Any]) -> Any:
 #: Largest variance of a log-parameter a covariance may hold: the sigma keys stop at 2 (a factor
 #: e^2 ~ 7 per standard deviation), so a fitted covariance is bounded the same way.
 MAX_LOG_VARIANCE = 4.0
+#: Smallest largest-variance a covariance must have: below a relative uncertainty of 1e-6 it is
+#: no uncertainty at all (and subnormal numbers would leave it with no factor to sample).
+MIN_LOG_VARIANCE = 1e-12
 
 
 def _read_covariance(design: Mapping[str, Any], path: str) -> tuple[tuple[float, ...], ...]:
@@ -163,8 +166,11 @@ def _read_covariance(design: Mapping[str, Any], path: str) -> tuple[tuple[float,
             f"(a standard deviation of 2, as the *_sigma_log keys; largest given "
             f"{diag.max():.3g})"
         )
-    if diag.max() == 0:
-        raise refuse("tissue.fit.covariance_log with at least one variance > 0 (all are 0)")
+    if diag.max() < MIN_LOG_VARIANCE:
+        raise refuse(
+            f"tissue.fit.covariance_log with at least one variance of {MIN_LOG_VARIANCE:g} or "
+            f"more (a relative uncertainty of 1e-6; largest given {diag.max():.3g})"
+        )
     # every entry is bounded by the diagonal (|c_ij| <= sqrt(c_ii c_jj) in a PSD matrix), so the
     # checks below work on numbers of order 1: no overflow, no LinAlgError
     bound = np.sqrt(np.outer(diag, diag))
