@@ -196,6 +196,8 @@ LONG = "a" * 300
         (["sweep", "--over", "limits.power_W=500:900:2", "--workers", "100000"], "--workers"),
         (["report", "-o", "r.html", "--workers", "1e9"], "--workers"),
         (["uncertainty", "--samples", "2.5"], "--samples"),
+        (["compare", *["builtin"] * 17], "DESIGN"),
+        (["torque", "--frequency", *["1"] * 10_001], "--frequency"),
     ],
 )
 def test_count_options_are_bounded_before_work(tmp_path, monkeypatch, argv, option):

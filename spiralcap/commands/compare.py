@@ -12,6 +12,9 @@ import math
 
 from spiralcap.errors import InputError
 
+#: Most designs one comparison sets side by side.
+MAX_DESIGNS = 16
+
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """DESIGN... (two or more; ``builtin`` for the built-in example), --set, --json."""
@@ -36,8 +39,13 @@ def load_designs(paths: list[str], overrides: list[str]) -> list:
     """The designs named on the command line with their ``--set`` overrides applied."""
     from spiralcap.design import load_design
 
-    if len(paths) < 2:
-        raise InputError("DESIGN", paths, "two or more design files (or 'builtin')")
+    if not 2 <= len(paths) <= MAX_DESIGNS:
+        raise InputError(
+            "DESIGN",
+            f"{len(paths)} designs" if len(paths) > MAX_DESIGNS else paths,
+            f"two to {MAX_DESIGNS} design files (or 'builtin'): each is optimised, and a wider "
+            "table cannot be read side by side",
+        )
     per: list[list[str]] = [[] for _ in paths]
     for o in overrides:
         head, sep, rest = o.partition(":")
