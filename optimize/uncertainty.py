@@ -467,6 +467,9 @@ def sobol_indices(
     }
     x = sa_sample.sample(spec, base_samples, calc_second_order=False, seed=seed)
     y = problem.margins_Nm(x)
+    if not np.ptp(y) > 0:  # no input moves the margin (no torque required): nothing to share
+        zero = (0.0,) * len(unique)
+        return SobolIndices(tuple(unique), zero, zero, zero, zero, base_samples)
     # SALib seeds its bootstrap only `if seed:` (seed 0 would draw from the global state, so
     # the confidence intervals would differ run to run); a Generator is always seeded, and for
     # seed > 0 draws exactly what the int would

@@ -53,3 +53,28 @@ def test_a_nonzero_seed_is_as_before_and_differs_from_seed_0():
     b = _doc(["--seed", "7"], 6)
     c = _doc([], 5)
     assert a == b and a["sobol"] != c["sobol"]
+
+
+def test_sobol_of_a_margin_no_input_moves_is_zero_without_warnings():
+    """No torque required: the margin is the magnet's torque whatever the tissue; SALib would
+    warn about constant values (on stderr) -- every index is 0, no warning."""
+    from cli_outcome import ZERO_TORQUE
+
+    rc, out, err = run(
+        [
+            "uncertainty",
+            *ZERO_TORQUE,
+            "--set",
+            "tissue.uncertainty.scale_sigma_log=1",
+            "--set",
+            "tissue.uncertainty.friction_sigma_log=1",
+            "--samples",
+            "256",
+            "--sobol-samples",
+            "64",
+            "--json",
+        ]
+    )
+    assert rc == 0 and err == "", err
+    idx = json.loads(out)["sobol"]["indices"]
+    assert all(v["first_order"] == 0 and v["total"] == 0 for v in idx.values()), idx
