@@ -49,7 +49,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         action="append",
         default=[],
         metavar="X,Y,Z",
-        help="capsule heading (rotation axis), repeat for a sequence, e.g. --heading 1,0,0",
+        help="capsule heading (rotation axis), repeat for a sequence, e.g. --heading 1,0,0 "
+        "--heading -1,0,0 (a reversed axis)",
     )
     parser.add_argument(
         "--dwell-s", metavar="T", help="time each heading is held, s (required)", default=None
