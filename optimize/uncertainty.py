@@ -176,8 +176,9 @@ def perturbed_tissues(tissues: tuple, unc: TissueUncertainty, u: np.ndarray) -> 
             log_k[i] += sig * col[short]
     if unc.covariance_log is not None:
         L = covariance_factor(np.asarray(unc.covariance_log, dtype=float))
-        zc = np.stack([col[f"fit{j}"] for j in range(L.shape[1])])
-        log_k += L @ zc
+        if L.shape[1]:  # rank 0 (every variance negligible): no fitted factor
+            zc = np.stack([col[f"fit{j}"] for j in range(L.shape[1])])
+            log_k += L @ zc
     k = np.exp(log_k)
     mu_k = np.exp(unc.friction_sigma_log * col["friction"]) if "friction" in col else 1.0
     d_lumen = _truncated_offset(
@@ -466,7 +467,14 @@ def sobol_indices(
     }
     x = sa_sample.sample(spec, base_samples, calc_second_order=False, seed=seed)
     y = problem.margins_Nm(x)
-    res = sa_analyze.analyze(spec, y, calc_second_order=False, seed=seed, print_to_console=False)
+    if not np.ptp(y) > 0:  # no input moves the margin (no torque required): nothing to share
+        zero = (0.0,) * len(unique)
+        return SobolIndices(tuple(unique), zero, zero, zero, zero, base_samples)
+    # SALib seeds its bootstrap only `if seed:` (seed 0 would draw from the global state, so
+    # the confidence intervals would differ run to run); a Generator is always seeded, and for
+    # seed > 0 draws exactly what the int would
+    rng = np.random.default_rng(seed)
+    res = sa_analyze.analyze(spec, y, calc_second_order=False, seed=rng, print_to_console=False)
 
     def tup(a: Any) -> tuple[float, ...]:
         return tuple(float(v) for v in np.asarray(a).ravel())
@@ -490,16 +498,35 @@ def run_local(
 
 
 def check_seed(seed: Any, key: str = "--seed") -> int:
-    """``seed`` as an int >= 0, else InputError naming ``key``."""
-    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
-        raise InputError(key, seed, "a whole number >= 0")
+    """``seed`` as an int from 0 to :data:`MAX_SEED`, else InputError naming ``key``."""
+    if (
+        isinstance(seed, bool)
+        or not isinstance(seed, (int, np.integer))
+        or not 0 <= seed <= MAX_SEED
+    ):
+        raise InputError(key, seed, f"a whole number from 0 to {MAX_SEED} (numpy's seed range)")
     return int(seed)
 
 
+#: Most tissue samples of one study: every sample's margin and speed stay in memory (16 bytes
+#: each, ~1 GB here); the step-out probability's sampling error is ~1e-4 already at 2^20.
+MAX_SAMPLES = 1 << 26
+SAMPLES_WHY = "every sample's margin stays in memory, ~1 GB at the bound"
+#: Most Sobol base samples: SALib evaluates base·(groups + 2) points at once (2^16 base samples
+#: of ten inputs: ~0.1 GB of inputs), and the indices' intervals shrink only as 1/sqrt(base).
+MAX_SOBOL_BASE = 1 << 16
+#: Largest seed (numpy's legacy seed range, as optimize.scenario_seed).
+MAX_SEED = 2**32 - 1
+
+
 def check_samples(samples: Any, key: str = "--samples") -> int:
-    """``samples`` as an int >= 1, else InputError naming ``key``."""
-    if isinstance(samples, bool) or not isinstance(samples, (int, np.integer)) or samples < 1:
-        raise InputError(key, samples, "a whole number >= 1")
+    """``samples`` as an int from 1 to :data:`MAX_SAMPLES`, else InputError naming ``key``."""
+    if (
+        isinstance(samples, bool)
+        or not isinstance(samples, (int, np.integer))
+        or not 1 <= samples <= MAX_SAMPLES
+    ):
+        raise InputError(key, samples, f"a whole number from 1 to {MAX_SAMPLES} ({SAMPLES_WHY})")
     return int(samples)
 
 

@@ -181,12 +181,15 @@ def compare_designs(designs: Sequence[Design], labels: Sequence[str] | None = No
     """
     from optimize import evaluate, optimize_design, prepare
     from spiralcap.assemble import build_model
+    from spiralcap.robust import optimization_model
 
     evaluations, results = [], []
     for d in designs:
         model = prepare(build_model(d))
         evaluations.append(evaluate(model))
-        results.append(optimize_design(model))
+        # optimised as `spiralcap optimize` does: over tissue scenarios for margin_p05 and
+        # max_stepout_probability
+        results.append(optimize_design(optimization_model(d, model)))
     names = tuple(labels) if labels is not None else tuple(str(d.source) for d in designs)
     return Comparison(
         labels=names,
@@ -200,16 +203,73 @@ def compare_designs(designs: Sequence[Design], labels: Sequence[str] | None = No
     )
 
 
+def _is_number(v: Any) -> bool:
+    return isinstance(v, (int, float)) and not isinstance(v, bool)
+
+
+def shown_value(value: Any, exact: bool = True) -> str:
+    """A design value or a compared quantity as text: numbers exactly as given (4 significant
+    figures when that is exact; always 4 with ``exact=False``), lists in brackets, booleans
+    yes/no, unset or undefined as "–"."""
+    from spiralcap.report.numbers import fmt
+
+    if value is None:
+        return "–"
+    if isinstance(value, bool):
+        return "yes" if value else "no"
+    if isinstance(value, (list, tuple)):
+        return "[" + ", ".join(shown_value(v, exact) for v in value) + "]"
+    if _is_number(value):
+        if isinstance(value, float) and not math.isfinite(value):
+            return fmt(value).replace("—", "–")
+        short = fmt(value)
+        if not exact:
+            return short
+        try:
+            exact = float(short) == float(value)
+        except ValueError:
+            exact = False
+        return short if exact else repr(value)
+    return str(value)
+
+
+def _typed(values: Sequence[Any]) -> dict[str, Any]:
+    """One type per field: ``shown`` (text, always) and ``defined`` (whether each design has a
+    value), plus ``values`` (numbers, when every design has a finite number), ``flags``
+    (booleans, when all are booleans) or ``text`` (strings, when all are strings)."""
+    out: dict[str, Any] = {
+        "shown": [shown_value(v) for v in values],
+        "defined": [v is not None and not (_is_number(v) and math.isnan(v)) for v in values],
+    }
+    if all(_is_number(v) for v in values):
+        if all(math.isfinite(v) for v in values):
+            out["values"] = [float(v) for v in values]
+        elif any(math.isinf(v) for v in values) and not any(math.isnan(v) for v in values):
+            out["values_unbounded"] = True
+        else:
+            out["values_undefined"] = True
+    elif all(isinstance(v, bool) for v in values):
+        out["flags"] = list(values)
+    elif all(isinstance(v, str) for v in values):
+        out["text"] = list(values)
+    return out
+
+
 def comparison_to_dict(c: Comparison) -> dict[str, Any]:
-    """JSON-ready form: SI values with units in the row entries."""
+    """JSON-ready form: SI values with units in the row entries, one type per field.
+
+    Each changed key and each row has ``shown`` (every value as text) and ``defined``; numbers
+    are in ``values`` when every design has a finite one, booleans in ``flags``, strings in
+    ``text`` (docs/json/compare.schema.json).
+    """
 
     def rows(rs: Sequence[Row]) -> list[dict[str, Any]]:
         return [
             {
                 "quantity": r.quantity,
                 "unit": r.si_unit,
-                "values": list(r.values),
                 "differs": r.differs,
+                **_typed(r.values),
             }
             for r in rs
         ]
@@ -219,7 +279,14 @@ def comparison_to_dict(c: Comparison) -> dict[str, Any]:
             {"label": lab, "source": src, "sha256": sha}
             for lab, src, sha in zip(c.labels, c.sources, c.sha256, strict=True)
         ],
-        "changed_keys": [{"key": k.key, "values": list(k.values)} for k in c.changed_keys],
+        "changed_keys": [
+            {
+                "key": k.key,
+                "set": [v is not None for v in k.values],
+                **{name: v for name, v in _typed(k.values).items() if name != "defined"},
+            }
+            for k in c.changed_keys
+        ],
         "evaluate": rows(c.evaluated),
         "optimize": rows(c.optimised),
         "margin_Nm": {

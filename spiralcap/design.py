@@ -10,6 +10,7 @@ import hashlib
 import json
 import math
 import os
+import stat
 import sys
 import tempfile
 from collections.abc import Iterable, Iterator, Mapping, Sequence
@@ -28,12 +29,20 @@ from spiralcap.schema import KEYS, defaults, validate_value
 class Design(Mapping[str, Any]):
     """An immutable, validated design: dotted key -> value (units in the key names)."""
 
-    def __init__(self, values: Mapping[str, Any], source: str = "built-in example") -> None:
+    def __init__(
+        self,
+        values: Mapping[str, Any],
+        source: str = "built-in example",
+        origins: Mapping[str, str] | None = None,
+    ) -> None:
         merged = defaults()
         for key, value in values.items():
             merged[key] = validate_value(key, value)
         self._values = dict(sorted(merged.items()))
         self.source = source
+        #: key -> the design file it was read from (keys from --set or defaults are absent):
+        #: a relative path a key holds is resolved against the folder of that file.
+        self.origins: dict[str, str] = {k: str(v) for k, v in (origins or {}).items()}
 
     def __getitem__(self, key: str) -> Any:
         return self._values[key]
@@ -46,7 +55,20 @@ class Design(Mapping[str, Any]):
 
     def with_values(self, values: Mapping[str, Any]) -> Design:
         """A new design with ``values`` replacing or adding keys (each validated)."""
-        return Design({**self._values, **values}, source=self.source)
+        origins = {k: v for k, v in self.origins.items() if k not in values}
+        return Design({**self._values, **values}, source=self.source, origins=origins)
+
+    def path_of(self, key: str) -> Path | None:
+        """The path the string key ``key`` names, a relative one resolved against the folder of
+        the design file that set it (layered or not); from ``--set``, the current folder."""
+        value = self._values.get(key)
+        if not isinstance(value, str):
+            return None
+        p = Path(value).expanduser()
+        origin = self.origins.get(key)
+        if not p.is_absolute() and origin:
+            p = Path(origin).parent / p
+        return p
 
     def to_toml(self) -> str:
         """The full design as TOML (every key, defaults included), in table order."""
@@ -118,8 +140,20 @@ def read_text_file(path: str | os.PathLike[str], what: str = "design file") -> s
     try:
         if p.is_dir():
             raise DataError(f"{p}: cannot read the {what} (it is a folder)")
-        with open(p, "rb") as fh:
-            data = fh.read(MAX_FILE_BYTES + 1)
+        # O_NONBLOCK: opening a FIFO with no writer returns at once instead of blocking; the
+        # descriptor's own fstat then decides (the name may have been swapped since)
+        fd = os.open(p, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_NOCTTY", 0))
+        try:
+            if not stat.S_ISREG(os.fstat(fd).st_mode):
+                raise DataError(
+                    f"{p}: cannot read the {what} (not a regular file: a device, FIFO or socket)"
+                )
+            if hasattr(os, "set_blocking"):
+                os.set_blocking(fd, True)
+            with os.fdopen(fd, "rb", closefd=False) as fh:
+                data = fh.read(MAX_FILE_BYTES + 1)
+        finally:
+            os.close(fd)
     except OSError as exc:
         raise DataError(f"{p}: cannot read the {what} ({exc.strerror or exc})") from None
     if len(data) > MAX_FILE_BYTES:
@@ -252,6 +286,7 @@ def load_design(
     else:
         paths = [Path(x) for x in path]
     values: dict[str, Any] = {}
+    origins: dict[str, str] = {}
     for p in paths:
         text = read_text_file(p)
         layer = _flatten(_parse_toml(text, str(p)))
@@ -260,11 +295,26 @@ def load_design(
                 values[key] = validate_value(key, value)
             except InputError as exc:
                 raise _located(exc, p, text, key) from None
+            origins[key] = str(p)
     source = " + ".join(str(p) for p in paths) if paths else "built-in example"
     for expr in overrides:
         key, value = parse_set(expr)
         values[key] = value
-    return Design(values, source=source)
+        origins.pop(key, None)
+    return Design(values, source=source, origins=origins)
+
+
+def read_toml_file(path: str | os.PathLike[str], what: str = "design file") -> dict[str, Any]:
+    """A TOML file through the guarded reader: a regular file only (a FIFO, a device or a folder
+    is refused without opening it for long), at most :data:`MAX_FILE_BYTES`, UTF-8/16/32 text,
+    nesting and integer size within :data:`MAX_NESTING` and :data:`MAX_INT_DIGITS`.
+
+    Raises
+    ------
+    DataError
+        One line naming the file and what is wrong with it.
+    """
+    return _parse_toml(read_text_file(path, what), str(path))
 
 
 def _fmt(value: Any) -> str:
@@ -326,6 +376,8 @@ def _stage(p: Path, data: bytes) -> str:
     all written, so a process killed mid-write leaves nothing behind; elsewhere ``mkstemp``.
     """
     p.parent.mkdir(parents=True, exist_ok=True)
+    # the temporary name must fit the file system's 255-byte limit however long the target's is
+    stem = os.fsencode(p.name)[:200].decode("utf-8", "ignore") or "out"
     umask = os.umask(0)
     os.umask(umask)
     flag = getattr(os, "O_TMPFILE", 0)
@@ -338,7 +390,7 @@ def _stage(p: Path, data: bytes) -> str:
             try:
                 _write_all(fd, data)
                 for _ in range(100):
-                    tmp = os.path.join(p.parent, f".{p.name}.{os.urandom(4).hex()}.part")
+                    tmp = os.path.join(p.parent, f".{stem}.{os.urandom(4).hex()}.part")
                     try:
                         os.link(f"/proc/self/fd/{fd}", tmp, follow_symlinks=True)
                         return tmp
@@ -348,7 +400,7 @@ def _stage(p: Path, data: bytes) -> str:
                 pass
             finally:
                 os.close(fd)
-    fd, tmp = tempfile.mkstemp(dir=p.parent, prefix=f".{p.name}.", suffix=".part")
+    fd, tmp = tempfile.mkstemp(dir=p.parent, prefix=f".{stem}.", suffix=".part")
     try:
         with os.fdopen(fd, "wb") as fh:
             fh.write(data)

@@ -19,10 +19,20 @@ CONNECT_TIMEOUT_S = 3
 INSTALL_HINT = 'the optional Dask extra: pip install ".[dask]" (or dask[distributed])'
 
 
+#: Most local worker processes: each is a fork of this process; more than the machine's cores
+#: only wait their turn (and every one holds its own copy of the model).
+MAX_WORKERS = 64
+
+
 def check_workers(workers: Any, key: str = "--workers") -> int:
-    """``workers`` as an int >= 1, else InputError naming ``key``."""
-    if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
-        raise InputError(key, workers, "a whole number >= 1")
+    """``workers`` as an int from 1 to :data:`MAX_WORKERS`, else InputError naming ``key``."""
+    if isinstance(workers, bool) or not isinstance(workers, int) or not 1 <= workers <= MAX_WORKERS:
+        raise InputError(
+            key,
+            workers,
+            f"a whole number from 1 to {MAX_WORKERS} (each a forked process; more than the "
+            "cores only wait their turn)",
+        )
     return workers
 
 

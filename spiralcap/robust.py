@@ -146,7 +146,12 @@ def robust_to_dict(rc: RobustCheck) -> dict[str, Any]:
         "scenarios": ins.scenarios,
         "scenario_seed": ins.seed,
         "beta": ins.beta,
-        "max_stepout_probability": rc.max_stepout_probability,
+        # one type per field: present only when the design constrains it
+        **(
+            {}
+            if rc.max_stepout_probability is None
+            else {"max_stepout_probability": rc.max_stepout_probability}
+        ),
         "in_sample": {
             "margin_p05_Nm": ins.margin_p05_Nm,
             "cvar05_Nm": ins.cvar_Nm,
@@ -158,7 +163,11 @@ def robust_to_dict(rc: RobustCheck) -> dict[str, Any]:
             "margin_p05_Nm": p05,
             "stepout_probability": oos.stepout_probability,
             "stepout_probability_ci95": list(oos.stepout_ci95),
-            "p05_relative_to_claim": p05 / ins.margin_p05_Nm - 1.0 if ins.margin_p05_Nm else None,
+            **(
+                {"p05_relative_to_claim": p05 / ins.margin_p05_Nm - 1.0}
+                if ins.margin_p05_Nm
+                else {}
+            ),
         },
         "deterministic_optimum": {
             "status": rc.deterministic.status,

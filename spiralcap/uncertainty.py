@@ -29,6 +29,26 @@ class Study:
     elapsed_s: float
 
 
+def check_sobol_base(sobol_base: Any) -> int:
+    """``--sobol-samples``: 0 (no Sobol indices) or a power of two up to
+    :data:`optimize.uncertainty.MAX_SOBOL_BASE`, else InputError naming the option."""
+    from optimize import uncertainty as uq
+
+    if (
+        isinstance(sobol_base, bool)
+        or not isinstance(sobol_base, int)
+        or (sobol_base != 0 and (sobol_base < 2 or sobol_base & (sobol_base - 1)))
+        or sobol_base > uq.MAX_SOBOL_BASE
+    ):
+        raise InputError(
+            "--sobol-samples",
+            sobol_base,
+            f"0 or a power of 2 from 2 to {uq.MAX_SOBOL_BASE} (SALib evaluates base x (inputs "
+            "+ 2) points at once)",
+        )
+    return sobol_base
+
+
 def study(
     design: Any,
     *,
@@ -57,8 +77,7 @@ def study(
     uq.check_samples(samples)
     uq.check_seed(seed)
     check_workers(workers)
-    if sobol_base != 0 and (sobol_base < 2 or sobol_base & (sobol_base - 1)):
-        raise InputError("--sobol-samples", sobol_base, "0 or a power of 2 >= 2")
+    check_sobol_base(sobol_base)
     unc = build_uncertainty(design)
     if not unc.active:
         raise InputError(

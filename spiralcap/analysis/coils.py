@@ -10,6 +10,7 @@ prints.
 
 from __future__ import annotations
 
+import math
 from dataclasses import asdict, dataclass
 from typing import Any
 
@@ -242,7 +243,15 @@ def coils_payload(a: CoilAnalysis) -> dict[str, Any]:
     sizing = asdict(a.sizing)
     lim = {x.axis: asdict(x) for x in a.axis_limits}
     op = {x.axis: asdict(x) for x in a.operating}
-    sizing["axes"] = {s["axis"]: {**s, **lim[s["axis"]]} for s in sizing["axes"]}
+    sizing["axes"] = {
+        s["axis"]: {
+            **s,
+            **lim[s["axis"]],
+            # no steady state at the current limit: the temperatures, R and P are undefined
+            "thermal_runaway": not math.isfinite(s["hot_spot_temperature_C"]),
+        }
+        for s in sizing["axes"]
+    }
     u = a.uniform
     uniform: dict[str, Any] = {
         "radius_1pct_m": u.radius_1pct_m,

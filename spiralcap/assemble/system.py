@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import os
 from typing import Any
 
 import numpy as np
@@ -275,6 +276,12 @@ def optimum_design_toml(design: Design, result: Any) -> str:
         for k, v in {**design, **optimum_values(design, result)}.items()
         if not k.startswith(_FREE_PREFIX)
     }
+    # a path the design names, relative to the file that named it, would point elsewhere from
+    # the written file's folder: write it absolute
+    key = "tissue.uncertainty.covariance_from"
+    named = design.path_of(key) if values.get(key) is not None else None
+    if named is not None:
+        values[key] = os.path.abspath(named)
     head = (
         "# spiralcap design file written by `spiralcap optimize` "
         f"(objective {result.objective}).\n"

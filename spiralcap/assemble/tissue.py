@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 from typing import Any
 
@@ -92,36 +93,54 @@ def build_uncertainty(design: Mapping[str, Any]) -> Any:
     )
 
 
+#: Largest variance of a log-parameter a covariance may hold: the sigma keys stop at 2 (a factor
+#: e^2 ~ 7 per standard deviation), so a fitted covariance is bounded the same way.
+MAX_LOG_VARIANCE = 4.0
+#: Smallest largest-variance a covariance must have: below a relative uncertainty of 1e-6 it is
+#: no uncertainty at all (and subnormal numbers would leave it with no factor to sample).
+MIN_LOG_VARIANCE = 1e-12
+
+
 def _read_covariance(design: Mapping[str, Any], path: str) -> tuple[tuple[float, ...], ...]:
-    import math
+    """``tissue.fit.covariance_log`` of the file ``covariance_from`` names, read through the
+    guarded reader of the design files and checked before any use.
+
+    Raises
+    ------
+    InputError
+        One line naming ``tissue.uncertainty.covariance_from`` and the file: unreadable (not a
+        regular file, too large, not text, too deep, not TOML), no covariance, not 5 x 5
+        numbers, not finite, not symmetric, not positive semi-definite, all zero, or a variance
+        above :data:`MAX_LOG_VARIANCE`.
+    """
     from pathlib import Path
 
     import numpy as np
 
-    from optimize.uncertainty import covariance_factor
-    from spiralcap.errors import InputError
-
-    try:
-        import tomllib
-    except ModuleNotFoundError:  # Python 3.10
-        import tomli as tomllib
+    from spiralcap.design import read_toml_file
+    from spiralcap.errors import DataError, InputError
 
     key = _UNC + "covariance_from"
     p = Path(path)
-    source = getattr(design, "source", "")
-    if not p.is_absolute() and source and Path(source).is_file():
-        p = Path(source).parent / p
+    resolve = getattr(design, "path_of", None)
+    if resolve is not None:
+        p = resolve(key) or p
     try:
-        table = tomllib.loads(p.read_text(encoding="utf-8"))
-    except OSError as exc:
-        raise InputError(key, path, f"a readable file ({exc.strerror or exc})") from None
-    except tomllib.TOMLDecodeError as exc:
-        raise InputError(key, path, f"a TOML file ({exc})") from None
-    raw = table.get("tissue", {}).get("fit", {}).get("covariance_log")
-    if raw is None:
+        table = read_toml_file(p, "covariance file")
+    except DataError as exc:
+        why = str(exc).removeprefix(str(p)).lstrip(": ")  # the path is named once, as the value
         raise InputError(
-            key,
-            path,
+            key, str(p), f"a readable TOML file from `spiralcap fit -o` ({why})"
+        ) from None
+
+    def refuse(why: str) -> InputError:
+        return InputError(key, str(p), why)
+
+    fit = table.get("tissue", {})
+    fit = fit.get("fit", {}) if isinstance(fit, dict) else None
+    raw = fit.get("covariance_log") if isinstance(fit, dict) else None
+    if raw is None:
+        raise refuse(
             "a file from `spiralcap fit -o` with tissue.fit.covariance_log (the fit writes it "
             "only when the data pin down a fitted parameter; try `fit --only scale`)",
         )
@@ -132,14 +151,40 @@ def _read_covariance(design: Mapping[str, Any], path: str) -> tuple[tuple[float,
         and all(isinstance(x, (int, float)) and not isinstance(x, bool) for r in raw for x in r)
     )
     if not ok:
-        raise InputError(
-            key, path, "tissue.fit.covariance_log must be 5 x 5 numbers (E1, E2, E3, eta1, eta2)"
-        )
+        raise refuse("tissue.fit.covariance_log must be 5 x 5 numbers (E1, E2, E3, eta1, eta2)")
+    if not all(math.isfinite(float(x)) for r in raw for x in r):
+        raise refuse("tissue.fit.covariance_log with finite entries (no inf, no nan)")
     cov = np.asarray(raw, dtype=float)
-    if not all(math.isfinite(x) for x in cov.ravel()):
-        raise InputError(key, path, "a covariance with finite entries")
-    try:
-        covariance_factor(cov, key)
-    except InputError as exc:
-        raise InputError(key, path, f"{exc.allowed} ({exc.value})") from None
+    diag = np.diag(cov)
+    if diag.min() < 0:
+        raise refuse(
+            "a positive semi-definite tissue.fit.covariance_log (a negative variance on its diagonal)"
+        )
+    if diag.max() > MAX_LOG_VARIANCE:
+        raise refuse(
+            f"tissue.fit.covariance_log with variances of ln(parameter) up to {MAX_LOG_VARIANCE:g} "
+            f"(a standard deviation of 2, as the *_sigma_log keys; largest given "
+            f"{diag.max():.3g})"
+        )
+    if diag.max() < MIN_LOG_VARIANCE:
+        raise refuse(
+            f"tissue.fit.covariance_log with at least one variance of {MIN_LOG_VARIANCE:g} or "
+            f"more (a relative uncertainty of 1e-6; largest given {diag.max():.3g})"
+        )
+    # every entry is bounded by the diagonal (|c_ij| <= sqrt(c_ii c_jj) in a PSD matrix), so the
+    # checks below work on numbers of order 1: no overflow, no LinAlgError
+    bound = np.sqrt(np.outer(diag, diag))
+    if np.any(np.abs(cov) > bound * (1 + 1e-9) + 1e-300):
+        raise refuse(
+            "a positive semi-definite tissue.fit.covariance_log (an off-diagonal entry exceeds "
+            "sqrt(c_ii c_jj))"
+        )
+    if not np.allclose(cov, cov.T, rtol=1e-8, atol=1e-14 * float(diag.max())):
+        raise refuse("a symmetric tissue.fit.covariance_log")
+    lam = np.linalg.eigvalsh(0.5 * (cov + cov.T))
+    if lam.min() < -1e-10 * float(lam.max()):
+        raise refuse(
+            "a positive semi-definite tissue.fit.covariance_log (smallest eigenvalue "
+            f"{lam.min():.3g})"
+        )
     return tuple(tuple(float(x) for x in row) for row in cov)

@@ -41,6 +41,37 @@ def add_design_arguments(
         parser.add_argument("--json", action="store_true", help="print JSON instead of text")
 
 
+def allow_negative_numbers(parser: argparse.ArgumentParser) -> None:
+    """Let option values that start with a minus sign and are numbers or comma-separated lists of
+    numbers (``--heading -1,0,0``, ``--frequency -1e-3``) be values, not options.
+
+    argparse takes a word for an option unless it matches its negative-number pattern (a plain
+    ``-1`` or ``-.5``); the parser's pattern is widened to lists and exponents. Safe while no
+    option of the parser looks like a negative number itself.
+    """
+    import re
+
+    parser._negative_number_matcher = re.compile(
+        r"^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?(,[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?)*$"
+    )
+
+
+def whole_number(text: str) -> int:
+    """argparse type of a count option: a whole number, also written as ``1e5`` (the bounds are
+    checked by the command, naming the option, before any work)."""
+    try:
+        return int(text)
+    except ValueError:
+        pass
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number") from None
+    if not (math.isfinite(value) and value == int(value)):
+        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number")
+    return int(value)
+
+
 def design_paths(args: argparse.Namespace) -> list[str]:
     """The design files the arguments name, in order (empty: the built-in example)."""
     given = getattr(args, "design", None)
@@ -74,6 +105,7 @@ def check_outputs(outputs: Mapping[str, str | None], inputs: Sequence[str] = ())
             continue
         if not str(path).strip():
             raise InputError(flag, path, "a file path")
+        _check_path_form(flag, str(path))
         real = os.path.realpath(path)
         if os.path.isdir(real):
             raise InputError(flag, path, "a file path, not an existing folder")
@@ -86,11 +118,49 @@ def check_outputs(outputs: Mapping[str, str | None], inputs: Sequence[str] = ())
             raise InputError(flag, path, f"a writable path (cannot write inside {parent}: a file)")
         if not os.access(parent, os.W_OK | os.X_OK):
             raise InputError(flag, path, f"a writable path (cannot write in the folder {parent})")
+        _probe_folder(flag, str(path), parent)
         if real in sources:
             raise InputError(flag, path, f"a file other than the input {sources[real]}")
         if real in seen:
             raise InputError(flag, path, f"a different file from {seen[real]}")
         seen[real] = flag
+
+
+#: Longest file name (one path component) in bytes, where the system does not say (Linux,
+#: macOS and Windows file systems all allow 255).
+NAME_MAX = 255
+
+
+def _check_path_form(flag: str, path: str) -> None:
+    """A path that names a file: no trailing separator, every component a name the file
+    system can hold (at most NAME_MAX bytes), no NUL."""
+    if "\x00" in path:
+        raise InputError(flag, path, "a file path without NUL characters")
+    seps = (os.sep, os.altsep) if os.altsep else (os.sep,)
+    if path.endswith(seps):
+        raise InputError(flag, path, "a file path, not a folder (it ends in a path separator)")
+    for part in path.replace(os.altsep or os.sep, os.sep).split(os.sep):
+        size = len(os.fsencode(part))
+        if size > NAME_MAX:
+            raise InputError(
+                flag,
+                path,
+                f"file and folder names of at most {NAME_MAX} bytes (one has {size})",
+            )
+
+
+def _probe_folder(flag: str, path: str, folder: str) -> None:
+    """Create and remove a nameless file in ``folder``: what a write will need (read-only file
+    systems, /proc, a full quota answer here, not after the computation)."""
+    import tempfile
+
+    try:
+        with tempfile.TemporaryFile(dir=folder):
+            pass
+    except OSError as exc:
+        raise InputError(
+            flag, path, f"a writable path (creating a file in {folder} fails: {exc.strerror})"
+        ) from None
 
 
 def _plain(value: Any) -> Any:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import math
 from typing import Any
 
 from spiralcap.commands._common import (
@@ -36,25 +37,37 @@ def sizing_payload(design: Any) -> dict[str, Any]:
     return coils_payload(analyse_coils(design))
 
 
+def _run(v: Any) -> Any:
+    """A number, or "runaway" where a pair has no steady temperature (NaN)."""
+    return "runaway" if isinstance(v, float) and math.isnan(v) else v
+
+
+def _watts(v: float) -> str:
+    return f"{v:.4g} W" if math.isfinite(v) else "unbounded (a pair runs away thermally)"
+
+
 def _text(p: dict[str, Any]) -> str:
     axes = [p["axes"][ax] for ax in "xyz"]
     rows = [
         [
-            a["axis"],
-            a["radius_m"],
-            a["turns"],
-            a["wire_diameter_m"] * 1e3,
-            a["winding_pack_side_m"] * 1e3,
-            a["wire_length_m"],
-            a["field_per_amp_T_per_A"] * 1e3,
-            a["resistance_ohm"],
-            a["inductance_H"] * 1e3,
-            a["impedance_ohm"],
-            a["voltage_amplitude_V"],
-            a["power_W"],
-            a["surface_temperature_C"],
-            a["hot_spot_temperature_C"],
-            a["field_amplitude_T"] * 1e3,
+            _run(v)
+            for v in (
+                a["axis"],
+                a["radius_m"],
+                a["turns"],
+                a["wire_diameter_m"] * 1e3,
+                a["winding_pack_side_m"] * 1e3,
+                a["wire_length_m"],
+                a["field_per_amp_T_per_A"] * 1e3,
+                a["resistance_ohm"],
+                a["inductance_H"] * 1e3,
+                a["impedance_ohm"],
+                a["voltage_amplitude_V"],
+                a["power_W"],
+                a["surface_temperature_C"],
+                a["hot_spot_temperature_C"],
+                a["field_amplitude_T"] * 1e3,
+            )
         ]
         for a in axes
     ]
@@ -138,10 +151,11 @@ def _text(p: dict[str, Any]) -> str:
         f"W/(m²·K), emissivity {p['surface_emissivity']:g}, winding k = "
         f"{p['winding_conductivity_W_mK']:g} W/(m·K); R at the self-consistent mean temperature",
         "",
-        "each pair alone at the current limit (steady; NaN: thermal runaway):",
+        "each pair alone at the current limit (steady state; 'runaway': there is none, the pair "
+        "heats without bound):",
         table,
         f"total copper loss at the current limit, worst heading "
-        f"({', '.join(f'{x:.3g}' for x in wh['heading'])}): {p['total_power_W']:.4g} W "
+        f"({', '.join(f'{x:.3g}' for x in wh['heading'])}): {_watts(p['total_power_W'])} "
         f"at {wh['field_amplitude_T'] * 1e3:.4g} mT",
         "",
         "largest current each pair may carry, worst heading (current, voltage, hot spot):",

@@ -8,8 +8,12 @@ difference to the first design. Exit status 0; 2 for bad input.
 from __future__ import annotations
 
 import argparse
+import math
 
 from spiralcap.errors import InputError
+
+#: Most designs one comparison sets side by side.
+MAX_DESIGNS = 16
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -35,8 +39,13 @@ def load_designs(paths: list[str], overrides: list[str]) -> list:
     """The designs named on the command line with their ``--set`` overrides applied."""
     from spiralcap.design import load_design
 
-    if len(paths) < 2:
-        raise InputError("DESIGN", paths, "two or more design files (or 'builtin')")
+    if not 2 <= len(paths) <= MAX_DESIGNS:
+        raise InputError(
+            "DESIGN",
+            f"{len(paths)} designs" if len(paths) > MAX_DESIGNS else paths,
+            f"two to {MAX_DESIGNS} design files (or 'builtin'): each is optimised, and a wider "
+            "table cannot be read side by side",
+        )
     per: list[list[str]] = [[] for _ in paths]
     for o in overrides:
         head, sep, rest = o.partition(":")
@@ -53,10 +62,10 @@ def load_designs(paths: list[str], overrides: list[str]) -> list:
     ]
 
 
-def _cell(v) -> str:
-    from spiralcap.report.numbers import fmt
+def _cell(v, exact: bool = False) -> str:
+    from spiralcap.compare import shown_value
 
-    return fmt(v)
+    return shown_value(v, exact)
 
 
 def format_table(headers: list[str], rows: list[list[str]], left: int = 2) -> str:
@@ -80,7 +89,7 @@ def format_comparison(c) -> str:
         lines.append(
             format_table(
                 ["changed key", *labels],
-                [[k.key, *[_cell(v) for v in k.values]] for k in c.changed_keys],
+                [[k.key, *[_cell(v, exact=True) for v in k.values]] for k in c.changed_keys],
                 left=1,
             )
         )
@@ -95,7 +104,7 @@ def format_comparison(c) -> str:
         for r in rows:
             vals = r.shown_values()
             delta = ""
-            if r.differs and all(isinstance(v, float) for v in vals):
+            if r.differs and all(isinstance(v, float) and math.isfinite(v) for v in vals):
                 delta = f"{vals[-1] - vals[0]:+.4g}"
             body.append(
                 [

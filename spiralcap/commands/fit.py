@@ -35,6 +35,9 @@ REQUIRED = ("frequency_hz", "torque_mNm")
 TORQUE_RANGE_mNm = (1e-6, 1e5)
 #: Highest rotation frequency read, Hz (the design keys' range).
 FREQUENCY_MAX_hz = 100.0
+#: Lowest rotation frequency read, Hz (the range of operation.frequency_hz; a frequency such as
+#: 1e-200 Hz would overflow the fit's time scales).
+FREQUENCY_MIN_hz = 1e-3
 OPTIONAL = ("helical_angle_deg",)
 
 #: SI field -> (design key without "tissue.", factor SI -> design unit, unit text)
@@ -127,7 +130,7 @@ def read_bench_csv(path: str | Path) -> dict[str, list[float]]:
     if not lines:
         raise DataError(f"{p}: no header row (expected columns {', '.join(REQUIRED)})")
     header_line, header_text = lines[0]
-    header = [h.strip() for h in next(csv.reader([header_text]))]
+    header = [h.strip() for h in _split(header_text, f"{p} line {header_line}")]
     for col in REQUIRED:
         if col not in header:
             raise DataError(
@@ -137,8 +140,8 @@ def read_bench_csv(path: str | Path) -> dict[str, list[float]]:
     wanted = [c for c in REQUIRED + OPTIONAL if c in header]
     out: dict[str, list[float]] = {c: [] for c in wanted}
     for row_no, (line_no, line) in enumerate(lines[1:], start=1):
-        cells = next(csv.reader([line]))
         where = f"{p} line {line_no} (data row {row_no})"
+        cells = _split(line, where)
         for col in wanted:
             idx = header.index(col)
             raw = cells[idx].strip() if idx < len(cells) else ""
@@ -148,17 +151,33 @@ def read_bench_csv(path: str | Path) -> dict[str, list[float]]:
     return out
 
 
+def _short(raw: str, limit: int = 60) -> str:
+    return raw if len(raw) <= limit else raw[: limit - 3] + "..."
+
+
+def _split(line: str, where: str) -> list[str]:
+    """One CSV line as cells; a malformed line (a cell beyond the csv module's field limit of
+    131,072 characters, a stray quote) is a DataError naming the line."""
+    try:
+        return next(csv.reader([line]), [])
+    except csv.Error as exc:
+        raise DataError(f"{where}: not a CSV row ({exc})") from None
+
+
 def _cell(raw: str, col: str, where: str) -> float:
     if raw == "":
         raise DataError(f"{where}, column {col}: empty cell")
     try:
         value = float(raw)
     except ValueError:
-        raise DataError(f"{where}, column {col}: {raw!r} is not a number") from None
+        raise DataError(f"{where}, column {col}: {_short(raw)!r} is not a number") from None
     if not math.isfinite(value):
         raise DataError(f"{where}, column {col}: {raw!r} is not a finite number")
-    if col == "frequency_hz" and value <= 0:
-        raise DataError(f"{where}, column {col}: {raw} Hz; the frequency must be > 0")
+    if col == "frequency_hz" and value < FREQUENCY_MIN_hz:
+        raise DataError(
+            f"{where}, column {col}: {_short(raw)} Hz; at least {FREQUENCY_MIN_hz:g} Hz "
+            "(as operation.frequency_hz)"
+        )
     if col == "torque_mNm" and not TORQUE_RANGE_mNm[0] <= value <= TORQUE_RANGE_mNm[1]:
         raise DataError(
             f"{where}, column {col}: {raw} mN·m; a bench torque is in "
@@ -290,7 +309,8 @@ def fit_payload(
             "fitted_torque_mNm": result.predicted_Nm * 1e3,
             "relative_residual": (result.predicted_Nm - result.torque_Nm) / result.torque_Nm,
         },
-        "residual_std": result.residual_std,
+        "residual_std": residual_std(result),
+        "residual_std_basis": "rms" if result.dof <= 0 else "dof",
         "relative_residuals": result.relative,
         "dof": result.dof,
         "condition_number": result.condition_number,
@@ -299,6 +319,26 @@ def fit_payload(
         "data_file": str(data_path),
         "design": design_source,
     }
+
+
+def residual_std(result: Any) -> float:
+    """s on the residual degrees of freedom; with none left (as many rows as parameters) the
+    root-mean-square residual instead (s itself has no estimate then)."""
+    import numpy as np
+
+    if result.dof > 0 and math.isfinite(result.residual_std):
+        return float(result.residual_std)
+    r = np.asarray(result.residuals, dtype=float)
+    return float(np.sqrt(np.mean(r * r))) if r.size else 0.0
+
+
+def _num(value: float, factor: float = 1.0) -> str:
+    """A table number, or in words when it has no finite value (no nan, no inf printed)."""
+    if math.isnan(value):
+        return "unknown"
+    if math.isinf(value):
+        return "unbounded"
+    return f"{value * factor:.4g}"
 
 
 def fit_quality_payload(quality: Any) -> dict[str, Any]:
@@ -324,7 +364,7 @@ def tissue_toml(table: dict[str, float], data_path: str, result: Any) -> str:
     fitted = ", ".join(_DISPLAY[n][0] for n in result.free)
     lines = [
         f"# spiralcap fit of {data_path}: {result.frequency_hz.size} points, "
-        f"residual std {result.residual_std:.3g} (relative)",
+        f"residual std {residual_std(result):.3g} (relative)",
         f"# fitted: {fitted}; the other constants are the design's tissue"
         + (" times scale" if "scale" in result.free else ""),
         f"# not pinned down by the data: {loose}",
@@ -396,6 +436,8 @@ def _print_text(
                 math.exp(result.standard_errors_log[name]) if result.identifiable(name) else "-",
                 f"[{lo * factor:.4g}, {hi * factor:.4g}]"
                 if result.identifiable(name)
+                else "unknown (no residual degree of freedom)"
+                if result.dof <= 0
                 else "not identifiable",
                 "NOT pinned down" if result.flags[name] else "pinned down",
             ]
@@ -461,5 +503,9 @@ def _print_text(
             res_rows,
         )
     )
-    print(f"residual std {100 * result.residual_std:.3g} % (relative); optimiser: {result.message}")
+    basis = "" if result.dof > 0 else ", root mean square: no residual degree of freedom is left"
+    print(
+        f"residual std {100 * residual_std(result):.3g} % (relative{basis}); optimiser: "
+        f"{result.message}"
+    )
     print("to use: --set tissue.KEY=VALUE for each key of the JSON 'tissue' table, or -o FILE")

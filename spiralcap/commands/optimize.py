@@ -173,7 +173,7 @@ def format_robust(rc) -> str:
     from spiralcap.robust import robust_to_dict
 
     ins, oos, d_oos = rc.in_sample, rc.out_of_sample, rc.deterministic_out_of_sample
-    rel = robust_to_dict(rc)["out_of_sample"]["p05_relative_to_claim"]
+    rel = robust_to_dict(rc)["out_of_sample"].get("p05_relative_to_claim")
     p = rc.max_stepout_probability
     cons = f", P(step-out) <= {p:g} (CVaR)" if p is not None else ""
     return "\n".join(

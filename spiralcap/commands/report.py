@@ -25,6 +25,7 @@ from spiralcap.commands._common import (
     check_outputs,
     design_from_args,
     design_paths,
+    whole_number,
 )
 from spiralcap.errors import InputError
 
@@ -62,7 +63,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument(
         "--workers",
-        type=int,
+        type=whole_number,
         default=None,
         metavar="N",
         help="processes to share the analyses and figures over (default: the cores this "

@@ -8,6 +8,7 @@ from typing import Any
 
 from spiralcap.commands._common import (
     add_design_arguments,
+    allow_negative_numbers,
     check_outputs,
     design_from_args,
     design_paths,
@@ -17,10 +18,15 @@ from spiralcap.commands._common import (
 from spiralcap.errors import InputError
 
 DEFAULT_FREQUENCIES_HZ = (0.5, 1.0, 1.5, 2.0, 2.5, 3.0)
+#: Frequencies --frequency accepts, Hz: the range of operation.frequency_hz.
+FREQUENCY_RANGE_HZ = (1e-3, 100.0)
+#: Most frequencies of one table.
+MAX_FREQUENCIES = 10_000
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_design_arguments(parser)
+    allow_negative_numbers(parser)
     parser.add_argument(
         "--frequency",
         dest="frequencies",
@@ -67,9 +73,18 @@ def run(args: argparse.Namespace) -> int:
     check_outputs({"--plot": args.plot}, design_paths(args))
     design = design_from_args(args)
     freqs = args.frequencies or list(DEFAULT_FREQUENCIES_HZ)
+    if len(freqs) > MAX_FREQUENCIES:
+        raise InputError(
+            "--frequency", f"{len(freqs)} values", f"at most {MAX_FREQUENCIES} frequencies"
+        )
+    lo, hi = FREQUENCY_RANGE_HZ
     for f in freqs:
-        if not (math.isfinite(f) and f > 0):
-            raise InputError("--frequency", f, "a finite number > 0 (Hz)")
+        if not (math.isfinite(f) and lo <= f <= hi):
+            raise InputError(
+                "--frequency",
+                f,
+                f"a frequency from {lo:g} to {hi:g} Hz (as operation.frequency_hz)",
+            )
     f = np.asarray(freqs, dtype=float)
     angle_deg = float(design["capsule.spiral.helical_angle_deg"])
     geometry = geometry_from_design(design)

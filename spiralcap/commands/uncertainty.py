@@ -11,7 +11,14 @@ from __future__ import annotations
 
 import argparse
 
-from spiralcap.commands._common import add_design_arguments, design_from_args, print_json
+from spiralcap.commands._common import (
+    add_design_arguments,
+    check_outputs,
+    design_from_args,
+    design_paths,
+    print_json,
+    whole_number,
+)
 from spiralcap.uncertainty import (
     DEFAULT_SAMPLES,
     DEFAULT_SOBOL_BASE,
@@ -25,7 +32,11 @@ def add_execution_arguments(parser: argparse.ArgumentParser) -> None:
     """``--workers N | --dask ADDRESS`` (shared with ``sweep``)."""
     group = parser.add_mutually_exclusive_group()
     group.add_argument(
-        "--workers", type=int, default=1, metavar="N", help="local worker processes (default 1)"
+        "--workers",
+        type=whole_number,
+        default=1,
+        metavar="N",
+        help="local worker processes (default 1)",
     )
     group.add_argument(
         "--dask",
@@ -39,12 +50,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     add_design_arguments(parser)
     parser.add_argument(
         "--samples",
-        type=int,
+        type=whole_number,
         default=DEFAULT_SAMPLES,
         metavar="N",
         help=f"tissue samples (default {DEFAULT_SAMPLES})",
     )
-    parser.add_argument("--seed", type=int, default=0, metavar="S", help="sampling seed")
+    parser.add_argument("--seed", type=whole_number, default=0, metavar="S", help="sampling seed")
     parser.add_argument(
         "--method",
         choices=("sobol", "halton", "random"),
@@ -53,7 +64,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument(
         "--sobol-samples",
-        type=int,
+        type=whole_number,
         default=DEFAULT_SOBOL_BASE,
         metavar="N",
         help=f"base samples of the Sobol-index estimate, a power of 2; 0 skips it "
@@ -103,12 +114,15 @@ def run(args: argparse.Namespace) -> int:
     from optimize.uncertainty import check_samples, check_seed
     from spiralcap.commands.torque import check_plot_path
     from spiralcap.parallel import check_workers
+    from spiralcap.uncertainty import check_sobol_base
 
     check_samples(args.samples)
     check_seed(args.seed)
     check_workers(args.workers)
+    check_sobol_base(args.sobol_samples)
     if args.plot:
         check_plot_path(args.plot)
+    check_outputs({"--plot": args.plot}, design_paths(args))
     design = design_from_args(args)
     from spiralcap.progress import progress_bar
 

@@ -16,6 +16,7 @@ from typing import Any
 
 from spiralcap.commands._common import (
     add_design_arguments,
+    allow_negative_numbers,
     check_outputs,
     design_from_args,
     design_paths,
@@ -42,12 +43,14 @@ CSV_COLUMNS = (
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """DESIGN, --set, --json, --heading (repeatable), --dwell-s, --ramp-s, --csv, --plot."""
     add_design_arguments(parser)
+    allow_negative_numbers(parser)
     parser.add_argument(
         "--heading",
         action="append",
         default=[],
         metavar="X,Y,Z",
-        help="capsule heading (rotation axis), repeat for a sequence, e.g. --heading 1,0,0",
+        help="capsule heading (rotation axis), repeat for a sequence, e.g. --heading 1,0,0 "
+        "--heading -1,0,0 (a reversed axis)",
     )
     parser.add_argument(
         "--dwell-s", metavar="T", help="time each heading is held, s (required)", default=None
@@ -73,7 +76,15 @@ def parse_heading(text: str) -> tuple[float, float, float]:
         raise InputError("--heading", text, allowed) from None
     if len(values) != 3 or not all(math.isfinite(v) for v in values) or not any(values):
         raise InputError("--heading", text, allowed)
-    return values[0], values[1], values[2]
+    # a direction: scaled so its largest component is 1 (as workspace.headings), so its length
+    # never overflows or underflows (1e200,1e200,0 is the direction 1,1,0)
+    top = max(abs(v) for v in values)
+    return values[0] / top, values[1] / top, values[2] / top
+
+
+#: Shortest dwell and plane change, s: the sequence is sampled 200 times per ramp, and a plane
+#: change faster than a microsecond needs volts no coil amplifier gives (L/R is milliseconds).
+MIN_TIME_S = 1e-6
 
 
 def _positive(option: str, text: Any, allowed: str) -> float:
@@ -81,7 +92,7 @@ def _positive(option: str, text: Any, allowed: str) -> float:
         value = float(text)
     except (TypeError, ValueError):
         raise InputError(option, text, allowed) from None
-    if not (math.isfinite(value) and value > 0):
+    if not (math.isfinite(value) and value >= MIN_TIME_S):
         raise InputError(option, text, allowed)
     return value
 
@@ -90,12 +101,14 @@ def parse_timing(dwell: Any, ramp: Any, frequency_hz: float) -> tuple[float, flo
     """Validated (dwell_s, ramp_s)."""
     if dwell is None:
         raise InputError("--dwell-s", None, "a time in seconds > 0 (required)")
-    dwell_s = _positive("--dwell-s", dwell, "a time in seconds > 0")
+    least = f"at least {MIN_TIME_S:g} s (sampled 200 times per plane change)"
+    dwell_s = _positive("--dwell-s", dwell, f"a time in seconds, {least}")
     if ramp is None:
         return dwell_s, min(dwell_s, 1.0 / frequency_hz)
-    ramp_s = _positive("--ramp-s", ramp, f"a time in seconds > 0 and <= --dwell-s = {dwell_s:g}")
+    allowed = f"a time in seconds, {least} and <= --dwell-s = {dwell_s:g}"
+    ramp_s = _positive("--ramp-s", ramp, allowed)
     if ramp_s > dwell_s:
-        raise InputError("--ramp-s", ramp, f"a time in seconds > 0 and <= --dwell-s = {dwell_s:g}")
+        raise InputError("--ramp-s", ramp, allowed)
     return dwell_s, ramp_s
 
 

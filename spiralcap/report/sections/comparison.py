@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 from spiralcap.report.document import Cell, Paragraph, Section, Strong, Table
@@ -16,13 +17,15 @@ def _rows(rows: Any) -> list[list[Cell]]:
         cells: list[Cell] = [("▸ " if r.differs else "") + r.quantity, r.unit or "–"]
         vals = r.shown_values()
         for v in vals:
-            if isinstance(v, bool):
+            if v is None:
+                cells.append("–")
+            elif isinstance(v, bool):
                 cells.append("yes" if v else "NO")
             elif isinstance(v, float):
                 cells.append(Num(v))
             else:
                 cells.append(str(v).replace("_", " "))
-        if r.differs and all(isinstance(v, float) for v in vals):
+        if r.differs and all(isinstance(v, float) and math.isfinite(v) for v in vals):
             cells.append(Num(vals[1] - vals[0]))
         else:
             cells.append("")
