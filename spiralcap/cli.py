@@ -82,9 +82,14 @@ def main(argv: list[str] | None = None) -> int:
     except BrokenPipeError:  # output piped into `head` and closed early: not an error
         sys.stderr.close()
         return 0
-    except KeyboardInterrupt:
-        print(f"spiralcap {args.command}: interrupted", file=sys.stderr)
-        return 130
+    except KeyboardInterrupt as exc:  # Ctrl-C, or SIGTERM/SIGHUP (parallel.Terminated)
+        import signal
+
+        signum = int(getattr(exc, "signum", signal.SIGINT))
+        name = signal.Signals(signum).name
+        what = "interrupted" if signum == signal.SIGINT else f"stopped by {name}"
+        print(f"spiralcap {args.command}: {what}", file=sys.stderr)
+        return 128 + signum
 
 
 def console() -> None:  # pragma: no cover -- the installed ``spiralcap`` command
@@ -107,6 +112,9 @@ def console() -> None:  # pragma: no cover -- the installed ``spiralcap`` comman
     # Set before numpy is first imported; a value the user set is kept.
     for var in ("OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
         os.environ.setdefault(var, "1")
+    from spiralcap.parallel import stop_on_signals
+
+    stop_on_signals()  # SIGTERM, SIGHUP unwind like Ctrl-C: workers stopped, nothing half-written
     status = main()
     gc.freeze()
     sys.exit(status)
