@@ -72,11 +72,14 @@ def _start(argv: list[str], cwd: Path) -> subprocess.Popen[str]:
     )
 
 
-def _stop_and_check(proc: subprocess.Popen[str], sig: int, workers: int) -> str:
-    """Once ``workers`` children run, send ``sig`` to the parent; the group must empty."""
+def _stop_and_check(proc: subprocess.Popen[str], sig: int, workers: int, after_s: float) -> str:
+    """Once ``workers`` children run and ``after_s`` seconds have passed since the start, send
+    ``sig`` to the parent; the group must be empty within 20 s."""
+    t0 = time.monotonic()
     started = _poll(lambda: len(_group(proc.pid)) >= 1 + workers or proc.poll() is not None, 120)
     assert started and proc.poll() is None, "the workers started and the command still runs"
-    time.sleep(1.0)  # let the workers get into their tasks (any moment will do)
+    time.sleep(max(0.0, after_s - (time.monotonic() - t0)))  # the workers are in their tasks
+    assert proc.poll() is None, "the command still runs when signalled"
     os.kill(proc.pid, sig)
     try:
         emptied = _poll(lambda: proc.poll() is not None and not _group(proc.pid), 20)
@@ -92,7 +95,7 @@ def _stop_and_check(proc: subprocess.Popen[str], sig: int, workers: int) -> str:
 @pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGHUP])
 def test_a_signalled_sweep_stops_its_workers(tmp_path: Path, sig: int) -> None:
     proc = _start([*SPIRALCAP, *SWEEP], tmp_path)
-    err = _stop_and_check(proc, sig, workers=2)
+    err = _stop_and_check(proc, sig, workers=2, after_s=4.0)
     assert proc.returncode == 128 + sig, f"exit 128 + signal number ({err})"
     name = signal.Signals(sig).name
     assert err.strip().splitlines() == [f"spiralcap sweep: stopped by {name}"], err
@@ -103,7 +106,7 @@ def test_a_signalled_sweep_stops_its_workers(tmp_path: Path, sig: int) -> None:
 def test_workers_of_a_killed_parent_die_too(tmp_path: Path) -> None:
     """SIGKILL cannot be handled: the workers end through PR_SET_PDEATHSIG."""
     proc = _start([*SPIRALCAP, *SWEEP], tmp_path)
-    _stop_and_check(proc, signal.SIGKILL, workers=2)
+    _stop_and_check(proc, signal.SIGKILL, workers=2, after_s=4.0)
     assert proc.returncode == -signal.SIGKILL
 
 
@@ -124,6 +127,6 @@ def test_forked_children_die_with_the_command(tmp_path: Path, sig: int) -> None:
         """
     )
     proc = _start([sys.executable, "-c", script], tmp_path)
-    err = _stop_and_check(proc, sig, workers=3)
+    err = _stop_and_check(proc, sig, workers=3, after_s=1.0)
     if sig == signal.SIGTERM:
         assert err.strip() == f"stopped {int(sig)}", err
