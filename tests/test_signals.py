@@ -92,13 +92,13 @@ def _stop_and_check(proc: subprocess.Popen[str], sig: int, workers: int, after_s
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGHUP])
+@pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGHUP, signal.SIGINT])
 def test_a_signalled_sweep_stops_its_workers(tmp_path: Path, sig: int) -> None:
     proc = _start([*SPIRALCAP, *SWEEP], tmp_path)
     err = _stop_and_check(proc, sig, workers=2, after_s=4.0)
     assert proc.returncode == 128 + sig, f"exit 128 + signal number ({err})"
-    name = signal.Signals(sig).name
-    assert err.strip().splitlines() == [f"spiralcap sweep: stopped by {name}"], err
+    what = "interrupted" if sig == signal.SIGINT else f"stopped by {signal.Signals(sig).name}"
+    assert err.strip().splitlines() == [f"spiralcap sweep: {what}"], err
     assert list(tmp_path.iterdir()) == [], "no output, not even a partial one"
 
 
