@@ -9,9 +9,11 @@ report in a few hundred milliseconds. Platypus would need a second library for S
 mathematics.
 
 The document is written as Typst markup from the same :mod:`~spiralcap.report.document` blocks
-the HTML renders; all text goes in as Typst string literals (``#"..."``), so nothing in a design
-file or a message can be read as markup. Figures are the SVG texts drawn once for both outputs
-(:mod:`spiralcap.report.render`), handed over through ``sys.inputs``.
+the HTML renders. No text is ever part of the Typst source: every string (titles, file names,
+design values, messages) goes into one JSON array handed over through ``sys.inputs`` and the
+markup refers to it by index (``#T.at(12);``), so nothing a design file or a file name holds can
+be read as markup or code. Figures are the SVG texts drawn once for both outputs
+(:mod:`spiralcap.report.render`), handed over the same way.
 """
 
 from __future__ import annotations
