@@ -125,3 +125,19 @@ def test_two_outputs_are_written_both_or_neither(
     ok = _run(args, tmp_path)
     assert ok.returncode == 0, ok.stderr
     assert (tmp_path / first).stat().st_size > 0 and (tmp_path / "P.png").stat().st_size > 0
+
+
+@pytest.mark.parametrize("json_flag", [[], ["--json"]])
+def test_stdout_on_a_full_disk_is_an_error(tmp_path: Path, json_flag: list[str]) -> None:
+    if not os.path.exists("/dev/full"):
+        pytest.skip("no /dev/full")
+    with open("/dev/full", "w") as full:
+        proc = subprocess.run(
+            [*SPIRALCAP, "coils", *json_flag],
+            cwd=tmp_path,
+            stdout=full,
+            stderr=subprocess.PIPE,
+            text=True,
+            timeout=300,
+        )
+    _one_line_error(proc, "cannot write the output", "No space left")
