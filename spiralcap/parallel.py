@@ -226,13 +226,14 @@ STOP_SIGNALS = ("SIGTERM", "SIGHUP")
 
 def stop_on_signals() -> None:
     """In the ``spiralcap`` command: SIGTERM and SIGHUP raise :class:`Terminated` in the main
-    thread (once; a repeat while cleaning up is ignored)."""
+    thread, once; a second one while it cleans up ends the process at once (the default
+    action; its workers then end through ``PR_SET_PDEATHSIG``)."""
     import signal
 
     def stop(signum: int, _frame: Any) -> None:
         for name in STOP_SIGNALS:
             if hasattr(signal, name):
-                signal.signal(getattr(signal, name), signal.SIG_IGN)
+                signal.signal(getattr(signal, name), signal.SIG_DFL)
         raise Terminated(signum)
 
     for name in STOP_SIGNALS:
