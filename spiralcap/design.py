@@ -73,6 +73,10 @@ def _flatten(table: Mapping[str, Any], prefix: str = "") -> dict[str, Any]:
 
 def parse_set(expr: str) -> tuple[str, Any]:
     """Parse one ``--set dotted.key=value``; the value is read as a TOML value or a bare string."""
+    try:
+        expr.encode("utf-8")
+    except UnicodeEncodeError:  # bytes of the command line that are not UTF-8 (surrogates)
+        raise InputError("--set", expr, "text in UTF-8 (this holds bytes that are not)") from None
     key, sep, raw = expr.partition("=")
     key, raw = key.strip(), raw.strip()
     if not sep or not key or not raw:
@@ -423,7 +427,8 @@ def write_files_atomic(files: Mapping[Any, str | bytes]) -> list[Path]:
     devices: list[tuple[Any, bytes]] = []
     try:
         for given, text in files.items():
-            data = text.encode("utf-8") if isinstance(text, str) else text
+            # a file name of bytes that are not UTF-8 (held as surrogates) is written as "?"
+            data = text.encode("utf-8", "replace") if isinstance(text, str) else text
             kind = special_file(given)
             if kind in WRITE_THROUGH:
                 devices.append((given, data))

@@ -186,3 +186,30 @@ def test_report_command_takes_the_issue_cases_as_text(
     assert data["design"]["values"]["report.title"] == title
     assert data["design"]["source"] == design_name
     assert _html_text(page, "h1") == title
+
+
+@pytest.mark.slow
+def test_bytes_that_are_not_utf8_never_crash_the_report(tmp_path: Path) -> None:
+    """A file name that is not UTF-8 is shown with '?'; a --set value that is not is refused."""
+    name = os.fsdecode(b"n\xffm.toml")
+    (tmp_path / name).write_text('[report]\ntitle = "T"\n', encoding="utf-8")
+    ok = subprocess.run(
+        [*SPIRALCAP, "report", name, "-o", "r.html", "--pdf", "r.pdf"],
+        cwd=tmp_path,
+        capture_output=True,
+        timeout=600,
+    )
+    assert ok.returncode == 0 and b"Traceback" not in ok.stderr, ok.stderr[-2000:]
+    page = (tmp_path / "r.html").read_text(encoding="utf-8")  # valid UTF-8
+    assert _script_json(page)["design"]["source"] == "n?m.toml", "the byte shown as ?"
+    bad = subprocess.run(
+        [*SPIRALCAP, "report", "--set", os.fsdecode(b"report.title='a\xffb'"), "-o", "s.html"],
+        cwd=tmp_path,
+        capture_output=True,
+        text=True,
+        errors="replace",
+        timeout=600,
+    )
+    _, *rest = bad.stderr.strip().splitlines() or [""]
+    assert bad.returncode == 2 and not rest and "--set" in bad.stderr, bad.stderr
+    assert "UTF-8" in bad.stderr and not (tmp_path / "s.html").exists()
