@@ -8,6 +8,7 @@ the parser stays cheap and ``spiralcap init`` never pays for CasADi or matplotli
 from __future__ import annotations
 
 import argparse
+import errno
 import importlib
 import sys
 from typing import NoReturn
@@ -75,16 +76,49 @@ def main(argv: list[str] | None = None) -> int:
     parser = build_parser(command if command in COMMANDS else None)
     args = parser.parse_args(argv)
     try:
-        return int(args._module.run(args) or 0)
+        status = int(args._module.run(args) or 0)
+        sys.stdout.flush()  # a full disk behind stdout is found here, not at exit
+        return status
     except SpiralcapError as exc:
         print(f"spiralcap {args.command}: error: {one_line(str(exc))}", file=sys.stderr)
         return exc.exit_status
     except BrokenPipeError:  # output piped into `head` and closed early: not an error
         sys.stderr.close()
         return 0
-    except KeyboardInterrupt:
-        print(f"spiralcap {args.command}: interrupted", file=sys.stderr)
-        return 130
+    except OSError as exc:  # stdout on a full disk (``> /dev/full``): an error, never success
+        if exc.errno not in _FULL:
+            raise
+        _discard_stdout()
+        print(
+            f"spiralcap {args.command}: error: cannot write the output ({exc.strerror})",
+            file=sys.stderr,
+        )
+        return 2
+    except KeyboardInterrupt as exc:  # Ctrl-C, or SIGTERM/SIGHUP (parallel.Terminated)
+        import signal
+
+        signum = int(getattr(exc, "signum", signal.SIGINT))
+        name = signal.Signals(signum).name
+        what = "interrupted" if signum == signal.SIGINT else f"stopped by {name}"
+        print(f"spiralcap {args.command}: {what}", file=sys.stderr)
+        return 128 + signum
+
+
+#: errno values of a write that found no room (full disk, quota, file size limit, I/O error).
+_FULL = {errno.ENOSPC, errno.EDQUOT, errno.EFBIG, errno.EIO}
+
+
+def _discard_stdout() -> None:
+    """Point file descriptor 1 at the null device, so the unwritten rest of stdout's buffer
+    goes nowhere at exit instead of failing a second time."""
+    import os
+
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        os.close(devnull)
+    except (OSError, ValueError, AttributeError):  # no real stdout (tests capture it)
+        pass
 
 
 def console() -> None:  # pragma: no cover -- the installed ``spiralcap`` command
@@ -107,6 +141,9 @@ def console() -> None:  # pragma: no cover -- the installed ``spiralcap`` comman
     # Set before numpy is first imported; a value the user set is kept.
     for var in ("OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
         os.environ.setdefault(var, "1")
+    from spiralcap.parallel import stop_on_signals
+
+    stop_on_signals()  # SIGTERM, SIGHUP unwind like Ctrl-C: workers stopped, nothing half-written
     status = main()
     gc.freeze()
     sys.exit(status)

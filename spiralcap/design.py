@@ -6,6 +6,7 @@ values, in the units the key names. The built-in example design is the schema's 
 
 from __future__ import annotations
 
+import errno
 import hashlib
 import json
 import math
@@ -93,6 +94,10 @@ def _flatten(table: Mapping[str, Any], prefix: str = "") -> dict[str, Any]:
 
 def parse_set(expr: str) -> tuple[str, Any]:
     """Parse one ``--set dotted.key=value``; the value is read as a TOML value or a bare string."""
+    try:
+        expr.encode("utf-8")
+    except UnicodeEncodeError:  # bytes of the command line that are not UTF-8 (surrogates)
+        raise InputError("--set", expr, "text in UTF-8 (this holds bytes that are not)") from None
     key, sep, raw = expr.partition("=")
     key, raw = key.strip(), raw.strip()
     if not sep or not key or not raw:
@@ -417,27 +422,83 @@ def _write_all(fd: int, data: bytes) -> None:
         view = view[os.write(fd, view) :]
 
 
+def special_file(path: str | os.PathLike[str]) -> str | None:
+    """What an existing output that is not a regular file is ('character device', 'FIFO', ...);
+    None for a regular file or a path that does not exist yet (a symlink counts as its target)."""
+    try:
+        mode = os.stat(path).st_mode
+    except OSError:
+        return None
+    if stat.S_ISREG(mode):
+        return None
+    if stat.S_ISCHR(mode):
+        return "character device"
+    if stat.S_ISFIFO(mode):
+        return "FIFO"
+    if stat.S_ISBLK(mode):
+        return "block device"
+    if stat.S_ISSOCK(mode):
+        return "socket"
+    return "folder" if stat.S_ISDIR(mode) else "special file"
+
+
+#: Outputs that are written through (opened and written in place, never replaced by a file).
+WRITE_THROUGH = ("character device", "FIFO")
+
+
+def _write_through(path: str | os.PathLike[str], data: bytes) -> None:
+    """Write ``data`` into an existing character device or FIFO (``/dev/null``, a pipe a reader
+    holds open). A FIFO nobody reads is an error, not a hang; a full device (``/dev/full``) too."""
+    fd = os.open(path, os.O_WRONLY | os.O_NONBLOCK | getattr(os, "O_NOCTTY", 0))
+    try:
+        os.set_blocking(fd, True)
+        _write_all(fd, data)
+    finally:
+        os.close(fd)
+
+
 def write_files_atomic(files: Mapping[Any, str | bytes]) -> list[Path]:
     """Write several files all or nothing: each staged beside its target, then all renamed.
 
     A symlink given as a target is written through (the file it points at is replaced, the link
-    stays). Parent folders are created as needed. If any file cannot be staged, none is
-    written and every temporary file is removed.
+    stays). An existing character device or FIFO (``-o /dev/null``) is written into, never
+    replaced by a file; a block device or socket is refused. Parent folders are created as
+    needed. If any file cannot be staged or any device written, no file is written and every
+    temporary file is removed (the devices are written after every file is staged, and before
+    any is renamed into place).
 
     Raises
     ------
     DataError
-        A folder cannot be created or a file cannot be written (one line, exit 2).
+        A folder cannot be created, a file or device cannot be written (a full disk, a FIFO with
+        no reader), or a target is neither a regular file nor a device one can write into (one
+        line, exit 2).
     """
     staged: list[tuple[str, Path, Path]] = []
+    devices: list[tuple[Any, bytes]] = []
     try:
         for given, text in files.items():
+            # a file name of bytes that are not UTF-8 (held as surrogates) is written as "?"
+            data = text.encode("utf-8", "replace") if isinstance(text, str) else text
+            kind = special_file(given)
+            if kind in WRITE_THROUGH:
+                devices.append((given, data))
+                continue
+            if kind is not None:
+                raise DataError(f"{given}: cannot write into a {kind} (a regular file is needed)")
             p = _target(given)
-            data = text.encode("utf-8") if isinstance(text, str) else text
             try:
                 staged.append((_stage(p, data), p, Path(given)))
             except OSError as exc:
                 raise DataError(f"{given}: cannot write here ({exc.strerror or exc})") from None
+        for given, data in devices:
+            try:
+                _write_through(given, data)
+            except OSError as exc:
+                why = exc.strerror or str(exc)
+                if exc.errno == errno.ENXIO:
+                    why = "a FIFO that nobody reads"
+                raise DataError(f"{given}: cannot write ({why})") from None
         for tmp, p, given in staged:
             try:
                 os.replace(tmp, p)
@@ -446,7 +507,7 @@ def write_files_atomic(files: Mapping[Any, str | bytes]) -> list[Path]:
     finally:
         for tmp, _, _ in staged:
             Path(tmp).unlink(missing_ok=True)
-    return [given for _, _, given in staged]
+    return [Path(g) for g in files]
 
 
 def write_text_atomic(path: str | os.PathLike[str], text: str | bytes) -> Path:

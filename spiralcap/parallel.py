@@ -9,6 +9,7 @@ am I". Dask is an optional extra (``pip install ".[dask]"``).
 
 from __future__ import annotations
 
+import weakref
 from collections.abc import Callable, Sequence
 from typing import Any
 
@@ -16,6 +17,10 @@ from spiralcap.errors import InputError
 
 #: Seconds to wait for a Dask scheduler before giving up with a one-line error.
 CONNECT_TIMEOUT_S = 3
+#: Seconds a Dask scheduler may have no workers, while tasks wait, before that is an error.
+NO_WORKERS_S = 10.0
+#: Seconds between asking the scheduler how many workers it has.
+WORKER_POLL_S = 0.5
 INSTALL_HINT = 'the optional Dask extra: pip install ".[dask]" (or dask[distributed])'
 
 
@@ -114,31 +119,24 @@ def map_tasks(
     n = len(tasks)
     if dask is not None:
         with dask_client(dask) as client:
-            futures = [client.submit(fn, *t, pure=False) for t in tasks]
-            if progress:
-                from distributed import as_completed
-
-                for i, _ in enumerate(as_completed(futures), start=1):
-                    progress(i, n)
-            try:
-                return list(client.gather(futures))
-            except Exception as exc:  # a worker or the scheduler could not run the task
-                why = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
-                raise InputError(
-                    "--dask",
-                    dask,
-                    "a cluster whose scheduler and workers run this spiralcap version and its "
-                    f"dependencies (the cluster failed: {why[:160]})",
-                ) from None
+            return _on_dask(client, dask, fn, tasks, progress)
     out = []
     if workers > 1 and n > 1:
+        import os
         from concurrent.futures import ProcessPoolExecutor
 
-        with ProcessPoolExecutor(max_workers=min(workers, n)) as pool:
+        pool = ProcessPoolExecutor(
+            max_workers=min(workers, n), initializer=worker_setup, initargs=(os.getpid(),)
+        )
+        try:
             for i, r in enumerate(pool.map(fn, *zip(*tasks)), start=1):
                 out.append(r)
                 if progress:
                     progress(i, n)
+        except BaseException:  # an error, Ctrl-C, SIGTERM: stop the workers, do not wait
+            _stop_pool(pool)
+            raise
+        pool.shutdown()
         return out
     for i, t in enumerate(tasks, start=1):
         out.append(fn(*t))
@@ -147,11 +145,160 @@ def map_tasks(
     return out
 
 
+def _workers_of(client: Any) -> int:
+    info = client.scheduler_info()
+    return int(info.get("n_workers", len(info.get("workers", {}))))
+
+
+def _on_dask(
+    client: Any,
+    address: str,
+    fn: Callable[..., Any],
+    tasks: Sequence[tuple],
+    progress: Callable[[int, int], None] | None,
+) -> list[Any]:
+    """The tasks on a Dask cluster, in task order. A cluster with no workers (none started yet,
+    or all gone mid-run) for :data:`NO_WORKERS_S` seconds is an error, not an endless wait."""
+    import time
+
+    n = len(tasks)
+    futures = [client.submit(fn, *t, pure=False) for t in tasks]
+    try:
+        reported = 0
+        idle_since: float | None = None
+        next_check = 0.0
+        while True:
+            done = sum(f.done() for f in futures)
+            if progress and done > reported:
+                for i in range(reported + 1, done + 1):
+                    progress(i, n)
+                reported = done
+            if done == n or any(f.status == "error" for f in futures):
+                break
+            now = time.monotonic()
+            if now >= next_check:
+                next_check = now + WORKER_POLL_S
+                if _workers_of(client) > 0:
+                    idle_since = None
+                elif idle_since is None:
+                    idle_since = now
+                elif now - idle_since > NO_WORKERS_S:
+                    raise InputError(
+                        "--dask",
+                        address,
+                        f"a Dask cluster with workers (the scheduler has had none for "
+                        f"{NO_WORKERS_S:g} s; {n - done} of {n} tasks not run)",
+                    )
+            time.sleep(0.02)
+        try:
+            return list(client.gather(futures))
+        except Exception as exc:  # a worker or the scheduler could not run the task
+            why = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+            raise InputError(
+                "--dask",
+                address,
+                "a cluster whose scheduler and workers run this spiralcap version and its "
+                f"dependencies (the cluster failed: {why[:160]})",
+            ) from None
+    finally:
+        client.cancel([f for f in futures if not f.done()])
+
+
 def where(workers: int = 1, dask: str | None = None) -> str:
     """Words for where the work ran (for output and the report)."""
     if dask is not None:
         return f"Dask cluster at {dask}"
     return f"{workers} local worker processes" if workers > 1 else "this process"
+
+
+# ---------------------------------------------------------------------------------------------
+# Stopping: workers never outlive the command.
+#
+# The ``spiralcap`` command turns SIGTERM and SIGHUP (what ``timeout``, CI runners, schedulers
+# and a closed terminal send) into :class:`Terminated`, a KeyboardInterrupt, so they unwind like
+# Ctrl-C: the worker processes are stopped (:func:`map_tasks`, :class:`Forked`) and no staged
+# output is renamed into place. Each worker also asks the kernel to kill it when its parent
+# dies (``PR_SET_PDEATHSIG``, Linux; elsewhere a thread watching the parent's pid), so even a
+# parent killed with SIGKILL leaves no worker behind.
+
+
+class Terminated(KeyboardInterrupt):
+    """The command was asked to stop by a signal (SIGTERM, SIGHUP)."""
+
+    def __init__(self, signum: int) -> None:
+        super().__init__(signum)
+        self.signum = signum
+
+
+#: Signals the command turns into :class:`Terminated`.
+STOP_SIGNALS = ("SIGTERM", "SIGHUP")
+
+
+def stop_on_signals() -> None:
+    """In the ``spiralcap`` command: SIGTERM and SIGHUP raise :class:`Terminated` in the main
+    thread, once; a second one while it cleans up ends the process at once (the default
+    action; its workers then end through ``PR_SET_PDEATHSIG``)."""
+    import signal
+
+    def stop(signum: int, _frame: Any) -> None:
+        for name in STOP_SIGNALS:
+            if hasattr(signal, name):
+                signal.signal(getattr(signal, name), signal.SIG_DFL)
+        raise Terminated(signum)
+
+    for name in STOP_SIGNALS:
+        if hasattr(signal, name):
+            signal.signal(getattr(signal, name), stop)
+
+
+def worker_setup(parent_pid: int) -> None:
+    """First thing in a worker process: the default (fatal) action for SIGTERM and SIGHUP, and
+    death with the parent (``PR_SET_PDEATHSIG`` = SIGKILL on Linux, a watcher thread
+    elsewhere). Exits at once if the parent is already gone."""
+    import os
+    import signal
+    import sys
+
+    for name in STOP_SIGNALS:
+        if hasattr(signal, name):
+            signal.signal(getattr(signal, name), signal.SIG_DFL)
+    if sys.platform.startswith("linux"):
+        import ctypes
+
+        PR_SET_PDEATHSIG = 1  # <linux/prctl.h>
+        try:
+            libc = ctypes.CDLL(None, use_errno=True)
+            libc.prctl(PR_SET_PDEATHSIG, int(signal.SIGKILL), 0, 0, 0)
+        except (OSError, AttributeError):
+            _watch_parent(parent_pid)
+    else:
+        _watch_parent(parent_pid)
+    if os.getppid() != parent_pid:  # the parent died before the line above took effect
+        os._exit(1)
+
+
+def _watch_parent(parent_pid: int) -> None:
+    import os
+    import threading
+    import time
+
+    def watch() -> None:
+        while os.getppid() == parent_pid:
+            time.sleep(0.5)
+        os._exit(1)
+
+    threading.Thread(target=watch, name="spiralcap-parent-watch", daemon=True).start()
+
+
+def _stop_pool(pool: Any) -> None:
+    """Stop a ProcessPoolExecutor's workers now (the results are not wanted)."""
+    procs = list((getattr(pool, "_processes", None) or {}).values())
+    pool.shutdown(wait=False, cancel_futures=True)
+    for proc in procs:
+        if proc.is_alive():
+            proc.kill()
+    for proc in procs:
+        proc.join(5)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -181,7 +328,8 @@ def available_cores() -> int:
         return os.cpu_count() or 1
 
 
-def _child(send: Any, fn: Callable[..., Any], args: tuple) -> None:
+def _child(send: Any, parent_pid: int, fn: Callable[..., Any], args: tuple) -> None:
+    worker_setup(parent_pid)
     try:
         result: tuple[bool, Any] = (True, fn(*args))
     except BaseException as exc:  # sent back and raised in the parent
@@ -195,6 +343,16 @@ def _child(send: Any, fn: Callable[..., Any], args: tuple) -> None:
     send.close()
 
 
+#: Forked jobs whose result has not been taken: stopped if this process exits without them.
+_LIVE: weakref.WeakSet[Forked] = weakref.WeakSet()
+_LIVE_ATEXIT: list[bool] = []
+
+
+def _cancel_live() -> None:
+    for job in list(_LIVE):
+        job.cancel()
+
+
 class Forked:
     """``fn(*args)`` running in a forked child process; :meth:`result` waits for its value.
 
@@ -204,11 +362,12 @@ class Forked:
 
     def __init__(self, fn: Callable[..., Any], *args: Any) -> None:
         import multiprocessing
+        import os
         import warnings
 
         ctx = multiprocessing.get_context("fork")
         self._recv, send = ctx.Pipe(duplex=False)
-        self._proc = ctx.Process(target=_child, args=(send, fn, args))
+        self._proc = ctx.Process(target=_child, args=(send, os.getpid(), fn, args))
         with warnings.catch_warnings():
             # Python >= 3.12 warns that forking a process with threads (OpenBLAS's pool) may
             # deadlock; the children only compute (numpy, CasADi, matplotlib) and OpenBLAS
@@ -216,9 +375,17 @@ class Forked:
             warnings.simplefilter("ignore", DeprecationWarning)
             self._proc.start()
         send.close()
+        _LIVE.add(self)
+        if not _LIVE_ATEXIT:
+            import atexit
+
+            # runs before multiprocessing's own exit handler, which would wait for the child
+            atexit.register(_cancel_live)
+            _LIVE_ATEXIT.append(True)
 
     def cancel(self) -> None:
         """Stop the child (its result is not wanted) and wait for it to end."""
+        _LIVE.discard(self)
         self._proc.terminate()
         self._proc.join()
         self._recv.close()
@@ -228,13 +395,17 @@ class Forked:
         try:
             ok, value = self._recv.recv()
         except EOFError:
+            self._proc.join()  # reaped: its exit code is known
             ok, value = (
                 False,
                 (None, f"the worker process ended with exit code {self._proc.exitcode}"),
             )
-        finally:
-            self._recv.close()
-            self._proc.join()
+        except BaseException:  # Ctrl-C or SIGTERM while waiting: the result is not wanted
+            self.cancel()
+            raise
+        self._recv.close()
+        self._proc.join()
+        _LIVE.discard(self)
         if ok:
             return value
         exc, text = value
@@ -272,11 +443,19 @@ def map_forked(fn: Callable[[Any], Any], items: Sequence[Any], processes: int) -
     failure: BaseException | None = None
     try:
         results = work()
+    except KeyboardInterrupt:  # Ctrl-C, SIGTERM: stop the children, do not wait for them
+        for child in children:
+            child.cancel()
+        raise
     except BaseException as exc:  # the children are waited for all the same
         failure, results = exc, {}
-    for child in children:
+    for j, child in enumerate(children):
         try:
             results.update(child.result())
+        except KeyboardInterrupt:
+            for other in children[j + 1 :]:
+                other.cancel()
+            raise
         except BaseException as exc:
             failure = failure or exc
     if failure is not None:

@@ -39,3 +39,10 @@ def nested_system() -> coils.ThreeAxisHelmholtz:
         coils.HelmholtzPair(0.35, 350, "y"),
         coils.HelmholtzPair(0.3, 300, "z"),
     )
+
+
+def pytest_sessionfinish(session: pytest.Session, exitstatus: int) -> None:
+    """A run that collected no test fails (exit 1), never exits 5: CI must not pass, or be
+    mistaken for a configuration problem, because the tests were not found."""
+    if exitstatus == pytest.ExitCode.NO_TESTS_COLLECTED:
+        session.exitstatus = pytest.ExitCode.TESTS_FAILED

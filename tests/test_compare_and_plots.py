@@ -156,7 +156,7 @@ def test_geometry_view_draws_packs_where_the_design_puts_them() -> None:
                 for sr in (-1, 1)
             )
         )
-        assert centres == pytest.approx(expected, abs=1e-9), (
+        assert np.asarray(centres) == pytest.approx(np.asarray(expected), abs=1e-9), (
             f"{name} packs at (±separation/2, ±radius) in mm, from the design"
         )
     ws = drawn.workspace.get_xydata()

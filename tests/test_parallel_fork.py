@@ -43,6 +43,21 @@ def test_forked_reports_a_worker_that_died() -> None:
         Forked(os._exit, 7).result()
 
 
+def test_forked_waits_for_the_exit_status_of_a_dying_worker() -> None:
+    """The pipe closes before the child has exited: its status is waited for, never read
+    early as None (issue 22: "exit code None" under load)."""
+
+    def close_then_exit() -> None:
+        import time
+
+        os.closerange(3, 4096)  # the result pipe among them: the parent sees EOF now
+        time.sleep(0.5)
+        os._exit(7)
+
+    with pytest.raises(RuntimeError, match="exit code 7"):
+        Forked(close_then_exit).result()
+
+
 def test_map_forked_matches_the_serial_map_in_order() -> None:
     items = list(range(23))
 

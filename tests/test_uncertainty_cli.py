@@ -10,6 +10,16 @@ from spiralcap.cli import main
 SIGMA = ["--set", "tissue.uncertainty.scale_sigma_log=0.3"]
 
 
+def _closed_port() -> int:
+    """A TCP port nothing listens on: one the OS just handed out and took back (no fixed
+    number that another program may be using)."""
+    import socket
+
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return int(s.getsockname()[1])
+
+
 def _json(capsys, argv):
     assert main(argv) == 0
     return json.loads(capsys.readouterr().out)
@@ -51,7 +61,7 @@ def test_json_has_the_promised_fields(capsys, tmp_path):
         ([*SIGMA, "--workers", "0"], "--workers"),
         ([*SIGMA, "--sobol-samples", "100"], "--sobol-samples"),
         ([], "tissue.uncertainty"),
-        ([*SIGMA, "--dask", "tcp://127.0.0.1:9"], "--dask"),
+        ([*SIGMA, "--dask", f"tcp://127.0.0.1:{_closed_port()}"], "--dask"),
     ],
 )
 def test_bad_input_exits_2_naming_it(capsys, argv, named):

@@ -10,7 +10,7 @@ import sys
 from collections.abc import Mapping, Sequence
 from typing import Any
 
-from spiralcap.design import Design, load_design
+from spiralcap.design import WRITE_THROUGH, Design, load_design, special_file
 from spiralcap.errors import InputError
 
 
@@ -91,7 +91,8 @@ def check_outputs(outputs: Mapping[str, str | None], inputs: Sequence[str] = ())
     Call first in a command's ``run``. Each output (``{"-o": path, "--pdf": None, ...}``) must
     be a file path (not a folder) whose nearest existing parent folder is a writable folder,
     and not already a read-only file; outputs must be distinct files and none may be an input
-    file. A symlink counts as the file it points at.
+    file. A symlink counts as the file it points at. An existing character device or FIFO
+    (``/dev/null``) is accepted and written into; a block device or socket is refused.
 
     Raises
     ------
@@ -111,6 +112,11 @@ def check_outputs(outputs: Mapping[str, str | None], inputs: Sequence[str] = ())
             raise InputError(flag, path, "a file path, not an existing folder")
         if os.path.exists(real) and not os.access(real, os.W_OK):
             raise InputError(flag, path, "a writable file (cannot write: this one is read-only)")
+        kind = special_file(path)
+        if kind is not None and kind not in WRITE_THROUGH:
+            raise InputError(flag, path, f"a file path or a character device (this is a {kind})")
+        if kind is not None:  # /dev/null, a FIFO: written into, nothing is created beside it
+            continue
         parent = os.path.dirname(real) or "."
         while not os.path.exists(parent):
             parent = os.path.dirname(parent)

@@ -227,14 +227,17 @@ def run(args: argparse.Namespace) -> int:
         free=free,
     )
     table = result.tissue.as_design_table()
+    outputs: dict[str, str | bytes] = {}
     if args.output:
-        from spiralcap.design import write_text_atomic
-
-        write_text_atomic(args.output, tissue_toml(table, args.data, result))
+        outputs[args.output] = tissue_toml(table, args.data, result)
     if args.plot:
-        from spiralcap.figures.torque import plot_fit, save_figure
+        from spiralcap.figures.torque import figure_bytes, plot_fit
 
-        save_figure(plot_fit, args.plot, result)
+        outputs[args.plot] = figure_bytes(plot_fit, args.plot, result)[0]
+    if outputs:
+        from spiralcap.design import write_files_atomic
+
+        write_files_atomic(outputs)  # both or neither
     from torque_model.fit_quality import assess_fit
 
     quality = assess_fit(result)

@@ -123,11 +123,11 @@ def _csv(w: Any) -> str:
     return buf.getvalue()
 
 
-def _plot(path: str, w: Any, model: Any) -> None:
+def _plot(path: str, w: Any, model: Any) -> bytes:
+    """The waveform figure as the bytes of ``path``'s format."""
     import matplotlib
     from matplotlib.figure import Figure
 
-    from spiralcap.design import write_text_atomic
     from spiralcap.figures.style import REPORT_RC
     from spiralcap.figures.thermal import change_windows, draw_waveform_sequence
 
@@ -148,7 +148,7 @@ def _plot(path: str, w: Any, model: Any) -> None:
         buf = io.BytesIO()
         suffix = str(path).rsplit(".", 1)[-1].lower() if "." in str(path) else "png"
         fig.savefig(buf, format=suffix, dpi=130)
-    write_text_atomic(path, buf.getvalue())
+    return buf.getvalue()
 
 
 def _sample_dict(s: Any) -> dict[str, Any]:
@@ -186,12 +186,15 @@ def run(args: argparse.Namespace) -> int:
     from spiralcap.analysis.waveforms import waveforms_for_design
 
     w, check, model = waveforms_for_design(design, headings, dwell_s, ramp_s)
+    outputs: dict[str, str | bytes] = {}
     if args.csv:
-        from spiralcap.design import write_text_atomic
-
-        write_text_atomic(args.csv, _csv(w))
+        outputs[args.csv] = _csv(w)
     if args.plot:
-        _plot(args.plot, w, model)
+        outputs[args.plot] = _plot(args.plot, w, model)
+    if outputs:
+        from spiralcap.design import write_files_atomic
+
+        write_files_atomic(outputs)  # both or neither
     import numpy as np
 
     peaks = {

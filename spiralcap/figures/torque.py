@@ -170,11 +170,19 @@ def save_figure(draw: Any, path: str, *args: Any, **kwargs: Any) -> Any:
 
     Returns what ``draw`` returned.
     """
+    from spiralcap.design import write_text_atomic
+
+    data, drawn = figure_bytes(draw, path, *args, **kwargs)
+    write_text_atomic(path, data)
+    return drawn
+
+
+def figure_bytes(draw: Any, path: str, *args: Any, **kwargs: Any) -> tuple[bytes, Any]:
+    """The file :func:`save_figure` would write to ``path`` (format from its suffix), and what
+    ``draw`` returned; for writing it together with other outputs, all or nothing."""
     import io
 
     from matplotlib.figure import Figure
-
-    from spiralcap.design import write_text_atomic
 
     fig = Figure(figsize=(6.4, 4.4), layout="constrained")
     ax = fig.add_subplot()
@@ -182,8 +190,7 @@ def save_figure(draw: Any, path: str, *args: Any, **kwargs: Any) -> Any:
     buf = io.BytesIO()
     suffix = str(path).rsplit(".", 1)[-1].lower() if "." in str(path) else "png"
     fig.savefig(buf, format=suffix, dpi=150)
-    write_text_atomic(path, buf.getvalue())
-    return drawn
+    return buf.getvalue(), drawn
 
 
 def _dedupe_legend(ax: Axes) -> None:

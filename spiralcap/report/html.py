@@ -211,7 +211,12 @@ def _front(front: FrontMatter) -> str:
 
 def _json_script(data: Mapping[str, Any]) -> str:
     text = json.dumps(data, indent=1, ensure_ascii=False, allow_nan=False)
-    text = text.replace("</", "<\\/")  # a JSON string can never close the script element
+    # Inside <script> the HTML parser knows no character references; with <, > and & written as
+    # JSON escapes no text can close the element, open a comment (<!--) or look like markup,
+    # and the text still parses as the same JSON.
+    for raw, esc in (("<", "\\u003c"), (">", "\\u003e"), ("&", "\\u0026")):
+        text = text.replace(raw, esc)
+    text = text.replace("\u2028", "\\u2028").replace("\u2029", "\\u2029")
     return f'<script type="application/json" id="spiralcap-data">\n{text}\n</script>'
 
 

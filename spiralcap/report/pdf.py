@@ -9,13 +9,16 @@ report in a few hundred milliseconds. Platypus would need a second library for S
 mathematics.
 
 The document is written as Typst markup from the same :mod:`~spiralcap.report.document` blocks
-the HTML renders; all text goes in as Typst string literals (``#"..."``), so nothing in a design
-file or a message can be read as markup. Figures are the SVG texts drawn once for both outputs
-(:mod:`spiralcap.report.render`), handed over through ``sys.inputs``.
+the HTML renders. No text is ever part of the Typst source: every string (titles, file names,
+design values, messages) goes into one JSON array handed over through ``sys.inputs`` and the
+markup refers to it by index (``#T.at(12);``), so nothing a design file or a file name holds can
+be read as markup or code. Figures are the SVG texts drawn once for both outputs
+(:mod:`spiralcap.report.render`), handed over the same way.
 """
 
 from __future__ import annotations
 
+import json
 import re
 from collections.abc import Mapping, Sequence
 from typing import Any, cast
@@ -44,8 +47,11 @@ from spiralcap.report.numbers import Num, unit_gap
 TEXT_WIDTH_IN = (210.0 - 40.0) / 25.4
 _CALLOUT = {"alert": "rgb(164, 22, 26)", "ok": "rgb(27, 110, 58)", "note": "rgb(35, 78, 128)"}
 
+_LOAD_TEXT = '#let T = json(bytes(sys.inputs.at("text")))'
+
+#: The page setup; ``@name@`` are filled with expressions that read the text data (never text).
 _PREAMBLE = r"""
-#set document(title: TITLE, author: AUTHOR)
+#set document(title: @title@, author: @author@)
 #set text(font: "Libertinus Serif", size: 10.5pt, lang: "en")
 #set par(justify: true, leading: 0.58em, spacing: 0.9em)
 #show raw: set text(font: "DejaVu Sans Mono", size: 7.2pt)
@@ -58,14 +64,14 @@ _PREAMBLE = r"""
   header: context {
     if counter(page).get().first() > 1 {
       set text(size: 8pt, fill: luma(90))
-      [#TITLE #h(1fr) #HEADER_RIGHT]
+      [@title_markup@ #h(1fr) @header_right@]
       v(-0.6em)
       line(length: 100%, stroke: 0.4pt + luma(150))
     }
   },
   footer: context {
     set text(size: 8pt, fill: luma(90))
-    [#FOOTER #h(1fr) page #counter(page).display() of #counter(page).final().first()]
+    [@footer@ #h(1fr) page #counter(page).display() of #counter(page).final().first()]
   },
 )
 #set table(
@@ -85,128 +91,152 @@ _PREAMBLE = r"""
 """
 
 
-def s(text: str) -> str:
-    """``text`` as a Typst string expression in markup (nothing in it is read as markup)."""
-    esc = text.replace("\\", "\\\\").replace('"', '\\"').replace("\n", "\\n").replace("\r", "")
-    return f'#"{esc}"'
+class _Text:
+    """The report's text, collected as data: ``s(text)`` is an index into a JSON array handed to
+    Typst through ``sys.inputs`` (read back with ``json(...)``), so no string of a design file,
+    file name or message is ever part of the Typst source (nothing can be read as markup or
+    code, whatever characters it holds)."""
 
+    def __init__(self) -> None:
+        self.items: list[str] = []
+        self._index: dict[str, int] = {}
 
-def _lit(text: str) -> str:
-    """``text`` as a Typst string literal in code (no leading ``#``)."""
-    return s(text)[1:]
+    def lit(self, text: str) -> str:
+        """``text`` as a Typst code expression (a string read from the data)."""
+        # a lone surrogate (a non-UTF-8 byte of a command line) cannot go into JSON text
+        clean = text.encode("utf-8", "replace").decode("utf-8")
+        i = self._index.get(clean)
+        if i is None:
+            i = self._index[clean] = len(self.items)
+            self.items.append(clean)
+        return f"T.at({i})"
+
+    def s(self, text: str) -> str:
+        """``text`` as text in markup (an embedded expression, ended by ``;``)."""
+        return f"#{self.lit(text)};"
+
+    def json(self) -> str:
+        return json.dumps(self.items, ensure_ascii=True)
 
 
 def _label(anchor: str) -> str:
-    return re.sub(r"[^A-Za-z0-9_:.-]", "-", anchor)
+    """An anchor as a Typst label: only ``[A-Za-z0-9_:.-]`` (anchors are the program's ids)."""
+    return re.sub(r"[^A-Za-z0-9_:.-]", "-", anchor) or "-"
 
 
-def _num(n: Num) -> str:
-    unit = unit_gap(n.unit).replace(" ", "\u00a0") + n.unit
-    return s(n.text + unit)
+class _Writer:
+    """Typst markup of report blocks; every text goes through :class:`_Text`."""
 
+    def __init__(self, text: _Text, svgs: Mapping[str, str], known: frozenset[str]) -> None:
+        self.t = text
+        self.svgs = svgs
+        self.known = known
+        self.figures: dict[str, str] = {}
 
-def _inline(parts: Sequence[Inline], known: frozenset[str] = frozenset()) -> str:
-    """Inline content as markup; a link or reference to an anchor not in ``known`` (when given)
-    is written as its text, so a missing target never stops the typesetting."""
-    out = []
-    for p in parts:
-        if isinstance(p, (Link, Ref)) and known and p.anchor not in known:
-            out.append(s(p.text if isinstance(p, Link) else p.anchor))
-            continue
-        if isinstance(p, Num):
-            out.append(_num(p))
-        elif isinstance(p, Strong):
-            out.append(f"#strong({_lit(p.text)})")
-        elif isinstance(p, Link):
-            out.append(f"#link(<{_label(p.anchor)}>)[{s(p.text)}]")
-        elif isinstance(p, Ref):
-            out.append(f"#ref(<{_label(p.anchor)}>)")
-        else:
-            out.append(s(str(p)))
-    return "".join(out)
+    def num(self, n: Num) -> str:
+        unit = unit_gap(n.unit).replace(" ", "\u00a0") + n.unit
+        return self.t.s(n.text + unit)
+
+    def inline(self, parts: Sequence[Inline]) -> str:
+        """Inline content as markup; a link or reference to an anchor not in ``known`` (when
+        given) is written as its text, so a missing target never stops the typesetting."""
+        s = self.t.s
+        out = []
+        for p in parts:
+            if isinstance(p, (Link, Ref)) and self.known and p.anchor not in self.known:
+                out.append(s(p.text if isinstance(p, Link) else p.anchor))
+                continue
+            if isinstance(p, Num):
+                out.append(self.num(p))
+            elif isinstance(p, Strong):
+                out.append(f"#strong({self.t.lit(p.text)});")
+            elif isinstance(p, Link):
+                out.append(f"#link(<{_label(p.anchor)}>)[{s(p.text)}];")
+            elif isinstance(p, Ref):
+                out.append(f"#ref(<{_label(p.anchor)}>);")
+            else:
+                out.append(s(str(p)))
+        return "".join(out)
+
+    def cell(self, cell: Cell, shared_unit: str) -> str:
+        if isinstance(cell, Num):
+            if shared_unit or not cell.unit:
+                return "[" + self.t.s(cell.text) + "]"
+            return "[" + self.num(cell) + "]"
+        return "[" + self.t.s(cell_text(cell)) + "]"
+
+    def table(self, t: Table) -> str:
+        s = self.t.s
+        ncol = len(t.headers)
+        numeric = []
+        for i in range(ncol):
+            cells = [r[i] for r in t.rows if i < len(r) and r[i] not in (None, "")]
+            numeric.append(bool(cells) and sum(map(_is_numeric, cells)) >= 0.5 * len(cells))
+        cols = ", ".join("1fr" if i == t.wrap else "auto" for i in range(ncol))
+        align = ", ".join("right" if n else "left" for n in numeric)
+        units = column_units(t)
+        head = ", ".join(
+            f"[*{s(header_with_unit(h, u))}*]" for h, u in zip(t.headers, units, strict=True)
+        )
+        body = []
+        for row in t.rows if t.pdf_rows is None else t.pdf_rows:
+            body.append(", ".join(self.cell(c, u) for c, u in zip(row, units, strict=False)))
+        inset = "inset: (x: 3pt, y: 2pt), " if t.compact else ""
+        table = (
+            f"table(columns: ({cols},), {inset}align: ({align},), table.header({head}),\n"
+            + ",\n".join(body)
+            + ")"
+        )
+        if t.compact:  # small type and tight cells; the caption keeps the document's size
+            table = f"[#set text(size: 6.5pt); #set par(leading: 0.4em); #{table}]"
+        if not t.caption:
+            return f"#{table}\n"
+        label = f" <{_label(t.id)}>" if t.id else ""
+        return f"#figure({table}, caption: [{s(t.caption)}], kind: table){label}\n"
+
+    def figure(self, block: FigureBlock) -> str:
+        key = f"fig{len(self.figures)}"
+        self.figures[key] = self.svgs[block.id]
+        width = min(block.size_in[0], TEXT_WIDTH_IN)
+        return (
+            f'#figure(image(bytes(sys.inputs.at("{key}")), format: "svg", width: {width:.3f}in), '
+            f"caption: [{self.t.s(block.caption)}]) <{_label(block.id)}>\n"
+        )
+
+    def block(self, block: Any) -> str:
+        s = self.t.s
+        if isinstance(block, Paragraph):
+            text = self.inline(block.parts)
+            if block.kind:
+                colour = _CALLOUT.get(block.kind, _CALLOUT["note"])
+                return (
+                    f"#block(width: 100%, inset: (x: 8pt, y: 6pt), fill: luma(244), "
+                    f"stroke: (left: 3pt + {colour}))[{text}]\n"
+                )
+            return text + "\n"
+        if isinstance(block, Bullets):
+            items = ", ".join(f"[{self.inline(i)}]" for i in block.items)
+            return f"#list({items})\n"
+        if isinstance(block, Table):
+            return self.table(block)
+        if isinstance(block, Code):
+            cap = f"\n#text(size: 9pt)[{s(block.caption)}]" if block.caption else ""
+            code = self.t.lit(block.text)
+            return f'#columns(2, gutter: 12pt, raw({code}, block: true, lang: "toml")){cap}\n'
+        if isinstance(block, Equation):  # the program's own mathematics (assumptions.py)
+            label = (
+                f"#h(1fr) #text(size: 8.5pt, fill: luma(90))[{s(block.label)}]"
+                if block.label
+                else ""
+            )
+            return f"#block(width: 100%)[#h(1.2em) $ {block.typst} $ {label}]\n"
+        if isinstance(block, FigureBlock):
+            return self.figure(block)
+        raise TypeError(f"unknown report block {type(block).__name__}")
 
 
 def _is_numeric(cell: Cell) -> bool:
     return isinstance(cell, Num) or (isinstance(cell, (int, float)) and not isinstance(cell, bool))
-
-
-def _cell(cell: Cell, shared_unit: str) -> str:
-    if isinstance(cell, Num):
-        if shared_unit or not cell.unit:
-            return "[" + s(cell.text) + "]"
-        return "[" + _num(cell) + "]"
-    return "[" + s(cell_text(cell)) + "]"
-
-
-def _table(t: Table) -> str:
-    ncol = len(t.headers)
-    numeric = []
-    for i in range(ncol):
-        cells = [r[i] for r in t.rows if i < len(r) and r[i] not in (None, "")]
-        numeric.append(bool(cells) and sum(map(_is_numeric, cells)) >= 0.5 * len(cells))
-    cols = ", ".join("1fr" if i == t.wrap else "auto" for i in range(ncol))
-    align = ", ".join("right" if n else "left" for n in numeric)
-    units = column_units(t)
-    head = ", ".join(
-        f"[*{s(header_with_unit(h, u))}*]" for h, u in zip(t.headers, units, strict=True)
-    )
-    body = []
-    for row in t.rows if t.pdf_rows is None else t.pdf_rows:
-        body.append(", ".join(_cell(c, u) for c, u in zip(row, units, strict=False)))
-    inset = "inset: (x: 3pt, y: 2pt), " if t.compact else ""
-    table = (
-        f"table(columns: ({cols},), {inset}align: ({align},), table.header({head}),\n"
-        + ",\n".join(body)
-        + ")"
-    )
-    if t.compact:  # small type and tight cells; the caption keeps the document's size
-        table = f"[#set text(size: 6.5pt); #set par(leading: 0.4em); #{table}]"
-    if not t.caption:
-        return f"#{table}\n"
-    label = f" <{_label(t.id)}>" if t.id else ""
-    return f"#figure({table}, caption: [{s(t.caption)}], kind: table){label}\n"
-
-
-def _figure(block: FigureBlock, key: str) -> str:
-    width = min(block.size_in[0], TEXT_WIDTH_IN)
-    return (
-        f'#figure(image(bytes(sys.inputs.at("{key}")), format: "svg", width: {width:.3f}in), '
-        f"caption: [{s(block.caption)}]) <{_label(block.id)}>\n"
-    )
-
-
-def _block(
-    block: Any, figures: dict[str, str], svgs: Mapping[str, str], known: frozenset[str]
-) -> str:
-    if isinstance(block, Paragraph):
-        text = _inline(block.parts, known)
-        if block.kind:
-            colour = _CALLOUT.get(block.kind, _CALLOUT["note"])
-            return (
-                f"#block(width: 100%, inset: (x: 8pt, y: 6pt), fill: luma(244), "
-                f"stroke: (left: 3pt + {colour}))[{text}]\n"
-            )
-        return text + "\n"
-    if isinstance(block, Bullets):
-        items = ", ".join(f"[{_inline(i, known)}]" for i in block.items)
-        return f"#list({items})\n"
-    if isinstance(block, Table):
-        return _table(block)
-    if isinstance(block, Code):
-        cap = f"\n#text(size: 9pt)[{s(block.caption)}]" if block.caption else ""
-        return (
-            f'#columns(2, gutter: 12pt, raw({_lit(block.text)}, block: true, lang: "toml")){cap}\n'
-        )
-    if isinstance(block, Equation):
-        label = (
-            f"#h(1fr) #text(size: 8.5pt, fill: luma(90))[{s(block.label)}]" if block.label else ""
-        )
-        return f"#block(width: 100%)[#h(1.2em) $ {block.typst} $ {label}]\n"
-    if isinstance(block, FigureBlock):
-        key = f"fig{len(figures)}"
-        figures[key] = svgs[block.id]
-        return _figure(block, key)
-    raise TypeError(f"unknown report block {type(block).__name__}")
 
 
 def typst_source(
@@ -215,16 +245,21 @@ def typst_source(
     footer: str,
     svgs: Mapping[str, str],
 ) -> tuple[str, dict[str, str]]:
-    """The Typst markup of the report and the figure inputs it reads (``sys.inputs``)."""
-    figures: dict[str, str] = {}
-    pre = (
-        _PREAMBLE.replace("#HEADER_RIGHT", s(front.design_source))
-        .replace("#TITLE", s(front.title))
-        .replace("TITLE", _lit(front.title))
-        .replace("AUTHOR", _lit(front.author or "spiralcap"))
-        .replace("#FOOTER", s(footer))
-    )
-    out = [pre]
+    """The Typst markup of the report and the inputs it reads (``sys.inputs``: the figures'
+    SVG texts and ``text``, the JSON array of every string the report shows)."""
+    from spiralcap.report.document import numbering
+
+    text = _Text()
+    s, lit = text.s, text.lit
+    fill = {
+        "title": lit(front.title),
+        "title_markup": s(front.title),
+        "author": lit(front.author or "spiralcap"),
+        "header_right": s(front.design_source),
+        "footer": s(footer),
+    }
+    pre = re.sub(r"@(\w+)@", lambda m: fill[m.group(1)], _PREAMBLE)  # one pass: never re-read
+    out = [_LOAD_TEXT, pre]
     rows = [
         ("Project", front.project),
         ("Author", front.author),
@@ -236,18 +271,20 @@ def typst_source(
     ]
     grid = ", ".join(f"[*{s(k)}*], [{s(v)}]" for k, v in rows if v)
     out.append(
-        f'#block(below: 1.2em)[#text(size: 20pt, weight: "bold")[{s(front.title)}]]\n'
+        '#block(below: 1.2em)[#text(size: 20pt, weight: "bold", hyphenate: false)'
+        f"[{s(front.title)}]]\n"
         f"#grid(columns: (auto, 1fr), column-gutter: 1.2em, row-gutter: 0.5em, {grid})\n"
         "#v(0.8em)\n#outline(title: [Contents], depth: 1, indent: auto)\n"
     )
-    from spiralcap.report.document import numbering
-
     known = frozenset(numbering(sections)) | {sec.id for sec in sections}
+    writer = _Writer(text, svgs, known)
     for sec in sections:
         out.append(f"\n= {s(sec.title)} <{_label(sec.id)}>\n")
         for block in sec.blocks:
-            out.append(_block(block, figures, svgs, known))
-    return "\n".join(out), figures
+            out.append(writer.block(block))
+    inputs = dict(writer.figures)
+    inputs["text"] = text.json()
+    return "\n".join(out), inputs
 
 
 def render_pdf(
@@ -273,11 +310,11 @@ def render_pdf(
 
     from spiralcap.report.render import matplotlib_font_dir
 
-    source, figures = typst_source(front, sections, footer, svgs)
+    source, inputs = typst_source(front, sections, footer, svgs)
     pdf = typst.compile(
         source.encode("utf-8"),
         format="pdf",
-        sys_inputs=figures,
+        sys_inputs=inputs,
         font_paths=cast(Any, [matplotlib_font_dir()]),  # the figures' text: DejaVu, as drawn
         ignore_system_fonts=True,
         timestamp=0,

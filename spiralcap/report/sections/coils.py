@@ -246,7 +246,11 @@ def build(ctx: Context) -> Section:
         geometry,
     ]
     limit_C = design["limits.coil_temperature_C"]
-    hot = [a for a in axes if not ctx.value(f"{c}.axes.{a}.hot_spot_temperature_C") <= limit_C]
+    hot_C = {a: ctx.value(f"{c}.axes.{a}.hot_spot_temperature_C") for a in axes}
+    # no number: no steady temperature at that current (the copper's resistance rises with
+    # temperature faster than the pair sheds the heat), i.e. thermal runaway
+    runaway = [a for a, t in hot_C.items() if not isinstance(t, (int, float))]
+    hot = [a for a, t in hot_C.items() if a not in runaway and not t <= limit_C]
     if hot:
         blocks.append(
             Paragraph(
@@ -258,6 +262,23 @@ def build(ctx: Context) -> Section:
                     "), so the evaluation and the optimiser drive them below that current.",
                 ],
                 kind="note",
+            )
+        )
+    if runaway:
+        blocks.append(
+            Paragraph(
+                [
+                    Strong("Thermal runaway. "),
+                    "At the full current limit (limits.current_A) the ",
+                    ", ".join(runaway),
+                    " pair" + ("s" if len(runaway) > 1 else ""),
+                    " would run away thermally: the winding's resistance rises with its "
+                    "temperature faster than it can shed the heat, so no steady hot-spot "
+                    f"temperature exists (limits.coil_temperature_C = {limit_C:g} °C). The "
+                    "evaluation and the optimiser drive them below that current; the limit "
+                    "itself cannot be used.",
+                ],
+                kind="alert",
             )
         )
     blocks.append(_sizing_table(ctx))

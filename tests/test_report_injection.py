@@ -1,0 +1,214 @@
+"""Text in a report is data, never code (issue 22): titles, authors and file names of any content.
+
+The PDF: every string reaches Typst through ``sys.inputs`` (a JSON array the template reads), so a
+title holding ``TITLE``, ``#read(...)`` or quotes compiles, shows literally and reads no file.
+The HTML: text is escaped for its context; the embedded JSON has ``<``, ``>`` and ``&`` as JSON
+escapes, so a spec-conformant HTML parser (html5lib) hands back the same JSON.
+Checked on small documents over arbitrary text (hypothesis), and through ``spiralcap report`` as a
+subprocess on the issue's cases.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import subprocess
+import unicodedata
+from pathlib import Path
+from typing import Any
+
+import html5lib
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+from proc_util import SPIRALCAP
+
+from spiralcap.report.document import FrontMatter, Paragraph, Section
+from spiralcap.report.html import render_html
+from spiralcap.report.pdf import render_pdf, typst_source
+
+MARKER = "MARKER-7f3a9c-the-content-of-a-local-file"
+
+#: Pieces that broke out of the old spliced Typst / HTML (issue 22) or would in a naive escaper.
+INJECTIONS = [
+    "TITLE",
+    "AUTHOR",
+    "#TITLE",
+    "HEADER_RIGHT",
+    "FOOTER",
+    '#read("marker.txt")',
+    '")#read("marker.txt")#("',
+    '" + read("marker.txt") + "',
+    "#read(\\u{22}marker.txt\\u{22})",
+    "<!--<script>",
+    "</script>",
+    "<![CDATA[",
+    "&amp;",
+    "\\",
+    '"',
+    "$x^2$",
+    "#import",
+    "] [",
+    "*a* _b_",
+    "// c",
+    "@ref",
+    "<lbl>",
+    "#T.at(0)",
+    "T.at(0)",
+    '#let T = ("x",)',
+    "\u2028",
+    "é ß µ° ±",
+]
+
+# text pdftotext gives back as written: printable ASCII, Latin-1 letters, a few symbols
+_ALPHABET = st.characters(
+    codec="utf-8",
+    categories=["L", "N", "P", "S", "Zs"],
+    max_codepoint=0x24F,
+)
+_TEXT = st.lists(
+    st.one_of(st.sampled_from(INJECTIONS), st.text(_ALPHABET, max_size=10)), min_size=1, max_size=8
+).map("".join)
+
+
+def _flat(text: str) -> str:
+    """Whitespace collapsed, ligatures unfolded (pdftotext writes line breaks and may keep fi)."""
+    return " ".join(unicodedata.normalize("NFKC", text).split())
+
+
+def _pdf_text(pdf: bytes, where: Path) -> str:
+    path = where / "t.pdf"
+    path.write_bytes(pdf)
+    return subprocess.run(
+        ["pdftotext", "-enc", "UTF-8", str(path), "-"], capture_output=True, check=True
+    ).stdout.decode("utf-8")
+
+
+def _script_json(page: str) -> Any:
+    """The embedded data as an HTML5 parser sees it (html5lib, the WHATWG algorithm)."""
+    doc = html5lib.parse(page, treebuilder="etree", namespaceHTMLElements=False)
+    scripts = [e for e in doc.iter("script") if e.get("id") == "spiralcap-data"]
+    assert len(scripts) == 1, "one data block, closed where the renderer closed it"
+    return json.loads(scripts[0].text or "")
+
+
+def _html_text(page: str, tag: str) -> str:
+    doc = html5lib.parse(page, treebuilder="etree", namespaceHTMLElements=False)
+    el = next(doc.iter(tag))
+    return "".join(el.itertext())
+
+
+@pytest.fixture(scope="module")
+def marker_dir(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    d = tmp_path_factory.mktemp("marker")
+    (d / "marker.txt").write_text(MARKER, encoding="utf-8")
+    return d
+
+
+needs_pdftotext = pytest.mark.skipif(
+    shutil.which("pdftotext") is None, reason="poppler's pdftotext not on PATH"
+)
+
+
+@needs_pdftotext
+@settings(
+    max_examples=25,
+    deadline=None,
+    derandomize=True,
+    suppress_health_check=[HealthCheck.too_slow],
+)
+@given(title=_TEXT.filter(lambda t: t.strip()), author=_TEXT, source=_TEXT)
+def test_any_title_author_and_file_name_is_data(
+    marker_dir: Path, title: str, author: str, source: str
+) -> None:
+    front = FrontMatter(title, "", author, "", "today", source, "0" * 64, "0")
+    sections = [Section("one", title, [Paragraph([author, " / ", source])])]
+    source_code, inputs = typst_source(front, sections, title, {})
+    for piece in ("read", "marker", "<!--", "script", "TITLE #", "AUTHOR"):
+        assert piece not in source_code, f"{piece!r} of a text reached the Typst source"
+    assert {title, author or "spiralcap", source} <= set(json.loads(inputs["text"])), "as data"
+    old = Path.cwd()
+    os.chdir(marker_dir)  # a relative read("marker.txt") would find the file
+    try:
+        pdf, pages = render_pdf(front, sections, title, {})
+    finally:
+        os.chdir(old)
+    assert pdf.startswith(b"%PDF-") and pages >= 1
+    text = _pdf_text(pdf, marker_dir)
+    assert MARKER not in text, "no file is read into the PDF"
+    assert _flat(title) in _flat(text), f"the title shows literally: {title!r}"
+
+    page = render_html(front, sections, {"title": title, "file": source}, title, {})
+    assert _script_json(page) == {"title": title, "file": source}, "the JSON parses as written"
+    assert _html_text(page, "h1") == title and _html_text(page, "title") == title
+
+
+def _report(tmp: Path, design_name: str, title: str) -> tuple[subprocess.CompletedProcess, Path]:
+    (tmp / "marker.txt").write_text(MARKER, encoding="utf-8")
+    design = tmp / design_name
+    design.write_text(
+        f"[report]\ntitle = {json.dumps(title)}\nauthor = {json.dumps('AUTHOR ' + title)}\n",
+        encoding="utf-8",
+    )
+    proc = subprocess.run(
+        [*SPIRALCAP, "report", design.name, "-o", "r.html", "--pdf", "r.pdf"],
+        cwd=tmp,
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
+    return proc, design
+
+
+@needs_pdftotext
+@pytest.mark.parametrize(
+    ("design_name", "title"),
+    [
+        ("TITLE AUTHOR.toml", 'TITLE #read("/etc/hostname") ")#read("marker.txt")#("'),
+        ("design.toml", "<!--<script>"),
+    ],
+)
+def test_report_command_takes_the_issue_cases_as_text(
+    tmp_path: Path, design_name: str, title: str
+) -> None:
+    proc, _ = _report(tmp_path, design_name, title)
+    assert proc.returncode == 0, proc.stderr
+    assert "Traceback" not in proc.stderr
+    text = _pdf_text((tmp_path / "r.pdf").read_bytes(), tmp_path)
+    assert MARKER not in text, "no local file's content in the PDF"
+    flat = _flat(text)
+    assert _flat(title) in flat and _flat(f"AUTHOR {title}") in flat, "typeset literally"
+    assert design_name in text, "the file name shows as written"
+    page = (tmp_path / "r.html").read_text(encoding="utf-8")
+    data = _script_json(page)
+    assert data["design"]["values"]["report.title"] == title
+    assert data["design"]["source"] == design_name
+    assert _html_text(page, "h1") == title
+
+
+@pytest.mark.slow
+def test_bytes_that_are_not_utf8_never_crash_the_report(tmp_path: Path) -> None:
+    """A file name that is not UTF-8 is shown with '?'; a --set value that is not is refused."""
+    name = os.fsdecode(b"n\xffm.toml")
+    (tmp_path / name).write_text('[report]\ntitle = "T"\n', encoding="utf-8")
+    ok = subprocess.run(
+        [*SPIRALCAP, "report", name, "-o", "r.html", "--pdf", "r.pdf"],
+        cwd=tmp_path,
+        capture_output=True,
+        timeout=600,
+    )
+    assert ok.returncode == 0 and b"Traceback" not in ok.stderr, ok.stderr[-2000:]
+    page = (tmp_path / "r.html").read_text(encoding="utf-8")  # valid UTF-8
+    assert _script_json(page)["design"]["source"] == "n?m.toml", "the byte shown as ?"
+    bad = subprocess.run(
+        [*SPIRALCAP, "report", "--set", os.fsdecode(b"report.title='a\xffb'"), "-o", "s.html"],
+        cwd=tmp_path,
+        capture_output=True,
+        text=True,
+        errors="replace",
+        timeout=600,
+    )
+    _, *rest = bad.stderr.strip().splitlines() or [""]
+    assert bad.returncode == 2 and not rest and "--set" in bad.stderr, bad.stderr
+    assert "UTF-8" in bad.stderr and not (tmp_path / "s.html").exists()
