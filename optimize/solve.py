@@ -38,9 +38,11 @@ def scales_for(model: DesignModel) -> pb.Scales:
     c = model.constants
     field = max(float(margin_grid(model, alpha, f, capacity=True).field_amplitude_T), 1e-6)
     need = float(worst_required(model, alpha, f).total_Nm)
+    # nothing to resist (no axial load, a lumen wider than the capsule): the magnet's torque
+    avail = float(ph.available_torque_Nm(field, c))
     return pb.Scales(
         field_T=field,
-        torque_Nm=max(abs(need), 1e-9),
+        torque_Nm=max(abs(need), 1e-3 * avail, 1e-12),
         power_W=max(float(ph.total_loss_W(field, c, model.ambient_temperature_C)), 1e-9),
         mass_kg=max(float(np.sum(c.copper_mass_kg)), 1e-9),
     )
