@@ -17,7 +17,6 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-
 from cli_outcome import bad_numbers
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -82,8 +81,8 @@ def test_a_design_needing_no_torque_is_optimised_without_nan():
     assert not bad_numbers(out), bad_numbers(out)
     assert out["evaluation"]["required_torque_Nm"] == 0.0, "nothing resists the capsule"
     assert out["safety_factor_unbounded"] is True
-    assert math.isclose(
-        out["margin_Nm"], out["evaluation"]["magnetic_torque_Nm"], rel_tol=1e-12
-    ), "with nothing to resist, the margin is the magnet's whole torque"
+    assert math.isclose(out["margin_Nm"], out["evaluation"]["magnetic_torque_Nm"], rel_tol=1e-12), (
+        "with nothing to resist, the margin is the magnet's whole torque"
+    )
     grid = _grid_best_margin_Nm(*sets)
     assert out["margin_Nm"] >= grid * (1 - 1e-6), "no worse than a dense grid (1e-6)"
