@@ -328,8 +328,23 @@ def _infeasible(model, scales, starts, iterations, tried, t0, status_text, ev=No
     shortfalls = tuple(
         Shortfall(c.name, c.unit, c.allowed, c.value) for c in ev.failed() if c.sense == ">="
     ) + _hook_shortfalls(best)
-    if not shortfalls:  # the relaxed optimum meets everything: IPOPT failed for another reason
-        shortfalls = (Shortfall("solver", "", 0.0, 0.0),)
+    if not shortfalls and ev.feasible:
+        # the relaxed optimum meets everything (IPOPT failed from the grid starts for another
+        # reason): start the problem itself there
+        warm = {
+            "helical_angle": alpha,
+            "frequency": f,
+            "field_T": ev.field_amplitude_T,
+            "t_value": _objective_value(model, ev) if not _minimises_power(model) else 0.0,
+        }
+        if model.bounds.objective not in ("margin", "ratio"):
+            warm.pop("t_value")
+        again = optimize_design(model, warm_start=warm, diagnose=False, grid_starts=False)
+        if again.status == "optimal":
+            return replace(again, iterations=again.iterations + iterations)
+    if not shortfalls:  # IPOPT failed for another reason: say where it stopped, with numbers
+        sf = model.requirements.min_safety_factor
+        shortfalls = (Shortfall("solver", "1", sf, ev.safety_factor),)
     names = ", ".join(s.name for s in shortfalls)
     return _result(
         model,
