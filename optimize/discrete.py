@@ -228,12 +228,10 @@ def size_design(model: DesignModel, solver: FixedHardwareSolver) -> Optimization
         optimize_design(m, warm_start=warm, diagnose=False, grid_starts=False),
         iterations=res.iterations,
     )
-    # what binds the sizing itself (geometry rows, hardware boxes) comes from the relaxation
-    sizing_binding = tuple(
-        b
-        for b in _binding(exact, scales, best, {v.name: (v.lo, v.hi) for v in free})
-        if "@" in b.name or b.name in {r.name for r in best.nlp.rows if r.kind == "geometry"}
-    )
+    # what binds, and what relaxing it buys, comes from the continuous relaxation (hardware and
+    # operating point free together): the gains are those of the continuous bound; the
+    # discrete design's own multipliers would hold its hardware fixed (0 for the copper mass)
+    sizing_binding = _binding(exact, scales, best, {v.name: (v.lo, v.hi) for v in free})
     result = HardwareResult(
         relaxed=relaxed,
         relaxed_objective=float(relaxed_obj),
@@ -246,7 +244,7 @@ def size_design(model: DesignModel, solver: FixedHardwareSolver) -> Optimization
     return replace(
         res,
         hardware=result,
-        binding_limits=res.binding_limits + sizing_binding,
+        binding_limits=sizing_binding,
         iterations=iterations,
         solve_time_s=time.perf_counter() - t0,
         message=f"optimal: {len(free)} hardware quantities sized ({feasible} of {tried} "

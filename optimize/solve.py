@@ -259,24 +259,22 @@ def _binding(
     """
     spec = pb.OBJECTIVES[model.bounds.objective]
     k = spec.sense * _obj_scale(model, scales)  # U = -sense * scale * F
+    if model.bounds.objective == "copper_mass" and not extra_bounds:
+        k = 0.0  # fixed hardware: no limit moves the copper (F's power term only picks a field)
     allowed, _, value = sol.allowed()
     sens = sol.row_sensitivities()
+    amb = float(model.ambient_temperature_C)
     out = []
     for i, row in enumerate(sol.nlp.rows):
-        if row.kind in ("objective", "epigraph") or sol.g[i] < -1e-6 or abs(sol.lam_g[i]) < 1e-9:
+        if row.kind in ("objective", "epigraph") or not np.isfinite(allowed[i]):
             continue
-        if not np.isfinite(allowed[i]):
+        if not _binds(float(value[i]), float(allowed[i]), sol.g[i], sol.lam_g[i]):
             continue
+        unit, v, a = row.unit, float(value[i]), float(allowed[i])
+        if row.kind == "limit" and unit == "K":  # a temperature rise: the temperature, °C
+            unit, v, a = "°C", v + amb, a + amb
         out.append(
-            BindingLimit(
-                row.name,
-                row.unit,
-                float(value[i]),
-                float(allowed[i]),
-                float(-k * sens[i]),
-                row.relax_sign,
-                spec.sense,
-            )
+            BindingLimit(row.name, unit, v, a, float(-k * sens[i]), row.relax_sign, spec.sense)
         )
     box = {**variable_bounds(model), **(extra_bounds or {})}
     named = [("helical_angle", "rad"), ("frequency", "Hz")]
@@ -301,6 +299,18 @@ def _binding(
             )
         )
     return tuple(out)
+
+
+#: A row binds when its value is within this relative distance of its allowed value.
+BINDING_RTOL = 1e-6
+
+
+def _binds(value: float, allowed: float, g: float, lam: float) -> bool:
+    """Whether a row binds at the optimum: its value within :data:`BINDING_RTOL` (relative) of
+    its allowed value, or active (g ≈ 0) with a multiplier that is not zero."""
+    if np.isfinite(value) and abs(value - allowed) <= BINDING_RTOL * max(abs(allowed), 1e-300):
+        return True
+    return bool(g >= -BINDING_RTOL and abs(lam) >= 1e-9)
 
 
 def _infeasible(model, scales, starts, iterations, tried, t0, status_text, ev=None):

@@ -112,8 +112,33 @@ def evaluation_to_dict(ev: Any) -> dict[str, Any]:
     from spiralcap.assemble.system import check_key
 
     out = to_dict(ev)
-    out["checks"] = [{"name": c["name"], "key": check_key(c["name"]), **c} for c in out["checks"]]
+    out["checks"] = [_check(c, check_key(c["name"])) for c in out["checks"]]
     return _finite_fields(out, ev.margin_Nm)
+
+
+#: a utilisation shown for a requirement achieved not at all (needed / 0)
+_UTILISATION_CAP = 1e6
+
+
+def _check(c: dict[str, Any], key: str) -> dict[str, Any]:
+    """A check in the unit and form of its design key (``value``, ``allowed``, ``unit``): the
+    hot spot in °C against ``limits.coil_temperature_C``, the speed in mm/s, the self-lock
+    α + atan μ in degrees against 90; ``utilisation`` in the row's own form (1 binds)."""
+    from spiralcap.presentation import in_key_units
+
+    unit, factor = in_key_units(c["unit"], key)
+    util = c.get("utilisation", float("nan"))
+    if not math.isfinite(util):
+        util = _UTILISATION_CAP if util > 0 else 0.0
+    return {
+        "name": c["name"],
+        "key": key,
+        **c,
+        "unit": unit,
+        "value": c["value"] * factor,
+        "allowed": c["allowed"] * factor,
+        "utilisation": min(util, _UTILISATION_CAP),
+    }
 
 
 _OBJECTIVE_UNITS = {
