@@ -182,3 +182,37 @@ def step_out_words(
         f"{head}; the drive cannot hold that field above {drive} ({by} limits it), so the drive "
         "limit comes first"
     )
+
+
+#: objective -> (what it is, shown unit, factor from SI, sense)
+OBJECTIVES: dict[str, tuple[str, str, float, str]] = {
+    "margin": ("worst-case torque margin", "mN·m", 1e3, "maximised"),
+    "margin_p05": (
+        "CVaR₀.₀₅ of the torque margin over the tissue scenarios",
+        "mN·m",
+        1e3,
+        "maximised",
+    ),
+    "ratio": ("worst-case safety factor", "", 1.0, "maximised"),
+    "power": ("worst-heading copper power", "W", 1.0, "minimised"),
+    "copper_mass": ("copper mass of the three coil pairs", "kg", 1.0, "minimised"),
+}
+
+
+def objective_words(objective: str) -> tuple[str, str, float, str]:
+    """``(description, shown unit, factor from SI, "maximised" | "minimised")`` of an
+    objective; a registered objective unknown here is named as it is, in SI."""
+    return OBJECTIVES.get(objective, (objective.replace("_", " "), "", 1.0, "optimised"))
+
+
+def gain_per_key_unit(objective: str, unit: str, key: str, gain_si: float) -> tuple[float, str]:
+    """A binding limit's gain per unit relaxed (objective SI per SI ``unit`` of the limit) in
+    the objective's shown unit per unit of the design key: ``(value, "kg per °C")``."""
+    _, obj_unit, obj_factor, _ = objective_words(objective)
+    key_unit, key_factor = in_key_units(unit, key)
+    if key_unit in ("", "1"):
+        key_unit = "unit"
+    elif key_unit == "turns":
+        key_unit = "turn"
+    obj = obj_unit or ("safety factor" if objective == "ratio" else "")
+    return gain_si * obj_factor / key_factor, f"{obj} per {key_unit}".strip()

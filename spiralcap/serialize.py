@@ -163,10 +163,25 @@ def optimization_to_dict(res: Any) -> dict[str, Any]:
         }
         for h, (a, ph) in zip(res.headings, res.current_phases_rad)
     ]
+    from spiralcap.presentation import gain_per_key_unit, in_key_units, objective_words
+
     unit = _OBJECTIVE_UNITS.get(res.objective, "1")
+    what, shown_unit, factor, sense = objective_words(res.objective)
+    out["objective_description"] = what
+    out["objective_unit"] = shown_unit
+    out["objective_sense"] = sense
+    if math.isfinite(res.objective_value):
+        out["objective_value_shown"] = res.objective_value * factor
     for b in out["binding_limits"]:
         b["key"] = constraint_key(b["name"])
         b["gain_unit"] = unit + "/" + b["unit"]
+        key_unit, key_factor = in_key_units(b["unit"], b["key"])
+        b["key_unit"] = key_unit
+        b["value_in_key_unit"] = b["value"] * key_factor
+        b["allowed_in_key_unit"] = b["allowed"] * key_factor
+        b["gain_per_key_unit"], b["gain_per_key_unit_label"] = gain_per_key_unit(
+            res.objective, b["unit"], b["key"], b["gain_per_unit_relaxed"]
+        )
     for s in out["shortfalls"]:
         s["key"] = constraint_key(s["name"])
     out["evaluation"] = evaluation_to_dict(res.evaluation)
@@ -197,6 +212,9 @@ def _hardware(h) -> dict[str, Any] | None:
         "discrete": hardware_design_values(h.discrete),
         "discrete_objective": h.discrete_objective,
         "rounding_cost": h.rounding_cost,
+        "rounding_cost_relative": h.rounding_cost / abs(h.relaxed_objective)
+        if h.relaxed_objective
+        else 0.0,
         "candidates": h.candidates,
         "feasible_candidates": h.feasible,
         "outer_iterations": h.outer_iterations,
