@@ -117,8 +117,16 @@ class FixedHardwareSolver(NamedTuple):
     variable_bounds: Callable[..., Any]
 
 
-def size_design(model: DesignModel, solver: FixedHardwareSolver) -> OptimizationResult:
-    """Size the free hardware of ``model`` (``model.sizing``) for its objective."""
+def size_design(
+    model: DesignModel,
+    solver: FixedHardwareSolver,
+    progress: Callable[[str], None] | None = None,
+) -> OptimizationResult:
+    """Size the free hardware of ``model`` (``model.sizing``) for its objective.
+
+    ``progress(stage)`` is told each outer iteration of the relaxation and each neighbour.
+    """
+    say = progress or (lambda _stage: None)
     from optimize.compiled import compile_problem, structure_of
 
     optimize_design, _binding = solver.optimize_design, solver.binding
@@ -146,6 +154,7 @@ def size_design(model: DesignModel, solver: FixedHardwareSolver) -> Optimization
     iterations, outer, best, frozen_prev = 0, 0, None, None
     for _ in range(_OUTER_MAX):
         outer += 1
+        say(f"continuous relaxation, outer iteration {outer}")
         frozen = hw.frozen_factors(exact)
         p = problem.parameters(exact, scales, hw.sizing_parameters(exact, frozen, min_bore))
         xs0 = starts if best is None else [best.values()]
@@ -193,6 +202,7 @@ def size_design(model: DesignModel, solver: FixedHardwareSolver) -> Optimization
             break
         values = {**relaxed, **combo}
         tried += 1
+        say(f"whole turns and standard wire: neighbour {tried} of {len(candidates)}")
         m = buildable(fixed_model, values, min_bore)
         if m is None:
             continue

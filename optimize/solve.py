@@ -14,6 +14,7 @@
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
 from dataclasses import replace
 from typing import Any
 
@@ -110,8 +111,12 @@ def optimize_design(
     diagnose: bool = True,
     grid_starts: bool = True,
     frequency_bounds: bool = True,
+    progress: Callable[[str], None] | None = None,
 ) -> OptimizationResult:
     """Best design of ``model`` for its objective; see the module notes.
+
+    ``progress``: called with the name of each stage of a sizing run (the continuous
+    relaxation's outer iterations, the discrete neighbours), for a progress line.
 
     ``warm_start``: a result of a neighbouring problem (the previous sweep point), or a dict of
     ``helical_angle``, ``frequency``, ``field_T`` (and ``t_value``); it is tried first and the
@@ -128,7 +133,7 @@ def optimize_design(
         solver = FixedHardwareSolver(
             optimize_design, _binding, initial_points, scales_for, variable_bounds
         )
-        return size_design(model, solver)
+        return size_design(model, solver, progress)
     t0 = time.perf_counter()
     model = prepare(model)
     scales = scales_for(model)

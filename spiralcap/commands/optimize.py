@@ -238,13 +238,19 @@ def run(args: argparse.Namespace) -> int:
 
     check_outputs({"-o": args.output}, design_paths(args))
     args.overrides = [*args.overrides, *(parse_free(e) for e in args.free)]
+    from spiralcap.progress import working
+
     design = design_from_args(args)
     rc = None
     if wants_robust(design):  # margin_p05 / max_stepout_probability: over tissue scenarios
-        rc = robust_optimum(design)
+        with working("optimize (robust)") as say:
+            if say is not None:
+                say("the optimum over the tissue scenarios, then checked on fresh tissues")
+            rc = robust_optimum(design)
         res = rc.result
     else:
-        res = optimize_design(optimization_model(design))
+        with working("optimize") as say:
+            res = optimize_design(optimization_model(design), progress=say)
     written = None
     if args.output and res.status == "optimal":
         from spiralcap.assemble.system import optimum_design_toml
