@@ -10,6 +10,7 @@ the elapsed time and the current stage, refreshed while the job runs.
 
 from __future__ import annotations
 
+import shutil
 import sys
 import threading
 import time
@@ -113,13 +114,20 @@ def working(
             if state["bar"] is None:
                 if time.monotonic() - t0 < delay_s:
                     return
-                state["bar"] = tqdm(
+                size = shutil.get_terminal_size((100, 24))
+                bar = tqdm(
                     total=None,
                     desc=description,
                     file=sys.stderr,
                     leave=True,
                     bar_format="{desc}: {elapsed} elapsed{postfix}",
+                    # a terminal that reports no size (0 x 0) would hide the line
+                    ncols=size.columns or 100,
+                    nrows=size.lines or 24,
+                    delay=1e-9,  # no line at construction: the first is drawn below
                 )
+                bar.start_t -= time.monotonic() - t0  # the job's time, not the line's
+                state["bar"] = bar
             bar = state["bar"]
             bar.set_postfix_str(state["stage"], refresh=False)
             bar.refresh()
@@ -129,9 +137,8 @@ def working(
             draw()
 
     def say(stage: str) -> None:
-        with lock:
+        with lock:  # drawn at the next tick (a stage a millisecond long is not redrawn)
             state["stage"] = stage
-        draw()
 
     thread = threading.Thread(target=tick, name="spiralcap-progress", daemon=True)
     thread.start()
