@@ -169,7 +169,7 @@ def optimization_to_dict(res: Any) -> dict[str, Any]:
     what, shown_unit, factor, sense = objective_words(res.objective)
     out["objective_description"] = what
     out["objective_unit"] = shown_unit
-    out["objective_sense"] = sense
+    out["objective_direction"] = sense
     if math.isfinite(res.objective_value):
         out["objective_value_shown"] = res.objective_value * factor
     for b in out["binding_limits"]:

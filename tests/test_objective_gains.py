@@ -52,7 +52,7 @@ def test_sizing_gain_per_safety_factor_is_the_finite_difference(objective):
         f"vs central difference {fd:.4g} (10 %, issue 20)"
     )
     units = {"power": "W", "copper_mass": "kg"}[objective]
-    assert doc["objective_unit"] == units and doc["objective_sense"] == "minimised"
+    assert doc["objective_unit"] == units and doc["objective_direction"] == "minimised"
 
 
 def test_margin_gain_per_degree_of_coil_temperature_is_the_finite_difference():

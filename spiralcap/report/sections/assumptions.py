@@ -188,7 +188,7 @@ def _goal(ctx: Context) -> str:
         o = ctx.value("optimize")
     except (KeyError, TypeError, AttributeError):
         return "maximises the margin M"
-    what, sense = o.get("objective_description"), o.get("objective_sense")
+    what, sense = o.get("objective_description"), o.get("objective_direction")
     if not what or o.get("objective") == "margin":
         return "maximises the margin M"
     verb = {"maximised": "maximises", "minimised": "minimises"}.get(str(sense), "optimises")

@@ -155,7 +155,7 @@ def build(ctx: Context) -> Section:
     o = "optimize"
     feasible = ctx.value(f"{o}.status") == "optimal"
     what = str(ctx.value(f"{o}.objective_description"))
-    sense = str(ctx.value(f"{o}.objective_sense"))
+    sense = str(ctx.value(f"{o}.objective_direction"))
     over = "the helical angle, the rotation frequency and the field amplitude"
     if "hardware" in ctx.value(o):
         over += ", and the freed hardware keys"

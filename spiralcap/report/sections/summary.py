@@ -28,7 +28,7 @@ def objective_parts(ctx: Context) -> list[Inline]:
     """``the copper mass of the three coil pairs, minimised: 140.06 kg``, inline."""
     o = "optimize"
     what = str(ctx.value(f"{o}.objective_description"))
-    sense = str(ctx.value(f"{o}.objective_sense"))
+    sense = str(ctx.value(f"{o}.objective_direction"))
     unit = str(ctx.value(f"{o}.objective_unit"))
     out: list[Inline] = [f"the {what}, {sense}"]
     if "objective_value_shown" in ctx.value(o):
