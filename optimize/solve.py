@@ -340,8 +340,10 @@ def _infeasible(model, scales, starts, iterations, tried, t0, status_text, ev=No
     if field is None and model.field_amplitude_T is not None:
         field = capacity
     ev = evaluate(model, alpha, f, field_amplitude_T=field)
+    # every requirement out of reach, and any limit the closest design still breaks (a set
+    # field above what a limit allows), with the allowed value and the value reached
     shortfalls = tuple(
-        Shortfall(c.name, c.unit, c.allowed, c.value) for c in ev.failed() if c.sense == ">="
+        Shortfall(c.name, c.unit, c.allowed, c.value) for c in ev.failed()
     ) + _hook_shortfalls(best)
     if not shortfalls and ev.feasible:
         # the relaxed optimum meets everything (IPOPT failed from the grid starts for another

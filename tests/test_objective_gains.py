@@ -104,3 +104,24 @@ def test_binding_rows_include_every_row_at_its_bound():
     assert names & {"power", "hot_spot_x", "hot_spot_y", "hot_spot_z"}, (
         f"a power or hot-spot limit binds the least-copper x pair: {sorted(names)}"
     )
+
+
+def test_copper_mass_with_every_winding_and_radius_free_names_what_it_finds():
+    """Issue 20: `copper_mass` with turns, wires and radii of all three pairs free exited 3 with
+    an empty name (": needs 0, best reachable 0") at 1000 W while `power` found a design: the
+    radii are now re-balanced around each whole-turn/standard-wire neighbour."""
+    import json
+
+    from cli_outcome import run
+
+    argv = ["optimize", "--json", "--set", "optimize.objective=copper_mass"]
+    argv += ["--set", "limits.power_W=1000"]
+    for ax in "xyz":
+        argv += ["--free", f"coils.{ax}.radius_m=0.1:0.5", "--free", f"coils.{ax}.turns=50:800"]
+        argv += ["--free", f"coils.{ax}.wire_diameter_mm=0.8:3"]
+    rc, out, err = run(argv)
+    doc = json.loads(out)
+    assert rc == 0, f"a buildable least-copper design exists: {doc.get('message')} {err}"
+    h = doc["hardware"]
+    assert h["discrete_objective"] >= h["relaxed_objective"] * (1 - 1e-9), "bound below discrete"
+    assert doc["objective_unit"] == "kg" and doc["objective_value_shown"] == h["discrete_objective"]
