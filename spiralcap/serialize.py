@@ -182,6 +182,7 @@ def optimization_to_dict(res: Any) -> dict[str, Any]:
         b["gain_per_key_unit"], b["gain_per_key_unit_label"] = gain_per_key_unit(
             res.objective, b["unit"], b["key"], b["gain_per_unit_relaxed"]
         )
+    out["binding_keys"] = binding_keys(out["binding_limits"])
     for s in out["shortfalls"]:
         s["key"] = constraint_key(s["name"])
     out["evaluation"] = evaluation_to_dict(res.evaluation)
@@ -193,6 +194,27 @@ def optimization_to_dict(res: Any) -> dict[str, Any]:
     else:
         out["hardware"] = hardware
     return _finite_fields(out, res.margin_Nm)
+
+
+def binding_keys(binding: list[dict[str, Any]]) -> list[dict[str, Any]]:
+    """The binding rows grouped by design key: relaxing a key relaxes all its rows at once
+    (three pairs' current limits are one ``limits.current_A``), so its gain is their sum --
+    where rows tie, IPOPT may split the multiplier among them in any proportion."""
+    out: dict[str, dict[str, Any]] = {}
+    for b in binding:
+        key = b["key"] or b["name"]
+        if key not in out:
+            out[key] = {
+                "key": key,
+                "key_unit": b["key_unit"],
+                "relaxing_means": b["relaxing_means"],
+                "rows": [],
+                "gain_per_key_unit": 0.0,
+                "gain_per_key_unit_label": b["gain_per_key_unit_label"],
+            }
+        out[key]["rows"].append(b["name"])
+        out[key]["gain_per_key_unit"] += b["gain_per_key_unit"]
+    return list(out.values())
 
 
 def _hardware(h) -> dict[str, Any] | None:

@@ -105,6 +105,26 @@ def binding_line(res, b) -> str:
     )
 
 
+def _shared_key_lines(res) -> list[str]:
+    """A key several binding rows share (the three pairs' current limit): the gain of relaxing
+    the key, which relaxes them all (their multipliers may split in any proportion)."""
+    from spiralcap.serialize import binding_keys, optimization_to_dict
+
+    shared = [
+        k for k in binding_keys(optimization_to_dict(res)["binding_limits"]) if len(k["rows"]) > 1
+    ]
+    out = []
+    for k in shared:
+        obj_unit, per = k["gain_per_key_unit_label"].split(" per ", 1)
+        verb = "raising" if k["relaxing_means"] == "raising" else "lowering"
+        better = "less" if res.objective in ("power", "copper_mass") else "more"
+        out.append(
+            f"  {k['key']} binds {len(k['rows'])} rows; {verb} it by 1 {per} gains "
+            f"{k['gain_per_key_unit']:.4g} {obj_unit} {better} in all"
+        )
+    return out
+
+
 def format_result(res) -> str:
     """Readable summary of an :class:`optimize.OptimizationResult`."""
     from spiralcap.assemble.system import constraint_key
@@ -147,6 +167,7 @@ def format_result(res) -> str:
             lines.append(binding_line(res, b))
         if not res.binding_limits:
             lines.append("  none")
+        lines += _shared_key_lines(res)
         if res.hardware is not None:
             lines += _hardware_lines(res)
     else:

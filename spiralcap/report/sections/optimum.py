@@ -92,6 +92,28 @@ def _binding_table(ctx: Context) -> Table:
     )
 
 
+def _shared_keys(ctx: Context) -> list[Paragraph]:
+    """Keys several binding rows share: relaxing the key relaxes them all, its gain the sum."""
+    out = []
+    for i, k in enumerate(ctx.value("optimize.binding_keys")):
+        if len(k["rows"]) < 2:
+            continue
+        obj_unit, per = str(k["gain_per_key_unit_label"]).split(" per ", 1)
+        out.append(
+            Paragraph(
+                [
+                    f"{k['key']} bounds {len(k['rows'])} of these rows ("
+                    + "; ".join(readable(r) for r in k["rows"])
+                    + f"); {k['relaxing_means']} it by 1 {per} relaxes them all and gains ",
+                    ctx.num(f"optimize.binding_keys.{i}.gain_per_key_unit", 1.0, obj_unit),
+                    " in all (IPOPT may split a multiplier among rows that tie in any "
+                    "proportion; their sum is what the key buys).",
+                ]
+            )
+        )
+    return out
+
+
 def _shortfall_table(ctx: Context) -> Table:
     rows: list[list[Cell]] = []
     for i, s in enumerate(ctx.value("optimize.shortfalls")):
@@ -213,6 +235,7 @@ def build(ctx: Context) -> Section:
     if feasible:
         if ctx.value(f"{o}.binding_limits"):
             blocks.append(_binding_table(ctx))
+            blocks += _shared_keys(ctx)
             blocks.append(
                 Paragraph(
                     [
