@@ -125,3 +125,32 @@ def test_copper_mass_with_every_winding_and_radius_free_names_what_it_finds():
     h = doc["hardware"]
     assert h["discrete_objective"] >= h["relaxed_objective"] * (1 - 1e-9), "bound below discrete"
     assert doc["objective_unit"] == "kg" and doc["objective_value_shown"] == h["discrete_objective"]
+
+
+def test_margin_p05_gain_per_degree_is_the_finite_difference():
+    """Objective margin_p05 (CVaR over 128 tissue scenarios): the gain of the coil-temperature
+    limit is in mN·m per °C (issue 20: the report said "2.448e-05 safety factor per K") and is the
+    central difference of the re-solved CVaR at the limit ± 0.5 °C (10 %)."""
+    import json
+
+    from cli_outcome import run
+
+    def solve(limit_C: float) -> dict:
+        argv = ["optimize", "--json"]
+        for s in (
+            "optimize.objective=margin_p05",
+            "tissue.uncertainty.scale_sigma_log=0.3",
+            "optimize.scenarios=128",
+            f"limits.coil_temperature_C={limit_C}",
+        ):
+            argv += ["--set", s]
+        rc, out, err = run(argv)
+        assert rc == 0, err
+        return json.loads(out)
+
+    doc = solve(90.0)
+    gain = _gain(doc, "limits.coil_temperature_C")
+    labels = {b["gain_per_key_unit_label"] for b in doc["binding_limits"]}
+    assert "mN·m per °C" in labels, labels
+    fd = (solve(90.5)["objective_value"] - solve(89.5)["objective_value"]) * 1e3
+    assert gain == pytest.approx(fd, rel=0.10), f"CVaR gain {gain:.4g} vs {fd:.4g} mN·m/°C"
