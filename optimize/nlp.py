@@ -84,10 +84,13 @@ class NLPBuilder:
         Each element becomes a variable ``s >= 0`` (named ``positive_part[<i>]``, ``ref`` its
         scale) with the row ``x - s <= 0`` (kind "epigraph"), started at ``max(x, 0)``: exact
         wherever the optimiser is pushed to make ``s`` small (a cost), smooth where ``max`` has a
-        corner. Expressions of the parameters alone stay ``fmax`` (no kink IPOPT moves across).
+        corner. Expressions of the parameters alone stay ``fmax`` (no kink IPOPT moves across),
+        and so do vectors (the scenarios of a robust problem).
         """
         x = ca.SX(x)
-        if not self._xsym or not ca.depends_on(x, ca.vertcat(*self._xsym)):
+        if x.numel() != 1 or not self._xsym or not ca.depends_on(x, ca.vertcat(*self._xsym)):
+            # a vector is the tissue scenarios of a robust problem: one corner among many moves
+            # the CVaR by 1/N, and lifting each would double the scenario NLP
             return ca.fmax(x, 0.0)
         out = []
         for i in range(x.numel()):

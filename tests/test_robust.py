@@ -111,9 +111,8 @@ def test_compiled_scenario_rows_equal_numpy_margins():
     problem = compile_problem(structure_of(model))
     nlp = problem.nlp
     alpha, f, field = 0.3, 1.7, 8e-3
-    p = problem.parameters(model, scales)
-    x = {"helical_angle": alpha, "frequency": f, "field_scaled": field / scales.field_T}
-    _, g = nlp.evaluate(nlp.scaled_start(x, p), p)
+    x = nlp.scale({"helical_angle": alpha, "frequency": f, "field_scaled": field / scales.field_T})
+    _, g = nlp.evaluate(x, problem.parameters(model, scales))
     c, sc = model.constants, model.scenarios
     ref = rb.scenario_margins(alpha, f, field, c, model.requirements, sc.tissues)
     for k, tissue in enumerate(model.tissues):
