@@ -278,9 +278,8 @@ def _binding(
         unit, v, a = row.unit, float(value[i]), float(allowed[i])
         if row.kind == "limit" and unit == "K":  # a temperature rise: the temperature, °C
             unit, v, a = "°C", v + amb, a + amb
-        out.append(
-            BindingLimit(row.name, unit, v, a, float(-k * sens[i]), row.relax_sign, spec.sense)
-        )
+        gain = float(-k * sens[i]) if k else 0.0  # no -0.0 where nothing moves
+        out.append(BindingLimit(row.name, unit, v, a, gain, row.relax_sign, spec.sense))
     box = {**variable_bounds(model), **(extra_bounds or {})}
     named = [("helical_angle", "rad"), ("frequency", "Hz")]
     named += [(n, "turns" if n.endswith("turns") else "m") for n in (extra_bounds or {})]

@@ -99,6 +99,11 @@ def binding_line(res, b) -> str:
     verb = "raising" if b.relax_sign > 0 else "lowering"
     better = "less" if res.objective in ("power", "copper_mass") else "more"
     u = f" {unit}" if unit not in ("", "1") else ""
+    if gain == 0 and res.objective == "copper_mass":  # fixed hardware: the copper cannot move
+        return (
+            f"  {readable(b.name)} ({key or b.name}): {b.value * factor:.5g}{u} of "
+            f"{b.allowed * factor:.5g}{u}; the copper is fixed (free hardware keys to size it)"
+        )
     return (
         f"  {readable(b.name)} ({key or b.name}): {b.value * factor:.5g}{u} of {b.allowed * factor:.5g}"
         f"{u}; {verb} it by 1 {per} gains {gain:.4g} {obj_unit} {better}".rstrip()
