@@ -177,9 +177,14 @@ def size_design(
         frozen_prev = frozen
     spec = pb.OBJECTIVES[model.bounds.objective]
     scale = float(spec.scale(scales))
-    if best is None:
+    if best is None:  # what is out of reach with the hardware at its box (the first start)
         return _no_design(
-            solver, fixed_model, t0, iterations, "the relaxed sizing problem has no solution"
+            solver,
+            exact,
+            t0,
+            iterations,
+            "the relaxed sizing problem has no solution; closest with the hardware at "
+            + ", ".join(f"{k} = {v:.4g}" for k, v in hw_now.items()),
         )
     relaxed = {v.name: best.value(v.name) for v in free}
     relaxed_obj = -spec.sense * scale * best.f if spec.uses_t else scale * best.f

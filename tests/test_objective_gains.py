@@ -154,3 +154,23 @@ def test_margin_p05_gain_per_degree_is_the_finite_difference():
     assert "mN·m per °C" in labels, labels
     fd = (solve(90.5)["objective_value"] - solve(89.5)["objective_value"]) * 1e3
     assert gain == pytest.approx(fd, rel=0.10), f"CVaR gain {gain:.4g} vs {fd:.4g} mN·m/°C"
+
+
+def test_infeasible_sizing_names_requirements_with_numbers():
+    """No sizing inside the box meets the safety factor: exit 3 naming requirement keys with
+    the needed and reached values (never an empty name or 'needs 0, best reachable 0')."""
+    import json
+
+    from cli_outcome import run
+
+    argv = ["optimize", "--json", "--set", "optimize.objective=copper_mass"]
+    argv += ["--set", "requirements.min_safety_factor=6", "--free", "coils.x.turns=100:110"]
+    rc, out, _ = run(argv)
+    doc = json.loads(out)
+    assert rc == 3 and doc["status"] == "infeasible"
+    assert doc["shortfalls"], doc["message"]
+    for s in doc["shortfalls"]:
+        assert s["key"].startswith("requirements."), s
+        assert s["needed"] > 0 and s["short_by"] > 0, s
+    sf = next(s for s in doc["shortfalls"] if s["key"] == "requirements.min_safety_factor")
+    assert sf["needed"] == 6.0 and 0 < sf["best"] < 6.0
