@@ -194,6 +194,12 @@ def format_result(res) -> str:
             else:
                 u = f" {label}" if label else ""
                 key = constraint_key(s.name) or s.name
+                if key.startswith("limits."):  # a limit the closest design still breaks
+                    lines.append(
+                        f"  {key}: allows {s.needed / factor:.4g}{u}, the closest design "
+                        f"reaches {s.best / factor:.4g}{u} (over by {s.short_by / factor:.4g}{u})"
+                    )
+                    continue
                 lines.append(
                     f"  {key}: needs {s.needed / factor:.4g}{u}, best reachable "
                     f"{s.best / factor:.4g}{u} (short by {s.short_by / factor:.4g}{u})"
