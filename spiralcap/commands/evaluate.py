@@ -16,18 +16,6 @@ def safety_factor_text(value: float) -> str:
     return f"{value:.3g}" if value < float("inf") else "unbounded (no torque is required)"
 
 
-def step_out_text(hz: float) -> str:
-    """A step-out frequency in words for the two ends of the search range."""
-    from spiralcap.serialize import _step_out
-
-    value, bound = _step_out(hz)
-    if bound == "above_search_range":
-        return f"above {value:g} Hz (the top of the search)"
-    if bound == "below_search_range":
-        return f"below {value:g} Hz (the capsule cannot keep up at any frequency)"
-    return f"{value:.4g} Hz"
-
-
 def _failed(name: str) -> str:
     return "self-locking: α + atan μ reaches 90°" if name == "self_lock" else name
 
