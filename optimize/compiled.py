@@ -21,6 +21,7 @@ from optimize import problem as pb
 from optimize.headings import heading_pattern, shared_heading_table
 from optimize.nlp import CompiledNLP, NLPBuilder
 from optimize.system import DesignModel
+from spiralcap import backend as bk
 
 IPOPT_OPTIONS = {
     "ipopt.print_level": 0,
@@ -128,8 +129,16 @@ def compile_problem(structure: Structure) -> CompiledProblem:
 
 
 def _build(structure: Structure) -> NLPBuilder:
-    """The named variables, parameters, rows and objective of ``structure``'s NLP."""
+    """:func:`_build_rows` with every contact strain's ``max(·, 0)`` that moves with the
+    variables an epigraph variable (:meth:`optimize.nlp.NLPBuilder.positive_part`): the optimum
+    of a spiral that just stops touching the wall sits on that corner."""
     b = NLPBuilder()
+    with bk.positive_part_lifted(b.positive_part):
+        return _build_rows(b, structure)
+
+
+def _build_rows(b: NLPBuilder, structure: Structure) -> NLPBuilder:
+    """The named variables, parameters, rows and objective of ``structure``'s NLP."""
     inf = np.inf
     alpha = b.variable("helical_angle", pb.ALPHA_REF_rad)
     f = b.variable("frequency", pb.F_REF_hz)

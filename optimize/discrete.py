@@ -70,8 +70,17 @@ def _neighbours(problem, p, bounds, best, free, sizing) -> tuple[list[dict[str, 
         rest_options = [_options(v, sol.value(v.name), sizing.wire_diameters_m) for v in rest]
         for rc in itertools.product(*rest_options):
             out.append({**fixed, **dict(zip((v.name for v in rest), rc))})
-    unique = {tuple(sorted(c.items())): c for c in out}
-    return list(unique.values()), iterations
+    unique = list({tuple(sorted(c.items())): c for c in out}.values())
+    continuous = [v for v in rest if v.kind not in ("turns", "wire")]
+    if continuous:  # radii, magnet, spiral wire re-balance around the whole turns and wires
+        for combo in unique:
+            whole = {v.name: combo[v.name] for v in free if v.kind in ("turns", "wire")}
+            box = {**bounds, **{n: (d, d) for n, d in whole.items()}}
+            sol = problem.nlp.solve({**best.values(), **combo}, p, box)
+            iterations += sol.iterations
+            if sol.success:
+                combo.update({v.name: sol.value(v.name) for v in continuous})
+    return unique, iterations
 
 
 def buildable(
@@ -108,8 +117,16 @@ class FixedHardwareSolver(NamedTuple):
     variable_bounds: Callable[..., Any]
 
 
-def size_design(model: DesignModel, solver: FixedHardwareSolver) -> OptimizationResult:
-    """Size the free hardware of ``model`` (``model.sizing``) for its objective."""
+def size_design(
+    model: DesignModel,
+    solver: FixedHardwareSolver,
+    progress: Callable[[str], None] | None = None,
+) -> OptimizationResult:
+    """Size the free hardware of ``model`` (``model.sizing``) for its objective.
+
+    ``progress(stage)`` is told each outer iteration of the relaxation and each neighbour.
+    """
+    say = progress or (lambda _stage: None)
     from optimize.compiled import compile_problem, structure_of
 
     optimize_design, _binding = solver.optimize_design, solver.binding
@@ -137,6 +154,7 @@ def size_design(model: DesignModel, solver: FixedHardwareSolver) -> Optimization
     iterations, outer, best, frozen_prev = 0, 0, None, None
     for _ in range(_OUTER_MAX):
         outer += 1
+        say(f"continuous relaxation, outer iteration {outer}")
         frozen = hw.frozen_factors(exact)
         p = problem.parameters(exact, scales, hw.sizing_parameters(exact, frozen, min_bore))
         xs0 = starts if best is None else [best.values()]
@@ -159,9 +177,14 @@ def size_design(model: DesignModel, solver: FixedHardwareSolver) -> Optimization
         frozen_prev = frozen
     spec = pb.OBJECTIVES[model.bounds.objective]
     scale = float(spec.scale(scales))
-    if best is None:
+    if best is None:  # what is out of reach with the hardware at its box (the first start)
         return _no_design(
-            solver, fixed_model, t0, iterations, "the relaxed sizing problem has no solution"
+            solver,
+            exact,
+            t0,
+            iterations,
+            "the relaxed sizing problem has no solution; closest with the hardware at "
+            + ", ".join(f"{k} = {v:.4g}" for k, v in hw_now.items()),
         )
     relaxed = {v.name: best.value(v.name) for v in free}
     relaxed_obj = -spec.sense * scale * best.f if spec.uses_t else scale * best.f
@@ -174,7 +197,7 @@ def size_design(model: DesignModel, solver: FixedHardwareSolver) -> Optimization
     }
     candidates, extra_iterations = _neighbours(problem, p, bounds, best, free, sizing)
     iterations += extra_iterations
-    tried, feasible, winner = 0, 0, None
+    tried, feasible, winner, first_built = 0, 0, None, None
     by_mass = model.bounds.objective == "copper_mass"
     if by_mass:  # the objective is known before the solve: the first feasible one is the best
         here = hw.hardware_of(exact)
@@ -184,9 +207,11 @@ def size_design(model: DesignModel, solver: FixedHardwareSolver) -> Optimization
             break
         values = {**relaxed, **combo}
         tried += 1
+        say(f"whole turns and standard wire: neighbour {tried} of {len(candidates)}")
         m = buildable(fixed_model, values, min_bore)
         if m is None:
             continue
+        first_built = first_built or m
         res = optimize_design(
             m, warm_start=warm, diagnose=False, grid_starts=False, frequency_bounds=False
         )
@@ -197,13 +222,20 @@ def size_design(model: DesignModel, solver: FixedHardwareSolver) -> Optimization
         if winner is None or spec.sense * (res.objective_value - winner[1].objective_value) > 0:
             winner = (values, res, m)
     if winner is None:
+        # what keeps the neighbours out: the first buildable one's own shortfalls (the
+        # relaxed problem at that hardware), or the geometric rule the first one breaks
+        closest = first_built
+        geometry = ()
+        if closest is None and candidates:
+            geometry = unbuildable(fixed_model, {**relaxed, **candidates[0]}, min_bore)
         return _no_design(
             solver,
-            fixed_model,
+            closest or fixed_model,
             t0,
             iterations,
             f"no buildable neighbour of the relaxed optimum meets every requirement "
             f"({tried} tried)",
+            geometry,
         )
     values, res, m = winner
     # the winner's full result (step-out, highest frequency): the same solve again, bit for bit
@@ -211,12 +243,10 @@ def size_design(model: DesignModel, solver: FixedHardwareSolver) -> Optimization
         optimize_design(m, warm_start=warm, diagnose=False, grid_starts=False),
         iterations=res.iterations,
     )
-    # what binds the sizing itself (geometry rows, hardware boxes) comes from the relaxation
-    sizing_binding = tuple(
-        b
-        for b in _binding(exact, scales, best, {v.name: (v.lo, v.hi) for v in free})
-        if "@" in b.name or b.name in {r.name for r in best.nlp.rows if r.kind == "geometry"}
-    )
+    # what binds, and what relaxing it buys, comes from the continuous relaxation (hardware and
+    # operating point free together): the gains are those of the continuous bound; the
+    # discrete design's own multipliers would hold its hardware fixed (0 for the copper mass)
+    sizing_binding = _binding(exact, scales, best, {v.name: (v.lo, v.hi) for v in free})
     result = HardwareResult(
         relaxed=relaxed,
         relaxed_objective=float(relaxed_obj),
@@ -229,7 +259,7 @@ def size_design(model: DesignModel, solver: FixedHardwareSolver) -> Optimization
     return replace(
         res,
         hardware=result,
-        binding_limits=res.binding_limits + sizing_binding,
+        binding_limits=sizing_binding,
         iterations=iterations,
         solve_time_s=time.perf_counter() - t0,
         message=f"optimal: {len(free)} hardware quantities sized ({feasible} of {tried} "
@@ -274,12 +304,53 @@ def _settled(a: hw.Frozen, b: hw.Frozen) -> bool:
     return all(np.allclose(x, y, rtol=_OUTER_RTOL, atol=0.0) for x, y in pairs)
 
 
+def unbuildable(model: DesignModel, values: dict[str, float], min_bore_m: float) -> tuple:
+    """The geometric rules hardware ``values`` breaks, as shortfalls with their numbers
+    (nesting gap against the half pack sides, bore against the minimum, magnet fit)."""
+    import capsule as cap
+    from spiralcap.errors import InputError
+
+    try:
+        m = hw.with_hardware(model, values)
+    except InputError as exc:
+        return (Shortfall(str(exc.key), "", 0.0, 0.0),)
+    out = []
+    pairs = m.coils.pairs
+    for i, j in hw.PAIRS_OF_PAIRS:
+        half = 0.5 * (pairs[i].winding_pack_side_m + pairs[j].winding_pack_side_m)
+        gap = hw.mean_turn_gap_m(pairs[i], pairs[j])
+        if gap < half:
+            out.append(Shortfall(f"nesting_{hw.AXES[i]}{hw.AXES[j]}", "m", half, gap))
+    if hw.bore_m(m) < min_bore_m * (1 - 1e-9):
+        out.append(Shortfall("bore", "m", min_bore_m, hw.bore_m(m)))
+    body, magnet = m.capsule.body, m.capsule.magnet
+    fit = cap.magnet_fit_check(body, magnet)
+    if fit is not None and fit[0] == "diameter_m":
+        out.append(Shortfall("magnet_diameter", "m", 2 * body.inner_radius_m, magnet.diameter_m))
+    elif fit is not None:
+        r_in, half_d = body.inner_radius_m, 0.5 * magnet.diameter_m
+        room = body.cylinder_length_m + 2 * math.sqrt(max(r_in**2 - half_d**2, 0.0))
+        out.append(Shortfall("magnet_length", "m", room, magnet.length_m))
+    return tuple(out)
+
+
 def _no_design(
-    solver: FixedHardwareSolver, model: DesignModel, t0: float, iterations: int, why: str
+    solver: FixedHardwareSolver,
+    model: DesignModel,
+    t0: float,
+    iterations: int,
+    why: str,
+    geometry: tuple = (),
 ) -> OptimizationResult:
-    """An infeasible result: the fixed-hardware solve's shortfalls at the given hardware."""
+    """An infeasible result: what is out of reach at ``model``'s hardware (the relaxed
+    problem's shortfalls), or the geometric rules the neighbours break."""
     res = solver.optimize_design(model)
-    shortfalls = res.shortfalls or (Shortfall("hardware", "", 0.0, 0.0),)
+    shortfalls = geometry or res.shortfalls
+    if not shortfalls:  # that hardware meets everything by itself: say so with its numbers
+        ev = res.evaluation
+        shortfalls = (
+            Shortfall("safety_factor", "1", model.requirements.min_safety_factor, ev.safety_factor),
+        )
     return replace(
         res,
         status="infeasible",

@@ -25,7 +25,14 @@ STEP_OUT_SEARCH_HZ = (0.01, 200.0)
 
 @dataclass(frozen=True)
 class Check:
-    """One requirement or limit: ``value`` against ``allowed`` (``sense`` '<=' or '>=')."""
+    """One requirement or limit: ``value`` against ``allowed`` (``sense`` '<=', '>=', '<').
+
+    In the form of the design key it checks, SI units: a winding hot spot as its temperature
+    in °C against ``limits.coil_temperature_C`` (the optimiser's row is the rise above ambient);
+    the self-lock as α + atan μ against 90°. ``utilisation``: how close it is to binding in the
+    row's own form (value / allowed of a limit, a temperature rise over the allowed rise;
+    needed / achieved of a requirement; 1 binds), NaN where it has no such ratio (the margin).
+    """
 
     name: str
     unit: str
@@ -33,6 +40,7 @@ class Check:
     allowed: float
     sense: str
     ok: bool
+    utilisation: float = float("nan")
 
 
 @dataclass(frozen=True)
@@ -183,9 +191,10 @@ def self_lock_margin(model: DesignModel, alpha_rad):
 
 
 def self_lock_check(model: DesignModel, alpha_rad: float) -> Check:
-    """The named check "the spiral self-locks: alpha + atan mu >= 90 deg" (ok while > 0)."""
+    """The self-locking check: alpha + atan mu (most frictional tissue) must stay below 90 deg."""
     margin = float(self_lock_margin(model, alpha_rad))
-    return Check("self_lock", "rad", margin, 0.0, ">", margin > 0)
+    lead = float(np.pi / 2 - margin)  # alpha + atan mu
+    return Check("self_lock", "rad", lead, float(np.pi / 2), "<", margin > 0, lead / (np.pi / 2))
 
 
 #: Frequency range searched for the step-out and the drive's largest frequency, Hz.
@@ -374,7 +383,15 @@ def _checks(
 ) -> list[Check]:
     req, tol = model.requirements, FEASIBILITY_RTOL
     out = [
-        Check("margin", "N·m", margin, 0.0, ">=", margin >= -tol * required),
+        Check(
+            "margin",
+            "N·m",
+            margin,
+            0.0,
+            ">=",
+            margin >= -tol * required,
+            _needed_over(required, margin + required),  # required / available torque
+        ),
         Check(
             "speed",
             "m/s",
@@ -382,6 +399,7 @@ def _checks(
             req.min_speed_m_s,
             ">=",
             speed >= req.min_speed_m_s * (1 - tol),
+            _needed_over(req.min_speed_m_s, speed),
         ),
     ]
     if req.min_safety_factor != 1.0:
@@ -394,6 +412,7 @@ def _checks(
                 req.min_safety_factor,
                 ">=",
                 sf >= req.min_safety_factor * (1 - tol),
+                _needed_over(req.min_safety_factor, sf),
             )
         )
     if req.min_spiral_turns > 0:
@@ -405,9 +424,21 @@ def _checks(
                 req.min_spiral_turns,
                 ">=",
                 turns >= req.min_spiral_turns * (1 - tol),
+                _needed_over(req.min_spiral_turns, turns),
             )
         )
-    for t in ph.limit_terms(f, field, model.constants, model.limits, model.ambient_temperature_C):
+    amb = float(model.ambient_temperature_C)
+    for t in ph.limit_terms(f, field, model.constants, model.limits, amb):
         value, allowed = float(t.value), float(t.allowed)
-        out.append(Check(t.name, t.unit, value, allowed, "<=", value <= allowed * (1 + tol)))
+        ok = value <= allowed * (1 + tol)
+        util = value / allowed if allowed != 0 else float("nan")
+        if t.unit == "K":  # a temperature rise above ambient: shown as the temperature, °C
+            out.append(Check(t.name, "°C", value + amb, allowed + amb, "<=", ok, util))
+        else:
+            out.append(Check(t.name, t.unit, value, allowed, "<=", ok, util))
     return out
+
+
+def _needed_over(needed: float, achieved: float) -> float:
+    """needed / achieved of a requirement (1 binds, above 1 fails); inf when nothing achieved."""
+    return needed / achieved if achieved > 0 else (0.0 if needed <= 0 else float("inf"))

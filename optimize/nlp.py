@@ -78,6 +78,29 @@ class NLPBuilder:
         self._start.append(s if start is None else start / float(ref))
         return s * float(ref)
 
+    def positive_part(self, x: Any, ref: float = 0.1) -> Any:
+        """``max(x, 0)`` as epigraph variables where ``x`` depends on the variables.
+
+        Each element becomes a variable ``s >= 0`` (named ``positive_part[<i>]``, ``ref`` its
+        scale) with the row ``x - s <= 0`` (kind "epigraph"), started at ``max(x, 0)``: exact
+        wherever the optimiser is pushed to make ``s`` small (a cost), smooth where ``max`` has a
+        corner. Expressions of the parameters alone stay ``fmax`` (no kink IPOPT moves across),
+        and so do vectors (the scenarios of a robust problem).
+        """
+        x = ca.SX(x)
+        if x.numel() != 1 or not self._xsym or not ca.depends_on(x, ca.vertcat(*self._xsym)):
+            # a vector is the tissue scenarios of a robust problem: one corner among many moves
+            # the CVaR by 1/N, and lifting each would double the scenario NLP
+            return ca.fmax(x, 0.0)
+        out = []
+        for i in range(x.numel()):
+            xi = x[i]
+            name = f"positive_part[{sum(v.name.startswith('positive_part[') for v in self._vars)}]"
+            s = self.variable(name, ref, 0.0, np.inf, start=ca.fmax(xi, 0.0))
+            self.constrain(Row(name, "epigraph"), (xi - s) / ref)
+            out.append(s)
+        return ca.reshape(ca.vertcat(*out), x.shape[0], x.shape[1])
+
     def parameter(self, name: str, shape: tuple[int, ...] = ()) -> Any:
         """A parameter of ``shape`` (``()`` scalar, ``(n,)`` vector); returns its symbol."""
         if name in self._params:
@@ -255,6 +278,15 @@ class CompiledNLP:
         """Physical variable values -> the scaled vector (missing names: 0)."""
         return np.array([physical.get(v.name, 0.0) / v.ref for v in self.variables])
 
+    def scaled_start(self, x0: Mapping[str, float], p: np.ndarray) -> np.ndarray:
+        """The scaled vector of physical ``x0``; variables it does not name at their declared
+        ``start`` expression (auxiliary epigraph variables where their rows hold), else 0."""
+        x0s = self.scale(x0)
+        missing = [i for i, v in enumerate(self.variables) if v.name not in x0]
+        if missing and self.start is not None:
+            x0s[missing] = np.asarray(self.start(x0s, p)).ravel()[missing]
+        return x0s
+
     def solve(
         self,
         x0: Mapping[str, float] | Sequence[float],
@@ -267,10 +299,7 @@ class CompiledNLP:
         Variables ``x0`` does not name start at their declared ``start`` expression (else 0).
         """
         if isinstance(x0, Mapping):
-            x0s = self.scale(x0)
-            missing = [i for i, v in enumerate(self.variables) if v.name not in x0]
-            if missing and self.start is not None:
-                x0s[missing] = np.asarray(self.start(x0s, p)).ravel()[missing]
+            x0s = self.scaled_start(x0, p)
         else:
             x0s = np.asarray(x0, dtype=float)
         bounds = bounds or {}

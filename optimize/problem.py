@@ -198,9 +198,10 @@ def register_constraint(builder: Callable[[Context], list[Term]]) -> None:
         CONSTRAINTS.append(builder)
 
 
-def _safety_row(sf: Any, min_sf: Any, *, need: Any, tau: Any, slack: Any) -> Any:
-    # (min_sf · need - available) / tau, written through the achieved safety factor
-    return (min_sf - sf) * need / tau - slack
+def _safety_row(_sf: Any, min_sf: Any, *, need: Any, available: Any, tau: Any, slack: Any) -> Any:
+    # (min_sf · need - available) / tau: no division by the need, which is zero (and the
+    # safety factor unbounded) when nothing resists the capsule
+    return (min_sf * need - available) / tau - slack
 
 
 def core_terms(ctx: Context) -> list[Term]:
@@ -215,7 +216,9 @@ def core_terms(ctx: Context) -> list[Term]:
                 Row(f"safety_factor[{tis.name}]", "requirement", "1", -1.0),
                 ctx.available_Nm / need,
                 req.min_safety_factor,
-                functools.partial(_safety_row, need=need, tau=tau, slack=relax[2]),
+                functools.partial(
+                    _safety_row, need=need, available=ctx.available_Nm, tau=tau, slack=relax[2]
+                ),
             )
         )
     for term in ph.limit_terms(

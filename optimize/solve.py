@@ -14,6 +14,7 @@
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
 from dataclasses import replace
 from typing import Any
 
@@ -38,9 +39,11 @@ def scales_for(model: DesignModel) -> pb.Scales:
     c = model.constants
     field = max(float(margin_grid(model, alpha, f, capacity=True).field_amplitude_T), 1e-6)
     need = float(worst_required(model, alpha, f).total_Nm)
+    # nothing to resist (no axial load, a lumen wider than the capsule): the magnet's torque
+    avail = float(ph.available_torque_Nm(field, c))
     return pb.Scales(
         field_T=field,
-        torque_Nm=max(abs(need), 1e-9),
+        torque_Nm=max(abs(need), 1e-3 * avail, 1e-12),
         power_W=max(float(ph.total_loss_W(field, c, model.ambient_temperature_C)), 1e-9),
         mass_kg=max(float(np.sum(c.copper_mass_kg)), 1e-9),
     )
@@ -108,8 +111,12 @@ def optimize_design(
     diagnose: bool = True,
     grid_starts: bool = True,
     frequency_bounds: bool = True,
+    progress: Callable[[str], None] | None = None,
 ) -> OptimizationResult:
     """Best design of ``model`` for its objective; see the module notes.
+
+    ``progress``: called with the name of each stage of a sizing run (the continuous
+    relaxation's outer iterations, the discrete neighbours), for a progress line.
 
     ``warm_start``: a result of a neighbouring problem (the previous sweep point), or a dict of
     ``helical_angle``, ``frequency``, ``field_T`` (and ``t_value``); it is tried first and the
@@ -126,7 +133,7 @@ def optimize_design(
         solver = FixedHardwareSolver(
             optimize_design, _binding, initial_points, scales_for, variable_bounds
         )
-        return size_design(model, solver)
+        return size_design(model, solver, progress)
     t0 = time.perf_counter()
     model = prepare(model)
     scales = scales_for(model)
@@ -257,25 +264,22 @@ def _binding(
     """
     spec = pb.OBJECTIVES[model.bounds.objective]
     k = spec.sense * _obj_scale(model, scales)  # U = -sense * scale * F
+    if model.bounds.objective == "copper_mass" and not extra_bounds:
+        k = 0.0  # fixed hardware: no limit moves the copper (F's power term only picks a field)
     allowed, _, value = sol.allowed()
     sens = sol.row_sensitivities()
+    amb = float(model.ambient_temperature_C)
     out = []
     for i, row in enumerate(sol.nlp.rows):
-        if row.kind in ("objective", "epigraph") or sol.g[i] < -1e-6 or abs(sol.lam_g[i]) < 1e-9:
+        if row.kind in ("objective", "epigraph") or not np.isfinite(allowed[i]):
             continue
-        if not np.isfinite(allowed[i]):
+        if not _binds(float(value[i]), float(allowed[i]), sol.g[i], sol.lam_g[i]):
             continue
-        out.append(
-            BindingLimit(
-                row.name,
-                row.unit,
-                float(value[i]),
-                float(allowed[i]),
-                float(-k * sens[i]),
-                row.relax_sign,
-                spec.sense,
-            )
-        )
+        unit, v, a = row.unit, float(value[i]), float(allowed[i])
+        if row.kind == "limit" and unit == "K":  # a temperature rise: the temperature, °C
+            unit, v, a = "°C", v + amb, a + amb
+        gain = float(-k * sens[i]) if k else 0.0  # no -0.0 where nothing moves
+        out.append(BindingLimit(row.name, unit, v, a, gain, row.relax_sign, spec.sense))
     box = {**variable_bounds(model), **(extra_bounds or {})}
     named = [("helical_angle", "rad"), ("frequency", "Hz")]
     named += [(n, "turns" if n.endswith("turns") else "m") for n in (extra_bounds or {})]
@@ -301,6 +305,18 @@ def _binding(
     return tuple(out)
 
 
+#: A row binds when its value is within this relative distance of its allowed value.
+BINDING_RTOL = 1e-6
+
+
+def _binds(value: float, allowed: float, g: float, lam: float) -> bool:
+    """Whether a row binds at the optimum: its value within :data:`BINDING_RTOL` (relative) of
+    its allowed value, or active (g ≈ 0) with a multiplier that is not zero."""
+    if np.isfinite(value) and abs(value - allowed) <= BINDING_RTOL * max(abs(allowed), 1e-300):
+        return True
+    return bool(g >= -BINDING_RTOL and abs(lam) >= 1e-9)
+
+
 def _infeasible(model, scales, starts, iterations, tried, t0, status_text, ev=None):
     """Solve the relaxed problem and report which requirement is out of reach, by how much."""
     problem = compile_problem(structure_of(model, relaxed=True))
@@ -323,11 +339,28 @@ def _infeasible(model, scales, starts, iterations, tried, t0, status_text, ev=No
     if field is None and model.field_amplitude_T is not None:
         field = capacity
     ev = evaluate(model, alpha, f, field_amplitude_T=field)
+    # every requirement out of reach, and any limit the closest design still breaks (a set
+    # field above what a limit allows), with the allowed value and the value reached
     shortfalls = tuple(
-        Shortfall(c.name, c.unit, c.allowed, c.value) for c in ev.failed() if c.sense == ">="
+        Shortfall(c.name, c.unit, c.allowed, c.value) for c in ev.failed()
     ) + _hook_shortfalls(best)
-    if not shortfalls:  # the relaxed optimum meets everything: IPOPT failed for another reason
-        shortfalls = (Shortfall("solver", "", 0.0, 0.0),)
+    if not shortfalls and ev.feasible:
+        # the relaxed optimum meets everything (IPOPT failed from the grid starts for another
+        # reason): start the problem itself there
+        warm = {
+            "helical_angle": alpha,
+            "frequency": f,
+            "field_T": ev.field_amplitude_T,
+            "t_value": _objective_value(model, ev) if not _minimises_power(model) else 0.0,
+        }
+        if model.bounds.objective not in ("margin", "ratio"):
+            warm.pop("t_value")
+        again = optimize_design(model, warm_start=warm, diagnose=False, grid_starts=False)
+        if again.status == "optimal":
+            return replace(again, iterations=again.iterations + iterations)
+    if not shortfalls:  # IPOPT failed for another reason: say where it stopped, with numbers
+        sf = model.requirements.min_safety_factor
+        shortfalls = (Shortfall("solver", "1", sf, ev.safety_factor),)
     names = ", ".join(s.name for s in shortfalls)
     return _result(
         model,

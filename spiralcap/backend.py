@@ -14,6 +14,9 @@ iteration, which gives exact values and exact derivatives (7 steps reach machine
 
 from __future__ import annotations
 
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+from contextvars import ContextVar
 from typing import Any, TypeAlias
 
 import casadi as _ca
@@ -49,6 +52,8 @@ __all__ = [
     "log",
     "log1p",
     "pi",
+    "positive_part",
+    "positive_part_lifted",
     "sin",
     "softplus",
     "sqrt",
@@ -114,6 +119,37 @@ def fmax(a: Scalar, b: Scalar) -> Scalar:
 def fmin(a: Scalar, b: Scalar) -> Scalar:
     """Elementwise minimum."""
     return _ca.fmin(a, b) if is_casadi(a, b) else _np.minimum(a, b)
+
+
+#: While an NLP is built: the function that turns ``max(x, 0)`` of a CasADi expression into an
+#: epigraph variable (:func:`positive_part_lifted`); None otherwise.
+_LIFT: ContextVar[Callable[[Any], Any] | None] = ContextVar("_LIFT", default=None)
+
+
+def positive_part(x: Scalar) -> Scalar:
+    """``max(x, 0)`` elementwise: a contact strain that is zero where there is no contact.
+
+    On numbers it is :func:`fmax`. Inside :func:`positive_part_lifted` (an NLP being built) a
+    CasADi expression of the decision variables becomes an epigraph variable ``s >= x, s >= 0``
+    (the builder's ``lift``): exact wherever the quantity only costs (a resistive torque grows
+    with it and the optimiser pushes ``s`` down onto ``max(x, 0)``), and smooth, so an optimum
+    on the kink (a spiral that just stops touching the wall) is a vertex IPOPT converges to
+    instead of a corner it cycles around.
+    """
+    lift = _LIFT.get()
+    if lift is not None and is_casadi(x):
+        return lift(x)
+    return fmax(x, 0.0)
+
+
+@contextmanager
+def positive_part_lifted(lift: Callable[[Any], Any]) -> Iterator[None]:
+    """Within the block, :func:`positive_part` of a CasADi expression calls ``lift(x)``."""
+    token = _LIFT.set(lift)
+    try:
+        yield
+    finally:
+        _LIFT.reset(token)
 
 
 def sqrt_guarded(x: Scalar) -> Scalar:

@@ -115,9 +115,12 @@ def evaluation_rows(evaluations: Sequence[Any]) -> tuple[Row, ...]:
     for name in names:
         found = [next((c for c in e.checks if c.name == name), None) for e in evaluations]
         unit = next(c.unit for c in found if c is not None)
-        rows.append(
-            _row(name.replace("_", " "), unit, [None if c is None else c.value for c in found])
+        label = (
+            "self-locking: α + atan μ (must stay below 90°)"
+            if name == "self_lock"
+            else name.replace("_", " ")
         )
+        rows.append(_row(label, unit, [None if c is None else c.value for c in found]))
     rows.append(_row("feasible", "", [e.feasible for e in evaluations]))
     return tuple(rows)
 

@@ -65,7 +65,7 @@ _NAMES = {
     "margin": "torque margin",
     "speed": "forward speed",
     "spiral_turns": "spiral turns",
-    "self_lock": "the spiral self-locks: α + atan μ ≥ 90°",
+    "self_lock": "self-locking",
     "power": "total copper power",
     "field_exposure": "field exposure (ICNIRP 2010)",
     "helical_angle_min": "lower helical-angle bound",
@@ -78,7 +78,38 @@ _PER_AXIS = {
     "current": "current",
     "voltage": "drive voltage",
     "temperature_rise": "coil temperature rise",
+    "hot_spot": "winding hot spot",
 }
+
+
+#: (SI unit of a value, unit its design key names) -> factor from the first to the second
+_TO_KEY_UNIT: dict[tuple[str, str], float] = {
+    ("m/s", "mm/s"): 1e3,
+    ("rad", "°"): 180.0 / math.pi,
+    ("T", "mT"): 1e3,
+    ("m", "mm"): 1e3,
+    ("N·m", "mN·m"): 1e3,
+    ("N", "mN"): 1e3,
+    ("K", "°C"): 1.0,  # a temperature difference: per K is per °C
+}
+
+
+def in_key_units(unit: str, key: str) -> tuple[str, float]:
+    """``(label, factor)`` that shows a value in SI ``unit`` in the unit of design key ``key``.
+
+    ``requirements.min_speed_mm_s`` shows m/s as mm/s (x 1e3); ``capsule.spiral.helical_angle_deg``
+    shows rad as ° ; ``limits.coil_temperature_C`` shows °C (and a difference in K) as °C. A key
+    with no unit in its name (a count, a ratio, ``limits.field_exposure``) shows the value in
+    its engineering unit (:func:`shown`: T as mT).
+    """
+    if "." not in key:  # not a design key (the margin itself): its engineering unit
+        return shown(unit)
+    target = unit_of_key(key)
+    if target == unit:
+        return unit, 1.0
+    if (unit, target) in _TO_KEY_UNIT:
+        return target, _TO_KEY_UNIT[(unit, target)]
+    return shown(unit)
 
 
 def readable(name: str) -> str:
@@ -113,3 +144,75 @@ def jsonable(value: Any) -> Any:
     if isinstance(value, float) and not math.isfinite(value):
         return None if math.isnan(value) else ("inf" if value > 0 else "-inf")
     return value
+
+
+def step_out_words(
+    step_out_hz: float,
+    bound: str,
+    max_frequency_hz: float,
+    max_frequency_beyond: bool,
+    limited_by: str,
+    field_fixed: bool,
+) -> str:
+    """The step-out frequency with whether the drive can reach it, in one clause.
+
+    ``bound`` is the JSON's ``step_out_bound`` ("found", "above_search_range",
+    "below_search_range"); ``max_frequency_hz`` the highest frequency at which the drive, with
+    the field re-maximised there, still keeps a positive margin (``limited_by`` the limit that
+    sets the field there); ``field_fixed``: the operating field is set (below what the limits
+    allow), so the drive can raise it at higher frequencies.
+    """
+    at = "at the set field" if field_fixed else "at the operating field"
+    if bound == "below_search_range":
+        return f"below {step_out_hz:g} Hz: the capsule cannot keep up at any frequency {at}"
+    drive = f"{max_frequency_hz:.3g} Hz" + (" or more" if max_frequency_beyond else "")
+    by = readable(limited_by) if limited_by else "the limits"
+    if bound == "above_search_range":
+        head = f"above {step_out_hz:g} Hz (the top of the search) {at}"
+    else:
+        head = f"{step_out_hz:.3g} Hz {at}"
+    if max_frequency_beyond or max_frequency_hz >= step_out_hz:
+        if field_fixed:
+            return (
+                f"{head}; raising the field to what the limits allow keeps a positive margin up "
+                f"to {drive} ({by})"
+            )
+        return f"{head}; the drive can reach it (it keeps a positive margin up to {drive})"
+    return (
+        f"{head}; the drive cannot hold that field above {drive} ({by} limits it), so the drive "
+        "limit comes first"
+    )
+
+
+#: objective -> (what it is, shown unit, factor from SI, sense)
+OBJECTIVES: dict[str, tuple[str, str, float, str]] = {
+    "margin": ("worst-case torque margin", "mN·m", 1e3, "maximised"),
+    "margin_p05": (
+        "CVaR₀.₀₅ of the torque margin over the tissue scenarios",
+        "mN·m",
+        1e3,
+        "maximised",
+    ),
+    "ratio": ("worst-case safety factor", "", 1.0, "maximised"),
+    "power": ("worst-heading copper power", "W", 1.0, "minimised"),
+    "copper_mass": ("copper mass of the three coil pairs", "kg", 1.0, "minimised"),
+}
+
+
+def objective_words(objective: str) -> tuple[str, str, float, str]:
+    """``(description, shown unit, factor from SI, "maximised" | "minimised")`` of an
+    objective; a registered objective unknown here is named as it is, in SI."""
+    return OBJECTIVES.get(objective, (objective.replace("_", " "), "", 1.0, "optimised"))
+
+
+def gain_per_key_unit(objective: str, unit: str, key: str, gain_si: float) -> tuple[float, str]:
+    """A binding limit's gain per unit relaxed (objective SI per SI ``unit`` of the limit) in
+    the objective's shown unit per unit of the design key: ``(value, "kg per °C")``."""
+    _, obj_unit, obj_factor, _ = objective_words(objective)
+    key_unit, key_factor = in_key_units(unit, key)
+    if key_unit in ("", "1"):
+        key_unit = "unit"
+    elif key_unit == "turns":
+        key_unit = "turn"
+    obj = obj_unit or ("safety factor" if objective == "ratio" else "")
+    return gain_si * obj_factor / key_factor, f"{obj} per {key_unit}".strip()

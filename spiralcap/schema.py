@@ -351,6 +351,18 @@ KEYS.update(
             5.0,
             open_=False,
         ),
+        "tissue.scale": _between(
+            "deterministic multiplier on the resistive torque of every tissue set the design is "
+            "checked against, the preset (with its overrides) and every worst-case preset alike: "
+            "all five moduli and viscosities times this factor (the torque is linear in it); "
+            "'what if the tissue is 50 % stiffer' is 1.5; range: 0.1-10 (the paper's two samples "
+            "differ by ~2x, and tissue.uncertainty.scale_sigma_log allows e^2 ~ 7 per standard "
+            "deviation)",
+            1.0,
+            0.1,
+            10.0,
+            open_=False,
+        ),
         "tissue.worst_case_presets": Key(
             list,
             ["zhou2013-sample3"],

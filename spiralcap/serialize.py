@@ -112,8 +112,33 @@ def evaluation_to_dict(ev: Any) -> dict[str, Any]:
     from spiralcap.assemble.system import check_key
 
     out = to_dict(ev)
-    out["checks"] = [{"name": c["name"], "key": check_key(c["name"]), **c} for c in out["checks"]]
+    out["checks"] = [_check(c, check_key(c["name"])) for c in out["checks"]]
     return _finite_fields(out, ev.margin_Nm)
+
+
+#: a utilisation shown for a requirement achieved not at all (needed / 0)
+_UTILISATION_CAP = 1e6
+
+
+def _check(c: dict[str, Any], key: str) -> dict[str, Any]:
+    """A check in the unit and form of its design key (``value``, ``allowed``, ``unit``): the
+    hot spot in °C against ``limits.coil_temperature_C``, the speed in mm/s, the self-lock
+    α + atan μ in degrees against 90; ``utilisation`` in the row's own form (1 binds)."""
+    from spiralcap.presentation import in_key_units
+
+    unit, factor = in_key_units(c["unit"], key)
+    util = c.get("utilisation", float("nan"))
+    if not math.isfinite(util):
+        util = _UTILISATION_CAP if util > 0 else 0.0
+    return {
+        "name": c["name"],
+        "key": key,
+        **c,
+        "unit": unit,
+        "value": c["value"] * factor,
+        "allowed": c["allowed"] * factor,
+        "utilisation": min(util, _UTILISATION_CAP),
+    }
 
 
 _OBJECTIVE_UNITS = {
@@ -138,10 +163,26 @@ def optimization_to_dict(res: Any) -> dict[str, Any]:
         }
         for h, (a, ph) in zip(res.headings, res.current_phases_rad)
     ]
+    from spiralcap.presentation import gain_per_key_unit, in_key_units, objective_words
+
     unit = _OBJECTIVE_UNITS.get(res.objective, "1")
+    what, shown_unit, factor, sense = objective_words(res.objective)
+    out["objective_description"] = what
+    out["objective_unit"] = shown_unit
+    out["objective_direction"] = sense
+    if math.isfinite(res.objective_value):
+        out["objective_value_shown"] = res.objective_value * factor
     for b in out["binding_limits"]:
         b["key"] = constraint_key(b["name"])
         b["gain_unit"] = unit + "/" + b["unit"]
+        key_unit, key_factor = in_key_units(b["unit"], b["key"])
+        b["key_unit"] = key_unit
+        b["value_in_key_unit"] = b["value"] * key_factor
+        b["allowed_in_key_unit"] = b["allowed"] * key_factor
+        b["gain_per_key_unit"], b["gain_per_key_unit_label"] = gain_per_key_unit(
+            res.objective, b["unit"], b["key"], b["gain_per_unit_relaxed"]
+        )
+    out["binding_keys"] = binding_keys(out["binding_limits"])
     for s in out["shortfalls"]:
         s["key"] = constraint_key(s["name"])
     out["evaluation"] = evaluation_to_dict(res.evaluation)
@@ -153,6 +194,27 @@ def optimization_to_dict(res: Any) -> dict[str, Any]:
     else:
         out["hardware"] = hardware
     return _finite_fields(out, res.margin_Nm)
+
+
+def binding_keys(binding: list[dict[str, Any]]) -> list[dict[str, Any]]:
+    """The binding rows grouped by design key: relaxing a key relaxes all its rows at once
+    (three pairs' current limits are one ``limits.current_A``), so its gain is their sum --
+    where rows tie, IPOPT may split the multiplier among them in any proportion."""
+    out: dict[str, dict[str, Any]] = {}
+    for b in binding:
+        key = b["key"] or b["name"]
+        if key not in out:
+            out[key] = {
+                "key": key,
+                "key_unit": b["key_unit"],
+                "relaxing_means": b["relaxing_means"],
+                "rows": [],
+                "gain_per_key_unit": 0.0,
+                "gain_per_key_unit_label": b["gain_per_key_unit_label"],
+            }
+        out[key]["rows"].append(b["name"])
+        out[key]["gain_per_key_unit"] += b["gain_per_key_unit"]
+    return list(out.values())
 
 
 def _hardware(h) -> dict[str, Any] | None:
@@ -172,6 +234,9 @@ def _hardware(h) -> dict[str, Any] | None:
         "discrete": hardware_design_values(h.discrete),
         "discrete_objective": h.discrete_objective,
         "rounding_cost": h.rounding_cost,
+        "rounding_cost_relative": h.rounding_cost / abs(h.relaxed_objective)
+        if h.relaxed_objective
+        else 0.0,
         "candidates": h.candidates,
         "feasible_candidates": h.feasible,
         "outer_iterations": h.outer_iterations,

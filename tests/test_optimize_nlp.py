@@ -71,11 +71,13 @@ def test_self_lock_row_binds_when_it_is_the_tightest(model):
         bounds=replace(model.bounds, helical_angle_max_rad=math.radians(80), objective="ratio"),
     )
     nlp = compile_problem(structure_of(prepare(m))).nlp
-    x = nlp.scale({"helical_angle": math.radians(30.0), "frequency": 1.0, "field_scaled": 1.0})
     from optimize.solve import scales_for
 
     mm = prepare(m)
     p = compile_problem(structure_of(mm)).parameters(mm, scales_for(mm))
+    x = nlp.scaled_start(
+        {"helical_angle": math.radians(30.0), "frequency": 1.0, "field_scaled": 1.0}, p
+    )
     _, g = nlp.evaluate(x, p)
     row = nlp.row_names.index(f"self_lock[{tis[0].name}]")
     expected = math.radians(1.0) - (math.pi / 2 - math.radians(30.0) - math.atan(2.0))
@@ -251,7 +253,8 @@ def test_compiled_rows_with_parameter_constants_equal_the_numeric_rows(sets):
     names = problem.nlp.row_names
     for point in ((0.3, 1.2, 0.8), (0.6, 3.0, 1.1)):
         x = {"helical_angle": point[0], "frequency": point[1], "field_scaled": point[2], "t": 0.1}
-        _, g = problem.nlp.evaluate(problem.nlp.scale(x), problem.parameters(m, scales))
+        p = problem.parameters(m, scales)
+        _, g = problem.nlp.evaluate(problem.nlp.scaled_start(x, p), p)
         scaled = (point[0] / pb.ALPHA_REF_rad, point[1] / pb.F_REF_hz, point[2], 0.1)
         _, g_np, rows = pb.expressions(scaled, m, scales)
         by_name = dict(zip(names, np.asarray(g).ravel()))

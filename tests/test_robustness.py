@@ -152,9 +152,12 @@ def test_self_locking_spiral_is_never_feasible(angle):
     ev = json.loads(out)
     lock = next(c for c in ev["checks"] if c["name"] == "self_lock")
     mu = 0.51  # zhou2013-sample3, the design's most frictional tissue (Zhou 2013, Table I)
-    expected = math.pi / 2 - math.radians(angle) - math.atan(mu)
-    assert lock["value"] == pytest.approx(expected, abs=1e-12), (
-        "self-lock margin pi/2 - alpha - atan(mu) (Shigley power screw), 1e-12"
+    expected = angle + math.degrees(math.atan(mu))
+    assert lock["value"] == pytest.approx(expected, abs=1e-9), (
+        "self-lock check: alpha + atan(mu) in degrees (Shigley power screw), 1e-9"
+    )
+    assert (lock["allowed"], lock["sense"], lock["unit"]) == (90.0, "<", "°"), (
+        "must stay below 90°, in the unit of capsule.spiral.helical_angle_deg"
     )
     assert lock["ok"] is False and ev["feasible"] is False, (
         f"alpha + atan mu = {angle + math.degrees(math.atan(mu)):.1f} deg >= 90: self-locks"

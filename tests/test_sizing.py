@@ -215,9 +215,13 @@ def test_sizing_rows_equal_fixed_rows_at_the_same_hardware(model, session):
         point["field_scaled"] * scales.field_T, model.constants, model.ambient_temperature_C
     )
     p_ref = float(loss) / scales.power_W
-    xs = sized.nlp.scale({**point, **{n: here[n] for n in names}, "power_W_scaled": p_ref})
-    _, g_sized = sized.nlp.evaluate(xs, sized.parameters(model, scales, extra))
-    _, g_fixed = fixed.nlp.evaluate(fixed.nlp.scale(point), fixed.parameters(model, scales))
+    p_sized = sized.parameters(model, scales, extra)
+    xs = sized.nlp.scaled_start(
+        {**point, **{n: here[n] for n in names}, "power_W_scaled": p_ref}, p_sized
+    )
+    _, g_sized = sized.nlp.evaluate(xs, p_sized)
+    p_fixed = fixed.parameters(model, scales)
+    _, g_fixed = fixed.nlp.evaluate(fixed.nlp.scaled_start(point, p_fixed), p_fixed)
     by_name = dict(zip(sized.nlp.row_names, g_sized))
     for name, g in zip(fixed.nlp.row_names, g_fixed):
         assert math.isclose(by_name[name], g, rel_tol=1e-9, abs_tol=1e-12), (

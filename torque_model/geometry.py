@@ -220,7 +220,8 @@ def end_contact_moment_m2(
         to get the end's torque).
     """
     R = 0.5 * body_diameter_m
-    zc = bk.sqrt(bk.fmax(R * R - 0.25 * lumen_diameter_m * lumen_diameter_m, 0.0))
+    # finite derivative where the lumen is wider than the capsule (no contact, z_c = 0)
+    zc = bk.sqrt_guarded(bk.fmax(R * R - 0.25 * lumen_diameter_m * lumen_diameter_m, 0.0))
     rc = bk.sqrt(R * R - zc * zc)
     ratio = bk.fmin(zc / R, 1.0)
     integral = (

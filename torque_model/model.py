@@ -157,7 +157,9 @@ def section_torque_per_length_N(
 
     The strain is clipped at zero (a section narrower than the lumen does not touch).
     """
-    eps = bk.fmax(strain(diameter_after_m, tissue.lumen_diameter_m, tissue.wall_thickness_m), 0.0)
+    eps = bk.positive_part(
+        strain(diameter_after_m, tissue.lumen_diameter_m, tissue.wall_thickness_m)
+    )
     return friction_per_length_N_m(frequency_hz, eps, tissue) * 0.5 * diameter_after_m
 
 
@@ -195,7 +197,9 @@ def contact_factors_m3(
     g = geometry
 
     def per_length(diameter_after: Scalar) -> Scalar:
-        eps = bk.fmax(strain(diameter_after, tissue.lumen_diameter_m, tissue.wall_thickness_m), 0.0)
+        eps = bk.positive_part(
+            strain(diameter_after, tissue.lumen_diameter_m, tissue.wall_thickness_m)
+        )
         return mu_d * eps * 0.5 * diameter_after
 
     d_prime = equivalent_diameter_m(

@@ -33,14 +33,15 @@ def build_tissues(design: Mapping[str, Any]) -> list[TissueParameters]:
     design : Mapping[str, Any]
         A validated design (``spiralcap.design.Design``): ``tissue.preset``, the optional
         ``tissue.E1_kPa`` ... ``tissue.friction_coefficient`` overrides, and
-        ``tissue.worst_case_presets``.
+        ``tissue.worst_case_presets``, and ``tissue.scale``.
 
     Returns
     -------
     list of TissueParameters
         First the preset with every explicit ``tissue.*`` override applied (named after the
         preset, with the overridden keys listed), then one unmodified preset for each name in
-        ``tissue.worst_case_presets``.
+        ``tissue.worst_case_presets``; every set's moduli and viscosities times
+        ``tissue.scale`` (a deterministic multiplier on every resistive torque).
     """
     base_name = design.get("tissue.preset", "zhou2013-sample2")
     base = torque_model.preset(base_name)
@@ -56,6 +57,9 @@ def build_tissues(design: Mapping[str, Any]) -> list[TissueParameters]:
     tissues = [base]
     for name in design.get("tissue.worst_case_presets", []) or []:
         tissues.append(torque_model.preset(name))
+    scale = float(design.get("tissue.scale", 1.0))
+    if scale != 1.0:  # every set alike: the resistive torque is linear in the factor
+        tissues = [t.scaled(scale, f"{t.name} × tissue.scale {scale:g}") for t in tissues]
     return tissues
 
 

@@ -16,39 +16,36 @@ def safety_factor_text(value: float) -> str:
     return f"{value:.3g}" if value < float("inf") else "unbounded (no torque is required)"
 
 
-def step_out_text(hz: float) -> str:
-    """A step-out frequency in words for the two ends of the search range."""
-    from spiralcap.serialize import _step_out
-
-    value, bound = _step_out(hz)
-    if bound == "above_search_range":
-        return f"above {value:g} Hz (the top of the search)"
-    if bound == "below_search_range":
-        return f"below {value:g} Hz (the capsule cannot keep up at any frequency)"
-    return f"{value:.4g} Hz"
-
-
 def _failed(name: str) -> str:
-    return "the spiral self-locks: α + atan μ ≥ 90°" if name == "self_lock" else name
+    return "self-locking: α + atan μ reaches 90°" if name == "self_lock" else name
+
+
+def check_words(c, key: str) -> str:
+    """A check in the form and unit of its key: ``hot spot 90.0 °C <= 90 °C``;
+    ``self-locking: α + atan μ = 48.7°, must stay below 90°``."""
+    from spiralcap.presentation import in_key_units
+
+    unit, factor = in_key_units(c.unit, key)
+    if c.name == "self_lock":
+        return f"α + atan μ = {c.value * factor:.3g}°, must stay below {c.allowed * factor:g}°"
+    u = f" {unit}" if unit not in ("", "1") else ""
+    return f"{c.value * factor:.4g}{u} {c.sense} {c.allowed * factor:.4g}{u}"
 
 
 def format_evaluation(ev) -> str:
     """Readable summary of an :class:`optimize.Evaluation`."""
+    from spiralcap.assemble.system import check_key
     from spiralcap.commands._common import format_table
-    from spiralcap.presentation import shown
+    from spiralcap.presentation import readable, step_out_words
+    from spiralcap.serialize import _step_out
 
     mnm = 1e3
 
-    from spiralcap.assemble.system import check_key
-
     def check_row(c) -> list:
-        unit, factor = shown(c.unit)
         return [
-            c.name,
+            readable(c.name),
             check_key(c.name),
-            c.value * factor,
-            f"{c.sense} {c.allowed * factor:.4g}",
-            unit,
+            check_words(c, check_key(c.name)),
             "yes" if c.ok else "NO",
         ]
 
@@ -74,15 +71,18 @@ def format_evaluation(ev) -> str:
         ),
         f"margin              {ev.margin_Nm * mnm:.4g} mN·m (safety factor "
         f"{safety_factor_text(ev.safety_factor)})",
-        f"step-out frequency  {step_out_text(ev.step_out_frequency_hz)}"
-        " at this field; the "
-        f"drive holds a margin up to {ev.max_frequency_hz:.4g} Hz"
-        f"{' or more' if ev.max_frequency_beyond_search else ''} "
-        f"(limited by {ev.max_frequency_limited_by})",
+        "step-out frequency  "
+        + step_out_words(
+            *_step_out(ev.step_out_frequency_hz),
+            ev.max_frequency_hz,
+            ev.max_frequency_beyond_search,
+            ev.max_frequency_limited_by,
+            ev.field_limited_by == "fixed",
+        ),
         f"forward speed       {ev.speed_m_s * 1e3:.4g} mm/s, spiral turns {ev.spiral_turns:.3g}",
         "",
         format_table(
-            ["check", "key", "value", "allowed", "unit", "ok"],
+            ["check", "key", "value against allowed", "ok"],
             [check_row(c) for c in ev.checks],
         ),
         "",

@@ -74,27 +74,77 @@ def parse_free(expr: str) -> str:
     return f"optimize.free.{key}=[{lo!r}, {hi!r}]"
 
 
-#: objective -> (label, factor from SI to the label's unit)
-_OBJECTIVE_LABELS = {
-    "margin": ("mN·m", 1e3),
-    "margin_p05": ("mN·m", 1e3),
-    "ratio": ("safety factor", 1.0),
-    "power": ("W of copper power", 1.0),
-    "copper_mass": ("kg of copper", 1.0),
-}
+def _starts(n: int) -> str:
+    return f"{n} start" if n == 1 else f"{n} starts"
+
+
+def objective_line(res) -> str:
+    """``objective  copper mass of the three coil pairs, minimised: 140.06 kg``."""
+    from spiralcap.presentation import objective_words
+
+    what, unit, factor, sense = objective_words(res.objective)
+    value = res.objective_value * factor
+    return f"objective           {what}, {sense}: {value:.5g}{' ' + unit if unit else ''}"
+
+
+def binding_line(res, b) -> str:
+    """One binding limit: its name, key, value against allowed (key units) and its gain."""
+    from spiralcap.assemble.system import constraint_key
+    from spiralcap.presentation import gain_per_key_unit, in_key_units, readable
+
+    key = constraint_key(b.name)
+    unit, factor = in_key_units(b.unit, key)
+    gain, label = gain_per_key_unit(res.objective, b.unit, key, b.gain_per_unit_relaxed)
+    obj_unit, per = label.split(" per ", 1)
+    verb = "raising" if b.relax_sign > 0 else "lowering"
+    better = "less" if res.objective in ("power", "copper_mass") else "more"
+    u = f" {unit}" if unit not in ("", "1") else ""
+    if gain == 0 and res.objective == "copper_mass":  # fixed hardware: the copper cannot move
+        return (
+            f"  {readable(b.name)} ({key or b.name}): {b.value * factor:.5g}{u} of "
+            f"{b.allowed * factor:.5g}{u}; the copper is fixed (free hardware keys to size it)"
+        )
+    return (
+        f"  {readable(b.name)} ({key or b.name}): {b.value * factor:.5g}{u} of {b.allowed * factor:.5g}"
+        f"{u}; {verb} it by 1 {per} gains {gain:.4g} {obj_unit} {better}".rstrip()
+    )
+
+
+def _shared_key_lines(res) -> list[str]:
+    """A key several binding rows share (the three pairs' current limit): the gain of relaxing
+    the key, which relaxes them all (their multipliers may split in any proportion)."""
+    from spiralcap.serialize import binding_keys, optimization_to_dict
+
+    shared = [
+        k for k in binding_keys(optimization_to_dict(res)["binding_limits"]) if len(k["rows"]) > 1
+    ]
+    out = []
+    for k in shared:
+        obj_unit, per = k["gain_per_key_unit_label"].split(" per ", 1)
+        verb = "raising" if k["relaxing_means"] == "raising" else "lowering"
+        better = "less" if res.objective in ("power", "copper_mass") else "more"
+        out.append(
+            f"  {k['key']} binds {len(k['rows'])} rows; {verb} it by 1 {per} gains "
+            f"{k['gain_per_key_unit']:.4g} {obj_unit} {better} in all"
+        )
+    return out
 
 
 def format_result(res) -> str:
     """Readable summary of an :class:`optimize.OptimizationResult`."""
     from spiralcap.assemble.system import constraint_key
-    from spiralcap.commands.evaluate import safety_factor_text, step_out_text
+    from spiralcap.commands.evaluate import safety_factor_text
+    from spiralcap.presentation import step_out_words
+    from spiralcap.serialize import _step_out
 
+    ev = res.evaluation
     lines = [
         f"status              {res.status} ({res.solver_status}, {res.iterations} IPOPT "
-        f"iterations, {res.starts} starts, {res.solve_time_s:.3f} s)"
+        f"iterations, {_starts(res.starts)}, {res.solve_time_s:.3f} s)"
     ]
     if res.status == "optimal":
         lines += [
+            objective_line(res),
             f"helical angle       {res.helical_angle_deg:.4g} deg",
             f"frequency           {res.frequency_hz:.4g} Hz",
             f"rotating field      {res.field_amplitude_T * 1e3:.4g} mT",
@@ -103,24 +153,26 @@ def format_result(res) -> str:
             f"margin              {res.margin_Nm * 1e3:.4g} mN·m "
             f"(safety factor {safety_factor_text(res.safety_factor)})",
             f"forward speed       {res.speed_m_s * 1e3:.4g} mm/s",
-            f"step-out frequency  {step_out_text(res.step_out_frequency_hz)}",
-            "binding limits:",
+            "step-out frequency  "
+            + step_out_words(
+                *_step_out(res.step_out_frequency_hz),
+                ev.max_frequency_hz,
+                ev.max_frequency_beyond_search,
+                ev.max_frequency_limited_by,
+                res.field_is_set,
+            ),
+            "binding limits"
+            + (
+                " (of the continuous relaxation: the gains are those of the continuous bound):"
+                if res.hardware is not None
+                else ":"
+            ),
         ]
-        gain, scale = _OBJECTIVE_LABELS.get(res.objective, ("", 1.0))
-        if res.objective in ("power", "copper_mass"):
-            lines.insert(
-                1, f"objective           {res.objective} = {res.objective_value * scale:.5g} {gain}"
-            )
-            gain = gain.replace("W of", "W less").replace("kg of", "kg less")
         for b in res.binding_limits:
-            label, factor = _ENGINEERING.get(b.unit, (b.unit, 1.0))
-            verb = "raising" if b.relax_sign > 0 else "lowering"
-            lines.append(
-                f"  {b.name:<20} {constraint_key(b.name):<32} {verb} it by 1 {label} gains "
-                f"{b.gain_per_unit_relaxed * factor * scale:.4g} {gain}"
-            )
+            lines.append(binding_line(res, b))
         if not res.binding_limits:
             lines.append("  none")
+        lines += _shared_key_lines(res)
         if res.hardware is not None:
             lines += _hardware_lines(res)
     else:
@@ -133,31 +185,48 @@ def format_result(res) -> str:
                     f"{s.short_by / factor:.4g} {label} at the best design inside the "
                     "limits (more field, a stronger magnet or a lighter load would help)"
                 )
+            elif s.name == "solver":
+                lines.append(
+                    f"  IPOPT did not converge from any start ({res.solver_status}); at the "
+                    f"closest point found the safety factor is {s.best:.4g} (needs "
+                    f"{s.needed:.4g}): try more starts (optimize.starts) or a narrower box"
+                )
             else:
                 u = f" {label}" if label else ""
+                key = constraint_key(s.name) or s.name
+                if key.startswith("limits."):  # a limit the closest design still breaks
+                    lines.append(
+                        f"  {key}: allows {s.needed / factor:.4g}{u}, the closest design "
+                        f"reaches {s.best / factor:.4g}{u} (over by {s.short_by / factor:.4g}{u})"
+                    )
+                    continue
                 lines.append(
-                    f"  {constraint_key(s.name)}: needs {s.needed / factor:.4g}{u}, best reachable "
-                    f"{s.best / factor:.4g}{u} (short by {s.short_by / factor:.4g})"
+                    f"  {key}: needs {s.needed / factor:.4g}{u}, best reachable "
+                    f"{s.best / factor:.4g}{u} (short by {s.short_by / factor:.4g}{u})"
                 )
     return "\n".join(lines)
 
 
 def _hardware_lines(res) -> list[str]:
     from spiralcap.assemble.system import hardware_design_values
+    from spiralcap.presentation import objective_words
 
     h = res.hardware
-    label, factor = _OBJECTIVE_LABELS.get(res.objective, ("", 1.0))
+    _, unit, factor, _ = objective_words(res.objective)
+    label = unit or "(safety factor)"
     relaxed = hardware_design_values(
         {k: v for k, v in h.relaxed.items() if not k.endswith(".turns")}
     )
     relaxed.update({k: v for k, v in _turns(h.relaxed).items()})
     chosen = hardware_design_values(h.discrete)
+    rel = h.rounding_cost / abs(h.relaxed_objective) if h.relaxed_objective else 0.0
     lines = [
         f"hardware            {len(chosen)} keys sized; {h.feasible} of {h.candidates} "
         f"buildable neighbours feasible, {h.outer_iterations} outer iterations",
         f"  continuous bound  {h.relaxed_objective * factor:.5g} {label}; "
         f"discrete {h.discrete_objective * factor:.5g} {label} "
-        f"(rounding costs {h.rounding_cost * factor:.3g})",
+        f"(whole turns and standard wire cost {h.rounding_cost * factor:.3g} {label}, "
+        f"{100 * rel:.2g} %)",
     ]
     for key, value in chosen.items():
         lines.append(f"  {key:<34} {value!s:<10} (relaxed {relaxed[key]:.5g})")
@@ -201,13 +270,19 @@ def run(args: argparse.Namespace) -> int:
 
     check_outputs({"-o": args.output}, design_paths(args))
     args.overrides = [*args.overrides, *(parse_free(e) for e in args.free)]
+    from spiralcap.progress import working
+
     design = design_from_args(args)
     rc = None
     if wants_robust(design):  # margin_p05 / max_stepout_probability: over tissue scenarios
-        rc = robust_optimum(design)
+        with working("optimize (robust)") as say:
+            if say is not None:
+                say("the optimum over the tissue scenarios, then checked on fresh tissues")
+            rc = robust_optimum(design)
         res = rc.result
     else:
-        res = optimize_design(optimization_model(design))
+        with working("optimize") as say:
+            res = optimize_design(optimization_model(design), progress=say)
     written = None
     if args.output and res.status == "optimal":
         from spiralcap.assemble.system import optimum_design_toml

@@ -124,6 +124,12 @@ def _get(obj: Any, name: str) -> Any:
     return getattr(obj, name)
 
 
+def _has(obj: Any, name: str) -> bool:
+    """Whether a result object or its JSON dict has a finite number ``name``."""
+    value = obj.get(name) if isinstance(obj, Mapping) else getattr(obj, name, None)
+    return isinstance(value, (int, float)) and bool(np.isfinite(value))
+
+
 def plot_margin_vs_frequency(
     ax: Axes,
     frequency_hz: Any,
@@ -501,6 +507,8 @@ def plot_limit_utilisation(
         if allowed == 0:
             continue
         u = value / allowed if sense == "<=" else (allowed / value if value > 0 else np.inf)
+        if _has(c, "utilisation"):  # in the row's own form (a temperature rise, not °C)
+            u = _get(c, "utilisation")
         names.append((labels or {}).get(_get(c, "name"), _get(c, "name")))
         util.append(100.0 * u)
         ok.append(bool(_get(c, "ok")))

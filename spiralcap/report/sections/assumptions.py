@@ -180,8 +180,8 @@ def build(ctx: Context) -> Section:
             Paragraph(
                 [
                     "Every number in this report comes from the models below; where a model is "
-                    "a simplification it says so. In short: the optimiser maximises the margin "
-                    "M over the helical angle α and the frequency f, the field amplitude B0 "
+                    f"a simplification it says so. In short: the optimiser {_goal(ctx)} over "
+                    "the helical angle α and the frequency f, the field amplitude B0 "
                     "capped by every limit of every pair (G: centre field per ampere, κ: the "
                     "field at a workspace point and heading over the centre field)."
                 ]
@@ -192,3 +192,18 @@ def build(ctx: Context) -> Section:
             Bullets([[r] for r in (*REFERENCES, *CONCLUSION_REFERENCES)]),
         ],
     )
+
+
+def _goal(ctx: Context) -> str:
+    """``maximises the worst-case torque margin M`` / ``minimises the worst-heading copper
+    power, subject to the safety factor on M``, from the optimisation's JSON."""
+    try:
+        o = ctx.value("optimize")
+    except (KeyError, TypeError, AttributeError):
+        return "maximises the margin M"
+    what, sense = o.get("objective_description"), o.get("objective_direction")
+    if not what or o.get("objective") == "margin":
+        return "maximises the margin M"
+    verb = {"maximised": "maximises", "minimised": "minimises"}.get(str(sense), "optimises")
+    tail = " (the margin M held at the required safety factor)" if sense == "minimised" else ""
+    return f"{verb} the {what}{tail}"

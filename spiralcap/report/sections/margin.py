@@ -6,6 +6,7 @@ from typing import Any
 
 from spiralcap.report.document import Cell, FigureBlock, Paragraph, Ref, Section, Table
 from spiralcap.report.sections._util import SHOWN_UNITS, Context, readable, step_out_parts
+from spiralcap.report.sections.summary import step_out_clause
 
 #: Rows of the operating-point table: (Evaluation JSON field, label, shown unit, factor).
 EVALUATION_ROWS: tuple[tuple[str, str, str, float], ...] = (
@@ -144,7 +145,11 @@ def build(ctx: Context) -> Section:
             *_max_frequency_parts(ctx, f"{o}.evaluation"),
             " (",
             Ref("fig-margin-frequency"),
-            "). ",
+            "). So, as entered: step-out ",
+            step_out_clause(ctx, e, ctx.value(f"{e}.field_limited_by") == "fixed"),
+            "; at the optimum: step-out ",
+            step_out_clause(ctx, o, bool(ctx.value(f"{o}.field_is_set"))),
+            ". ",
             Ref("fig-torque-budget"),
             " splits the torques at the two operating points.",
         ]

@@ -7,7 +7,7 @@ from typing import Any, cast
 from spiralcap.report.document import Cell, Code, FigureBlock, Paragraph, Ref, Section, Table
 from spiralcap.report.sections._util import SHOWN_UNITS, Context, readable
 from spiralcap.report.sections.margin import checks_table
-from spiralcap.report.sections.summary import binding_gain
+from spiralcap.report.sections.summary import binding_gain, step_out_clause
 
 
 def changed_values(design: Any, result: Any) -> dict[str, Any]:
@@ -58,19 +58,18 @@ def design_file_blocks(ctx: Context) -> list[Any]:
 
 
 def _binding_table(ctx: Context) -> Table:
+    sized = "hardware" in ctx.value("optimize")
     rows: list[list[Cell]] = []
     for i, b in enumerate(ctx.value("optimize.binding_limits")):
-        label, factor = SHOWN_UNITS.get(b["unit"], (b["unit"], 1.0))
-        if b["unit"] == "Hz":
-            label, factor = "Hz", 1.0
+        label = b["key_unit"] if b["key_unit"] not in ("1",) else ""
         verb, gain = binding_gain(ctx, i)
         p = f"optimize.binding_limits.{i}"
         rows.append(
             [
                 readable(b["name"]),
                 b["key"],
-                ctx.num(f"{p}.value", factor, label),
-                ctx.num(f"{p}.allowed", factor, label),
+                ctx.num(f"{p}.value_in_key_unit", 1.0, label),
+                ctx.num(f"{p}.allowed_in_key_unit", 1.0, label),
                 verb,
                 gain,
             ]
@@ -85,10 +84,34 @@ def _binding_table(ctx: Context) -> Table:
             "gain per unit relaxed",
         ],
         rows,
-        caption="Binding limits and their multipliers (d objective / d allowed value, "
-        "from IPOPT's Lagrange multipliers)",
+        caption="Binding limits and their multipliers: what relaxing each by one unit of its "
+        "design key buys in the objective's unit (d objective / d allowed value, from IPOPT's "
+        "Lagrange multipliers with the scaling undone"
+        + ("; of the continuous relaxation, for the sized hardware)" if sized else ")"),
         id="binding-limits",
     )
+
+
+def _shared_keys(ctx: Context) -> list[Paragraph]:
+    """Keys several binding rows share: relaxing the key relaxes them all, its gain the sum."""
+    out = []
+    for i, k in enumerate(ctx.value("optimize.binding_keys")):
+        if len(k["rows"]) < 2:
+            continue
+        obj_unit, per = str(k["gain_per_key_unit_label"]).split(" per ", 1)
+        out.append(
+            Paragraph(
+                [
+                    f"{k['key']} bounds {len(k['rows'])} of these rows ("
+                    + "; ".join(readable(r) for r in k["rows"])
+                    + f"); {k['relaxing_means']} it by 1 {per} relaxes them all and gains ",
+                    ctx.num(f"optimize.binding_keys.{i}.gain_per_key_unit", 1.0, obj_unit),
+                    " in all (IPOPT may split a multiplier among rows that tie in any "
+                    "proportion; their sum is what the key buys).",
+                ]
+            )
+        )
+    return out
 
 
 def _shortfall_table(ctx: Context) -> Table:
@@ -141,21 +164,32 @@ def _draw_utilisation(checks: Any) -> Any:
     return draw
 
 
+def _objective_rows(ctx: Context, what: str, sense: str) -> list[list[Cell]]:
+    o = "optimize"
+    if "objective_value_shown" not in ctx.value(o):
+        return []
+    unit = str(ctx.value(f"{o}.objective_unit")) or "–"
+    return [[f"objective: {what} ({sense})", unit, ctx.num(f"{o}.objective_value_shown")]]
+
+
 def build(ctx: Context) -> Section:
     """The optimum section."""
     o = "optimize"
     feasible = ctx.value(f"{o}.status") == "optimal"
-    objective = ctx.value(f"{o}.objective")
-    goal = "torque margin" if objective == "margin" else "safety factor"
+    what = str(ctx.value(f"{o}.objective_description"))
+    sense = str(ctx.value(f"{o}.objective_direction"))
+    over = "the helical angle, the rotation frequency and the field amplitude"
+    if "hardware" in ctx.value(o):
+        over += ", and the freed hardware keys"
+    starts = int(ctx.value(f"{o}.starts"))
     blocks: list[Any] = [
         Paragraph(
             [
-                f"IPOPT maximised the worst-case {goal} over the helical angle, the rotation "
-                "frequency and the field amplitude (the coil "
+                f"IPOPT {sense} the {what} over {over} (the coil "
                 "currents follow exactly from the field and the headings), with exact CasADi "
                 "derivatives, from ",
                 ctx.num(f"{o}.starts"),
-                " starts (",
+                " start (" if starts == 1 else " starts (",
                 ctx.num(f"{o}.iterations"),
                 " iterations in all; solver status ",
                 str(ctx.value(f"{o}.solver_status")),
@@ -169,6 +203,7 @@ def build(ctx: Context) -> Section:
     ]
     rows: list[list[Cell]] = [
         ["status", "", str(ctx.value(f"{o}.status"))],
+        *_objective_rows(ctx, what, sense),
         ["helical angle", "°", ctx.num(f"{o}.helical_angle_deg")],
         ["rotation frequency", "Hz", ctx.num(f"{o}.frequency_hz")],
         ["rotating field at the centre", "mT", ctx.num(f"{o}.field_amplitude_T", 1e3)],
@@ -183,6 +218,11 @@ def build(ctx: Context) -> Section:
         ["safety factor", "–", ctx.num(f"{o}.safety_factor")],
         ["forward speed", "mm/s", ctx.num(f"{o}.speed_m_s", 1e3)],
         ["step-out frequency at the operating field", "Hz", ctx.num(f"{o}.step_out_frequency_hz")],
+        [
+            "whether the drive reaches it",
+            "",
+            step_out_clause(ctx, o, bool(ctx.value(f"{o}.field_is_set"))),
+        ],
     ]
     blocks.append(
         Table(
@@ -195,13 +235,15 @@ def build(ctx: Context) -> Section:
     if feasible:
         if ctx.value(f"{o}.binding_limits"):
             blocks.append(_binding_table(ctx))
+            blocks += _shared_keys(ctx)
             blocks.append(
                 Paragraph(
                     [
-                        "Read a gain as what relaxing that limit by one unit buys, to first order (from "
-                        "IPOPT's multipliers): raising an upper limit, lowering a requirement or a lower "
-                        "bound. Bounds of the search box (optimize.*) appear when the optimum sits on "
-                        "them. These are the gains `spiralcap optimize` prints."
+                        "Read a gain as what relaxing that limit by one unit of its design key buys "
+                        f"in the {what}, to first order (from IPOPT's multipliers): raising an "
+                        "upper limit, lowering a requirement or a lower bound. Bounds of the "
+                        "search box (optimize.*) appear when the optimum sits on them. These are "
+                        "the gains `spiralcap optimize` prints."
                     ]
                 )
             )

@@ -6,38 +6,51 @@ from typing import Any
 
 from spiralcap.report.document import Inline, Link, Paragraph, Section, Strong
 from spiralcap.report.numbers import Num
-from spiralcap.report.sections._util import Context, readable, step_out_parts
-
-
-def gain_scale(objective: str, unit: str) -> tuple[float, str]:
-    """Factor and label that show a multiplier per SI unit in engineering units.
-
-    Reads :data:`spiralcap.presentation.SHOWN_UNITS` (the table ``spiralcap optimize`` prints
-    its gains with): mN·m per A, V, W, K, mT, mm/s, deg, Hz. A gain per SI unit is a gain per
-    shown unit divided by the unit's factor (per T -> per mT: x 1e-3).
-    """
-    from spiralcap.presentation import shown
-
-    label, to_shown = shown(unit)
-    if unit == "turns":
-        label = "turn"
-    factor = 1.0 / to_shown
-    if objective == "margin":
-        return factor * 1e3, f"mN·m per {label}"
-    return factor, f"safety factor per {label}"
+from spiralcap.report.sections._util import Context, readable
 
 
 def binding_gain(ctx: Context, limit_index: int) -> tuple[str, Num]:
-    """How relaxing binding limit ``i`` helps: the verb and the gain per unit relaxed.
+    """How relaxing binding limit ``i`` helps: the verb and the gain per unit of its key.
 
-    Mirrors ``spiralcap optimize``: "raising it by 1 W gains 0.01234 mN·m" (``lowering`` for a
-    requirement or a lower bound), from the JSON's ``gain_per_unit_relaxed`` and
+    Mirrors ``spiralcap optimize``: "raising it by 1 °C gains 0.02448 mN·m" (``lowering`` for a
+    requirement or a lower bound), from the JSON's ``gain_per_key_unit`` (the objective's shown
+    unit -- mN·m, W, kg or the safety factor -- per unit of the design key) and
     ``relaxing_means``.
     """
     path = f"optimize.binding_limits.{limit_index}"
     b = ctx.value(path)
-    scale, label = gain_scale(ctx.value("optimize.objective"), b["unit"])
-    return b["relaxing_means"], ctx.num(f"{path}.gain_per_unit_relaxed", scale, label)
+    return b["relaxing_means"], ctx.num(
+        f"{path}.gain_per_key_unit", 1.0, b["gain_per_key_unit_label"]
+    )
+
+
+def objective_parts(ctx: Context) -> list[Inline]:
+    """``the copper mass of the three coil pairs, minimised: 140.06 kg``, inline."""
+    o = "optimize"
+    what = str(ctx.value(f"{o}.objective_description"))
+    sense = str(ctx.value(f"{o}.objective_direction"))
+    unit = str(ctx.value(f"{o}.objective_unit"))
+    out: list[Inline] = [f"the {what}, {sense}"]
+    if "objective_value_shown" in ctx.value(o):
+        out += [": ", ctx.num(f"{o}.objective_value_shown", unit=unit)]
+    return out
+
+
+def step_out_clause(ctx: Context, prefix: str, field_fixed: bool) -> str:
+    """The step-out frequency of the result at ``prefix`` and whether the drive reaches it
+    (:func:`spiralcap.presentation.step_out_words`)."""
+    from spiralcap.presentation import step_out_words
+
+    ev = ctx.value(prefix) if prefix.endswith("evaluate") else ctx.value(f"{prefix}.evaluation")
+    top = ctx.value(prefix)
+    return step_out_words(
+        top["step_out_frequency_hz"],
+        top["step_out_bound"],
+        ev["max_frequency_hz"],
+        ev["max_frequency_beyond_search"],
+        ev["max_frequency_limited_by"],
+        field_fixed,
+    )
 
 
 def binding_parts(ctx: Context, limit_index: int) -> list[Inline]:
@@ -45,10 +58,12 @@ def binding_parts(ctx: Context, limit_index: int) -> list[Inline]:
     b = ctx.value(f"optimize.binding_limits.{limit_index}")
     verb, gain = binding_gain(ctx, limit_index)
     unit = gain.unit.split(" per ", 1)[-1]
+    better = "less" if b["objective_sense"] < 0 else "more"
     return [
         Strong(readable(b["name"])),
         f" ({b['key']}): {verb} it by 1 {unit} gains ",
         Num(gain.value, gain.key, gain.scale, gain.unit.split(" per ", 1)[0]),
+        f" {better}",
     ]
 
 
@@ -61,6 +76,10 @@ def build(ctx: Context) -> Section:
         lines.append(
             Paragraph(
                 [
+                    Strong("Objective:"),
+                    " ",
+                    *objective_parts(ctx),
+                    ". ",
                     Strong("Margin:"),
                     " ",
                     ctx.num(f"{o}.margin_Nm", 1e3, "mN·m"),
@@ -82,8 +101,8 @@ def build(ctx: Context) -> Section:
                     Strong("Speed:"),
                     " ",
                     ctx.num(f"{o}.speed_m_s", 1e3, "mm/s"),
-                    " forward; at this helical angle the capsule steps out of synchrony above ",
-                    *step_out_parts(ctx, f"{o}.step_out_frequency_hz"),
+                    " forward; at this helical angle the capsule steps out of synchrony at ",
+                    step_out_clause(ctx, o, bool(ctx.value(f"{o}.field_is_set"))),
                     ".",
                 ]
             )

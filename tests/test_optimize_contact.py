@@ -1,0 +1,88 @@
+"""Issue 22: `optimize` on designs whose optimum sits where the spiral stops touching the wall.
+
+A lumen just wider than the capsule (11.4-11.5 mm, the sample-2 tissue alone) put the optimum on
+the corner of ``max(strain, 0)`` (IPOPT cycled there, "infeasible ... solver"); a design that
+needs no torque at all divided 0 by 0 in the safety-factor row (16 "NaN detected" lines from
+CasADi on file descriptor 2). Run as a subprocess: in-process runs cannot see what CasADi writes.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+from cli_outcome import bad_numbers
+
+ROOT = Path(__file__).resolve().parents[1]
+ALONE = ["--set", "tissue.worst_case_presets=[]"]
+
+
+def _optimize(*sets: str) -> tuple[int, dict, str]:
+    env = dict(os.environ, PYTHONPATH=str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", ""))
+    script = "import sys\nfrom spiralcap.cli import main\nsys.exit(main(sys.argv[1:]))"
+    run = subprocess.run(
+        [sys.executable, "-c", script, "optimize", "--json", *sets],
+        capture_output=True,
+        text=True,
+        env=env,
+        cwd=ROOT,
+        timeout=300,
+    )
+    return run.returncode, json.loads(run.stdout) if run.stdout.strip() else {}, run.stderr
+
+
+def _grid_best_margin_Nm(*sets: str) -> float:
+    """The best feasible margin on a dense angle x frequency grid (an independent search)."""
+    from optimize.evaluate import margin_grid
+    from optimize.system import prepare
+    from spiralcap.design import load_design
+    from spiralcap.robust import optimization_model
+
+    pairs = [s for s in sets if s != "--set"]
+    model = prepare(optimization_model(load_design(None, pairs)))
+    b = model.bounds
+    a = np.linspace(b.helical_angle_min_rad, b.helical_angle_max_rad, 400)
+    f = np.geomspace(b.frequency_min_hz, b.frequency_max_hz, 200)
+    g = margin_grid(model, a[:, None], f[None, :], capacity=True)
+    return float(np.max(np.where(g.feasible, g.margin_Nm, -np.inf)))
+
+
+@pytest.mark.parametrize("lumen_mm", [11.4, 11.45, 11.5])
+def test_a_lumen_just_wider_than_the_capsule_is_optimised(lumen_mm):
+    sets = (*ALONE, "--set", f"tissue.lumen_diameter_mm={lumen_mm}")
+    rc, out, err = _optimize(*sets)
+    assert rc == 0, f"exit 0 (issue 22: was exit 3 'meets solver'); stderr {err!r}"
+    assert "NaN" not in err and err.strip() == "", f"nothing on stderr: {err!r}"
+    assert not bad_numbers(out), bad_numbers(out)
+    grid = _grid_best_margin_Nm(*sets)
+    assert out["margin_Nm"] >= grid * (1 - 1e-6), (
+        f"the optimum ({out['margin_Nm']:.6e} N·m) is at least the best of a 400 x 200 grid "
+        f"({grid:.6e} N·m) within 1e-6"
+    )
+
+
+def test_a_design_needing_no_torque_is_optimised_without_nan():
+    sets = (
+        *ALONE,
+        "--set",
+        "tissue.lumen_diameter_mm=12",
+        "--set",
+        "requirements.axial_load_mN=0",
+    )
+    rc, out, err = _optimize(*sets)
+    assert rc == 0, f"exit 0 (issue 22: was exit 3 and 16 'NaN detected' lines); {err!r}"
+    assert "NaN" not in err and err.strip() == "", f"nothing on stderr: {err!r}"
+    assert not bad_numbers(out), bad_numbers(out)
+    assert out["evaluation"]["required_torque_Nm"] == 0.0, "nothing resists the capsule"
+    assert out["safety_factor_unbounded"] is True
+    assert math.isclose(out["margin_Nm"], out["evaluation"]["magnetic_torque_Nm"], rel_tol=1e-12), (
+        "with nothing to resist, the margin is the magnet's whole torque"
+    )
+    grid = _grid_best_margin_Nm(*sets)
+    assert out["margin_Nm"] >= grid * (1 - 1e-6), "no worse than a dense grid (1e-6)"

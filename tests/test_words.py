@@ -1,0 +1,98 @@
+"""Issue 20.2: words that say what the numbers are -- every check in the form and unit of its
+key, the self-lock as a bound on alpha + atan mu, the step-out with whether the drive reaches
+it, and a report that names its objective in its own unit."""
+
+from __future__ import annotations
+
+import html
+import json
+import math
+import re
+
+import pytest
+from cli_outcome import run
+
+
+def _json(*argv: str) -> dict:
+    rc, out, err = run([*argv, "--json"])
+    assert rc == 0, err
+    return json.loads(out)
+
+
+def test_hot_spot_check_is_in_degrees_celsius_against_the_key():
+    doc = _json("evaluate", "--set", "limits.coil_temperature_C=80")
+    hot = [c for c in doc["checks"] if c["name"].startswith("hot_spot_")]
+    assert len(hot) == 3
+    amb = 25.0  # coils.ambient_temperature_C default (docs/coils-thermal.md)
+    for c in hot:
+        assert (c["key"], c["unit"], c["allowed"]) == ("limits.coil_temperature_C", "°C", 80.0)
+        assert c["value"] <= 80.0 * (1 + 1e-9), "the field is capped by the hot spot"
+        assert c["utilisation"] == pytest.approx((c["value"] - amb) / (80.0 - amb), rel=1e-12), (
+            "utilisation: the rise over the allowed rise"
+        )
+    assert max(c["value"] for c in hot) == pytest.approx(80.0, rel=1e-9), "one pair binds"
+    speed = next(c for c in doc["checks"] if c["name"] == "speed")
+    assert (speed["unit"], speed["allowed"]) == ("mm/s", 5.0), "requirements.min_speed_mm_s = 5"
+
+
+def test_evaluate_text_says_checks_self_lock_and_step_out_in_words():
+    rc, out, _ = run(["evaluate"])
+    assert rc == 0
+    assert re.search(r"winding hot spot, x pair .* 90 °C <= 90 °C", out), out
+    assert "65 <= 65" not in out and " K " not in out
+    m = re.search(r"self-locking .* α \+ atan μ = ([\d.]+)°, must stay below 90°", out)
+    assert m, out
+    doc = _json("evaluate")
+    lock = next(c for c in doc["checks"] if c["name"] == "self_lock")
+    mu = 0.51  # zhou2013-sample3, the most frictional set (Zhou 2013, Table I)
+    assert lock["value"] == pytest.approx(
+        doc["helical_angle_deg"] + math.degrees(math.atan(mu)), abs=1e-9
+    )
+    assert doc["max_frequency_hz"] < doc["step_out_frequency_hz"], "the built-in case"
+    assert (
+        f"{doc['step_out_frequency_hz']:.3g} Hz at the operating field; the drive cannot hold "
+        f"that field above {doc['max_frequency_hz']:.3g} Hz"
+    ) in out and "so the drive limit comes first" in out, out
+
+
+def test_optimize_text_has_no_unitless_numbers():
+    rc, out, _ = run(
+        [
+            "optimize",
+            "--set",
+            "optimize.objective=copper_mass",
+            "--set",
+            "requirements.min_safety_factor=2",
+            "--free",
+            "coils.x.turns=100:800",
+            "--free",
+            "coils.x.wire_diameter_mm=0.8:3.0",
+        ]
+    )
+    assert rc == 0
+    assert "1 starts" not in out
+    assert re.search(r"objective +copper mass of the three coil pairs, minimised: [\d.]+ kg", out)
+    assert re.search(r"whole turns and standard wire cost [\d.e-]+ kg", out), out
+    assert re.search(
+        r"requirements.min_safety_factor.*lowering it by 1 unit gains [\d.]+ kg less", out
+    )
+
+
+def _report_text(tmp_path, *sets: str) -> str:
+    argv = ["report", "--quiet", "-o", str(tmp_path / "r.html")]
+    for s in sets:
+        argv += ["--set", s]
+    rc, _, err = run(argv)
+    assert rc == 0, err
+    t = (tmp_path / "r.html").read_text(encoding="utf-8")
+    t = re.sub(r"<script.*?</script>|<style.*?</style>", "", t, flags=re.S)
+    return re.sub(r"\s+", " ", html.unescape(re.sub(r"<[^>]+>", " ", t)))
+
+
+def test_power_report_names_power_in_watts_never_a_safety_factor_objective(tmp_path):
+    text = _report_text(tmp_path, "optimize.objective=power", "requirements.min_safety_factor=2")
+    assert "IPOPT minimised the worst-heading copper power" in text
+    assert re.search(r"Objective: the worst-heading copper power, minimised: [\d.]+ W", text)
+    assert "safety factor per" not in text, "no gain in safety factor for a power design"
+    assert "maximised the worst-case safety factor" not in text
+    assert re.search(r"gains [\d.]+ W less", text), "gains in watts"
