@@ -41,10 +41,6 @@ def _p05_file(tmp_path: Path) -> str:
     return str(p)
 
 
-#: optimize on a design that needs no torque makes CasADi print "NaN detected" (issue 22,
-#: another branch's item); the comparison itself is checked in test_zero_torque_rows_are_typed
-_ZERO_OPT = pytest.mark.xfail(reason="CasADi NaN lines for a zero-torque optimum", strict=False)
-
 CASES: list = [
     ["--set", "2:limits.power_W=800"],
     ["--set", "2:tissue.E1_kPa=50"],  # optional key set in one design only
@@ -58,18 +54,15 @@ CASES: list = [
     ["--set", "2:limits.field_exposure='off'"],
     ["--set", "2:limits.current_A=0.01"],  # infeasible optimum
     ["--set", "2:capsule.spiral.helical_angle_deg=80"],  # self-locking
-    pytest.param(ZERO_TORQUE, marks=_ZERO_OPT),  # safety factor unbounded in both
-    pytest.param(
-        [
-            "--set",
-            "2:requirements.axial_load_mN=0",
-            "--set",
-            "2:tissue.lumen_diameter_mm=30",
-            "--set",
-            "2:tissue.worst_case_presets=[]",
-        ],
-        marks=_ZERO_OPT,
-    ),  # unbounded in one only
+    ZERO_TORQUE,  # safety factor unbounded in both
+    [
+        "--set",
+        "2:requirements.axial_load_mN=0",
+        "--set",
+        "2:tissue.lumen_diameter_mm=30",
+        "--set",
+        "2:tissue.worst_case_presets=[]",
+    ],  # unbounded in one only
     ["--set", "2:report.title='A title'"],
     [
         "--set",
