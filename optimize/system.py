@@ -201,7 +201,8 @@ def precompute(model: DesignModel) -> Constants:
     ind = np.array([p.series_inductance_H for p in pairs])
     packs = tuple(
         WindingPack(
-            pack_side_m=p.winding_pack_side_m,
+            pack_width_m=p.winding_pack_width_m,
+            pack_depth_m=p.winding_pack_depth_m,
             mean_radius_m=p.radius_m,
             packing_factor=p.packing_factor,
             conductivity_W_mK=model.winding_conductivity_W_mK,
