@@ -319,9 +319,12 @@ def evaluate(
     margin = avail - required
     speed = float(ph.speed_m_s(alpha, f, c, req))
     turns = float(ph.spiral_turns(alpha, c))
+    from optimize.buildcheck import build_checks
+
     checks = [
         *_checks(model, f, field, margin, required, speed, turns),
         self_lock_check(model, alpha),
+        *build_checks(model, FEASIBILITY_RTOL),
     ]
     # the lag behind the field at which the magnet's torque m B sin(lag) meets the load; 90 deg
     # (the most it can give) when the load exceeds it: the magnet then cannot stay synchronous
