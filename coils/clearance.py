@@ -133,7 +133,7 @@ def ring_surface_points(ring: Ring, phi: np.ndarray, s: np.ndarray) -> np.ndarra
     rho, z = _section_point(ring, np.asarray(s, dtype=float))
     phi = np.asarray(phi, dtype=float)
     rho, z, phi = np.broadcast_arrays(rho, z, phi)
-    out = np.empty(rho.shape + (3,))
+    out = np.empty((*rho.shape, 3))
     u, v = (k for k in range(3) if k != ring.axis)
     out[..., u] = rho * np.cos(phi)
     out[..., v] = rho * np.sin(phi)

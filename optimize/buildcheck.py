@@ -9,16 +9,27 @@ the total copper mass at most ``limits.copper_mass_kg`` when that limit is set.
 
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 
-__all__ = ["BUILD_CHECK_NAMES", "build_checks", "copper_masses_kg"]
+__all__ = ["BUILD_CHECK_NAMES", "BuildCheck", "build_checks", "copper_masses_kg"]
 
 #: check name -> pair of pairs
 CLEARANCE_NAMES = {"x/y": "clearance_xy", "x/z": "clearance_xz", "y/z": "clearance_yz"}
 #: every check :func:`build_checks` can return
 BUILD_CHECK_NAMES = frozenset((*CLEARANCE_NAMES.values(), "bore_clearance", "copper_mass"))
+
+
+class BuildCheck(NamedTuple):
+    """One buildability check (the fields of :class:`optimize.evaluate.Check`)."""
+
+    name: str
+    unit: str
+    value: float
+    allowed: float
+    sense: str
+    ok: bool
 
 
 def copper_masses_kg(model: Any) -> tuple[float, float, float]:
@@ -30,14 +41,14 @@ def copper_masses_kg(model: Any) -> tuple[float, float, float]:
     )
 
 
-def build_checks(model: Any, rtol: float = 1e-6) -> list[Any]:
-    """The buildability checks of ``model`` (a :class:`optimize.DesignModel`), as
-    :class:`optimize.evaluate.Check`: ``clearance_xy``, ``clearance_xz``, ``clearance_yz``,
+def build_checks(model: Any, rtol: float = 1e-6) -> list[BuildCheck]:
+    """The buildability checks of ``model`` (a :class:`optimize.DesignModel`):
+    ``clearance_xy``, ``clearance_xz``, ``clearance_yz``,
     ``bore_clearance`` (m, >= the least clearance) and ``copper_mass`` (kg, <= the limit, only
     with ``limits.copper_mass_kg``)."""
     from coils.clearance import bore_clearance_m, pack_clearances_m
-    from optimize.evaluate import Check
 
+    Check = BuildCheck
     need = float(model.requirements.min_clearance_m)
     slack = rtol * max(need, 1e-3)
     out = []

@@ -175,8 +175,8 @@ KEYS: dict[str, Key] = {
         open_=True,
     ),
 }
-# the built-in pairs nest 16 mm apart as solids (coils.min_clearance_mm = 10; issue 18)
-for _ax, _r, _n, _d in (("x", 0.43, 400, 2.8), ("y", 0.35, 350, 2.5), ("z", 0.28, 300, 2.36)):
+# the built-in pairs nest 13.7 mm apart as solids (coils.min_clearance_mm = 10; issue 18)
+for _ax, _r, _n, _d in (("x", 0.43, 400, 3.0), ("y", 0.35, 350, 2.5), ("z", 0.28, 300, 2.36)):
     KEYS[f"coils.{_ax}.radius_m"] = _between(
         f"mean radius of each coil of the {_ax} pair; range: a 1 cm bench coil to a 2 m "
         "whole-body system",

@@ -118,7 +118,7 @@ def test_poor_winding_conductivity_lowers_the_field():
     assert poor.field_amplitude_T < good.field_amplitude_T, (
         "issue 10: k = 0.5 W/(m·K) allows a lower field than k = 50"
     )
-    assert poor.field_limited_by == "hot_spot_x"
+    assert poor.field_limited_by == "hot_spot_y"
 
 
 def test_session_allows_more_and_follows_the_lumped_exponential():
@@ -129,7 +129,7 @@ def test_session_allows_more_and_follows_the_lumped_exponential():
     assert run.field_amplitude_T > steady.field_amplitude_T, (
         "issue 10: a 20 min session allows a higher field than steady state"
     )
-    assert run.field_limited_by == "hot_spot_x"
+    assert run.field_limited_by == "hot_spot_y"
     model = prepare(build_model(design))
     ops, curves = operating_thermal(model, run.field_amplitude_T)
     t = 1200.0
@@ -171,11 +171,11 @@ def test_optimiser_and_evaluate_agree_on_the_session_hot_spot():
     res = optimize_design(m)
     assert res.status == "optimal"
     ev = evaluate(m, res.helical_angle_rad, res.frequency_hz)
-    assert ev.field_limited_by == "hot_spot_x"
+    assert ev.field_limited_by == "hot_spot_y"
     assert res.field_amplitude_T == pytest.approx(ev.field_amplitude_T, rel=1e-6), (
         "IPOPT on the CasADi hot-spot term reaches the field the numpy bisection allows (1e-6)"
     )
-    assert "hot_spot_x" in {b.name for b in res.binding_limits}, "the optimiser's binding row"
+    assert "hot_spot_y" in {b.name for b in res.binding_limits}, "the optimiser's binding row"
     assert res.margin_Nm == pytest.approx(ev.margin_Nm, rel=1e-6)
 
 

@@ -286,6 +286,9 @@ def optimum_design_toml(design: Design, result: Any) -> str:
         f"(objective {result.objective}).\n"
         f"# Started from: {design.source}. Optimum: margin {result.margin_Nm * 1e3:.6g} mN·m, "
         f"safety factor {result.safety_factor:.6g}.\n"
+        f"# Copper: {result.evaluation.copper_mass_kg:.6g} kg ("
+        + ", ".join(f"{ax} {m:.4g} kg" for ax, m in zip("xyz", result.evaluation.copper_masses_kg))
+        + ").\n"
         "# `spiralcap evaluate` on this file reproduces the optimum.\n\n"
     )
     return head + _to_toml(values, comments=True)
