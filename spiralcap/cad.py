@@ -3,7 +3,7 @@
 Through build123d (OpenCASCADE), the optional ``cad`` extra (``pip install "spiralcap[cad]"``).
 Each pack is the solid ring of :mod:`coils.clearance` (mean radius R, axial width w, radial depth
 h, mid-plane at ±s/2 on its pair's axis), built on its own so every solid keeps its own name in
-the STEP file (``coil x-``, ``coil x+``, …, ``workspace``). Millimetres, the usual CAD unit
+the STEP file (``coil_x-``, ``coil_x+``, …, ``workspace``). Millimetres, the usual CAD unit
 (STEP carries it); the coil centre is the origin and x, y, z are the coil axes.
 """
 
@@ -43,7 +43,7 @@ def cad_bodies(pairs: Any, workspace_radius_m: float | None = None) -> list[tupl
     out: list[tuple[str, Any]] = []
     for pair in pairs:
         for sign, ring in zip("-+", pair_rings(pair)):
-            out.append((f"coil {pair.axis}{sign}", ring))
+            out.append((f"coil_{pair.axis}{sign}", ring))
     if workspace_radius_m:
         out.append(("workspace", float(workspace_radius_m)))
     return out

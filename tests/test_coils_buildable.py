@@ -293,3 +293,41 @@ def test_step_without_the_cad_extra_says_how_to_install(monkeypatch, tmp_path, c
     err = capsys.readouterr().err
     assert 'pip install "spiralcap[cad]"' in err and "--step" in err
     assert list(tmp_path.iterdir()) == [], "nothing written"
+
+
+def test_step_read_back_six_named_solids_of_the_right_volume(tmp_path, capsys) -> None:
+    """Issue 18: the STEP file read back by the CAD kernel (OpenCASCADE through build123d):
+    six solids (+ the workspace when asked), each of volume 2πR·w·h (0.5 %), no two with a
+    common volume, and the kernel's own distance between the packs = the tool's clearance."""
+    b3d = pytest.importorskip("build123d")
+    step, stl = tmp_path / "coils.step", tmp_path / "coils.stl"
+    assert cli.main(["coils", "--step", str(step), "--stl", str(stl), "--cad-workspace"]) == 0
+    capsys.readouterr()
+    assert stl.stat().st_size > 10_000, "an STL mesh was written"
+    back = b3d.import_step(str(step))
+    solids = {c.label: c for c in back.children}
+    assert sorted(solids) == sorted(
+        [f"coil_{ax}{s}" for ax in "xyz" for s in "-+"] + ["workspace"]
+    ), "six named packs and the workspace"
+    model = build_model(load_design(None))
+    for pair in model.coils.pairs:
+        expected = (
+            2 * math.pi * pair.radius_m * pair.winding_pack_width_m * pair.winding_pack_depth_m
+        ) * 1e9  # mm³
+        for s in "-+":
+            vol = solids[f"coil_{pair.axis}{s}"].volume
+            assert vol == pytest.approx(expected, rel=0.005), "2πR·w·h, 0.5 %"
+    assert solids["workspace"].volume == pytest.approx(4 / 3 * math.pi * 50.0**3, rel=0.005)
+    packs = [solids[f"coil_{ax}{s}"] for ax in "xyz" for s in "-+"]
+    for a, b in itertools.combinations(packs, 2):
+        common = (a & b).volume if (a & b) is not None else 0.0
+        assert common < 1e-6 * min(a.volume, b.volume), "no two packs share a volume"
+    out = _run_json(["coils", "--json"], capsys)
+    for key, value in out["pack_clearances_m"].items():
+        p, q = key.split("/")
+        kernel = min(
+            solids[f"coil_{p}{s}"].distance_to(solids[f"coil_{q}{t}"]) for s in "-+" for t in "-+"
+        )
+        assert value * 1e3 == pytest.approx(kernel, abs=0.5), (
+            f"{key}: tool vs OpenCASCADE BRepExtrema distance of the exported solids (0.5 mm)"
+        )
