@@ -28,8 +28,10 @@ import numpy as np
 __all__ = [
     "Ring",
     "bore_clearance_m",
+    "nearest_point_on_ring",
     "pack_clearance_m",
     "pack_clearances_m",
+    "pack_closest_points",
     "pair_rings",
     "ring_distance_m",
     "ring_signed_distance",
@@ -150,8 +152,36 @@ def ring_distance_m(a: Ring, b: Ring) -> float:
     return _ring_distance(a, b)
 
 
-@functools.lru_cache(maxsize=4096)
 def _ring_distance(a: Ring, b: Ring) -> float:
+    return _closest(a, b)[0]
+
+
+def nearest_point_on_ring(ring: Ring, point: np.ndarray) -> np.ndarray:
+    """The point of the solid ring nearest ``point`` (shape (3,)), for a point outside it."""
+    p = np.asarray(point, dtype=float)
+    rho, z = _cylindrical(p, ring.axis)
+    r_near = np.clip(rho, ring.radius_m - 0.5 * ring.depth_m, ring.radius_m + 0.5 * ring.depth_m)
+    z_near = np.clip(z, ring.centre_m - 0.5 * ring.width_m, ring.centre_m + 0.5 * ring.width_m)
+    u, v = (k for k in range(3) if k != ring.axis)
+    scale = r_near / rho if rho > 0 else 0.0
+    out = np.empty(3)
+    out[u], out[v], out[ring.axis] = p[u] * scale, p[v] * scale, z_near
+    return out
+
+
+def pack_closest_points(pair_a: Any, pair_b: Any) -> tuple[float, np.ndarray, np.ndarray]:
+    """(clearance m, nearest point on A's packs, nearest point on B's packs) of two pairs; the
+    points are meaningful when the packs are apart (clearance > 0)."""
+    best = min(
+        (_closest(ra, rb) for ra in pair_rings(pair_a) for rb in pair_rings(pair_b)),
+        key=lambda t: t[0],
+    )
+    d, pa, rb = best
+    return d, pa, nearest_point_on_ring(rb, pa)
+
+
+@functools.lru_cache(maxsize=4096)
+def _closest(a: Ring, b: Ring) -> tuple[float, np.ndarray, Ring]:
     per = 2.0 * (a.width_m + a.depth_m)
     n_phi, n_s = _GRID
     dphi, ds = 2.0 * math.pi / n_phi, per / n_s
@@ -163,6 +193,8 @@ def _ring_distance(a: Ring, b: Ring) -> float:
     # more than the cell's spatial size cannot hold the minimum
     cell = math.hypot(dphi * (a.radius_m + 0.5 * a.depth_m), ds)
     flat = [i for i in np.argsort(d, axis=None)[:_REFINE_BEST] if d.flat[i] <= best + cell]
+    i0, j0 = np.unravel_index(int(np.argmin(d)), d.shape)
+    where = (phi[i0], s[j0])
     for idx in flat:
         i, j = np.unravel_index(idx, d.shape)
         c_phi, c_s, h_phi, h_s = phi[i], s[j], dphi, ds
@@ -171,12 +203,14 @@ def _ring_distance(a: Ring, b: Ring) -> float:
             gs = c_s + np.linspace(-h_s, h_s, 9)
             dd = ring_signed_distance(b, ring_surface_points(a, gp[:, None], gs[None, :]))
             k, m = np.unravel_index(int(np.argmin(dd)), dd.shape)
-            best = min(best, float(dd[k, m]))
+            if float(dd[k, m]) < best:
+                best, where = float(dd[k, m]), (gp[k], gs[m])
             c_phi, c_s = gp[k], gs[m]
             h_phi, h_s = 0.5 * h_phi, 0.5 * h_s
             if h_phi * (a.radius_m + a.depth_m) < 1e-10 and h_s < 1e-10:
                 break
-    return best
+    point = ring_surface_points(a, np.array(where[0]), np.array(where[1]))
+    return best, point, b
 
 
 def pack_clearance_m(pair_a: Any, pair_b: Any) -> float:
