@@ -331,3 +331,60 @@ def test_step_read_back_six_named_solids_of_the_right_volume(tmp_path, capsys) -
         assert value * 1e3 == pytest.approx(kernel, abs=0.5), (
             f"{key}: tool vs OpenCASCADE BRepExtrema distance of the exported solids (0.5 mm)"
         )
+
+
+def test_free_radii_aspect_and_turns_keep_the_clearance(tmp_path, capsys) -> None:
+    """Radii, aspects and turns of two pairs free (least power, safety factor 2): the sizing
+    pushes the packs together until the clearance rows bind, and the built design keeps
+    coils.min_clearance_mm by the independent brute-force distance."""
+    out_toml = tmp_path / "sized.toml"
+    free = [
+        "--free",
+        "coils.x.radius_m=0.35:0.5",
+        "--free",
+        "coils.y.radius_m=0.3:0.45",
+        "--free",
+        "coils.x.pack_aspect=0.5:3",
+        "--free",
+        "coils.y.pack_aspect=0.5:3",
+        "--free",
+        "coils.x.turns=100:800",
+        "--free",
+        "coils.y.turns=100:800",
+    ]
+    res = _run_json(["optimize", "--json", "-o", str(out_toml), *free, *LEAST_POWER], capsys)
+    binding = {b["name"] for b in res["binding_limits"]}
+    assert binding & {"clearance_xy", "clearance_yz"}, "a clearance row binds, with a multiplier"
+    model = build_model(load_design([str(out_toml)]))
+    pairs = {p.axis: p for p in model.coils.pairs}
+    for a, b in (("x", "y"), ("x", "z"), ("y", "z")):
+        brute = brute_force_clearance_m(pairs[a], pairs[b])
+        assert brute >= 0.010 - 0.5e-3, f"{a}/{b}: {brute * 1e3:.2f} mm by brute force"
+    assert res["safety_factor"] >= 2.0 * (1 - 1e-6)
+
+
+def test_impossible_clearance_or_mass_exits_3_naming_it(capsys) -> None:
+    assert (
+        cli.main(["optimize", *SIX_KEYS, *LEAST_POWER, "--set", "coils.min_clearance_mm=60"]) == 3
+    )
+    assert "coils.min_clearance_mm" in capsys.readouterr().out
+    assert cli.main(["optimize", *SIX_KEYS, *LEAST_POWER, "--set", "limits.copper_mass_kg=5"]) == 3
+    assert "limits.copper_mass_kg" in capsys.readouterr().out
+
+
+def test_main_job_runs_without_the_cad_extra(tmp_path) -> None:
+    """The README's main job (`spiralcap report`) on an install without build123d: the CAD
+    kernel made unimportable in a fresh interpreter."""
+    import subprocess
+    import sys
+
+    code = (
+        "import sys; sys.modules['build123d'] = None\n"
+        "from spiralcap.cli import main\n"
+        f"rc = main(['report', '-o', {str(tmp_path / 'r.html')!r}])\n"
+        "assert 'build123d' not in [m for m, v in sys.modules.items() if v is not None]\n"
+        "sys.exit(rc)\n"
+    )
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=600)
+    assert done.returncode == 0, done.stderr[-2000:]
+    assert (tmp_path / "r.html").stat().st_size > 100_000, "the report was written"

@@ -375,7 +375,9 @@ def test_pdf_has_several_pages(report: dict[str, Any]) -> None:
     pdf = report["pdf_path"].read_bytes()
     assert pdf.startswith(b"%PDF-"), "a PDF file"
     pages = _pdf_pages(report["pdf_path"])
-    assert MIN_PDF_PAGES <= pages <= MAX_PDF_PAGES, f"a document of at most {MAX_PDF_PAGES} pages: {pages}"
+    assert MIN_PDF_PAGES <= pages <= MAX_PDF_PAGES, (
+        f"a document of at most {MAX_PDF_PAGES} pages: {pages}"
+    )
     assert f"({pages} pages)" in report["stdout"], "the command reports the page count"
 
 
