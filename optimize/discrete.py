@@ -77,9 +77,11 @@ def _neighbours(problem, p, bounds, best, free, sizing) -> tuple[list[dict[str, 
 
 
 def buildable(
-    model: DesignModel, values: dict[str, float], min_bore_m: float
+    model: DesignModel, values: dict[str, float], min_bore_m: float, *, checks: bool = True
 ) -> DesignModel | None:
-    """The model with hardware ``values`` if it can be built and meets the geometric rules."""
+    """The model with hardware ``values`` if it can be built and meets the geometric rules
+    (``checks=False``: constructible only, for the relaxation's iterates, whose clearance rows
+    are exact only once the frozen factors settle)."""
     import capsule as cap
     from optimize.buildcheck import build_checks
     from spiralcap.errors import InputError
@@ -88,7 +90,7 @@ def buildable(
         m = hw.with_hardware(model, values)
     except InputError:
         return None
-    if any(not c.ok for c in build_checks(m)):  # clearances (exact), copper mass
+    if checks and any(not c.ok for c in build_checks(m)):  # clearances (exact), copper mass
         return None
     if hw.bore_m(m) < min_bore_m * (1 - 1e-9):
         return None
@@ -122,7 +124,7 @@ def size_design(model: DesignModel, solver: FixedHardwareSolver) -> Optimization
     min_bore = sizing.min_bore_m if sizing.min_bore_m is not None else hw.bore_m(model)
     base = hw.hardware_of(model)
     hw_now = {v.name: min(max(base[v.name], v.lo), v.hi) for v in free}
-    exact = buildable(fixed_model, hw_now, 0.0) or fixed_model
+    exact = buildable(fixed_model, hw_now, 0.0, checks=False) or fixed_model
     exact = prepare(exact)
     hs = hw.HardwareStructure(
         tuple(v.name for v in free),
@@ -153,7 +155,7 @@ def size_design(model: DesignModel, solver: FixedHardwareSolver) -> Optimization
             break
         best = found
         hw_now = {v.name: best.value(v.name) for v in free}
-        moved = buildable(fixed_model, hw_now, 0.0)
+        moved = buildable(fixed_model, hw_now, 0.0, checks=False)
         if moved is None:
             break
         exact = prepare(moved)
