@@ -24,6 +24,7 @@ import numpy as np
 from coils.electrical import impedance_ohm
 from coils.system import ThreeAxisHelmholtz
 from coils.thermal import WindingPack, radiation_coefficient_W_m2K, steady_state, transient
+from spiralcap.constants import COPPER_DENSITY_kg_m3
 
 __all__ = ["AxisSizing", "SystemSizing", "WorstHeading", "size_system", "winding_pack"]
 
@@ -42,7 +43,11 @@ class AxisSizing:
     turns: int
     wire_diameter_m: float
     winding_pack_side_m: float
+    winding_pack_width_m: float
+    winding_pack_depth_m: float
+    pack_aspect: float
     wire_length_m: float
+    copper_mass_kg: float
     field_per_amp_T_per_A: float
     resistance_20C_ohm: float
     resistance_ohm: float
@@ -94,7 +99,8 @@ def winding_pack(
 ) -> WindingPack:
     """The :class:`coils.thermal.WindingPack` of a :class:`coils.HelmholtzPair`."""
     return WindingPack(
-        pack_side_m=pair.winding_pack_side_m,
+        pack_width_m=pair.winding_pack_width_m,
+        pack_depth_m=pair.winding_pack_depth_m,
         mean_radius_m=pair.radius_m,
         packing_factor=pair.packing_factor,
         conductivity_W_mK=conductivity_W_mK,
@@ -165,7 +171,11 @@ def size_system(
                 turns=pair.turns,
                 wire_diameter_m=pair.wire_diameter_m,
                 winding_pack_side_m=pair.winding_pack_side_m,
+                winding_pack_width_m=pair.winding_pack_width_m,
+                winding_pack_depth_m=pair.winding_pack_depth_m,
+                pack_aspect=pair.pack_aspect,
                 wire_length_m=pair.wire_length_m,
+                copper_mass_kg=COPPER_DENSITY_kg_m3 * pair.wire_length_m * pair.wire_area_m2,
                 field_per_amp_T_per_A=g,
                 resistance_20C_ohm=r20,
                 resistance_ohm=r,

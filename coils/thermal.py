@@ -1,15 +1,18 @@
-"""Winding thermal model: hot spot of a square pack, self-consistent resistance, run time.
+"""Winding thermal model: hot spot of a rectangular pack, self-consistent resistance, run time.
 
-Each coil's winding pack (side c, mean radius R_m) is a homogeneous conductor with uniform heat
-generation q''' = P / V (V = c² · 2π R_m per coil) and an effective transverse conductivity k.
-It loses heat from its four faces (A = 4c · 2π R_m per coil) by convection h and grey-body
+Each coil's winding pack (axial width w, radial depth d, mean radius R_m) is a homogeneous
+conductor with uniform heat generation q''' = P / V (V = w d · 2π R_m per coil) and an effective
+transverse conductivity k. It loses heat from its four faces (A = 2(w + d) · 2π R_m per coil)
+by convection h and grey-body
 radiation ε σ (T_s⁴ - T_a⁴); no conduction into the frame. Every function is written once
 against :mod:`spiralcap.backend` (floats, numpy arrays, CasADi) with no branch on data values;
 the two coils of a pair are identical, so a pair is handled with its total area, volume, heat
 capacity and loss (the intensive results are the same per coil).
 
 Hot spot. For a square section with isothermal faces and uniform q''' the centre lies
-``KAPPA_CENTRE q''' c²/k`` above the faces and the section mean ``KAPPA_MEAN q''' c²/k``
+``KAPPA_CENTRE q''' c²/k`` above the faces and the section mean ``KAPPA_MEAN q''' c²/k``;
+a w x d rectangle has ``κ(w/d) q''' w d/k`` from the same series
+(:func:`rectangle_pack_coefficients`, equal to the square numbers at w = d)
 (Carslaw & Jaeger, *Conduction of Heat in Solids*, 2nd ed., 1959, §6.3; the same Poisson
 problem as Saint-Venant torsion of a square bar, Timoshenko & Goodier, *Theory of Elasticity*,
 1970, §109: centre 0.0737, mean 0.0351 = J/(4 a⁴) with J = 0.1406 a⁴). The faces are taken
@@ -56,6 +59,7 @@ __all__ = [
     "WindingPack",
     "limit_state",
     "radiation_coefficient_W_m2K",
+    "rectangle_pack_coefficients",
     "square_pack_coefficients",
     "steady_state",
     "surface_loss_W",
@@ -93,17 +97,48 @@ def square_pack_coefficients(terms: int = 60) -> tuple[float, float]:
 
 #: Centre and mean rise coefficients of the square pack (0.07367, 0.03514).
 KAPPA_CENTRE, KAPPA_MEAN = square_pack_coefficients()
+#: Series terms of :func:`rectangle_pack_coefficients`: summed along the shorter side each term
+#: falls by e^{-π} at least, so 12 terms are exact to machine precision.
+_RECT_TERMS = 12
+#: Σ_{n>=0} (2n+1)^-5 = (31/32) ζ(5), ζ(5) = 1.0369277551433699 (Abramowitz & Stegun 23.2).
+_ODD_ZETA5 = 31.0 / 32.0 * 1.0369277551433699263
+
+
+def rectangle_pack_coefficients(width: Any, depth: Any) -> tuple[Any, Any]:
+    """Centre and mean rise of a w x d rectangle, isothermal faces, in units of q''' w d/k.
+
+    The series of :func:`square_pack_coefficients` on |x| <= a, |y| <= b with a the shorter
+    half-side (it then converges as e^{-(2n+1)π b/(2a)}), λ_n = (2n+1)π/(2a):
+    θ(0,0) = a²/2 - Σ 2(-1)^n / (a λ_n³ cosh λ_n b) and
+    mean θ = a²/3 - Σ 2 tanh(λ_n b) / (a² b λ_n⁵), both divided by w d = 4ab (Carslaw &
+    Jaeger 1959, §6.3). The value is symmetric in w, d and smooth; min/max only choose the
+    way to sum it (backend-generic). At w = d it equals :data:`KAPPA_CENTRE`, :data:`KAPPA_MEAN`.
+    """
+    a = 0.5 * bk.fmin(width, depth)
+    b = 0.5 * bk.fmax(width, depth)
+    centre = a * a / 2.0
+    # Σ 1/λ_n⁵ = (2a/π)⁵ Σ 1/(2n+1)⁵ = (2a/π)⁵ (31/32) ζ(5) in closed form; tanh = 1 - (1 - tanh)
+    # leaves an exponentially convergent remainder
+    mean = a * a / 3.0 - 2.0 / (a * a * b) * (2.0 * a / math.pi) ** 5 * _ODD_ZETA5
+    for n in range(_RECT_TERMS):
+        lam = (2 * n + 1) * math.pi / (2.0 * a)
+        e = bk.exp(-2.0 * lam * b)  # overflow-safe sech and 1 - tanh
+        sech = 2.0 * bk.sqrt(e) / (1.0 + e)
+        centre = centre - 2.0 * (-1) ** n / (a * lam**3) * sech
+        mean = mean + 2.0 / (a * a * b * lam**5) * (2.0 * e / (1.0 + e))
+    return centre / (4.0 * a * b), mean / (4.0 * a * b)
 
 
 @dataclass(frozen=True)
 class WindingPack:
-    """Thermal description of one pair's two identical square winding packs (SI).
+    """Thermal description of one pair's two identical rectangular winding packs (SI).
 
     Fields may be floats, numpy arrays or CasADi values (sizing with free geometry).
 
     Parameters
     ----------
-    pack_side_m : side c of each square winding pack, m.
+    pack_width_m : axial width w of each winding pack, m.
+    pack_depth_m : radial depth d of each winding pack, m.
     mean_radius_m : mean radius of each coil, m.
     packing_factor : copper area / pack area.
     conductivity_W_mK : effective transverse conductivity k of the pack, W/(m·K).
@@ -112,7 +147,8 @@ class WindingPack:
     coils : number of identical coils (2 for a pair).
     """
 
-    pack_side_m: Any
+    pack_width_m: Any
+    pack_depth_m: Any
     mean_radius_m: Any
     packing_factor: Any
     conductivity_W_mK: Any
@@ -122,13 +158,24 @@ class WindingPack:
 
     @property
     def surface_area_m2(self) -> Any:
-        """Outer faces of all coils, coils · 4c · 2π R_m (Pappus), m²."""
-        return self.coils * 4.0 * self.pack_side_m * 2.0 * bk.pi * self.mean_radius_m
+        """Outer faces of all coils, coils · 2(w + d) · 2π R_m (Pappus), m²."""
+        perimeter = 2.0 * (self.pack_width_m + self.pack_depth_m)
+        return self.coils * perimeter * 2.0 * bk.pi * self.mean_radius_m
+
+    @property
+    def section_m2(self) -> Any:
+        """Cross-section w d of one pack, m²."""
+        return self.pack_width_m * self.pack_depth_m
 
     @property
     def volume_m3(self) -> Any:
-        """Pack volume of all coils, coils · c² · 2π R_m, m³."""
-        return self.coils * self.pack_side_m**2 * 2.0 * bk.pi * self.mean_radius_m
+        """Pack volume of all coils, coils · w d · 2π R_m, m³."""
+        return self.coils * self.section_m2 * 2.0 * bk.pi * self.mean_radius_m
+
+    @property
+    def poisson_coefficients(self) -> tuple[Any, Any]:
+        """(centre, mean) rise of the section in units of q''' w d/k."""
+        return rectangle_pack_coefficients(self.pack_width_m, self.pack_depth_m)
 
     @property
     def heat_capacity_J_per_K(self) -> Any:
@@ -141,13 +188,15 @@ class WindingPack:
 
     @property
     def centre_resistance_K_per_W(self) -> Any:
-        """Hot-spot rise above the faces per watt of pack loss, KAPPA_CENTRE c²/(k V), K/W."""
-        return KAPPA_CENTRE * self.pack_side_m**2 / (self.conductivity_W_mK * self.volume_m3)
+        """Hot-spot rise above the faces per watt of pack loss, κ_c w d/(k V), K/W."""
+        kappa = self.poisson_coefficients[0]
+        return kappa * self.section_m2 / (self.conductivity_W_mK * self.volume_m3)
 
     @property
     def mean_resistance_K_per_W(self) -> Any:
-        """Mean rise above the faces per watt of pack loss, KAPPA_MEAN c²/(k V), K/W."""
-        return KAPPA_MEAN * self.pack_side_m**2 / (self.conductivity_W_mK * self.volume_m3)
+        """Mean rise above the faces per watt of pack loss, κ_m w d/(k V), K/W."""
+        kappa = self.poisson_coefficients[1]
+        return kappa * self.section_m2 / (self.conductivity_W_mK * self.volume_m3)
 
 
 def radiation_coefficient_W_m2K(surface_C: Any, ambient_C: Any, emissivity: Any) -> Any:

@@ -17,15 +17,23 @@ backend-generic expressions of the hardware (numpy floats or CasADi symbols), so
 Frozen per outer iteration (recomputed exactly at each new hardware, then re-solved, until they
 settle): the two pack corrections, the workspace field factor (the weakest field over the
 workspace and headings per tesla: exact differentiation through the 13 x 15 field-ellipse
-minimum would cost more than it gains; it moves by < 1e-3 over the radius ranges here), and the
-gap between the mean turns of two orthogonal pairs (linearised in the two radii).
+minimum would cost more than it gains; it moves by < 1e-3 over the radius ranges here), the
+gap between the mean turns of two orthogonal pairs (linearised in the two radii) and the
+clearance correction below.
+
+Clearance rows (docs/coils-clearance.md). The packs are solid rings of rectangular section; their
+least distance (coils.clearance, exact) has no closed form for crossed axes. Each ring lies in
+the torus of tube radius half its section's diagonal, so ``gap(mean turns) - (diag_a + diag_b)/2``
+is a smooth lower bound, conservative by at most ``(diag - max(w, h))/2`` per pack (0.21 of a
+square pack's side). The row holds that bound plus the frozen correction δ = exact - bound
+at the outer iteration's hardware (δ >= 0), so at the settled hardware the row is the exact
+clearance; every buildable neighbour is then checked with the exact distance.
 """
 
 from __future__ import annotations
 
 import functools
 import itertools
-import math
 from collections.abc import Mapping
 from dataclasses import dataclass, replace
 from typing import Any
@@ -36,7 +44,7 @@ from spiralcap import backend as bk
 from spiralcap.constants import COPPER_DENSITY_kg_m3, MU0_T_m_per_A
 
 AXES = ("x", "y", "z")
-COIL_QUANTITIES = ("radius_m", "turns", "wire_diameter_m")
+COIL_QUANTITIES = ("radius_m", "turns", "wire_diameter_m", "pack_aspect")
 NAMES = (
     *(f"{ax}.{q}" for ax in AXES for q in COIL_QUANTITIES),
     "magnet.diameter_m",
@@ -48,6 +56,7 @@ REFERENCE = {
     "radius_m": 0.1,
     "turns": 100.0,
     "wire_diameter_m": 1e-3,
+    "pack_aspect": 1.0,
     "diameter_m": 1e-3,
     "length_m": 1e-3,
 }
@@ -100,6 +109,7 @@ def hardware_of(model: Any) -> dict[str, float]:
         out[f"{ax}.radius_m"] = float(p.radius_m)
         out[f"{ax}.turns"] = float(p.turns)
         out[f"{ax}.wire_diameter_m"] = float(p.wire_diameter_m)
+        out[f"{ax}.pack_aspect"] = float(p.pack_aspect)
     mag, spiral = model.capsule.magnet, model.capsule.spiral
     out["magnet.diameter_m"] = float(mag.diameter_m)
     out["magnet.length_m"] = float(mag.length_m)
@@ -131,6 +141,7 @@ def with_hardware(model: Any, values: Mapping[str, float]) -> Any:
                 radius_m=r,
                 turns=max(1, round(hw[f"{ax}.turns"])),
                 wire_diameter_m=hw[f"{ax}.wire_diameter_m"],
+                pack_aspect=hw[f"{ax}.pack_aspect"],
                 separation_m=r if helm else p.separation_m,
             )
         )
@@ -191,13 +202,17 @@ class Frozen:
     dgap_dra: np.ndarray  # (3,)
     dgap_drb: np.ndarray  # (3,)
     radii0_m: np.ndarray  # (3,) radii the gaps were linearised at
+    clearance_delta_m: np.ndarray  # (3,) exact clearance - torus bound, >= 0
 
 
 PAIRS_OF_PAIRS = ((0, 1), (0, 2), (1, 2))
+#: Scale of the clearance rows, m.
+CLEARANCE_REF_m = 0.01
 
 
 def frozen_factors(model: Any) -> Frozen:
     """The frozen numbers at ``model``'s (exact, built) hardware."""
+    from coils.clearance import pack_clearance_m, torus_clearance_bound_m
     from coils.loop import coaxial_mutual_inductance_H
     from optimize.system import prepare
 
@@ -210,12 +225,13 @@ def frozen_factors(model: Any) -> Frozen:
         )
         fil = p.turns**2 * coaxial_mutual_inductance_H(p.radius_m, p.radius_m, p.separation_m)
         mut_corr.append(p.mutual_inductance_H / float(fil))
-    gaps, da, db = [], [], []
+    gaps, da, db, delta = [], [], [], []
     h = 1e-6
     for i, j in PAIRS_OF_PAIRS:
         a, b = pairs[i], pairs[j]
         g0 = mean_turn_gap_m(a, b)
         gaps.append(g0)
+        delta.append(max(pack_clearance_m(a, b) - torus_clearance_bound_m(g0, a, b), 0.0))
         da.append((mean_turn_gap_m(_scaled(a, h), b) - g0) / (h * a.radius_m))
         db.append((mean_turn_gap_m(a, _scaled(b, h)) - g0) / (h * b.radius_m))
     return Frozen(
@@ -226,6 +242,7 @@ def frozen_factors(model: Any) -> Frozen:
         np.array(da),
         np.array(db),
         np.array([p.radius_m for p in pairs]),
+        np.array(delta),
     )
 
 
@@ -239,31 +256,40 @@ def _scaled(p: Any, h: float) -> Any:
 
 
 def coil_quantities(
-    radius: Any, turns: Any, wire: Any, separation: Any, *, packing: Any, resistivity: Any, h: Any
+    radius: Any,
+    turns: Any,
+    wire: Any,
+    separation: Any,
+    *,
+    packing: Any,
+    resistivity: Any,
+    h: Any,
+    aspect: Any = 1.0,
 ) -> dict[str, Any]:
-    """Pack side, uncorrected gain, resistance, self inductance, filament mutual inductance
-    (times N²), thermal conductance and copper mass of one pair (backend-generic)."""
+    """Pack side (of the equal-area square), width (axial) and depth (radial), uncorrected
+    gain, resistance, self inductance, filament mutual inductance (times N²), thermal
+    conductance and copper mass of one pair (backend-generic)."""
     from coils.loop import coaxial_mutual_inductance_H
-    from coils.pair import _STEFAN_Y1, _STEFAN_Y2
+    from coils.pair import stefan_bracket
 
     area = bk.pi * wire * wire / 4.0
-    side = bk.sqrt(turns * area / packing)
+    pack_area = turns * area / packing
+    side = bk.sqrt(pack_area)
+    width, depth = bk.sqrt(pack_area * aspect), bk.sqrt(pack_area / aspect)
     length = 2.0 * turns * 2.0 * bk.pi * radius
-    a, c = radius, side
-    bracket = (
-        (1.0 + 4.0 * c * c / (96.0 * a * a)) * bk.log(8.0 * a / (math.sqrt(2.0) * c))
-        - _STEFAN_Y1
-        + c * c / (16.0 * a * a) * _STEFAN_Y2
-    )
+    a = radius
+    bracket = stefan_bracket(a, width, depth)
     return {
         "side_m": side,
+        "width_m": width,
+        "depth_m": depth,
         "gain_T_per_A": _gain_formula(radius, turns, separation),
         "resistance_ohm": resistivity * length / area,
         "self_inductance_H": MU0_T_m_per_A * a * turns * turns * bracket,
         "mutual_filament_H": turns
         * turns
         * coaxial_mutual_inductance_H(radius, radius, separation),
-        "conductance_W_per_K": h * 2.0 * 4.0 * side * 2.0 * bk.pi * radius,
+        "conductance_W_per_K": h * 2.0 * 2.0 * (width + depth) * 2.0 * bk.pi * radius,
         "copper_mass_kg": COPPER_DENSITY_kg_m3 * length * area,
     }
 
@@ -275,6 +301,7 @@ class HardwareStructure:
     free: tuple[str, ...]
     helmholtz: tuple[bool, bool, bool]
     headings: int
+    copper_mass_limit: bool = False
 
 
 def symbolic_constants(
@@ -322,6 +349,7 @@ def symbolic_constants(
                 packing=packing,
                 resistivity=rho,
                 h=hcoef,
+                aspect=hw[f"{ax}.pack_aspect"],
             )
         )
     g = [gcorr[k] * q[k]["gain_T_per_A"] for k in range(3)]
@@ -340,7 +368,8 @@ def symbolic_constants(
     conductivity, emissivity = b.parameter("hw.conductivity"), b.parameter("hw.emissivity")
     packs = tuple(
         WindingPack(
-            pack_side_m=q[k]["side_m"],
+            pack_width_m=q[k]["width_m"],
+            pack_depth_m=q[k]["depth_m"],
             mean_radius_m=hw[f"{AXES[k]}.radius_m"],
             packing_factor=packing,
             conductivity_W_mK=conductivity,
@@ -381,8 +410,9 @@ def symbolic_constants(
 
 
 def geometry_terms(b: Any, hs: HardwareStructure, hw: dict, q: list, ctx: Any) -> list:
-    """Rows that keep a freed design buildable: packs inside their radius and apart from each
-    other (nesting), a clear bore, the magnet inside the shell, the spiral's turns apart."""
+    """Rows that keep a freed design buildable: packs inside their radius, clear of each other
+    and of the bore by the least clearance (module notes), a clear bore, the copper mass within
+    its limit, the magnet inside the shell, the spiral's turns apart."""
     import capsule as cap
     from optimize.nlp import Row
     from optimize.problem import ALPHA_REF_rad, Term
@@ -402,24 +432,37 @@ def geometry_terms(b: Any, hs: HardwareStructure, hw: dict, q: list, ctx: Any) -
     if free & {f"{ax}.{qq}" for ax in AXES for qq in COIL_QUANTITIES}:
         sep = b.parameter("hw.separation_m", (3,))
         bore = b.parameter("hw.min_bore_m")
-        gap0, dga, dgb = (
-            b.parameter(f"frozen.{n}", (3,)) for n in ("gap0_m", "dgap_dra", "dgap_drb")
+        gap0, dga, dgb, delta = (
+            b.parameter(f"frozen.{n}", (3,))
+            for n in ("gap0_m", "dgap_dra", "dgap_drb", "clearance_delta_m")
         )
+        need = b.parameter("requirement.min_clearance_m")
+        bore_r = b.parameter("requirement.bore_radius_m")
         r0 = b.parameter("frozen.radii0_m", (3,))
         freed = [bool(free & {f"{ax}.{qq}" for qq in COIL_QUANTITIES}) for ax in AXES]
         for k, ax in enumerate(AXES):
             if not freed[k]:  # a fixed pair's rows would be constants
                 continue
-            r, side = hw[f"{ax}.radius_m"], q[k]["side_m"]
-            out.append(Term(Row(f"pack_side_{ax}", "geometry", "m"), side, r, upper))
+            r, width, depth = hw[f"{ax}.radius_m"], q[k]["width_m"], q[k]["depth_m"]
+            out.append(Term(Row(f"pack_side_{ax}", "geometry", "m"), depth, r, upper))
             if not hs.helmholtz[k]:
-                out.append(Term(Row(f"pack_separation_{ax}", "geometry", "m"), side, sep[k], upper))
+                out.append(
+                    Term(Row(f"pack_separation_{ax}", "geometry", "m"), width, sep[k], upper)
+                )
             out.append(
                 Term(
                     Row(f"bore_{ax}", "geometry", "m", -1.0),
-                    2.0 * r - side,
+                    2.0 * r - depth,
                     bore,
                     lambda v, a: (a - v) / bk.fmax(a, 1e-3),
+                )
+            )
+            out.append(
+                Term(
+                    Row(f"bore_clearance_{ax}", "geometry", "m", -1.0),
+                    r - 0.5 * depth - bore_r,
+                    need,
+                    lambda v, a: (a - v) / CLEARANCE_REF_m,
                 )
             )
         for n, (i, j) in enumerate(PAIRS_OF_PAIRS):
@@ -427,8 +470,20 @@ def geometry_terms(b: Any, hs: HardwareStructure, hw: dict, q: list, ctx: Any) -
                 continue
             ri, rj = hw[f"{AXES[i]}.radius_m"], hw[f"{AXES[j]}.radius_m"]
             gap = gap0[n] + dga[n] * (ri - r0[i]) + dgb[n] * (rj - r0[j])
-            half = 0.5 * (q[i]["side_m"] + q[j]["side_m"])
-            out.append(Term(Row(f"nesting_{AXES[i]}{AXES[j]}", "geometry", "m"), half, gap, upper))
+            diag = [bk.sqrt(q[k]["width_m"] ** 2 + q[k]["depth_m"] ** 2) for k in (i, j)]
+            clearance = gap - 0.5 * (diag[0] + diag[1]) + delta[n]
+            out.append(
+                Term(
+                    Row(f"clearance_{AXES[i]}{AXES[j]}", "geometry", "m", -1.0),
+                    clearance,
+                    need,
+                    lambda v, a: (a - v) / CLEARANCE_REF_m,
+                )
+            )
+        if hs.copper_mass_limit:
+            mass = q[0]["copper_mass_kg"] + q[1]["copper_mass_kg"] + q[2]["copper_mass_kg"]
+            limit = b.parameter("limit.copper_mass_kg")
+            out.append(Term(Row("copper_mass", "limit", "kg"), mass, limit, upper))
     if free & {"magnet.diameter_m", "magnet.length_m"}:
         r_in, l_cyl = b.parameter("body.inner_radius_m"), b.parameter("body.cylinder_length_m")
         half_d = 0.5 * hw["magnet.diameter_m"]
@@ -488,11 +543,12 @@ def sizing_parameters(model: Any, frozen: Frozen, min_bore_m: float) -> dict[str
             "frozen.dgap_dra": frozen.dgap_dra,
             "frozen.dgap_drb": frozen.dgap_drb,
             "frozen.radii0_m": frozen.radii0_m,
+            "frozen.clearance_delta_m": frozen.clearance_delta_m,
         }
     )
     return values
 
 
 def bore_m(model: Any) -> float:
-    """Clear diameter inside the smallest pair: min over pairs of 2R − c, m."""
-    return float(min(2.0 * p.radius_m - p.winding_pack_side_m for p in model.coils.pairs))
+    """Clear diameter inside the smallest pair: min over pairs of 2R − h (h radial depth), m."""
+    return float(min(2.0 * p.radius_m - p.winding_pack_depth_m for p in model.coils.pairs))

@@ -52,6 +52,7 @@ class Limits:
     power_W: float
     coil_temperature_C: float
     field_exposure: str = "occupational"
+    copper_mass_kg: float | None = None
 
 
 @dataclass(frozen=True)
@@ -59,6 +60,8 @@ class Requirements:
     """What the capsule must do: push ``axial_load_N`` at ``min_speed_m_s``, makeable spiral.
 
     ``min_safety_factor``: available / required torque for every tissue set (1: margin >= 0).
+    ``min_clearance_m``: least distance between the winding packs of two pairs and between the
+    packs' inner faces and a bore of radius ``bore_radius_m`` (coils.clearance).
     """
 
     axial_load_N: float
@@ -66,6 +69,8 @@ class Requirements:
     min_speed_m_s: float
     min_spiral_turns: float
     min_safety_factor: float = 1.0
+    min_clearance_m: float = 0.0
+    bore_radius_m: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -201,7 +206,8 @@ def precompute(model: DesignModel) -> Constants:
     ind = np.array([p.series_inductance_H for p in pairs])
     packs = tuple(
         WindingPack(
-            pack_side_m=p.winding_pack_side_m,
+            pack_width_m=p.winding_pack_width_m,
+            pack_depth_m=p.winding_pack_depth_m,
             mean_radius_m=p.radius_m,
             packing_factor=p.packing_factor,
             conductivity_W_mK=model.winding_conductivity_W_mK,

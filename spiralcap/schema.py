@@ -156,6 +156,16 @@ KEYS: dict[str, Key] = {
         1e4,
         open_=False,
     ),
+    "coils.min_clearance_mm": _between(
+        "least distance between the winding packs of two different pairs, and between the "
+        "inner faces of the packs and the bore (requirements.min_bore_m, else the workspace "
+        "sphere): room for a coil former's wall (3-5 mm glass-fibre epoxy) and an air gap "
+        "that cools the faces; range: 0 (packs may touch) to 200 mm",
+        10.0,
+        0.0,
+        200.0,
+        open_=False,
+    ),
     "coils.packing_factor": _between(
         "copper cross-section / winding-pack cross-section (round wire, layer wound ~0.6-0.8); "
         "range: up to hexagonal close packing of round wire, 0.9069",
@@ -165,7 +175,8 @@ KEYS: dict[str, Key] = {
         open_=True,
     ),
 }
-for _ax, _r, _n in (("x", 0.40, 400), ("y", 0.35, 350), ("z", 0.30, 300)):
+# the built-in pairs nest 13.7 mm apart as solids (coils.min_clearance_mm = 10; issue 18)
+for _ax, _r, _n, _d in (("x", 0.43, 400, 3.0), ("y", 0.35, 350, 2.5), ("z", 0.28, 300, 2.36)):
     KEYS[f"coils.{_ax}.radius_m"] = _between(
         f"mean radius of each coil of the {_ax} pair; range: a 1 cm bench coil to a 2 m "
         "whole-body system",
@@ -184,9 +195,18 @@ for _ax, _r, _n in (("x", 0.40, 400), ("y", 0.35, 350), ("z", 0.30, 300)):
     KEYS[f"coils.{_ax}.wire_diameter_mm"] = _between(
         f"bare copper diameter of the {_ax} winding; range: AWG 44 (0.05 mm) to a 10 mm "
         "solid conductor",
-        2.5,
+        _d,
         0.05,
         10.0,
+        open_=False,
+    )
+    KEYS[f"coils.{_ax}.pack_aspect"] = _between(
+        f"axial width / radial depth of each {_ax} winding pack (1 = square section); range: "
+        "0.25 to 4, beyond which the pack is a thin sheet the Stefan inductance fit, the "
+        "filament field model and the one-temperature face cooling are not made for",
+        1.0,
+        0.25,
+        4.0,
         open_=False,
     )
     KEYS[f"coils.{_ax}.separation_m"] = _between(
@@ -450,6 +470,12 @@ KEYS.update(
             1e6,
             open_=False,
         ),
+        "limits.copper_mass_kg": _between(
+            "largest total copper mass of the three pairs (unset: no limit); range: up to 100 t",
+            None,
+            0.0,
+            1e5,
+        ),
         "limits.coil_temperature_C": _between(
             "hottest winding temperature allowed (the hot spot at the pack centre); range: -50 to 250 °C, the hottest enamel "
             "insulation class (IEC 60317)",
@@ -542,7 +568,11 @@ KEYS.update(
 
 #: Design keys the optimiser can choose (``--free KEY=MIN:MAX``, ``[optimize.free]``).
 FREEABLE_KEYS = (
-    *(f"coils.{ax}.{q}" for ax in "xyz" for q in ("turns", "wire_diameter_mm", "radius_m")),
+    *(
+        f"coils.{ax}.{q}"
+        for ax in "xyz"
+        for q in ("turns", "wire_diameter_mm", "radius_m", "pack_aspect")
+    ),
     "capsule.magnet.diameter_mm",
     "capsule.magnet.length_mm",
     "capsule.spiral.wire_diameter_mm",

@@ -27,7 +27,7 @@ from spiralcap.report.numbers import fmt, lookup
 
 MIN_FIGURES = 10
 MIN_PDF_PAGES = 8
-MAX_PDF_PAGES = 18  # the conclusion section (issue #20) added a page
+MAX_PDF_PAGES = 20  # 16 before the bill of materials, clearances (#18) and conclusion (#20)
 
 
 def _cli_json(argv: list[str]) -> dict[str, Any]:

@@ -82,6 +82,7 @@ def build_model(design: Design):
         power_W=d["limits.power_W"],
         coil_temperature_C=d["limits.coil_temperature_C"],
         field_exposure=d["limits.field_exposure"],
+        copper_mass_kg=d.get("limits.copper_mass_kg"),
     )
     req = Requirements(
         axial_load_N=to_si("requirements.axial_load_mN", d["requirements.axial_load_mN"]),
@@ -89,6 +90,8 @@ def build_model(design: Design):
         min_speed_m_s=to_si("requirements.min_speed_mm_s", d["requirements.min_speed_mm_s"]),
         min_spiral_turns=d["requirements.min_spiral_turns"],
         min_safety_factor=d["requirements.min_safety_factor"],
+        min_clearance_m=to_si("coils.min_clearance_mm", d["coils.min_clearance_mm"]),
+        bore_radius_m=bore_radius_m(d),
     )
     bounds = Bounds(
         helical_angle_min_rad=to_si(
@@ -150,6 +153,8 @@ _CONSTRAINT_KEYS = {
     "frequency_min": "optimize.frequency_min_hz",
     "solver": "optimize.starts",
     "stepout_probability": "requirements.max_stepout_probability",
+    "copper_mass": "limits.copper_mass_kg",
+    "bore_clearance": "coils.min_clearance_mm",
 }
 
 
@@ -183,8 +188,8 @@ def constraint_key(name: str) -> str:
     head, _, axis = stem.rpartition("_")
     if head in geometry and axis in ("x", "y", "z"):
         return geometry[head].format(axis)
-    if stem.startswith("nesting_"):
-        return f"coils.{stem[-1]}.radius_m"
+    if stem.startswith(("clearance_", "bore_clearance")):
+        return "coils.min_clearance_mm"
     if stem.startswith("magnet_"):
         return "capsule.magnet." + stem.split("_", 1)[1] + "_mm"
     if stem == "spiral_clearance":
@@ -202,6 +207,7 @@ _HARDWARE_NAMES: dict[str, tuple[str, float]] = {
     **{f"coils.{ax}.turns": (f"{ax}.turns", 1.0) for ax in "xyz"},
     **{f"coils.{ax}.wire_diameter_mm": (f"{ax}.wire_diameter_m", 1e-3) for ax in "xyz"},
     **{f"coils.{ax}.radius_m": (f"{ax}.radius_m", 1.0) for ax in "xyz"},
+    **{f"coils.{ax}.pack_aspect": (f"{ax}.pack_aspect", 1.0) for ax in "xyz"},
     "capsule.magnet.diameter_mm": ("magnet.diameter_m", 1e-3),
     "capsule.magnet.length_mm": ("magnet.length_m", 1e-3),
     "capsule.spiral.wire_diameter_mm": ("spiral.wire_diameter_m", 1e-3),
@@ -287,6 +293,16 @@ def optimum_design_toml(design: Design, result: Any) -> str:
         f"(objective {result.objective}).\n"
         f"# Started from: {design.source}. Optimum: margin {result.margin_Nm * 1e3:.6g} mN·m, "
         f"safety factor {result.safety_factor:.6g}.\n"
+        f"# Copper: {result.evaluation.copper_mass_kg:.6g} kg ("
+        + ", ".join(f"{ax} {m:.4g} kg" for ax, m in zip("xyz", result.evaluation.copper_masses_kg))
+        + ").\n"
         "# `spiralcap evaluate` on this file reproduces the optimum.\n\n"
     )
     return head + _to_toml(values, comments=True)
+
+
+def bore_radius_m(d: Design) -> float:
+    """Radius of the bore the packs' inner faces keep ``coils.min_clearance_mm`` from:
+    half ``requirements.min_bore_m`` if set, else the workspace sphere's radius, m."""
+    bore = d.get("requirements.min_bore_m")
+    return 0.5 * float(bore) if bore is not None else float(d["workspace.radius_m"])

@@ -161,6 +161,9 @@ def format_result(res) -> str:
                 ev.max_frequency_limited_by,
                 res.field_is_set,
             ),
+            f"copper              {res.evaluation.copper_mass_kg:.4g} kg ("
+            + ", ".join(f"{ax} {m:.4g}" for ax, m in zip("xyz", res.evaluation.copper_masses_kg))
+            + ")",
             "binding limits"
             + (
                 " (of the continuous relaxation: the gains are those of the continuous bound):"
