@@ -44,6 +44,14 @@ class Check:
     utilisation: float = float("nan")
 
 
+def _build_utilisation(value: float, allowed: float, sense: str) -> float:
+    """Utilisation of a buildability check: value / allowed of a limit, needed / achieved of a
+    least clearance (infinite where packs touch or overlap)."""
+    if sense == "<=":
+        return value / allowed
+    return allowed / value if value > 0 else math.inf
+
+
 @dataclass(frozen=True)
 class Evaluation:
     """Immutable result of :func:`evaluate` (SI units; names say the unit)."""
@@ -340,7 +348,11 @@ def evaluate(
     checks = [
         *_checks(model, f, field, margin, required, speed, turns),
         self_lock_check(model, alpha),
-        *(Check(*c) for c in build_checks(model, FEASIBILITY_RTOL)),
+        # a clearance is needed / achieved, the copper mass value / allowed (1 binds)
+        *(
+            Check(*c, _build_utilisation(c.value, c.allowed, c.sense))
+            for c in build_checks(model, FEASIBILITY_RTOL)
+        ),
     ]
     # the lag behind the field at which the magnet's torque m B sin(lag) meets the load; 90 deg
     # (the most it can give) when the load exceeds it: the magnet then cannot stay synchronous

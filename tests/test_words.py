@@ -38,7 +38,7 @@ def test_hot_spot_check_is_in_degrees_celsius_against_the_key():
 def test_evaluate_text_says_checks_self_lock_and_step_out_in_words():
     rc, out, _ = run(["evaluate"])
     assert rc == 0
-    assert re.search(r"winding hot spot, x pair .* 90 °C <= 90 °C", out), out
+    assert re.search(r"winding hot spot, [xyz] pair .* 90 °C <= 90 °C", out), out
     assert "65 <= 65" not in out and " K " not in out
     m = re.search(r"self-locking .* α \+ atan μ = ([\d.]+)°, must stay below 90°", out)
     assert m, out

@@ -56,6 +56,8 @@ td:first-child { overflow-wrap: anywhere; }
   #inputs-table td:first-child, #inputs-changed td:first-child { width: auto; }
 }
 th.n { text-align: right; }
+#bom-table { font-size: 0.8rem; } /* 13 columns: fits a 820 px window */
+#bom-table th, #bom-table td { padding: 0.25rem 0.3rem; }
 th { background: var(--shade); border-bottom: 2px solid var(--ink); }
 td.n { text-align: right; font-variant-numeric: tabular-nums; white-space: nowrap; }
 .num { font-variant-numeric: tabular-nums; }
