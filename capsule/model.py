@@ -69,7 +69,7 @@ def geometry_problems(body: Body, spiral: Spiral, magnet: Magnet) -> list[tuple[
                 (
                     "spiral.helical_angle_rad",
                     f"at least {math.degrees(a_min):.3g} deg, else neighbouring turns of the "
-                    f"{spiral.wire_diameter_m * 1e3:g} mm wire ({spiral.starts} start(s)) "
+                    f"{spiral.wire_diameter_m * 1e3:g} mm wire ({spiral.starts} start{'' if spiral.starts == 1 else 's'}) "
                     "overlap",
                 )
             )

@@ -55,7 +55,7 @@ def run(args: argparse.Namespace) -> int:
         f"body {b.diameter_m * 1e3:g} x {b.length_m * 1e3:g} mm (shell "
         f"{b.shell_thickness_m * 1e3:g} mm); spiral {s.helical_angle_deg:g} deg, "
         f"{s.wire_diameter_m * 1e3:g} mm wire over {s.wound_length_m * 1e3:g} mm, "
-        f"{s.starts} start(s); {m.shape} magnet {m.diameter_m * 1e3:g}"
+        f"{s.starts} start{'' if s.starts == 1 else 's'}; {m.shape} magnet {m.diameter_m * 1e3:g}"
         + (f"/{m.inner_diameter_m * 1e3:g}" if m.inner_diameter_m else "")
         + f" x {m.length_m * 1e3:g} mm, B_r {m.remanence_T:g} T"
     )

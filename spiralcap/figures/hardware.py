@@ -177,7 +177,7 @@ def plot_geometry(
         ax.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, -0.14), fontsize=7.5)
     else:
         legend_ax.axis("off")
-        legend_ax.legend(handles=handles, loc="center", fontsize=8, frameon=False)
+        legend_ax.legend(handles=handles, loc="center", fontsize=7.5, frameon=False, ncols=2)
     cap_ax = None
     if capsule_ax is not None and capsule is not None:
         cap_ax = capsule_ax
@@ -226,10 +226,10 @@ def draw_geometry(
     min_clearance_m: float | None = None,
 ) -> GeometryDrawn:
     """The geometry view on a whole Figure (or SubFigure): the coil section on the left, the
-    legend and the capsule to its own scale on the right. Returns what was drawn.
+    capsule to its own scale on the right, the legend under both. Returns what was drawn.
     """
-    mosaic = [["coils", "legend"], ["coils", "capsule"]]
-    axs = fig.subplot_mosaic(mosaic, width_ratios=[1.0, 1.1], height_ratios=[0.55, 1.0])
+    mosaic = [["coils", "capsule"], ["legend", "legend"]]
+    axs = fig.subplot_mosaic(mosaic, width_ratios=[1.0, 1.1], height_ratios=[1.0, 0.42])
     return plot_geometry(
         axs["coils"],
         coils,
@@ -312,7 +312,7 @@ def plot_capsule(ax: Axes, capsule: Any) -> CapsuleDrawn:
     alpha_deg = math.degrees(spiral.helical_angle_rad)
     ax.set_title(
         f"capsule {d:.3g} × {length:.3g} mm, magnet {dm:.3g} × {lm:.3g} mm\n"
-        f"spiral α = {alpha_deg:.3g}°, {int(spiral.starts)} start(s), wire {dw:.2g} mm, "
+        f"spiral α = {alpha_deg:.3g}°, {int(spiral.starts)} start{'' if int(spiral.starts) == 1 else 's'}, wire {dw:.2g} mm, "
         f"wound over {lw:.3g} mm",
         fontsize=7.5,
     )
