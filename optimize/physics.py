@@ -61,24 +61,70 @@ class LimitTerm:
 _AXES = ("x", "y", "z")
 
 
+def _others_currents(current_A: Any, k: int, c: Constants) -> list[Any]:
+    """The three pairs' currents at the field where pair k's worst heading carries ``current_A``."""
+    per = c.current_per_tesla_A_per_T
+    field = current_A / bk.fmax(per[k], 1e-300)
+    return [current_A if j == k else field * per[j] for j in range(3)]
+
+
+def pair_environments(field_T: Any, c: Constants, ambient_temperature_C: Any) -> list[Any]:
+    """Radiant surroundings of each pair at centre field ``field_T``: the other pairs at their
+    worst-heading currents (first pass of :mod:`coils.thermal_system`); None without view
+    factors."""
+    from coils.thermal_system import surroundings
+
+    per = c.current_per_tesla_A_per_T
+    return surroundings(
+        c.packs,
+        c.resistance_20C_ohm,
+        [field_T * per[j] for j in range(3)],
+        ambient_temperature_C,
+        c.view_factors,
+        c.session_s,
+    )
+
+
+def pair_state(
+    current_A: Any, k: int, c: Constants, ambient_temperature_C: Any, env: Any = "field"
+) -> Any:
+    """:class:`coils.thermal_system.PairTemperatures` of pair k at ``current_A``: steady or at the
+    end of the session, radiating to the other pairs.
+
+    ``env``: the pair's radiant surroundings if the caller has them (None: alone in the room);
+    by default the other pairs at the currents of the field where pair k's worst heading
+    carries ``current_A``.
+    """
+    from coils.thermal_system import end_state, pair_temperatures
+
+    if isinstance(env, str):
+        if c.view_factors is None:
+            env = None
+        else:
+            return pair_temperatures(
+                c.packs,
+                c.resistance_20C_ohm,
+                _others_currents(current_A, k, c),
+                ambient_temperature_C,
+                c.view_factors,
+                c.session_s,
+                only=k,
+            )[k]
+    return end_state(
+        c.packs[k], c.resistance_20C_ohm[k], current_A, ambient_temperature_C, env, c.session_s
+    )
+
+
 def winding_temperatures_C(
-    current_A: Any, k: int, c: Constants, ambient_temperature_C: float
+    current_A: Any, k: int, c: Constants, ambient_temperature_C: Any, env: Any = "field"
 ) -> tuple[Any, Any, Any]:
     """(surface, mean, hot spot) of axis k at a current amplitude, °C: steady or session end."""
-    from coils.thermal import steady_state, transient
-
-    r20 = c.resistance_20C_ohm[k]
-    steady = steady_state(c.packs[k], r20, current_A, ambient_temperature_C)
-    if c.session_s is None:
-        return steady.surface_C, steady.mean_C, steady.hot_spot_C
-    run = transient(
-        c.packs[k], r20, current_A, ambient_temperature_C, c.session_s, steady.surface_C
-    )
-    return run.surface_C, run.mean_C, run.hot_spot_C
+    s = pair_state(current_A, k, c, ambient_temperature_C, env)
+    return s.surface_C, s.mean_C, s.hot_spot_C
 
 
 def winding_resistance_ohm(
-    current_A: Any, k: int, c: Constants, ambient_temperature_C: float
+    current_A: Any, k: int, c: Constants, ambient_temperature_C: Any, env: Any = "field"
 ) -> Any:
     """Resistance of pair k carrying ``current_A``, Ω: at its own mean winding temperature.
 
@@ -86,7 +132,7 @@ def winding_resistance_ohm(
     ``c.winding_temperature_C`` if the design fixes the copper temperature.
     """
     if c.winding_temperature_C is None:
-        mean_C = winding_temperatures_C(current_A, k, c, ambient_temperature_C)[1]
+        mean_C = winding_temperatures_C(current_A, k, c, ambient_temperature_C, env)[1]
         return _resistance_at(mean_C, k, c)
     return _resistance_at(None, k, c)
 
@@ -104,10 +150,10 @@ def hot_spot_rise_K(current_A: Any, k: int, c: Constants, ambient_temperature_C:
     """Hot-spot rise of axis k above ambient at current amplitude ``current_A``, K.
 
     Steady (``c.session_s`` None): :func:`coils.thermal.steady_state` (self-consistent
-    resistance, convection and exact radiation). With a session: the end of a lumped run from
-    ambient (:func:`coils.thermal.transient`, radiation linearised at the steady surface
-    temperature of the same current). Beyond thermal runaway the rise is a finite upper bound
-    far above any limit (coils.thermal.steady_state). Increasing in the current.
+    resistance, convection and radiation to the room and the other pairs). With a session:
+    conduction in the pack from ambient to the end of the session (:func:`coils.thermal.
+    transient`). Beyond thermal runaway the rise is a finite upper bound far above any limit
+    (coils.thermal.steady_state). Increasing in the current.
     """
     return winding_temperatures_C(current_A, k, c, ambient_temperature_C)[2] - ambient_temperature_C
 
@@ -133,7 +179,11 @@ def _memo_key(k: int, per_amp: Any) -> tuple | None:
 
 
 def heading_losses_W(
-    field_T: Any, c: Constants, ambient_temperature_C: Any, memo: dict | None = None
+    field_T: Any,
+    c: Constants,
+    ambient_temperature_C: Any,
+    memo: dict | None = None,
+    envs: list | None = None,
 ) -> list[Any]:
     """Copper loss of every heading, Σ_k R_k(I_hk) I_hk² / 2, W (backend-generic).
 
@@ -144,6 +194,8 @@ def heading_losses_W(
     """
     a = c.heading_current_per_tesla_A_per_T
     memo = {} if memo is None else memo
+    if envs is None:
+        envs = pair_environments(field_T, c, ambient_temperature_C)
     out: list[Any] = []
     rows = a.tolist() if isinstance(a, np.ndarray) else None  # numbers: plain floats, same values
     for h in range(a.shape[0]):
@@ -162,7 +214,7 @@ def heading_losses_W(
                 key = _memo_key(k, per_amp)
             if key is None or key not in memo:
                 cur = field_T * per_amp
-                r = winding_resistance_ohm(cur, k, c, ambient_temperature_C)
+                r = winding_resistance_ohm(cur, k, c, ambient_temperature_C, envs[k])
                 if key is None:
                     loss = loss + 0.5 * r * cur * cur
                     continue
@@ -174,7 +226,11 @@ def heading_losses_W(
 
 
 def total_loss_W(
-    field_T: Any, c: Constants, ambient_temperature_C: Any, memo: dict | None = None
+    field_T: Any,
+    c: Constants,
+    ambient_temperature_C: Any,
+    memo: dict | None = None,
+    envs: list | None = None,
 ) -> Any:
     """Copper loss of the heading that draws the most, max_h Σ_k R_k(I_hk) I_hk² / 2, W.
 
@@ -182,7 +238,7 @@ def total_loss_W(
     temperature at that current (steady or at the end of the session).
     """
     worst: Any = None
-    for loss in heading_losses_W(field_T, c, ambient_temperature_C, memo):
+    for loss in heading_losses_W(field_T, c, ambient_temperature_C, memo, envs):
         worst = loss if worst is None else bk.fmax(worst, loss)
     return worst
 
@@ -218,10 +274,12 @@ def limit_terms(
     fixed_r = c.winding_temperature_C is not None  # then every term but the hot spot is a power law
     amb = ambient_temperature_C
     memo: dict = {}
+    envs = pair_environments(field_T, c, amb)  # the other pairs, once for all three
     for k, ax in enumerate(_AXES):
         per_amp = c.current_per_tesla_A_per_T[k]
         current = field_T * per_amp
-        _, mean_C, hot_C = winding_temperatures_C(current, k, c, amb)  # one thermal solve
+        state = pair_state(current, k, c, amb, envs[k])  # one thermal solve
+        mean_C, hot_C = state.mean_C, state.hot_spot_C
         r = _resistance_at(mean_C, k, c)
         ind = c.inductance_H[k]
         key = _memo_key(k, per_amp)
@@ -246,11 +304,21 @@ def limit_terms(
                 None,
             )
         )
+        if limits.surface_temperature_C is not None:
+            terms.append(
+                LimitTerm(
+                    f"surface_temperature_{ax}",
+                    "K",
+                    state.surface_max_C - ambient_temperature_C,
+                    limits.surface_temperature_C - ambient_temperature_C,
+                    None,
+                )
+            )
     terms.append(
         LimitTerm(
             "power",
             "W",
-            total_loss_W(field_T, c, amb, memo) if loss_W is None else loss_W,
+            total_loss_W(field_T, c, amb, memo, envs) if loss_W is None else loss_W,
             limits.power_W,
             2 if fixed_r else None,
         )
@@ -342,17 +410,23 @@ def _cached_cap(c: Constants, key: tuple, solve: Any) -> Any:
     return cap
 
 
-def _hot_spot_cap_T(k: int, c: Constants, allowed_K: Any, ambient_temperature_C: float) -> Any:
-    """Largest centre field the hot-spot limit of axis k allows (bisection; cached per model)."""
+def _hot_spot_cap_T(
+    k: int, c: Constants, allowed_K: Any, ambient_temperature_C: float, surface: bool = False
+) -> Any:
+    """Largest centre field the hot-spot (``surface``: the hottest face point) limit of axis k
+    allows (bisection; cached per model)."""
     allowed = np.asarray(allowed_K, dtype=float)
     per_amp = float(c.current_per_tesla_A_per_T[k])
     if per_amp <= 0:  # an axis no heading uses carries no current: no cap
         return np.full(allowed.shape, np.inf)
 
     def value(b: Any) -> Any:
+        if surface:
+            s = pair_state(b * per_amp, k, c, ambient_temperature_C)
+            return s.surface_max_C - ambient_temperature_C
         return hot_spot_rise_K(b * per_amp, k, c, ambient_temperature_C)
 
-    key = (k, *_array_key(allowed), float(ambient_temperature_C))
+    key = (k, surface, *_array_key(allowed), float(ambient_temperature_C))
     return _cached_cap(c, key, lambda: _bisect_field_T(value, allowed, allowed.shape))
 
 
@@ -466,9 +540,15 @@ def field_capacity_T(
     unit = limit_terms(frequency_hz, 1.0, c, limits, ambient_temperature_C)
     caps = []
     for t in unit:
-        if t.power is None and t.name.startswith("hot_spot_"):  # depends on B0 only, not on f
-            caps.append(
-                _hot_spot_cap_T(_AXES.index(t.name[-1]), c, t.allowed, ambient_temperature_C)
+        if t.power is None and t.name.startswith(("hot_spot_", "surface_temperature_")):
+            caps.append(  # depends on B0 only, not on f
+                _hot_spot_cap_T(
+                    _AXES.index(t.name[-1]),
+                    c,
+                    t.allowed,
+                    ambient_temperature_C,
+                    surface=t.name.startswith("surface_"),
+                )
             )
             continue
         if t.power is None and t.name == "power":
