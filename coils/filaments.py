@@ -58,15 +58,19 @@ def _chunk(n_filaments: int) -> int:
     return max(64, CHUNK_ELEMENTS // max(n_filaments, 1))
 
 
-def gauss_legendre_pack(side_m: float, counts: tuple[int, int]) -> tuple[np.ndarray, ...]:
-    """Gauss-Legendre nodes and weights over a square winding pack of side ``side_m``.
+def gauss_legendre_pack(
+    side_m: float, counts: tuple[int, int], width_m: float | None = None
+) -> tuple[np.ndarray, ...]:
+    """Gauss-Legendre nodes and weights over a winding pack of radial depth ``side_m``.
 
     Parameters
     ----------
     side_m : float
-        Side of the square pack, m.
+        Radial depth of the pack (the side of a square pack), m.
     counts : (int, int)
         Nodes across the radial and the axial extent.
+    width_m : float, optional
+        Axial width of the pack, m (default: ``side_m``, a square).
 
     Returns
     -------
@@ -75,7 +79,8 @@ def gauss_legendre_pack(side_m: float, counts: tuple[int, int]) -> tuple[np.ndar
     """
     xr, wr = np.polynomial.legendre.leggauss(counts[0])
     xz, wz = np.polynomial.legendre.leggauss(counts[1])
-    dr, dz = np.meshgrid(0.5 * side_m * xr, 0.5 * side_m * xz, indexing="ij")
+    width = side_m if width_m is None else width_m
+    dr, dz = np.meshgrid(0.5 * side_m * xr, 0.5 * width * xz, indexing="ij")
     w = np.outer(wr, wz) / 4.0
     return dr.ravel(), dz.ravel(), w.ravel()
 

@@ -1,9 +1,10 @@
-"""A Helmholtz pair: two coaxial coils in series with square winding packs.
+"""A Helmholtz pair: two coaxial coils in series with rectangular winding packs.
 
-Geometry: each coil has N turns of round copper wire of bare diameter d wound into a square
-cross-section of side c = sqrt(N π d² / 4 / packing_factor) centred on the mean radius R; the
-two coils sit at ±s/2 along the pair's axis (s = R is Helmholtz spacing) and carry the same
-current in the same sense, so their fields add at the centre.
+Geometry: each coil has N turns of round copper wire of bare diameter d wound into a rectangular
+cross-section of area A = N π d² / 4 / packing_factor, axial width w = sqrt(A · aspect) and
+radial depth h = sqrt(A / aspect) (aspect = w/h, 1 = square), centred on the mean radius R; the
+two coils sit at ±s/2 along the pair's axis (s = R is Helmholtz spacing, s between the packs'
+mid-planes) and carry the same current in the same sense, so their fields add at the centre.
 """
 
 from __future__ import annotations
@@ -21,7 +22,7 @@ from coils.loop import coaxial_mutual_inductance_H, loop_field
 from spiralcap.constants import MU0_T_m_per_A
 from spiralcap.errors import InputError, check_positive
 
-__all__ = ["MAX_PACKING_FACTOR", "HelmholtzPair"]
+__all__ = ["MAX_PACKING_FACTOR", "PACK_ASPECT_RANGE", "HelmholtzPair", "stefan_bracket"]
 
 #: Densest packing of equal round wires (hexagonal), π / (2 sqrt 3).
 MAX_PACKING_FACTOR = math.pi / (2.0 * math.sqrt(3.0))
@@ -30,8 +31,68 @@ MAX_PACKING_FACTOR = math.pi / (2.0 * math.sqrt(3.0))
 # y1 = 2 - ln(sqrt(2) / 0.447049) from Maxwell's geometric mean distance of a square, y2.
 _STEFAN_Y1 = 0.848340
 _STEFAN_Y2 = 0.8162
+# y2(x) of Stefan's formula for x = b/c != 1, as ln(y2 x²/(1 + x²)) = P(ln x), a degree-6
+# polynomial fitted (0.2 <= x <= 5) to y2 from Richardson-extrapolated filament volume integrals
+# of Maxwell's formula (this module's tests check the inductance against such an integral); the
+# fit is normalised to Rosa & Grover's 0.8162 at x = 1. The b² y2/(16 a²) term is < 1e-3 of L
+# for packs below 0.3 R, so the fit's few % in y2 are < 5e-5 in L (tested, aspect 0.3 to 3.5).
+_Y2_FIT = (
+    -0.012828510154320405,
+    -0.009083704113209431,
+    0.09602787909165807,
+    0.10615457103015795,
+    -0.25647656859790363,
+    -0.6158715203775984,
+    -0.8962061425000086,
+)
+#: Range of the winding pack aspect (axial width / radial depth) the models are made for.
+PACK_ASPECT_RANGE = (0.25, 4.0)
 # Gauss-Legendre nodes across each pack for the mutual inductance (converged to < 1e-10).
 _MUTUAL_NODES = 4
+
+
+def _stefan_y1(x: Any) -> Any:
+    """y1 of Stefan's formula from Maxwell's geometric mean distance g of a b x c rectangle,
+    y1 = 2 - ln(d/g), x = b/c (exact; 0.84834 at x = 1, 1/2 as x -> 0), backend-generic."""
+    from spiralcap import backend as bk
+
+    return (
+        -1.0 / 12.0
+        - x * x / 12.0 * bk.log(1.0 + 1.0 / (x * x))
+        - 1.0 / (12.0 * x * x) * bk.log(1.0 + x * x)
+        + 2.0 / 3.0 * (x * bk.arctan(1.0 / x) + bk.arctan(x) / x)
+    )
+
+
+_Y1_AT_1 = float(_stefan_y1(1.0))
+
+
+def _stefan_y2(x: Any) -> Any:
+    from spiralcap import backend as bk
+
+    u = bk.log(x)
+    p = 0.0 * u
+    for coefficient in _Y2_FIT:
+        p = p * u + coefficient
+    return _STEFAN_Y2 * bk.exp(p - _Y2_FIT[-1]) * (1.0 + x * x) / (2.0 * x * x)
+
+
+def stefan_bracket(radius: Any, width: Any, depth: Any) -> Any:
+    """L / (μ0 a N²) of one coil by Stefan's formula, axial width b, radial depth c, radius a.
+
+    (1 + (3b² + c²)/(96 a²)) ln(8a/d) - y1 + b²/(16 a²) y2, d = sqrt(b² + c²) (Rosa & Grover,
+    Bull. Bur. Stand. 8, 1912, eq. 91), y1 from the rectangle's geometric mean distance, y2 from
+    :data:`_Y2_FIT`; at b = c exactly the square-section constants. Backend-generic.
+    """
+    from spiralcap import backend as bk
+
+    a, b, c = radius, width, depth
+    x = b / c
+    return (
+        (1.0 + (3.0 * b * b + c * c) / (96.0 * a * a)) * bk.log(8.0 * a / bk.sqrt(b * b + c * c))
+        - (_STEFAN_Y1 + (_stefan_y1(x) - _Y1_AT_1))
+        + b * b / (16.0 * a * a) * _stefan_y2(x)
+    )
 
 
 def _check_count(key: str, value: Any) -> int:
@@ -61,11 +122,13 @@ class HelmholtzPair:
     filaments : (int, int)
         Gauss-Legendre filaments across the radial and axial pack extent used for the *field*
         (1, 1 = one filament at the mean radius; larger counts model the real pack).
+    pack_aspect : float
+        Axial width / radial depth of the winding pack, in :data:`PACK_ASPECT_RANGE`; 1 = square.
 
     Raises
     ------
     InputError
-        A parameter outside its range, named by its parameter name; also a pack side >= R
+        A parameter outside its range, named by its parameter name; also a pack depth >= R
         (``wire_diameter_m``) or coils that overlap (``separation_m``).
     """
 
@@ -76,6 +139,7 @@ class HelmholtzPair:
     wire_diameter_m: float = 2.5e-3
     packing_factor: float = 0.7
     filaments: tuple[int, int] = (1, 1)
+    pack_aspect: float = 1.0
 
     def __post_init__(self) -> None:
         set_ = object.__setattr__
@@ -93,19 +157,26 @@ class HelmholtzPair:
         if not (isinstance(self.filaments, tuple) and len(self.filaments) == 2):
             raise InputError("filaments", self.filaments, "a pair (radial, axial) of counts >= 1")
         set_(self, "filaments", tuple(_check_count("filaments", n) for n in self.filaments))
-        side = self.winding_pack_side_m
-        if side >= self.radius_m:
+        lo, hi = PACK_ASPECT_RANGE
+        aspect = self.pack_aspect
+        if isinstance(aspect, bool) or not isinstance(aspect, (int, float, np.floating)):
+            raise InputError("pack_aspect", aspect, f"a number in [{lo:g}, {hi:g}]")
+        if not lo <= aspect <= hi:
+            raise InputError("pack_aspect", aspect, f"a number in [{lo:g}, {hi:g}]")
+        set_(self, "pack_aspect", float(aspect))
+        depth, width = self.winding_pack_depth_m, self.winding_pack_width_m
+        if depth >= self.radius_m:
             raise InputError(
                 "wire_diameter_m",
                 self.wire_diameter_m,
-                f"a wire thin enough that the winding pack side (now {side:.4g} m "
+                f"a wire thin enough that the winding pack depth (now {depth:.4g} m "
                 f"for {self.turns} turns) is below radius_m = {self.radius_m:.4g} m",
             )
-        if side >= sep:
+        if width >= sep:
             raise InputError(
                 "separation_m",
                 self.separation_m,
-                f"a separation larger than the winding pack side {side:.4g} m "
+                f"a separation larger than the winding pack width {width:.4g} m "
                 "(else the two coils overlap)",
             )
 
@@ -132,8 +203,18 @@ class HelmholtzPair:
 
     @property
     def winding_pack_side_m(self) -> float:
-        """Side c of the square winding pack, m."""
+        """Side of the square of the pack's area, sqrt(w h), m (the side itself at aspect 1)."""
         return math.sqrt(self.winding_pack_area_m2)
+
+    @property
+    def winding_pack_width_m(self) -> float:
+        """Axial width w = sqrt(A · aspect) of each winding pack, m."""
+        return math.sqrt(self.winding_pack_area_m2 * self.pack_aspect)
+
+    @property
+    def winding_pack_depth_m(self) -> float:
+        """Radial depth h = sqrt(A / aspect) of each winding pack, m."""
+        return math.sqrt(self.winding_pack_area_m2 / self.pack_aspect)
 
     @property
     def wire_length_m(self) -> float:
@@ -143,7 +224,9 @@ class HelmholtzPair:
     @cached_property
     def filament_set(self) -> FilamentSet:
         """The field model: both coils as Gauss-Legendre filament grids, one drive column."""
-        dr, dz, w = gauss_legendre_pack(self.winding_pack_side_m, self.filaments)
+        dr, dz, w = gauss_legendre_pack(
+            self.winding_pack_depth_m, self.filaments, self.winding_pack_width_m
+        )
         half = 0.5 * self.spacing_m
         n = len(w)
         return FilamentSet(
@@ -207,22 +290,17 @@ class HelmholtzPair:
 
         Stefan's formula for a circular coil of rectangular section b x c (axial x radial) and
         mean radius a (Rosa & Grover, Bull. Bur. Stand. 8, 1912, eq. 91; Grover, *Inductance
-        Calculations*, 1946, ch. 16), here b = c:
+        Calculations*, 1946, ch. 16):
 
             L = μ0 a N² [(1 + (3b² + c²)/(96 a²)) ln(8a/d) - y1 + b²/(16 a²) y2],
             d = sqrt(b² + c²),
 
-        with y1 = 0.84834, y2 = 0.8162 for a square section. Uniform current density over the
-        pack. Checked in the tests against a filament-sum of Maxwell's mutual formula (volume
-        integral) to < 1e-5 for c/R up to 0.5.
+        with y1 = 0.84834, y2 = 0.8162 for a square section (:func:`stefan_bracket` for b != c).
+        Uniform current density over the pack. Checked in the tests against a filament-sum of
+        Maxwell's mutual formula (volume integral) to < 2e-5 (square) and < 5e-5 (aspect 0.3-3.5).
         """
-        a, c = self.radius_m, self.winding_pack_side_m
-        d = math.sqrt(2.0) * c
-        bracket = (
-            (1.0 + 4.0 * c * c / (96.0 * a * a)) * math.log(8.0 * a / d)
-            - _STEFAN_Y1
-            + c * c / (16.0 * a * a) * _STEFAN_Y2
-        )
+        a = self.radius_m
+        bracket = float(stefan_bracket(a, self.winding_pack_width_m, self.winding_pack_depth_m))
         return MU0_T_m_per_A * a * self.turns**2 * bracket
 
     @cached_property
@@ -234,7 +312,9 @@ class HelmholtzPair:
         4 x 4 Gauss-Legendre rule each (uniform current density; the integrand is smooth because
         the packs do not touch).
         """
-        dr, dz, w = gauss_legendre_pack(self.winding_pack_side_m, (_MUTUAL_NODES,) * 2)
+        dr, dz, w = gauss_legendre_pack(
+            self.winding_pack_depth_m, (_MUTUAL_NODES,) * 2, self.winding_pack_width_m
+        )
         r1, r2 = self.radius_m + dr[:, None], self.radius_m + dr[None, :]
         dist = self.separation_m + dz[:, None] - dz[None, :]
         m = coaxial_mutual_inductance_H(r1, r2, dist)
@@ -248,15 +328,16 @@ class HelmholtzPair:
     # --- thermal -------------------------------------------------------------------------------
     @property
     def surface_area_m2(self) -> float:
-        """Outer surface of both winding packs, 2 x 4c x 2πR (Pappus), m²."""
-        return 2.0 * 4.0 * self.winding_pack_side_m * 2.0 * math.pi * self.radius_m
+        """Outer surface of both winding packs, 2 x 2(w + h) x 2πR (Pappus), m²."""
+        perimeter = 2.0 * (self.winding_pack_width_m + self.winding_pack_depth_m)
+        return 2.0 * perimeter * 2.0 * math.pi * self.radius_m
 
     def thermal_conductance_W_per_K(self, heat_transfer_coefficient_W_m2K: float) -> float:
         """Thermal conductance from both coils to ambient air, h A, W/K.
 
         Assumes each winding pack is isothermal (no internal gradient) and loses heat by
-        convection from all four faces of its square section (inner, outer and both annular
-        faces, total 4c · 2πR per coil) with one coefficient h that also absorbs radiation;
+        convection from all four faces of its section (inner, outer and both annular
+        faces, total 2(w + h) · 2πR per coil) with one coefficient h that also absorbs radiation;
         no conduction into the frame. Pair it with the copper loss of both coils.
 
         Parameters

@@ -94,7 +94,8 @@ def winding_pack(
 ) -> WindingPack:
     """The :class:`coils.thermal.WindingPack` of a :class:`coils.HelmholtzPair`."""
     return WindingPack(
-        pack_side_m=pair.winding_pack_side_m,
+        pack_width_m=pair.winding_pack_width_m,
+        pack_depth_m=pair.winding_pack_depth_m,
         mean_radius_m=pair.radius_m,
         packing_factor=pair.packing_factor,
         conductivity_W_mK=conductivity_W_mK,

@@ -57,6 +57,7 @@ __all__ = [
     "convection_coefficient_W_m2K",
     "radiation_coefficient_W_m2K",
     "radiant_surroundings",
+    "rectangle_pack_coefficients",
     "session_linearisation_C",
     "square_pack_coefficients",
     "steady_state",
@@ -102,6 +103,38 @@ def square_pack_coefficients(terms: int = 60) -> tuple[float, float]:
 #: Centre and mean rise coefficients of the square pack with isothermal faces (0.07367,
 #: 0.03514): the limit h -> ∞ of the Robin problem (tests).
 KAPPA_CENTRE, KAPPA_MEAN = square_pack_coefficients()
+
+
+#: Series terms of :func:`rectangle_pack_coefficients`: summed along the shorter side each term
+#: falls by e^{-π} at least, so 12 terms are exact to machine precision.
+_RECT_TERMS = 12
+#: Σ_{n>=0} (2n+1)^-5 = (31/32) ζ(5), ζ(5) = 1.0369277551433699 (Abramowitz & Stegun 23.2).
+_ODD_ZETA5 = 31.0 / 32.0 * 1.0369277551433699263
+
+
+def rectangle_pack_coefficients(width: Any, depth: Any) -> tuple[Any, Any]:
+    """Centre and mean rise of a w x d rectangle, isothermal faces, in units of q''' w d/k.
+
+    The series of :func:`square_pack_coefficients` on |x| <= a, |y| <= b with a the shorter
+    half-side (it then converges as e^{-(2n+1)π b/(2a)}), λ_n = (2n+1)π/(2a):
+    θ(0,0) = a²/2 - Σ 2(-1)^n / (a λ_n³ cosh λ_n b) and
+    mean θ = a²/3 - Σ 2 tanh(λ_n b) / (a² b λ_n⁵), both divided by w d = 4ab (Carslaw &
+    Jaeger 1959, §6.3). The value is symmetric in w, d and smooth; min/max only choose the
+    way to sum it (backend-generic). At w = d it equals :data:`KAPPA_CENTRE`, :data:`KAPPA_MEAN`.
+    """
+    a = 0.5 * bk.fmin(width, depth)
+    b = 0.5 * bk.fmax(width, depth)
+    centre = a * a / 2.0
+    # Σ 1/λ_n⁵ = (2a/π)⁵ Σ 1/(2n+1)⁵ = (2a/π)⁵ (31/32) ζ(5) in closed form; tanh = 1 - (1 - tanh)
+    # leaves an exponentially convergent remainder
+    mean = a * a / 3.0 - 2.0 / (a * a * b) * (2.0 * a / math.pi) ** 5 * _ODD_ZETA5
+    for n in range(_RECT_TERMS):
+        lam = (2 * n + 1) * math.pi / (2.0 * a)
+        e = bk.exp(-2.0 * lam * b)  # overflow-safe sech and 1 - tanh
+        sech = 2.0 * bk.sqrt(e) / (1.0 + e)
+        centre = centre - 2.0 * (-1) ** n / (a * lam**3) * sech
+        mean = mean + 2.0 / (a * a * b * lam**5) * (2.0 * e / (1.0 + e))
+    return centre / (4.0 * a * b), mean / (4.0 * a * b)
 
 
 @dataclass(frozen=True)
@@ -151,9 +184,20 @@ class WindingPack:
         )
 
     @property
+    def section_m2(self) -> Any:
+        """Cross-section w d of one pack, m²."""
+        return self.pack_width_m * self.pack_depth_m
+
+    @property
     def volume_m3(self) -> Any:
         """Pack volume of all coils, coils · w d · 2π R_m, m³."""
-        return self.coils * self.pack_width_m * self.pack_depth_m * 2.0 * bk.pi * self.mean_radius_m
+        return self.coils * self.section_m2 * 2.0 * bk.pi * self.mean_radius_m
+
+    @property
+    def poisson_coefficients(self) -> tuple[Any, Any]:
+        """(centre, mean) rise of the section with isothermal faces, in units of q w d/k
+        (the limit h -> infinity of the Robin problem the model solves)."""
+        return rectangle_pack_coefficients(self.pack_width_m, self.pack_depth_m)
 
     @property
     def volumetric_heat_capacity_J_m3K(self) -> Any:
@@ -162,6 +206,20 @@ class WindingPack:
         return (
             pf * COPPER_VOLUMETRIC_HEAT_CAPACITY_J_m3K
             + (1.0 - pf) * IMPREGNATION_VOLUMETRIC_HEAT_CAPACITY_J_m3K
+        )
+
+    @property
+    def centre_resistance_K_per_W(self) -> Any:
+        """Centre rise above isothermal faces per watt of pack loss, κ_c w d/(k V), K/W."""
+        return self.poisson_coefficients[0] * self.section_m2 / (
+            self.conductivity_W_mK * self.volume_m3
+        )
+
+    @property
+    def mean_resistance_K_per_W(self) -> Any:
+        """Mean rise above isothermal faces per watt of pack loss, κ_m w d/(k V), K/W."""
+        return self.poisson_coefficients[1] * self.section_m2 / (
+            self.conductivity_W_mK * self.volume_m3
         )
 
     @property

@@ -214,7 +214,8 @@ _SCALAR_FIELDS = (
 )
 #: WindingPack fields that are parameters, one value per pair (coils.thermal.WindingPack).
 PACK_FIELDS = (
-    "pack_side_m",
+    "pack_width_m",
+    "pack_depth_m",
     "mean_radius_m",
     "packing_factor",
     "conductivity_W_mK",

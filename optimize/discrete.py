@@ -258,6 +258,7 @@ def _copper_mass_kg(values: dict[str, float], model: DesignModel) -> float:
                 packing=pf,
                 resistivity=1.0,
                 h=1.0,
+                aspect=values[f"{ax}.pack_aspect"],
             )["copper_mass_kg"]
             for ax in hw.AXES
         )

@@ -25,7 +25,6 @@ from __future__ import annotations
 
 import functools
 import itertools
-import math
 from collections.abc import Mapping
 from dataclasses import dataclass, replace
 from typing import Any
@@ -36,7 +35,7 @@ from spiralcap import backend as bk
 from spiralcap.constants import COPPER_DENSITY_kg_m3, MU0_T_m_per_A
 
 AXES = ("x", "y", "z")
-COIL_QUANTITIES = ("radius_m", "turns", "wire_diameter_m")
+COIL_QUANTITIES = ("radius_m", "turns", "wire_diameter_m", "pack_aspect")
 NAMES = (
     *(f"{ax}.{q}" for ax in AXES for q in COIL_QUANTITIES),
     "magnet.diameter_m",
@@ -48,6 +47,7 @@ REFERENCE = {
     "radius_m": 0.1,
     "turns": 100.0,
     "wire_diameter_m": 1e-3,
+    "pack_aspect": 1.0,
     "diameter_m": 1e-3,
     "length_m": 1e-3,
 }
@@ -100,6 +100,7 @@ def hardware_of(model: Any) -> dict[str, float]:
         out[f"{ax}.radius_m"] = float(p.radius_m)
         out[f"{ax}.turns"] = float(p.turns)
         out[f"{ax}.wire_diameter_m"] = float(p.wire_diameter_m)
+        out[f"{ax}.pack_aspect"] = float(p.pack_aspect)
     mag, spiral = model.capsule.magnet, model.capsule.spiral
     out["magnet.diameter_m"] = float(mag.diameter_m)
     out["magnet.length_m"] = float(mag.length_m)
@@ -131,6 +132,7 @@ def with_hardware(model: Any, values: Mapping[str, float]) -> Any:
                 radius_m=r,
                 turns=max(1, round(hw[f"{ax}.turns"])),
                 wire_diameter_m=hw[f"{ax}.wire_diameter_m"],
+                pack_aspect=hw[f"{ax}.pack_aspect"],
                 separation_m=r if helm else p.separation_m,
             )
         )
@@ -239,31 +241,40 @@ def _scaled(p: Any, h: float) -> Any:
 
 
 def coil_quantities(
-    radius: Any, turns: Any, wire: Any, separation: Any, *, packing: Any, resistivity: Any, h: Any
+    radius: Any,
+    turns: Any,
+    wire: Any,
+    separation: Any,
+    *,
+    packing: Any,
+    resistivity: Any,
+    h: Any,
+    aspect: Any = 1.0,
 ) -> dict[str, Any]:
-    """Pack side, uncorrected gain, resistance, self inductance, filament mutual inductance
-    (times N²), thermal conductance and copper mass of one pair (backend-generic)."""
+    """Pack side (of the equal-area square), width (axial) and depth (radial), uncorrected
+    gain, resistance, self inductance, filament mutual inductance (times N²), thermal
+    conductance and copper mass of one pair (backend-generic)."""
     from coils.loop import coaxial_mutual_inductance_H
-    from coils.pair import _STEFAN_Y1, _STEFAN_Y2
+    from coils.pair import stefan_bracket
 
     area = bk.pi * wire * wire / 4.0
-    side = bk.sqrt(turns * area / packing)
+    pack_area = turns * area / packing
+    side = bk.sqrt(pack_area)
+    width, depth = bk.sqrt(pack_area * aspect), bk.sqrt(pack_area / aspect)
     length = 2.0 * turns * 2.0 * bk.pi * radius
-    a, c = radius, side
-    bracket = (
-        (1.0 + 4.0 * c * c / (96.0 * a * a)) * bk.log(8.0 * a / (math.sqrt(2.0) * c))
-        - _STEFAN_Y1
-        + c * c / (16.0 * a * a) * _STEFAN_Y2
-    )
+    a = radius
+    bracket = stefan_bracket(a, width, depth)
     return {
         "side_m": side,
+        "width_m": width,
+        "depth_m": depth,
         "gain_T_per_A": _gain_formula(radius, turns, separation),
         "resistance_ohm": resistivity * length / area,
         "self_inductance_H": MU0_T_m_per_A * a * turns * turns * bracket,
         "mutual_filament_H": turns
         * turns
         * coaxial_mutual_inductance_H(radius, radius, separation),
-        "conductance_W_per_K": h * 2.0 * 4.0 * side * 2.0 * bk.pi * radius,
+        "conductance_W_per_K": h * 2.0 * 2.0 * (width + depth) * 2.0 * bk.pi * radius,
         "copper_mass_kg": COPPER_DENSITY_kg_m3 * length * area,
     }
 
@@ -322,6 +333,7 @@ def symbolic_constants(
                 packing=packing,
                 resistivity=rho,
                 h=hcoef,
+                aspect=hw[f"{ax}.pack_aspect"],
             )
         )
     g = [gcorr[k] * q[k]["gain_T_per_A"] for k in range(3)]
@@ -340,7 +352,8 @@ def symbolic_constants(
     conductivity, emissivity = b.parameter("hw.conductivity"), b.parameter("hw.emissivity")
     packs = tuple(
         WindingPack(
-            pack_side_m=q[k]["side_m"],
+            pack_width_m=q[k]["width_m"],
+            pack_depth_m=q[k]["depth_m"],
             mean_radius_m=hw[f"{AXES[k]}.radius_m"],
             packing_factor=packing,
             conductivity_W_mK=conductivity,
@@ -410,14 +423,16 @@ def geometry_terms(b: Any, hs: HardwareStructure, hw: dict, q: list, ctx: Any) -
         for k, ax in enumerate(AXES):
             if not freed[k]:  # a fixed pair's rows would be constants
                 continue
-            r, side = hw[f"{ax}.radius_m"], q[k]["side_m"]
-            out.append(Term(Row(f"pack_side_{ax}", "geometry", "m"), side, r, upper))
+            r, width, depth = hw[f"{ax}.radius_m"], q[k]["width_m"], q[k]["depth_m"]
+            out.append(Term(Row(f"pack_side_{ax}", "geometry", "m"), depth, r, upper))
             if not hs.helmholtz[k]:
-                out.append(Term(Row(f"pack_separation_{ax}", "geometry", "m"), side, sep[k], upper))
+                out.append(
+                    Term(Row(f"pack_separation_{ax}", "geometry", "m"), width, sep[k], upper)
+                )
             out.append(
                 Term(
                     Row(f"bore_{ax}", "geometry", "m", -1.0),
-                    2.0 * r - side,
+                    2.0 * r - depth,
                     bore,
                     lambda v, a: (a - v) / bk.fmax(a, 1e-3),
                 )
@@ -494,5 +509,5 @@ def sizing_parameters(model: Any, frozen: Frozen, min_bore_m: float) -> dict[str
 
 
 def bore_m(model: Any) -> float:
-    """Clear diameter inside the smallest pair: min over pairs of 2R − c, m."""
-    return float(min(2.0 * p.radius_m - p.winding_pack_side_m for p in model.coils.pairs))
+    """Clear diameter inside the smallest pair: min over pairs of 2R − h (h radial depth), m."""
+    return float(min(2.0 * p.radius_m - p.winding_pack_depth_m for p in model.coils.pairs))

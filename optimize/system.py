@@ -209,8 +209,8 @@ def packs_of(model: DesignModel) -> tuple:
     fixed = model.heat_transfer_coefficient_W_m2K is not None
     return tuple(
         WindingPack(
-            pack_width_m=p.winding_pack_side_m,
-            pack_depth_m=p.winding_pack_side_m,
+            pack_width_m=p.winding_pack_width_m,
+            pack_depth_m=p.winding_pack_depth_m,
             mean_radius_m=p.radius_m,
             packing_factor=p.packing_factor,
             conductivity_W_mK=model.winding_conductivity_W_mK,
@@ -236,8 +236,8 @@ def view_factors_of(coils: Any) -> Any:
                 p.axis_index,
                 p.radius_m,
                 p.spacing_m,
-                p.winding_pack_side_m,
-                p.winding_pack_side_m,
+                p.winding_pack_width_m,
+                p.winding_pack_depth_m,
             )
             for p in coils.pairs
         ]

@@ -207,6 +207,15 @@ for _ax, _r, _n in (("x", 0.40, 400), ("y", 0.35, 350), ("z", 0.30, 300)):
         10.0,
         open_=False,
     )
+    KEYS[f"coils.{_ax}.pack_aspect"] = _between(
+        f"axial width / radial depth of each {_ax} winding pack (1 = square section); range: "
+        "0.25 to 4, beyond which the pack is a thin sheet the Stefan inductance fit, the "
+        "filament field model and the one-temperature face cooling are not made for",
+        1.0,
+        0.25,
+        4.0,
+        open_=False,
+    )
     KEYS[f"coils.{_ax}.separation_m"] = _between(
         f"distance between the two {_ax} coils (default: the radius, Helmholtz spacing); "
         "range: 5 mm to 4 m (twice the largest radius)",
@@ -557,7 +566,11 @@ KEYS.update(
 
 #: Design keys the optimiser can choose (``--free KEY=MIN:MAX``, ``[optimize.free]``).
 FREEABLE_KEYS = (
-    *(f"coils.{ax}.{q}" for ax in "xyz" for q in ("turns", "wire_diameter_mm", "radius_m")),
+    *(
+        f"coils.{ax}.{q}"
+        for ax in "xyz"
+        for q in ("turns", "wire_diameter_mm", "radius_m", "pack_aspect")
+    ),
     "capsule.magnet.diameter_mm",
     "capsule.magnet.length_mm",
     "capsule.spiral.wire_diameter_mm",

@@ -134,7 +134,9 @@ def test_limits_by_hand_and_shared_with_evaluate(run_cli, capsys) -> None:
     z = out["axes"]["z"]
     from coils.thermal import WindingPack, steady_state
 
-    pack = WindingPack(z["winding_pack_side_m"], z["radius_m"], 0.7, 0.5, 10.0, 0.9)
+    pack = WindingPack(
+        z["winding_pack_side_m"], z["winding_pack_side_m"], z["radius_m"], 0.7, 0.5, 10.0, 0.9
+    )
     i = z["max_current_A"]
     r = float(steady_state(pack, z["resistance_20C_ohm"], i, 25.0).resistance_ohm)
     z_ohm = math.hypot(r, 2 * math.pi * 2.0 * z["inductance_H"])

@@ -168,3 +168,66 @@ def test_system_rejects_pair_on_wrong_axis() -> None:
     with pytest.raises(InputError) as err:
         coils.ThreeAxisHelmholtz(x=x, y=x, z=y)
     assert err.value.key == "y", str(err.value)
+
+
+def _rect_gmd(p: float, q: float) -> float:
+    """Maxwell's geometric mean distance of a p x q rectangle from itself (Rosa & Grover 1912)."""
+    x = p / q
+    return math.exp(
+        math.log(math.hypot(p, q))
+        - x * x / 12 * math.log(1 + 1 / x**2)
+        - 1 / (12 * x * x) * math.log(1 + x * x)
+        + 2 / 3 * (x * math.atan(1 / x) + math.atan(x) / x)
+        - 25 / 12
+    )
+
+
+def volume_self_inductance_rect_H(
+    radius: float, width: float, depth: float, turns: int, n: int
+) -> float:
+    """As volume_self_inductance_H on an axial-width x radial-depth rectangle of n x n cells."""
+    xr = (np.arange(n) + 0.5) * depth / n - depth / 2
+    xz = (np.arange(n) + 0.5) * width / n - width / 2
+    r, z = (v.ravel() for v in np.meshgrid(radius + xr, xz, indexing="ij"))
+    same = np.eye(r.size, dtype=bool)
+    a, b = r[:, None], np.where(same, 2 * r[:, None], r[None, :])
+    mutual = coils.coaxial_mutual_inductance_H(a, b, z[:, None] - z[None, :])
+    own = MU0_T_m_per_A * r * (np.log(8 * r / _rect_gmd(width / n, depth / n)) - 2)
+    return turns**2 * (np.where(same, 0.0, mutual).sum() + own.sum()) / r.size**2
+
+
+@pytest.mark.parametrize("aspect", [0.3, 0.5, 2.0, 3.5])
+def test_self_inductance_of_a_rectangular_pack_vs_volume_integral(aspect: float) -> None:
+    pair = coils.HelmholtzPair(0.3, 400, wire_diameter_m=2.5e-3, pack_aspect=aspect)
+    w, d = pair.winding_pack_width_m, pair.winding_pack_depth_m
+    assert w / d == pytest.approx(aspect, rel=1e-14), "aspect = axial width / radial depth"
+    assert w * d == pytest.approx(pair.winding_pack_area_m2, rel=1e-14), "area kept"
+    coarse, fine = (volume_self_inductance_rect_H(0.3, w, d, 400, n) for n in (16, 32))
+    reference = (4 * fine - coarse) / 3
+    assert pair.self_inductance_H == pytest.approx(reference, rel=5e-5), (
+        f"filament-sum volume integral (Richardson 16/32), rel 5e-5 at aspect {aspect}"
+    )
+
+
+def test_square_aspect_is_the_square_pack() -> None:
+    square = coils.HelmholtzPair(0.35, 300, wire_diameter_m=2.0e-3)
+    also = coils.HelmholtzPair(0.35, 300, wire_diameter_m=2.0e-3, pack_aspect=1.0)
+    side = square.winding_pack_side_m
+    assert also.winding_pack_width_m == pytest.approx(side, rel=1e-15), "w = c at aspect 1"
+    assert also.winding_pack_depth_m == pytest.approx(side, rel=1e-15), "h = c at aspect 1"
+    a, c = 0.35, side
+    stefan = (
+        MU0_T_m_per_A
+        * a
+        * 300**2
+        * (
+            (1 + 4 * c * c / (96 * a * a)) * math.log(8 * a / (math.sqrt(2) * c))
+            - 0.848340
+            + c * c / (16 * a * a) * 0.8162
+        )
+    )
+    assert also.self_inductance_H == pytest.approx(stefan, rel=1e-14), (
+        "Stefan's square-section formula, y1 = 0.84834, y2 = 0.8162 (Rosa & Grover Table 23)"
+    )
+    with pytest.raises(InputError, match="pack_aspect"):
+        coils.HelmholtzPair(0.35, 300, pack_aspect=5.0)

@@ -59,23 +59,23 @@ def test_built_in_hot_spot_within_10_percent_of_the_robin_problem():
     op = th.steady_state(pack, r20, ev.current_amplitudes_A[0], 25.0)
     rise = float(op.hot_spot_C - op.surface_C)
     q = float(op.power_W) / pack.volume_m3
-    by_hand = 0.0737 * q * pack.pack_side_m**2 / 0.5
+    by_hand = 0.0737 * q * pack.pack_width_m**2 / 0.5
     assert rise == pytest.approx(by_hand, rel=1e-3), (
         "issue 10: hot-spot rise = 0.0737 q''' a²/k for the built-in x pack, k = 0.5 (1e-3)"
     )
     h_eff = pack.heat_transfer_coefficient_W_m2K + th.radiation_coefficient_W_m2K(
         float(op.surface_C), 25.0, pack.emissivity
     )
-    biot = float(h_eff * pack.pack_side_m / pack.conductivity_W_mK)
+    biot = float(h_eff * pack.pack_width_m / pack.conductivity_W_mK)
     t = _square_poisson(60, biot)
     robin = _centre(t) - 1.0 / (4.0 * biot)  # mean face temperature from the energy balance
-    assert rise / (robin * q * pack.pack_side_m**2 / 0.5) == pytest.approx(1.0, abs=0.10), (
+    assert rise / (robin * q * pack.pack_width_m**2 / 0.5) == pytest.approx(1.0, abs=0.10), (
         f"hot-spot rise within 10 % of the finite-volume Robin solution at Bi = {biot:.2f}"
     )
 
 
 def test_steady_state_is_self_consistent():
-    pack = th.WindingPack(0.05, 0.4, 0.7, 0.5, 10.0, 0.9)
+    pack = th.WindingPack(0.05, 0.05, 0.4, 0.7, 0.5, 10.0, 0.9)
     st = th.steady_state(pack, 7.0, 13.0, 25.0)
     assert float(st.resistance_ohm) == pytest.approx(
         7.0 * (1 + ALPHA * (float(st.mean_C) - 20.0)), rel=1e-12
@@ -90,7 +90,7 @@ def test_steady_state_is_self_consistent():
 
 
 def test_numpy_and_casadi_agree():
-    pack = th.WindingPack(0.05, 0.4, 0.7, 0.5, 10.0, 0.9)
+    pack = th.WindingPack(0.05, 0.05, 0.4, 0.7, 0.5, 10.0, 0.9)
     x = ca.SX.sym("x")
     for fn in (
         lambda i: th.steady_state(pack, 7.0, i, 25.0).hot_spot_C,
@@ -103,7 +103,7 @@ def test_numpy_and_casadi_agree():
 
 
 def test_runaway_is_reported():
-    pack = th.WindingPack(0.05, 0.4, 0.7, 0.5, 0.01, 0.0)
+    pack = th.WindingPack(0.05, 0.05, 0.4, 0.7, 0.5, 0.01, 0.0)
     st = th.steady_state(pack, 7.0, 200.0, 25.0)
     assert float(st.runaway) == 1.0 and float(st.hot_spot_C) > 1000.0, (
         "no steady state: flagged, with a finite bound far above any limit"
@@ -146,7 +146,7 @@ def test_session_allows_more_and_follows_the_lumped_exponential():
     g = pack.surface_area_m2 * (
         10.0 + th.radiation_coefficient_W_m2K(steady_surface, 25.0, pack.emissivity)
     )
-    r_th = 0.03514 * pack.pack_side_m**2 / (0.5 * pack.volume_m3) + 1.0 / g
+    r_th = 0.03514 * pack.pack_width_m**2 / (0.5 * pack.volume_m3) + 1.0 / g
     cap = pack.volume_m3 * (0.7 * 8960 * 385 + 0.3 * 1200 * 1100)
 
     def rhs(_t, y):
@@ -193,3 +193,63 @@ def test_limit_terms_numpy_and_casadi_agree(session):
         ]
         got = np.array(fn(field, freq)).ravel()
         assert np.allclose(got, expected, rtol=1e-12, atol=0), "numpy and CasADi limits, 1e-12"
+
+
+def _rect_poisson(nx: int, ny: int, lx: float, ly: float) -> np.ndarray:
+    """Cell-centred finite volumes for -∇²T = 1 on an lx x ly rectangle, T = 0 on the faces."""
+    hx, hy = lx / nx, ly / ny
+
+    def lap(n: int, h: float) -> sp.spmatrix:
+        main = np.full(n, 2.0)
+        main[[0, -1]] = 3.0  # the wall half a cell away
+        return sp.diags([-np.ones(n - 1), main, -np.ones(n - 1)], [-1, 0, 1]) / (h * h)
+
+    a = sp.kron(lap(nx, hx), sp.identity(ny)) + sp.kron(sp.identity(nx), lap(ny, hy))
+    return spl.spsolve(a.tocsc(), np.ones(nx * ny)).reshape(nx, ny)
+
+
+@pytest.mark.parametrize("aspect", [0.25, 0.5, 2.0, 3.0])
+def test_rectangle_pack_coefficients_against_finite_volumes(aspect: float) -> None:
+    w, d = math.sqrt(aspect), 1.0 / math.sqrt(aspect)
+    centre, mean = th.rectangle_pack_coefficients(w, d)
+    t = _rect_poisson(int(60 * w) * 2, int(60 * d) * 2, w, d)
+    mx, my = t.shape[0] // 2, t.shape[1] // 2
+    assert float(t[mx - 1 : mx + 1, my - 1 : my + 1].mean()) / (w * d) == pytest.approx(
+        float(centre), rel=3e-3
+    ), f"centre rise of a {w:.2f} x {d:.2f} rectangle: series vs finite volumes (0.3 %)"
+    assert t.mean() / (w * d) == pytest.approx(float(mean), rel=3e-3), (
+        "mean rise: series vs finite volumes (0.3 %)"
+    )
+    swapped = th.rectangle_pack_coefficients(d, w)
+    assert float(swapped[0]) == pytest.approx(float(centre), rel=1e-14), "symmetric in w, d"
+
+
+def test_rectangle_pack_reduces_to_the_square_at_aspect_one() -> None:
+    centre, mean = th.rectangle_pack_coefficients(0.03, 0.03)
+    assert float(centre) == pytest.approx(th.KAPPA_CENTRE, rel=1e-14), "square series, centre"
+    # the square's 60-term mean series is truncated at ~1e-9; the rectangle sums the tail exactly
+    assert float(mean) == pytest.approx(th.square_pack_coefficients(150)[1], rel=1e-12), (
+        "square series (150 terms), mean"
+    )
+    assert float(mean) == pytest.approx(th.KAPPA_MEAN, rel=2e-9), "KAPPA_MEAN (60 terms)"
+    square = th.WindingPack(0.04, 0.04, 0.3, 0.7, 0.5, 10.0, 0.9)
+    assert square.surface_area_m2 == pytest.approx(2 * 4 * 0.04 * 2 * math.pi * 0.3, rel=1e-15)
+    assert square.centre_resistance_K_per_W == pytest.approx(
+        th.KAPPA_CENTRE * 0.04**2 / (0.5 * square.volume_m3), rel=1e-14
+    ), "square pack: KAPPA_CENTRE c²/(k V)"
+    flat = th.WindingPack(0.08, 0.02, 0.3, 0.7, 0.5, 10.0, 0.9)
+    assert flat.volume_m3 == pytest.approx(square.volume_m3, rel=1e-15), "same area w d"
+    assert flat.surface_area_m2 == pytest.approx(2 * 2 * (0.08 + 0.02) * 2 * math.pi * 0.3)
+    assert flat.centre_resistance_K_per_W < square.centre_resistance_K_per_W, (
+        "a flat pack of the same area conducts its heat out over a shorter path"
+    )
+
+
+def test_rectangle_pack_numpy_and_casadi_agree() -> None:
+    w, d = ca.SX.sym("w"), ca.SX.sym("d")
+    fn = ca.Function("k", [w, d], list(th.rectangle_pack_coefficients(w, d)))
+    for ww, dd in ((0.05, 0.02), (0.02, 0.05), (0.03, 0.03)):
+        ref = th.rectangle_pack_coefficients(ww, dd)
+        out = fn(ww, dd)
+        assert float(out[0]) == pytest.approx(float(ref[0]), rel=1e-12), "numpy vs CasADi"
+        assert float(out[1]) == pytest.approx(float(ref[1]), rel=1e-12), "numpy vs CasADi"

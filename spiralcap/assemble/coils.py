@@ -88,20 +88,22 @@ def build_coils(design: Mapping[str, Any]) -> Any:
         radius, turns = design[key + "radius_m"], design[key + "turns"]
         wire_mm = design[key + "wire_diameter_mm"]
         separation = design.get(key + "separation_m") or radius
-        side = math.sqrt(turns * math.pi * (wire_mm * 1e-3) ** 2 / 4.0 / packing)
-        if side >= radius:
+        aspect = design.get(key + "pack_aspect", 1.0)
+        area = turns * math.pi * (wire_mm * 1e-3) ** 2 / 4.0 / packing
+        depth, width = math.sqrt(area / aspect), math.sqrt(area * aspect)
+        if depth >= radius:
             raise InputError(
                 key + "wire_diameter_mm",
                 wire_mm,
-                f"a wire thin enough that the winding pack side (now {side:.4g} m "
-                f"for {turns} turns at packing factor {packing:g}) is below "
-                f"{key}radius_m = {radius:g} m",
+                f"a wire thin enough that the winding pack depth (now {depth:.4g} m "
+                f"for {turns} turns at packing factor {packing:g}, aspect {aspect:g}) is "
+                f"below {key}radius_m = {radius:g} m",
             )
-        if side >= separation:
+        if width >= separation:
             raise InputError(
                 key + "separation_m",
                 separation,
-                f"more than the winding pack side {side:.4g} m, else the two "
+                f"more than the winding pack width {width:.4g} m, else the two "
                 "coils of the pair overlap",
             )
         pairs[ax] = HelmholtzPair(
@@ -111,6 +113,7 @@ def build_coils(design: Mapping[str, Any]) -> Any:
             separation_m=separation,
             wire_diameter_m=wire_mm * 1e-3,
             packing_factor=packing,
+            pack_aspect=aspect,
         )
     for a, b in itertools.combinations("xyz", 2):
         gap = pack_clearance_m(pairs[a], pairs[b])

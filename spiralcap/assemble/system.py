@@ -219,6 +219,7 @@ _HARDWARE_NAMES: dict[str, tuple[str, float]] = {
     **{f"coils.{ax}.turns": (f"{ax}.turns", 1.0) for ax in "xyz"},
     **{f"coils.{ax}.wire_diameter_mm": (f"{ax}.wire_diameter_m", 1e-3) for ax in "xyz"},
     **{f"coils.{ax}.radius_m": (f"{ax}.radius_m", 1.0) for ax in "xyz"},
+    **{f"coils.{ax}.pack_aspect": (f"{ax}.pack_aspect", 1.0) for ax in "xyz"},
     "capsule.magnet.diameter_mm": ("magnet.diameter_m", 1e-3),
     "capsule.magnet.length_mm": ("magnet.length_m", 1e-3),
     "capsule.spiral.wire_diameter_mm": ("spiral.wire_diameter_m", 1e-3),
