@@ -96,15 +96,20 @@ def lower_plate_nusselt(ra: Any) -> Any:
 
 def forced_cylinder_nusselt(re: Any, pr: Any) -> Any:
     """Churchill & Bernstein (1977), cylinder in cross flow, Re·Pr >= 0.2."""
-    return 0.3 + 0.62 * bk.sqrt(re) * pr ** (1.0 / 3.0) / (1.0 + (0.4 / pr) ** (2.0 / 3.0)) ** (
-        0.25
-    ) * (1.0 + (re / 282000.0) ** 0.625) ** 0.8
+    return (
+        0.3
+        + 0.62
+        * bk.sqrt(re)
+        * pr ** (1.0 / 3.0)
+        / (1.0 + (0.4 / pr) ** (2.0 / 3.0)) ** (0.25)
+        * (1.0 + (re / 282000.0) ** 0.625) ** 0.8
+    )
 
 
 def pack_convection_W_m2K(
     width_m: Any,
     depth_m: Any,
-    vertical_axis: Any,
+    vertical_axis: bool,
     surface_C: Any,
     ambient_C: Any,
     air_speed_m_s: Any = 0.0,
@@ -112,27 +117,32 @@ def pack_convection_W_m2K(
 ) -> Any:
     """Area-weighted convective coefficient of one pack's four faces, W/(m²·K).
 
-    ``vertical_axis``: 1 for the z pair (horizontal rings), 0 for x and y (vertical rings); a
-    number, blended linearly (no branch). ``forced``: add forced air at ``air_speed_m_s``.
+    ``vertical_axis``: True for the z pair (horizontal rings), False for x and y (vertical
+    rings); the orientation is part of the model's structure, not a value. ``forced``: add
+    forced air at ``air_speed_m_s``.
     """
     air = air_properties(0.5 * (surface_C + ambient_C))
     dt = surface_C - ambient_C
     dt = bk.sqrt(dt * dt + _DT_FLOOR_K * _DT_FLOOR_K)
-    buoy = _G / (0.5 * (surface_C + ambient_C) + _KELVIN) * dt / (
-        air.kinematic_viscosity_m2_s * air.diffusivity_m2_s
+    buoy = (
+        _G
+        / (0.5 * (surface_C + ambient_C) + _KELVIN)
+        * dt
+        / (air.kinematic_viscosity_m2_s * air.diffusivity_m2_s)
     )  # Ra / L³
     k, pr = air.conductivity_W_mK, air.prandtl
     w, d = width_m, depth_m
-    # z pair: cylinders (share w / (w + d) of the area), annuli up and down (d / (2 (w + d)) each)
-    h_side = vertical_plate_nusselt(buoy * w * w * w, pr) * k / w
-    half_d = 0.5 * d
-    ra_ann = buoy * half_d * half_d * half_d
-    h_up = upper_plate_nusselt(ra_ann) * k / half_d
-    h_down = lower_plate_nusselt(ra_ann) * k / half_d
-    h_vertical_rings = (w * h_side + 0.5 * d * (h_up + h_down)) / (w + d)
     diam = 2.0 * (w + d) / bk.pi
-    h_horizontal_rings = horizontal_cylinder_nusselt(buoy * diam * diam * diam, pr) * k / diam
-    h_nat = vertical_axis * h_vertical_rings + (1.0 - vertical_axis) * h_horizontal_rings
+    if vertical_axis:
+        # cylinders (share w / (w + d) of the area), annuli up and down (d / (2 (w + d)) each)
+        h_side = vertical_plate_nusselt(buoy * w * w * w, pr) * k / w
+        half_d = 0.5 * d
+        ra_ann = buoy * half_d * half_d * half_d
+        h_up = upper_plate_nusselt(ra_ann) * k / half_d
+        h_down = lower_plate_nusselt(ra_ann) * k / half_d
+        h_nat = (w * h_side + 0.5 * d * (h_up + h_down)) / (w + d)
+    else:
+        h_nat = horizontal_cylinder_nusselt(buoy * diam * diam * diam, pr) * k / diam
     if not forced:
         return h_nat
     re = air_speed_m_s * diam / air.kinematic_viscosity_m2_s

@@ -1,11 +1,19 @@
 """The three pairs heating together: steady or at the end of a session, radiating to each other.
 
 Each pair's faces radiate to the room and to the other pairs' packs (view factors of
-:mod:`coils.viewfactors`), which are at their own temperatures. The coupling is solved by one
-Jacobi sweep: every pair alone first (the others at ambient), then each pair with the others'
-surfaces from that first pass. The coupling is weak (a pack's temperature moves its
-neighbours' by F h_r / (h_c + h_r) ≈ 0.1 of its own rise), so the neglected second sweep is
-~1 % of the few kelvin the coupling adds (tests). Backend-generic, fixed operations.
+:mod:`coils.viewfactors`), which are at their own temperatures. Every pair is first solved
+alone (its own pair's share F_self of the emission returns to it, the rest leaves to the room
+at ambient); the other pairs then add the flux ε σ (1 - F_self)(T_r⁴ - T_a⁴) to its faces
+(T_r: :func:`coils.thermal.radiant_surroundings` of the others' surfaces from that pass),
+which the pack's faces, linearised at the state alone (h_eff), take as a uniform rise of their
+sink, θ_env = flux / h_eff: with the copper resistance following the mean temperature the whole
+pack rises by θ_env / (1 - α R20 I²/2 · R_th) at steady state, by the lumped fraction
+1 - e^(-t/τ) of it at the end of a session. The neglected terms are second order in the
+coupling (h_eff moving with the few kelvin the others add; the others' own rise from this one).
+
+The same linearisation gives the loss of a pair at a lighter heading's current
+(:func:`mean_rise_at_K`): exact at the worst heading's current the pair was solved at.
+Backend-generic, fixed operations.
 """
 
 from __future__ import annotations
@@ -14,34 +22,34 @@ from dataclasses import dataclass
 from typing import Any
 
 from coils.thermal import (
+    _KELVIN,
     COPPER_TEMPERATURE_COEFFICIENT_per_K,
+    STEFAN_BOLTZMANN_W_m2K4,
     Surroundings,
     WindingPack,
+    _Faces,
+    _internal,
+    _resistance_ohm,
     radiant_surroundings,
     session_linearisation_C,
     steady_state,
+    surface_estimate_C,
     transient,
 )
 from spiralcap import backend as bk
 
-__all__ = [
-    "PairTemperatures",
-    "end_state",
-    "first_pass_surfaces_C",
-    "lumped_time_constant_s",
-    "pair_temperatures",
-    "surroundings",
-]
+__all__ = ["PairTemperatures", "end_state", "mean_rise_at_K", "pair_temperatures"]
 
 
 @dataclass(frozen=True)
 class PairTemperatures:
     """One pair at the end of the run (steady, or at the end of the session); °C, W, W/(m²·K).
 
-    ``surface_C`` is the mean face temperature, ``surface_max_C`` the hottest face point;
-    ``env`` the radiant surroundings it was solved with, ``linearise_C`` the surface temperature
-    its faces were linearised at (session) and ``steady`` the steady state in those
-    surroundings.
+    ``surface_C`` is the mean face temperature, ``surface_max_C`` the hottest face point.
+    Linearisation (for :func:`mean_rise_at_K` and the coupling): ``effective_h_W_m2K`` (h_c +
+    h_r at the faces), ``thermal_resistance_K_per_W`` R_th (mean above the sink per watt),
+    ``sink_rise_K`` θ_env from the other pairs, ``session_ratio`` (mean rise reached / its
+    linear steady value; 1 at steady state), ``runaway`` (1: no steady state).
     """
 
     surface_C: Any
@@ -52,21 +60,25 @@ class PairTemperatures:
     convection_W_m2K: Any
     effective_h_W_m2K: Any
     time_constant_s: Any
-    env: Surroundings
-    steady: Any
-    linearise_C: Any
+    thermal_resistance_K_per_W: Any
+    sink_rise_K: Any
+    session_ratio: Any
+    runaway: Any
+    internal: Any = None
 
 
-def lumped_time_constant_s(
-    pack: WindingPack, resistance_20C_ohm: Any, current_A: Any, steady: Any
-) -> Any:
-    """τ = C / (1/R_th - α R20 I²/2) of the mean rise with the steady faces (negative: runaway)."""
-    from coils.thermal import _internal
+def _lumped(pack: WindingPack, heff: Any, p1: Any, inner: Any = None) -> tuple[Any, Any, Any]:
+    """(R_th, τ, internal offsets) of the pack with faces h_eff and loss slope p₁ = dP/dT
+    (``inner``: the Robin offsets at h_eff if the caller has them)."""
+    inner = _internal(pack, heff) if inner is None else inner
+    r_th = inner.mean + 1.0 / (heff * pack.surface_area_m2)
+    return r_th, pack.heat_capacity_J_per_K / (1.0 / r_th - p1), inner
 
-    heff = steady.effective_h_W_m2K
-    r_th = _internal(pack, heff).mean + 1.0 / (heff * pack.surface_area_m2)
-    p1 = COPPER_TEMPERATURE_COEFFICIENT_per_K * resistance_20C_ohm * 0.5 * current_A * current_A
-    return pack.heat_capacity_J_per_K / (1.0 / r_th - p1)
+
+def _ratio(rise: Any, linear: Any) -> Any:
+    """rise / linear, 1 where the linear rise is 0 (no current)."""
+    some = bk.abs(linear) > 1e-300
+    return bk.where(some, rise / bk.where(some, linear, 1.0), 1.0)
 
 
 def end_state(
@@ -77,10 +89,14 @@ def end_state(
     env: Surroundings | None,
     session_s: Any,
 ) -> PairTemperatures:
-    """One pair in fixed surroundings: steady (``session_s`` None) or at the session's end."""
+    """One pair in fixed radiant surroundings: steady (``session_s`` None) or at session end."""
     st = steady_state(pack, resistance_20C_ohm, current_A, ambient_C, env)
-    tau = lumped_time_constant_s(pack, resistance_20C_ohm, current_A, st)
+    half_i2 = 0.5 * current_A * current_A
+    p1 = COPPER_TEMPERATURE_COEFFICIENT_per_K * resistance_20C_ohm * half_i2
+    r_th, tau, _ = _lumped(pack, st.effective_h_W_m2K, p1, st.internal)
+    p_a = _resistance_ohm(resistance_20C_ohm, ambient_C) * half_i2
     if session_s is None:
+        linear = r_th * p_a / bk.fmax(1.0 - p1 * r_th, 1e-12)
         return PairTemperatures(
             st.surface_C,
             st.surface_max_C,
@@ -90,16 +106,20 @@ def end_state(
             st.convection_W_m2K,
             st.effective_h_W_m2K,
             tau,
-            env if env is not None else Surroundings(ambient_C),
-            st,
-            st.surface_C,
+            r_th,
+            0.0,
+            _ratio(st.mean_C - ambient_C, linear),
+            st.runaway,
+            st.internal,
         )
     tau_safe = bk.where(tau > 0.0, tau, 1e30)
     lin = session_linearisation_C(st, tau_safe, session_s, ambient_C)
     run = transient(pack, resistance_20C_ohm, current_A, ambient_C, session_s, lin, env)
-    from coils.thermal import convection_coefficient_W_m2K
-
-    hc = convection_coefficient_W_m2K(pack, lin, ambient_C)
+    hc, heff, _ = _Faces(
+        pack, ambient_C, env if env is not None else Surroundings(ambient_C)
+    ).linearised(lin)
+    r_lin, tau_lin, inner_lin = _lumped(pack, heff, p1)
+    steady_rise = r_lin * p_a / bk.fmax(1.0 - p1 * r_lin, 1e-12)
     return PairTemperatures(
         run.surface_C,
         run.surface_max_C,
@@ -107,52 +127,60 @@ def end_state(
         run.hot_spot_C,
         run.power_W,
         hc,
-        None,
-        tau,
-        env if env is not None else Surroundings(ambient_C),
-        st,
-        lin,
+        heff,
+        tau_lin,
+        r_lin,
+        0.0,
+        _ratio(run.mean_C - ambient_C, steady_rise),
+        st.runaway,
+        inner_lin,
     )
 
 
-def first_pass_surfaces_C(
-    packs: tuple,
-    resistances_20C_ohm: Any,
-    currents_A: Any,
+def _coupled(
+    alone: PairTemperatures,
+    pack: WindingPack,
+    resistance_20C_ohm: Any,
+    current_A: Any,
     ambient_C: Any,
-    view_factors: Any,
-    session_s: Any = None,
-    skip: int | None = None,
-) -> list[Any]:
-    """Mean surface temperature of each pair alone (the others at ambient), °C; ``skip``: 0."""
-    out: list[Any] = []
-    for j in range(3):
-        if j == skip:
-            out.append(0.0)
-            continue
-        alone = Surroundings(ambient_C, 1.0 - view_factors[j][1 + j])
-        run = end_state(
-            packs[j], resistances_20C_ohm[j], currents_A[j], ambient_C, alone, session_s
-        )
-        out.append(run.surface_C)
-    return out
-
-
-def surroundings(
-    packs: tuple,
-    resistances_20C_ohm: Any,
-    currents_A: Any,
-    ambient_C: Any,
-    view_factors: Any,
-    session_s: Any = None,
-) -> list[Surroundings | None]:
-    """Radiant surroundings of each pair from the first pass (None without view factors)."""
-    if view_factors is None:
-        return [None, None, None]
-    surfaces = first_pass_surfaces_C(
-        packs, resistances_20C_ohm, currents_A, ambient_C, view_factors, session_s
+    env: Surroundings,
+    session_s: Any,
+) -> PairTemperatures:
+    """``alone`` with the other pairs' radiation added (linearised at ``alone``)."""
+    ta = ambient_C + _KELVIN
+    tr = env.radiant_C + _KELVIN
+    flux = (
+        pack.emissivity
+        * STEFAN_BOLTZMANN_W_m2K4
+        * env.radiating_fraction
+        * (tr * tr * tr * tr - ta * ta * ta * ta)
     )
-    return [radiant_surroundings(view_factors, k, surfaces, ambient_C) for k in range(3)]
+    heff = alone.effective_h_W_m2K
+    theta_env = flux / heff
+    p1 = COPPER_TEMPERATURE_COEFFICIENT_per_K * resistance_20C_ohm * 0.5 * current_A * current_A
+    r_th, tau, inner = _lumped(pack, heff, p1, alone.internal)
+    reached = 1.0 if session_s is None else 1.0 - bk.exp(-session_s / bk.where(tau > 0, tau, 1e30))
+    d_mean = theta_env / bk.fmax(1.0 - p1 * r_th, 1e-12) * reached
+    d_power = p1 * d_mean
+    d_surface = theta_env * reached + d_power / (heff * pack.surface_area_m2)
+    mean = alone.mean_C + d_mean
+    p_a = _resistance_ohm(resistance_20C_ohm, ambient_C) * 0.5 * current_A * current_A
+    steady_rise = (theta_env + r_th * p_a) / bk.fmax(1.0 - p1 * r_th, 1e-12)
+    return PairTemperatures(
+        alone.surface_C + d_surface,
+        alone.surface_max_C + d_surface + inner.surface_max * d_power,
+        mean,
+        alone.hot_spot_C + d_surface + inner.centre * d_power,
+        alone.power_W + d_power,
+        alone.convection_W_m2K,
+        heff,
+        alone.time_constant_s,
+        r_th,
+        theta_env,
+        _ratio(mean - ambient_C, steady_rise),
+        alone.runaway,
+        inner,
+    )
 
 
 def pair_temperatures(
@@ -163,12 +191,13 @@ def pair_temperatures(
     view_factors: Any,
     session_s: Any = None,
     only: int | None = None,
-) -> list[PairTemperatures | None]:
-    """The three pairs at ``currents_A`` (one each), radiating to each other (one Jacobi sweep).
+) -> list[Any]:
+    """The three pairs at ``currents_A`` (one each), radiating to each other.
 
     ``view_factors``: rows ``[room, x, y, z]`` per pair (:func:`coils.viewfactors.
-    view_factors`), or None (each pair alone in the room). ``only``: solve the coupled pass for
-    that pair alone (the others' first pass is still needed); the other entries are None.
+    view_factors`), or None (each pair alone in the room). The neighbours' surfaces come from
+    :func:`coils.thermal.surface_estimate_C`. ``only``: solve that pair alone (the others'
+    entries None; the same numbers as the full call).
     """
     want = range(3) if only is None else (only,)
     if view_factors is None:
@@ -178,16 +207,43 @@ def pair_temperatures(
             else None
             for k in range(3)
         ]
-    surfaces = first_pass_surfaces_C(
-        packs, resistances_20C_ohm, currents_A, ambient_C, view_factors, session_s, only
-    )
-    out: list[PairTemperatures | None] = []
+    alone, estimates = [], []
+    for j in range(3):
+        own = Surroundings(ambient_C, 1.0 - view_factors[j][1 + j])
+        args = (packs[j], resistances_20C_ohm[j], currents_A[j], ambient_C, own)
+        alone.append(end_state(*args, session_s) if j in want else None)
+        estimates.append(0.0 if j == only else surface_estimate_C(*args, session_s))
+    out: list[Any] = []
     for k in range(3):
         if k not in want:
             out.append(None)
             continue
-        env = radiant_surroundings(view_factors, k, surfaces, ambient_C)
+        env = radiant_surroundings(view_factors, k, estimates, ambient_C)
         out.append(
-            end_state(packs[k], resistances_20C_ohm[k], currents_A[k], ambient_C, env, session_s)
+            _coupled(
+                alone[k],
+                packs[k],
+                resistances_20C_ohm[k],
+                currents_A[k],
+                ambient_C,
+                env,
+                session_s,
+            )
         )
     return out
+
+
+def mean_rise_at_K(
+    state: PairTemperatures, resistance_20C_ohm: Any, current_A: Any, ambient_C: Any
+) -> Any:
+    """Mean winding rise of a pair at another current, with its faces linearised at ``state``.
+
+    θ = ratio · (θ_env + R_th P_a) / (1 - p₁ R_th), P_a = R(T_a) I²/2, p₁ = α R20 I²/2: the
+    steady balance of the linearised faces (times the share of it the session reaches at the
+    state's current). Equal to ``state``'s mean rise at ``state``'s own current.
+    """
+    half_i2 = 0.5 * current_A * current_A
+    p1 = COPPER_TEMPERATURE_COEFFICIENT_per_K * resistance_20C_ohm * half_i2
+    p_a = _resistance_ohm(resistance_20C_ohm, ambient_C) * half_i2
+    r_th = state.thermal_resistance_K_per_W
+    return state.session_ratio * (state.sink_rise_K + r_th * p_a) / bk.fmax(1.0 - p1 * r_th, 1e-12)

@@ -193,6 +193,7 @@ class Frozen:
     dgap_dra: np.ndarray  # (3,)
     dgap_drb: np.ndarray  # (3,)
     radii0_m: np.ndarray  # (3,) radii the gaps were linearised at
+    view_factors: np.ndarray  # (3, 4) packs' view factors [room, x, y, z] at this hardware
 
 
 PAIRS_OF_PAIRS = ((0, 1), (0, 2), (1, 2))
@@ -228,6 +229,7 @@ def frozen_factors(model: Any) -> Frozen:
         np.array(da),
         np.array(db),
         np.array([p.radius_m for p in pairs]),
+        np.asarray(m.constants.view_factors, dtype=float),
     )
 
 
@@ -289,7 +291,11 @@ class HardwareStructure:
 
 
 def symbolic_constants(
-    b: Any, hs: HardwareStructure, spiral_starts: int, pattern: tuple = ()
+    b: Any,
+    hs: HardwareStructure,
+    spiral_starts: int,
+    pattern: tuple = (),
+    convection: str = "fixed",
 ) -> tuple[Any, Any, list]:
     """Constants as expressions of the hardware (free: variables, fixed: parameters).
 
@@ -301,6 +307,7 @@ def symbolic_constants(
 
     import capsule as cap
     from coils.thermal import WindingPack
+    from optimize.compiled import view_factor_rows
     from optimize.system import Constants
 
     hw: dict[str, Any] = {}
@@ -359,6 +366,9 @@ def symbolic_constants(
             conductivity_W_mK=conductivity,
             heat_transfer_coefficient_W_m2K=hcoef,
             emissivity=emissivity,
+            vertical_axis=AXES[k] == "z",
+            air_speed_m_s=b.parameter("hw.air_speed_m_s"),
+            convection=convection,
         )
         for k in range(3)
     )
@@ -388,6 +398,7 @@ def symbolic_constants(
         helix_diameter_m=cap.helix_diameter_m(body_d, wire_sp),
         copper_mass_kg=ca.vertcat(*(q[k]["copper_mass_kg"] for k in range(3))),
         starts=spiral_starts,
+        view_factors=view_factor_rows(b.parameter("frozen.view_factors", (12,))),
     )
     q.append({"power_W": power})
     return c, hw, q
@@ -482,7 +493,8 @@ def sizing_parameters(model: Any, frozen: Frozen, min_bore_m: float) -> dict[str
         {
             "hw.packing": pairs[0].packing_factor,
             "hw.resistivity": COPPER_RESISTIVITY_20C_ohm_m,  # the resistance at 20 °C
-            "hw.h": model.heat_transfer_coefficient_W_m2K,
+            "hw.h": model.heat_transfer_coefficient_W_m2K or 0.0,
+            "hw.air_speed_m_s": float(model.air_speed_m_s),
             "hw.conductivity": model.winding_conductivity_W_mK,
             "hw.emissivity": model.surface_emissivity,
             "hw.separation_m": np.array([p.separation_m for p in pairs]),
@@ -503,6 +515,7 @@ def sizing_parameters(model: Any, frozen: Frozen, min_bore_m: float) -> dict[str
             "frozen.dgap_dra": frozen.dgap_dra,
             "frozen.dgap_drb": frozen.dgap_drb,
             "frozen.radii0_m": frozen.radii0_m,
+            "frozen.view_factors": frozen.view_factors.ravel(),
         }
     )
     return values

@@ -61,80 +61,92 @@ class LimitTerm:
 _AXES = ("x", "y", "z")
 
 
-def _others_currents(current_A: Any, k: int, c: Constants) -> list[Any]:
-    """The three pairs' currents at the field where pair k's worst heading carries ``current_A``."""
+#: pair_states already built, per Constants object: key -> (the Constants, the states). Within
+#: one NLP build the same field node asks twice (the limits and the loss rows); with numbers
+#: the same scalar field recurs across the caps.
+_STATES: dict[tuple, tuple[Any, list[Any]]] = {}
+
+
+def _field_key(x: Any) -> Any:
+    if bk.is_casadi(x):
+        return ("node", x.element_hash()) if x.numel() == 1 else None
+    if np.ndim(x) == 0:
+        return ("num", float(x))
+    return None
+
+
+def pair_states(
+    field_T: Any, c: Constants, ambient_temperature_C: Any, only: int | None = None
+) -> list[Any]:
+    """:class:`coils.thermal_system.PairTemperatures` of the three pairs at centre field
+    ``field_T``, each at its worst-heading current, radiating to each other (steady, or at the
+    end of the session); ``only``: that pair alone (the others None, same numbers)."""
+    from coils.thermal_system import pair_temperatures
+
+    fk, ak = _field_key(field_T), _field_key(ambient_temperature_C)
+    key = None if fk is None or ak is None else (id(c), fk, ak)
+    if key is not None:
+        hit = _STATES.get(key)
+        if hit is not None and hit[0] is c:
+            return hit[1]
+        if only is not None:
+            hit = _STATES.get((*key, only))
+            if hit is not None and hit[0] is c:
+                return hit[1]
     per = c.current_per_tesla_A_per_T
-    field = current_A / bk.fmax(per[k], 1e-300)
-    return [current_A if j == k else field * per[j] for j in range(3)]
-
-
-def pair_environments(field_T: Any, c: Constants, ambient_temperature_C: Any) -> list[Any]:
-    """Radiant surroundings of each pair at centre field ``field_T``: the other pairs at their
-    worst-heading currents (first pass of :mod:`coils.thermal_system`); None without view
-    factors."""
-    from coils.thermal_system import surroundings
-
-    per = c.current_per_tesla_A_per_T
-    return surroundings(
+    states = pair_temperatures(
         c.packs,
         c.resistance_20C_ohm,
         [field_T * per[j] for j in range(3)],
         ambient_temperature_C,
         c.view_factors,
         c.session_s,
+        only,
     )
+    if key is not None:
+        if len(_STATES) > 512:
+            _STATES.clear()
+        _STATES[key if only is None else (*key, only)] = (c, states)
+    return states
 
 
-def pair_state(
-    current_A: Any, k: int, c: Constants, ambient_temperature_C: Any, env: Any = "field"
-) -> Any:
-    """:class:`coils.thermal_system.PairTemperatures` of pair k at ``current_A``: steady or at the
-    end of the session, radiating to the other pairs.
-
-    ``env``: the pair's radiant surroundings if the caller has them (None: alone in the room);
-    by default the other pairs at the currents of the field where pair k's worst heading
-    carries ``current_A``.
-    """
-    from coils.thermal_system import end_state, pair_temperatures
-
-    if isinstance(env, str):
-        if c.view_factors is None:
-            env = None
-        else:
-            return pair_temperatures(
-                c.packs,
-                c.resistance_20C_ohm,
-                _others_currents(current_A, k, c),
-                ambient_temperature_C,
-                c.view_factors,
-                c.session_s,
-                only=k,
-            )[k]
-    return end_state(
-        c.packs[k], c.resistance_20C_ohm[k], current_A, ambient_temperature_C, env, c.session_s
-    )
+def pair_state(current_A: Any, k: int, c: Constants, ambient_temperature_C: Any) -> Any:
+    """Pair k of :func:`pair_states` at the field where its worst heading carries ``current_A``
+    (the other pairs at their worst-heading currents of that field)."""
+    per = c.current_per_tesla_A_per_T
+    field = current_A / bk.fmax(per[k], 1e-300)
+    return pair_states(field, c, ambient_temperature_C, only=k)[k]
 
 
 def winding_temperatures_C(
-    current_A: Any, k: int, c: Constants, ambient_temperature_C: Any, env: Any = "field"
+    current_A: Any, k: int, c: Constants, ambient_temperature_C: Any
 ) -> tuple[Any, Any, Any]:
     """(surface, mean, hot spot) of axis k at a current amplitude, °C: steady or session end."""
-    s = pair_state(current_A, k, c, ambient_temperature_C, env)
+    s = pair_state(current_A, k, c, ambient_temperature_C)
     return s.surface_C, s.mean_C, s.hot_spot_C
 
 
 def winding_resistance_ohm(
-    current_A: Any, k: int, c: Constants, ambient_temperature_C: Any, env: Any = "field"
+    current_A: Any, k: int, c: Constants, ambient_temperature_C: Any, state: Any = None
 ) -> Any:
     """Resistance of pair k carrying ``current_A``, Ω: at its own mean winding temperature.
 
     Self-consistent with the heating (steady, or at the end of the session), or at
-    ``c.winding_temperature_C`` if the design fixes the copper temperature.
+    ``c.winding_temperature_C`` if the design fixes the copper temperature. ``state``: pair
+    k's :class:`coils.thermal_system.PairTemperatures` at the field's worst-heading current, if
+    the current is a lighter heading's (its faces linearised there,
+    :func:`coils.thermal_system.mean_rise_at_K`).
     """
-    if c.winding_temperature_C is None:
-        mean_C = winding_temperatures_C(current_A, k, c, ambient_temperature_C, env)[1]
-        return _resistance_at(mean_C, k, c)
-    return _resistance_at(None, k, c)
+    if c.winding_temperature_C is not None:
+        return _resistance_at(None, k, c)
+    if state is None:
+        mean_C = winding_temperatures_C(current_A, k, c, ambient_temperature_C)[1]
+    else:
+        from coils.thermal_system import mean_rise_at_K
+
+        rise = mean_rise_at_K(state, c.resistance_20C_ohm[k], current_A, ambient_temperature_C)
+        mean_C = ambient_temperature_C + rise
+    return _resistance_at(mean_C, k, c)
 
 
 def _resistance_at(mean_C: Any, k: int, c: Constants) -> Any:
@@ -183,7 +195,7 @@ def heading_losses_W(
     c: Constants,
     ambient_temperature_C: Any,
     memo: dict | None = None,
-    envs: list | None = None,
+    states: list | None = None,
 ) -> list[Any]:
     """Copper loss of every heading, Σ_k R_k(I_hk) I_hk² / 2, W (backend-generic).
 
@@ -194,8 +206,10 @@ def heading_losses_W(
     """
     a = c.heading_current_per_tesla_A_per_T
     memo = {} if memo is None else memo
-    if envs is None:
-        envs = pair_environments(field_T, c, ambient_temperature_C)
+    if states is None and c.winding_temperature_C is None:
+        states = pair_states(field_T, c, ambient_temperature_C)
+    if states is None:
+        states = [None, None, None]
     out: list[Any] = []
     rows = a.tolist() if isinstance(a, np.ndarray) else None  # numbers: plain floats, same values
     for h in range(a.shape[0]):
@@ -214,7 +228,7 @@ def heading_losses_W(
                 key = _memo_key(k, per_amp)
             if key is None or key not in memo:
                 cur = field_T * per_amp
-                r = winding_resistance_ohm(cur, k, c, ambient_temperature_C, envs[k])
+                r = winding_resistance_ohm(cur, k, c, ambient_temperature_C, states[k])
                 if key is None:
                     loss = loss + 0.5 * r * cur * cur
                     continue
@@ -230,7 +244,7 @@ def total_loss_W(
     c: Constants,
     ambient_temperature_C: Any,
     memo: dict | None = None,
-    envs: list | None = None,
+    states: list | None = None,
 ) -> Any:
     """Copper loss of the heading that draws the most, max_h Σ_k R_k(I_hk) I_hk² / 2, W.
 
@@ -238,7 +252,7 @@ def total_loss_W(
     temperature at that current (steady or at the end of the session).
     """
     worst: Any = None
-    for loss in heading_losses_W(field_T, c, ambient_temperature_C, memo, envs):
+    for loss in heading_losses_W(field_T, c, ambient_temperature_C, memo, states):
         worst = loss if worst is None else bk.fmax(worst, loss)
     return worst
 
@@ -274,11 +288,11 @@ def limit_terms(
     fixed_r = c.winding_temperature_C is not None  # then every term but the hot spot is a power law
     amb = ambient_temperature_C
     memo: dict = {}
-    envs = pair_environments(field_T, c, amb)  # the other pairs, once for all three
+    states = pair_states(field_T, c, amb)  # the three pairs together, one thermal solve
     for k, ax in enumerate(_AXES):
         per_amp = c.current_per_tesla_A_per_T[k]
         current = field_T * per_amp
-        state = pair_state(current, k, c, amb, envs[k])  # one thermal solve
+        state = states[k]
         mean_C, hot_C = state.mean_C, state.hot_spot_C
         r = _resistance_at(mean_C, k, c)
         ind = c.inductance_H[k]
@@ -318,7 +332,7 @@ def limit_terms(
         LimitTerm(
             "power",
             "W",
-            total_loss_W(field_T, c, amb, memo, envs) if loss_W is None else loss_W,
+            total_loss_W(field_T, c, amb, memo, states) if loss_W is None else loss_W,
             limits.power_W,
             2 if fixed_r else None,
         )

@@ -218,7 +218,7 @@ def packs_of(model: DesignModel) -> tuple:
                 float(model.heat_transfer_coefficient_W_m2K) if fixed else 0.0
             ),
             emissivity=model.surface_emissivity,
-            vertical_axis=1.0 if p.axis == "z" else 0.0,
+            vertical_axis=p.axis == "z",
             air_speed_m_s=float(model.air_speed_m_s),
             convection="fixed" if fixed else model.cooling,
         )
