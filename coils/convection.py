@@ -121,6 +121,7 @@ def pack_convection_W_m2K(
     rings); the orientation is part of the model's structure, not a value. ``forced``: add
     forced air at ``air_speed_m_s``.
     """
+    surface_C = bk.fmax(surface_C, ambient_C)  # a face below the air: h of ΔT -> 0 (no data)
     air = air_properties(0.5 * (surface_C + ambient_C))
     dt = surface_C - ambient_C
     dt = bk.sqrt(dt * dt + _DT_FLOOR_K * _DT_FLOOR_K)

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["PackRing", "RAYS_PER_PAIR", "view_factors"]
+__all__ = ["RAYS_PER_PAIR", "PackRing", "view_factors"]
 
 #: Rays traced per pair: the sampling error of a fraction F is sqrt(F (1 - F) / n) <= 0.0035.
 RAYS_PER_PAIR = 20_000
@@ -108,7 +108,7 @@ def _emitters(ring: PackRing, n: int, rng: np.random.Generator) -> tuple[np.ndar
     total = sum(area for _, area in faces)
     pts, nrm, wts = [], [], []
     for kind, area in faces:
-        m = max(16, int(round(n * area / total)))
+        m = max(16, round(n * area / total))
         phi = 2.0 * np.pi * rng.random(m)
         p = np.zeros((m, 3))
         nv = np.zeros((m, 3))
