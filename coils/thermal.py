@@ -369,6 +369,7 @@ class _Internal:
 
 
 def _internal(pack: WindingPack, h_eff: Any) -> _Internal:
+    h_eff = bk.fmax(h_eff, 1e-6)  # a diverged iterate (flagged runaway) must stay finite
     st = robin_statics(pack.pack_width_m, pack.pack_depth_m, h_eff, pack.conductivity_W_mK)
     per_w = 1.0 / (pack.conductivity_W_mK * pack.volume_m3)
     return _Internal(

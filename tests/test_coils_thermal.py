@@ -262,11 +262,11 @@ def test_optimiser_and_evaluate_agree_on_the_session_hot_spot():
     res = optimize_design(m)
     assert res.status == "optimal"
     ev = evaluate(m, res.helical_angle_rad, res.frequency_hz)
-    assert ev.field_limited_by == "hot_spot_x"
+    assert ev.field_limited_by.startswith("hot_spot_")
     assert res.field_amplitude_T == pytest.approx(ev.field_amplitude_T, rel=1e-6), (
         "IPOPT on the CasADi hot-spot term reaches the field the numpy bisection allows (1e-6)"
     )
-    assert "hot_spot_x" in {b.name for b in res.binding_limits}, "the optimiser's binding row"
+    assert ev.field_limited_by in {b.name for b in res.binding_limits}, "the optimiser's row"
     assert res.margin_Nm == pytest.approx(ev.margin_Nm, rel=1e-6)
 
 
