@@ -227,7 +227,8 @@ def pair_temperatures(
             else None
             for k in range(3)
         ]
-    alone, estimates = [], []
+    alone: list[PairTemperatures | None] = []
+    estimates: list[Any] = []
     for j in range(3):
         own = Surroundings(ambient_C, 1.0 - view_factors[j][1 + j])
         args = (packs[j], resistances_20C_ohm[j], currents_A[j], ambient_C, own)
@@ -247,9 +248,11 @@ def pair_temperatures(
             out.append(None)
             continue
         env = radiant_surroundings(view_factors, k, estimates, ambient_C)
+        own_state = alone[k]
+        assert own_state is not None
         out.append(
             _coupled(
-                alone[k],
+                own_state,
                 packs[k],
                 resistances_20C_ohm[k],
                 currents_A[k],

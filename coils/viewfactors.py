@@ -113,9 +113,9 @@ def _emitters(ring: PackRing, n: int, rng: np.random.Generator) -> tuple[np.ndar
         p = np.zeros((m, 3))
         nv = np.zeros((m, 3))
         if kind in ("inner", "outer"):
-            rad = r1 if kind == "inner" else r2
+            rc = r1 if kind == "inner" else r2
             sign = -1.0 if kind == "inner" else 1.0
-            p[:, u], p[:, w] = rad * np.cos(phi), rad * np.sin(phi)
+            p[:, u], p[:, w] = rc * np.cos(phi), rc * np.sin(phi)
             p[:, a] = c + wd * (rng.random(m) - 0.5)
             nv[:, u], nv[:, w] = sign * np.cos(phi), sign * np.sin(phi)
         else:

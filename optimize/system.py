@@ -206,7 +206,7 @@ def packs_of(model: DesignModel) -> tuple:
     """The :class:`coils.thermal.WindingPack` of each pair of ``model`` (its cooling options)."""
     from coils.thermal import WindingPack
 
-    fixed = model.heat_transfer_coefficient_W_m2K is not None
+    h = model.heat_transfer_coefficient_W_m2K
     return tuple(
         WindingPack(
             pack_width_m=p.winding_pack_width_m,
@@ -214,13 +214,11 @@ def packs_of(model: DesignModel) -> tuple:
             mean_radius_m=p.radius_m,
             packing_factor=p.packing_factor,
             conductivity_W_mK=model.winding_conductivity_W_mK,
-            heat_transfer_coefficient_W_m2K=(
-                float(model.heat_transfer_coefficient_W_m2K) if fixed else 0.0
-            ),
+            heat_transfer_coefficient_W_m2K=0.0 if h is None else float(h),
             emissivity=model.surface_emissivity,
             vertical_axis=p.axis == "z",
             air_speed_m_s=float(model.air_speed_m_s),
-            convection="fixed" if fixed else model.cooling,
+            convection="fixed" if h is not None else model.cooling,
         )
         for p in model.coils.pairs
     )
