@@ -405,7 +405,16 @@ class SteadyState:
     surface_max_C: Any = None
     convection_W_m2K: Any = None
     effective_h_W_m2K: Any = None
-    internal: Any = None
+    centre_offset_K_per_W: Any = None
+    mean_offset_K_per_W: Any = None
+    surface_max_offset_K_per_W: Any = None
+
+    @property
+    def internal(self) -> _Internal:
+        """Robin offsets above the mean face per watt, at ``effective_h_W_m2K``."""
+        return _Internal(
+            self.centre_offset_K_per_W, self.mean_offset_K_per_W, self.surface_max_offset_K_per_W
+        )
 
 
 def _newton(
@@ -498,7 +507,9 @@ def steady_state(
         surface_max_C=ts + inner.surface_max * p,
         convection_W_m2K=hc,
         effective_h_W_m2K=heff,
-        internal=inner,
+        centre_offset_K_per_W=inner.centre,
+        mean_offset_K_per_W=inner.mean,
+        surface_max_offset_K_per_W=inner.surface_max,
     )
 
 

@@ -251,11 +251,6 @@ def constant_values(c: Any) -> dict[str, Any]:
     return out
 
 
-def view_factor_rows(flat: Any) -> list[list[Any]]:
-    """The (3, 4) view-factor rows ``[room, x, y, z]`` of a flat (12,) CasADi parameter."""
-    return [[flat[4 * k + j] for j in range(4)] for k in range(3)]
-
-
 def _heading_table(b: NLPBuilder, name: str, headings: int) -> Any:
     flat = b.parameter(name, (headings, 3))  # row-major: [3 h + k]
     return ca.reshape(flat, 3, headings).T
@@ -297,7 +292,7 @@ def _symbolic_constants(b: NLPBuilder, structure: Structure) -> Any:
             )
             for k in range(3)
         ),
-        view_factors=view_factor_rows(b.parameter("constant.view_factors", (12,))),
+        view_factors=hw.view_factor_rows(b.parameter("constant.view_factors", (12,))),
         power_weights_per_T2=0.5 * table * table,
         heading_current_per_tesla_A_per_T=table,
         starts=structure.spiral_starts,

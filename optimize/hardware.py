@@ -15,7 +15,8 @@ backend-generic expressions of the hardware (numpy floats or CasADi symbols), so
 - magnet moment B_r π/4 (D² − D_i²) L / μ0 (capsule.Magnet).
 
 Frozen per outer iteration (recomputed exactly at each new hardware, then re-solved, until they
-settle): the two pack corrections, the workspace field factor (the weakest field over the
+settle): the packs' radiation view factors (a ray trace, coils.viewfactors: settled within
+1e-3), the two pack corrections, the workspace field factor (the weakest field over the
 workspace and headings per tesla: exact differentiation through the 13 x 15 field-ellipse
 minimum would cost more than it gains; it moves by < 1e-3 over the radius ranges here), and the
 gap between the mean turns of two orthogonal pairs (linearised in the two radii).
@@ -281,6 +282,11 @@ def coil_quantities(
     }
 
 
+def view_factor_rows(flat: Any) -> list[list[Any]]:
+    """The (3, 4) view-factor rows ``[room, x, y, z]`` of a flat (12,) CasADi parameter."""
+    return [[flat[4 * k + j] for j in range(4)] for k in range(3)]
+
+
 @dataclass(frozen=True)
 class HardwareStructure:
     """What a sizing problem compiles in: the free names, Helmholtz spacing per pair, headings."""
@@ -307,7 +313,6 @@ def symbolic_constants(
 
     import capsule as cap
     from coils.thermal import WindingPack
-    from optimize.compiled import view_factor_rows
     from optimize.system import Constants
 
     hw: dict[str, Any] = {}
