@@ -26,6 +26,7 @@ from coils.system import ThreeAxisHelmholtz
 from coils.thermal import WindingPack
 from coils.thermal_system import mean_rise_at_K, pair_temperatures
 from spiralcap.constants import COPPER_TEMPERATURE_COEFFICIENT_per_K
+from spiralcap.constants import COPPER_DENSITY_kg_m3
 
 __all__ = ["AxisSizing", "SystemSizing", "WorstHeading", "size_system", "winding_pack"]
 
@@ -44,7 +45,11 @@ class AxisSizing:
     turns: int
     wire_diameter_m: float
     winding_pack_side_m: float
+    winding_pack_width_m: float
+    winding_pack_depth_m: float
+    pack_aspect: float
     wire_length_m: float
+    copper_mass_kg: float
     field_per_amp_T_per_A: float
     resistance_20C_ohm: float
     resistance_ohm: float
@@ -188,7 +193,11 @@ def size_system(
                 turns=pair.turns,
                 wire_diameter_m=pair.wire_diameter_m,
                 winding_pack_side_m=pair.winding_pack_side_m,
+                winding_pack_width_m=pair.winding_pack_width_m,
+                winding_pack_depth_m=pair.winding_pack_depth_m,
+                pack_aspect=pair.pack_aspect,
                 wire_length_m=pair.wire_length_m,
+                copper_mass_kg=COPPER_DENSITY_kg_m3 * pair.wire_length_m * pair.wire_area_m2,
                 field_per_amp_T_per_A=g,
                 resistance_20C_ohm=r20,
                 resistance_ohm=r,

@@ -6,8 +6,9 @@ Run: python examples/size_coils_least_power.py
 
 from __future__ import annotations
 
-from optimize import evaluate, optimize_design, prepare
-from optimize.physics import winding_resistance_ohm
+from optimize import evaluate, optimize_design
+from spiralcap.analysis.bom import bill_of_materials, bom_table
+from spiralcap.analysis.coils import analyse_coils
 from spiralcap.assemble import build_model
 from spiralcap.assemble.system import optimum_values
 from spiralcap.design import load_design
@@ -39,15 +40,5 @@ print(
     f"field {ev.field_amplitude_T * 1e3:.3f} mT"
 )
 print()
-print("axis  turns  wire mm  wire m  copper kg  R ohm   L mH   I A    V V")
-model = prepare(model)
-for k, (ax, pair, current) in enumerate(zip("xyz", model.coils.pairs, ev.current_amplitudes_A)):
-    # at the pair's own mean winding temperature carrying this current (coils.thermal)
-    r = float(winding_resistance_ohm(current, k, model.constants, model.ambient_temperature_C))
-    mass = 8890.0 * pair.wire_length_m * pair.wire_area_m2
-    volts = next(c.value for c in ev.checks if c.name == f"voltage_{ax}")
-    print(
-        f"{ax:<5} {pair.turns:>5}  {pair.wire_diameter_m * 1e3:7.2f}  {pair.wire_length_m:6.0f}  "
-        f"{mass:9.1f}  {r:6.2f}  {pair.series_inductance_H * 1e3:5.0f}  {current:5.2f}  "
-        f"{volts:5.1f}"
-    )
+# the bill of materials from the one function behind `spiralcap coils` and the report
+print(bom_table(bill_of_materials(model, analyse_coils(best, model))))

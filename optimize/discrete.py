@@ -2,11 +2,13 @@
 designs (whole turns, standard wire diameters), re-optimising the operating point of each.
 
 1. The relaxation: hardware and operating point in one NLP (:mod:`optimize.hardware`), with the
-   frozen factors (pack corrections, workspace field factor, linearised nesting gaps) recomputed
+   frozen factors (pack corrections, workspace field factor, linearised gaps between the mean
+   turns, the clearance correction) recomputed
    exactly at each new hardware and the NLP re-solved warm until they settle.
 2. The neighbours: each turn count rounded down and up, each wire diameter to the standard sizes
    just below and above; continuous quantities (radii, magnet, spiral wire) stay at the relaxed
-   value. Every neighbour is built exactly (coils, capsule), checked (nesting, bore, magnet fit)
+   value. Every neighbour is built exactly (coils, capsule), checked (exact pack clearances,
+   bore, copper mass, magnet fit)
    and re-optimised with the fixed-hardware solver; the best wins.
 """
 
@@ -75,21 +77,21 @@ def _neighbours(problem, p, bounds, best, free, sizing) -> tuple[list[dict[str, 
 
 
 def buildable(
-    model: DesignModel, values: dict[str, float], min_bore_m: float
+    model: DesignModel, values: dict[str, float], min_bore_m: float, *, checks: bool = True
 ) -> DesignModel | None:
-    """The model with hardware ``values`` if it can be built and meets the geometric rules."""
+    """The model with hardware ``values`` if it can be built and meets the geometric rules
+    (``checks=False``: constructible only, for the relaxation's iterates, whose clearance rows
+    are exact only once the frozen factors settle)."""
     import capsule as cap
+    from optimize.buildcheck import build_checks
     from spiralcap.errors import InputError
 
     try:
         m = hw.with_hardware(model, values)
     except InputError:
         return None
-    pairs = m.coils.pairs
-    for i, j in hw.PAIRS_OF_PAIRS:
-        half = 0.5 * (pairs[i].winding_pack_side_m + pairs[j].winding_pack_side_m)
-        if hw.mean_turn_gap_m(pairs[i], pairs[j]) < half:
-            return None
+    if checks and any(not c.ok for c in build_checks(m)):  # clearances (exact), copper mass
+        return None
     if hw.bore_m(m) < min_bore_m * (1 - 1e-9):
         return None
     if cap.magnet_fit_check(m.capsule.body, m.capsule.magnet) is not None:
@@ -122,10 +124,13 @@ def size_design(model: DesignModel, solver: FixedHardwareSolver) -> Optimization
     min_bore = sizing.min_bore_m if sizing.min_bore_m is not None else hw.bore_m(model)
     base = hw.hardware_of(model)
     hw_now = {v.name: min(max(base[v.name], v.lo), v.hi) for v in free}
-    exact = buildable(fixed_model, hw_now, 0.0) or fixed_model
+    exact = buildable(fixed_model, hw_now, 0.0, checks=False) or fixed_model
     exact = prepare(exact)
     hs = hw.HardwareStructure(
-        tuple(v.name for v in free), hw.helmholtz_flags(model), len(model.headings)
+        tuple(v.name for v in free),
+        hw.helmholtz_flags(model),
+        len(model.headings),
+        model.limits.copper_mass_kg is not None,
     )
     problem = compile_problem(structure_of(exact, hardware=hs))
     bounds = {**variable_bounds(exact), **{v.name: (v.lo, v.hi) for v in free}}
@@ -150,7 +155,7 @@ def size_design(model: DesignModel, solver: FixedHardwareSolver) -> Optimization
             break
         best = found
         hw_now = {v.name: best.value(v.name) for v in free}
-        moved = buildable(fixed_model, hw_now, 0.0)
+        moved = buildable(fixed_model, hw_now, 0.0, checks=False)
         if moved is None:
             break
         exact = prepare(moved)
@@ -215,7 +220,9 @@ def size_design(model: DesignModel, solver: FixedHardwareSolver) -> Optimization
     sizing_binding = tuple(
         b
         for b in _binding(exact, scales, best, {v.name: (v.lo, v.hi) for v in free})
-        if "@" in b.name or b.name in {r.name for r in best.nlp.rows if r.kind == "geometry"}
+        if "@" in b.name
+        or b.name in {r.name for r in best.nlp.rows if r.kind == "geometry"}
+        or b.name == "copper_mass"
     )
     result = HardwareResult(
         relaxed=relaxed,
@@ -271,6 +278,7 @@ def _settled(a: hw.Frozen, b: hw.Frozen) -> bool:
         (a.mutual_correction, b.mutual_correction),
         (a.workspace_factor, b.workspace_factor),
         (a.gap0_m, b.gap0_m),
+        (a.clearance_delta_m + 1e-3, b.clearance_delta_m + 1e-3),
     )
     # the ray-traced view factors move in steps of 1/rays as rays graze an edge: settled
     # within 1e-3 (a pack's temperature moves by < 0.01 K per 1e-3 of view factor)

@@ -7,6 +7,7 @@ the workspace minus the largest required torque (resistive + thrust) over the ti
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Any, NamedTuple
 
@@ -62,6 +63,12 @@ class Evaluation:
     spiral_turns: float
     checks: tuple[Check, ...]
     feasible: bool
+    copper_masses_kg: tuple[float, float, float] = (math.nan, math.nan, math.nan)
+
+    @property
+    def copper_mass_kg(self) -> float:
+        """Copper of the three pairs, kg."""
+        return float(sum(self.copper_masses_kg))
 
     @property
     def helical_angle_deg(self) -> float:
@@ -319,9 +326,12 @@ def evaluate(
     margin = avail - required
     speed = float(ph.speed_m_s(alpha, f, c, req))
     turns = float(ph.spiral_turns(alpha, c))
+    from optimize.buildcheck import build_checks, copper_masses_kg
+
     checks = [
         *_checks(model, f, field, margin, required, speed, turns),
         self_lock_check(model, alpha),
+        *(Check(*c) for c in build_checks(model, FEASIBILITY_RTOL)),
     ]
     # the lag behind the field at which the magnet's torque m B sin(lag) meets the load; 90 deg
     # (the most it can give) when the load exceeds it: the magnet then cannot stay synchronous
@@ -356,6 +366,7 @@ def evaluate(
         spiral_turns=turns,
         checks=tuple(checks),
         feasible=all(ch.ok for ch in checks),
+        copper_masses_kg=copper_masses_kg(model),
     )
 
 

@@ -18,8 +18,17 @@ Frozen per outer iteration (recomputed exactly at each new hardware, then re-sol
 settle): the packs' radiation view factors (a ray trace, coils.viewfactors: settled within
 1e-3), the two pack corrections, the workspace field factor (the weakest field over the
 workspace and headings per tesla: exact differentiation through the 13 x 15 field-ellipse
-minimum would cost more than it gains; it moves by < 1e-3 over the radius ranges here), and the
-gap between the mean turns of two orthogonal pairs (linearised in the two radii).
+minimum would cost more than it gains; it moves by < 1e-3 over the radius ranges here), the
+gap between the mean turns of two orthogonal pairs (linearised in the two radii) and the
+clearance correction below.
+
+Clearance rows (docs/coils-clearance.md). The packs are solid rings of rectangular section; their
+least distance (coils.clearance, exact) has no closed form for crossed axes. Each ring lies in
+the torus of tube radius half its section's diagonal, so ``gap(mean turns) - (diag_a + diag_b)/2``
+is a smooth lower bound, conservative by at most ``(diag - max(w, h))/2`` per pack (0.21 of a
+square pack's side). The row holds that bound plus the frozen correction δ = exact - bound
+at the outer iteration's hardware (δ >= 0), so at the settled hardware the row is the exact
+clearance; every buildable neighbour is then checked with the exact distance.
 """
 
 from __future__ import annotations
@@ -195,13 +204,17 @@ class Frozen:
     dgap_drb: np.ndarray  # (3,)
     radii0_m: np.ndarray  # (3,) radii the gaps were linearised at
     view_factors: np.ndarray  # (3, 4) packs' view factors [room, x, y, z] at this hardware
+    clearance_delta_m: np.ndarray  # (3,) exact clearance - torus bound, >= 0
 
 
 PAIRS_OF_PAIRS = ((0, 1), (0, 2), (1, 2))
+#: Scale of the clearance rows, m.
+CLEARANCE_REF_m = 0.01
 
 
 def frozen_factors(model: Any) -> Frozen:
     """The frozen numbers at ``model``'s (exact, built) hardware."""
+    from coils.clearance import pack_clearance_m, torus_clearance_bound_m
     from coils.loop import coaxial_mutual_inductance_H
     from optimize.system import prepare
 
@@ -214,12 +227,13 @@ def frozen_factors(model: Any) -> Frozen:
         )
         fil = p.turns**2 * coaxial_mutual_inductance_H(p.radius_m, p.radius_m, p.separation_m)
         mut_corr.append(p.mutual_inductance_H / float(fil))
-    gaps, da, db = [], [], []
+    gaps, da, db, delta = [], [], [], []
     h = 1e-6
     for i, j in PAIRS_OF_PAIRS:
         a, b = pairs[i], pairs[j]
         g0 = mean_turn_gap_m(a, b)
         gaps.append(g0)
+        delta.append(max(pack_clearance_m(a, b) - torus_clearance_bound_m(g0, a, b), 0.0))
         da.append((mean_turn_gap_m(_scaled(a, h), b) - g0) / (h * a.radius_m))
         db.append((mean_turn_gap_m(a, _scaled(b, h)) - g0) / (h * b.radius_m))
     return Frozen(
@@ -231,6 +245,7 @@ def frozen_factors(model: Any) -> Frozen:
         np.array(db),
         np.array([p.radius_m for p in pairs]),
         np.asarray(m.constants.view_factors, dtype=float),
+        np.array(delta),
     )
 
 
@@ -294,6 +309,7 @@ class HardwareStructure:
     free: tuple[str, ...]
     helmholtz: tuple[bool, bool, bool]
     headings: int
+    copper_mass_limit: bool = False
 
 
 def symbolic_constants(
@@ -410,8 +426,9 @@ def symbolic_constants(
 
 
 def geometry_terms(b: Any, hs: HardwareStructure, hw: dict, q: list, ctx: Any) -> list:
-    """Rows that keep a freed design buildable: packs inside their radius and apart from each
-    other (nesting), a clear bore, the magnet inside the shell, the spiral's turns apart."""
+    """Rows that keep a freed design buildable: packs inside their radius, clear of each other
+    and of the bore by the least clearance (module notes), a clear bore, the copper mass within
+    its limit, the magnet inside the shell, the spiral's turns apart."""
     import capsule as cap
     from optimize.nlp import Row
     from optimize.problem import ALPHA_REF_rad, Term
@@ -431,9 +448,12 @@ def geometry_terms(b: Any, hs: HardwareStructure, hw: dict, q: list, ctx: Any) -
     if free & {f"{ax}.{qq}" for ax in AXES for qq in COIL_QUANTITIES}:
         sep = b.parameter("hw.separation_m", (3,))
         bore = b.parameter("hw.min_bore_m")
-        gap0, dga, dgb = (
-            b.parameter(f"frozen.{n}", (3,)) for n in ("gap0_m", "dgap_dra", "dgap_drb")
+        gap0, dga, dgb, delta = (
+            b.parameter(f"frozen.{n}", (3,))
+            for n in ("gap0_m", "dgap_dra", "dgap_drb", "clearance_delta_m")
         )
+        need = b.parameter("requirement.min_clearance_m")
+        bore_r = b.parameter("requirement.bore_radius_m")
         r0 = b.parameter("frozen.radii0_m", (3,))
         freed = [bool(free & {f"{ax}.{qq}" for qq in COIL_QUANTITIES}) for ax in AXES]
         for k, ax in enumerate(AXES):
@@ -453,13 +473,33 @@ def geometry_terms(b: Any, hs: HardwareStructure, hw: dict, q: list, ctx: Any) -
                     lambda v, a: (a - v) / bk.fmax(a, 1e-3),
                 )
             )
+            out.append(
+                Term(
+                    Row(f"bore_clearance_{ax}", "geometry", "m", -1.0),
+                    r - 0.5 * depth - bore_r,
+                    need,
+                    lambda v, a: (a - v) / CLEARANCE_REF_m,
+                )
+            )
         for n, (i, j) in enumerate(PAIRS_OF_PAIRS):
             if not (freed[i] or freed[j]):
                 continue
             ri, rj = hw[f"{AXES[i]}.radius_m"], hw[f"{AXES[j]}.radius_m"]
             gap = gap0[n] + dga[n] * (ri - r0[i]) + dgb[n] * (rj - r0[j])
-            half = 0.5 * (q[i]["side_m"] + q[j]["side_m"])
-            out.append(Term(Row(f"nesting_{AXES[i]}{AXES[j]}", "geometry", "m"), half, gap, upper))
+            diag = [bk.sqrt(q[k]["width_m"] ** 2 + q[k]["depth_m"] ** 2) for k in (i, j)]
+            clearance = gap - 0.5 * (diag[0] + diag[1]) + delta[n]
+            out.append(
+                Term(
+                    Row(f"clearance_{AXES[i]}{AXES[j]}", "geometry", "m", -1.0),
+                    clearance,
+                    need,
+                    lambda v, a: (a - v) / CLEARANCE_REF_m,
+                )
+            )
+        if hs.copper_mass_limit:
+            mass = q[0]["copper_mass_kg"] + q[1]["copper_mass_kg"] + q[2]["copper_mass_kg"]
+            limit = b.parameter("limit.copper_mass_kg")
+            out.append(Term(Row("copper_mass", "limit", "kg"), mass, limit, upper))
     if free & {"magnet.diameter_m", "magnet.length_m"}:
         r_in, l_cyl = b.parameter("body.inner_radius_m"), b.parameter("body.cylinder_length_m")
         half_d = 0.5 * hw["magnet.diameter_m"]
@@ -521,6 +561,7 @@ def sizing_parameters(model: Any, frozen: Frozen, min_bore_m: float) -> dict[str
             "frozen.dgap_drb": frozen.dgap_drb,
             "frozen.radii0_m": frozen.radii0_m,
             "frozen.view_factors": frozen.view_factors.ravel(),
+            "frozen.clearance_delta_m": frozen.clearance_delta_m,
         }
     )
     return values

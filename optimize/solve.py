@@ -323,9 +323,13 @@ def _infeasible(model, scales, starts, iterations, tried, t0, status_text, ev=No
     if field is None and model.field_amplitude_T is not None:
         field = capacity
     ev = evaluate(model, alpha, f, field_amplitude_T=field)
+    from optimize.buildcheck import BUILD_CHECK_NAMES
+
     shortfalls = tuple(
-        Shortfall(c.name, c.unit, c.allowed, c.value) for c in ev.failed() if c.sense == ">="
-    ) + _hook_shortfalls(best)
+        Shortfall(c.name, c.unit, c.allowed, c.value)
+        for c in ev.failed()
+        if c.sense == ">=" or c.name in BUILD_CHECK_NAMES  # the hardware's own: no operating
+    ) + _hook_shortfalls(best)  # point changes the copper mass
     if not shortfalls:  # the relaxed optimum meets everything: IPOPT failed for another reason
         shortfalls = (Shortfall("solver", "", 0.0, 0.0),)
     names = ", ".join(s.name for s in shortfalls)

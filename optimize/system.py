@@ -54,6 +54,7 @@ class Limits:
     coil_temperature_C: float
     field_exposure: str = "occupational"
     surface_temperature_C: float | None = None
+    copper_mass_kg: float | None = None
 
 
 @dataclass(frozen=True)
@@ -61,6 +62,8 @@ class Requirements:
     """What the capsule must do: push ``axial_load_N`` at ``min_speed_m_s``, makeable spiral.
 
     ``min_safety_factor``: available / required torque for every tissue set (1: margin >= 0).
+    ``min_clearance_m``: least distance between the winding packs of two pairs and between the
+    packs' inner faces and a bore of radius ``bore_radius_m`` (coils.clearance).
     """
 
     axial_load_N: float
@@ -68,6 +71,8 @@ class Requirements:
     min_speed_m_s: float
     min_spiral_turns: float
     min_safety_factor: float = 1.0
+    min_clearance_m: float = 0.0
+    bore_radius_m: float = 0.0
 
 
 @dataclass(frozen=True)

@@ -174,6 +174,16 @@ KEYS: dict[str, Key] = {
         20.0,
         open_=False,
     ),
+    "coils.min_clearance_mm": _between(
+        "least distance between the winding packs of two different pairs, and between the "
+        "inner faces of the packs and the bore (requirements.min_bore_m, else the workspace "
+        "sphere): room for a coil former's wall (3-5 mm glass-fibre epoxy) and an air gap "
+        "that cools the faces; range: 0 (packs may touch) to 200 mm",
+        10.0,
+        0.0,
+        200.0,
+        open_=False,
+    ),
     "coils.packing_factor": _between(
         "copper cross-section / winding-pack cross-section (round wire, layer wound ~0.6-0.8); "
         "range: up to hexagonal close packing of round wire, 0.9069",
@@ -183,7 +193,8 @@ KEYS: dict[str, Key] = {
         open_=True,
     ),
 }
-for _ax, _r, _n in (("x", 0.40, 400), ("y", 0.35, 350), ("z", 0.30, 300)):
+# the built-in pairs nest 13.7 mm apart as solids (coils.min_clearance_mm = 10; issue 18)
+for _ax, _r, _n, _d in (("x", 0.43, 400, 3.0), ("y", 0.35, 350, 2.5), ("z", 0.28, 300, 2.36)):
     KEYS[f"coils.{_ax}.radius_m"] = _between(
         f"mean radius of each coil of the {_ax} pair; range: a 1 cm bench coil to a 2 m "
         "whole-body system",
@@ -202,7 +213,7 @@ for _ax, _r, _n in (("x", 0.40, 400), ("y", 0.35, 350), ("z", 0.30, 300)):
     KEYS[f"coils.{_ax}.wire_diameter_mm"] = _between(
         f"bare copper diameter of the {_ax} winding; range: AWG 44 (0.05 mm) to a 10 mm "
         "solid conductor",
-        2.5,
+        _d,
         0.05,
         10.0,
         open_=False,
@@ -464,6 +475,12 @@ KEYS.update(
             1e-3,
             1e6,
             open_=False,
+        ),
+        "limits.copper_mass_kg": _between(
+            "largest total copper mass of the three pairs (unset: no limit); range: up to 100 t",
+            None,
+            0.0,
+            1e5,
         ),
         "limits.coil_temperature_C": _between(
             "hottest winding temperature allowed (the hot spot at the pack centre); range: -50 to 250 °C, the hottest enamel "

@@ -44,11 +44,12 @@ def _by_axis(value: Any) -> dict[str, float]:
 #: dataclass field -> (JSON name, conversion); applied before the ``*_rad`` rule
 TRANSFORMS: dict[str, tuple[str, Callable[[Any], Any]]] = {
     "current_amplitudes_A": ("current_amplitudes_A", _by_axis),
+    "copper_masses_kg": ("copper_masses_kg", _by_axis),
     "relax_sign": ("relaxing_means", lambda s: "raising" if s > 0 else "lowering"),
 }
 
 #: properties shown as fields where a class has them
-PROPERTIES = ("gain_per_unit_relaxed", "short_by")
+PROPERTIES = ("gain_per_unit_relaxed", "short_by", "copper_mass_kg")
 
 #: fields shown by a dedicated rule of their parent (not field by field)
 _SKIPPED = {"current_phases_rad", "headings", "solution_x", "solution_lam_g"}
@@ -145,6 +146,8 @@ def optimization_to_dict(res: Any) -> dict[str, Any]:
     for s in out["shortfalls"]:
         s["key"] = constraint_key(s["name"])
     out["evaluation"] = evaluation_to_dict(res.evaluation)
+    out["copper_mass_kg"] = res.evaluation.copper_mass_kg
+    out["copper_masses_kg"] = _by_axis(res.evaluation.copper_masses_kg)
     if not math.isfinite(res.objective_value):  # no optimum (infeasible): no objective value
         out.pop("objective_value", None)
     hardware = _hardware(res.hardware)

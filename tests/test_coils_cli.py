@@ -19,8 +19,8 @@ _PKG = Path(spiralcap.__file__).parent
 def test_default_design_builds_in_si(build_coils) -> None:
     system = build_coils(load_design())
     assert [p.axis for p in system.pairs] == ["x", "y", "z"]
-    assert system.x.wire_diameter_m == pytest.approx(2.5e-3, rel=1e-15), "2.5 mm -> m"
-    assert system.z.separation_m == system.z.radius_m == 0.3, "separation defaults to radius"
+    assert system.x.wire_diameter_m == pytest.approx(3.0e-3, rel=1e-15), "3.0 mm -> m"
+    assert system.z.separation_m == system.z.radius_m == 0.28, "separation defaults to radius"
     assert system.y.centre_field_per_amp_T_per_A == pytest.approx(
         (4 / 5) ** 1.5 * MU0_T_m_per_A * 350 / 0.35, rel=1e-12
     ), "(4/5)^1.5 mu0 N/R, 1e-12"
@@ -121,7 +121,7 @@ def test_json_output(run_cli, capsys, tmp_path: Path) -> None:
 def test_text_output(run_cli, capsys) -> None:
     assert run_cli(["coils"]) == 0
     out = capsys.readouterr().out
-    for needle in ("mT_per_A", "±1 %", "worst heading", "x, y and z axes alike"):
+    for needle in ("mT_per_A", "±1 %", "worst heading", "set by the x axis"):
         assert needle in out, needle
 
 

@@ -231,3 +231,32 @@ def test_square_aspect_is_the_square_pack() -> None:
     )
     with pytest.raises(InputError, match="pack_aspect"):
         coils.HelmholtzPair(0.35, 300, pack_aspect=5.0)
+
+
+def test_stefan_bracket_numpy_and_casadi_agree() -> None:
+    from coils.pair import stefan_bracket
+
+    a, w, d = ca.SX.sym("a"), ca.SX.sym("w"), ca.SX.sym("d")
+    fn = ca.Function("L", [a, w, d], [stefan_bracket(a, w, d)])
+    for args in ((0.3, 0.05, 0.02), (0.4, 0.03, 0.06), (0.35, 0.04, 0.04)):
+        assert float(fn(*args)) == pytest.approx(float(stefan_bracket(*args)), rel=1e-12), (
+            "numpy vs CasADi, 1e-12"
+        )
+
+
+def test_clearance_row_is_exact_at_the_frozen_hardware() -> None:
+    """The sizing row's value (torus bound + frozen correction) at the hardware the factors
+    were frozen at equals the exact clearance of coils.clearance (docs/coils-buildable.md)."""
+    from coils.clearance import pack_clearance_m, torus_clearance_bound_m
+    from optimize import hardware as hw
+    from spiralcap.assemble import build_model
+    from spiralcap.design import load_design
+
+    model = build_model(load_design(None))
+    frozen = hw.frozen_factors(model)
+    pairs = model.coils.pairs
+    for n, (i, j) in enumerate(hw.PAIRS_OF_PAIRS):
+        row = torus_clearance_bound_m(frozen.gap0_m[n], pairs[i], pairs[j])
+        row += frozen.clearance_delta_m[n]
+        assert row == pytest.approx(pack_clearance_m(pairs[i], pairs[j]), abs=1e-12)
+        assert frozen.clearance_delta_m[n] >= 0.0, "the bound is conservative"

@@ -162,7 +162,7 @@ def test_poor_winding_conductivity_lowers_the_field():
     assert poor.field_amplitude_T < good.field_amplitude_T, (
         "issue 10: k = 0.5 W/(m·K) allows a lower field than k = 50"
     )
-    assert poor.field_limited_by == "hot_spot_x"
+    assert poor.field_limited_by == "hot_spot_y"
 
 
 def _fv_transient(pack, r20, current, minutes, n=24, steps=600):

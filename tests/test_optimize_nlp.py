@@ -140,7 +140,7 @@ def test_optimize_output_reproduced_by_evaluate(tmp_path, capsys):
     for k in ("margin_Nm", "helical_angle_deg", "frequency_hz"):
         assert math.isclose(ev[k], opt[k], rel_tol=1e-6), f"evaluate best.toml: same {k}, 1e-6"
     limits = [b["name"] for b in opt["binding_limits"] if b["key"].startswith("limits.")]
-    assert limits == [ev["field_limited_by"]] == ["hot_spot_x"], (
+    assert limits == [ev["field_limited_by"]] == ["hot_spot_y"], (
         "the optimiser's binding limit is the one evaluate says sets the field (the hot spot)"
     )
     # 2.365 mN·m since issue 19 (natural convection by correlation, packs radiating to each

@@ -10,7 +10,8 @@ prints.
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass
+import math
+from dataclasses import asdict, dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -102,6 +103,11 @@ class CoilAnalysis:
     operating: tuple[AxisOperatingThermal, ...]
     heating: tuple[HeatingCurve, ...]
     uniform: UniformRegions
+    min_clearance_m: float = 0.0
+    pack_clearances_m: dict[str, float] | None = None  # {"x/y": …, "x/z": …, "y/z": …}
+    bore_clearance_m: float = math.nan
+    bore_radius_m: float = 0.0
+    bill_of_materials: tuple = ()  # spiralcap.analysis.bom.BomRow per pair
 
 
 def _uniform(system: Any) -> UniformRegions:
@@ -243,7 +249,11 @@ def analyse_coils(design: Any, model: Any = None) -> CoilAnalysis:
     fixed = model.field_amplitude_T is not None
     field = cap.field_T if model.field_amplitude_T is None else float(model.field_amplitude_T)
     operating, curves = operating_thermal(model, field)
-    return CoilAnalysis(
+    from coils.clearance import bore_clearance_m, pack_clearances_m
+    from spiralcap.analysis.bom import bill_of_materials
+
+    req = model.requirements
+    analysis = CoilAnalysis(
         design=str(getattr(design, "source", "design")),
         sizing=sizing,
         capacity=cap,
@@ -255,7 +265,12 @@ def analyse_coils(design: Any, model: Any = None) -> CoilAnalysis:
         operating=tuple(operating),
         heating=tuple(curves),
         uniform=_uniform(model.coils),
+        min_clearance_m=float(req.min_clearance_m),
+        pack_clearances_m=pack_clearances_m(model.coils.pairs),
+        bore_clearance_m=bore_clearance_m(model.coils.pairs, req.bore_radius_m),
+        bore_radius_m=float(req.bore_radius_m),
     )
+    return replace(analysis, bill_of_materials=bill_of_materials(model, analysis))
 
 
 def coils_payload(a: CoilAnalysis) -> dict[str, Any]:
@@ -266,6 +281,9 @@ def coils_payload(a: CoilAnalysis) -> dict[str, Any]:
     lim = {x.axis: asdict(x) for x in a.axis_limits}
     op = {x.axis: asdict(x) for x in a.operating}
     sizing["axes"] = {s["axis"]: {**s, **lim[s["axis"]]} for s in sizing["axes"]}
+    for s in sizing["axes"].values():  # the side of a square pack only where it is one
+        if not math.isclose(s["winding_pack_width_m"], s["winding_pack_depth_m"], rel_tol=1e-12):
+            del s["winding_pack_side_m"]
     u = a.uniform
     uniform: dict[str, Any] = {
         "radius_1pct_m": u.radius_1pct_m,
@@ -302,4 +320,10 @@ def coils_payload(a: CoilAnalysis) -> dict[str, Any]:
             "axes": {ax: {k: v for k, v in d.items() if v is not None} for ax, d in op.items()},
         },
         "uniform_region": uniform,
+        "copper_mass_kg": float(sum(s["copper_mass_kg"] for s in sizing["axes"].values())),
+        "min_clearance_m": a.min_clearance_m,
+        "pack_clearances_m": dict(a.pack_clearances_m or {}),
+        "bore_clearance_m": a.bore_clearance_m,
+        "bore_radius_m": a.bore_radius_m,
+        "bill_of_materials": [asdict(r) for r in a.bill_of_materials],
     }

@@ -7,55 +7,17 @@ import math
 from collections.abc import Mapping
 from typing import Any
 
-import numpy as np
-
 from spiralcap.errors import InputError
 
 __all__ = ["build_coils", "pack_clearance_m"]
 
-_RING_SAMPLES = 2048
-
-
-def _ring_points(axis: int, radius_m: float, centre_m: float, n: int) -> np.ndarray:
-    phi = np.linspace(0.0, 2.0 * np.pi, n, endpoint=False)
-    pts = np.zeros((n, 3))
-    u, v = [k for k in range(3) if k != axis]
-    pts[:, u], pts[:, v], pts[:, axis] = radius_m * np.cos(phi), radius_m * np.sin(phi), centre_m
-    return pts
-
-
-def _distance_to_ring(
-    points: np.ndarray, axis: int, radius_m: float, centre_m: float
-) -> np.ndarray:
-    radial = np.sqrt(np.sum(np.delete(points, axis, axis=1) ** 2, axis=1))
-    return np.hypot(radial - radius_m, points[:, axis] - centre_m)
-
 
 def pack_clearance_m(pair_a: Any, pair_b: Any) -> float:
-    """Least distance between the mean-turn circles of two orthogonal pairs, less their packs.
+    """Least distance between the winding packs of two pairs as solids, m (negative: they
+    overlap); :func:`coils.clearance.pack_clearance_m`."""
+    from coils.clearance import pack_clearance_m as exact
 
-    The mean turns are circles; the gap is their smallest distance (circle sampled at 2048
-    points, exact distance to the other circle) minus half the two pack sides. Negative means
-    the winding packs intersect.
-
-    Parameters
-    ----------
-    pair_a, pair_b : coils.HelmholtzPair
-        Two pairs on different axes.
-
-    Returns
-    -------
-    float
-        Clearance, m.
-    """
-    gaps = []
-    for sa, sb in itertools.product((-0.5, 0.5), repeat=2):
-        pts = _ring_points(
-            pair_a.axis_index, pair_a.radius_m, sa * pair_a.separation_m, _RING_SAMPLES
-        )
-        dist = _distance_to_ring(pts, pair_b.axis_index, pair_b.radius_m, sb * pair_b.separation_m)
-        gaps.append(dist.min())
-    return float(min(gaps)) - 0.5 * (pair_a.winding_pack_side_m + pair_b.winding_pack_side_m)
+    return exact(pair_a, pair_b)
 
 
 def build_coils(design: Mapping[str, Any]) -> Any:
@@ -77,7 +39,8 @@ def build_coils(design: Mapping[str, Any]) -> Any:
     InputError
         Naming the design key: a winding pack as large as the coil radius
         (``coils.A.wire_diameter_mm``), coils of a pair that overlap (``coils.A.separation_m``),
-        or packs of two pairs that intersect (``coils.A.radius_m`` of the inner pair).
+        or packs of two pairs that intersect as solids (``coils.A.radius_m`` of the inner pair;
+        closer than ``coils.min_clearance_mm`` but apart is a failed check, not an error).
     """
     from coils import HelmholtzPair, ThreeAxisHelmholtz
 
@@ -123,7 +86,7 @@ def build_coils(design: Mapping[str, Any]) -> Any:
                 f"coils.{inner}.radius_m",
                 pairs[inner].radius_m,
                 f"a radius at which the {a} and {b} winding packs do not intersect "
-                f"(they overlap by {-gap:.3g} m; nest the pairs with distinct "
-                "radii)",
+                f"(as solids they overlap by at least {-gap * 1e3:.3g} mm; nest the pairs "
+                "with radii further apart or thinner packs)",
             )
     return ThreeAxisHelmholtz(**pairs)

@@ -96,6 +96,7 @@ def build_model(design: Design):
         coil_temperature_C=d["limits.coil_temperature_C"],
         field_exposure=d["limits.field_exposure"],
         surface_temperature_C=surface,
+        copper_mass_kg=d.get("limits.copper_mass_kg"),
     )
     req = Requirements(
         axial_load_N=to_si("requirements.axial_load_mN", d["requirements.axial_load_mN"]),
@@ -103,6 +104,8 @@ def build_model(design: Design):
         min_speed_m_s=to_si("requirements.min_speed_mm_s", d["requirements.min_speed_mm_s"]),
         min_spiral_turns=d["requirements.min_spiral_turns"],
         min_safety_factor=d["requirements.min_safety_factor"],
+        min_clearance_m=to_si("coils.min_clearance_mm", d["coils.min_clearance_mm"]),
+        bore_radius_m=bore_radius_m(d),
     )
     bounds = Bounds(
         helical_angle_min_rad=to_si(
@@ -167,6 +170,8 @@ _CONSTRAINT_KEYS = {
     "frequency_min": "optimize.frequency_min_hz",
     "solver": "optimize.starts",
     "stepout_probability": "requirements.max_stepout_probability",
+    "copper_mass": "limits.copper_mass_kg",
+    "bore_clearance": "coils.min_clearance_mm",
 }
 
 
@@ -200,8 +205,8 @@ def constraint_key(name: str) -> str:
     head, _, axis = stem.rpartition("_")
     if head in geometry and axis in ("x", "y", "z"):
         return geometry[head].format(axis)
-    if stem.startswith("nesting_"):
-        return f"coils.{stem[-1]}.radius_m"
+    if stem.startswith(("clearance_", "bore_clearance")):
+        return "coils.min_clearance_mm"
     if stem.startswith("magnet_"):
         return "capsule.magnet." + stem.split("_", 1)[1] + "_mm"
     if stem == "spiral_clearance":
@@ -299,6 +304,16 @@ def optimum_design_toml(design: Design, result: Any) -> str:
         f"(objective {result.objective}).\n"
         f"# Started from: {design.source}. Optimum: margin {result.margin_Nm * 1e3:.6g} mN·m, "
         f"safety factor {result.safety_factor:.6g}.\n"
+        f"# Copper: {result.evaluation.copper_mass_kg:.6g} kg ("
+        + ", ".join(f"{ax} {m:.4g} kg" for ax, m in zip("xyz", result.evaluation.copper_masses_kg))
+        + ").\n"
         "# `spiralcap evaluate` on this file reproduces the optimum.\n\n"
     )
     return head + _to_toml(values, comments=True)
+
+
+def bore_radius_m(d: Design) -> float:
+    """Radius of the bore the packs' inner faces keep ``coils.min_clearance_mm`` from:
+    half ``requirements.min_bore_m`` if set, else the workspace sphere's radius, m."""
+    bore = d.get("requirements.min_bore_m")
+    return 0.5 * float(bore) if bore is not None else float(d["workspace.radius_m"])

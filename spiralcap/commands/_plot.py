@@ -67,6 +67,7 @@ def write_geometry(path: str, design: Any, *, quiet: bool = False) -> Any:
             model.coils,
             model.capsule,
             workspace_radius_m=float(design["workspace.radius_m"]),
+            min_clearance_m=model.requirements.min_clearance_m,
         ),
         (7.0, 3.5),
     )

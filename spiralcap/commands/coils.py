@@ -21,6 +21,22 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     from spiralcap.commands._plot import add_geometry_plot_argument
 
     add_geometry_plot_argument(parser)
+    parser.add_argument(
+        "--step",
+        metavar="COILS.step",
+        help="also write the coil set as a CAD model: six named solid winding packs (mm) "
+        'in a STEP file (needs the cad extra: pip install "spiralcap[cad]")',
+    )
+    parser.add_argument(
+        "--stl",
+        metavar="COILS.stl",
+        help="also write the same solids as an STL mesh (needs the cad extra)",
+    )
+    parser.add_argument(
+        "--cad-workspace",
+        action="store_true",
+        help="add the workspace sphere to the CAD model as a seventh body",
+    )
 
 
 def _axes_words(axes: tuple[str, ...]) -> str:
@@ -44,7 +60,24 @@ def _cooling_words(p: dict[str, Any]) -> str:
     return f"{p['cooling']} convection h = {hs} W/(m²·K) (x, y, z)"
 
 
-def _text(p: dict[str, Any]) -> str:
+def _clearance_lines(p: dict[str, Any]) -> list[str]:
+    need = p["min_clearance_m"]
+    cl = p["pack_clearances_m"]
+
+    def mark(v: float) -> str:
+        return "ok" if v >= need * (1 - 1e-6) else "TOO CLOSE"
+
+    return [
+        f"winding packs as solids (axial width x radial depth), least clearance allowed "
+        f"{need * 1e3:.4g} mm (coils.min_clearance_mm):",
+        *(f"  {k}: {v * 1e3:.4g} mm  {mark(v)}" for k, v in cl.items()),
+        f"  inner faces to the bore (radius {p['bore_radius_m']:.4g} m): "
+        f"{p['bore_clearance_m'] * 1e3:.4g} mm  {mark(p['bore_clearance_m'])}",
+        f"copper: {p['copper_mass_kg']:.4g} kg in the three pairs",
+    ]
+
+
+def _text(p: dict[str, Any], bom: str = "") -> str:
     axes = [p["axes"][ax] for ax in "xyz"]
     rows = [
         [
@@ -52,8 +85,10 @@ def _text(p: dict[str, Any]) -> str:
             a["radius_m"],
             a["turns"],
             a["wire_diameter_m"] * 1e3,
-            a["winding_pack_side_m"] * 1e3,
+            a["winding_pack_width_m"] * 1e3,
+            a["winding_pack_depth_m"] * 1e3,
             a["wire_length_m"],
+            a["copper_mass_kg"],
             a["field_per_amp_T_per_A"] * 1e3,
             a["resistance_ohm"],
             a["inductance_H"] * 1e3,
@@ -73,8 +108,10 @@ def _text(p: dict[str, Any]) -> str:
             "radius_m",
             "turns",
             "wire_mm",
-            "pack_mm",
+            "pack_w_mm",
+            "pack_d_mm",
             "wire_m",
+            "Cu_kg",
             "mT_per_A",
             "R_ohm",
             "L_mH",
@@ -173,7 +210,11 @@ def _text(p: dict[str, Any]) -> str:
         f"  within all limits: {w['max_rotating_field_T'] * 1e3:.4g} mT, set by {w['limited_by']}"
         f" ({w['limit_key']}); the power limit alone allows "
         f"{w['per_limit_max_field_T']['power'] * 1e3:.4g} mT",
+        "",
+        *_clearance_lines(p),
     ]
+    if bom:
+        lines += ["", "bill of materials (per pair, both coils in series):", bom]
     return "\n".join(lines)
 
 
@@ -181,15 +222,58 @@ def run(args: argparse.Namespace) -> int:
     """Print the sizing table (or JSON); with --plot also draw the geometry view."""
     from spiralcap.commands._plot import check_figure_path, write_geometry
 
-    check_outputs({"--plot": args.plot}, design_paths(args))
+    check_outputs({"--plot": args.plot, "--step": args.step, "--stl": args.stl}, design_paths(args))
     if args.plot:
         check_figure_path("--plot", args.plot)
+    _check_cad_paths(args)
     design = design_from_args(args)
-    payload = sizing_payload(design)
+    from spiralcap.analysis.bom import bom_table
+    from spiralcap.analysis.coils import analyse_coils, coils_payload
+
+    analysis = analyse_coils(design)
+    payload = coils_payload(analysis)
     if args.json:
         print_json(payload)
     else:
-        print(_text(payload))
+        print(_text(payload, bom_table(analysis.bill_of_materials)))
     if args.plot:
         write_geometry(args.plot, design, quiet=args.json)
+    if args.step or args.stl:
+        _write_cad(args, design)
     return 0
+
+
+def _check_cad_paths(args: argparse.Namespace) -> None:
+    """--step / --stl: the suffix, and the CAD kernel installed (exit 2 before any work)."""
+    from spiralcap.cad import require_cad
+    from spiralcap.errors import InputError
+
+    for flag, path, suffixes in (
+        ("--step", args.step, (".step", ".stp")),
+        ("--stl", args.stl, (".stl",)),
+    ):
+        if path is None:
+            continue
+        if not path.lower().endswith(suffixes):
+            raise InputError(flag, path, f"a file name ending in {' or '.join(suffixes)}")
+        require_cad(flag, path)
+    if args.cad_workspace and not (args.step or args.stl):
+        raise InputError("--cad-workspace", True, "used with --step or --stl")
+
+
+def _write_cad(args: argparse.Namespace, design: Any) -> None:
+    import sys
+
+    from spiralcap.assemble.coils import build_coils
+    from spiralcap.cad import write_cad
+
+    system = build_coils(design)
+    radius = float(design["workspace.radius_m"]) if args.cad_workspace else None
+    written = write_cad(system.pairs, args.step, args.stl, radius)
+    if not args.json:
+        print(
+            f"wrote the CAD model ({len(system.pairs) * 2} winding packs"
+            f"{' and the workspace' if radius else ''}) to {', '.join(written)}"
+        )
+    else:
+        print(f"wrote {', '.join(written)}", file=sys.stderr)

@@ -80,6 +80,9 @@ def format_evaluation(ev) -> str:
         f"{' or more' if ev.max_frequency_beyond_search else ''} "
         f"(limited by {ev.max_frequency_limited_by})",
         f"forward speed       {ev.speed_m_s * 1e3:.4g} mm/s, spiral turns {ev.spiral_turns:.3g}",
+        f"copper              {ev.copper_mass_kg:.4g} kg ("
+        + ", ".join(f"{ax} {m:.4g}" for ax, m in zip("xyz", ev.copper_masses_kg))
+        + ")",
         "",
         format_table(
             ["check", "key", "value", "allowed", "unit", "ok"],

@@ -104,6 +104,9 @@ def format_result(res) -> str:
             f"(safety factor {safety_factor_text(res.safety_factor)})",
             f"forward speed       {res.speed_m_s * 1e3:.4g} mm/s",
             f"step-out frequency  {step_out_text(res.step_out_frequency_hz)}",
+            f"copper              {res.evaluation.copper_mass_kg:.4g} kg ("
+            + ", ".join(f"{ax} {m:.4g}" for ax, m in zip("xyz", res.evaluation.copper_masses_kg))
+            + ")",
             "binding limits:",
         ]
         gain, scale = _OBJECTIVE_LABELS.get(res.objective, ("", 1.0))

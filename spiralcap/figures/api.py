@@ -397,5 +397,11 @@ def geometry(model: Any, *, fig: Any = None, workspace_radius_m: float | None = 
     from spiralcap.figures.hardware import draw_geometry
 
     fig = _figure(fig, (7.0, 3.5))
-    drawn = draw_geometry(fig, model.coils, model.capsule, workspace_radius_m=workspace_radius_m)
+    drawn = draw_geometry(
+        fig,
+        model.coils,
+        model.capsule,
+        workspace_radius_m=workspace_radius_m,
+        min_clearance_m=model.requirements.min_clearance_m,
+    )
     return Plot(fig, drawn.pairs["x"][0].axes, drawn)

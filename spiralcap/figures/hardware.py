@@ -1,9 +1,12 @@
 """The hardware to scale: three nested Helmholtz pairs, the workspace, and the capsule.
 
 :func:`plot_geometry` draws a section through the coil centre in the x–z plane, in mm: the x
-and z pairs cut through their winding packs (squares of the pack side at the mean radius, the
-coil itself edge-on), the y pair face-on (its two coils are parallel to the section plane, so
-they show as the outline of their winding annulus), and the workspace sphere. An inset shows
+and z pairs cut through their winding packs (rectangles of axial width x radial depth at the
+mean radius, the coil itself edge-on), the y pair face-on (its two coils are parallel to the
+section plane, so they show as the outline of their winding annulus), the workspace sphere and,
+when a least clearance is given, where the packs of two pairs come closest (the 3-D segment
+between the solids, :func:`coils.clearance.pack_closest_points`, projected onto the section)
+with its length. An inset shows
 the capsule to its own scale: the shell, the spiral wire at its helical angle over the wound
 length (front half solid, back half dashed, every start) and the diametrically magnetised
 magnet with its moment. Everything is read off the domain objects (``coils.ThreeAxisHelmholtz``,
@@ -47,14 +50,14 @@ class CapsuleDrawn(NamedTuple):
     moment: Any
 
 
-def _pack(ax: Axes, cx: float, cy: float, side: float, colour: str, hatch: str) -> Any:
+def _pack(ax: Axes, cx: float, cy: float, wx: float, wy: float, colour: str, hatch: str) -> Any:
     from matplotlib.patches import Rectangle
 
     return ax.add_patch(
         Rectangle(
-            (cx - side / 2, cy - side / 2),
-            side,
-            side,
+            (cx - wx / 2, cy - wy / 2),
+            wx,
+            wy,
             facecolor=colour,
             edgecolor="black",
             linewidth=0.6,
@@ -72,6 +75,7 @@ def plot_geometry(
     workspace_radius_m: float | None = None,
     capsule_ax: Any = None,
     legend_ax: Any = None,
+    min_clearance_m: float | None = None,
 ) -> GeometryDrawn:
     """Section of the coil system through its centre (x–z plane), to scale, in mm.
 
@@ -87,6 +91,9 @@ def plot_geometry(
         Radius of the workspace sphere, m (dash-dot circle).
     capsule_ax, legend_ax : matplotlib.axes.Axes, optional
         Where the capsule and the legend go (the legend goes under ``ax`` when not given).
+    min_clearance_m : float, optional
+        The least clearance allowed (coils.min_clearance_mm); given, the closest approach of
+        each two pairs' packs is drawn and labelled with its length.
 
     Returns
     -------
@@ -103,8 +110,8 @@ def plot_geometry(
         colour, ls = _PAIR_STYLE[name]
         r = pair.radius_m * _MM
         h = 0.5 * pair.separation_m * _MM
-        side = pair.winding_pack_side_m * _MM
-        extent = max(extent, r + side, h + side)
+        width, depth = pair.winding_pack_width_m * _MM, pair.winding_pack_depth_m * _MM
+        extent = max(extent, r + depth, h + width)
         arts: list[Any] = []
         if name == "y":
             # parallel to the section plane: the winding annulus seen face-on
@@ -112,8 +119,8 @@ def plot_geometry(
                 ax.add_patch(
                     Annulus(
                         (0.0, 0.0),
-                        r + side / 2,
-                        side,
+                        r + depth / 2,
+                        depth,
                         facecolor=(0.0, 0.62, 0.45, 0.22),
                         edgecolor=colour,
                         linewidth=1.0,
@@ -124,8 +131,10 @@ def plot_geometry(
         else:
             for s_axial in (-h, h):
                 for s_radial in (-r, r):
-                    cx, cy = (s_axial, s_radial) if name == "x" else (s_radial, s_axial)
-                    arts.append(_pack(ax, cx, cy, side, colour, hatch))
+                    if name == "x":  # axis along the plot's x: width across, depth up
+                        arts.append(_pack(ax, s_axial, s_radial, width, depth, colour, hatch))
+                    else:
+                        arts.append(_pack(ax, s_radial, s_axial, depth, width, colour, hatch))
                 xs, ys = ([s_axial, s_axial], [-r, r]) if name == "x" else ([-r, r], [s_axial] * 2)
                 arts += ax.plot(xs, ys, color=colour, linestyle=ls, linewidth=1.0)
         drawn[name] = arts
@@ -138,7 +147,7 @@ def plot_geometry(
                 marker="s",
                 markerfacecolor=colour if name != "y" else "none",
                 label=f"{name} pair: R = {r:.0f} mm, spacing {2 * h:.0f} mm, "
-                f"pack {side:.0f} mm" + (" (face-on)" if name == "y" else ""),
+                f"pack {width:.0f} x {depth:.0f} mm" + (" (face-on)" if name == "y" else ""),
             )
         )
     ws = None
@@ -154,6 +163,8 @@ def plot_geometry(
             label=f"workspace sphere, r = {rw:.0f} mm",
         )
         handles.append(ws)
+    if min_clearance_m is not None:
+        handles += _clearances(ax, coils, min_clearance_m)
     ax.plot([0], [0], marker="+", color="black", markersize=10, linestyle="none")
     pad = 1.08 * extent
     ax.set_xlim(-pad, pad)
@@ -174,8 +185,45 @@ def plot_geometry(
     return GeometryDrawn(drawn, ws, cap_ax)
 
 
+def _clearances(ax: Axes, coils: Any, need_m: float) -> list[Any]:
+    """The closest approach of each two pairs' packs, projected onto the x-z section, one marker
+    shape per two pairs (greyscale-safe); their lengths go into the legend."""
+    import itertools
+
+    from matplotlib.lines import Line2D
+
+    from coils.clearance import pack_closest_points
+
+    handles = []
+    for (a, b), marker in zip(itertools.combinations(coils.pairs, 2), ("o", "s", "^")):
+        d, pa, pb = pack_closest_points(a, b)
+        xs, zs = [pa[0] * _MM, pb[0] * _MM], [pa[2] * _MM, pb[2] * _MM]
+        style: dict[str, Any] = {
+            "color": "black",
+            "linewidth": 1.2,
+            "marker": marker,
+            "markersize": 3.5,
+        }
+        ax.plot(xs, zs, **style)
+        short = "" if d >= need_m * (1 - 1e-6) else f", below the {need_m * _MM:g} mm allowed"
+        handles.append(
+            Line2D(
+                [],
+                [],
+                **style,
+                label=f"{a.axis}/{b.axis} packs {d * _MM:.1f} mm apart{short} (3-D, projected)",
+            )
+        )
+    return handles
+
+
 def draw_geometry(
-    fig: Any, coils: Any, capsule: Any = None, *, workspace_radius_m: float | None = None
+    fig: Any,
+    coils: Any,
+    capsule: Any = None,
+    *,
+    workspace_radius_m: float | None = None,
+    min_clearance_m: float | None = None,
 ) -> GeometryDrawn:
     """The geometry view on a whole Figure (or SubFigure): the coil section on the left, the
     legend and the capsule to its own scale on the right. Returns what was drawn.
@@ -189,6 +237,7 @@ def draw_geometry(
         workspace_radius_m=workspace_radius_m,
         capsule_ax=axs["capsule"],
         legend_ax=axs["legend"],
+        min_clearance_m=min_clearance_m,
     )
 
 

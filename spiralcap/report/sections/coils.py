@@ -13,8 +13,10 @@ SIZING_ROWS: tuple[tuple[str, str, str, float], ...] = (
     ("separation_m", "coil separation", "m", 1.0),
     ("turns", "turns per coil N", "–", 1.0),
     ("wire_diameter_m", "bare wire diameter", "mm", 1e3),
-    ("winding_pack_side_m", "winding-pack side", "mm", 1e3),
+    ("winding_pack_width_m", "winding-pack width (axial)", "mm", 1e3),
+    ("winding_pack_depth_m", "winding-pack depth (radial)", "mm", 1e3),
     ("wire_length_m", "wire length per pair", "m", 1.0),
+    ("copper_mass_kg", "copper mass per pair", "kg", 1.0),
     ("field_per_amp_T_per_A", "centre field per ampere", "mT/A", 1e3),
     ("resistance_ohm", "resistance of the pair (mean winding temperature)", "Ω", 1.0),
     ("self_inductance_H", "self inductance of one coil", "mH", 1e3),
@@ -56,6 +58,94 @@ def _sizing_table(ctx: Context) -> Table:
         wrap=0,
         id="coil-table",
     )
+
+
+def _bom_table(ctx: Context) -> Table:
+    """The bill of materials (``bill_of_materials`` of ``spiralcap coils --json``)."""
+    b = "coils.bill_of_materials"
+    rows: list[list[Cell]] = []
+    for i, row in enumerate(ctx.value(b)):
+        p = f"{b}.{i}"
+        rows.append(
+            [
+                row["axis"],
+                ctx.num(f"{p}.turns"),
+                ctx.num(f"{p}.wire_diameter_mm"),
+                ctx.num(f"{p}.wire_length_m"),
+                ctx.num(f"{p}.copper_mass_kg"),
+                ctx.num(f"{p}.resistance_20C_ohm"),
+                ctx.num(f"{p}.inductance_H", 1e3),
+                ctx.num(f"{p}.operating.current_amplitude_A"),
+                ctx.num(f"{p}.operating.voltage_amplitude_V"),
+                ctx.num(f"{p}.operating.apparent_power_VA"),
+                ctx.num(f"{p}.at_limits.current_amplitude_A"),
+                ctx.num(f"{p}.at_limits.voltage_amplitude_V"),
+                ctx.num(f"{p}.at_limits.apparent_power_VA"),
+            ]
+        )
+    lead = ctx.value(f"{b}.0.lead_allowance_m") / ctx.value(f"{b}.0.coils")
+    return Table(
+        [
+            "pair",
+            "turns/coil",
+            "wire (mm)",
+            "wire (m)",
+            "copper (kg)",
+            "R20 (Ω)",
+            "L (mH)",
+            "I op (A)",
+            "V op (V)",
+            "S op (VA)",
+            "I lim (A)",
+            "V lim (V)",
+            "S lim (VA)",
+        ],
+        rows,
+        caption=(
+            "Bill of materials per pair (two coils in series; same function as `spiralcap "
+            f"coils`): wire length of both coils plus {lead:g} m of leads per coil, copper of that "
+            "length, resistance at 20 °C and series inductance of the winding; current and "
+            "voltage amplitudes and apparent power S = V I / 2 the amplifier must deliver at the "
+            "operating point (op) and at the largest field every limit allows that pair (lim)"
+        ),
+        id="bom-table",
+    )
+
+
+def _build_paragraph(ctx: Context) -> Paragraph:
+    c = "coils"
+    cl = ctx.value(f"{c}.pack_clearances_m")
+    parts: list[Any] = [
+        Strong("Can it be built. "),
+        "The winding packs are solid rings of rectangular section; as solids the packs of two "
+        "pairs come no closer than ",
+    ]
+    for i, key in enumerate(cl):
+        parts += [
+            f"{key} " if i == 0 else f", {key} ",
+            ctx.num(f"{c}.pack_clearances_m.{key}", 1e3, "mm"),
+        ]
+    parts += [
+        ", and their inner faces keep ",
+        ctx.num(f"{c}.bore_clearance_m", 1e3, "mm"),
+        " from the bore (radius ",
+        ctx.num(f"{c}.bore_radius_m", 1e3, "mm"),
+        "); coils.min_clearance_mm asks for ",
+        ctx.num(f"{c}.min_clearance_m", 1e3, "mm"),
+        " (a former's wall and an air gap; ",
+        Ref("fig-geometry"),
+        " marks where the packs come closest). The three pairs hold ",
+        ctx.num(f"{c}.copper_mass_kg", unit="kg"),
+        " of copper; ",
+        Ref("bom-table"),
+        " lists what a workshop and an amplifier vendor need. Wire: ",
+        "; ".join(
+            f"{r['axis']} pair {r['wire_standard']}, enamel {r['enamel']}"
+            for r in ctx.value(f"{c}.bill_of_materials")
+        ),
+        ".",
+    ]
+    return Paragraph(parts)
 
 
 def _draw_maps(data: Any, workspace_radius_m: float) -> Any:
@@ -232,9 +322,12 @@ def build(ctx: Context) -> Section:
         ctx.data,
         "fig-geometry",
         "The hardware to scale. Left: section through the coil centre in the x–z plane, in mm: "
-        "the x and z pairs cut through their winding packs (squares of the pack side at the "
-        "mean radius; solid and dash-dot lines the coils edge-on), the y pair face-on (its "
-        "winding annulus, dashed outline, light fill), the workspace sphere dash-dotted. Right: the capsule "
+        "the x and z pairs cut through their winding packs (rectangles of axial width x radial "
+        "depth at the mean radius; solid and dash-dot lines the coils edge-on), the y pair "
+        "face-on (its winding annulus, dashed outline, light fill), the workspace sphere "
+        "dash-dotted; black segments: where the packs of two pairs come closest (the 3-D "
+        "segment between the solids projected onto the section; its length in the legend). "
+        "Right: the capsule "
         "to its own scale: shell, spiral wire at its helical angle over the wound length (front "
         "half thick, back half dashed) and the diametrically magnetised magnet with its "
         "moment m.",
@@ -262,6 +355,8 @@ def build(ctx: Context) -> Section:
             )
         )
     blocks.append(_sizing_table(ctx))
+    blocks.append(_build_paragraph(ctx))
+    blocks.append(_bom_table(ctx))
     blocks.append(
         Paragraph(
             [

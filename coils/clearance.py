@@ -1,0 +1,249 @@
+"""Winding packs as solids: exact signed distance, clearance between pairs, clearance to a bore.
+
+Each coil of a pair is a ring of rectangular section: the set of points whose cylindrical
+coordinates about the pair's axis, (ρ, z), lie in the rectangle
+``[R - h/2, R + h/2] x [c - w/2, c + w/2]`` (mean radius R, radial depth h, axial width w, mid-plane
+at z = c = ±s/2). A solid of revolution's distance from a point is the distance within the
+point's meridian half-plane, so the signed distance of a ring is exactly the 2-D signed
+distance of (ρ, z) to that rectangle (:func:`ring_signed_distance`; h < 2R keeps the rectangle
+off the axis).
+
+Two rings about perpendicular axes have no closed-form distance. :func:`ring_distance_m`
+minimises the exact signed distance of ring B over the surface of ring A (the least distance of
+two disjoint solids is the least distance of one's surface to the other; negative: they
+overlap, by at least that depth): a 720 x 64 grid over A's surface (angle x perimeter of the
+section), then the best cells refined by zooming grids until a cell is below 1e-9 m (the distance then to ~1e-12 m).
+"""
+
+from __future__ import annotations
+
+import functools
+import itertools
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+__all__ = [
+    "Ring",
+    "bore_clearance_m",
+    "nearest_point_on_ring",
+    "pack_clearance_m",
+    "pack_clearances_m",
+    "pack_closest_points",
+    "pair_rings",
+    "ring_distance_m",
+    "ring_signed_distance",
+    "ring_surface_points",
+    "torus_clearance_bound_m",
+]
+
+_GRID = (720, 64)
+_REFINE_BEST = 4
+_REFINE_STEPS = 32
+
+
+@dataclass(frozen=True)
+class Ring:
+    """One winding pack as a solid ring (SI).
+
+    Parameters
+    ----------
+    axis : int
+        0, 1, 2 for a ring about x, y, z.
+    radius_m : float
+        Mean radius R of the section's centre, m.
+    centre_m : float
+        Axial position c of the section's mid-plane, m.
+    width_m : float
+        Axial width w of the section, m.
+    depth_m : float
+        Radial depth h of the section, m (h < 2R).
+    """
+
+    axis: int
+    radius_m: float
+    centre_m: float
+    width_m: float
+    depth_m: float
+
+    @property
+    def volume_m3(self) -> float:
+        """2π R w h (Pappus), m³."""
+        return 2.0 * math.pi * self.radius_m * self.width_m * self.depth_m
+
+
+def pair_rings(pair: Any) -> tuple[Ring, Ring]:
+    """The two packs of a :class:`coils.HelmholtzPair` at ∓s/2 along its axis."""
+    half = 0.5 * pair.spacing_m
+    return tuple(  # type: ignore[return-value]
+        Ring(
+            pair.axis_index,
+            pair.radius_m,
+            sign * half,
+            pair.winding_pack_width_m,
+            pair.winding_pack_depth_m,
+        )
+        for sign in (-1.0, 1.0)
+    )
+
+
+def _cylindrical(points: np.ndarray, axis: int) -> tuple[np.ndarray, np.ndarray]:
+    p = np.asarray(points, dtype=float)
+    u, v = (k for k in range(3) if k != axis)
+    return np.hypot(p[..., u], p[..., v]), p[..., axis]
+
+
+def ring_signed_distance(ring: Ring, points: np.ndarray) -> np.ndarray:
+    """Exact signed distance of ``points`` (shape (..., 3), m) to the solid ring, m.
+
+    Positive outside, negative inside: the 2-D box distance of (ρ - R, z - c) to the half
+    extents (h/2, w/2).
+    """
+    rho, z = _cylindrical(points, ring.axis)
+    qx = np.abs(rho - ring.radius_m) - 0.5 * ring.depth_m
+    qz = np.abs(z - ring.centre_m) - 0.5 * ring.width_m
+    outside = np.hypot(np.maximum(qx, 0.0), np.maximum(qz, 0.0))
+    inside = np.minimum(np.maximum(qx, qz), 0.0)
+    return outside + inside
+
+
+def _section_point(ring: Ring, s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(ρ, z) of the section boundary at arc length s (mod the perimeter), from the inner-low
+    corner counter-clockwise: inner face up, top face out, outer face down, bottom face in."""
+    h, w = ring.depth_m, ring.width_m
+    per = 2.0 * (h + w)
+    s = np.mod(s, per)
+    r0, z0 = ring.radius_m - 0.5 * h, ring.centre_m - 0.5 * w
+    rho = np.select(
+        [s < w, s < w + h, s < 2 * w + h],
+        [np.full_like(s, r0), r0 + (s - w), np.full_like(s, r0 + h)],
+        r0 + h - (s - 2 * w - h),
+    )
+    z = np.select(
+        [s < w, s < w + h, s < 2 * w + h],
+        [z0 + s, np.full_like(s, z0 + w), z0 + w - (s - w - h)],
+        np.full_like(s, z0),
+    )
+    return rho, z
+
+
+def ring_surface_points(ring: Ring, phi: np.ndarray, s: np.ndarray) -> np.ndarray:
+    """Points on the ring's surface at angle ``phi`` (rad) and section arc length ``s`` (m);
+    ``phi`` and ``s`` broadcast; returns shape (..., 3)."""
+    rho, z = _section_point(ring, np.asarray(s, dtype=float))
+    phi = np.asarray(phi, dtype=float)
+    rho, z, phi = np.broadcast_arrays(rho, z, phi)
+    out = np.empty((*rho.shape, 3))
+    u, v = (k for k in range(3) if k != ring.axis)
+    out[..., u] = rho * np.cos(phi)
+    out[..., v] = rho * np.sin(phi)
+    out[..., ring.axis] = z
+    return out
+
+
+def ring_distance_m(a: Ring, b: Ring) -> float:
+    """Least distance between two solid rings, m (negative: they overlap).
+
+    Minimum of B's exact signed distance over A's surface: a grid search, then zooming grids
+    around the best cells (see the module notes). Converged to well below 1 µm.
+    """
+    return _ring_distance(a, b)
+
+
+def _ring_distance(a: Ring, b: Ring) -> float:
+    return _closest(a, b)[0]
+
+
+def nearest_point_on_ring(ring: Ring, point: np.ndarray) -> np.ndarray:
+    """The point of the solid ring nearest ``point`` (shape (3,)), for a point outside it."""
+    p = np.asarray(point, dtype=float)
+    rho, z = _cylindrical(p, ring.axis)
+    r_near = np.clip(rho, ring.radius_m - 0.5 * ring.depth_m, ring.radius_m + 0.5 * ring.depth_m)
+    z_near = np.clip(z, ring.centre_m - 0.5 * ring.width_m, ring.centre_m + 0.5 * ring.width_m)
+    u, v = (k for k in range(3) if k != ring.axis)
+    scale = r_near / rho if rho > 0 else 0.0
+    out = np.empty(3)
+    out[u], out[v], out[ring.axis] = p[u] * scale, p[v] * scale, z_near
+    return out
+
+
+def pack_closest_points(pair_a: Any, pair_b: Any) -> tuple[float, np.ndarray, np.ndarray]:
+    """(clearance m, nearest point on A's packs, nearest point on B's packs) of two pairs; the
+    points are meaningful when the packs are apart (clearance > 0)."""
+    d, pa, rb = _closest(pair_rings(pair_a)[1], pair_rings(pair_b)[1])  # see pack_clearance_m
+    return d, pa, nearest_point_on_ring(rb, pa)
+
+
+@functools.lru_cache(maxsize=4096)
+def _closest(a: Ring, b: Ring) -> tuple[float, np.ndarray, Ring]:
+    per = 2.0 * (a.width_m + a.depth_m)
+    n_phi, n_s = _GRID
+    dphi, ds = 2.0 * math.pi / n_phi, per / n_s
+    phi = np.arange(n_phi) * dphi
+    s = (np.arange(n_s) + 0.5) * ds
+    d = ring_signed_distance(b, ring_surface_points(a, phi[:, None], s[None, :]))
+    best = float(d.min())
+    # the signed distance is 1-Lipschitz in space: a cell whose grid value exceeds the best by
+    # more than the cell's spatial size cannot hold the minimum
+    cell = math.hypot(dphi * (a.radius_m + 0.5 * a.depth_m), ds)
+    flat = [i for i in np.argsort(d, axis=None)[:_REFINE_BEST] if d.flat[i] <= best + cell]
+    i0, j0 = np.unravel_index(int(np.argmin(d)), d.shape)
+    where = (phi[i0], s[j0])
+    for idx in flat:
+        i, j = np.unravel_index(idx, d.shape)
+        c_phi, c_s, h_phi, h_s = phi[i], s[j], dphi, ds
+        for _ in range(_REFINE_STEPS):
+            gp = c_phi + np.linspace(-h_phi, h_phi, 9)
+            gs = c_s + np.linspace(-h_s, h_s, 9)
+            dd = ring_signed_distance(b, ring_surface_points(a, gp[:, None], gs[None, :]))
+            k, m = np.unravel_index(int(np.argmin(dd)), dd.shape)
+            if float(dd[k, m]) < best:
+                best, where = float(dd[k, m]), (gp[k], gs[m])
+            c_phi, c_s = gp[k], gs[m]
+            h_phi, h_s = 0.5 * h_phi, 0.5 * h_s
+            if h_phi * (a.radius_m + a.depth_m) < 1e-9 and h_s < 1e-9:
+                break
+    point = ring_surface_points(a, np.array(where[0]), np.array(where[1]))
+    return best, point, b
+
+
+def pack_clearance_m(pair_a: Any, pair_b: Any) -> float:
+    """Least distance between the winding packs of two pairs on different axes, m.
+
+    The packs are solids (:func:`pair_rings`): :func:`ring_distance_m` of one coil of each.
+    The four coil combinations are congruent (the mirror x_a -> -x_a swaps A's coils and maps
+    B's, whose axis is perpendicular, onto themselves; likewise for B), so one is computed.
+    Negative: the packs overlap (by at least that depth).
+    """
+    return ring_distance_m(pair_rings(pair_a)[1], pair_rings(pair_b)[1])
+
+
+def pack_clearances_m(pairs: Any) -> dict[str, float]:
+    """``{"x/y": …, "x/z": …, "y/z": …}`` of :func:`pack_clearance_m` for the three pairs."""
+    return {
+        f"{a.axis}/{b.axis}": pack_clearance_m(a, b) for a, b in itertools.combinations(pairs, 2)
+    }
+
+
+def bore_clearance_m(pairs: Any, bore_radius_m: float) -> float:
+    """Least radial room between the inner faces of the packs and a bore, m.
+
+    min over pairs of (R - h/2) - bore radius: the inner face of every pack is a cylinder of
+    radius R - h/2 about its axis, the bore a coaxial cylinder (or the workspace sphere, which
+    touches that cylinder's radius first at its equator).
+    """
+    return min(p.radius_m - 0.5 * p.winding_pack_depth_m for p in pairs) - bore_radius_m
+
+
+def torus_clearance_bound_m(mean_turn_gap_m: Any, pair_a: Any, pair_b: Any) -> Any:
+    """A smooth lower bound of the clearance: the gap between the mean turns less the two
+    sections' half diagonals (each ring lies inside the torus of that tube radius).
+
+    Conservative by at most ((sqrt(w_a² + h_a²) - max(w_a, h_a)) + (same for b)) / 2.
+    """
+    return mean_turn_gap_m - 0.5 * (
+        math.hypot(pair_a.winding_pack_width_m, pair_a.winding_pack_depth_m)
+        + math.hypot(pair_b.winding_pack_width_m, pair_b.winding_pack_depth_m)
+    )
