@@ -199,7 +199,8 @@ def robin_transient(
         return out
 
     def source(c: list[Any], r: list[Any], t: Any) -> Any:
-        return source_W_m3 + source_slope_W_m3K * mean_rise(c, r, t)
+        # beyond thermal runaway the feedback would overflow: bounded at a 1e5 K mean rise
+        return source_W_m3 + source_slope_W_m3K * bk.fmin(mean_rise(c, r, t), 1e5)
 
     c = [0.0 * time_s for _ in range(nmodes)]
     r = [0.0 * time_s for _ in range(5)]  # lumped rest per observable: dr/dt = λ (R q - r)
