@@ -242,3 +242,24 @@ def test_surface_limit_binds_and_the_optimiser_agrees():
     assert res.field_amplitude_T == pytest.approx(at.field_amplitude_T, rel=1e-6), (
         "IPOPT on the CasADi surface row reaches the field the numpy bisection allows (1e-6)"
     )
+
+
+@pytest.mark.parametrize("command", ["coils", "evaluate"])
+def test_cooling_outputs_match_their_schemas(command):
+    """Forced air, a session and the surface limit: every field the commands print is in
+    docs/json/*.schema.json (one type per field)."""
+    from pathlib import Path
+
+    import jsonschema
+
+    sets = [
+        "operation.session_min=30",
+        "limits.surface_temperature_C=55",
+        "coils.cooling=forced",
+        "coils.air_speed_m_s=0.5",
+    ]
+    rc, out, err = run([command, "--json", *[x for s in sets for x in ("--set", s)]])
+    assert rc == 0, err
+    root = Path(__file__).resolve().parents[1]
+    schema = json.loads((root / "docs" / "json" / f"{command}.schema.json").read_text())
+    jsonschema.validate(json.loads(out), schema)
