@@ -31,6 +31,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
+import numpy as np
+
 from spiralcap import backend as bk
 
 __all__ = [
@@ -122,9 +124,11 @@ def pack_convection_W_m2K(
     forced air at ``air_speed_m_s``.
     """
     surface_C = bk.fmax(surface_C, ambient_C)  # a face below the air: h of ΔT -> 0 (no data)
+    if isinstance(surface_C, np.generic):  # Python floats keep the scalar path fast
+        surface_C = float(surface_C)
     air = air_properties(0.5 * (surface_C + ambient_C))
     dt = surface_C - ambient_C
-    dt = bk.sqrt(dt * dt + _DT_FLOOR_K * _DT_FLOOR_K)
+    dt = (dt * dt + _DT_FLOOR_K * _DT_FLOOR_K) ** 0.5
     buoy = (
         _G
         / (0.5 * (surface_C + ambient_C) + _KELVIN)
