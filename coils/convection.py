@@ -31,8 +31,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-import numpy as np
-
 from spiralcap import backend as bk
 
 __all__ = [
@@ -123,9 +121,11 @@ def pack_convection_W_m2K(
     rings); the orientation is part of the model's structure, not a value. ``forced``: add
     forced air at ``air_speed_m_s``.
     """
-    surface_C = bk.fmax(surface_C, ambient_C)  # a face below the air: h of ΔT -> 0 (no data)
-    if isinstance(surface_C, np.generic):  # Python floats keep the scalar path fast
-        surface_C = float(surface_C)
+    # a face below the air: h of ΔT -> 0; Python floats stay Python floats (the fast path)
+    if isinstance(surface_C, float) and isinstance(ambient_C, (float, int)):
+        surface_C = max(float(surface_C), float(ambient_C))
+    else:
+        surface_C = bk.fmax(surface_C, ambient_C)
     air = air_properties(0.5 * (surface_C + ambient_C))
     dt = surface_C - ambient_C
     dt = (dt * dt + _DT_FLOOR_K * _DT_FLOOR_K) ** 0.5
