@@ -189,22 +189,27 @@ def _closest(a: Ring, b: Ring) -> tuple[float, np.ndarray, Ring]:
     # more than the cell's spatial size cannot hold the minimum
     cell = math.hypot(dphi * (a.radius_m + 0.5 * a.depth_m), ds)
     flat = [i for i in np.argsort(d, axis=None)[:_REFINE_BEST] if d.flat[i] <= best + cell]
+    cells = np.array([np.unravel_index(i, d.shape) for i in flat])
+    c_phi, c_s = phi[cells[:, 0]], s[cells[:, 1]]  # every candidate cell zoomed at once
     i0, j0 = np.unravel_index(int(np.argmin(d)), d.shape)
     where = (phi[i0], s[j0])
-    for idx in flat:
-        i, j = np.unravel_index(idx, d.shape)
-        c_phi, c_s, h_phi, h_s = phi[i], s[j], dphi, ds
-        for _ in range(_REFINE_STEPS):
-            gp = c_phi + np.linspace(-h_phi, h_phi, 9)
-            gs = c_s + np.linspace(-h_s, h_s, 9)
-            dd = ring_signed_distance(b, ring_surface_points(a, gp[:, None], gs[None, :]))
-            k, m = np.unravel_index(int(np.argmin(dd)), dd.shape)
-            if float(dd[k, m]) < best:
-                best, where = float(dd[k, m]), (gp[k], gs[m])
-            c_phi, c_s = gp[k], gs[m]
-            h_phi, h_s = 0.5 * h_phi, 0.5 * h_s
-            if h_phi * (a.radius_m + a.depth_m) < 1e-9 and h_s < 1e-9:
-                break
+    h_phi, h_s = dphi, ds
+    step = np.linspace(-1.0, 1.0, 9)
+    rows = np.arange(len(flat))
+    for _ in range(_REFINE_STEPS):
+        gp = c_phi[:, None] + h_phi * step  # (K, 9)
+        gs = c_s[:, None] + h_s * step
+        dd = ring_signed_distance(b, ring_surface_points(a, gp[:, :, None], gs[:, None, :]))
+        k = np.argmin(dd.reshape(len(flat), -1), axis=1)
+        km, mm = np.unravel_index(k, (9, 9))
+        c_phi, c_s = gp[rows, km], gs[rows, mm]
+        values = dd[rows, km, mm]
+        top = int(np.argmin(values))
+        if float(values[top]) < best:
+            best, where = float(values[top]), (c_phi[top], c_s[top])
+        h_phi, h_s = 0.5 * h_phi, 0.5 * h_s
+        if h_phi * (a.radius_m + a.depth_m) < 1e-9 and h_s < 1e-9:
+            break
     point = ring_surface_points(a, np.array(where[0]), np.array(where[1]))
     return best, point, b
 

@@ -318,6 +318,13 @@ def test_step_read_back_six_named_solids_of_the_right_volume(tmp_path, capsys) -
             vol = solids[f"coil_{pair.axis}{s}"].volume
             assert vol == pytest.approx(expected, rel=0.005), "2πR·w·h, 0.5 %"
     assert solids["workspace"].volume == pytest.approx(4 / 3 * math.pi * 50.0**3, rel=0.005)
+    masses = _run_json(["coils", "--json"], capsys)["axes"]
+    for pair in model.coils.pairs:
+        cad_volume_m3 = sum(solids[f"coil_{pair.axis}{s}"].volume for s in "-+") * 1e-9
+        from_cad = cad_volume_m3 * pair.packing_factor * 8890.0
+        assert masses[pair.axis]["copper_mass_kg"] == pytest.approx(from_cad, rel=0.01), (
+            "copper mass = CAD volume of the two packs x packing factor x 8890 kg/m³ (1 %)"
+        )
     packs = [solids[f"coil_{ax}{s}"] for ax in "xyz" for s in "-+"]
     for a, b in itertools.combinations(packs, 2):
         common = (a & b).volume if (a & b) is not None else 0.0
