@@ -23,8 +23,9 @@ import numpy as np
 
 from coils.electrical import impedance_ohm
 from coils.system import ThreeAxisHelmholtz
-from coils.thermal import WindingPack, radiation_coefficient_W_m2K, steady_state, transient
-from spiralcap.constants import COPPER_DENSITY_kg_m3
+from coils.thermal import WindingPack
+from coils.thermal_system import mean_rise_at_K, pair_temperatures
+from spiralcap.constants import COPPER_DENSITY_kg_m3, COPPER_TEMPERATURE_COEFFICIENT_per_K
 
 __all__ = ["AxisSizing", "SystemSizing", "WorstHeading", "size_system", "winding_pack"]
 
@@ -65,6 +66,9 @@ class AxisSizing:
     heat_capacity_J_per_K: float
     time_constant_s: float
     field_amplitude_T: float
+    surface_max_temperature_C: float = math.nan
+    convection_coefficient_W_m2K: float = math.nan
+    radiation_view_factor: float = 1.0
 
 
 @dataclass(frozen=True)
@@ -84,7 +88,7 @@ class SystemSizing:
     frequency_hz: float
     current_amplitude_A: float
     ambient_temperature_C: float
-    heat_transfer_coefficient_W_m2K: float
+    heat_transfer_coefficient_W_m2K: float | None
     winding_conductivity_W_mK: float
     surface_emissivity: float
     axes: tuple[AxisSizing, AxisSizing, AxisSizing]
@@ -92,6 +96,7 @@ class SystemSizing:
     total_power_W: float
     current_limited_rotating_field_T: float
     current_limiting_axes: tuple[str, ...]
+    cooling: str = "fixed"
 
 
 def winding_pack(
@@ -115,10 +120,12 @@ def size_system(
     frequency_hz: float,
     current_amplitude_A: float,
     ambient_temperature_C: float,
-    heat_transfer_coefficient_W_m2K: float,
+    heat_transfer_coefficient_W_m2K: float | None,
     winding_conductivity_W_mK: float = 0.5,
     surface_emissivity: float = 0.9,
     headings: np.ndarray | None = None,
+    packs: tuple | None = None,
+    view_factors: np.ndarray | None = None,
 ) -> SystemSizing:
     """Evaluate every pair at one current amplitude and frequency.
 
@@ -132,14 +139,20 @@ def size_system(
         Current amplitude of every pair, and the current limit, A.
     ambient_temperature_C : float
         Air temperature, °C.
-    heat_transfer_coefficient_W_m2K : float
-        Convective coefficient from the winding surface, W/(m²·K).
+    heat_transfer_coefficient_W_m2K : float or None
+        Convective coefficient from the winding surface, W/(m²·K) (None: ``packs`` says).
     winding_conductivity_W_mK : float
         Effective transverse conductivity of the packs, W/(m·K).
     surface_emissivity : float
         Grey-body emissivity of the winding surface.
     headings : ndarray, shape (h, 3), optional
         Unit headings for the worst-heading total (default: the three axes).
+    packs : tuple of coils.thermal.WindingPack, optional
+        The packs as cooled (convection correlations, forced air); default: a fixed
+        ``heat_transfer_coefficient_W_m2K``.
+    view_factors : ndarray (3, 4), optional
+        Rows ``[room, x, y, z]`` (:func:`coils.viewfactors.view_factors`): the three pairs,
+        all at this current, radiate to each other; default: each alone in the room.
 
     Returns
     -------
@@ -147,22 +160,30 @@ def size_system(
     """
     axes = []
     states = []
-    for pair in system.pairs:
-        pack = winding_pack(
-            pair, winding_conductivity_W_mK, heat_transfer_coefficient_W_m2K, surface_emissivity
+    if packs is None:
+        if heat_transfer_coefficient_W_m2K is None:
+            raise ValueError("size_system needs packs or a heat_transfer_coefficient_W_m2K")
+        packs = tuple(
+            winding_pack(
+                pair,
+                winding_conductivity_W_mK,
+                heat_transfer_coefficient_W_m2K,
+                surface_emissivity,
+            )
+            for pair in system.pairs
         )
-        r20 = pair.resistance_ohm(20.0)
-        st = steady_state(pack, r20, current_amplitude_A, ambient_temperature_C)
+    r20s = [pair.resistance_ohm(20.0) for pair in system.pairs]
+    together = pair_temperatures(
+        packs, r20s, (current_amplitude_A,) * 3, ambient_temperature_C, view_factors
+    )
+    for k, pair in enumerate(system.pairs):
+        pack, r20, st = packs[k], r20s[k], together[k]
         if float(st.runaway) > 0.5:  # no steady state: report NaN, not the bounding iterate
-            st = type(st)(*(math.nan,) * 5, runaway=1.0)
-        states.append((pack, r20))
-        r = float(st.resistance_ohm)
+            st = type(st)(*(math.nan,) * 11, runaway=1.0)
+        states.append((together[k], r20))
+        r = r20 * (1.0 + COPPER_TEMPERATURE_COEFFICIENT_per_K * (float(st.mean_C) - 20.0))
         z = float(impedance_ohm(r, pair.series_inductance_H, frequency_hz))
         g = pair.centre_field_per_amp_T_per_A
-        h_r = radiation_coefficient_W_m2K(st.surface_C, ambient_temperature_C, surface_emissivity)
-        tau = transient(
-            pack, r20, current_amplitude_A, ambient_temperature_C, 0.0, st.surface_C
-        ).time_constant_s
         axes.append(
             AxisSizing(
                 axis=pair.axis,
@@ -185,15 +206,16 @@ def size_system(
                 impedance_ohm=z,
                 voltage_amplitude_V=z * current_amplitude_A,
                 power_W=float(st.power_W),
-                surface_conductance_W_per_K=float(
-                    pack.surface_area_m2 * (heat_transfer_coefficient_W_m2K + h_r)
-                ),
+                surface_conductance_W_per_K=float(pack.surface_area_m2 * st.effective_h_W_m2K),
                 surface_temperature_C=float(st.surface_C),
                 mean_temperature_C=float(st.mean_C),
                 hot_spot_temperature_C=float(st.hot_spot_C),
                 temperature_rise_K=float(st.hot_spot_C) - ambient_temperature_C,
                 heat_capacity_J_per_K=float(pack.heat_capacity_J_per_K),
-                time_constant_s=float(tau),
+                time_constant_s=float(st.time_constant_s),
+                surface_max_temperature_C=float(st.surface_max_C),
+                convection_coefficient_W_m2K=float(st.convection_W_m2K),
+                radiation_view_factor=1.0 if view_factors is None else float(view_factors[k][0]),
                 field_amplitude_T=g * current_amplitude_A,
             )
         )
@@ -212,6 +234,7 @@ def size_system(
         total_power_W=worst.total_power_W,
         current_limited_rotating_field_T=weakest,
         current_limiting_axes=tied,
+        cooling=packs[0].convection,
     )
 
 
@@ -223,23 +246,21 @@ def _worst_heading(
     headings: np.ndarray | None,
 ) -> WorstHeading:
     """Per heading: the field at which its busiest axis reaches the current limit, the currents
-    (A_k = B0 sqrt(1 - n_k²)/g_k) and their self-consistent copper loss; the largest loss."""
+    (A_k = B0 sqrt(1 - n_k²)/g_k) and their self-consistent copper loss (each pair's faces
+    linearised at its state at the current limit: :func:`coils.thermal_system.mean_rise_at_K`);
+    the largest loss."""
     h = np.eye(3) if headings is None else np.asarray(headings, dtype=float)
     h = h / np.linalg.norm(h, axis=1, keepdims=True)
     g = np.array([p.centre_field_per_amp_T_per_A for p in system.pairs])
     per_T = np.sqrt(np.clip(1.0 - h**2, 0.0, 1.0)) / g  # (h, 3) A per T
     field = current_A / np.max(per_T, axis=1)
     currents = field[:, None] * per_T
-    runs = [
-        steady_state(pack, r20, currents[:, k], ambient_C) for k, (pack, r20) in enumerate(states)
-    ]
-    loss = np.sum(
-        [
-            np.where(np.asarray(st.runaway) > 0.5, np.nan, np.asarray(st.power_W, dtype=float))
-            for st in runs
-        ],
-        axis=0,
-    )
+    loss = np.zeros(h.shape[0])
+    for k, (state, r20) in enumerate(states):
+        rise = np.asarray(mean_rise_at_K(state, r20, currents[:, k], ambient_C), dtype=float)
+        r = r20 * (1.0 + COPPER_TEMPERATURE_COEFFICIENT_per_K * (ambient_C + rise - 20.0))
+        bad = float(state.runaway) > 0.5
+        loss = loss + np.where(bad, np.nan, 0.5 * r * currents[:, k] ** 2)
     i = int(np.argmax(np.where(np.isnan(loss), np.inf, loss)))  # NaN: thermal runaway
     return WorstHeading(
         heading=(float(h[i, 0]), float(h[i, 1]), float(h[i, 2])),

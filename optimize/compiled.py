@@ -61,6 +61,8 @@ class Structure:
     session: bool = False
     heading_pattern: tuple = ()  # see heading_pattern(); () builds every entry on its own
     scenarios: Any = None  # DesignModel.scenarios.structure (counts, which rows)
+    convection: str = "fixed"  # coils.thermal.CONVECTION_MODES
+    surface_limit: bool = False  # limits.surface_temperature_C set
 
 
 def structure_of(
@@ -85,6 +87,8 @@ def structure_of(
         model.session_s is not None,
         heading_pattern(model.headings),
         model.scenarios.structure if model.scenarios is not None else None,
+        "fixed" if model.heat_transfer_coefficient_W_m2K is not None else model.cooling,
+        model.limits.surface_temperature_C is not None,
     )
 
 
@@ -153,7 +157,7 @@ def _build_rows(b: NLPBuilder, structure: Structure) -> NLPBuilder:
         c = _symbolic_constants(b, structure)
     else:
         c, hw_expr, quantities = hw.symbolic_constants(
-            b, hs, structure.spiral_starts, structure.heading_pattern
+            b, hs, structure.spiral_starts, structure.heading_pattern, structure.convection
         )
         c = _with_thermal_parameters(b, structure, c)
         loss = quantities[3]["power_W"]
@@ -163,6 +167,9 @@ def _build_rows(b: NLPBuilder, structure: Structure) -> NLPBuilder:
         power_W=b.parameter("limit.power_W"),
         coil_temperature_C=b.parameter("limit.coil_temperature_C"),
         field_exposure=structure.field_exposure,
+        surface_temperature_C=(
+            b.parameter("limit.surface_temperature_C") if structure.surface_limit else None
+        ),
     )
     req = pb.symbolic(b, "requirement", Requirements(0.0, 0.0, 0.0, 0.0))
     scales = pb.symbolic(b, "scale", pb.Scales(1.0, 1.0))
@@ -230,6 +237,7 @@ PACK_FIELDS = (
     "conductivity_W_mK",
     "heat_transfer_coefficient_W_m2K",
     "emissivity",
+    "air_speed_m_s",
 )
 
 
@@ -244,6 +252,7 @@ def constant_values(c: Any) -> dict[str, Any]:
     )
     for n in PACK_FIELDS:
         out[f"constant.pack.{n}"] = np.array([float(getattr(p, n)) for p in c.packs])
+    out["constant.view_factors"] = np.asarray(c.view_factors, float).ravel()
     if c.winding_temperature_C is not None:
         out["constant.winding_temperature_C"] = float(c.winding_temperature_C)
     if c.session_s is not None:
@@ -284,7 +293,15 @@ def _symbolic_constants(b: NLPBuilder, structure: Structure) -> Any:
         )
     c = Constants(
         **kw,
-        packs=tuple(WindingPack(**{n: pack[n][k] for n in PACK_FIELDS}) for k in range(3)),
+        packs=tuple(
+            WindingPack(
+                **{n: pack[n][k] for n in PACK_FIELDS},
+                convection=structure.convection,
+                vertical_axis=k == 2,
+            )
+            for k in range(3)
+        ),
+        view_factors=hw.view_factor_rows(b.parameter("constant.view_factors", (12,))),
         power_weights_per_T2=0.5 * table * table,
         heading_current_per_tesla_A_per_T=table,
         starts=structure.spiral_starts,

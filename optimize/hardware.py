@@ -15,7 +15,8 @@ backend-generic expressions of the hardware (numpy floats or CasADi symbols), so
 - magnet moment B_r π/4 (D² − D_i²) L / μ0 (capsule.Magnet).
 
 Frozen per outer iteration (recomputed exactly at each new hardware, then re-solved, until they
-settle): the two pack corrections, the workspace field factor (the weakest field over the
+settle): the packs' radiation view factors (a ray trace, coils.viewfactors: settled within
+1e-3), the two pack corrections, the workspace field factor (the weakest field over the
 workspace and headings per tesla: exact differentiation through the 13 x 15 field-ellipse
 minimum would cost more than it gains; it moves by < 1e-3 over the radius ranges here), the
 gap between the mean turns of two orthogonal pairs (linearised in the two radii) and the
@@ -202,6 +203,7 @@ class Frozen:
     dgap_dra: np.ndarray  # (3,)
     dgap_drb: np.ndarray  # (3,)
     radii0_m: np.ndarray  # (3,) radii the gaps were linearised at
+    view_factors: np.ndarray  # (3, 4) packs' view factors [room, x, y, z] at this hardware
     clearance_delta_m: np.ndarray  # (3,) exact clearance - torus bound, >= 0
 
 
@@ -242,6 +244,7 @@ def frozen_factors(model: Any) -> Frozen:
         np.array(da),
         np.array(db),
         np.array([p.radius_m for p in pairs]),
+        np.asarray(m.constants.view_factors, dtype=float),
         np.array(delta),
     )
 
@@ -294,6 +297,11 @@ def coil_quantities(
     }
 
 
+def view_factor_rows(flat: Any) -> list[list[Any]]:
+    """The (3, 4) view-factor rows ``[room, x, y, z]`` of a flat (12,) CasADi parameter."""
+    return [[flat[4 * k + j] for j in range(4)] for k in range(3)]
+
+
 @dataclass(frozen=True)
 class HardwareStructure:
     """What a sizing problem compiles in: the free names, Helmholtz spacing per pair, headings."""
@@ -305,7 +313,11 @@ class HardwareStructure:
 
 
 def symbolic_constants(
-    b: Any, hs: HardwareStructure, spiral_starts: int, pattern: tuple = ()
+    b: Any,
+    hs: HardwareStructure,
+    spiral_starts: int,
+    pattern: tuple = (),
+    convection: str = "fixed",
 ) -> tuple[Any, Any, list]:
     """Constants as expressions of the hardware (free: variables, fixed: parameters).
 
@@ -375,6 +387,9 @@ def symbolic_constants(
             conductivity_W_mK=conductivity,
             heat_transfer_coefficient_W_m2K=hcoef,
             emissivity=emissivity,
+            vertical_axis=AXES[k] == "z",
+            air_speed_m_s=b.parameter("hw.air_speed_m_s"),
+            convection=convection,
         )
         for k in range(3)
     )
@@ -404,6 +419,7 @@ def symbolic_constants(
         helix_diameter_m=cap.helix_diameter_m(body_d, wire_sp),
         copper_mass_kg=ca.vertcat(*(q[k]["copper_mass_kg"] for k in range(3))),
         starts=spiral_starts,
+        view_factors=view_factor_rows(b.parameter("frozen.view_factors", (12,))),
     )
     q.append({"power_W": power})
     return c, hw, q
@@ -522,7 +538,8 @@ def sizing_parameters(model: Any, frozen: Frozen, min_bore_m: float) -> dict[str
         {
             "hw.packing": pairs[0].packing_factor,
             "hw.resistivity": COPPER_RESISTIVITY_20C_ohm_m,  # the resistance at 20 °C
-            "hw.h": model.heat_transfer_coefficient_W_m2K,
+            "hw.h": model.heat_transfer_coefficient_W_m2K or 0.0,
+            "hw.air_speed_m_s": float(model.air_speed_m_s),
             "hw.conductivity": model.winding_conductivity_W_mK,
             "hw.emissivity": model.surface_emissivity,
             "hw.separation_m": np.array([p.separation_m for p in pairs]),
@@ -543,6 +560,7 @@ def sizing_parameters(model: Any, frozen: Frozen, min_bore_m: float) -> dict[str
             "frozen.dgap_dra": frozen.dgap_dra,
             "frozen.dgap_drb": frozen.dgap_drb,
             "frozen.radii0_m": frozen.radii0_m,
+            "frozen.view_factors": frozen.view_factors.ravel(),
             "frozen.clearance_delta_m": frozen.clearance_delta_m,
         }
     )

@@ -61,34 +61,92 @@ class LimitTerm:
 _AXES = ("x", "y", "z")
 
 
+#: pair_states already built, per Constants object: key -> (the Constants, the states). Within
+#: one NLP build the same field node asks twice (the limits and the loss rows); with numbers
+#: the same scalar field recurs across the caps.
+_STATES: dict[tuple, tuple[Any, list[Any]]] = {}
+
+
+def _field_key(x: Any) -> Any:
+    if bk.is_casadi(x):
+        return ("node", x.element_hash()) if x.numel() == 1 else None
+    if np.ndim(x) == 0:
+        return ("num", float(x))
+    return None
+
+
+def pair_states(
+    field_T: Any, c: Constants, ambient_temperature_C: Any, only: int | None = None
+) -> list[Any]:
+    """:class:`coils.thermal_system.PairTemperatures` of the three pairs at centre field
+    ``field_T``, each at its worst-heading current, radiating to each other (steady, or at the
+    end of the session); ``only``: that pair alone (the others None, same numbers)."""
+    from coils.thermal_system import pair_temperatures
+
+    fk, ak = _field_key(field_T), _field_key(ambient_temperature_C)
+    key = None if fk is None or ak is None else (id(c), fk, ak)
+    if key is not None:
+        hit = _STATES.get(key)
+        if hit is not None and hit[0] is c:
+            return hit[1]
+        if only is not None:
+            hit = _STATES.get((*key, only))
+            if hit is not None and hit[0] is c:
+                return hit[1]
+    per = c.current_per_tesla_A_per_T
+    states = pair_temperatures(
+        c.packs,
+        c.resistance_20C_ohm,
+        [field_T * per[j] for j in range(3)],
+        ambient_temperature_C,
+        c.view_factors,
+        c.session_s,
+        only,
+    )
+    if key is not None:
+        if len(_STATES) > 512:
+            _STATES.clear()
+        _STATES[key if only is None else (*key, only)] = (c, states)
+    return states
+
+
+def pair_state(current_A: Any, k: int, c: Constants, ambient_temperature_C: Any) -> Any:
+    """Pair k of :func:`pair_states` at the field where its worst heading carries ``current_A``
+    (the other pairs at their worst-heading currents of that field)."""
+    per = c.current_per_tesla_A_per_T
+    field = current_A / bk.fmax(per[k], 1e-300)
+    return pair_states(field, c, ambient_temperature_C, only=k)[k]
+
+
 def winding_temperatures_C(
-    current_A: Any, k: int, c: Constants, ambient_temperature_C: float
+    current_A: Any, k: int, c: Constants, ambient_temperature_C: Any
 ) -> tuple[Any, Any, Any]:
     """(surface, mean, hot spot) of axis k at a current amplitude, °C: steady or session end."""
-    from coils.thermal import steady_state, transient
-
-    r20 = c.resistance_20C_ohm[k]
-    steady = steady_state(c.packs[k], r20, current_A, ambient_temperature_C)
-    if c.session_s is None:
-        return steady.surface_C, steady.mean_C, steady.hot_spot_C
-    run = transient(
-        c.packs[k], r20, current_A, ambient_temperature_C, c.session_s, steady.surface_C
-    )
-    return run.surface_C, run.mean_C, run.hot_spot_C
+    s = pair_state(current_A, k, c, ambient_temperature_C)
+    return s.surface_C, s.mean_C, s.hot_spot_C
 
 
 def winding_resistance_ohm(
-    current_A: Any, k: int, c: Constants, ambient_temperature_C: float
+    current_A: Any, k: int, c: Constants, ambient_temperature_C: Any, state: Any = None
 ) -> Any:
     """Resistance of pair k carrying ``current_A``, Ω: at its own mean winding temperature.
 
     Self-consistent with the heating (steady, or at the end of the session), or at
-    ``c.winding_temperature_C`` if the design fixes the copper temperature.
+    ``c.winding_temperature_C`` if the design fixes the copper temperature. ``state``: pair
+    k's :class:`coils.thermal_system.PairTemperatures` at the field's worst-heading current, if
+    the current is a lighter heading's (its faces linearised there,
+    :func:`coils.thermal_system.mean_rise_at_K`).
     """
-    if c.winding_temperature_C is None:
+    if c.winding_temperature_C is not None:
+        return _resistance_at(None, k, c)
+    if state is None:
         mean_C = winding_temperatures_C(current_A, k, c, ambient_temperature_C)[1]
-        return _resistance_at(mean_C, k, c)
-    return _resistance_at(None, k, c)
+    else:
+        from coils.thermal_system import mean_rise_at_K
+
+        rise = mean_rise_at_K(state, c.resistance_20C_ohm[k], current_A, ambient_temperature_C)
+        mean_C = ambient_temperature_C + rise
+    return _resistance_at(mean_C, k, c)
 
 
 def _resistance_at(mean_C: Any, k: int, c: Constants) -> Any:
@@ -104,10 +162,10 @@ def hot_spot_rise_K(current_A: Any, k: int, c: Constants, ambient_temperature_C:
     """Hot-spot rise of axis k above ambient at current amplitude ``current_A``, K.
 
     Steady (``c.session_s`` None): :func:`coils.thermal.steady_state` (self-consistent
-    resistance, convection and exact radiation). With a session: the end of a lumped run from
-    ambient (:func:`coils.thermal.transient`, radiation linearised at the steady surface
-    temperature of the same current). Beyond thermal runaway the rise is a finite upper bound
-    far above any limit (coils.thermal.steady_state). Increasing in the current.
+    resistance, convection and radiation to the room and the other pairs). With a session:
+    conduction in the pack from ambient to the end of the session (:func:`coils.thermal.
+    transient`). Beyond thermal runaway the rise is a finite upper bound far above any limit
+    (coils.thermal.steady_state). Increasing in the current.
     """
     return winding_temperatures_C(current_A, k, c, ambient_temperature_C)[2] - ambient_temperature_C
 
@@ -133,7 +191,11 @@ def _memo_key(k: int, per_amp: Any) -> tuple | None:
 
 
 def heading_losses_W(
-    field_T: Any, c: Constants, ambient_temperature_C: Any, memo: dict | None = None
+    field_T: Any,
+    c: Constants,
+    ambient_temperature_C: Any,
+    memo: dict | None = None,
+    states: list | None = None,
 ) -> list[Any]:
     """Copper loss of every heading, Σ_k R_k(I_hk) I_hk² / 2, W (backend-generic).
 
@@ -144,6 +206,10 @@ def heading_losses_W(
     """
     a = c.heading_current_per_tesla_A_per_T
     memo = {} if memo is None else memo
+    if states is None and c.winding_temperature_C is None:
+        states = pair_states(field_T, c, ambient_temperature_C)
+    if states is None:
+        states = [None, None, None]
     out: list[Any] = []
     rows = a.tolist() if isinstance(a, np.ndarray) else None  # numbers: plain floats, same values
     for h in range(a.shape[0]):
@@ -162,7 +228,7 @@ def heading_losses_W(
                 key = _memo_key(k, per_amp)
             if key is None or key not in memo:
                 cur = field_T * per_amp
-                r = winding_resistance_ohm(cur, k, c, ambient_temperature_C)
+                r = winding_resistance_ohm(cur, k, c, ambient_temperature_C, states[k])
                 if key is None:
                     loss = loss + 0.5 * r * cur * cur
                     continue
@@ -174,7 +240,11 @@ def heading_losses_W(
 
 
 def total_loss_W(
-    field_T: Any, c: Constants, ambient_temperature_C: Any, memo: dict | None = None
+    field_T: Any,
+    c: Constants,
+    ambient_temperature_C: Any,
+    memo: dict | None = None,
+    states: list | None = None,
 ) -> Any:
     """Copper loss of the heading that draws the most, max_h Σ_k R_k(I_hk) I_hk² / 2, W.
 
@@ -182,7 +252,7 @@ def total_loss_W(
     temperature at that current (steady or at the end of the session).
     """
     worst: Any = None
-    for loss in heading_losses_W(field_T, c, ambient_temperature_C, memo):
+    for loss in heading_losses_W(field_T, c, ambient_temperature_C, memo, states):
         worst = loss if worst is None else bk.fmax(worst, loss)
     return worst
 
@@ -218,10 +288,12 @@ def limit_terms(
     fixed_r = c.winding_temperature_C is not None  # then every term but the hot spot is a power law
     amb = ambient_temperature_C
     memo: dict = {}
+    states = pair_states(field_T, c, amb)  # the three pairs together, one thermal solve
     for k, ax in enumerate(_AXES):
         per_amp = c.current_per_tesla_A_per_T[k]
         current = field_T * per_amp
-        _, mean_C, hot_C = winding_temperatures_C(current, k, c, amb)  # one thermal solve
+        state = states[k]
+        mean_C, hot_C = state.mean_C, state.hot_spot_C
         r = _resistance_at(mean_C, k, c)
         ind = c.inductance_H[k]
         key = _memo_key(k, per_amp)
@@ -246,11 +318,21 @@ def limit_terms(
                 None,
             )
         )
+        if limits.surface_temperature_C is not None:
+            terms.append(
+                LimitTerm(
+                    f"surface_temperature_{ax}",
+                    "K",
+                    state.surface_max_C - ambient_temperature_C,
+                    limits.surface_temperature_C - ambient_temperature_C,
+                    None,
+                )
+            )
     terms.append(
         LimitTerm(
             "power",
             "W",
-            total_loss_W(field_T, c, amb, memo) if loss_W is None else loss_W,
+            total_loss_W(field_T, c, amb, memo, states) if loss_W is None else loss_W,
             limits.power_W,
             2 if fixed_r else None,
         )
@@ -342,17 +424,23 @@ def _cached_cap(c: Constants, key: tuple, solve: Any) -> Any:
     return cap
 
 
-def _hot_spot_cap_T(k: int, c: Constants, allowed_K: Any, ambient_temperature_C: float) -> Any:
-    """Largest centre field the hot-spot limit of axis k allows (bisection; cached per model)."""
+def _hot_spot_cap_T(
+    k: int, c: Constants, allowed_K: Any, ambient_temperature_C: float, surface: bool = False
+) -> Any:
+    """Largest centre field the hot-spot (``surface``: the hottest face point) limit of axis k
+    allows (bisection; cached per model)."""
     allowed = np.asarray(allowed_K, dtype=float)
     per_amp = float(c.current_per_tesla_A_per_T[k])
     if per_amp <= 0:  # an axis no heading uses carries no current: no cap
         return np.full(allowed.shape, np.inf)
 
     def value(b: Any) -> Any:
+        if surface:
+            s = pair_state(b * per_amp, k, c, ambient_temperature_C)
+            return s.surface_max_C - ambient_temperature_C
         return hot_spot_rise_K(b * per_amp, k, c, ambient_temperature_C)
 
-    key = (k, *_array_key(allowed), float(ambient_temperature_C))
+    key = (k, surface, *_array_key(allowed), float(ambient_temperature_C))
     return _cached_cap(c, key, lambda: _bisect_field_T(value, allowed, allowed.shape))
 
 
@@ -466,9 +554,15 @@ def field_capacity_T(
     unit = limit_terms(frequency_hz, 1.0, c, limits, ambient_temperature_C)
     caps = []
     for t in unit:
-        if t.power is None and t.name.startswith("hot_spot_"):  # depends on B0 only, not on f
-            caps.append(
-                _hot_spot_cap_T(_AXES.index(t.name[-1]), c, t.allowed, ambient_temperature_C)
+        if t.power is None and t.name.startswith(("hot_spot_", "surface_temperature_")):
+            caps.append(  # depends on B0 only, not on f
+                _hot_spot_cap_T(
+                    _AXES.index(t.name[-1]),
+                    c,
+                    t.allowed,
+                    ambient_temperature_C,
+                    surface=t.name.startswith("surface_"),
+                )
             )
             continue
         if t.power is None and t.name == "power":

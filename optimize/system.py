@@ -45,13 +45,15 @@ def workspace_points(radius_m: float) -> np.ndarray:
 
 @dataclass(frozen=True)
 class Limits:
-    """Hardware and exposure limits (SI); ``field_exposure``: 'occupational', 'public', 'off'."""
+    """Hardware and exposure limits (SI); ``field_exposure``: 'occupational', 'public', 'off';
+    ``surface_temperature_C``: the hottest pack surface (None: no limit)."""
 
     current_A: float
     voltage_V: float
     power_W: float
     coil_temperature_C: float
     field_exposure: str = "occupational"
+    surface_temperature_C: float | None = None
     copper_mass_kg: float | None = None
 
 
@@ -114,8 +116,13 @@ class DesignModel:
         self-consistently (:mod:`coils.thermal`).
     ambient_temperature_C : float
         Surrounding air, °C.
-    heat_transfer_coefficient_W_m2K : float
-        Convective coefficient from the winding surface, W/(m²·K).
+    heat_transfer_coefficient_W_m2K : float or None
+        Convective coefficient from the winding surface, W/(m²·K); None: from the
+        natural-convection correlations (``cooling``, :mod:`coils.convection`).
+    cooling : str
+        "natural" or "forced" (with ``air_speed_m_s``), when no fixed coefficient is given.
+    air_speed_m_s : float
+        Forced-air speed, m/s.
     winding_conductivity_W_mK : float
         Effective transverse conductivity of the winding packs, W/(m·K).
     surface_emissivity : float
@@ -143,7 +150,9 @@ class DesignModel:
     bounds: Bounds
     winding_temperature_C: float | None = None
     ambient_temperature_C: float = 25.0
-    heat_transfer_coefficient_W_m2K: float = 10.0
+    heat_transfer_coefficient_W_m2K: float | None = 10.0
+    cooling: str = "natural"
+    air_speed_m_s: float = 0.0
     winding_conductivity_W_mK: float = 0.5
     surface_emissivity: float = 0.9
     session_s: float | None = None
@@ -165,6 +174,8 @@ class Constants:
     ``resistance_20C_ohm``: pair resistances at 20 °C; ``winding_temperature_C``: a fixed copper
     temperature for the voltage/power resistance, or None (self-consistent);
     ``session_s``: run length, s, or None (steady).
+    ``view_factors[k]``: pair k's diffuse view factors ``[room, x, y, z]``
+    (:func:`coils.viewfactors.view_factors`), or None (each pair alone in the room).
     ``workspace_factor``: weakest field the magnet sees during a turn, over every workspace point
     and heading, per tesla of centre amplitude (minor semi-axis of the field ellipse).
     ``copper_mass_kg[k]``: copper of pair k (both coils), wire length x area x density.
@@ -193,29 +204,58 @@ class Constants:
     starts: int = 1
     winding_temperature_C: Any = None
     session_s: Any = None
+    view_factors: Any = None
 
 
-def precompute(model: DesignModel) -> Constants:
-    """Reduce coils, headings and workspace to the constants of the margin and the limits."""
-    import capsule as cap
+def packs_of(model: DesignModel) -> tuple:
+    """The :class:`coils.thermal.WindingPack` of each pair of ``model`` (its cooling options)."""
     from coils.thermal import WindingPack
 
-    pairs = model.coils.pairs
-    g = np.asarray(model.coils.centre_gains_T_per_A, dtype=float)
-    r20 = np.array([p.resistance_ohm(20.0) for p in pairs])
-    ind = np.array([p.series_inductance_H for p in pairs])
-    packs = tuple(
+    h = model.heat_transfer_coefficient_W_m2K
+    return tuple(
         WindingPack(
             pack_width_m=p.winding_pack_width_m,
             pack_depth_m=p.winding_pack_depth_m,
             mean_radius_m=p.radius_m,
             packing_factor=p.packing_factor,
             conductivity_W_mK=model.winding_conductivity_W_mK,
-            heat_transfer_coefficient_W_m2K=model.heat_transfer_coefficient_W_m2K,
+            heat_transfer_coefficient_W_m2K=0.0 if h is None else float(h),
             emissivity=model.surface_emissivity,
+            vertical_axis=p.axis == "z",
+            air_speed_m_s=float(model.air_speed_m_s),
+            convection="fixed" if h is not None else model.cooling,
         )
-        for p in pairs
+        for p in model.coils.pairs
     )
+
+
+def view_factors_of(coils: Any) -> Any:
+    """Diffuse view factors ``[room, x, y, z]`` of the three pairs (cached ray trace)."""
+    from coils.viewfactors import PackRing, view_factors
+
+    return view_factors(
+        [
+            PackRing(
+                p.axis_index,
+                p.radius_m,
+                p.spacing_m,
+                p.winding_pack_width_m,
+                p.winding_pack_depth_m,
+            )
+            for p in coils.pairs
+        ]
+    )
+
+
+def precompute(model: DesignModel) -> Constants:
+    """Reduce coils, headings and workspace to the constants of the margin and the limits."""
+    import capsule as cap
+
+    pairs = model.coils.pairs
+    g = np.asarray(model.coils.centre_gains_T_per_A, dtype=float)
+    r20 = np.array([p.resistance_ohm(20.0) for p in pairs])
+    ind = np.array([p.series_inductance_H for p in pairs])
+    packs = packs_of(model)
     n2 = np.asarray(model.headings, dtype=float) ** 2  # (h, 3)
     s = np.sqrt(np.clip(1.0 - n2, 0.0, 1.0))  # (h, 3)
     current_per_T = np.max(s / g, axis=0)
@@ -245,6 +285,7 @@ def precompute(model: DesignModel) -> Constants:
         starts=int(spiral.starts),
         winding_temperature_C=model.winding_temperature_C,
         session_s=model.session_s,
+        view_factors=view_factors_of(model.coils),
     )
 
 

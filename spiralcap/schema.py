@@ -149,11 +149,29 @@ KEYS: dict[str, Key] = {
         open_=False,
     ),
     "coils.heat_transfer_coefficient_W_m2K": _between(
-        "convective heat-transfer coefficient from the winding surface (natural air ~5-15); "
-        "range: still air (0.5) to forced water cooling (1e4)",
-        10.0,
+        "convective heat-transfer coefficient from the winding surface, used exactly when set "
+        "(default: each face's natural-convection correlation at the solved film temperature, "
+        "coils.cooling; docs/coils-thermal.md); range: still air (0.5) to forced water "
+        "cooling (1e4)",
+        None,
         0.5,
         1e4,
+        open_=False,
+    ),
+    "coils.cooling": _choice(
+        "how the packs are cooled when coils.heat_transfer_coefficient_W_m2K is not set: "
+        "'natural' (natural-convection correlations, Churchill & Chu 1975) or 'forced' (fan "
+        "air at coils.air_speed_m_s across the packs, Churchill & Bernstein 1977, added to "
+        "the natural value)",
+        "natural",
+        ("natural", "forced"),
+    ),
+    "coils.air_speed_m_s": _between(
+        "air speed across the winding packs with coils.cooling = 'forced'; range: still air "
+        "to a strong fan (20 m/s)",
+        None,
+        0.0,
+        20.0,
         open_=False,
     ),
     "coils.min_clearance_mm": _between(
@@ -480,6 +498,15 @@ KEYS.update(
             "hottest winding temperature allowed (the hot spot at the pack centre); range: -50 to 250 °C, the hottest enamel "
             "insulation class (IEC 60317)",
             90.0,
+            -50.0,
+            250.0,
+            open_=False,
+        ),
+        "limits.surface_temperature_C": _between(
+            "hottest coil-pack surface a patient or operator may touch (optional; IEC 60601-1 "
+            "Table 23/24: 43 °C for applied parts in contact > 10 min, 48 °C for parts held "
+            "1-10 min, 60 °C for metal parts touched briefly); range: -50 to 250 °C",
+            None,
             -50.0,
             250.0,
             open_=False,

@@ -192,17 +192,17 @@ def test_copper_mass_limit_binds_in_sizing(tmp_path, capsys) -> None:
             *SIX_KEYS,
             *LEAST_POWER,
             "--set",
-            "limits.copper_mass_kg=60",
+            "limits.copper_mass_kg=70",  # 60 kg cannot meet SF 2 as cooled (issue 19)
         ],
         capsys,
     )
-    assert res["copper_mass_kg"] <= 60.0 * (1 + 1e-9), "at or below the 60 kg limit"
+    assert res["copper_mass_kg"] <= 70.0 * (1 + 1e-9), "at or below the 70 kg limit"
     assert "copper_mass" in [b["name"] for b in res["binding_limits"]], (
         "the mass limit binds, with its multiplier"
     )
     ev = _run_json(["evaluate", str(out_toml), "--json"], capsys)
     assert ev["safety_factor"] >= 2.0 * (1 - 1e-6), "still safety factor 2"
-    assert ev["copper_mass_kg"] <= 60.0 * (1 + 1e-9), "evaluate agrees"
+    assert ev["copper_mass_kg"] <= 70.0 * (1 + 1e-9), "evaluate agrees"
 
 
 def test_copper_mass_against_turns_by_hand(capsys) -> None:

@@ -132,13 +132,15 @@ def test_limits_by_hand_and_shared_with_evaluate(run_cli, capsys) -> None:
     assert run_cli(["coils", "--json", *sets]) == 0
     out = json.loads(capsys.readouterr().out)
     z = out["axes"]["z"]
-    from coils.thermal import WindingPack, steady_state
+    from optimize import physics, prepare
+    from spiralcap.assemble import build_model
+    from spiralcap.constants import COPPER_TEMPERATURE_COEFFICIENT_per_K as alpha
+    from spiralcap.design import load_design
 
-    pack = WindingPack(
-        z["winding_pack_side_m"], z["winding_pack_side_m"], z["radius_m"], 0.7, 0.5, 10.0, 0.9
-    )
+    model = prepare(build_model(load_design(None, ["limits.voltage_V=20", "coils.z.turns=200"])))
     i = z["max_current_A"]
-    r = float(steady_state(pack, z["resistance_20C_ohm"], i, 25.0).resistance_ohm)
+    mean = float(physics.pair_state(i, 2, model.constants, 25.0).mean_C)
+    r = z["resistance_20C_ohm"] * (1.0 + alpha * (mean - 20.0))
     z_ohm = math.hypot(r, 2 * math.pi * 2.0 * z["inductance_H"])
     assert i == pytest.approx(20.0 / z_ohm, rel=1e-9), (
         "voltage-limited current amplitude V_max/|Z| (Ohm's law) with R at the winding's own "

@@ -35,7 +35,7 @@ def model():
     return prepare(build_model(load_design()))
 
 
-def test_steady_state_scalar_types_and_vector_agree_bit_for_bit(model):
+def test_steady_state_scalar_types_and_vector_agree(model):
     c = model.constants
     currents = [0.5, 4.0, 11.0, 30.0, 400.0]  # 400 A: runaway (the bound branch)
     for k in range(3):
@@ -46,9 +46,12 @@ def test_steady_state_scalar_types_and_vector_agree_bit_for_bit(model):
                 for f in dataclasses.fields(one):
                     a = float(getattr(one, f.name))
                     b = float(np.asarray(getattr(vec, f.name))[i])
-                    assert a == b, (
+                    # issue 19: the convection correlations, Robin series and eigenvalues use
+                    # pow/exp/sin/cos/arctan, which numpy evaluates with SIMD kernels on
+                    # arrays and libm on scalars: the two may differ in the last bit
+                    assert a == pytest.approx(b, rel=1e-14, abs=1e-14), (
                         f"axis {k}, {cur} A as {type(arg).__name__}: {f.name} {a!r} (scalar) "
-                        f"vs {b!r} (vector element); the scalar path must give the same bits"
+                        f"vs {b!r} (vector element); the scalar path must agree to rounding"
                     )
 
 
@@ -122,7 +125,7 @@ def test_coil_analysis_with_the_callers_model_is_the_same(model):
 
 def test_voltage_cap_of_a_frequency_does_not_depend_on_the_others(model):
     """Each frequency of a vectorised voltage-cap solve keeps its own first converged iterate:
-    the cap at f is the same bits alone or among 60 others (curves == evaluate at a point)."""
+    the cap at f is the same alone or among 60 others (curves == evaluate at a point)."""
     from optimize import physics as ph
 
     c, amb, volt = model.constants, model.ambient_temperature_C, model.limits.voltage_V
@@ -130,4 +133,7 @@ def test_voltage_cap_of_a_frequency_does_not_depend_on_the_others(model):
     for k in range(3):
         together = ph._voltage_cap_solve(k, f, c, volt, amb)
         alone = [float(ph._voltage_cap_solve(k, float(x), c, volt, amb)) for x in f]
-        assert np.array_equal(together, alone), f"axis {k}: vector == scalar caps, bit for bit"
+        assert np.allclose(together, alone, rtol=1e-12, atol=0.0), (
+            f"axis {k}: vector == scalar caps (to rounding: SIMD vs libm transcendentals in the "
+            "cooling model, issue 19)"
+        )

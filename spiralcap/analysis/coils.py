@@ -32,7 +32,8 @@ class AxisLimit:
 
 @dataclass(frozen=True)
 class HeatingCurve:
-    """Lumped heating of one pair from ambient at its operating current (°C against s)."""
+    """Heating of one pair from ambient at its operating current (°C against s): at each time
+    the end of a session that long (conduction in the pack, :mod:`coils.thermal_system`)."""
 
     axis: str
     current_A: float
@@ -44,6 +45,7 @@ class HeatingCurve:
     heat_capacity_J_per_K: float
     final_mean_C: float
     final_hot_spot_C: float
+    surface_max_C: np.ndarray | None = None
 
 
 @dataclass(frozen=True)
@@ -66,6 +68,10 @@ class AxisOperatingThermal:
     time_constant_s: float
     session_hot_spot_temperature_C: float | None
     session_mean_temperature_C: float | None
+    surface_max_temperature_C: float = float("nan")
+    convection_coefficient_W_m2K: float = float("nan")
+    radiation_view_factor: float = 1.0
+    session_surface_max_temperature_C: float | None = None
 
 
 @dataclass(frozen=True)
@@ -132,55 +138,68 @@ def operating_thermal(
 ) -> tuple[list[AxisOperatingThermal], list[HeatingCurve]]:
     """Thermal state and heating curve of each pair at centre field ``field_T`` (worst heading).
 
-    ``model`` is a prepared :class:`optimize.DesignModel`."""
-    from coils.thermal import steady_state, transient
+    ``model`` is a prepared :class:`optimize.DesignModel`. The steady state and the session's
+    end are :func:`optimize.physics.pair_states` (the pairs radiating to each other); the curve
+    at time t is the end of a session of length t (the same model, so it passes through the
+    session's end and starts at ambient)."""
+    from coils.thermal_system import pair_temperatures
     from optimize import physics
     from spiralcap.constants import COPPER_TEMPERATURE_COEFFICIENT_per_K as ALPHA
 
     c, amb = model.constants, model.ambient_temperature_C
+    per = np.asarray(c.current_per_tesla_A_per_T, dtype=float)
+    currents = [field_T * float(per[k]) for k in range(3)]
+    r20s = [float(r) for r in c.resistance_20C_ohm]
+    steady = pair_temperatures(c.packs, r20s, currents, amb, c.view_factors)
+    session = None if c.session_s is None else physics.pair_states(field_T, c, amb)
+    taus = [float(st.time_constant_s) for st in steady]
+    span = max((4.0 * t if np.isfinite(t) and t > 0 else 3600.0) for t in taus)
+    if c.session_s is not None:
+        span = max(span, 1.2 * c.session_s)
+    t = np.linspace(0.0, span, 241)
+    if c.session_s is not None:
+        t = np.unique(np.append(t, float(c.session_s)))
+    runs = pair_temperatures(c.packs, r20s, currents, amb, c.view_factors, t)
+    vf = None if c.view_factors is None else np.asarray(c.view_factors, dtype=float)
     out, curves = [], []
     for k, ax in enumerate(_AXES):
-        current = field_T * float(c.current_per_tesla_A_per_T[k])
-        pack, r20 = c.packs[k], float(c.resistance_20C_ohm[k])
-        st = steady_state(pack, r20, current, amb)
-        tau = float(transient(pack, r20, current, amb, 0.0, st.surface_C).time_constant_s)
-        session = None
-        if c.session_s is not None:
-            session = physics.winding_temperatures_C(current, k, c, amb)
-        span = 4.0 * tau if np.isfinite(tau) and tau > 0 else 3600.0
-        if c.session_s is not None:
-            span = max(span, 1.2 * c.session_s)
-        t = np.linspace(0.0, span, 241)
-        run = transient(pack, r20, current, amb, t, st.surface_C)
+        st, pack, run = steady[k], c.packs[k], runs[k]
+        end = None if session is None else session[k]
+        mean_run = float(st.mean_C) if end is None else float(end.mean_C)
         out.append(
             AxisOperatingThermal(
                 axis=ax,
-                current_A=current,
-                resistance_ohm=float(st.resistance_ohm)
-                if session is None
-                else r20 * (1.0 + ALPHA * (float(session[1]) - 20.0)),
+                current_A=currents[k],
+                resistance_ohm=r20s[k] * (1.0 + ALPHA * (mean_run - 20.0)),
                 power_W=float(st.power_W),
                 surface_temperature_C=float(st.surface_C),
                 mean_temperature_C=float(st.mean_C),
                 hot_spot_temperature_C=float(st.hot_spot_C),
                 heat_capacity_J_per_K=float(pack.heat_capacity_J_per_K),
-                time_constant_s=tau,
-                session_hot_spot_temperature_C=None if session is None else float(session[2]),
-                session_mean_temperature_C=None if session is None else float(session[1]),
+                time_constant_s=taus[k],
+                session_hot_spot_temperature_C=None if end is None else float(end.hot_spot_C),
+                session_mean_temperature_C=None if end is None else float(end.mean_C),
+                surface_max_temperature_C=float(st.surface_max_C),
+                convection_coefficient_W_m2K=float(st.convection_W_m2K),
+                radiation_view_factor=1.0 if vf is None else float(vf[k, 0]),
+                session_surface_max_temperature_C=(
+                    None if end is None else float(end.surface_max_C)
+                ),
             )
         )
         curves.append(
             HeatingCurve(
                 axis=ax,
-                current_A=current,
+                current_A=currents[k],
                 time_s=t,
                 surface_C=np.asarray(run.surface_C, dtype=float),
                 mean_C=np.asarray(run.mean_C, dtype=float),
                 hot_spot_C=np.asarray(run.hot_spot_C, dtype=float),
-                time_constant_s=tau,
-                heat_capacity_J_per_K=float(run.heat_capacity_J_per_K),
-                final_mean_C=float(run.final_mean_C),
-                final_hot_spot_C=float(run.final_hot_spot_C),
+                time_constant_s=taus[k],
+                heat_capacity_J_per_K=float(pack.heat_capacity_J_per_K),
+                final_mean_C=float(st.mean_C),
+                final_hot_spot_C=float(st.hot_spot_C),
+                surface_max_C=np.asarray(run.surface_max_C, dtype=float),
             )
         )
     return out, curves
@@ -207,6 +226,8 @@ def analyse_coils(design: Any, model: Any = None) -> CoilAnalysis:
         winding_conductivity_W_mK=model.winding_conductivity_W_mK,
         surface_emissivity=model.surface_emissivity,
         headings=model.headings,
+        packs=c.packs,
+        view_factors=c.view_factors,
     )
     cap = physics.field_capacity(model.frequency_hz, c, model.limits, model.ambient_temperature_C)
     per = np.asarray(c.current_per_tesla_A_per_T, dtype=float)
@@ -255,6 +276,8 @@ def analyse_coils(design: Any, model: Any = None) -> CoilAnalysis:
 def coils_payload(a: CoilAnalysis) -> dict[str, Any]:
     """The JSON dict of ``spiralcap coils --json`` (units in every key)."""
     sizing = asdict(a.sizing)
+    if sizing["heat_transfer_coefficient_W_m2K"] is None:  # one type per field: no null
+        del sizing["heat_transfer_coefficient_W_m2K"]
     lim = {x.axis: asdict(x) for x in a.axis_limits}
     op = {x.axis: asdict(x) for x in a.operating}
     sizing["axes"] = {

@@ -76,12 +76,27 @@ def build_model(design: Design):
             f"a temperature above coils.ambient_temperature_C = "
             f"{d['coils.ambient_temperature_C']:g}",
         )
+    surface = d.get("limits.surface_temperature_C")
+    if surface is not None and surface <= d["coils.ambient_temperature_C"]:
+        raise InputError(
+            "limits.surface_temperature_C",
+            surface,
+            f"a temperature above coils.ambient_temperature_C = "
+            f"{d['coils.ambient_temperature_C']:g}",
+        )
+    if d.get("coils.cooling") == "forced" and d.get("coils.air_speed_m_s") is None:
+        raise InputError(
+            "coils.air_speed_m_s",
+            None,
+            "a speed in [0, 20] m/s: coils.cooling = 'forced' needs coils.air_speed_m_s",
+        )
     limits = Limits(
         current_A=d["limits.current_A"],
         voltage_V=d["limits.voltage_V"],
         power_W=d["limits.power_W"],
         coil_temperature_C=d["limits.coil_temperature_C"],
         field_exposure=d["limits.field_exposure"],
+        surface_temperature_C=surface,
         copper_mass_kg=d.get("limits.copper_mass_kg"),
     )
     req = Requirements(
@@ -117,7 +132,9 @@ def build_model(design: Design):
         bounds=bounds,
         winding_temperature_C=winding_temperature_C(d),
         ambient_temperature_C=d["coils.ambient_temperature_C"],
-        heat_transfer_coefficient_W_m2K=d["coils.heat_transfer_coefficient_W_m2K"],
+        heat_transfer_coefficient_W_m2K=d.get("coils.heat_transfer_coefficient_W_m2K"),
+        cooling=d.get("coils.cooling") or "natural",
+        air_speed_m_s=d.get("coils.air_speed_m_s") or 0.0,
         winding_conductivity_W_mK=d["coils.winding_conductivity_W_mK"],
         surface_emissivity=d["coils.surface_emissivity"],
         session_s=None
@@ -140,6 +157,7 @@ _CONSTRAINT_KEYS = {
     "temperature": "limits.coil_temperature_C",
     "temperature_rise": "limits.coil_temperature_C",
     "hot_spot": "limits.coil_temperature_C",
+    "surface_temperature": "limits.surface_temperature_C",
     "power": "limits.power_W",
     "field_exposure": "limits.field_exposure",
     "speed": "requirements.min_speed_mm_s",

@@ -62,6 +62,14 @@ def _watts(v: float) -> str:
     return f"{v:.4g} W" if math.isfinite(v) else "unbounded (a pair runs away thermally)"
 
 
+def _cooling_words(p: dict[str, Any]) -> str:
+    h = p.get("heat_transfer_coefficient_W_m2K")
+    if h is not None:
+        return f"h = {h:g} W/(m²·K)"
+    hs = ", ".join(f"{p['axes'][ax]['convection_coefficient_W_m2K']:.3g}" for ax in "xyz")
+    return f"{p['cooling']} convection h = {hs} W/(m²·K) (x, y, z)"
+
+
 def _clearance_lines(p: dict[str, Any]) -> list[str]:
     need = p["min_clearance_m"]
     cl = p["pack_clearances_m"]
@@ -101,6 +109,7 @@ def _text(p: dict[str, Any], bom: str = "") -> str:
                 a["power_W"],
                 a["surface_temperature_C"],
                 a["hot_spot_temperature_C"],
+                a["radiation_view_factor"],
                 a["field_amplitude_T"] * 1e3,
             )
         ]
@@ -124,6 +133,7 @@ def _text(p: dict[str, Any], bom: str = "") -> str:
             "P_W",
             "surf_C",
             "hot_C",
+            "F_room",
             "B_mT",
         ],
         rows,
@@ -184,12 +194,12 @@ def _text(p: dict[str, Any], bom: str = "") -> str:
     lines = [
         f"design: {p['design']}",
         f"current amplitude {p['current_amplitude_A']:g} A per pair at {p['frequency_hz']:g} Hz; "
-        f"ambient {p['ambient_temperature_C']:g} °C, h = {p['heat_transfer_coefficient_W_m2K']:g} "
-        f"W/(m²·K), emissivity {p['surface_emissivity']:g}, winding k = "
+        f"ambient {p['ambient_temperature_C']:g} °C, {_cooling_words(p)}, "
+        f"emissivity {p['surface_emissivity']:g}, winding k = "
         f"{p['winding_conductivity_W_mK']:g} W/(m·K); R at the self-consistent mean temperature",
         "",
-        "each pair alone at the current limit (steady state; 'runaway': there is none, the pair "
-        "heats without bound):",
+        "the three pairs together at the current limit (steady, radiating to each other; "
+        "'runaway': there is no steady state, the pair heats without bound):",
         table,
         f"total copper loss at the current limit, worst heading "
         f"({', '.join(f'{x:.3g}' for x in wh['heading'])}): {_watts(p['total_power_W'])} "

@@ -47,7 +47,8 @@ def plot_heating_curves(
     ----------
     ax : matplotlib Axes
     curves : sequence of spiralcap.analysis.coils.HeatingCurve
-        One per pair, at its operating current (lumped exponential with time constant τ).
+        One per pair, at its operating current (conduction in the pack from ambient; τ in the
+        legend is the lumped time constant of the mean rise).
     limit_C : float
         ``limits.coil_temperature_C`` (the hot-spot limit), °C; drawn as a horizontal line.
     session_s : float, optional

@@ -134,13 +134,14 @@ def build(ctx: Context) -> Section:
         ],
         [
             Strong("Heating"),
-            " — each square winding pack conducts its uniform copper loss to its faces with "
-            "coils.winding_conductivity_W_mK (hot spot 0.0737 q‴a²/k above the faces, Carslaw & "
-            "Jaeger) and sheds it by convection (coils.heat_transfer_coefficient_W_m2K) and "
-            "radiation (coils.surface_emissivity); the temperature limit applies to the hot spot, "
-            "steady or at the end of operation.session_min (lumped transient from ambient, "
-            "steady internal gradient assumed throughout: conservative). No conduction to the "
-            "frame (docs/coils-thermal.md).",
+            " — each rectangular winding pack conducts its uniform copper loss to its faces "
+            "with coils.winding_conductivity_W_mK (Robin problem of the section, Carslaw & "
+            "Jaeger) and sheds it by natural convection from correlations by face orientation "
+            "(Churchill & Chu; z axis vertical) or coils.heat_transfer_coefficient_W_m2K if "
+            "set, and by radiation (coils.surface_emissivity) to the room and to the other "
+            "packs (ray-traced view factors); the temperature limit applies to the hot spot, "
+            "steady or at the end of operation.session_min (transient conduction from "
+            "ambient). No conduction to the frame (docs/coils-thermal.md).",
         ],
         [
             Strong("Magnet and magnetic torque"),

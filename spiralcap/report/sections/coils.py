@@ -273,8 +273,9 @@ def heating_blocks(ctx: Context) -> list[Any]:
     parts += [" (", Ref("fig-heating"), ")."]
     caption = (
         "Winding temperature of each pair from switch-on at ambient, at its current for the "
-        "worst heading of the operating field (lumped heating with the pack's thermal "
-        "capacity; solid: hot spot at the pack centre, dotted: mean). Dashed: "
+        "worst heading of the operating field (conduction in the pack section from ambient, "
+        "the pairs radiating to each other; solid: hot spot at the pack centre, dotted: "
+        "mean). Dashed: "
         "limits.coil_temperature_C, applied to the hot spot"
         + ("; dash-dot: end of the session." if session_s is not None else " in steady state.")
     )
