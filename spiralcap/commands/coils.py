@@ -66,7 +66,10 @@ def _cooling_words(p: dict[str, Any]) -> str:
     h = p.get("heat_transfer_coefficient_W_m2K")
     if h is not None:
         return f"h = {h:g} W/(m²·K)"
-    hs = ", ".join(f"{p['axes'][ax]['convection_coefficient_W_m2K']:.3g}" for ax in "xyz")
+    hs = ", ".join(
+        f"{h:.3g}" if math.isfinite(h) else "undefined (runaway)"
+        for h in (p["axes"][ax]["convection_coefficient_W_m2K"] for ax in "xyz")
+    )
     return f"{p['cooling']} convection h = {hs} W/(m²·K) (x, y, z)"
 
 
