@@ -303,8 +303,10 @@ def solve_over_scenarios(
         ever.update(int(s) for s in np.argsort(m, kind="stable")[:tail])
         if undercut.size == 0:
             return replace(res, scenario_solve=_record(model, res, rounds, cap, index, False))
-        must = sorted(ever | {int(s) for s in undercut}, key=lambda s: (m[s], s))
-        if len(must) > cap:
+        # the tail here is not all in A: it joins (so A grows each round); the rest of A is
+        # the worst at this point
+        must = sorted(ever, key=lambda s: (m[s], s))
+        while len(must) > cap:
             cap = min(whole, 2 * cap)
         index, changed = _next_index(index, m, must, cap)
         same = len(changed) < cap

@@ -194,8 +194,20 @@ def scenario_margins(alpha: Any, f: Any, field: Any, c: Any, req: Any, arrays: t
     return [avail - (r + t) for r, t in ph.required_torques_Nm(alpha, f, c, arrays, req)]
 
 
+#: The last context's symbolic margins: the objective and the step-out row share one graph.
+_SHARED: list[Any] = [None, None]
+
+
 def _symbolic_margins(ctx: pb.Context) -> list:
-    """The scenario margins of the context, / tau_ref, with the scenarios as parameters."""
+    """The scenario margins of the context, / tau_ref, with the scenarios as parameters (one
+    expression graph per context, shared by the CVaR objective and the step-out row)."""
+    if _SHARED[0] is ctx:
+        return _SHARED[1]
+    _SHARED[0], _SHARED[1] = ctx, _margins_of(ctx)
+    return _SHARED[1]
+
+
+def _margins_of(ctx: pb.Context) -> list:
     from optimize.uncertainty import TissueArrays
 
     n = ctx.scenarios.count
