@@ -143,12 +143,11 @@ def _record(model, res, rounds, capacity, index, skipped) -> ScenarioSolve:
     )
 
 
-def _initial_index(model, cap, warm, points) -> np.ndarray:
-    """The first working set: a previous solve's (same size), else the ``cap`` scenarios of the
-    best rank at any of ``points`` (ties by index)."""
-    prev = _warm_index(warm)
-    if prev is not None and prev.size == cap:
-        return prev
+def initial_index(model, cap, points) -> np.ndarray:
+    """The first working set: the ``cap`` scenarios of the best rank at any of ``points``
+    (ties by index)."""
+    if not points:
+        return np.arange(cap)
     ranks = []
     for a, f, b in points:
         order = np.argsort(worst_margins(model, a, f, b), kind="stable")
@@ -275,7 +274,7 @@ def solve_over_scenarios(
         return replace(res, scenario_solve=rec)
     prev = _warm_index(warm_start)
     if prev is not None and prev.size == cap:  # a neighbouring solve's working set and slots
-        index = prev
+        ws = WorkingSet(model, prev)
         if isinstance(warm, dict):
             warm = _core(warm)
     else:
@@ -284,33 +283,69 @@ def solve_over_scenarios(
             points = [point] if point is not None else []
         if not points and start_points is not None:
             points = start_points(model)
-        index = _initial_index(model, cap, None, points)
+        ws = WorkingSet(model, initial_index(model, cap, points))
         warm = _core(warm)
-    ever: set[int] = set()
     while True:
-        working = replace(model, scenarios=sc.working(index))
+        working = ws.model(model)
         res = solve(working, warm)
         rounds += 1
         if not res.feasible:
-            return _infeasible(model, res, rounds, cap, index)
-        m = worst_margins(model, *_point(res))
-        inside = np.zeros(whole, dtype=bool)
-        inside[index] = True
-        k = min(tail, index.size)
+            return _infeasible(model, res, rounds, ws.capacity, ws.index)
+        changed = ws.update(model, _point(res))
+        if changed is None:
+            return replace(res, scenario_solve=ws.record(model, res, rounds))
+        same = len(changed) < ws.capacity
+        warm = _slot_warm(res, working, changed) if same else _core(res)
+
+
+class WorkingSet:
+    """The scenarios a robust NLP is solved on, and how they grow (see the module notes).
+
+    ``index``: whole-set indices in slot order (its size is the capacity compiled in).
+    """
+
+    def __init__(self, model: DesignModel, index: np.ndarray) -> None:
+        self.index = np.asarray(index, dtype=np.intp)
+        self.tail = tail_count(model)
+        self.whole = model.scenarios.count
+        self.ever: set[int] = set()
+
+    @property
+    def capacity(self) -> int:
+        """Scenarios compiled in."""
+        return int(self.index.size)
+
+    def model(self, model: DesignModel) -> DesignModel:
+        """``model`` (whole scenario set) carrying this working set instead."""
+        return replace(model, scenarios=model.scenarios.working(self.index))
+
+    def update(self, model: DesignModel, point: tuple[float, float, float]) -> set[int] | None:
+        """Check the optimum ``point`` over every scenario of ``model``: None if no scenario
+        outside the set undercuts the tail's edge inside it (the set's optimum is the whole
+        problem's), else move to the next set and return the slots that changed (all of them
+        when the capacity grew)."""
+        m = worst_margins(model, *point)
+        inside = np.zeros(self.whole, dtype=bool)
+        inside[self.index] = True
+        k = min(self.tail, self.index.size)
         edge = np.sort(m[inside])[k - 1]
         tol = TIE_RTOL * max(float(np.max(np.abs(m))), 1e-300)
         undercut = np.flatnonzero(~inside & (m < edge - tol))
-        ever.update(int(s) for s in np.argsort(m, kind="stable")[:tail])
+        self.ever.update(int(s) for s in np.argsort(m, kind="stable")[: self.tail])
         if undercut.size == 0:
-            return replace(res, scenario_solve=_record(model, res, rounds, cap, index, False))
-        # the tail here is not all in A: it joins (so A grows each round); the rest of A is
-        # the worst at this point
-        must = sorted(ever, key=lambda s: (m[s], s))
+            return None
+        # the tail here is not all in the set: it joins (so the set grows each round); the
+        # rest of the set is the worst at this point
+        must = sorted(self.ever, key=lambda s: (m[s], s))
+        cap = self.capacity
         while len(must) > cap:
-            cap = min(whole, 2 * cap)
-        index, changed = _next_index(index, m, must, cap)
-        same = len(changed) < cap
-        warm = _slot_warm(res, working, changed) if same else _core(res)
+            cap = min(self.whole, 2 * cap)
+        self.index, changed = _next_index(self.index, m, must, cap)
+        return changed
+
+    def record(self, model: DesignModel, res: Any, rounds: int) -> ScenarioSolve:
+        """The evidence of a converged solve."""
+        return _record(model, res, rounds, self.capacity, self.index, False)
 
 
 def _size(model: DesignModel, res: Any) -> float:

@@ -127,19 +127,21 @@ def size_design(model: DesignModel, solver: FixedHardwareSolver) -> Optimization
     hs = hw.HardwareStructure(
         tuple(v.name for v in free), hw.helmholtz_flags(model), len(model.headings)
     )
-    problem = compile_problem(structure_of(exact, hardware=hs))
     bounds = {**variable_bounds(exact), **{v.name: (v.lo, v.hi) for v in free}}
     scales = scales_for(exact)
-    starts = [
-        {**x, **hw_now, "power_W_scaled": _loss_scaled(exact, x, scales)}
-        for x in initial_points(exact, scales, model.bounds.starts)
-    ]
+    grid = initial_points(exact, scales, model.bounds.starts)
+    ws = _working_set(exact, grid, scales)  # tissue scenarios: the ones that matter
+    problem = compile_problem(structure_of(ws.model(exact) if ws else exact, hardware=hs))
+    starts = [{**x, **hw_now, "power_W_scaled": _loss_scaled(exact, x, scales)} for x in grid]
     iterations, outer, best, frozen_prev = 0, 0, None, None
-    for _ in range(_OUTER_MAX):
+    outer_max, next_start = _OUTER_MAX, None
+    while outer < outer_max:
         outer += 1
         frozen = hw.frozen_factors(exact)
-        p = problem.parameters(exact, scales, hw.sizing_parameters(exact, frozen, min_bore))
-        xs0 = starts if best is None else [best.values()]
+        p = problem.parameters(
+            ws.model(exact) if ws else exact, scales, hw.sizing_parameters(exact, frozen, min_bore)
+        )
+        xs0 = starts if best is None else [next_start or best.values()]
         found = None
         for x0 in xs0:
             sol = problem.nlp.solve(x0, p, bounds)
@@ -154,6 +156,22 @@ def size_design(model: DesignModel, solver: FixedHardwareSolver) -> Optimization
         if moved is None:
             break
         exact = prepare(moved)
+        next_start = None
+        if ws is not None:  # every scenario at the new optimum: does the tail lie in the set?
+            point = (
+                best.value("helical_angle"),
+                best.value("frequency"),
+                best.value("field_scaled") * scales.field_T,
+            )
+            changed = ws.update(exact, point)
+            if changed is not None:  # re-solve on the grown set (the set only grows: finite)
+                outer_max += 1
+                problem = compile_problem(structure_of(ws.model(exact), hardware=hs))
+                next_start = {
+                    k: v for k, v in best.values().items() if not _slot_variable(k, changed)
+                }
+                frozen_prev = frozen
+                continue
         if frozen_prev is not None and _settled(frozen_prev, frozen):
             break
         frozen_prev = frozen
@@ -172,6 +190,8 @@ def size_design(model: DesignModel, solver: FixedHardwareSolver) -> Optimization
         "frequency": best.value("frequency"),
         "field_T": best.value("field_scaled") * scales.field_T,
     }
+    if ws is not None:  # the neighbours start from the relaxation's working set
+        warm["scenario_index"] = ws.index
     candidates, extra_iterations = _neighbours(problem, p, bounds, best, free, sizing)
     iterations += extra_iterations
     tried, feasible, winner = 0, 0, None
@@ -235,6 +255,26 @@ def size_design(model: DesignModel, solver: FixedHardwareSolver) -> Optimization
         message=f"optimal: {len(free)} hardware quantities sized ({feasible} of {tried} "
         "buildable neighbours feasible); every requirement met inside every limit",
     )
+
+
+def _working_set(model: DesignModel, grid: list[dict[str, float]], scales: Any) -> Any:
+    """The scenario working set of a model with tissue scenarios (None: none, or the whole set
+    is solved at once): the tail at the grid starts (:mod:`optimize.active_set`)."""
+    from optimize import active_set as acs
+
+    sc = model.scenarios
+    if sc is None or not sc.whole:
+        return None
+    cap = acs.capacity_for(acs.tail_count(model), sc.count)
+    if cap >= sc.count:
+        return None
+    points = [(x["helical_angle"], x["frequency"], x["field_scaled"] * scales.field_T) for x in grid]
+    return acs.WorkingSet(model, acs.initial_index(model, cap, points))
+
+
+def _slot_variable(name: str, slots: set[int]) -> bool:
+    """Whether ``name`` is a scenario variable (``…excess[i]``) of one of ``slots``."""
+    return "excess[" in name and int(name[name.index("[") + 1 : -1]) in slots
 
 
 def _loss_scaled(model: DesignModel, x: dict[str, float], scales: Any) -> float:

@@ -10,6 +10,7 @@ robust optimum and for the deterministic (nominal-margin) optimum alike.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, replace
 from typing import Any
 
@@ -95,7 +96,10 @@ def robust_optimum(design: Any, samples: int = OUT_OF_SAMPLE) -> RobustCheck:
     model = robust_model(design, base)
     res = optimize_design(model)
     fresh = model.scenarios.seed + FRESH_SEED_OFFSET
-    det = optimize_design(replace(base, bounds=replace(base.bounds, objective="margin")))
+    if res.scenario_solve is not None and res.scenario_solve.skipped:
+        det = res  # the step-out row cannot bind: the optimum is the deterministic one
+    else:
+        det = optimize_design(replace(base, bounds=replace(base.bounds, objective="margin")))
     return RobustCheck(
         result=res,
         in_sample=rb.in_sample(robust_model(*_as_built(design, res)), res),
@@ -160,6 +164,7 @@ def robust_to_dict(rc: RobustCheck) -> dict[str, Any]:
             "stepout_probability_ci95": list(oos.stepout_ci95),
             "p05_relative_to_claim": p05 / ins.margin_p05_Nm - 1.0 if ins.margin_p05_Nm else None,
         },
+        "solve": scenario_solve_to_dict(rc.result.scenario_solve),
         "deterministic_optimum": {
             "status": rc.deterministic.status,
             "helical_angle_deg": rc.deterministic.helical_angle_deg,
@@ -169,3 +174,47 @@ def robust_to_dict(rc: RobustCheck) -> dict[str, Any]:
             "out_of_sample_stepout_probability": d_oos.stepout_probability,
         },
     }
+
+
+def _finite(x: float) -> float | None:
+    return float(x) if math.isfinite(x) else None
+
+
+def scenario_solve_to_dict(rec: Any) -> dict[str, Any] | None:
+    """How the scenarios were solved and the check over all of them
+    (:class:`optimize.active_set.ScenarioSolve`), SI."""
+    if rec is None:
+        return None
+    return {
+        "scenarios": rec.scenarios,
+        "working_set": rec.capacity,
+        "rounds": rec.rounds,
+        "stepout_constraint_cannot_bind": rec.skipped,
+        "check": {
+            "cvar05_Nm": _finite(rec.cvar_Nm),
+            "stepout_cvar_Nm": _finite(rec.stepout_cvar_Nm),
+            "stepout_probability": _finite(rec.stepout_probability),
+            "smallest_margin_outside_working_set_Nm": _finite(rec.outside_min_Nm),
+            "tail_edge_in_working_set_Nm": _finite(rec.tail_edge_Nm),
+        },
+    }
+
+
+def format_scenario_solve(rec: Any, p: float | None) -> str:
+    """One or two text lines: how the scenarios were solved and the evidence."""
+    if rec is None:
+        return ""
+    n = rec.scenarios
+    if rec.skipped:
+        return (
+            f"scenario solve      P(step-out) <= {p:g} cannot bind: the optimum without it has "
+            f"CVaR_{p:g} {rec.stepout_cvar_Nm * 1e3:.4g} mN·m >= 0 and P(step-out) "
+            f"{100 * rec.stepout_probability:.3g} % over all {n} scenarios; returned at once"
+        )
+    if rec.capacity >= n:
+        return f"scenario solve      all {n} scenarios in one NLP ({rec.rounds} solve(s))"
+    return (
+        f"scenario solve      working set {rec.capacity} of {n} scenarios, {rec.rounds} round(s); "
+        f"checked over all {n}: smallest margin outside {rec.outside_min_Nm * 1e3:.4g} mN·m "
+        f">= the tail's edge inside {rec.tail_edge_Nm * 1e3:.4g} mN·m"
+    )
