@@ -363,8 +363,15 @@ def _infeasible(model, res, rounds, cap, index) -> Any:
         replace(s, best=share) if s.name == "stepout_probability" else s for s in res.shortfalls
     )
     rec = ScenarioSolve(
-        sc.count, cap, rounds, tuple(int(i) for i in index), False, cvar(m, sc.beta),
+        sc.count,
+        cap,
+        rounds,
+        tuple(int(i) for i in index),
+        False,
+        cvar(m, sc.beta),
         cvar(m, sc.max_stepout_probability) if sc.max_stepout_probability else float("nan"),
-        share, float("nan"), float("nan"),
+        share,
+        float("nan"),
+        float("nan"),
     )
     return replace(res, shortfalls=shortfalls, scenario_solve=rec)

@@ -268,7 +268,9 @@ def _working_set(model: DesignModel, grid: list[dict[str, float]], scales: Any) 
     cap = acs.capacity_for(acs.tail_count(model), sc.count)
     if cap >= sc.count:
         return None
-    points = [(x["helical_angle"], x["frequency"], x["field_scaled"] * scales.field_T) for x in grid]
+    points = [
+        (x["helical_angle"], x["frequency"], x["field_scaled"] * scales.field_T) for x in grid
+    ]
     return acs.WorkingSet(model, acs.initial_index(model, cap, points))
 
 

@@ -115,7 +115,9 @@ class ScenarioSet:
             replace(t, **{n: np.broadcast_to(getattr(t, n), (self.count,))[idx] for n in FIELDS})
             for t in self.tissues
         )
-        return replace(self, tissues=tissues, latent_u=self.latent_u[idx], index=idx, total=self.count)
+        return replace(
+            self, tissues=tissues, latent_u=self.latent_u[idx], index=idx, total=self.count
+        )
 
     @property
     def structure(self) -> ScenarioStructure:

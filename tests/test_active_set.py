@@ -5,8 +5,8 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from optimize import optimize_design, prepare
 from optimize import active_set as acs
+from optimize import optimize_design, prepare
 from optimize import robust as rb
 from spiralcap.assemble import build_model
 from spiralcap.assemble.tissue import build_uncertainty
