@@ -87,29 +87,62 @@ class RobustCheck:
 
 
 def robust_optimum(design: Any, samples: int = OUT_OF_SAMPLE) -> RobustCheck:
-    """Solve the design over its scenarios, then check it on ``samples`` fresh tissues."""
+    """Solve the design over its scenarios, then check it on ``samples`` fresh tissues.
+
+    The deterministic optimum and its fresh-sample check are independent of the robust solve:
+    where a second core is free they run in a forked process meanwhile (the same computation,
+    the same bits; :class:`spiralcap.parallel.Forked`).
+    """
     from optimize import optimize_design
     from optimize import robust as rb
     from spiralcap.assemble import build_model
 
     base = build_model(design)
-    model = robust_model(design, base)
-    res = optimize_design(model)
-    fresh = model.scenarios.seed + FRESH_SEED_OFFSET
+    det_model = replace(base, bounds=replace(base.bounds, objective="margin"))
+    fresh = int(design["optimize.scenario_seed"]) + FRESH_SEED_OFFSET
+
+    def deterministic() -> tuple[Any, Any]:
+        det = optimize_design(det_model)
+        return det, _fresh(design, det, samples, fresh)
+
+    model = robust_model(design, base)  # bad input is named here, before any fork
+    # objective "margin" with a step-out row: the robust solve starts with this very optimum
+    child = _fork(deterministic) if design["optimize.objective"] != "margin" else None
+    try:
+        res = optimize_design(model)
+        oos = _fresh(design, res, samples, fresh)
+    except BaseException:
+        if child is not None:
+            child.cancel()
+        raise
     if res.scenario_solve is not None and res.scenario_solve.skipped:
-        det = res  # the step-out row cannot bind: the optimum is the deterministic one
+        if child is not None:
+            child.cancel()
+        det, det_oos = res, oos  # the step-out row cannot bind: the deterministic optimum
     else:
-        det = optimize_design(replace(base, bounds=replace(base.bounds, objective="margin")))
+        det, det_oos = child.result() if child is not None else deterministic()
+    own = model if res.hardware is None else robust_model(*_as_built(design, res))
     return RobustCheck(
         result=res,
-        in_sample=rb.in_sample(robust_model(*_as_built(design, res)), res),
-        out_of_sample=_fresh(design, res, samples, fresh),
+        in_sample=rb.in_sample(own, res),
+        out_of_sample=oos,
         deterministic=det,
-        deterministic_out_of_sample=_fresh(design, det, samples, fresh),
+        deterministic_out_of_sample=det_oos,
         fresh_seed=fresh,
         objective=model.bounds.objective,
         max_stepout_probability=model.scenarios.max_stepout_probability,
     )
+
+
+def _fork(fn: Any) -> Any:
+    """``fn`` in a forked process if this one may fork and a second core is there, else None."""
+    import multiprocessing
+
+    from spiralcap.parallel import Forked, available_cores, can_fork
+
+    if not can_fork() or available_cores() < 2 or multiprocessing.current_process().daemon:
+        return None
+    return Forked(fn)
 
 
 def _as_built(design: Any, res: Any) -> tuple[Any, Any]:
