@@ -199,23 +199,39 @@ def size_design(model: DesignModel, solver: FixedHardwareSolver) -> Optimization
     if by_mass:  # the objective is known before the solve: the first feasible one is the best
         here = hw.hardware_of(exact)
         candidates.sort(key=lambda c: _copper_mass_kg({**here, **relaxed, **c}, exact))
-    for combo in candidates:
-        if by_mass and winner is not None:
-            break
-        values = {**relaxed, **combo}
-        tried += 1
-        m = buildable(fixed_model, values, min_bore)
+
+    def attempt(combo: dict[str, float]) -> OptimizationResult | None:
+        m = buildable(fixed_model, {**relaxed, **combo}, min_bore)
         if m is None:
-            continue
-        res = optimize_design(
+            return None
+        return optimize_design(
             m, warm_start=warm, diagnose=False, grid_starts=False, frequency_bounds=False
         )
-        iterations += res.iterations
-        if res.status != "optimal":
-            continue
-        feasible += 1
-        if winner is None or spec.sense * (res.objective_value - winner[1].objective_value) > 0:
-            winner = (values, res, m)
+
+    # the first here (it compiles the fixed-hardware problem the forked ones then share), the
+    # rest on the free cores (each solve independent: the same results however spread); by
+    # mass in small batches, since the first feasible one ends the search
+    processes = _processes()
+    batch = 4 * processes if by_mass else len(candidates)
+    done = 0
+    while done < len(candidates) and not (by_mass and winner is not None):
+        size = 1 if done == 0 else batch
+        part = candidates[done : done + size]
+        results = _map(attempt, part, processes)
+        done += len(part)
+        for combo, res in zip(part, results, strict=True):
+            if by_mass and winner is not None:
+                break
+            tried += 1
+            if res is None:
+                continue
+            iterations += res.iterations
+            if res.status != "optimal":
+                continue
+            feasible += 1
+            if winner is None or spec.sense * (res.objective_value - winner[1].objective_value) > 0:
+                values = {**relaxed, **combo}
+                winner = (values, res, buildable(fixed_model, values, min_bore))
     if winner is None:
         return _no_design(
             solver,
@@ -255,6 +271,31 @@ def size_design(model: DesignModel, solver: FixedHardwareSolver) -> Optimization
         message=f"optimal: {len(free)} hardware quantities sized ({feasible} of {tried} "
         "buildable neighbours feasible); every requirement met inside every limit",
     )
+
+
+def _processes() -> int:
+    """Processes the neighbours may run on: the free cores where this process may fork (the
+    main thread of a non-daemon process), else 1."""
+    import multiprocessing
+    import threading
+
+    from spiralcap.parallel import available_cores, can_fork
+
+    if (
+        not can_fork()
+        or multiprocessing.current_process().daemon
+        or threading.current_thread() is not threading.main_thread()
+    ):
+        return 1
+    return min(available_cores(), 2)
+
+
+def _map(fn: Callable[[Any], Any], items: list[Any], processes: int) -> list[Any]:
+    if processes < 2 or len(items) < 2:
+        return [fn(x) for x in items]
+    from spiralcap.parallel import map_forked
+
+    return map_forked(fn, items, processes)
 
 
 def _working_set(model: DesignModel, grid: list[dict[str, float]], scales: Any) -> Any:
