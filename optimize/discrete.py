@@ -211,13 +211,12 @@ def size_design(model: DesignModel, solver: FixedHardwareSolver) -> Optimization
     # the first here (it compiles the fixed-hardware problem the forked ones then share), the
     # rest on the free cores (each solve independent: the same results however spread); by
     # mass in small batches, since the first feasible one ends the search
-    processes = _processes()
-    batch = 4 * processes if by_mass else len(candidates)
+    batch = BATCH if by_mass else len(candidates)
     done = 0
     while done < len(candidates) and not (by_mass and winner is not None):
         size = 1 if done == 0 else batch
         part = candidates[done : done + size]
-        results = _map(attempt, part, processes)
+        results = _map(attempt, part)
         done += len(part)
         for combo, res in zip(part, results, strict=True):
             if by_mass and winner is not None:
@@ -273,29 +272,26 @@ def size_design(model: DesignModel, solver: FixedHardwareSolver) -> Optimization
     )
 
 
-def _processes() -> int:
-    """Processes the neighbours may run on: the free cores where this process may fork (the
-    main thread of a non-daemon process), else 1."""
-    import multiprocessing
-    import threading
-
-    from spiralcap.parallel import available_cores, can_fork
-
-    if (
-        not can_fork()
-        or multiprocessing.current_process().daemon
-        or threading.current_thread() is not threading.main_thread()
-    ):
-        return 1
-    return min(available_cores(), 2)
+#: How the buildable neighbours are mapped, ``mapper(fn, items) -> [fn(x) for x in items]``:
+#: serial here; the application sets one that runs them on its free cores
+#: (:func:`set_neighbour_map`). Each solve is independent, so the results are the same.
+_MAPPER: list[Callable[[Callable[[Any], Any], list[Any]], list[Any]] | None] = [None]
+#: Neighbours tried at once when the first feasible one wins (``copper_mass``).
+BATCH = 8
 
 
-def _map(fn: Callable[[Any], Any], items: list[Any], processes: int) -> list[Any]:
-    if processes < 2 or len(items) < 2:
+def set_neighbour_map(
+    mapper: Callable[[Callable[[Any], Any], list[Any]], list[Any]] | None,
+) -> None:
+    """Run the neighbours' solves through ``mapper`` (None: one after another here)."""
+    _MAPPER[0] = mapper
+
+
+def _map(fn: Callable[[Any], Any], items: list[Any]) -> list[Any]:
+    mapper = _MAPPER[0]
+    if mapper is None or len(items) < 2:
         return [fn(x) for x in items]
-    from spiralcap.parallel import map_forked
-
-    return map_forked(fn, items, processes)
+    return mapper(fn, items)
 
 
 def _working_set(model: DesignModel, grid: list[dict[str, float]], scales: Any) -> Any:
