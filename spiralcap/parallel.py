@@ -218,6 +218,7 @@ class Forked:
         try:
             ok, value = self._recv.recv()
         except EOFError:
+            self._proc.join()  # its exit code is known once it is waited for
             ok, value = (
                 False,
                 (None, f"the worker process ended with exit code {self._proc.exitcode}"),
