@@ -17,7 +17,10 @@ so the field matrix is G(p) = p S^T + diag-like T and B = G(p) I.
 from __future__ import annotations
 
 import math
+import os
 import threading
+from collections.abc import Callable
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from typing import Any, Literal
 
@@ -39,6 +42,49 @@ _WORK = threading.local()
 #: Point-filament pairs per chunk on the numpy path: bounds the scratch (about 7 MB) and keeps
 #: it reused, whatever the number of filaments.
 CHUNK_ELEMENTS = 49152
+
+
+#: Threads the numpy path runs the chunks of a large batch on (numpy releases the GIL inside
+#: its calls; each thread has its own scratch). Every chunk is the same computation whichever
+#: thread runs it, so the result is the same bits with one thread or several.
+THREADS = min(2, os.cpu_count() or 1)
+_POOL: dict[str, Any] = {"pool": None, "size": 0, "pid": 0}
+_POOL_LOCK = threading.Lock()
+
+
+def _pool(size: int) -> ThreadPoolExecutor:
+    """A pool of ``size`` worker threads (made again in a forked child: its threads are gone)."""
+    with _POOL_LOCK:
+        if _POOL["pool"] is None or _POOL["size"] != size or _POOL["pid"] != os.getpid():
+            _POOL.update(
+                pool=ThreadPoolExecutor(size, thread_name_prefix="coils-field"),
+                size=size,
+                pid=os.getpid(),
+            )
+        return _POOL["pool"]
+
+
+def _each_chunk(n_points: int, step: int, fn: Callable[[int], None]) -> None:
+    """``fn(start)`` for every chunk start, the chunks split into :data:`THREADS` contiguous
+    blocks run at once when there are at least two chunks per thread."""
+    starts = list(range(0, n_points, step))
+    threads = max(int(THREADS), 1)
+    if threads == 1 or len(starts) < 2 * threads:
+        for start in starts:
+            fn(start)
+        return
+    blocks = [b.tolist() for b in np.array_split(np.array(starts), threads)]
+
+    def run(block: list[int]) -> None:
+        for start in block:
+            fn(start)
+
+    futures = [_pool(threads - 1).submit(run, b) for b in blocks[1:]]
+    try:
+        run(blocks[0])
+    finally:
+        for f in futures:
+            f.result()
 
 
 def _groups(axes: np.ndarray) -> tuple[list[int], int] | None:
@@ -286,7 +332,8 @@ class FilamentSet:
         direction = self._rows()["direction"]
         out = np.empty((len(points), 3))
         step = _chunk(len(self.radii_m))
-        for start in range(0, len(points), step):
+
+        def one(start: int) -> None:
             chunk = points[start : start + step]
             work = self._workspace(len(chunk))
             P, B = work["P"], work["B"]
@@ -296,6 +343,8 @@ class FilamentSet:
             T *= currents
             B += direction @ T
             out[start : start + step] = B.T
+
+        _each_chunk(len(points), step, one)
         return out
 
     def field_matrix(self, points: np.ndarray) -> np.ndarray:
@@ -309,7 +358,8 @@ class FilamentSet:
         out = np.empty((len(points), 3, self.n_currents))
         direction = self._rows()["direction"]
         step = _chunk(len(self.radii_m))
-        for start in range(0, len(points), step):
+
+        def one(start: int) -> None:
             chunk = points[start : start + step]
             work = self._workspace(len(chunk))
             P = work["P"]
@@ -317,4 +367,6 @@ class FilamentSet:
             S, T = self._terms_rows(P, work)
             G = P[:, None, :] * S[None, :, :] + direction[:, :, None] * T[None, :, :]
             out[start : start + step] = G.transpose(2, 0, 1)
+
+        _each_chunk(len(points), step, one)
         return out

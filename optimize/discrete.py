@@ -149,20 +149,22 @@ def size_design(
         len(model.headings),
         model.limits.copper_mass_kg is not None,
     )
-    problem = compile_problem(structure_of(exact, hardware=hs))
     bounds = {**variable_bounds(exact), **{v.name: (v.lo, v.hi) for v in free}}
     scales = scales_for(exact)
-    starts = [
-        {**x, **hw_now, "power_W_scaled": _loss_scaled(exact, x, scales)}
-        for x in initial_points(exact, scales, model.bounds.starts)
-    ]
+    grid = initial_points(exact, scales, model.bounds.starts)
+    ws = _working_set(exact, grid, scales)  # tissue scenarios: the ones that matter
+    problem = compile_problem(structure_of(ws.model(exact) if ws else exact, hardware=hs))
+    starts = [{**x, **hw_now, "power_W_scaled": _loss_scaled(exact, x, scales)} for x in grid]
     iterations, outer, best, frozen_prev = 0, 0, None, None
-    for _ in range(_OUTER_MAX):
+    outer_max, next_start = _OUTER_MAX, None
+    while outer < outer_max:
         outer += 1
         say(f"continuous relaxation, outer iteration {outer}")
         frozen = hw.frozen_factors(exact)
-        p = problem.parameters(exact, scales, hw.sizing_parameters(exact, frozen, min_bore))
-        xs0 = starts if best is None else [best.values()]
+        p = problem.parameters(
+            ws.model(exact) if ws else exact, scales, hw.sizing_parameters(exact, frozen, min_bore)
+        )
+        xs0 = starts if best is None else [next_start or best.values()]
         found = None
         for x0 in xs0:
             sol = problem.nlp.solve(x0, p, bounds)
@@ -177,6 +179,22 @@ def size_design(
         if moved is None:
             break
         exact = prepare(moved)
+        next_start = None
+        if ws is not None:  # every scenario at the new optimum: does the tail lie in the set?
+            point = (
+                best.value("helical_angle"),
+                best.value("frequency"),
+                best.value("field_scaled") * scales.field_T,
+            )
+            changed = ws.update(exact, point)
+            if changed is not None:  # re-solve on the grown set (the set only grows: finite)
+                outer_max += 1
+                problem = compile_problem(structure_of(ws.model(exact), hardware=hs))
+                next_start = {
+                    k: v for k, v in best.values().items() if not _slot_variable(k, changed)
+                }
+                frozen_prev = frozen
+                continue
         if frozen_prev is not None and _settled(frozen_prev, frozen):
             break
         frozen_prev = frozen
@@ -200,6 +218,8 @@ def size_design(
         "frequency": best.value("frequency"),
         "field_T": best.value("field_scaled") * scales.field_T,
     }
+    if ws is not None:  # the neighbours start from the relaxation's working set
+        warm["scenario_index"] = ws.index
     candidates, extra_iterations = _neighbours(problem, p, bounds, best, free, sizing)
     iterations += extra_iterations
     tried, feasible, winner, first_built = 0, 0, None, None
@@ -207,25 +227,41 @@ def size_design(
     if by_mass:  # the objective is known before the solve: the first feasible one is the best
         here = hw.hardware_of(exact)
         candidates.sort(key=lambda c: _copper_mass_kg({**here, **relaxed, **c}, exact))
-    for combo in candidates:
-        if by_mass and winner is not None:
-            break
-        values = {**relaxed, **combo}
-        tried += 1
-        say(f"whole turns and standard wire: neighbour {tried} of {len(candidates)}")
-        m = buildable(fixed_model, values, min_bore)
+
+    def attempt(combo: dict[str, float]) -> OptimizationResult | None:
+        m = buildable(fixed_model, {**relaxed, **combo}, min_bore)
         if m is None:
-            continue
-        first_built = first_built or m
-        res = optimize_design(
+            return None
+        return optimize_design(
             m, warm_start=warm, diagnose=False, grid_starts=False, frequency_bounds=False
         )
-        iterations += res.iterations
-        if res.status != "optimal":
-            continue
-        feasible += 1
-        if winner is None or spec.sense * (res.objective_value - winner[1].objective_value) > 0:
-            winner = (values, res, m)
+
+    # the first here (it compiles the fixed-hardware problem the forked ones then share), the
+    # rest on the free cores (each solve independent: the same results however spread); by
+    # mass in small batches, since the first feasible one ends the search
+    batch = BATCH if by_mass else len(candidates)
+    done = 0
+    while done < len(candidates) and not (by_mass and winner is not None):
+        size = 1 if done == 0 else batch
+        part = candidates[done : done + size]
+        results = _map(attempt, part)
+        done += len(part)
+        for combo, res in zip(part, results, strict=True):
+            if by_mass and winner is not None:
+                break
+            tried += 1
+            say(f"whole turns and standard wire: neighbour {tried} of {len(candidates)}")
+            if res is None:
+                continue
+            if first_built is None:
+                first_built = buildable(fixed_model, {**relaxed, **combo}, min_bore)
+            iterations += res.iterations
+            if res.status != "optimal":
+                continue
+            feasible += 1
+            if winner is None or spec.sense * (res.objective_value - winner[1].objective_value) > 0:
+                values = {**relaxed, **combo}
+                winner = (values, res, buildable(fixed_model, values, min_bore))
     if winner is None:
         # what keeps the neighbours out: the first buildable one's own shortfalls (the
         # relaxed problem at that hardware), or the geometric rule the first one breaks
@@ -270,6 +306,50 @@ def size_design(
         message=f"optimal: {len(free)} hardware quantities sized ({feasible} of {tried} "
         "buildable neighbours feasible); every requirement met inside every limit",
     )
+
+
+#: How the buildable neighbours are mapped, ``mapper(fn, items) -> [fn(x) for x in items]``:
+#: serial here; the application sets one that runs them on its free cores
+#: (:func:`set_neighbour_map`). Each solve is independent, so the results are the same.
+_MAPPER: list[Callable[[Callable[[Any], Any], list[Any]], list[Any]] | None] = [None]
+#: Neighbours tried at once when the first feasible one wins (``copper_mass``).
+BATCH = 8
+
+
+def set_neighbour_map(
+    mapper: Callable[[Callable[[Any], Any], list[Any]], list[Any]] | None,
+) -> None:
+    """Run the neighbours' solves through ``mapper`` (None: one after another here)."""
+    _MAPPER[0] = mapper
+
+
+def _map(fn: Callable[[Any], Any], items: list[Any]) -> list[Any]:
+    mapper = _MAPPER[0]
+    if mapper is None or len(items) < 2:
+        return [fn(x) for x in items]
+    return mapper(fn, items)
+
+
+def _working_set(model: DesignModel, grid: list[dict[str, float]], scales: Any) -> Any:
+    """The scenario working set of a model with tissue scenarios (None: none, or the whole set
+    is solved at once): the tail at the grid starts (:mod:`optimize.active_set`)."""
+    from optimize import active_set as acs
+
+    sc = model.scenarios
+    if sc is None or not sc.whole:
+        return None
+    cap = acs.capacity_for(acs.tail_count(model), sc.count)
+    if cap >= sc.count:
+        return None
+    points = [
+        (x["helical_angle"], x["frequency"], x["field_scaled"] * scales.field_T) for x in grid
+    ]
+    return acs.WorkingSet(model, acs.initial_index(model, cap, points))
+
+
+def _slot_variable(name: str, slots: set[int]) -> bool:
+    """Whether ``name`` is a scenario variable (``…excess[i]``) of one of ``slots``."""
+    return "excess[" in name and int(name[name.index("[") + 1 : -1]) in slots
 
 
 def _loss_scaled(model: DesignModel, x: dict[str, float], scales: Any) -> float:

@@ -93,6 +93,9 @@ class OptimizationResult:
     hardware: Any = None
     solution_x: Any = field(default=None, compare=False, repr=False)
     solution_lam_g: Any = field(default=None, compare=False, repr=False)
+    #: How the tissue scenarios were solved and checked (:class:`optimize.active_set.
+    #: ScenarioSolve`); None without scenarios.
+    scenario_solve: Any = field(default=None, compare=False, repr=False)
 
     @property
     def helical_angle_deg(self) -> float:

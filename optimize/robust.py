@@ -92,11 +92,32 @@ class ScenarioSet:
     seed: int
     beta: float = BETA
     max_stepout_probability: float | None = None
+    #: A working set (:mod:`optimize.active_set`): which scenarios of the whole set these are,
+    #: and how many the whole set has (the CVaR sums are normalised by it). None: the whole set.
+    index: np.ndarray | None = None
+    total: int | None = None
 
     @property
     def count(self) -> int:
-        """Number of scenarios."""
+        """Number of scenarios (of this set or working set)."""
         return int(self.latent_u.shape[0])
+
+    @property
+    def whole(self) -> bool:
+        """True for the whole scenario set, False for a working set of it."""
+        return self.index is None
+
+    def working(self, index: np.ndarray) -> ScenarioSet:
+        """The working set of the scenarios ``index`` of this (whole) set: the CVaR sums over
+        it keep the whole set's normalisation ``1/(β S)``."""
+        idx = np.asarray(index, dtype=np.intp)
+        tissues = tuple(
+            replace(t, **{n: np.broadcast_to(getattr(t, n), (self.count,))[idx] for n in FIELDS})
+            for t in self.tissues
+        )
+        return replace(
+            self, tissues=tissues, latent_u=self.latent_u[idx], index=idx, total=self.count
+        )
 
     @property
     def structure(self) -> ScenarioStructure:
@@ -109,6 +130,7 @@ class ScenarioSet:
         """Values of the scenario parameters by name (unused names are ignored)."""
         p = self.max_stepout_probability
         out: dict[str, Any] = {
+            "scenario.total": float(self.total if self.total is not None else self.count),
             "scenario.beta": self.beta,
             "scenario.max_stepout_probability": 1.0 if p is None else p,
         }
@@ -154,13 +176,16 @@ def with_scenarios(
 # --- the hooks --------------------------------------------------------------------------------
 
 
-def cvar_rows(margins: list[Any], eta: Any, u: Any, beta: Any) -> tuple[Any, list[Any]]:
+def cvar_rows(
+    margins: list[Any], eta: Any, u: Any, beta: Any, total: Any = None
+) -> tuple[Any, list[Any]]:
     """Rockafellar-Uryasev epigraph: (CVaR_β expression, rows ``<= 0``).
 
     ``margins``: one (S x 1) expression per tissue set (scenario margins, any scale);
-    ``eta``: scalar; ``u``: S variables bounded below by 0.
+    ``eta``: scalar; ``u``: S variables bounded below by 0; ``total``: the scenario count of the
+    normalisation (a working set's whole set; default S).
     """
-    n = u.shape[0]
+    n = u.shape[0] if total is None else total
     rows = [eta - m - u for m in margins]
     return eta - ca.sum1(u) / (beta * n), rows
 
@@ -171,8 +196,20 @@ def scenario_margins(alpha: Any, f: Any, field: Any, c: Any, req: Any, arrays: t
     return [avail - (r + t) for r, t in ph.required_torques_Nm(alpha, f, c, arrays, req)]
 
 
+#: The last context's symbolic margins: the objective and the step-out row share one graph.
+_SHARED: list[Any] = [None, None]
+
+
 def _symbolic_margins(ctx: pb.Context) -> list:
-    """The scenario margins of the context, / tau_ref, with the scenarios as parameters."""
+    """The scenario margins of the context, / tau_ref, with the scenarios as parameters (one
+    expression graph per context, shared by the CVaR objective and the step-out row)."""
+    if _SHARED[0] is ctx:
+        return _SHARED[1]
+    _SHARED[0], _SHARED[1] = ctx, _margins_of(ctx)
+    return _SHARED[1]
+
+
+def _margins_of(ctx: pb.Context) -> list:
     from optimize.uncertainty import TissueArrays
 
     n = ctx.scenarios.count
@@ -234,7 +271,8 @@ def _cvar_objective(ctx: pb.Context) -> tuple[Any, list[pb.Term]]:
     assert ctx.parameter is not None
     margins = _symbolic_margins(ctx)
     u = _excess(ctx, "cvar_excess", ctx.t, margins)
-    cvar, rows = cvar_rows(margins, ctx.t, u, ctx.parameter("scenario.beta"))
+    total = ctx.parameter("scenario.total")
+    cvar, rows = cvar_rows(margins, ctx.t, u, ctx.parameter("scenario.beta"), total)
     return -cvar, _epigraph_terms("cvar", rows, ctx)
 
 
@@ -247,13 +285,14 @@ def _stepout_terms(ctx: pb.Context) -> list[pb.Term]:
     eta = ctx.variable("stepout_var", 1.0, start=0.0)
     margins = _symbolic_margins(ctx)
     v = _excess(ctx, "stepout_excess", eta, margins)
-    _, rows = cvar_rows(margins, eta, v, p)
+    n = ctx.parameter("scenario.total")
+    _, rows = cvar_rows(margins, eta, v, p, n)
     worst = functools.reduce(ca.fmin, margins)
-    share = ca.sum1(worst < 0) / sc.count  # reported value only (not differentiated)
+    share = ca.sum1(worst < 0) / n  # reported value only (not differentiated)
     total = ca.sum1(v)
 
     def form(_value: Any, allowed: Any) -> Any:
-        return total / (allowed * sc.count) - eta  # = −CVaR_p / tau_ref
+        return total / (allowed * n) - eta  # = −CVaR_p / tau_ref
 
     return [
         *_epigraph_terms("stepout_cvar", rows, ctx),

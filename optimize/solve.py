@@ -90,6 +90,15 @@ def initial_points(model: DesignModel, scales: pb.Scales, starts: int) -> list[d
     return out
 
 
+def grid_points(model: DesignModel) -> list[tuple[float, float, float]]:
+    """The grid starts of ``model`` as (angle, frequency, field) points."""
+    scales = scales_for(model)
+    return [
+        (x["helical_angle"], x["frequency"], x["field_scaled"] * scales.field_T)
+        for x in initial_points(model, scales, model.bounds.starts)
+    ]
+
+
 def variable_bounds(model: DesignModel) -> dict[str, tuple[float, float]]:
     """Box bounds of the named variables (physical units)."""
     b = model.bounds
@@ -134,6 +143,21 @@ def optimize_design(
             optimize_design, _binding, initial_points, scales_for, variable_bounds
         )
         return size_design(model, solver, progress)
+    if model.scenarios is not None and model.scenarios.whole:  # the scenarios that matter
+        from optimize.active_set import solve_over_scenarios
+
+        def once(m: DesignModel, warm: Any) -> OptimizationResult:
+            return optimize_design(
+                m,
+                warm_start=warm,
+                diagnose=diagnose,
+                grid_starts=grid_starts,
+                frequency_bounds=frequency_bounds,
+            )
+
+        t0 = time.perf_counter()
+        res = solve_over_scenarios(model, once, warm_start, grid_points)
+        return replace(res, solve_time_s=time.perf_counter() - t0)
     t0 = time.perf_counter()
     model = prepare(model)
     scales = scales_for(model)

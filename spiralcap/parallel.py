@@ -414,6 +414,22 @@ class Forked:
         raise RuntimeError(f"a worker process failed: {text.strip().splitlines()[-1]}")
 
 
+def map_free_cores(fn: Callable[[Any], Any], items: Sequence[Any]) -> list[Any]:
+    """``[fn(x) for x in items]`` on up to two cores (:func:`map_forked`) where this process may
+    fork: the main thread of a non-daemon process (not a Dask worker's task thread); else here.
+    Sizing maps its buildable neighbours with it (``optimize.discrete.set_neighbour_map``)."""
+    import multiprocessing
+    import threading
+
+    if (
+        not can_fork()
+        or multiprocessing.current_process().daemon
+        or threading.current_thread() is not threading.main_thread()
+    ):
+        return [fn(x) for x in items]
+    return map_forked(fn, items, min(available_cores(), 2))
+
+
 def map_forked(fn: Callable[[Any], Any], items: Sequence[Any], processes: int) -> list[Any]:
     """``[fn(x) for x in items]`` on this process and ``processes - 1`` forked children.
 

@@ -10,6 +10,7 @@ robust optimum and for the deterministic (nominal-margin) optimum alike.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, replace
 from typing import Any
 
@@ -86,26 +87,62 @@ class RobustCheck:
 
 
 def robust_optimum(design: Any, samples: int = OUT_OF_SAMPLE) -> RobustCheck:
-    """Solve the design over its scenarios, then check it on ``samples`` fresh tissues."""
+    """Solve the design over its scenarios, then check it on ``samples`` fresh tissues.
+
+    The deterministic optimum and its fresh-sample check are independent of the robust solve:
+    where a second core is free they run in a forked process meanwhile (the same computation,
+    the same bits; :class:`spiralcap.parallel.Forked`).
+    """
     from optimize import optimize_design
     from optimize import robust as rb
     from spiralcap.assemble import build_model
 
     base = build_model(design)
-    model = robust_model(design, base)
-    res = optimize_design(model)
-    fresh = model.scenarios.seed + FRESH_SEED_OFFSET
-    det = optimize_design(replace(base, bounds=replace(base.bounds, objective="margin")))
+    det_model = replace(base, bounds=replace(base.bounds, objective="margin"))
+    fresh = int(design["optimize.scenario_seed"]) + FRESH_SEED_OFFSET
+
+    def deterministic() -> tuple[Any, Any]:
+        det = optimize_design(det_model)
+        return det, _fresh(design, det, samples, fresh)
+
+    model = robust_model(design, base)  # bad input is named here, before any fork
+    # objective "margin" with a step-out row: the robust solve starts with this very optimum
+    child = _fork(deterministic) if design["optimize.objective"] != "margin" else None
+    try:
+        res = optimize_design(model)
+        oos = _fresh(design, res, samples, fresh)
+    except BaseException:
+        if child is not None:
+            child.cancel()
+        raise
+    if res.scenario_solve is not None and res.scenario_solve.skipped:
+        if child is not None:
+            child.cancel()
+        det, det_oos = res, oos  # the step-out row cannot bind: the deterministic optimum
+    else:
+        det, det_oos = child.result() if child is not None else deterministic()
+    own = model if res.hardware is None else robust_model(*_as_built(design, res))
     return RobustCheck(
         result=res,
-        in_sample=rb.in_sample(robust_model(*_as_built(design, res)), res),
-        out_of_sample=_fresh(design, res, samples, fresh),
+        in_sample=rb.in_sample(own, res),
+        out_of_sample=oos,
         deterministic=det,
-        deterministic_out_of_sample=_fresh(design, det, samples, fresh),
+        deterministic_out_of_sample=det_oos,
         fresh_seed=fresh,
         objective=model.bounds.objective,
         max_stepout_probability=model.scenarios.max_stepout_probability,
     )
+
+
+def _fork(fn: Any) -> Any:
+    """``fn`` in a forked process if this one may fork and a second core is there, else None."""
+    import multiprocessing
+
+    from spiralcap.parallel import Forked, available_cores, can_fork
+
+    if not can_fork() or available_cores() < 2 or multiprocessing.current_process().daemon:
+        return None
+    return Forked(fn)
 
 
 def _as_built(design: Any, res: Any) -> tuple[Any, Any]:
@@ -169,6 +206,7 @@ def robust_to_dict(rc: RobustCheck) -> dict[str, Any]:
                 else {}
             ),
         },
+        "solve": scenario_solve_to_dict(rc.result.scenario_solve),
         "deterministic_optimum": {
             "status": rc.deterministic.status,
             "helical_angle_deg": rc.deterministic.helical_angle_deg,
@@ -178,3 +216,47 @@ def robust_to_dict(rc: RobustCheck) -> dict[str, Any]:
             "out_of_sample_stepout_probability": d_oos.stepout_probability,
         },
     }
+
+
+def _finite(x: float) -> float | None:
+    return float(x) if math.isfinite(x) else None
+
+
+def scenario_solve_to_dict(rec: Any) -> dict[str, Any] | None:
+    """How the scenarios were solved and the check over all of them
+    (:class:`optimize.active_set.ScenarioSolve`), SI."""
+    if rec is None:
+        return None
+    return {
+        "scenarios": rec.scenarios,
+        "working_set": rec.capacity,
+        "rounds": rec.rounds,
+        "stepout_constraint_cannot_bind": rec.skipped,
+        "check": {
+            "cvar05_Nm": _finite(rec.cvar_Nm),
+            "stepout_cvar_Nm": _finite(rec.stepout_cvar_Nm),
+            "stepout_probability": _finite(rec.stepout_probability),
+            "smallest_margin_outside_working_set_Nm": _finite(rec.outside_min_Nm),
+            "tail_edge_in_working_set_Nm": _finite(rec.tail_edge_Nm),
+        },
+    }
+
+
+def format_scenario_solve(rec: Any, p: float | None) -> str:
+    """One or two text lines: how the scenarios were solved and the evidence."""
+    if rec is None:
+        return ""
+    n = rec.scenarios
+    if rec.skipped:
+        return (
+            f"scenario solve      P(step-out) <= {p:g} cannot bind: the optimum without it has "
+            f"CVaR_{p:g} {rec.stepout_cvar_Nm * 1e3:.4g} mN·m >= 0 and P(step-out) "
+            f"{100 * rec.stepout_probability:.3g} % over all {n} scenarios; returned at once"
+        )
+    if rec.capacity >= n:
+        return f"scenario solve      all {n} scenarios in one NLP ({rec.rounds} solve(s))"
+    return (
+        f"scenario solve      working set {rec.capacity} of {n} scenarios, {rec.rounds} round(s); "
+        f"checked over all {n}: smallest margin outside {rec.outside_min_Nm * 1e3:.4g} mN·m "
+        f">= the tail's edge inside {rec.tail_edge_Nm * 1e3:.4g} mN·m"
+    )

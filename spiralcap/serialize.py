@@ -52,7 +52,7 @@ TRANSFORMS: dict[str, tuple[str, Callable[[Any], Any]]] = {
 PROPERTIES = ("gain_per_unit_relaxed", "short_by", "copper_mass_kg")
 
 #: fields shown by a dedicated rule of their parent (not field by field)
-_SKIPPED = {"current_phases_rad", "headings", "solution_x", "solution_lam_g"}
+_SKIPPED = {"current_phases_rad", "headings", "solution_x", "solution_lam_g", "scenario_solve"}
 
 
 def to_dict(obj: Any) -> dict[str, Any]:

@@ -165,11 +165,23 @@ def test_dask_local_cluster_gives_the_local_results(capsys):
     design = load_design()
     axes = [parse_over("requirements.axial_load_mN=20:80:2")]
     sweep_local = sweep(design, axes, optimize=True)
+    robust = design.with_values(
+        {
+            "optimize.objective": "margin_p05",
+            "optimize.scenarios": 128,
+            "tissue.uncertainty.scale_sigma_log": 0.3,
+            "tissue.uncertainty.lumen_diameter_sigma_mm": 0.3,
+            "requirements.min_spiral_turns": 0,
+        }
+    )
+    robust_axes = [parse_over("requirements.axial_load_mN=20:80:18")]  # two chunks
+    robust_local = sweep(robust, robust_axes, optimize=True)
     with distributed.LocalCluster(
         n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
     ) as cluster:
         on_dask = _json(capsys, [*argv, "--dask", cluster.scheduler_address])
         sweep_dask = sweep(design, axes, optimize=True, dask=cluster.scheduler_address)
+        robust_dask = sweep(robust, robust_axes, optimize=True, dask=cluster.scheduler_address)
         import math
 
         from spiralcap.errors import InputError
@@ -182,3 +194,7 @@ def test_dask_local_cluster_gives_the_local_results(capsys):
             assert other[key] == local[key], f"{key}: bit-identical to the local run"
     for col, values in sweep_local.outputs.items():
         assert np.array_equal(values, sweep_dask.outputs[col]), f"sweep --optimize {col} on Dask"
+    for col, values in robust_local.outputs.items():
+        assert np.array_equal(
+            values, robust_dask.outputs[col], equal_nan=values.dtype.kind == "f"
+        ), f"robust sweep --optimize (margin_p05, working-set loop) {col} on Dask"

@@ -242,7 +242,7 @@ def _turns(values: dict[str, float]) -> dict[str, float]:
 
 def format_robust(rc) -> str:
     """Text lines for the scenarios of a robust optimum (:class:`spiralcap.robust.RobustCheck`)."""
-    from spiralcap.robust import robust_to_dict
+    from spiralcap.robust import format_scenario_solve, robust_to_dict
 
     ins, oos, d_oos = rc.in_sample, rc.out_of_sample, rc.deterministic_out_of_sample
     rel = robust_to_dict(rc)["out_of_sample"].get("p05_relative_to_claim")
@@ -262,6 +262,7 @@ def format_robust(rc) -> str:
             f"{rc.deterministic.frequency_hz:.4g} Hz: out-of-sample margin p05 "
             f"{d_oos.margin_percentiles_Nm['p05'] * 1e3:.4g} mN·m, P(step-out) "
             f"{100 * d_oos.stepout_probability:.3g} %",
+            format_scenario_solve(rc.result.scenario_solve, p),
         ]
     )
 
