@@ -227,18 +227,19 @@ def scenario_solve_to_dict(rec: Any) -> dict[str, Any] | None:
     (:class:`optimize.active_set.ScenarioSolve`), SI."""
     if rec is None:
         return None
-    return {
+    check = {
+        "cvar05_Nm": _finite(rec.cvar_Nm),
+        "stepout_cvar_Nm": _finite(rec.stepout_cvar_Nm),  # only with max_stepout_probability
+        "stepout_probability": _finite(rec.stepout_probability),
+        "smallest_margin_outside_working_set_Nm": _finite(rec.outside_min_Nm),
+        "tail_edge_in_working_set_Nm": _finite(rec.tail_edge_Nm),
+    }
+    return {  # a number that does not apply is left out, never null (docs/json/README.md)
         "scenarios": rec.scenarios,
         "working_set": rec.capacity,
         "rounds": rec.rounds,
         "stepout_constraint_cannot_bind": rec.skipped,
-        "check": {
-            "cvar05_Nm": _finite(rec.cvar_Nm),
-            "stepout_cvar_Nm": _finite(rec.stepout_cvar_Nm),
-            "stepout_probability": _finite(rec.stepout_probability),
-            "smallest_margin_outside_working_set_Nm": _finite(rec.outside_min_Nm),
-            "tail_edge_in_working_set_Nm": _finite(rec.tail_edge_Nm),
-        },
+        "check": {k: v for k, v in check.items() if v is not None},
     }
 
 
