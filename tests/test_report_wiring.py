@@ -105,6 +105,33 @@ def test_heating_curves_in_the_coils_section(session_min: float | None) -> None:
         )
 
 
+def test_sizing_table_shows_the_cooling_as_built() -> None:
+    """Issue 19 in the report: the coil table carries each pair's hottest surface, effective
+    convection coefficient and view factor to the room, tied to the ``coils --json`` numbers."""
+    from spiralcap.report.numbers import Num
+    from spiralcap.report.sections.coils import _sizing_table
+
+    ctx, _ = _heating_context(load_design())
+    rows = {str(r[0]): r for r in _sizing_table(ctx).rows}
+    axes = ctx.value("coils.axes")
+    for label, field in (
+        ("steady hottest surface at the current limit", "surface_max_temperature_C"),
+        ("convection coefficient h (area-weighted, at the current limit)", "convection_coefficient_W_m2K"),
+        ("view factor to the room (radiation leaving the coil set)", "radiation_view_factor"),
+    ):  # fmt: skip
+        cells = rows[label][2:]
+        assert len(cells) == 3 and all(isinstance(c, Num) for c in cells), label
+        for cell, ax in zip(cells, axes, strict=True):
+            assert cell.key == f"coils.axes.{ax}.{field}", f"{label}: tied to the JSON field"
+            assert cell.value == axes[ax][field], f"{label}: the coils --json number"
+    h = [
+        c.value for c in rows["convection coefficient h (area-weighted, at the current limit)"][2:]
+    ]
+    assert all(3.0 <= v <= 9.0 for v in h), f"natural convection 3-9 W/(m²·K) (issue 19): {h}"
+    f = [c.value for c in rows["view factor to the room (radiation leaving the coil set)"][2:]]
+    assert all(0.0 < v < 1.0 for v in f), f"nested packs see each other: view factor < 1 ({f})"
+
+
 def test_margin_figure_draws_step_out_and_max_frequency() -> None:
     from optimize import evaluate, prepare
     from spiralcap.assemble import build_model
