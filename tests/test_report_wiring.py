@@ -105,6 +105,38 @@ def test_heating_curves_in_the_coils_section(session_min: float | None) -> None:
         )
 
 
+@pytest.mark.parametrize("session_min", [None, 120.0])
+def test_heating_shows_the_surface_limit_when_set(session_min: float | None) -> None:
+    """Issue 19's touch limit in the heating section: with limits.surface_temperature_C the
+    curves of each pair's hottest surface point and the limit are drawn, and the sentence gives
+    the hottest surface (the JSON's number, steady or at the session's end) against the key."""
+    from spiralcap.report.numbers import Num
+    from spiralcap.report.sections.coils import heating_blocks
+
+    sets = ["limits.surface_temperature_C=48"]
+    sets += [] if session_min is None else [f"operation.session_min={session_min}"]
+    ctx, analysis = _heating_context(load_design(None, sets))
+    paragraph, block = heating_blocks(ctx)
+    ax = _figure(block).axes[0]
+    lines = {line.get_label(): line for line in ax.get_lines()}
+    limit = lines["surface limit"]
+    assert np.allclose(limit.get_ydata(), 48.0), "the touch limit at its °C"
+    for curve in analysis.heating:
+        drawn = lines[f"{curve.axis} pair hottest surface"]
+        assert np.allclose(drawn.get_ydata(), curve.surface_max_C), "the hottest-surface curve"
+    field = "surface_max_temperature_C" if session_min is None else (
+        "session_surface_max_temperature_C"
+    )  # fmt: skip
+    keys = {p.key: p.value for p in paragraph.parts if isinstance(p, Num) and p.key}
+    said = [v for k, v in keys.items() if k.endswith("." + field)]
+    worst = max(ctx.value(f"coils.operating_point.axes.{a}.{field}") for a in "xyz")
+    assert said == [worst], f"the sentence gives the hottest surface ({field}): {keys}"
+    assert worst == pytest.approx(48.0, abs=1e-6), "the touch limit binds the built-in design"
+    assert "limits.surface_temperature_C" in block.caption
+    _plain, plain_block = heating_blocks(_heating_context(load_design())[0])
+    assert "surface limit" not in [x.get_label() for x in _figure(plain_block).axes[0].get_lines()]
+
+
 def test_sizing_table_shows_the_cooling_as_built() -> None:
     """Issue 19 in the report: the coil table carries each pair's hottest surface, effective
     convection coefficient and view factor to the room, tied to the ``coils --json`` numbers."""
