@@ -489,7 +489,9 @@ KEYS.update(
             open_=False,
         ),
         "limits.copper_mass_kg": _between(
-            "largest total copper mass of the three pairs (unset: no limit); range: up to 100 t",
+            "largest total copper mass of the three pairs, what the frame, the floor and the "
+            "budget carry (unset: no limit; least-power sizing otherwise grows copper to its "
+            "bounds, hundreds of kg); range: up to 100 t",
             None,
             0.0,
             1e5,

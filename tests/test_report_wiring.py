@@ -105,6 +105,65 @@ def test_heating_curves_in_the_coils_section(session_min: float | None) -> None:
         )
 
 
+@pytest.mark.parametrize("session_min", [None, 120.0])
+def test_heating_shows_the_surface_limit_when_set(session_min: float | None) -> None:
+    """Issue 19's touch limit in the heating section: with limits.surface_temperature_C the
+    curves of each pair's hottest surface point and the limit are drawn, and the sentence gives
+    the hottest surface (the JSON's number, steady or at the session's end) against the key."""
+    from spiralcap.report.numbers import Num
+    from spiralcap.report.sections.coils import heating_blocks
+
+    sets = ["limits.surface_temperature_C=48"]
+    sets += [] if session_min is None else [f"operation.session_min={session_min}"]
+    ctx, analysis = _heating_context(load_design(None, sets))
+    paragraph, block = heating_blocks(ctx)
+    ax = _figure(block).axes[0]
+    lines = {line.get_label(): line for line in ax.get_lines()}
+    limit = lines["surface limit"]
+    assert np.allclose(limit.get_ydata(), 48.0), "the touch limit at its °C"
+    for curve in analysis.heating:
+        drawn = lines[f"{curve.axis} pair hottest surface"]
+        assert np.allclose(drawn.get_ydata(), curve.surface_max_C), "the hottest-surface curve"
+    field = "surface_max_temperature_C" if session_min is None else (
+        "session_surface_max_temperature_C"
+    )  # fmt: skip
+    keys = {p.key: p.value for p in paragraph.parts if isinstance(p, Num) and p.key}
+    said = [v for k, v in keys.items() if k.endswith("." + field)]
+    worst = max(ctx.value(f"coils.operating_point.axes.{a}.{field}") for a in "xyz")
+    assert said == [worst], f"the sentence gives the hottest surface ({field}): {keys}"
+    assert worst == pytest.approx(48.0, abs=1e-6), "the touch limit binds the built-in design"
+    assert "limits.surface_temperature_C" in block.caption
+    _plain, plain_block = heating_blocks(_heating_context(load_design())[0])
+    assert "surface limit" not in [x.get_label() for x in _figure(plain_block).axes[0].get_lines()]
+
+
+def test_sizing_table_shows_the_cooling_as_built() -> None:
+    """Issue 19 in the report: the coil table carries each pair's hottest surface, effective
+    convection coefficient and view factor to the room, tied to the ``coils --json`` numbers."""
+    from spiralcap.report.numbers import Num
+    from spiralcap.report.sections.coils import _sizing_table
+
+    ctx, _ = _heating_context(load_design())
+    rows = {str(r[0]): r for r in _sizing_table(ctx).rows}
+    axes = ctx.value("coils.axes")
+    for label, field in (
+        ("steady hottest surface at the current limit", "surface_max_temperature_C"),
+        ("convection coefficient h (area-weighted, at the current limit)", "convection_coefficient_W_m2K"),
+        ("view factor to the room (radiation leaving the coil set)", "radiation_view_factor"),
+    ):  # fmt: skip
+        cells = rows[label][2:]
+        assert len(cells) == 3 and all(isinstance(c, Num) for c in cells), label
+        for cell, ax in zip(cells, axes, strict=True):
+            assert cell.key == f"coils.axes.{ax}.{field}", f"{label}: tied to the JSON field"
+            assert cell.value == axes[ax][field], f"{label}: the coils --json number"
+    h = [
+        c.value for c in rows["convection coefficient h (area-weighted, at the current limit)"][2:]
+    ]
+    assert all(3.0 <= v <= 9.0 for v in h), f"natural convection 3-9 W/(m²·K) (issue 19): {h}"
+    f = [c.value for c in rows["view factor to the room (radiation leaving the coil set)"][2:]]
+    assert all(0.0 < v < 1.0 for v in f), f"nested packs see each other: view factor < 1 ({f})"
+
+
 def test_margin_figure_draws_step_out_and_max_frequency() -> None:
     from optimize import evaluate, prepare
     from spiralcap.assemble import build_model

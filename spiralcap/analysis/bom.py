@@ -115,7 +115,8 @@ def bill_of_materials(model: Any, analysis: Any) -> tuple[BomRow, ...]:
                 axis=ax,
                 coils=coils_n,
                 turns=int(pair.turns),
-                wire_diameter_mm=pair.wire_diameter_m * 1e3,
+                # the catalogue size in mm, not its binary neighbour (2.36, not 2.3600000000000003)
+                wire_diameter_mm=round(pair.wire_diameter_m * 1e3, 9),
                 wire_standard=_wire_standard(pair.wire_diameter_m * 1e3),
                 enamel=_enamel(float(model.limits.coil_temperature_C)),
                 wire_length_m=length,

@@ -32,6 +32,8 @@ class HeatingDrawn:
     mean: tuple[Any, ...]
     limit: Any
     session: Any | None
+    surface: tuple[Any, ...] = ()
+    surface_limit: Any | None = None
 
 
 def plot_heating_curves(
@@ -40,6 +42,7 @@ def plot_heating_curves(
     *,
     limit_C: float,
     session_s: float | None = None,
+    surface_limit_C: float | None = None,
 ) -> HeatingDrawn:
     """Hot-spot and mean winding temperature of each pair against time from switch-on.
 
@@ -53,6 +56,9 @@ def plot_heating_curves(
         ``limits.coil_temperature_C`` (the hot-spot limit), °C; drawn as a horizontal line.
     session_s : float, optional
         Session length, s; drawn as a vertical line.
+    surface_limit_C : float, optional
+        ``limits.surface_temperature_C``, °C: with it, each pair's hottest surface point is drawn
+        too (dash-dot-dot, the pair's colour) and the limit as a thick grey dotted line.
     """
     hot, mean = [], []
     for k, c in enumerate(curves):
@@ -73,6 +79,28 @@ def plot_heating_curves(
         )
         hot.append(h)
         mean.append(m)
+    surface: list[Any] = []
+    surface_limit = None
+    if surface_limit_C is not None:
+        for h, c in zip(hot, curves, strict=True):
+            if c.surface_max_C is None:
+                continue
+            (s,) = ax.plot(
+                c.time_s / 60.0,
+                c.surface_max_C,
+                color=h.get_color(),
+                linestyle=(0, (6, 2, 1, 2, 1, 2)),
+                linewidth=1.1,
+                label=f"{c.axis} pair hottest surface",
+            )
+            surface.append(s)
+        surface_limit = ax.axhline(
+            surface_limit_C,
+            color="0.6",
+            linestyle=(0, (1.5, 1.0)),
+            linewidth=2.6,
+            label="surface limit",
+        )
     limit = ax.axhline(limit_C, color="0.2", linestyle="--", linewidth=1.4, label="hot-spot limit")
     session = None
     if session_s is not None:
@@ -83,7 +111,7 @@ def plot_heating_curves(
     ax.set_ylabel("winding temperature (°C)")
     ax.set_xlim(0.0, max(float(c.time_s[-1]) for c in curves) / 60.0)
     ax.legend(fontsize="small", loc="lower right")
-    return HeatingDrawn(tuple(hot), tuple(mean), limit, session)
+    return HeatingDrawn(tuple(hot), tuple(mean), limit, session, tuple(surface), surface_limit)
 
 
 @dataclass(frozen=True)

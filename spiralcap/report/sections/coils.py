@@ -5,6 +5,7 @@ from __future__ import annotations
 from typing import Any
 
 from spiralcap.report.document import Cell, FigureBlock, Paragraph, Ref, Section, Strong, Table
+from spiralcap.report.numbers import Num
 from spiralcap.report.sections._util import Context
 
 #: Rows of the sizing table: (JSON field of each axis, quantity, shown unit, factor).
@@ -26,8 +27,16 @@ SIZING_ROWS: tuple[tuple[str, str, str, float], ...] = (
     ("voltage_amplitude_V", "drive-voltage amplitude at the current limit", "V", 1.0),
     ("power_W", "copper loss at the current limit", "W", 1.0),
     ("surface_conductance_W_per_K", "surface conductance (convection + radiation)", "W/K", 1.0),
-    ("surface_temperature_C", "steady surface temperature at the current limit", "°C", 1.0),
+    ("surface_temperature_C", "steady mean surface temperature at the current limit", "°C", 1.0),
     ("hot_spot_temperature_C", "steady hot-spot temperature at the current limit", "°C", 1.0),
+    ("surface_max_temperature_C", "steady hottest surface at the current limit", "°C", 1.0),
+    (
+        "convection_coefficient_W_m2K",
+        "convection coefficient h (area-weighted, at the current limit)",
+        "W/(m²·K)",
+        1.0,
+    ),
+    ("radiation_view_factor", "view factor to the room (radiation leaving the coil set)", "–", 1.0),
     ("field_amplitude_T", "centre field at the current limit", "mT", 1e3),
     ("max_current_A", "largest current inside all limits", "A", 1.0),
     ("max_current_limited_by", "which limit sets it", "", 1.0),
@@ -185,6 +194,7 @@ def _draw_heating(data: Any, session_s: float | None) -> Any:
             data.heating,
             limit_C=float(data.design["limits.coil_temperature_C"]),
             session_s=session_s,
+            surface_limit_C=_surface_limit_C(data.design),
         )
         # beside the axes: above the limit (a short session) the curves fill the lower right
         ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=7.5)
@@ -199,6 +209,12 @@ _SIZES_IN = {
     "fig-field-profiles": (7.0, 4.0),
     "fig-heating": (7.5, 2.8),
 }
+
+
+def _surface_limit_C(design: Any) -> float | None:
+    """``limits.surface_temperature_C`` (°C), None when the design sets no touch limit."""
+    value = design.get("limits.surface_temperature_C")
+    return None if value is None else float(value)
 
 
 def _session_s(design: Any, coils_json: Any) -> float | None:
@@ -270,14 +286,34 @@ def heating_blocks(ctx: Context) -> list[Any]:
             ctx.num(f"{op}.session_s", 1 / 60, "min"),
             " session (operation.session_min), where the limit applies",
         ]
+    surface_limit = _surface_limit_C(ctx.data.design)
+    if surface_limit is not None:
+        at = "session_surface_max_temperature_C" if session_s is not None else None
+        field = at or "surface_max_temperature_C"
+        warm = max(axes, key=lambda a: ctx.value(f"{op}.axes.{a}.{field}"))
+        parts += [
+            f"; the hottest surface, the {warm} pair's, ",
+            "settles at " if at is None else "reaches ",
+            ctx.num(f"{op}.axes.{warm}.{field}", unit="°C"),
+            "" if at is None else " at the session's end",
+            " against limits.surface_temperature_C = ",
+            Num(surface_limit, key=None, unit="°C"),
+        ]
     parts += [" (", Ref("fig-heating"), ")."]
+    touch = surface_limit is not None
     caption = (
         "Winding temperature of each pair from switch-on at ambient, at its current for the "
         "worst heading of the operating field (conduction in the pack section from ambient, "
         "the pairs radiating to each other; solid: hot spot at the pack centre, dotted: "
-        "mean). Dashed: "
-        "limits.coil_temperature_C, applied to the hot spot"
-        + ("; dash-dot: end of the session." if session_s is not None else " in steady state.")
+        "mean"
+        + ("; dash-dot-dot: the hottest point of its surface" if touch else "")
+        + "). Dashed: limits.coil_temperature_C on the hot spot"
+        + ("; thick grey dots: limits.surface_temperature_C on the surface" if touch else "")
+        + (
+            "; dash-dot: end of the session, where the limits apply."
+            if session_s is not None
+            else ", applied in steady state."
+        )
     )
     return [
         Paragraph(parts),
