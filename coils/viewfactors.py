@@ -44,42 +44,51 @@ def _perp(axis: int) -> tuple[int, int]:
 
 
 def _first_hit(p: np.ndarray, v: np.ndarray, rings: Sequence[PackRing]) -> np.ndarray:
-    """Index of the pair whose pack each ray (origin p, direction v) enters first; -1: none."""
+    """Index of the pair whose pack each ray (origin p, direction v) enters first; -1: none.
+
+    Per ray the least positive distance to any face of any coil (annuli at their planes,
+    cylinders at both roots); a pair's two coils share their cylinders' roots (they differ
+    only in the axial window), so those are solved once per pair.
+    """
     n = p.shape[0]
     best = np.full(n, np.inf)
     who = np.full(n, -1)
     tiny = 1e-9 * max(r.radius_m for r in rings)
+    inf = np.inf
     for j, ring in enumerate(rings):
         a = ring.axis_index
         u, w = _perp(a)
+        pa, pu, pw = p[:, a], p[:, u], p[:, w]
+        va, vu, vw = v[:, a], v[:, u], v[:, w]
         r1, r2 = ring.radius_m - 0.5 * ring.depth_m, ring.radius_m + 0.5 * ring.depth_m
+        qa = vu**2 + vw**2
+        qb = 2.0 * (pu * vu + pw * vw)
+        pr = pu**2 + pw**2
+        roots = []  # (t, axial coordinate, valid) of the cylinders' four roots
+        for rad in (r1, r2):
+            disc = qb * qb - 4.0 * qa * (pr - rad * rad)
+            root = np.sqrt(np.maximum(disc, 0.0))
+            for sign in (-1.0, 1.0):
+                with np.errstate(divide="ignore", invalid="ignore"):
+                    t = (-qb + sign * root) / (2.0 * qa)
+                roots.append((t, pa + t * va, (disc >= 0.0) & (qa > 0.0) & (t > tiny)))
+        t_ring = np.full(n, inf)
         for centre in (-0.5 * ring.separation_m, 0.5 * ring.separation_m):
             lo, hi = centre - 0.5 * ring.width_m, centre + 0.5 * ring.width_m
-            cands = []
             for plane in (lo, hi):  # annular faces
                 with np.errstate(divide="ignore", invalid="ignore"):
-                    t = (plane - p[:, a]) / v[:, a]
-                ru = p[:, u] + t * v[:, u]
-                rw = p[:, w] + t * v[:, w]
+                    t = (plane - pa) / va
+                ru = pu + t * vu
+                rw = pw + t * vw
                 rr = ru * ru + rw * rw
                 ok = (t > tiny) & (rr >= r1 * r1) & (rr <= r2 * r2)
-                cands.append(np.where(ok, t, np.inf))
-            qa = v[:, u] ** 2 + v[:, w] ** 2
-            qb = 2.0 * (p[:, u] * v[:, u] + p[:, w] * v[:, w])
-            pr = p[:, u] ** 2 + p[:, w] ** 2
-            for rad in (r1, r2):  # cylindrical faces
-                disc = qb * qb - 4.0 * qa * (pr - rad * rad)
-                root = np.sqrt(np.maximum(disc, 0.0))
-                for sign in (-1.0, 1.0):
-                    with np.errstate(divide="ignore", invalid="ignore"):
-                        t = (-qb + sign * root) / (2.0 * qa)
-                    z = p[:, a] + t * v[:, a]
-                    ok = (disc >= 0.0) & (qa > 0.0) & (t > tiny) & (z >= lo) & (z <= hi)
-                    cands.append(np.where(ok, t, np.inf))
-            t_min = np.min(cands, axis=0)
-            closer = t_min < best
-            best = np.where(closer, t_min, best)
-            who = np.where(closer, j, who)
+                np.minimum(t_ring, np.where(ok, t, inf), out=t_ring)
+            for t, z, valid in roots:  # cylindrical faces
+                ok = valid & (z >= lo) & (z <= hi)
+                np.minimum(t_ring, np.where(ok, t, inf), out=t_ring)
+        closer = t_ring < best
+        best = np.where(closer, t_ring, best)
+        who = np.where(closer, j, who)
     return who
 
 

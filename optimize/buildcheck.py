@@ -13,7 +13,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-__all__ = ["BUILD_CHECK_NAMES", "BuildCheck", "build_checks", "copper_masses_kg"]
+__all__ = ["BUILD_CHECK_NAMES", "BuildCheck", "build_checks", "buildable_ok", "copper_masses_kg"]
 
 #: check name -> pair of pairs
 CLEARANCE_NAMES = {"x/y": "clearance_xy", "x/z": "clearance_xz", "y/z": "clearance_yz"}
@@ -61,3 +61,38 @@ def build_checks(model: Any, rtol: float = 1e-6) -> list[BuildCheck]:
         mass = float(np.sum(copper_masses_kg(model)))
         out.append(Check("copper_mass", "kg", mass, limit, "<=", mass <= limit * (1 + rtol)))
     return out
+
+
+def buildable_ok(model: Any, rtol: float = 1e-6) -> bool:
+    """``all(c.ok for c in build_checks(model, rtol))``, the cheap checks first and each pack
+    clearance decided by a proven lower bound where that suffices (the exact distance, a
+    zooming search, only where the bound falls short): the same answer, bit for bit.
+
+    The bound: each pack lies in the torus about its mean turn of tube radius half its
+    section's diagonal, so clearance >= gap(mean turns) - (diag_a + diag_b)/2
+    (:func:`coils.clearance.torus_clearance_bound_m`); the gap is the least over GAP_SAMPLES points
+    of A's mean turn of the exact distance to B's (:func:`optimize.hardware.mean_turn_gap_m`),
+    and a distance is 1-Lipschitz, so the true gap is at least that less the half spacing of
+    the points along A's circle (an arc of pi R_a / GAP_SAMPLES).
+    """
+    import itertools
+    import math
+
+    from coils.clearance import bore_clearance_m, pack_clearance_m, torus_clearance_bound_m
+    from optimize.hardware import GAP_SAMPLES, mean_turn_gap_m
+
+    need = float(model.requirements.min_clearance_m)
+    slack = rtol * max(need, 1e-3)
+    pairs = model.coils.pairs
+    limit = model.limits.copper_mass_kg
+    if limit is not None and not float(np.sum(copper_masses_kg(model))) <= limit * (1 + rtol):
+        return False
+    if not bore_clearance_m(pairs, model.requirements.bore_radius_m) >= need - slack:
+        return False
+    for a, b in itertools.combinations(pairs, 2):
+        gap = mean_turn_gap_m(a, b) - math.pi * a.radius_m / GAP_SAMPLES
+        if torus_clearance_bound_m(gap, a, b) >= need - slack:
+            continue
+        if not pack_clearance_m(a, b) >= need - slack:
+            return False
+    return True

@@ -177,9 +177,13 @@ def mean_turn_gap_m(pa: Any, pb: Any) -> float:
     )
 
 
+#: Points on the first mean turn at which :func:`mean_turn_gap_m` takes the distance.
+GAP_SAMPLES = 2048
+
+
 @functools.lru_cache(maxsize=256)
 def _gap(ia: int, ra: float, sa_m: float, ib: int, rb: float, sb_m: float) -> float:
-    phi = np.linspace(0.0, 2.0 * np.pi, 2048, endpoint=False)
+    phi = np.linspace(0.0, 2.0 * np.pi, GAP_SAMPLES, endpoint=False)
     best = np.inf
     u, v = [k for k in range(3) if k != ia]
     for sa, sb in itertools.product((-0.5, 0.5), repeat=2):
