@@ -71,11 +71,28 @@ def test_optimize_text_has_no_unitless_numbers():
     )
     assert rc == 0
     assert "1 starts" not in out
+    assert not re.search(r"(?<![\d.])1 turns\b", out), f"a count of one is singular: {out}"
+    assert re.search(r"1 turn of 1 turn; lowering it by 1 turn gains", out), out
     assert re.search(r"objective +copper mass of the three coil pairs, minimised: [\d.]+ kg", out)
     assert re.search(r"whole turns and standard wire cost [\d.e-]+ kg", out), out
     assert re.search(
         r"requirements.min_safety_factor.*lowering it by 1 unit gains [\d.]+ kg less", out
     )
+
+
+def test_singular_counts_in_evaluate_and_with_unit():
+    from spiralcap.presentation import with_unit
+
+    assert (with_unit("1", "turns"), with_unit("2.257", "turns")) == ("1 turn", "2.257 turns")
+    assert (with_unit("1", "starts"), with_unit("0.4", "1"), with_unit("1", "mm")) == (
+        "1 start",
+        "0.4",
+        "1 mm",
+    )
+    rc, out, _ = run(["evaluate"])
+    assert rc == 0
+    assert re.search(r"turns >= 1 turn +yes", out), out
+    assert not re.search(r"(?<![\d.])1 turns\b", out), out
 
 
 def _report_text(tmp_path, *sets: str) -> str:
