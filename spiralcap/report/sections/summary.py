@@ -181,17 +181,39 @@ def build(ctx: Context) -> Section:
             kind="alert",
         )
     # a review reads the design as entered first, then the optimum as a proposed change
+    sized = sized_hardware_changes(ctx)
     proposed = Paragraph(
         [
             Strong("Proposed change: the optimum."),
-            " The optimiser re-chose the operating point inside the same hardware and limits; "
-            "adopting it is a change to the design (what to change first, and whether it is "
+            (
+                " The optimiser re-chose the operating point and sized the freed hardware ("
+                + ", ".join(sized)
+                + ") inside the same limits; "
+                if sized
+                else " The optimiser re-chose the operating point inside the same hardware "
+                "and limits; "
+            )
+            + "adopting it is a change to the design (what to change first, and whether it is "
             "safe: ",
             Link("section Conclusion", "conclusion"),
             ").",
         ]
     )
     return Section("summary", "Summary", [_as_entered(ctx), proposed, *lines, verdict])
+
+
+def sized_hardware_changes(ctx: Context) -> list[str]:
+    """The freed hardware keys the optimiser sized, as entered and as sized (buildable):
+    ``["coils.x.turns 400 → 680", ...]``; empty when no hardware key is freed."""
+    hardware = ctx.value("optimize").get("hardware")
+    if not hardware:
+        return []
+    out = []
+    for key, new in hardware["discrete"].items():
+        old = ctx.data.design.get(key)
+        was = f"{old:.6g}" if isinstance(old, (int, float)) else "unset"
+        out.append(f"{key} {was} → {new:.6g}")
+    return out
 
 
 def _as_entered(ctx: Context) -> Paragraph:
