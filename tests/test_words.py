@@ -113,3 +113,13 @@ def test_power_report_names_power_in_watts_never_a_safety_factor_objective(tmp_p
     assert "safety factor per" not in text, "no gain in safety factor for a power design"
     assert "maximised the worst-case safety factor" not in text
     assert re.search(r"gains [\d.]+ W less", text), "gains in watts"
+    # the optimum binds the spiral-turns requirement at 1 (built-in): a count of one is singular
+    assert re.search(r"spiral turns requirements\.min_spiral_turns 1 turn 1 turn ", text), text
+    assert not re.search(r"(?<![\d.])1 turns\b", text), "no '1 turns' in the report"
+
+
+def test_a_report_number_of_one_count_is_singular():
+    from spiralcap.report.numbers import Num
+
+    assert (str(Num(1.0, unit="turns")), str(Num(2.257, unit="turns"))) == ("1 turn", "2.257 turns")
+    assert (str(Num(1, unit="starts")), str(Num(1.0, unit="mm"))) == ("1 start", "1 mm")

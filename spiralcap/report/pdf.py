@@ -155,7 +155,7 @@ class _Writer:
         self.figures: dict[str, str] = {}
 
     def num(self, n: Num) -> str:
-        unit = unit_gap(n.unit).replace(" ", "\u00a0") + n.unit
+        unit = unit_gap(n.unit).replace(" ", "\u00a0") + n.unit_shown
         return self.t.s(n.text + unit)
 
     def inline(self, parts: Sequence[Inline]) -> str:
