@@ -236,6 +236,18 @@ def limit_utilisation(evaluation: Any, *, ax: Any = None) -> Plot:
     return Plot(fig, ax, plot_limit_utilisation(ax, ev.checks, labels=labels))
 
 
+def legend_tissue_name(name: str) -> str:
+    """A tissue set's name short enough for a legend: a preset with overridden keys
+    (``zhou2013-sample2 + tissue.{E1_kPa, ..., friction_coefficient}``, as a design layered
+    with ``spiralcap fit -o`` output has) reads ``zhou2013-sample2 + 8 tissue keys``."""
+    head, sep, rest = name.partition(" + tissue.{")
+    if not sep:
+        return name
+    keys, _, tail = rest.partition("}")
+    n = len([k for k in keys.split(",") if k.strip()])
+    return f"{head} + {n} tissue key{'s' if n != 1 else ''}{tail}"
+
+
 def tissue_torque(
     model: Any, evaluation: Any = None, result: Any = None, *, ax: Any = None
 ) -> Plot:
@@ -262,7 +274,7 @@ def tissue_torque(
             out = plot_torque_vs_frequency(
                 ax, tissue, (angle,), frequency_hz=f, paper_points=(), geometry=geometry
             )
-            out.curves[0].set_label(f"{tissue.name}, α = {angle:.3g}° ({what})")
+            out.curves[0].set_label(f"{legend_tissue_name(tissue.name)}, α = {angle:.3g}° ({what})")
             lines += out.curves
     restyle_lines(lines, markers=False)
     for obj, what in points:
