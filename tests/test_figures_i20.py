@@ -189,3 +189,8 @@ def test_tissue_torque_legend_of_a_design_layered_with_a_fit() -> None:
     assert max(map(len, labels)) < 60, labels
     fig.get_layout_engine().execute(fig)  # no "axes sizes collapsed" warning (an error here)
     assert ax.get_position().width > 0.25, "the panel keeps its share of the figure"
+    from spiralcap.figures.torque import plot_torque_vs_frequency  # `spiralcap torque --plot`
+
+    one = Figure().subplots()
+    plot_torque_vs_frequency(one, model.tissues[0], (10.0,), paper_points=())
+    assert one.get_title() == "tissue zhou2013-sample2 + 8 tissue keys", one.get_title()

@@ -236,18 +236,6 @@ def limit_utilisation(evaluation: Any, *, ax: Any = None) -> Plot:
     return Plot(fig, ax, plot_limit_utilisation(ax, ev.checks, labels=labels))
 
 
-def legend_tissue_name(name: str) -> str:
-    """A tissue set's name short enough for a legend: a preset with overridden keys
-    (``zhou2013-sample2 + tissue.{E1_kPa, ..., friction_coefficient}``, as a design layered
-    with ``spiralcap fit -o`` output has) reads ``zhou2013-sample2 + 8 tissue keys``."""
-    head, sep, rest = name.partition(" + tissue.{")
-    if not sep:
-        return name
-    keys, _, tail = rest.partition("}")
-    n = len([k for k in keys.split(",") if k.strip()])
-    return f"{head} + {n} tissue key{'s' if n != 1 else ''}{tail}"
-
-
 def tissue_torque(
     model: Any, evaluation: Any = None, result: Any = None, *, ax: Any = None
 ) -> Plot:
@@ -256,7 +244,7 @@ def tissue_torque(
     One curve per tissue set and helical angle (as entered, optimum); lines without markers.
     """
     from spiralcap.figures.style import restyle_lines
-    from spiralcap.figures.torque import plot_torque_vs_frequency
+    from spiralcap.figures.torque import legend_tissue_name, plot_torque_vs_frequency
 
     fig, ax = _axes(ax, (7.0, 4.2))
     from optimize import physics, prepare
