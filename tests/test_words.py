@@ -123,3 +123,18 @@ def test_a_report_number_of_one_count_is_singular():
 
     assert (str(Num(1.0, unit="turns")), str(Num(2.257, unit="turns"))) == ("1 turn", "2.257 turns")
     assert (str(Num(1, unit="starts")), str(Num(1.0, unit="mm"))) == ("1 start", "1 mm")
+
+
+def test_report_checks_table_names_the_self_lock_quantity():
+    """The self-lock row's value is α + atan μ (37° for the built-in 10° spiral), not the
+    helical angle its key sets: the row says so."""
+    from spiralcap.report.sections._util import Context
+    from spiralcap.report.sections.margin import checks_table
+
+    doc = _json("evaluate")
+    table = checks_table(Context(None, {"evaluate": doc}), "evaluate", "checks", "t")
+    row = next(r for r in table.rows if r[1] == "capsule.spiral.helical_angle_deg")
+    assert row[0] == "self-locking: α + atan μ", row
+    mu = 0.51  # the most frictional tissue set: zhou2013-sample3 (Zhou et al. 2013, eq. 1)
+    expected = doc["helical_angle_deg"] + math.degrees(math.atan(mu))
+    assert row[2].shown == pytest.approx(expected, rel=1e-9), "α + atan μ, independently"
