@@ -138,3 +138,32 @@ def test_report_checks_table_names_the_self_lock_quantity():
     mu = 0.51  # the most frictional tissue set: zhou2013-sample3 (Zhou et al. 2013, eq. 1)
     expected = doc["helical_angle_deg"] + math.degrees(math.atan(mu))
     assert row[2].shown == pytest.approx(expected, rel=1e-9), "α + atan μ, independently"
+
+
+def test_infeasible_sizing_names_the_hardware_as_design_keys():
+    """Least copper at safety factor 2 within 140 W: least power for it is ~163 W (the
+    power objective on the same freed keys), so no design; the closest hardware is named
+    by its design keys in their units (3 mm wire, not 'x.wire_diameter_m = 0.003')."""
+    from spiralcap.assemble.system import message_in_key_units
+
+    assert message_in_key_units("at x.wire_diameter_m = 0.003, magnet.length_m = 0.01") == (
+        "at coils.x.wire_diameter_mm = 3, capsule.magnet.length_mm = 10"
+    )
+    rc, out, _ = run(
+        [
+            "optimize",
+            "--set",
+            "optimize.objective=copper_mass",
+            "--set",
+            "requirements.min_safety_factor=2",
+            "--set",
+            "limits.power_W=140",
+            "--free",
+            "coils.x.turns=50:2000",
+            "--free",
+            "coils.x.wire_diameter_mm=0.5:5",
+        ]
+    )
+    assert rc == 3, out
+    assert "coils.x.wire_diameter_mm = " in out and "wire_diameter_m =" not in out, out
+    assert re.search(r"requirements.min_safety_factor: needs 2, best reachable 1\.\d+", out), out

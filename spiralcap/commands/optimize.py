@@ -129,7 +129,7 @@ def _shared_key_lines(res) -> list[str]:
 
 def format_result(res) -> str:
     """Readable summary of an :class:`optimize.OptimizationResult`."""
-    from spiralcap.assemble.system import constraint_key
+    from spiralcap.assemble.system import constraint_key, message_in_key_units
     from spiralcap.commands.evaluate import safety_factor_text
     from spiralcap.presentation import step_out_words
     from spiralcap.serialize import _step_out
@@ -176,7 +176,7 @@ def format_result(res) -> str:
         if res.hardware is not None:
             lines += _hardware_lines(res)
     else:
-        lines.append(res.message)
+        lines.append(message_in_key_units(res.message))
         for s in res.shortfalls:
             label, factor = _ENGINEERING.get(s.unit, (s.unit, 1.0))
             if s.name == "margin":

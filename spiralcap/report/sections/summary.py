@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from typing import Any
 
+from spiralcap.assemble.system import message_in_key_units
 from spiralcap.report.document import Inline, Link, Paragraph, Section, Strong
 from spiralcap.report.numbers import Num
 from spiralcap.report.sections._util import Context, readable
@@ -145,7 +146,9 @@ def build(ctx: Context) -> Section:
                 ctx.shown(f"{o}.shortfalls.{i}.best", sf["unit"]),
             ]
         if not shortfalls:
-            head.append(_without_status(str(ctx.value(f"{o}.message"))).rstrip("."))
+            head.append(
+                _without_status(message_in_key_units(str(ctx.value(f"{o}.message")))).rstrip(".")
+            )
         head.append(".")
         lines.append(Paragraph(head, kind="alert"))
         speed_parts: list[Inline] = [Strong("Speed:"), " "]
