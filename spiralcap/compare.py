@@ -125,10 +125,23 @@ def evaluation_rows(evaluations: Sequence[Any]) -> tuple[Row, ...]:
     return tuple(rows)
 
 
+def objective_text(result: Any) -> str:
+    """``copper power, minimised: 162.7 W``: what an optimum optimised, valued in its unit (the
+    designs of one comparison may optimise different objectives, so this row is text)."""
+    from spiralcap.presentation import objective_words
+    from spiralcap.report.numbers import fmt
+
+    what, unit, factor, sense = objective_words(result.objective)
+    value = fmt(result.objective_value * factor)
+    return f"{what}, {sense}: {value}{' ' + unit if unit else ''}"
+
+
 def optimisation_rows(results: Sequence[Any]) -> tuple[Row, ...]:
-    """Status, the chosen variables, margin, speed and the binding limits of each optimum."""
+    """Status, the objective (its value in its own unit), the chosen variables, margin,
+    speed, copper and the binding limits of each optimum."""
     return (
         _row("status", "", [r.status for r in results]),
+        _row("objective", "", [objective_text(r) for r in results]),
         _row("helical angle", "deg", [r.helical_angle_deg for r in results]),
         _row("rotation frequency", "Hz", [r.frequency_hz for r in results]),
         _row("rotating field at the centre", "T", [r.field_amplitude_T for r in results]),
@@ -140,6 +153,7 @@ def optimisation_rows(results: Sequence[Any]) -> tuple[Row, ...]:
             _row(f"current, {axis} pair", "A", [r.current_amplitudes_A[k] for r in results])
             for k, axis in enumerate("xyz")
         ],
+        _row("copper mass", "kg", [r.evaluation.copper_mass_kg for r in results]),
         _row(
             "binding limits",
             "",

@@ -112,6 +112,19 @@ def in_key_units(unit: str, key: str) -> tuple[str, float]:
     return shown(unit)
 
 
+def with_unit(number: str, unit: str) -> str:
+    """A formatted number and its unit: ``"2.257 turns"``, ``"1 turn"`` (a count of one is
+    singular), ``"0.4"`` (no unit for ``""`` or ``"1"``)."""
+    if unit in ("", "1"):
+        return number
+    if unit in COUNT_UNITS and number == "1":
+        unit = COUNT_UNITS[unit]
+    return f"{number} {unit}"
+
+
+COUNT_UNITS = {"turns": "turn", "starts": "start"}
+
+
 def readable(name: str) -> str:
     """``voltage_x`` -> ``drive voltage, x pair``; unknown names are returned unchanged."""
     if name in _NAMES:

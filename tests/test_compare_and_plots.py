@@ -49,6 +49,29 @@ def test_compare_json_names_the_changed_key_and_both_margins(tmp_path: Path) -> 
     assert rows["torque margin"]["differs"] and not rows["helical angle"]["differs"]
 
 
+def test_compare_names_each_optimum_objective_in_its_own_unit() -> None:
+    """Designs that optimise different objectives: each optimum's objective is a text row with
+    its value in its unit (as `spiralcap optimize` prints it), and the copper mass is a row."""
+    status, out, _ = _run(
+        ["compare", "builtin", "builtin", "--set", "2:optimize.objective=power", "--json"]
+    )
+    assert status == 0
+    rows = {r["quantity"]: r for r in json.loads(out)["optimize"]}
+    margin, power = rows["objective"]["text"]
+    alone = []
+    for extra in ([], ["--set", "optimize.objective=power"]):
+        _, o, _ = _run(["optimize", "--json", *extra])
+        alone.append(json.loads(o))
+    assert margin.startswith("worst-case torque margin, maximised: ") and margin.endswith(" mN·m")
+    assert power.startswith("worst-heading copper power, minimised: ") and power.endswith(" W")
+    assert float(power.split(": ")[1].split()[0]) == pytest.approx(
+        alone[1]["objective_value_shown"], rel=1e-3
+    ), "the power the optimiser reports, in W (4 figures)"
+    assert rows["copper mass"]["values"] == pytest.approx(
+        [a["copper_mass_kg"] for a in alone], rel=1e-12
+    )
+
+
 def test_compare_text_marks_what_differs() -> None:
     status, out, _ = _run(["compare", "builtin", "builtin", "--set", "2:limits.power_W=800"])
     assert status == 0

@@ -122,6 +122,11 @@ def test_compare_files_with_fit_and_margin_p05_tables(tmp_path, which):
     # the text form too (a covariance is a list of lists)
     _rc, out, _ = sound(["compare", str(base), *other], allowed=(0,))
     assert "nan" not in out.lower().split() and "None" not in out
+    if which != "p05":  # the 5x5 matrix shown by its shape and diagonal, not 25 numbers
+        row = next(line for line in out.splitlines() if "tissue.fit.covariance_log" in line)
+        assert "5×5, diagonal [" in row and len(row) < 140, row
+        table = out.split("\n\n")[1]  # the changed-key table (the first line names the files)
+        assert max(map(len, table.splitlines())) < 140, "no 25-number cell widens every line"
 
 
 def _check(argv: list[str]) -> dict:

@@ -157,3 +157,40 @@ def test_margin_frequency_vertical_lines_named_on_the_lines() -> None:
         "drive max., optimum: 4.7 Hz",
     ):
         assert expected in texts, f"each vertical line labelled on the line (greyscale): {texts}"
+
+
+def test_tissue_torque_legend_of_a_design_layered_with_a_fit() -> None:
+    """A design layered with `spiralcap fit -o` output overrides eight tissue keys; its tissue
+    set's name listed them all, and the legend took the width of the report's two-panel
+    figure (constrained layout collapsed the axes: a UserWarning, an error here)."""
+    from matplotlib.figure import Figure
+
+    from spiralcap import figures
+    from spiralcap.assemble import build_model
+    from spiralcap.design import load_design
+
+    fitted = [
+        "tissue.E1_kPa=55.77",
+        "tissue.E2_kPa=8663",
+        "tissue.E3_kPa=5.67",
+        "tissue.eta1_kPa_s=20221",
+        "tissue.eta2_kPa_s=102.8",
+        "tissue.lumen_diameter_mm=10.9",
+        "tissue.wall_thickness_mm=1.0",
+        "tissue.friction_coefficient=0.28",
+    ]
+    model = build_model(load_design(None, fitted))
+    assert len(model.tissues[0].name) > 100, "the full name lists every overridden key"
+    fig = Figure(figsize=(9.0, 4.6), layout="constrained")  # the report's size
+    _, ax = fig.subplots(1, 2)
+    figures.tissue_torque(model, ax=ax)
+    labels = ax.get_legend_handles_labels()[1]
+    assert labels[0] == "zhou2013-sample2 + 8 tissue keys, α = 10° (design)", labels
+    assert max(map(len, labels)) < 60, labels
+    fig.get_layout_engine().execute(fig)  # no "axes sizes collapsed" warning (an error here)
+    assert ax.get_position().width > 0.25, "the panel keeps its share of the figure"
+    from spiralcap.figures.torque import plot_torque_vs_frequency  # `spiralcap torque --plot`
+
+    one = Figure().subplots()
+    plot_torque_vs_frequency(one, model.tissues[0], (10.0,), paper_points=())
+    assert one.get_title() == "tissue zhou2013-sample2 + 8 tissue keys", one.get_title()

@@ -67,19 +67,31 @@ def _chromium() -> str | None:
     return None
 
 
-def _appendix():
-    return inputs.build_appendix(Context(SimpleNamespace(design=load_design()), {}))
+LONG_VALUES = [
+    "report.title=" + " ".join(["a design review title of many words"] * 5),
+    "tissue.fit.covariance_log="
+    + str([[1.783788684361974e-05 * (1 + i + j) for j in range(5)] for i in range(5)]),
+]
+"""Values a design holds that are longer than any column should be wide: a long title, the
+covariance `spiralcap fit -o` writes (a design layered with a fit's output holds one)."""
 
 
+def _appendix(sets: tuple[str, ...] = ()):
+    return inputs.build_appendix(Context(SimpleNamespace(design=load_design(None, list(sets))), {}))
+
+
+@pytest.mark.parametrize("sets", [(), tuple(LONG_VALUES)], ids=["builtin", "long-values"])
 @pytest.mark.parametrize("window", [1280, 820])
-def test_appendix_words_whole_in_chromium(tmp_path: Path, window: int) -> None:
+def test_appendix_words_whole_in_chromium(
+    tmp_path: Path, window: int, sets: tuple[str, ...]
+) -> None:
     browser = _chromium()
     if browser is None:
         pytest.skip("no headless Chromium on PATH (Debian: apt-get install chromium)")
     from spiralcap.report.html import render_html
 
     page = tmp_path / "appendix.html"
-    text = render_html(FRONT, [_appendix()], {}, "footer", {})
+    text = render_html(FRONT, [_appendix(sets)], {}, "footer", {})
     page.write_text(text.replace("</body>", _MEASURE + "</body>"), encoding="utf-8")
     cmd = [
         browser,
@@ -113,13 +125,14 @@ def test_appendix_words_whole_in_chromium(tmp_path: Path, window: int) -> None:
     assert sum(widths.values()) <= page_width, "the table fits the page"
 
 
-def test_appendix_pdf_keeps_the_state_words_whole(tmp_path: Path) -> None:
+@pytest.mark.parametrize("sets", [(), tuple(LONG_VALUES)], ids=["builtin", "long-values"])
+def test_appendix_pdf_keeps_the_state_words_whole(tmp_path: Path, sets: tuple[str, ...]) -> None:
     pdftotext = shutil.which("pdftotext")
     if pdftotext is None:
         pytest.skip("no pdftotext (poppler-utils)")
     from spiralcap.report.pdf import render_pdf
 
-    section = _appendix()
+    section = _appendix(sets)
     pdf, _ = render_pdf(FRONT, [section], "footer", {})
     path = tmp_path / "appendix.pdf"
     path.write_bytes(pdf)
@@ -133,3 +146,9 @@ def test_appendix_pdf_keeps_the_state_words_whole(tmp_path: Path) -> None:
         found = len(re.findall(rf"(?<![\w-]){state}(?![\w-])", text))
         assert found >= expected, f"'{state}' whole in the PDF ({found} of {expected} rows)"
     assert not re.search(r"\bde\s*\n\s*fa", text), "no 'de/fa/ult' in the PDF"
+    lines = [ln for ln in text.splitlines() if ln.strip()]
+    single = [ln for ln in lines if len(ln.split()) == 1]
+    assert len(single) < 0.25 * len(lines), (
+        "no long value squeezes the meaning column to a word a line "
+        f"({len(single)} of {len(lines)} lines hold one word)"
+    )

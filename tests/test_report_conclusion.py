@@ -106,3 +106,31 @@ def test_conclusion_numbers_resolve_in_the_payload() -> None:
                 shown = value * p.scale if p.scale != 1.0 else value
                 assert p.text == fmt(shown), p.key
     assert not re.search(r"e-1\d %", _text(conclusion.build(ctx))), "no rounding noise shown"
+
+
+def test_sized_hardware_is_part_of_the_proposed_change() -> None:
+    """A design with freed hardware: the summary and the conclusion name each sized key as
+    entered and as sized (the values the optimum's JSON holds), not 'the same hardware'."""
+    from types import SimpleNamespace
+
+    sets = (
+        "optimize.objective=power",
+        "requirements.min_safety_factor=2",
+        "optimize.free.coils.x.turns=[50, 2000]",
+        "optimize.free.coils.x.wire_diameter_mm=[0.5, 5]",
+    )
+    _, payload = _context(*sets)
+    ctx = Context(SimpleNamespace(design=load_design(None, list(sets))), payload)
+    sized = payload["optimize"]["hardware"]["discrete"]
+    assert set(sized) == {"coils.x.turns", "coils.x.wire_diameter_mm"}
+    expected = [
+        f"coils.x.turns 400 → {sized['coils.x.turns']:.6g}",  # built-in: 400 turns, 3.0 mm wire
+        f"coils.x.wire_diameter_mm 3 → {sized['coils.x.wire_diameter_mm']:.6g}",
+    ]
+    assert sized["coils.x.turns"] != 400, "the least-power x pair is not the built-in one"
+    summary_text, conclusion_text = _text(summary.build(ctx)), _text(conclusion.build(ctx))
+    assert "same hardware" not in summary_text, summary_text
+    for change in expected:
+        assert change in summary_text and change in conclusion_text, (change, conclusion_text)
+    assert "Adopt the proposed operating point and hardware" in conclusion_text
+    assert "inside the same hardware" in _text(summary.build(_context()[0]))

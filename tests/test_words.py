@@ -71,11 +71,28 @@ def test_optimize_text_has_no_unitless_numbers():
     )
     assert rc == 0
     assert "1 starts" not in out
+    assert not re.search(r"(?<![\d.])1 turns\b", out), f"a count of one is singular: {out}"
+    assert re.search(r"1 turn of 1 turn; lowering it by 1 turn gains", out), out
     assert re.search(r"objective +copper mass of the three coil pairs, minimised: [\d.]+ kg", out)
     assert re.search(r"whole turns and standard wire cost [\d.e-]+ kg", out), out
     assert re.search(
         r"requirements.min_safety_factor.*lowering it by 1 unit gains [\d.]+ kg less", out
     )
+
+
+def test_singular_counts_in_evaluate_and_with_unit():
+    from spiralcap.presentation import with_unit
+
+    assert (with_unit("1", "turns"), with_unit("2.257", "turns")) == ("1 turn", "2.257 turns")
+    assert (with_unit("1", "starts"), with_unit("0.4", "1"), with_unit("1", "mm")) == (
+        "1 start",
+        "0.4",
+        "1 mm",
+    )
+    rc, out, _ = run(["evaluate"])
+    assert rc == 0
+    assert re.search(r"turns >= 1 turn +yes", out), out
+    assert not re.search(r"(?<![\d.])1 turns\b", out), out
 
 
 def _report_text(tmp_path, *sets: str) -> str:
@@ -96,3 +113,57 @@ def test_power_report_names_power_in_watts_never_a_safety_factor_objective(tmp_p
     assert "safety factor per" not in text, "no gain in safety factor for a power design"
     assert "maximised the worst-case safety factor" not in text
     assert re.search(r"gains [\d.]+ W less", text), "gains in watts"
+    # the optimum binds the spiral-turns requirement at 1 (built-in): a count of one is singular
+    assert re.search(r"spiral turns requirements\.min_spiral_turns 1 turn 1 turn ", text), text
+    assert not re.search(r"(?<![\d.])1 turns\b", text), "no '1 turns' in the report"
+
+
+def test_a_report_number_of_one_count_is_singular():
+    from spiralcap.report.numbers import Num
+
+    assert (str(Num(1.0, unit="turns")), str(Num(2.257, unit="turns"))) == ("1 turn", "2.257 turns")
+    assert (str(Num(1, unit="starts")), str(Num(1.0, unit="mm"))) == ("1 start", "1 mm")
+
+
+def test_report_checks_table_names_the_self_lock_quantity():
+    """The self-lock row's value is α + atan μ (37° for the built-in 10° spiral), not the
+    helical angle its key sets: the row says so."""
+    from spiralcap.report.sections._util import Context
+    from spiralcap.report.sections.margin import checks_table
+
+    doc = _json("evaluate")
+    table = checks_table(Context(None, {"evaluate": doc}), "evaluate", "checks", "t")
+    row = next(r for r in table.rows if r[1] == "capsule.spiral.helical_angle_deg")
+    assert row[0] == "self-locking: α + atan μ", row
+    mu = 0.51  # the most frictional tissue set: zhou2013-sample3 (Zhou et al. 2013, eq. 1)
+    expected = doc["helical_angle_deg"] + math.degrees(math.atan(mu))
+    assert row[2].shown == pytest.approx(expected, rel=1e-9), "α + atan μ, independently"
+
+
+def test_infeasible_sizing_names_the_hardware_as_design_keys():
+    """Least copper at safety factor 2 within 140 W: least power for it is ~163 W (the
+    power objective on the same freed keys), so no design; the closest hardware is named
+    by its design keys in their units (3 mm wire, not 'x.wire_diameter_m = 0.003')."""
+    from spiralcap.assemble.system import message_in_key_units
+
+    assert message_in_key_units("at x.wire_diameter_m = 0.003, magnet.length_m = 0.01") == (
+        "at coils.x.wire_diameter_mm = 3, capsule.magnet.length_mm = 10"
+    )
+    rc, out, _ = run(
+        [
+            "optimize",
+            "--set",
+            "optimize.objective=copper_mass",
+            "--set",
+            "requirements.min_safety_factor=2",
+            "--set",
+            "limits.power_W=140",
+            "--free",
+            "coils.x.turns=50:2000",
+            "--free",
+            "coils.x.wire_diameter_mm=0.5:5",
+        ]
+    )
+    assert rc == 3, out
+    assert "coils.x.wire_diameter_mm = " in out and "wire_diameter_m =" not in out, out
+    assert re.search(r"requirements.min_safety_factor: needs 2, best reachable 1\.\d+", out), out

@@ -233,6 +233,22 @@ _HARDWARE_NAMES: dict[str, tuple[str, float]] = {
 _FREE_PREFIX = "optimize.free."
 
 
+def message_in_key_units(message: str) -> str:
+    """An optimiser message with its hardware values as design keys in their own units:
+    ``x.wire_diameter_m = 0.003`` -> ``coils.x.wire_diameter_mm = 3`` (the domain package names
+    the variables in SI; the user set them as design keys)."""
+    import re
+
+    by_name = {name: (key, factor) for key, (name, factor) in _HARDWARE_NAMES.items()}
+
+    def swap(m: re.Match[str]) -> str:
+        key, factor = by_name[m.group(1)]
+        return f"{key} = {float(m.group(2)) / factor:.4g}"
+
+    names = "|".join(re.escape(n) for n in sorted(by_name, key=len, reverse=True))
+    return re.sub(rf"(?<![\w.])({names}) = ([-+0-9.eE]+)", swap, message)
+
+
 def free_keys(design: Design) -> dict[str, tuple[float, float]]:
     """The freed design keys and their [min, max], in the key's units."""
     return {

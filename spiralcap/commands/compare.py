@@ -65,7 +65,19 @@ def load_designs(paths: list[str], overrides: list[str]) -> list:
 def _cell(v, exact: bool = False) -> str:
     from spiralcap.compare import shown_value
 
+    if isinstance(v, (list, tuple)) and v and all(isinstance(r, (list, tuple)) for r in v):
+        return _matrix_cell(v)
     return shown_value(v, exact)
+
+
+def _matrix_cell(m) -> str:
+    """A matrix key (``tissue.fit.covariance_log``) in a terminal column: its shape and
+    diagonal to 4 figures, not 25 numbers in one cell (``--json`` has every entry)."""
+    from spiralcap.compare import shown_value
+
+    n, k = len(m), max(len(r) for r in m)
+    diagonal = [r[i] if i < len(r) else None for i, r in enumerate(m)]
+    return f"{n}×{k}, diagonal {shown_value(diagonal, exact=False)}"
 
 
 def format_table(headers: list[str], rows: list[list[str]], left: int = 2) -> str:

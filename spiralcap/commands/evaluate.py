@@ -23,13 +23,13 @@ def _failed(name: str) -> str:
 def check_words(c, key: str) -> str:
     """A check in the form and unit of its key: ``hot spot 90.0 °C <= 90 °C``;
     ``self-locking: α + atan μ = 48.7°, must stay below 90°``."""
-    from spiralcap.presentation import in_key_units
+    from spiralcap.presentation import in_key_units, with_unit
 
     unit, factor = in_key_units(c.unit, key)
     if c.name == "self_lock":
         return f"α + atan μ = {c.value * factor:.3g}°, must stay below {c.allowed * factor:g}°"
-    u = f" {unit}" if unit not in ("", "1") else ""
-    return f"{c.value * factor:.4g}{u} {c.sense} {c.allowed * factor:.4g}{u}"
+    value = with_unit(f"{c.value * factor:.4g}", unit)
+    return f"{value} {c.sense} {with_unit(f'{c.allowed * factor:.4g}', unit)}"
 
 
 def format_evaluation(ev) -> str:

@@ -424,7 +424,8 @@ def _print_text(
 ) -> None:
     print(
         f"tissue identification from {data_path} ({result.frequency_hz.size} points, "
-        f"{result.dof} residual degrees of freedom; lumen, wall and friction from "
+        f"{result.dof} residual degree{'' if result.dof == 1 else 's'} of freedom; lumen, wall "
+        "and friction from "
         f"{base_name}, design: {design_source})"
     )
     rows = []

@@ -90,7 +90,7 @@ def objective_line(res) -> str:
 def binding_line(res, b) -> str:
     """One binding limit: its name, key, value against allowed (key units) and its gain."""
     from spiralcap.assemble.system import constraint_key
-    from spiralcap.presentation import gain_per_key_unit, in_key_units, readable
+    from spiralcap.presentation import gain_per_key_unit, in_key_units, readable, with_unit
 
     key = constraint_key(b.name)
     unit, factor = in_key_units(b.unit, key)
@@ -98,16 +98,13 @@ def binding_line(res, b) -> str:
     obj_unit, per = label.split(" per ", 1)
     verb = "raising" if b.relax_sign > 0 else "lowering"
     better = "less" if res.objective in ("power", "copper_mass") else "more"
-    u = f" {unit}" if unit not in ("", "1") else ""
-    if gain == 0 and res.objective == "copper_mass":  # fixed hardware: the copper cannot move
-        return (
-            f"  {readable(b.name)} ({key or b.name}): {b.value * factor:.5g}{u} of "
-            f"{b.allowed * factor:.5g}{u}; the copper is fixed (free hardware keys to size it)"
-        )
-    return (
-        f"  {readable(b.name)} ({key or b.name}): {b.value * factor:.5g}{u} of {b.allowed * factor:.5g}"
-        f"{u}; {verb} it by 1 {per} gains {gain:.4g} {obj_unit} {better}".rstrip()
+    at = (
+        f"  {readable(b.name)} ({key or b.name}): {with_unit(f'{b.value * factor:.5g}', unit)} of "
+        f"{with_unit(f'{b.allowed * factor:.5g}', unit)}"
     )
+    if gain == 0 and res.objective == "copper_mass":  # fixed hardware: the copper cannot move
+        return f"{at}; the copper is fixed (free hardware keys to size it)"
+    return f"{at}; {verb} it by 1 {per} gains {gain:.4g} {obj_unit} {better}".rstrip()
 
 
 def _shared_key_lines(res) -> list[str]:
@@ -132,7 +129,7 @@ def _shared_key_lines(res) -> list[str]:
 
 def format_result(res) -> str:
     """Readable summary of an :class:`optimize.OptimizationResult`."""
-    from spiralcap.assemble.system import constraint_key
+    from spiralcap.assemble.system import constraint_key, message_in_key_units
     from spiralcap.commands.evaluate import safety_factor_text
     from spiralcap.presentation import step_out_words
     from spiralcap.serialize import _step_out
@@ -179,7 +176,7 @@ def format_result(res) -> str:
         if res.hardware is not None:
             lines += _hardware_lines(res)
     else:
-        lines.append(res.message)
+        lines.append(message_in_key_units(res.message))
         for s in res.shortfalls:
             label, factor = _ENGINEERING.get(s.unit, (s.unit, 1.0))
             if s.name == "margin":

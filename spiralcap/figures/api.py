@@ -244,7 +244,7 @@ def tissue_torque(
     One curve per tissue set and helical angle (as entered, optimum); lines without markers.
     """
     from spiralcap.figures.style import restyle_lines
-    from spiralcap.figures.torque import plot_torque_vs_frequency
+    from spiralcap.figures.torque import legend_tissue_name, plot_torque_vs_frequency
 
     fig, ax = _axes(ax, (7.0, 4.2))
     from optimize import physics, prepare
@@ -262,7 +262,7 @@ def tissue_torque(
             out = plot_torque_vs_frequency(
                 ax, tissue, (angle,), frequency_hz=f, paper_points=(), geometry=geometry
             )
-            out.curves[0].set_label(f"{tissue.name}, α = {angle:.3g}° ({what})")
+            out.curves[0].set_label(f"{legend_tissue_name(tissue.name)}, α = {angle:.3g}° ({what})")
             lines += out.curves
     restyle_lines(lines, markers=False)
     for obj, what in points:

@@ -29,6 +29,18 @@ _FREQ_LABEL = "rotation frequency f (Hz)"
 _TORQUE_LABEL = "resistive torque (mN·m)"
 
 
+def legend_tissue_name(name: str) -> str:
+    """A tissue set's name short enough for a legend: a preset with overridden keys
+    (``zhou2013-sample2 + tissue.{E1_kPa, ..., friction_coefficient}``, as a design layered
+    with ``spiralcap fit -o`` output has) reads ``zhou2013-sample2 + 8 tissue keys``."""
+    head, sep, rest = name.partition(" + tissue.{")
+    if not sep:
+        return name
+    keys, _, tail = rest.partition("}")
+    n = len([k for k in keys.split(",") if k.strip()])
+    return f"{head} + {n} tissue key{'s' if n != 1 else ''}{tail}"
+
+
 def plot_torque_vs_frequency(
     ax: Axes,
     tissue: Any = None,
@@ -113,7 +125,7 @@ def plot_torque_vs_frequency(
         )
     ax.set_xlabel(_FREQ_LABEL)
     ax.set_ylabel(_TORQUE_LABEL)
-    ax.set_title(f"tissue {tissue.name}")
+    ax.set_title(f"tissue {legend_tissue_name(tissue.name)}")
     _dedupe_legend(ax)
     return TorqueDrawn(curves, points)
 

@@ -113,7 +113,7 @@ def _num(n: Num, with_unit: bool = True) -> str:
     attrs = ""
     if n.key is not None:
         attrs = f' data-key="{html.escape(n.key)}" data-scale="{n.scale!r}"'
-    unit = ("\u00a0" if unit_gap(n.unit) else "") + html.escape(n.unit) if with_unit else ""
+    unit = ("\u00a0" if unit_gap(n.unit) else "") + html.escape(n.unit_shown) if with_unit else ""
     return f'<span class="num"{attrs}>{html.escape(n.text)}</span>{unit}'
 
 

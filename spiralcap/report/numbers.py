@@ -97,8 +97,15 @@ class Num:
         """The number as written, without the unit."""
         return fmt(self.shown)
 
+    @property
+    def unit_shown(self) -> str:
+        """The unit as written after this number: a count of one is singular (``1 turn``)."""
+        from spiralcap.presentation import COUNT_UNITS
+
+        return COUNT_UNITS.get(self.unit, self.unit) if self.text == "1" else self.unit
+
     def __str__(self) -> str:
-        return f"{self.text}{unit_gap(self.unit)}{self.unit}"
+        return f"{self.text}{unit_gap(self.unit)}{self.unit_shown}"
 
 
 def unit_gap(unit: str) -> str:

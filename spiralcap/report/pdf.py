@@ -45,6 +45,9 @@ from spiralcap.report.numbers import Num, unit_gap
 
 #: Text width of the page (A4, 2 cm side margins), inches.
 TEXT_WIDTH_IN = (210.0 - 40.0) / 25.4
+LONG_CELL_CHARS = 40
+"""A text cell longer than this (a report title, a list of headings, a covariance matrix in
+the appendix) would widen an ``auto`` column until the wrapping column has one word a line."""
 _CALLOUT = {"alert": "rgb(164, 22, 26)", "ok": "rgb(27, 110, 58)", "note": "rgb(35, 78, 128)"}
 
 _LOAD_TEXT = '#let T = json(bytes(sys.inputs.at("text")))'
@@ -91,6 +94,24 @@ _PREAMBLE = r"""
 """
 
 
+def _column_widths(t: Table, numeric: Sequence[bool]) -> list[str]:
+    """Typst column widths: the wrapping column ``1fr``, the rest ``auto``; a text column with
+    a cell longer than :data:`LONG_CELL_CHARS` wraps too (``1fr``, the wrapping column ``2fr``),
+    so one long value cannot squeeze the others to a word a line."""
+    long = [
+        i != t.wrap
+        and not numeric[i]
+        and any(
+            len(cell_text(r[i])) > LONG_CELL_CHARS
+            for r in (t.rows if t.pdf_rows is None else t.pdf_rows)
+            if i < len(r) and not isinstance(r[i], Num)
+        )
+        for i in range(len(t.headers))
+    ]
+    wrap_width = "2fr" if any(long) else "1fr"
+    return [wrap_width if i == t.wrap else "1fr" if long[i] else "auto" for i in range(len(long))]
+
+
 class _Text:
     """The report's text, collected as data: ``s(text)`` is an index into a JSON array handed to
     Typst through ``sys.inputs`` (read back with ``json(...)``), so no string of a design file,
@@ -134,7 +155,7 @@ class _Writer:
         self.figures: dict[str, str] = {}
 
     def num(self, n: Num) -> str:
-        unit = unit_gap(n.unit).replace(" ", "\u00a0") + n.unit
+        unit = unit_gap(n.unit).replace(" ", "\u00a0") + n.unit_shown
         return self.t.s(n.text + unit)
 
     def inline(self, parts: Sequence[Inline]) -> str:
@@ -172,7 +193,7 @@ class _Writer:
         for i in range(ncol):
             cells = [r[i] for r in t.rows if i < len(r) and r[i] not in (None, "")]
             numeric.append(bool(cells) and sum(map(_is_numeric, cells)) >= 0.5 * len(cells))
-        cols = ", ".join("1fr" if i == t.wrap else "auto" for i in range(ncol))
+        cols = ", ".join(_column_widths(t, numeric))
         align = ", ".join("right" if n else "left" for n in numeric)
         units = column_units(t)
         head = ", ".join(

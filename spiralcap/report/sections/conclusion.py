@@ -14,6 +14,7 @@ from typing import Any
 
 from spiralcap.report.document import Inline, Link, Paragraph, Section, Strong
 from spiralcap.report.sections._util import Context, readable
+from spiralcap.report.sections.summary import sized_hardware_changes
 
 #: Above this step-out probability the uncertainty section raises an alert; the conclusion
 #: calls the design unsafe under tissue uncertainty at the same level.
@@ -208,7 +209,9 @@ def _change_first(ctx: Context) -> Paragraph:
     if optimal:
         gain = ctx.value(f"{o}.margin_Nm") - ctx.value(f"{e}.margin_Nm")
         parts += [
-            "Adopt the proposed operating point (",
+            "Adopt the proposed operating point and hardware ("
+            if sized_hardware_changes(ctx)
+            else "Adopt the proposed operating point (",
             Link("section Optimum", "optimum"),
             "): helical angle ",
             ctx.num(f"{e}.helical_angle_deg", unit="°"),
@@ -218,6 +221,7 @@ def _change_first(ctx: Context) -> Paragraph:
             ctx.num(f"{e}.frequency_hz", unit="Hz"),
             " → ",
             ctx.num(f"{o}.frequency_hz", unit="Hz"),
+            "".join(f", {change}" for change in sized_hardware_changes(ctx)),
             "; the worst-case margin goes from ",
             ctx.num(f"{e}.margin_Nm", 1e3, "mN·m"),
             " to ",

@@ -11,11 +11,16 @@ from spiralcap.schema import KEYS
 
 
 def show_value(value: Any) -> str:
-    """A design value as given: numbers exactly (4 significant figures when that is exact)."""
+    """A design value as given: numbers exactly (4 significant figures when that is exact);
+    a matrix (``tissue.fit.covariance_log``) to 4 significant figures, so 25 numbers of 17
+    digits do not take a table's width (the exact values: the design file under
+    Reproducibility and the embedded JSON)."""
     if value is None:
         return "unset"
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         if isinstance(value, list):
+            if value and all(isinstance(r, list) for r in value):
+                return "[" + ", ".join("[" + ", ".join(map(fmt, r)) + "]" for r in value) + "]"
             return "[" + ", ".join(show_value(v) for v in value) + "]"
         return str(value)
     short = fmt(value)

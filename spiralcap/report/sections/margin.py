@@ -64,7 +64,8 @@ def checks_table(ctx: Context, prefix: str, caption: str, ident: str) -> Table:
         label, factor = SHOWN_UNITS.get(c["unit"], (c["unit"], 1.0))
         rows.append(
             [
-                readable(c["name"]),
+                # the self-lock row's value is alpha + atan(mu), not the helical angle its key sets
+                "self-locking: α + atan μ" if c["name"] == "self_lock" else readable(c["name"]),
                 c["key"],
                 ctx.num(f"{prefix}.checks.{i}.value", factor, label),
                 c["sense"],

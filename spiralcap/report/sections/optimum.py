@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from typing import Any, cast
 
+from spiralcap.assemble.system import message_in_key_units
 from spiralcap.report.document import Cell, Code, FigureBlock, Paragraph, Ref, Section, Table
 from spiralcap.report.sections._util import SHOWN_UNITS, Context, readable
 from spiralcap.report.sections.margin import checks_table
@@ -194,7 +195,7 @@ def build(ctx: Context) -> Section:
                 " iterations in all; solver status ",
                 str(ctx.value(f"{o}.solver_status")),
                 "). ",
-                str(ctx.value(f"{o}.message")).rstrip(".") + ". ",
+                message_in_key_units(str(ctx.value(f"{o}.message"))).rstrip(".") + ". ",
                 Ref("fig-utilisation"),
                 " shows how close each limit is to binding.",
             ],

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from typing import Any
 
+from spiralcap.assemble.system import message_in_key_units
 from spiralcap.report.document import Inline, Link, Paragraph, Section, Strong
 from spiralcap.report.numbers import Num
 from spiralcap.report.sections._util import Context, readable
@@ -145,7 +146,9 @@ def build(ctx: Context) -> Section:
                 ctx.shown(f"{o}.shortfalls.{i}.best", sf["unit"]),
             ]
         if not shortfalls:
-            head.append(_without_status(str(ctx.value(f"{o}.message"))).rstrip("."))
+            head.append(
+                _without_status(message_in_key_units(str(ctx.value(f"{o}.message")))).rstrip(".")
+            )
         head.append(".")
         lines.append(Paragraph(head, kind="alert"))
         speed_parts: list[Inline] = [Strong("Speed:"), " "]
@@ -181,17 +184,39 @@ def build(ctx: Context) -> Section:
             kind="alert",
         )
     # a review reads the design as entered first, then the optimum as a proposed change
+    sized = sized_hardware_changes(ctx)
     proposed = Paragraph(
         [
             Strong("Proposed change: the optimum."),
-            " The optimiser re-chose the operating point inside the same hardware and limits; "
-            "adopting it is a change to the design (what to change first, and whether it is "
+            (
+                " The optimiser re-chose the operating point and sized the freed hardware ("
+                + ", ".join(sized)
+                + ") inside the same limits; "
+                if sized
+                else " The optimiser re-chose the operating point inside the same hardware "
+                "and limits; "
+            )
+            + "adopting it is a change to the design (what to change first, and whether it is "
             "safe: ",
             Link("section Conclusion", "conclusion"),
             ").",
         ]
     )
     return Section("summary", "Summary", [_as_entered(ctx), proposed, *lines, verdict])
+
+
+def sized_hardware_changes(ctx: Context) -> list[str]:
+    """The freed hardware keys the optimiser sized, as entered and as sized (buildable):
+    ``["coils.x.turns 400 → 680", ...]``; empty when no hardware key is freed."""
+    hardware = ctx.value("optimize").get("hardware")
+    if not hardware:
+        return []
+    out = []
+    for key, new in hardware["discrete"].items():
+        old = ctx.data.design.get(key)
+        was = f"{old:.6g}" if isinstance(old, (int, float)) else "unset"
+        out.append(f"{key} {was} → {new:.6g}")
+    return out
 
 
 def _as_entered(ctx: Context) -> Paragraph:
