@@ -31,7 +31,7 @@ def _cluster(n_workers: int) -> distributed.LocalCluster:
         processes=True,  # tcp:// (the scheduler runs here; no worker is started)
         host="127.0.0.1",
         scheduler_port=0,
-        dashboard_address=None,  # no fixed port (8787 may be taken)
+        dashboard_address=":0",  # a port the OS picks (8787 may be taken; None means 8787)
     )
 
 

@@ -177,7 +177,7 @@ def test_dask_local_cluster_gives_the_local_results(capsys):
     robust_axes = [parse_over("requirements.axial_load_mN=20:80:18")]  # two chunks
     robust_local = sweep(robust, robust_axes, optimize=True)
     with distributed.LocalCluster(
-        n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
+        n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0"
     ) as cluster:
         on_dask = _json(capsys, [*argv, "--dask", cluster.scheduler_address])
         sweep_dask = sweep(design, axes, optimize=True, dask=cluster.scheduler_address)
