@@ -21,6 +21,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
+from chromium import chromium, dump_dom
 
 from spiralcap.cli import main
 from spiralcap.report.numbers import fmt, lookup
@@ -261,11 +262,7 @@ def test_sections_and_summary(report: dict[str, Any]) -> None:
 
 
 def _chromium() -> str | None:
-    for name in ("chromium", "chromium-browser", "google-chrome", "google-chrome-stable"):
-        path = shutil.which(name)
-        if path:
-            return path
-    return None
+    return chromium()
 
 
 def test_chromium_renders_a_non_blank_page(report: dict[str, Any], tmp_path: Path) -> None:
@@ -339,20 +336,7 @@ def test_chromium_no_figure_overflows_the_page(
         pytest.skip("no headless Chromium on PATH (Debian: apt-get install chromium)")
     page = tmp_path / "measured.html"  # a copy with a measuring script; the report has none
     page.write_text(report["html"].replace("</body>", _MEASURE + "</body>"), encoding="utf-8")
-    cmd = [
-        browser,
-        "--headless",
-        "--no-sandbox",
-        "--disable-gpu",
-        "--no-first-run",
-        "--disable-background-networking",
-        "--disable-component-update",
-        f"--user-data-dir={tmp_path / 'profile'}",
-        f"--window-size={window},1600",
-        "--dump-dom",
-        page.resolve().as_uri(),
-    ]
-    proc = subprocess.run(cmd, capture_output=True, text=True, timeout=180, check=False)
+    proc = dump_dom(browser, page, window, tmp_path / "profile")
     m = re.search(r'<pre id="overflow-result">(.*?)</pre>', proc.stdout, re.S)
     assert m, f"the measuring script ran: {proc.stderr[-1000:]}"
     rows = [ln.split() for ln in html.unescape(m.group(1)).strip().splitlines()]

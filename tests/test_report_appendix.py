@@ -16,6 +16,7 @@ from pathlib import Path
 from types import SimpleNamespace
 
 import pytest
+from chromium import chromium, dump_dom
 
 from spiralcap.design import load_design
 from spiralcap.report.document import FrontMatter
@@ -60,11 +61,7 @@ _MEASURE = r"""<script>
 
 
 def _chromium() -> str | None:
-    for name in ("chromium", "chromium-browser", "google-chrome", "google-chrome-stable"):
-        path = shutil.which(name)
-        if path:
-            return path
-    return None
+    return chromium()
 
 
 LONG_VALUES = [
@@ -93,20 +90,7 @@ def test_appendix_words_whole_in_chromium(
     page = tmp_path / "appendix.html"
     text = render_html(FRONT, [_appendix(sets)], {}, "footer", {})
     page.write_text(text.replace("</body>", _MEASURE + "</body>"), encoding="utf-8")
-    cmd = [
-        browser,
-        "--headless",
-        "--no-sandbox",
-        "--disable-gpu",
-        "--no-first-run",
-        "--disable-background-networking",
-        "--disable-component-update",
-        f"--user-data-dir={tmp_path / 'profile'}",
-        f"--window-size={window},1600",
-        "--dump-dom",
-        page.resolve().as_uri(),
-    ]
-    proc = subprocess.run(cmd, capture_output=True, text=True, timeout=180, check=False)
+    proc = dump_dom(browser, page, window, tmp_path / "profile")
     m = re.search(r'<pre id="measure-result">(.*?)</pre>', proc.stdout, re.S)
     assert m, f"the measuring script ran: {proc.stderr[-1000:]}"
     lines = html.unescape(m.group(1)).strip().splitlines()
