@@ -110,6 +110,15 @@ def variable_bounds(model: DesignModel) -> dict[str, tuple[float, float]]:
     }
 
 
+class NoSolutionError(Exception):
+    """No start converged (``optimize_design(..., evaluate_failed=False)``): the iterations
+    spent, and nothing evaluated."""
+
+    def __init__(self, iterations: int) -> None:
+        super().__init__(f"no start converged ({iterations} iterations)")
+        self.iterations = iterations
+
+
 # --- the solve --------------------------------------------------------------------------------
 
 
@@ -121,6 +130,7 @@ def optimize_design(
     grid_starts: bool = True,
     frequency_bounds: bool = True,
     progress: Callable[[str], None] | None = None,
+    evaluate_failed: bool = True,
 ) -> OptimizationResult:
     """Best design of ``model`` for its objective; see the module notes.
 
@@ -135,12 +145,15 @@ def optimize_design(
     ``grid_starts=False`` tries only the warm start (the discrete search's neighbours);
     ``frequency_bounds=False`` leaves the evaluation's step-out and highest frequency NaN
     (:func:`optimize.evaluate.evaluate`; neighbours compared by their objective only).
+    ``evaluate_failed=False`` (with ``diagnose=False``): when no start converges, raise
+    :class:`NoSolutionError` with the iterations spent instead of evaluating the model at its default
+    operating point for a result nobody reads (the discrete search's failed neighbours).
     """
     if model.sizing is not None and model.sizing.free:
         from optimize.discrete import FixedHardwareSolver, size_design
 
         solver = FixedHardwareSolver(
-            optimize_design, _binding, initial_points, scales_for, variable_bounds
+            optimize_design, _binding, initial_points, scales_for, variable_bounds, NoSolutionError
         )
         return size_design(model, solver, progress)
     if model.scenarios is not None and model.scenarios.whole:  # the scenarios that matter
@@ -153,6 +166,7 @@ def optimize_design(
                 diagnose=diagnose,
                 grid_starts=grid_starts,
                 frequency_bounds=frequency_bounds,
+                evaluate_failed=evaluate_failed,
             )
 
         t0 = time.perf_counter()
@@ -197,6 +211,8 @@ def optimize_design(
             break
     status_text = best.status if best is not None else "no start"
     if (best is None or not best.success) and not diagnose:
+        if not evaluate_failed:
+            raise NoSolutionError(iterations)
         ev = evaluate(model, frequency_bounds=frequency_bounds)
         return _result(
             model,

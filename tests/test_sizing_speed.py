@@ -68,3 +68,37 @@ def test_settled_sizing_is_the_strict_rules_design(model, monkeypatch):
         assert fast.hardware.relaxed[k] == pytest.approx(v, rel=1e-6), (
             f"continuous bound {k}: within the relaxation's own round-to-round movement"
         )
+
+
+def test_failed_neighbours_skipped_evaluation_changes_nothing(model, monkeypatch):
+    """Failed neighbours are not evaluated (their result is never read): the sized design, its
+    operating point, its iterations and its every number are bit for bit those of the long way,
+    with fewer evaluations."""
+    from optimize import solve
+
+    m = replace(
+        model,
+        bounds=replace(model.bounds, objective="copper_mass"),
+        requirements=replace(model.requirements, min_safety_factor=3.0),
+        sizing=hw.Sizing(SIX[:2]),
+    )
+    monkeypatch.setattr(discrete, "_MAPPER", [None])  # in this process: count the evaluations
+    calls = [0]
+    real = solve.evaluate
+
+    def counted(*args, **kwargs):
+        calls[0] += 1
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(solve, "evaluate", counted)
+    fast = optimize_design(m)
+    fast_calls = calls[0]
+    monkeypatch.setattr(discrete, "SKIP_FAILED_EVALUATION", False)
+    calls[0] = 0
+    slow = optimize_design(m)
+    h = fast.hardware
+    assert fast.status == "optimal" and h.candidates > h.feasible, "some neighbours fail"
+    assert fast_calls < calls[0], f"fewer evaluations ({fast_calls} against {calls[0]})"
+    same = replace(fast, solve_time_s=0.0, evaluation=None)
+    assert same == replace(slow, solve_time_s=0.0, evaluation=None), "the same result, bit for bit"
+    assert repr(fast.evaluation) == repr(slow.evaluation), "the same evaluation, bit for bit"
