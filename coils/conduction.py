@@ -36,21 +36,11 @@ from spiralcap import backend as bk
 __all__ = ["RobinStatics", "RobinTransient", "eigenvalues", "robin_statics", "robin_transient"]
 
 
-def _scalar_fast(math_fn: Any, bk_fn: Any) -> Any:
-    """``bk_fn``, but ``math_fn`` on a Python float (the scalar evaluation paths call these
-    thousands of times; numpy scalars would turn every later operation into a numpy one)."""
-
-    def fn(x: Any) -> Any:
-        return math_fn(x) if type(x) is float else bk_fn(x)
-
-    return fn
-
-
-_sin = _scalar_fast(math.sin, bk.sin)
-_cos = _scalar_fast(math.cos, bk.cos)
-_exp = _scalar_fast(math.exp, bk.exp)
-_atan = _scalar_fast(math.atan, bk.arctan)
-_sqrt = _scalar_fast(math.sqrt, bk.sqrt)
+_sin = bk.scalar_fast(math.sin, bk.sin)
+_cos = bk.scalar_fast(math.cos, bk.cos)
+_exp = bk.scalar_fast(math.exp, bk.exp)
+_atan = bk.scalar_fast(math.atan, bk.arctan)
+_sqrt = bk.scalar_fast(math.sqrt, bk.sqrt)
 
 _NEWTON = 5
 _STATIC_TERMS = 3
