@@ -121,6 +121,21 @@ def pack_convection_W_m2K(
     rings); the orientation is part of the model's structure, not a value. ``forced``: add
     forced air at ``air_speed_m_s``.
     """
+    return _pack_convection(
+        width_m, depth_m, surface_C, ambient_C, air_speed_m_s, bool(vertical_axis), bool(forced)
+    )
+
+
+def _pack_convection_W_m2K(
+    width_m: Any,
+    depth_m: Any,
+    surface_C: Any,
+    ambient_C: Any,
+    air_speed_m_s: Any,
+    vertical_axis: bool,
+    forced: bool,
+) -> Any:
+    """:func:`pack_convection_W_m2K` with the structure (orientation, forced) last."""
     # a face below the air: h of ΔT -> 0; Python floats stay Python floats (the fast path)
     if isinstance(surface_C, float) and isinstance(ambient_C, (float, int)):
         surface_C = max(float(surface_C), float(ambient_C))
@@ -153,3 +168,7 @@ def pack_convection_W_m2K(
     re = air_speed_m_s * diam / air.kinematic_viscosity_m2_s
     h_forced = forced_cylinder_nusselt(re, pr) * k / diam
     return (h_forced**3 + h_nat**3) ** (1.0 / 3.0)
+
+
+#: the correlation traced once per orientation and cooling for the NLPs (an SX function)
+_pack_convection = bk.symbolic_once(_pack_convection_W_m2K, 5)

@@ -195,8 +195,13 @@ def _build_rows(b: NLPBuilder, structure: Structure) -> NLPBuilder:
         if term.allowed is None:
             b.constrain(term.row, g)
             continue
-        a = ca.SX.sym("a")
-        dg = ca.substitute(ca.jacobian(term.form(term.value, a), a), a, term.allowed)
+        # d row / d allowed, differentiated on the row's form alone (value and bound as
+        # symbols) and then filled in: the same expression, without walking the value's graph
+        value = ca.SX(term.value)
+        v, a = ca.SX.sym("v", value.shape), ca.SX.sym("a")
+        dg = ca.substitute(
+            [ca.jacobian(term.form(v, a), a)], [v, a], [value, ca.SX(term.allowed)]
+        )[0]
         b.constrain(term.row, g, term.allowed, dg, term.value)
     b.minimize(obj)
     return b

@@ -15,6 +15,7 @@ designs (whole turns, standard wire diameters), re-optimising the operating poin
 from __future__ import annotations
 
 import bisect
+import functools
 import itertools
 import math
 import time
@@ -126,6 +127,8 @@ class FixedHardwareSolver(NamedTuple):
     variable_bounds: Callable[..., Any]
     #: what ``optimize_design(..., evaluate_failed=False)`` raises when no start converges
     no_solution: type[Exception]
+    #: ``warm_up(model)`` compiles what a warm-started fixed-hardware solve of ``model`` needs
+    warm_up: Callable[[DesignModel], None]
 
 
 class _Failed(NamedTuple):
@@ -145,10 +148,40 @@ def size_design(
 
     ``progress(stage)`` is told each outer iteration of the relaxation and each neighbour.
     """
+    helpers: list[Any] = []
+    try:
+        res = _size_design(model, solver, progress, helpers)
+    except BaseException:
+        for helper in helpers:
+            helper.cancel()
+        raise
+    for helper in helpers:
+        helper.close()
+    return res
+
+
+def _start_standby(solver: FixedHardwareSolver, exact: DesignModel, helpers: list[Any]) -> Any:
+    """A helper that compiles the neighbours' fixed-hardware problem (that of ``exact``) now,
+    on a free core, while the relaxation runs here; None without one."""
+    factory = _STANDBY[0]
+    if factory is None:
+        return None
+    standby = factory(functools.partial(solver.warm_up, exact))
+    if standby is not None:
+        helpers.append(standby)
+    return standby
+
+
+def _size_design(
+    model: DesignModel,
+    solver: FixedHardwareSolver,
+    progress: Callable[[str], None] | None,
+    helpers: list[Any],
+) -> OptimizationResult:
     say = progress or (lambda _stage: None)
     from optimize.compiled import compile_problem, structure_of
 
-    optimize_design, _binding = solver.optimize_design, solver.binding
+    _binding = solver.binding
     initial_points, scales_for = solver.initial_points, solver.scales_for
     variable_bounds = solver.variable_bounds
     t0 = time.perf_counter()
@@ -160,6 +193,7 @@ def size_design(
     hw_now = {v.name: min(max(base[v.name], v.lo), v.hi) for v in free}
     exact = buildable(fixed_model, hw_now, 0.0, checks=False) or fixed_model
     exact = prepare(exact)
+    standby = _start_standby(solver, exact, helpers)
     hs = hw.HardwareStructure(
         tuple(v.name for v in free),
         hw.helmholtz_flags(model),
@@ -245,31 +279,21 @@ def size_design(
         here = hw.hardware_of(exact)
         candidates.sort(key=lambda c: _copper_mass_kg({**here, **relaxed, **c}, exact))
 
-    def attempt(combo: dict[str, float]) -> OptimizationResult | _Failed | None:
-        m = buildable(fixed_model, {**relaxed, **combo}, min_bore)
-        if m is None:
-            return None
-        try:
-            return optimize_design(
-                m,
-                warm_start=warm,
-                diagnose=False,
-                grid_starts=False,
-                frequency_bounds=False,
-                evaluate_failed=not SKIP_FAILED_EVALUATION,
-            )
-        except solver.no_solution as failed:  # only its iterations are read
-            return _Failed(int(getattr(failed, "iterations", 0)))
-
-    # the first here (it compiles the fixed-hardware problem the forked ones then share), the
-    # rest on the free cores (each solve independent: the same results however spread); by
-    # mass in small batches, since the first feasible one ends the search
+    ctx = _Attempt(solver, fixed_model, relaxed, min_bore, warm, scales)
+    # with a standby helper (it compiled the fixed-hardware problem while the relaxation ran)
+    # the neighbours run there and on a sibling forked from it; else the first here (it
+    # compiles the problem the forked ones then share) and the rest on the free cores. Each
+    # solve is independent: the same results however spread. By mass in small batches, since
+    # the first feasible one ends the search.
     batch = BATCH if by_mass else len(candidates)
     done = 0
     while done < len(candidates) and not (by_mass and winner is not None):
-        size = 1 if done == 0 else batch
+        size = 1 if done == 0 and standby is None else batch
         part = candidates[done : done + size]
-        results = _map(attempt, part)
+        if standby is not None:
+            results = standby.map(_attempt, ctx, part)
+        else:
+            results = _map(functools.partial(_attempt, ctx), part)
         done += len(part)
         for combo, res in zip(part, results, strict=True):
             if by_mass and winner is not None:
@@ -285,8 +309,7 @@ def size_design(
                 continue
             feasible += 1
             if winner is None or spec.sense * (res.objective_value - winner[1].objective_value) > 0:
-                values = {**relaxed, **combo}
-                winner = (values, res, buildable(fixed_model, values, min_bore))
+                winner = ({**relaxed, **combo}, res)
     if winner is None:
         # what keeps the neighbours out: the first buildable one's own shortfalls (the
         # relaxed problem at that hardware), or the geometric rule the first one breaks
@@ -303,12 +326,10 @@ def size_design(
             f"({tried} tried)",
             geometry,
         )
-    values, res, m = winner
+    values, res = winner
     # the winner's full result (step-out, highest frequency): the same solve again, bit for bit
-    res = replace(
-        optimize_design(m, warm_start=warm, diagnose=False, grid_starts=False),
-        iterations=res.iterations,
-    )
+    full = standby.call(_full_result, ctx, values) if standby else _full_result(ctx, values)
+    res = replace(full, iterations=res.iterations)
     # what binds, and what relaxing it buys, comes from the continuous relaxation (hardware and
     # operating point free together): the gains are those of the continuous bound; the
     # discrete design's own multipliers would hold its hardware fixed (0 for the copper mass)
@@ -333,6 +354,48 @@ def size_design(
     )
 
 
+class _Attempt(NamedTuple):
+    """What a neighbour's solve needs besides its whole turns and wires (pickled to helpers)."""
+
+    solver: FixedHardwareSolver
+    fixed_model: DesignModel
+    relaxed: dict[str, float]
+    min_bore_m: float
+    warm: dict[str, Any]
+    scales: Any
+
+
+def _attempt(ctx: _Attempt, combo: dict[str, float]) -> OptimizationResult | _Failed | None:
+    """One buildable neighbour re-optimised (fixed hardware) from the relaxation's operating
+    point, with the relaxation's scales; None if it cannot be built, :class:`_Failed` if its
+    solve finds no solution."""
+    m = buildable(ctx.fixed_model, {**ctx.relaxed, **combo}, ctx.min_bore_m)
+    if m is None:
+        return None
+    try:
+        return ctx.solver.optimize_design(
+            m,
+            warm_start=ctx.warm,
+            diagnose=False,
+            grid_starts=False,
+            frequency_bounds=False,
+            evaluate_failed=not SKIP_FAILED_EVALUATION,
+            scales=ctx.scales,
+            candidate=True,
+        )
+    except ctx.solver.no_solution as failed:  # only its iterations are read
+        return _Failed(int(getattr(failed, "iterations", 0)))
+
+
+def _full_result(ctx: _Attempt, values: dict[str, float]) -> OptimizationResult:
+    """The winner's full result (step-out, highest frequency): its neighbour solve again."""
+    m = buildable(ctx.fixed_model, values, ctx.min_bore_m)
+    assert m is not None  # it was built as a neighbour
+    return ctx.solver.optimize_design(
+        m, warm_start=ctx.warm, diagnose=False, grid_starts=False, scales=ctx.scales
+    )
+
+
 #: How the buildable neighbours are mapped, ``mapper(fn, items) -> [fn(x) for x in items]``:
 #: serial here; the application sets one that runs them on its free cores
 #: (:func:`set_neighbour_map`). Each solve is independent, so the results are the same.
@@ -344,11 +407,21 @@ BATCH = 8
 SKIP_FAILED_EVALUATION = True
 
 
+#: ``standby(setup)``: a helper process that runs ``setup()`` now and later takes the
+#: neighbours (``.map(fn, shared, items)``, ``.call(fn, *args)``, ``.close()``), or None where
+#: there is no free core; set by the application (:func:`set_neighbour_map`).
+_STANDBY: list[Callable[[Callable[[], Any]], Any] | None] = [None]
+
+
 def set_neighbour_map(
     mapper: Callable[[Callable[[Any], Any], list[Any]], list[Any]] | None,
+    standby: Callable[[Callable[[], Any]], Any] | None = None,
 ) -> None:
-    """Run the neighbours' solves through ``mapper`` (None: one after another here)."""
+    """Run the neighbours' solves through ``mapper`` (None: one after another here), or, where
+    ``standby(setup)`` gives a helper, on it: it compiles the fixed-hardware problem while the
+    relaxation runs here."""
     _MAPPER[0] = mapper
+    _STANDBY[0] = standby
 
 
 def _map(fn: Callable[[Any], Any], items: list[Any]) -> list[Any]:

@@ -119,6 +119,14 @@ class NoSolutionError(Exception):
         self.iterations = iterations
 
 
+def warm_up(model: DesignModel) -> None:
+    """Compile the problem a warm-started solve of the fixed-hardware ``model`` uses (what
+    :func:`optimize_design` would compile on its first call; memoised by structure)."""
+    if model.scenarios is not None and model.scenarios.whole:  # working sets compile per size
+        return
+    compile_problem(structure_of(prepare(model), warm=True))
+
+
 # --- the solve --------------------------------------------------------------------------------
 
 
@@ -131,6 +139,8 @@ def optimize_design(
     frequency_bounds: bool = True,
     progress: Callable[[str], None] | None = None,
     evaluate_failed: bool = True,
+    scales: pb.Scales | None = None,
+    candidate: bool = False,
 ) -> OptimizationResult:
     """Best design of ``model`` for its objective; see the module notes.
 
@@ -148,12 +158,25 @@ def optimize_design(
     ``evaluate_failed=False`` (with ``diagnose=False``): when no start converges, raise
     :class:`NoSolutionError` with the iterations spent instead of evaluating the model at its default
     operating point for a result nobody reads (the discrete search's failed neighbours).
+    ``scales``: the NLP's reference field, torque, power and mass (default :func:`scales_for`
+    of ``model``, whose field capacity costs more than a neighbour's solve); the discrete
+    search passes the relaxation's, so each neighbour is scaled as the problem that found it.
+    ``candidate=True``: a result only ranked by its objective and feasibility (the discrete
+    search's neighbours, whose winner is solved again in full): evaluated at the solver's field
+    as a set field, without the field capacity of the limits (three quarters of a neighbour's
+    time); the objective agrees with the full result's to the solver's tolerance.
     """
     if model.sizing is not None and model.sizing.free:
         from optimize.discrete import FixedHardwareSolver, size_design
 
         solver = FixedHardwareSolver(
-            optimize_design, _binding, initial_points, scales_for, variable_bounds, NoSolutionError
+            optimize_design,
+            _binding,
+            initial_points,
+            scales_for,
+            variable_bounds,
+            NoSolutionError,
+            warm_up,
         )
         return size_design(model, solver, progress)
     if model.scenarios is not None and model.scenarios.whole:  # the scenarios that matter
@@ -167,6 +190,8 @@ def optimize_design(
                 grid_starts=grid_starts,
                 frequency_bounds=frequency_bounds,
                 evaluate_failed=evaluate_failed,
+                scales=scales,
+                candidate=candidate,
             )
 
         t0 = time.perf_counter()
@@ -174,7 +199,7 @@ def optimize_design(
         return replace(res, solve_time_s=time.perf_counter() - t0)
     t0 = time.perf_counter()
     model = prepare(model)
-    scales = scales_for(model)
+    scales = scales_for(model) if scales is None else scales
     bounds = variable_bounds(model)
     iterations, tried = 0, 0
     best: Solution | None = None
@@ -235,8 +260,9 @@ def optimize_design(
     alpha, f = xs["helical_angle"], xs["frequency"]
     field = xs["field_scaled"] * scales.field_T
     # the field ends below what the limits allow when the objective or a registered row says so
-    capacity = float(margin_grid(model, alpha, f, capacity=True).field_amplitude_T)
-    field_set = _minimises_power(model) or field < capacity * (1 - 1e-7)
+    # (a candidate: taken as set, its rows hold every limit to the solver's tolerance)
+    capacity = field if candidate else margin_grid(model, alpha, f, capacity=True).field_amplitude_T
+    field_set = candidate or _minimises_power(model) or field < float(capacity) * (1 - 1e-7)
     # an explicit field only where the optimum's differs from the largest the limits allow (or
     # the model carries a set field the optimiser was free to move)
     given = field if field_set else (capacity if model.field_amplitude_T is not None else None)

@@ -344,7 +344,7 @@ def _child(send: Any, parent_pid: int, fn: Callable[..., Any], args: tuple) -> N
 
 
 #: Forked jobs whose result has not been taken: stopped if this process exits without them.
-_LIVE: weakref.WeakSet[Forked] = weakref.WeakSet()
+_LIVE: weakref.WeakSet[Forked | Standby] = weakref.WeakSet()
 _LIVE_ATEXIT: list[bool] = []
 
 
@@ -414,18 +414,143 @@ class Forked:
         raise RuntimeError(f"a worker process failed: {text.strip().splitlines()[-1]}")
 
 
+def _serve(conn: Any, parent_pid: int, setup: Callable[[], Any], processes: int) -> None:
+    """:class:`Standby`'s child: ``setup()``, then requests until "stop" (or the pipe closes)."""
+    import functools
+    import traceback
+
+    worker_setup(parent_pid)
+    try:
+        setup()
+    except Exception:  # nothing is lost: the requests then do that work themselves
+        pass
+    while True:
+        try:
+            request = conn.recv()
+        except (EOFError, OSError):
+            break
+        if request[0] == "stop":
+            break
+        try:
+            if request[0] == "map":
+                _, fn, shared, items = request
+                value = map_forked(functools.partial(fn, shared), items, processes)
+            else:
+                _, fn, args = request
+                value = fn(*args)
+            result: tuple[bool, Any] = (True, value)
+        except BaseException as exc:  # sent back and raised in the parent
+            result = (False, (exc, traceback.format_exc()))
+        try:
+            conn.send(result)
+        except Exception as exc:  # the result or the error did not pickle
+            conn.send((False, (None, f"{type(exc).__name__}: {exc}")))
+    conn.close()
+
+
+class Standby:
+    """A forked helper that gets ready while this process goes on, then takes work.
+
+    ``setup()`` runs in the child at once, on another core (sizing compiles there the
+    fixed-hardware problem its neighbours need while this process solves the relaxation).
+    :meth:`map` then runs ``fn(shared, x)`` for every item on the child and ``processes - 1``
+    siblings forked from it (:func:`map_forked`: all of them hold what ``setup`` built), and
+    :meth:`call` runs ``fn(*args)`` there. Requests and results are pickled: ``fn`` is a
+    module-level function. The same values as the same calls made here.
+    """
+
+    def __init__(self, setup: Callable[[], Any], processes: int = 2) -> None:
+        import multiprocessing
+        import os
+        import warnings
+
+        ctx = multiprocessing.get_context("fork")
+        self._conn, child_conn = ctx.Pipe(duplex=True)
+        self._proc = ctx.Process(
+            target=_serve, args=(child_conn, os.getpid(), setup, max(processes, 1))
+        )
+        with warnings.catch_warnings():  # as in Forked
+            warnings.simplefilter("ignore", DeprecationWarning)
+            self._proc.start()
+        child_conn.close()
+        _LIVE.add(self)
+        if not _LIVE_ATEXIT:
+            import atexit
+
+            atexit.register(_cancel_live)
+            _LIVE_ATEXIT.append(True)
+
+    def map(self, fn: Callable[[Any, Any], Any], shared: Any, items: Sequence[Any]) -> list[Any]:
+        """``[fn(shared, x) for x in items]``, run by the helper and its siblings."""
+        return self._ask(("map", fn, shared, list(items)))
+
+    def call(self, fn: Callable[..., Any], *args: Any) -> Any:
+        """``fn(*args)``, run by the helper."""
+        return self._ask(("call", fn, args))
+
+    def _ask(self, request: tuple) -> Any:
+        try:
+            self._conn.send(request)
+            ok, value = self._conn.recv()
+        except (EOFError, BrokenPipeError):
+            self._proc.join()
+            ok, value = (
+                False,
+                (None, f"the worker process ended with exit code {self._proc.exitcode}"),
+            )
+        except BaseException:  # Ctrl-C or SIGTERM while waiting: the answer is not wanted
+            self.cancel()
+            raise
+        if ok:
+            return value
+        exc, text = value
+        if isinstance(exc, BaseException):
+            raise exc
+        raise RuntimeError(f"a worker process failed: {text.strip().splitlines()[-1]}")
+
+    def close(self) -> None:
+        """Let the helper end (it is waited for)."""
+        if self._proc.is_alive():
+            try:
+                self._conn.send(("stop",))
+            except OSError:
+                pass
+            self._proc.join(5)
+        self.cancel()
+
+    def cancel(self) -> None:
+        """Stop the helper now and wait for it to end."""
+        _LIVE.discard(self)
+        if self._proc.is_alive():
+            self._proc.terminate()
+        self._proc.join()
+        self._conn.close()
+
+
+def _may_fork_here() -> bool:
+    import multiprocessing
+    import threading
+
+    return (
+        can_fork()
+        and not multiprocessing.current_process().daemon
+        and threading.current_thread() is threading.main_thread()
+    )
+
+
+def standby_on_free_core(setup: Callable[[], Any]) -> Standby | None:
+    """A :class:`Standby` running ``setup`` where this process may fork and has a second core
+    (as :func:`map_free_cores`); None elsewhere (the caller does the work itself)."""
+    if not _may_fork_here() or available_cores() < 2:
+        return None
+    return Standby(setup, min(available_cores(), 2))
+
+
 def map_free_cores(fn: Callable[[Any], Any], items: Sequence[Any]) -> list[Any]:
     """``[fn(x) for x in items]`` on up to two cores (:func:`map_forked`) where this process may
     fork: the main thread of a non-daemon process (not a Dask worker's task thread); else here.
     Sizing maps its buildable neighbours with it (``optimize.discrete.set_neighbour_map``)."""
-    import multiprocessing
-    import threading
-
-    if (
-        not can_fork()
-        or multiprocessing.current_process().daemon
-        or threading.current_thread() is not threading.main_thread()
-    ):
+    if not _may_fork_here():
         return [fn(x) for x in items]
     return map_forked(fn, items, min(available_cores(), 2))
 

@@ -14,9 +14,9 @@ from spiralcap.assemble.tissue import build_tissues
 def _neighbours_on_free_cores() -> None:
     """Sizing's buildable neighbours run on the free cores (forked; same results)."""
     from optimize.discrete import set_neighbour_map
-    from spiralcap.parallel import map_free_cores
+    from spiralcap.parallel import map_free_cores, standby_on_free_core
 
-    set_neighbour_map(map_free_cores)
+    set_neighbour_map(map_free_cores, standby_on_free_core)
 
 
 _neighbours_on_free_cores()
