@@ -199,9 +199,9 @@ def _build_rows(b: NLPBuilder, structure: Structure) -> NLPBuilder:
         # symbols) and then filled in: the same expression, without walking the value's graph
         value = ca.SX(term.value)
         v, a = ca.SX.sym("v", value.shape), ca.SX.sym("a")
-        dg = ca.substitute(
-            [ca.jacobian(term.form(v, a), a)], [v, a], [value, ca.SX(term.allowed)]
-        )[0]
+        dg = ca.substitute([ca.jacobian(term.form(v, a), a)], [v, a], [value, ca.SX(term.allowed)])[
+            0
+        ]
         b.constrain(term.row, g, term.allowed, dg, term.value)
     b.minimize(obj)
     return b

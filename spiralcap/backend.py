@@ -55,11 +55,11 @@ __all__ = [
     "positive_part",
     "positive_part_lifted",
     "scalar_fast",
-    "symbolic_once",
     "sin",
     "softplus",
     "sqrt",
     "square",
+    "symbolic_once",
     "tan",
     "where",
 ]
