@@ -1,5 +1,6 @@
-"""Forked work inside one command (spiralcap.parallel.Forked, map_forked): the same results as
-running the same functions here, errors carried back whole, and a dead worker reported."""
+"""Forked work inside one command (spiralcap.parallel.Forked, map_forked, Standby): the same
+results as running the same functions here, errors carried back whole, and a dead worker
+reported."""
 
 from __future__ import annotations
 
@@ -9,7 +10,7 @@ import numpy as np
 import pytest
 
 from spiralcap.errors import InputError
-from spiralcap.parallel import Forked, can_fork, map_forked
+from spiralcap.parallel import Forked, Standby, can_fork, map_forked
 
 pytestmark = pytest.mark.skipif(not can_fork(), reason="fork is POSIX-only")
 
@@ -77,3 +78,47 @@ def test_map_forked_raises_when_a_share_fails() -> None:
 
     with pytest.raises(InputError, match="item = 5"):
         map_forked(fn, list(range(12)), 2)
+
+
+#: what a Standby's setup leaves in its process (read by the functions it is sent)
+_READY: list[int] = []
+
+
+def _setup() -> None:
+    _READY.append(os.getpid())
+
+
+def _with_setup(shared: int, x: int) -> tuple[int, int, bool]:
+    return shared * x, os.getpid(), bool(_READY)
+
+
+def _fail(x: int) -> None:
+    raise InputError("coils.x.turns", x, "a whole number from 1 to 5000")
+
+
+def test_standby_runs_setup_there_and_serves_map_and_call() -> None:
+    helper = Standby(_setup, processes=2)
+    try:
+        out = helper.map(_with_setup, 3, list(range(9)))
+        assert [v for v, _, _ in out] == [3 * x for x in range(9)], "map: fn(shared, x) in order"
+        assert all(ready for _, _, ready in out), "every share sees what setup built (forked)"
+        pids = {pid for _, pid, _ in out}
+        assert os.getpid() not in pids, "the work ran in the helper and its sibling, not here"
+        assert helper.call(_with_setup, 2, 5)[0] == 10, "call: fn(*args) there"
+        assert not _READY, "setup ran in the helper only"
+        with pytest.raises(InputError) as info:
+            helper.call(_fail, 0)
+        assert info.value.key == "coils.x.turns", "an error crosses back whole"
+        assert helper.map(_with_setup, 1, [4])[0][0] == 4, "the helper serves after an error"
+    finally:
+        helper.close()
+    assert not helper._proc.is_alive(), "closed: the helper has ended"
+
+
+def test_standby_reports_a_helper_that_died() -> None:
+    helper = Standby(_setup)
+    try:
+        with pytest.raises(RuntimeError, match="exit code 9"):
+            helper.call(os._exit, 9)
+    finally:
+        helper.cancel()

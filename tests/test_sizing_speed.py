@@ -4,7 +4,11 @@
   exact check (``build_checks``), on designs that pass by the bound, need the exact distance,
   and fail;
 - the frozen factors' settling rule ends the outer loop before ``_OUTER_MAX`` rounds and the
-  sized design is the one the strict rule (every round run) finds.
+  sized design is the one the strict rule (every round run) finds;
+- neighbours solved on a standby helper (which compiled their problem while the relaxation ran)
+  give the result of the same search in this process, bit for bit, for every objective;
+- a neighbour ranked as a candidate (no field capacity, no step-out search) has the objective
+  and status of its full solve.
 """
 
 from dataclasses import replace
@@ -83,6 +87,7 @@ def test_failed_neighbours_skipped_evaluation_changes_nothing(model, monkeypatch
         sizing=hw.Sizing(SIX[:2]),
     )
     monkeypatch.setattr(discrete, "_MAPPER", [None])  # in this process: count the evaluations
+    monkeypatch.setattr(discrete, "_STANDBY", [None])
     calls = [0]
     real = solve.evaluate
 
@@ -102,3 +107,59 @@ def test_failed_neighbours_skipped_evaluation_changes_nothing(model, monkeypatch
     same = replace(fast, solve_time_s=0.0, evaluation=None)
     assert same == replace(slow, solve_time_s=0.0, evaluation=None), "the same result, bit for bit"
     assert repr(fast.evaluation) == repr(slow.evaluation), "the same evaluation, bit for bit"
+
+
+def _serial(monkeypatch):
+    monkeypatch.setattr(discrete, "_MAPPER", [None])
+    monkeypatch.setattr(discrete, "_STANDBY", [None])
+
+
+@pytest.mark.parametrize(
+    ("objective", "free"), [("margin", SIX), ("power", SIX[:4]), ("copper_mass", SIX[:2])]
+)
+def test_standby_helper_gives_this_process_result_bit_for_bit(model, monkeypatch, objective, free):
+    from spiralcap.parallel import available_cores, can_fork
+
+    if not can_fork() or available_cores() < 2:
+        pytest.skip("the standby helper needs fork and a second core")
+    m = replace(model, bounds=replace(model.bounds, objective=objective), sizing=hw.Sizing(free))
+    assert discrete._STANDBY[0] is not None, "the application runs neighbours on a helper"
+    spread = optimize_design(m)
+    _serial(monkeypatch)
+    here = optimize_design(m)
+    assert spread.status == "optimal", f"{objective}: sized"
+    assert replace(spread, solve_time_s=0.0) == replace(here, solve_time_s=0.0), (
+        f"{objective}: the same sized result on a standby helper and its sibling as in this "
+        "process, bit for bit"
+    )
+
+
+def test_candidate_neighbours_rank_as_their_full_solves(model, monkeypatch):
+    """Each buildable neighbour's candidate result (evaluated at the solver's field) has the
+    status of its full solve and its objective to 1e-9 relative (IPOPT's tolerance 1e-10)."""
+    _serial(monkeypatch)
+    seen = []
+    real = discrete._attempt
+
+    def keep(ctx, combo):
+        seen.append((ctx, combo))
+        return real(ctx, combo)
+
+    monkeypatch.setattr(discrete, "_attempt", keep)
+    optimize_design(replace(model, sizing=hw.Sizing(SIX)))
+    compared = 0
+    for ctx, combo in seen:
+        m = discrete.buildable(ctx.fixed_model, {**ctx.relaxed, **combo}, ctx.min_bore_m)
+        if m is None:
+            continue
+        kw = {"warm_start": ctx.warm, "diagnose": False, "grid_starts": False}
+        kw |= {"frequency_bounds": False, "scales": ctx.scales}
+        full = optimize_design(m, **kw)
+        quick = optimize_design(m, candidate=True, **kw)
+        assert quick.status == full.status, f"{combo}: the status of the full solve"
+        if full.status == "optimal":
+            assert quick.objective_value == pytest.approx(full.objective_value, rel=1e-9), (
+                f"{combo}: the objective of the full solve (at the field capacity) to 1e-9"
+            )
+            compared += 1
+    assert compared >= 4, "several feasible neighbours compared"
