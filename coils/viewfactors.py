@@ -43,65 +43,84 @@ def _perp(axis: int) -> tuple[int, int]:
     return tuple(i for i in range(3) if i != axis)  # type: ignore[return-value]
 
 
-def _first_hit(p: np.ndarray, v: np.ndarray, rings: Sequence[PackRing]) -> np.ndarray:
+def _first_hit(
+    p: Sequence[np.ndarray], v: Sequence[np.ndarray], rings: Sequence[PackRing]
+) -> np.ndarray:
     """Index of the pair whose pack each ray (origin p, direction v) enters first; -1: none.
 
-    Per ray the least positive distance to any face of any coil (annuli at their planes,
-    cylinders at both roots); a pair's two coils share their cylinders' roots (they differ
-    only in the axial window), so those are solved once per pair.
+    ``p`` and ``v`` are their three coordinate columns (contiguous arrays). Per ray the least
+    positive distance to any face of any coil (annuli at their planes, cylinders at both
+    roots); a pair's two coils share their cylinders' roots (they differ only in the axial
+    window), so those are solved once per pair. Candidates are folded in with
+    ``np.minimum(..., where=ok)`` (no masked copies).
     """
-    n = p.shape[0]
+    n = p[0].shape[0]
     best = np.full(n, np.inf)
     who = np.full(n, -1)
     tiny = 1e-9 * max(r.radius_m for r in rings)
-    inf = np.inf
-    for j, ring in enumerate(rings):
-        a = ring.axis_index
-        u, w = _perp(a)
-        pa, pu, pw = p[:, a], p[:, u], p[:, w]
-        va, vu, vw = v[:, a], v[:, u], v[:, w]
-        r1, r2 = ring.radius_m - 0.5 * ring.depth_m, ring.radius_m + 0.5 * ring.depth_m
-        qa = vu**2 + vw**2
-        qb = 2.0 * (pu * vu + pw * vw)
-        pr = pu**2 + pw**2
-        roots = []  # (t, axial coordinate, valid) of the cylinders' four roots
-        for rad in (r1, r2):
-            disc = qb * qb - 4.0 * qa * (pr - rad * rad)
-            root = np.sqrt(np.maximum(disc, 0.0))
-            for sign in (-1.0, 1.0):
-                with np.errstate(divide="ignore", invalid="ignore"):
-                    t = (-qb + sign * root) / (2.0 * qa)
-                roots.append((t, pa + t * va, (disc >= 0.0) & (qa > 0.0) & (t > tiny)))
-        t_ring = np.full(n, inf)
-        for centre in (-0.5 * ring.separation_m, 0.5 * ring.separation_m):
-            lo, hi = centre - 0.5 * ring.width_m, centre + 0.5 * ring.width_m
-            for plane in (lo, hi):  # annular faces
-                with np.errstate(divide="ignore", invalid="ignore"):
+    with np.errstate(divide="ignore", invalid="ignore"):
+        for j, ring in enumerate(rings):
+            a = ring.axis_index
+            u, w = _perp(a)
+            pa, pu, pw = p[a], p[u], p[w]
+            va, vu, vw = v[a], v[u], v[w]
+            r1, r2 = ring.radius_m - 0.5 * ring.depth_m, ring.radius_m + 0.5 * ring.depth_m
+            qa = vu**2 + vw**2
+            qb = 2.0 * (pu * vu + pw * vw)
+            pr = pu**2 + pw**2
+            two_qa = 2.0 * qa
+            qa_ok = qa > 0.0
+            roots = []  # (t, axial coordinate, valid) of the cylinders' four roots
+            for rad in (r1, r2):
+                disc = qb * qb - 4.0 * qa * (pr - rad * rad)
+                root = np.sqrt(np.maximum(disc, 0.0))
+                hit = (disc >= 0.0) & qa_ok
+                for sign in (-1.0, 1.0):
+                    t = (-qb + sign * root) / two_qa
+                    roots.append((t, pa + t * va, hit & (t > tiny)))
+            t_ring = np.full(n, np.inf)
+            r1_sq, r2_sq = r1 * r1, r2 * r2
+            for centre in (-0.5 * ring.separation_m, 0.5 * ring.separation_m):
+                lo, hi = centre - 0.5 * ring.width_m, centre + 0.5 * ring.width_m
+                for plane in (lo, hi):  # annular faces
                     t = (plane - pa) / va
-                ru = pu + t * vu
-                rw = pw + t * vw
-                rr = ru * ru + rw * rw
-                ok = (t > tiny) & (rr >= r1 * r1) & (rr <= r2 * r2)
-                np.minimum(t_ring, np.where(ok, t, inf), out=t_ring)
-            for t, z, valid in roots:  # cylindrical faces
-                ok = valid & (z >= lo) & (z <= hi)
-                np.minimum(t_ring, np.where(ok, t, inf), out=t_ring)
-        closer = t_ring < best
-        best = np.where(closer, t_ring, best)
-        who = np.where(closer, j, who)
+                    ru = pu + t * vu
+                    rw = pw + t * vw
+                    rr = ru * ru + rw * rw
+                    ok = (t > tiny) & (rr >= r1_sq) & (rr <= r2_sq)
+                    np.minimum(t_ring, t, out=t_ring, where=ok)
+                for t, z, valid in roots:  # cylindrical faces
+                    ok = valid & (z >= lo) & (z <= hi)
+                    np.minimum(t_ring, t, out=t_ring, where=ok)
+            closer = t_ring < best
+            np.copyto(best, t_ring, where=closer)
+            who[closer] = j
     return who
 
 
-def _frame(normal: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Two unit tangents completing the unit normals (rows) to right-handed frames."""
-    helper = np.where(np.abs(normal[:, :1]) < 0.9, [[1.0, 0.0, 0.0]], [[0.0, 1.0, 0.0]])
-    t1 = np.cross(normal, helper)
-    t1 /= np.linalg.norm(t1, axis=1, keepdims=True)
-    return t1, np.cross(normal, t1)
+def _cross(a: Sequence[np.ndarray], b: Sequence[np.ndarray]) -> tuple[np.ndarray, ...]:
+    """a x b of vectors given as coordinate columns (numpy.cross's arithmetic)."""
+    return (
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    )
 
 
-def _emitters(ring: PackRing, n: int, rng: np.random.Generator) -> tuple[np.ndarray, ...]:
-    """Points, unit outward normals and weights (face area share per ray) on the +s/2 coil."""
+def _frame(normal: Sequence[np.ndarray]) -> tuple[tuple[np.ndarray, ...], tuple[np.ndarray, ...]]:
+    """Two unit tangents completing the unit normals (coordinate columns) to right-handed
+    frames."""
+    x_helper = np.abs(normal[0]) < 0.9  # (1, 0, 0) unless the normal lies near x: (0, 1, 0)
+    helper = (np.where(x_helper, 1.0, 0.0), np.where(x_helper, 0.0, 1.0), np.zeros_like(normal[0]))
+    t1 = _cross(normal, helper)
+    norm = np.sqrt(t1[0] * t1[0] + t1[1] * t1[1] + t1[2] * t1[2])
+    t1 = (t1[0] / norm, t1[1] / norm, t1[2] / norm)
+    return t1, _cross(normal, t1)
+
+
+def _emitters(ring: PackRing, n: int, rng: np.random.Generator) -> tuple:
+    """Points and unit outward normals (coordinate columns) and weights (face area share per
+    ray) on the +s/2 coil."""
     a = ring.axis_index
     u, w = _perp(a)
     r0, d, wd = ring.radius_m, ring.depth_m, ring.width_m
@@ -115,40 +134,45 @@ def _emitters(ring: PackRing, n: int, rng: np.random.Generator) -> tuple[np.ndar
         ("high", annulus),
     )
     total = sum(area for _, area in faces)
-    pts, nrm, wts = [], [], []
+    pts: list[list[np.ndarray]] = [[], [], []]
+    nrm: list[list[np.ndarray]] = [[], [], []]
+    wts = []
     for kind, area in faces:
         m = max(16, round(n * area / total))
         phi = 2.0 * np.pi * rng.random(m)
-        p = np.zeros((m, 3))
-        nv = np.zeros((m, 3))
+        cos, sin = np.cos(phi), np.sin(phi)
+        p = [np.zeros(m), np.zeros(m), np.zeros(m)]
+        nv = [np.zeros(m), np.zeros(m), np.zeros(m)]
         if kind in ("inner", "outer"):
             rc = r1 if kind == "inner" else r2
             sign = -1.0 if kind == "inner" else 1.0
-            p[:, u], p[:, w] = rc * np.cos(phi), rc * np.sin(phi)
-            p[:, a] = c + wd * (rng.random(m) - 0.5)
-            nv[:, u], nv[:, w] = sign * np.cos(phi), sign * np.sin(phi)
+            p[u], p[w] = rc * cos, rc * sin
+            p[a] = c + wd * (rng.random(m) - 0.5)
+            nv[u], nv[w] = sign * cos, sign * sin
         else:
             rad = np.sqrt(r1 * r1 + rng.random(m) * (r2 * r2 - r1 * r1))
-            p[:, u], p[:, w] = rad * np.cos(phi), rad * np.sin(phi)
-            p[:, a] = c + (0.5 if kind == "high" else -0.5) * wd
-            nv[:, a] = 1.0 if kind == "high" else -1.0
-        pts.append(p)
-        nrm.append(nv)
+            p[u], p[w] = rad * cos, rad * sin
+            p[a] = np.full(m, c + (0.5 if kind == "high" else -0.5) * wd)
+            nv[a] = np.full(m, 1.0 if kind == "high" else -1.0)
+        for i in range(3):
+            pts[i].append(p[i])
+            nrm[i].append(nv[i])
         wts.append(np.full(m, area / total / m))
-    return np.vstack(pts), np.vstack(nrm), np.concatenate(wts)
+    return (
+        tuple(np.concatenate(x) for x in pts),
+        tuple(np.concatenate(x) for x in nrm),
+        np.concatenate(wts),
+    )
 
 
-def _cosine_directions(normal: np.ndarray, rng: np.random.Generator) -> np.ndarray:
-    """Lambert (cosine-weighted) directions about each unit normal."""
-    m = normal.shape[0]
+def _cosine_directions(normal: Sequence[np.ndarray], rng: np.random.Generator) -> tuple:
+    """Lambert (cosine-weighted) directions about each unit normal (coordinate columns)."""
+    m = normal[0].shape[0]
     xi1, xi2 = rng.random(m), rng.random(m)
     s = np.sqrt(xi1)
     t1, t2 = _frame(normal)
-    return (
-        (s * np.cos(2.0 * np.pi * xi2))[:, None] * t1
-        + (s * np.sin(2.0 * np.pi * xi2))[:, None] * t2
-        + np.sqrt(1.0 - xi1)[:, None] * normal
-    )
+    c1, c2, c3 = s * np.cos(2.0 * np.pi * xi2), s * np.sin(2.0 * np.pi * xi2), np.sqrt(1.0 - xi1)
+    return tuple(c1 * t1[i] + c2 * t2[i] + c3 * normal[i] for i in range(3))
 
 
 @functools.lru_cache(maxsize=64)

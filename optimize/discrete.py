@@ -27,6 +27,7 @@ import numpy as np
 
 from optimize import hardware as hw
 from optimize import problem as pb
+from optimize import screen
 from optimize.result import HardwareResult, OptimizationResult, Shortfall
 from optimize.system import DesignModel, prepare
 
@@ -279,7 +280,10 @@ def _size_design(
         here = hw.hardware_of(exact)
         candidates.sort(key=lambda c: _copper_mass_kg({**here, **relaxed, **c}, exact))
 
-    ctx = _Attempt(solver, fixed_model, relaxed, min_bore, warm, scales)
+    # the least required torque, once: neighbours whose field-only limits already break at the
+    # least field the requirements need are ruled out without their NLP (optimize.screen)
+    least = screen.least_required_torque_Nm(exact) if SCREEN and screen.screens(model) else None
+    ctx = _Attempt(solver, fixed_model, relaxed, min_bore, warm, scales, least)
     # with a standby helper (it compiled the fixed-hardware problem while the relaxation ran)
     # the neighbours run there and on a sibling forked from it; else the first here (it
     # compiles the problem the forked ones then share) and the rest on the free cores. Each
@@ -363,15 +367,21 @@ class _Attempt(NamedTuple):
     min_bore_m: float
     warm: dict[str, Any]
     scales: Any
+    #: :func:`optimize.screen.least_required_torque_Nm` (None: no screen)
+    least_required_Nm: float | None = None
 
 
 def _attempt(ctx: _Attempt, combo: dict[str, float]) -> OptimizationResult | _Failed | None:
     """One buildable neighbour re-optimised (fixed hardware) from the relaxation's operating
     point, with the relaxation's scales; None if it cannot be built, :class:`_Failed` if its
-    solve finds no solution."""
+    solve finds no solution or a limit rules it out first (:func:`optimize.screen.out_of_reach`)."""
     m = buildable(ctx.fixed_model, {**ctx.relaxed, **combo}, ctx.min_bore_m)
     if m is None:
         return None
+    if ctx.least_required_Nm is not None:
+        m = prepare(m)
+        if screen.out_of_reach(m, ctx.least_required_Nm) is not None:
+            return _Failed(0, "out of reach")
     try:
         return ctx.solver.optimize_design(
             m,
@@ -402,6 +412,9 @@ def _full_result(ctx: _Attempt, values: dict[str, float]) -> OptimizationResult:
 _MAPPER: list[Callable[[Callable[[Any], Any], list[Any]], list[Any]] | None] = [None]
 #: Neighbours tried at once when the first feasible one wins (``copper_mass``).
 BATCH = 8
+#: Neighbours a field-only limit rules out at the least field needed skip their NLP
+#: (:mod:`optimize.screen`). False: every one solved, for the test that both agree.
+SCREEN = True
 #: A neighbour whose solve finds no solution is not evaluated (its result is never read; a
 #: quarter of a failed neighbour's time). False: the long way, for the test that both agree.
 SKIP_FAILED_EVALUATION = True

@@ -88,6 +88,7 @@ def test_failed_neighbours_skipped_evaluation_changes_nothing(model, monkeypatch
     )
     monkeypatch.setattr(discrete, "_MAPPER", [None])  # in this process: count the evaluations
     monkeypatch.setattr(discrete, "_STANDBY", [None])
+    monkeypatch.setattr(discrete, "SCREEN", False)  # every failed neighbour reaches its NLP
     calls = [0]
     real = solve.evaluate
 
@@ -163,3 +164,86 @@ def test_candidate_neighbours_rank_as_their_full_solves(model, monkeypatch):
             )
             compared += 1
     assert compared >= 4, "several feasible neighbours compared"
+
+
+@pytest.fixture(scope="module")
+def copper():
+    """Least copper at safety factor 2.5 with six keys: most neighbours are infeasible."""
+    sets = ["optimize.objective=copper_mass", "requirements.min_safety_factor=2.5"]
+    return prepare(build_model(load_design(None, sets)))
+
+
+def test_least_required_torque_bounds_a_dense_grid(copper):
+    """optimize.screen.least_required_torque_Nm against a brute-force 500 x 500 grid of the
+    search box (speed and spiral turns met): a lower bound, within 1e-3 of the grid's least."""
+    import numpy as np
+
+    from optimize import physics as ph
+    from optimize.evaluate import worst_required
+    from optimize.screen import least_required_torque_Nm
+
+    b, c, req = copper.bounds, copper.constants, copper.requirements
+    A, F = np.meshgrid(
+        np.linspace(b.helical_angle_min_rad, b.helical_angle_max_rad, 500),
+        np.geomspace(b.frequency_min_hz, b.frequency_max_hz, 500),
+        indexing="ij",
+    )
+    ok = (np.asarray(ph.speed_m_s(A, F, c, req)) >= req.min_speed_m_s) & (
+        np.asarray(ph.spiral_turns(A, c)) >= req.min_spiral_turns
+    )
+    brute = float(np.where(ok, worst_required(copper, A, F).total_Nm, np.inf).min())
+    least = least_required_torque_Nm(copper)
+    assert least <= brute, "a lower bound of every allowed grid point's required torque"
+    assert least >= brute * (1 - 1e-3), "and the least of them to 1e-3 (grid spacing)"
+
+
+@pytest.mark.parametrize(
+    ("sf", "free"), [(2.5, SIX), (1.5, SIX[:4]), (3.2, SIX)], ids=["six", "four", "six-high"]
+)
+def test_screen_rules_out_only_neighbours_the_nlp_cannot_solve(copper, monkeypatch, sf, free):
+    """Every buildable neighbour of a least-copper sizing solved in full (screen off): none the
+    screen rules out is feasible, and the screen rules out most of the infeasible ones."""
+    from optimize.screen import least_required_torque_Nm, out_of_reach
+
+    _serial(monkeypatch)
+    monkeypatch.setattr(discrete, "SCREEN", False)
+    monkeypatch.setattr(discrete, "BATCH", 1000)  # every neighbour, not only up to the winner
+    seen = []
+    real = discrete._attempt
+
+    def keep(ctx, combo):
+        res = real(ctx, combo)
+        seen.append((ctx, combo, res))
+        return res
+
+    monkeypatch.setattr(discrete, "_attempt", keep)
+    m = replace(copper, requirements=replace(copper.requirements, min_safety_factor=sf))
+    optimize_design(replace(m, sizing=hw.Sizing(free)))
+    least = least_required_torque_Nm(m)
+    screened = infeasible = 0
+    for ctx, combo, res in seen:
+        if res is None:
+            continue
+        built = discrete.buildable(ctx.fixed_model, {**ctx.relaxed, **combo}, ctx.min_bore_m)
+        row = out_of_reach(built, least)
+        feasible = not isinstance(res, discrete._Failed) and res.status == "optimal"
+        assert not (row and feasible), f"{combo}: ruled out by {row} but its NLP solves"
+        infeasible += not feasible
+        screened += row is not None
+    assert infeasible >= 5, "the sizing has infeasible neighbours to rule out"
+    assert screened >= 0.8 * infeasible, f"most ruled out ({screened} of {infeasible})"
+
+
+def test_screened_sizing_is_the_unscreened_one(copper, monkeypatch):
+    """The screen changes what is solved, not the answer: the same sized hardware, objective
+    and evaluation bit for bit (only the iterations spent differ)."""
+    _serial(monkeypatch)
+    m = replace(copper, sizing=hw.Sizing(SIX))
+    fast = optimize_design(m)
+    monkeypatch.setattr(discrete, "SCREEN", False)
+    slow = optimize_design(m)
+    assert fast.status == "optimal" and fast.hardware.candidates > fast.hardware.feasible
+    assert replace(fast, solve_time_s=0.0, iterations=0) == replace(
+        slow, solve_time_s=0.0, iterations=0
+    ), "the same sized result with and without the screen"
+    assert fast.iterations < slow.iterations, "fewer NLP iterations spent"

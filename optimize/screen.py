@@ -1,0 +1,130 @@
+"""Hardware that cannot work, decided without its NLP (sizing's neighbours in copper order).
+
+A fixed-hardware design is feasible only if some operating point (helical angle α, frequency
+f, centre field B0) meets every row. Two facts bound B0 from below without the coils:
+
+1. every tissue's safety-factor row asks ``m · w · B0 >= SF · need_i(α, f)`` (m the magnet's
+   moment, w the workspace field factor), so ``B0 >= SF · R_min / (m · w)`` with ``R_min`` the
+   least worst-tissue required torque over the (α, f) the requirements allow (the search box,
+   speed, spiral turns; the self-lock rows only shrink that set, so they are left out);
+2. ``R_min`` depends on the capsule, the tissues and the requirements only: the same for every
+   neighbour whose free hardware is coils alone, so it is found once per sizing
+   (:func:`least_required_torque_Nm`: the best point of a dense grid, polished by SLSQP).
+
+The current, hot-spot, surface-temperature and copper-loss rows only grow with B0 (more current,
+more heat), so if one of them is already violated at that least field the design is infeasible
+at every operating point (:func:`out_of_reach`); the voltage and exposure rows also depend on f
+and are not used. Margins of 1e-6 relative on both steps keep the answer on the side of the
+NLP's own tolerances (1e-10): whatever is screened out, the NLP would not solve.
+tests/test_sizing_speed.py checks every buildable neighbour of three sizings against its full
+solve.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from optimize import physics as ph
+from optimize.system import DesignModel, prepare
+
+__all__ = ["RTOL", "least_required_torque_Nm", "out_of_reach", "screens"]
+
+#: Relative margin on the least required torque and on each limit before a design is ruled out.
+RTOL = 1e-6
+#: Grid of the search for the least required torque (angle x log-frequency points).
+_GRID = 96
+#: Rows that grow with the centre field alone (the voltage and exposure rows depend on f too).
+_FIELD_ONLY = ("current_", "hot_spot_", "surface_temperature_", "power")
+
+
+def screens(model: DesignModel) -> bool:
+    """Whether neighbours of ``model``'s sizing share one least required torque: the free
+    hardware is coils only (no magnet or spiral key) and no tissue scenarios set the need."""
+    sizing = model.sizing
+    if sizing is None or (model.scenarios is not None and model.scenarios.whole):
+        return False
+    return all(v.name.split(".", 1)[0] in ("x", "y", "z") for v in sizing.free)
+
+
+def least_required_torque_Nm(model: DesignModel) -> float:
+    """The least worst-tissue required torque over the (α, f) the requirements allow, N·m.
+
+    A dense grid over the search box (angle x log frequency) and SLSQP from its best point in
+    each angle band (the problem need not be convex in the angle), with the speed and
+    spiral-turn requirements relaxed by :data:`RTOL`; the smallest value found, minus
+    :data:`RTOL` of it (a lower bound to the polish's tolerance). ``inf`` where no point of the
+    grid meets the speed and turn requirements (nothing is then ruled out by it).
+    """
+    from scipy.optimize import minimize
+
+    from optimize.evaluate import worst_required
+
+    model = prepare(model)
+    b, c, req = model.bounds, model.constants, model.requirements
+    lo_f, hi_f = np.log(b.frequency_min_hz), np.log(b.frequency_max_hz)
+    alphas = np.linspace(b.helical_angle_min_rad, b.helical_angle_max_rad, _GRID)
+    A, LF = np.meshgrid(alphas, np.linspace(lo_f, hi_f, _GRID), indexing="ij")
+    v_min = req.min_speed_m_s * (1.0 - RTOL)
+    n_min = req.min_spiral_turns * (1.0 - RTOL)
+
+    def speed(a, lf):
+        return np.asarray(ph.speed_m_s(a, np.exp(lf), c, req), dtype=float)
+
+    def turns(a):
+        return np.asarray(ph.spiral_turns(a, c), dtype=float)
+
+    def need(a, lf):
+        return np.asarray(worst_required(model, a, np.exp(lf)).total_Nm, dtype=float)
+
+    ok = (speed(A, LF) >= v_min) & (turns(A) >= n_min)
+    grid = np.where(ok, need(A, LF), np.inf)
+    best = float(grid.min())
+    if not np.isfinite(best):
+        return float("inf")
+    scale = abs(best) if best != 0.0 else 1.0
+    speed_ref = max(req.min_speed_m_s, 1e-12)
+    constraints = [
+        {"type": "ineq", "fun": lambda z: (float(speed(z[0], z[1])) - v_min) / speed_ref},
+        {"type": "ineq", "fun": lambda z: float(turns(z[0])) - n_min},
+    ]
+    box = [(b.helical_angle_min_rad, b.helical_angle_max_rad), (lo_f, hi_f)]
+    for band in np.array_split(np.arange(_GRID), max(b.starts, 1)):
+        sub = grid[band]
+        if not np.isfinite(sub.min()):
+            continue
+        i, j = np.unravel_index(np.argmin(sub), sub.shape)
+        res = minimize(
+            lambda z: float(need(z[0], z[1])) / scale,
+            [A[band][i, j], LF[band][i, j]],
+            method="SLSQP",
+            bounds=box,
+            constraints=constraints,
+            options={"ftol": 1e-14, "maxiter": 200},
+        )
+        z = np.clip(res.x, [lo for lo, _ in box], [hi for _, hi in box])
+        if speed(z[0], z[1]) >= v_min * (1.0 - 1e-9) and turns(z[0]) >= n_min * (1.0 - 1e-9):
+            best = min(best, float(need(z[0], z[1])))
+    return best - RTOL * abs(best)
+
+
+def out_of_reach(model: DesignModel, least_required_Nm: float) -> str | None:
+    """The limit row the fixed-hardware ``model`` already breaks at the least field its
+    requirements need, ``SF · R_min / (m · w)`` (then no operating point is feasible); None if
+    none does (the NLP decides)."""
+    if not np.isfinite(least_required_Nm) or least_required_Nm <= 0.0:
+        return None
+    model = prepare(model)
+    c = model.constants
+    per_tesla = float(ph.available_torque_Nm(1.0, c))  # m · w: available torque per tesla
+    if not per_tesla > 0.0:
+        return None
+    sf = max(float(model.requirements.min_safety_factor), 0.0)
+    field = sf * least_required_Nm / per_tesla
+    f = model.bounds.frequency_min_hz  # only the field's rows are read
+    for term in ph.limit_terms(f, field, c, model.limits, model.ambient_temperature_C):
+        if not term.name.startswith(_FIELD_ONLY):
+            continue
+        value, allowed = float(np.asarray(term.value)), float(np.asarray(term.allowed))
+        if not np.isfinite(value) or value > allowed + RTOL * abs(allowed):
+            return term.name
+    return None
