@@ -65,11 +65,17 @@ class AirProperties:
 
 def air_properties(temperature_C: Any) -> AirProperties:
     """Dry air at 1 atm: Sutherland viscosity and conductivity, ideal-gas density, c_p const."""
+    return AirProperties(*_air(temperature_C))
+
+
+def _air(temperature_C: Any) -> tuple[Any, Any, Any, Any]:
+    """:func:`air_properties` as a tuple (conductivity, ν, diffusivity, Pr): the pack's
+    correlation reads it thousands of times per sizing."""
     t = temperature_C + _KELVIN
     mu = 1.716e-5 * (t / 273.15) ** 1.5 * (273.15 + 110.4) / (t + 110.4)
     k = 0.0241 * (t / 273.15) ** 1.5 * (273.15 + 194.0) / (t + 194.0)
     rho = _P_ATM / (_R_AIR * t)
-    return AirProperties(k, mu / rho, k / (rho * _CP), mu * _CP / k)
+    return k, mu / rho, k / (rho * _CP), mu * _CP / k
 
 
 def vertical_plate_nusselt(ra: Any, pr: Any) -> Any:
@@ -141,16 +147,10 @@ def _pack_convection_W_m2K(
         surface_C = max(float(surface_C), float(ambient_C))
     else:
         surface_C = bk.fmax(surface_C, ambient_C)
-    air = air_properties(0.5 * (surface_C + ambient_C))
+    k, nu, diffusivity, pr = _air(0.5 * (surface_C + ambient_C))
     dt = surface_C - ambient_C
     dt = (dt * dt + _DT_FLOOR_K * _DT_FLOOR_K) ** 0.5
-    buoy = (
-        _G
-        / (0.5 * (surface_C + ambient_C) + _KELVIN)
-        * dt
-        / (air.kinematic_viscosity_m2_s * air.diffusivity_m2_s)
-    )  # Ra / L³
-    k, pr = air.conductivity_W_mK, air.prandtl
+    buoy = _G / (0.5 * (surface_C + ambient_C) + _KELVIN) * dt / (nu * diffusivity)  # Ra / L³
     w, d = width_m, depth_m
     diam = 2.0 * (w + d) / bk.pi
     if vertical_axis:
@@ -165,7 +165,7 @@ def _pack_convection_W_m2K(
         h_nat = horizontal_cylinder_nusselt(buoy * diam * diam * diam, pr) * k / diam
     if not forced:
         return h_nat
-    re = air_speed_m_s * diam / air.kinematic_viscosity_m2_s
+    re = air_speed_m_s * diam / nu
     h_forced = forced_cylinder_nusselt(re, pr) * k / diam
     return (h_forced**3 + h_nat**3) ** (1.0 / 3.0)
 

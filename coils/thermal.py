@@ -36,7 +36,7 @@ from typing import Any
 import numpy as np
 
 from coils.conduction import robin_statics, robin_transient
-from coils.convection import pack_convection_W_m2K
+from coils.convection import _pack_convection_W_m2K, pack_convection_W_m2K
 from spiralcap import backend as bk
 from spiralcap.constants import (
     COPPER_RESISTIVITY_20C_ohm_m,
@@ -302,6 +302,8 @@ def surface_loss_W(
 
 def _where(condition: Any, if_true: Any, if_false: Any) -> Any:
     """:func:`spiralcap.backend.where`, a Python float where numpy gives a 0-d array."""
+    if type(condition) in (bool, float) and type(if_true) is float and type(if_false) is float:
+        return if_true if condition else if_false  # the same float, without numpy
     return _plain(bk.where(condition, if_true, if_false))
 
 
@@ -317,13 +319,30 @@ class _Faces:
 
     def __init__(self, pack: WindingPack, ambient_C: Any, env: Surroundings) -> None:
         self.pack = pack
-        self.area = pack.surface_area_m2
-        self.eps_sigma = pack.emissivity * STEFAN_BOLTZMANN_W_m2K4 * env.radiating_fraction
+        # numpy scalars (the view factors' rows) as Python floats: the same values, float math
+        self.area = _plain(pack.surface_area_m2)
+        self.eps_sigma = _plain(pack.emissivity * STEFAN_BOLTZMANN_W_m2K4 * env.radiating_fraction)
         self.ambient_C = ambient_C
-        self.tr = env.radiant_C + _KELVIN
+        self.tr = _plain(env.radiant_C + _KELVIN)
         self.tr2 = self.tr * self.tr
+        # numbers throughout: the correlation called directly (the sizing's hot path)
+        self._floats = pack.convection != "fixed" and all(
+            type(x) is float
+            for x in (pack.pack_width_m, pack.pack_depth_m, ambient_C, pack.air_speed_m_s)
+        )
 
     def convection(self, surface_C: Any) -> Any:
+        if self._floats and type(surface_C) is float:
+            p = self.pack
+            return _pack_convection_W_m2K(
+                p.pack_width_m,
+                p.pack_depth_m,
+                surface_C,
+                self.ambient_C,
+                p.air_speed_m_s,
+                bool(p.vertical_axis),
+                p.convection == "forced",
+            )
         return convection_coefficient_W_m2K(self.pack, surface_C, self.ambient_C)
 
     def radiation(self, surface_C: Any) -> Any:
@@ -527,6 +546,9 @@ def surface_estimate_C(
     rise: its mean-above-surface share, ~3 % of the rise, left out) in 5 Newton steps from the
     same start; with a session, the lumped fraction 1 - e^(-t/τ) of that rise.
     """
+    resistance_20C_ohm, current_amplitude_A, ambient_C = (
+        _plain(x) for x in (resistance_20C_ohm, current_amplitude_A, ambient_C)
+    )
     env = _surroundings(env, ambient_C)
     alpha = COPPER_TEMPERATURE_COEFFICIENT_per_K
     half_i2 = 0.5 * current_amplitude_A * current_amplitude_A
