@@ -3,9 +3,14 @@
 Each coil's winding pack is a ring of rectangular section (axial width w, radial depth d) about
 its pair's axis at ±s/2; its four faces (inner and outer cylinder, two annuli) emit diffusely.
 The fraction of a pack's emission that reaches each pair's packs, or escapes to the room, is
-found by a deterministic ray trace (fixed seed, cosine-weighted directions from points spread
-over the faces in proportion to their area, exact ray-cylinder and ray-plane intersections,
-numpy-vectorised), computed once per geometry and cached.
+found by a deterministic quasi-Monte Carlo ray trace: the first :data:`RAYS_PER_PAIR` points of
+the 5-D Halton sequence (bases 2, 3, 5, 7, 11) pick a face in proportion to its area, a point on
+it and a cosine-weighted direction; exact ray-cylinder and ray-plane intersections,
+numpy-vectorised; computed once per geometry and cached. The same points serve every geometry,
+so the fractions move with the packs in steps of 1/n (a ray crossing an edge), not by a
+re-drawn sample. Against a 2-million-ray random trace of the built-in packs the 8192 Halton
+rays are within 0.0026 (20 000 random rays: 0.0044; tests/test_coils_cooling.py checks 0.03
+against an independent tracer).
 
 Both coils of a pair are mirror images in the pair's mid-plane, and every pack is symmetric in
 the other two mid-planes, so the coil at +s/2 stands for its pair. Row k of the result holds
@@ -23,9 +28,11 @@ import numpy as np
 
 __all__ = ["RAYS_PER_PAIR", "PackRing", "view_factors"]
 
-#: Rays traced per pair: the sampling error of a fraction F is sqrt(F (1 - F) / n) <= 0.0035.
-RAYS_PER_PAIR = 20_000
-_SEED = 19
+#: Rays traced per pair (Halton points 1..n).
+RAYS_PER_PAIR = 8192
+#: The Halton bases of the five coordinates: face, azimuth, position on the face, and the
+#: direction's two (cos² of the polar angle, azimuth about the normal).
+_BASES = (2, 3, 5, 7, 11)
 
 
 @dataclass(frozen=True)
@@ -99,7 +106,7 @@ def _first_hit(
 
 
 def _cross(a: Sequence[np.ndarray], b: Sequence[np.ndarray]) -> tuple[np.ndarray, ...]:
-    """a x b of vectors given as coordinate columns (numpy.cross's arithmetic)."""
+    """a x b of vectors given as coordinate columns."""
     return (
         a[1] * b[2] - a[2] * b[1],
         a[2] * b[0] - a[0] * b[2],
@@ -118,57 +125,62 @@ def _frame(normal: Sequence[np.ndarray]) -> tuple[tuple[np.ndarray, ...], tuple[
     return t1, _cross(normal, t1)
 
 
-def _emitters(ring: PackRing, n: int, rng: np.random.Generator) -> tuple:
-    """Points and unit outward normals (coordinate columns) and weights (face area share per
-    ray) on the +s/2 coil."""
+def radical_inverse(index: np.ndarray, base: int) -> np.ndarray:
+    """Van der Corput radical inverse of non-negative integers in ``base`` (Halton's
+    coordinates): the digits of ``index`` mirrored about the radix point."""
+    i = np.array(index, dtype=np.int64)
+    out = np.zeros(i.shape)
+    scale = 1.0
+    while np.any(i > 0):
+        scale /= base
+        out += scale * (i % base)
+        i //= base
+    return out
+
+
+@functools.lru_cache(maxsize=4)
+def halton_points(n: int) -> np.ndarray:
+    """Points 1..n of the Halton sequence in :data:`_BASES` (n x 5; point 0, the origin, left
+    out)."""
+    index = np.arange(1, n + 1)
+    pts = np.stack([radical_inverse(index, b) for b in _BASES], axis=1)
+    pts.setflags(write=False)
+    return pts
+
+
+def _emitters(ring: PackRing, u: np.ndarray) -> tuple:
+    """Points and unit outward normals (coordinate columns) on the +s/2 coil's faces, one per
+    row of ``u`` (n x 3 in [0, 1): face by area, azimuth, position across the face)."""
     a = ring.axis_index
-    u, w = _perp(a)
+    v, w = _perp(a)
     r0, d, wd = ring.radius_m, ring.depth_m, ring.width_m
     r1, r2 = r0 - 0.5 * d, r0 + 0.5 * d
     c = 0.5 * ring.separation_m
     annulus = np.pi * (r2 * r2 - r1 * r1)
-    faces = (  # (kind, area)
-        ("inner", 2.0 * np.pi * r1 * wd),
-        ("outer", 2.0 * np.pi * r2 * wd),
-        ("low", annulus),
-        ("high", annulus),
+    areas = np.array([2.0 * np.pi * r1 * wd, 2.0 * np.pi * r2 * wd, annulus, annulus])
+    # 0 inner cylinder, 1 outer cylinder, 2 lower annulus, 3 upper annulus
+    face = np.minimum(np.searchsorted(np.cumsum(areas) / areas.sum(), u[:, 0], side="right"), 3)
+    phi = 2.0 * np.pi * u[:, 1]
+    cos, sin = np.cos(phi), np.sin(phi)
+    cylinder = face < 2
+    upper = face == 3
+    radius = np.where(
+        cylinder, np.where(face == 0, r1, r2), np.sqrt(r1 * r1 + u[:, 2] * (r2 * r2 - r1 * r1))
     )
-    total = sum(area for _, area in faces)
-    pts: list[list[np.ndarray]] = [[], [], []]
-    nrm: list[list[np.ndarray]] = [[], [], []]
-    wts = []
-    for kind, area in faces:
-        m = max(16, round(n * area / total))
-        phi = 2.0 * np.pi * rng.random(m)
-        cos, sin = np.cos(phi), np.sin(phi)
-        p = [np.zeros(m), np.zeros(m), np.zeros(m)]
-        nv = [np.zeros(m), np.zeros(m), np.zeros(m)]
-        if kind in ("inner", "outer"):
-            rc = r1 if kind == "inner" else r2
-            sign = -1.0 if kind == "inner" else 1.0
-            p[u], p[w] = rc * cos, rc * sin
-            p[a] = c + wd * (rng.random(m) - 0.5)
-            nv[u], nv[w] = sign * cos, sign * sin
-        else:
-            rad = np.sqrt(r1 * r1 + rng.random(m) * (r2 * r2 - r1 * r1))
-            p[u], p[w] = rad * cos, rad * sin
-            p[a] = np.full(m, c + (0.5 if kind == "high" else -0.5) * wd)
-            nv[a] = np.full(m, 1.0 if kind == "high" else -1.0)
-        for i in range(3):
-            pts[i].append(p[i])
-            nrm[i].append(nv[i])
-        wts.append(np.full(m, area / total / m))
-    return (
-        tuple(np.concatenate(x) for x in pts),
-        tuple(np.concatenate(x) for x in nrm),
-        np.concatenate(wts),
-    )
+    p: list[np.ndarray] = [np.empty(0)] * 3
+    nv: list[np.ndarray] = [np.empty(0)] * 3
+    p[v], p[w] = radius * cos, radius * sin
+    p[a] = np.where(cylinder, c + wd * (u[:, 2] - 0.5), c + np.where(upper, 0.5, -0.5) * wd)
+    sign = np.where(cylinder, np.where(face == 0, -1.0, 1.0), 0.0)
+    nv[v], nv[w] = sign * cos, sign * sin
+    nv[a] = np.where(cylinder, 0.0, np.where(upper, 1.0, -1.0))
+    return tuple(p), tuple(nv)
 
 
-def _cosine_directions(normal: Sequence[np.ndarray], rng: np.random.Generator) -> tuple:
-    """Lambert (cosine-weighted) directions about each unit normal (coordinate columns)."""
-    m = normal[0].shape[0]
-    xi1, xi2 = rng.random(m), rng.random(m)
+def _cosine_directions(normal: Sequence[np.ndarray], u: np.ndarray) -> tuple:
+    """Lambert (cosine-weighted) directions about each unit normal (coordinate columns), from
+    ``u`` (n x 2 in [0, 1): cos² of the polar angle, azimuth about the normal)."""
+    xi1, xi2 = u[:, 0], u[:, 1]
     s = np.sqrt(xi1)
     t1, t2 = _frame(normal)
     c1, c2, c3 = s * np.cos(2.0 * np.pi * xi2), s * np.sin(2.0 * np.pi * xi2), np.sqrt(1.0 - xi1)
@@ -177,15 +189,14 @@ def _cosine_directions(normal: Sequence[np.ndarray], rng: np.random.Generator) -
 
 @functools.lru_cache(maxsize=64)
 def _traced(rings: tuple[PackRing, ...], rays: int) -> np.ndarray:
-    rng = np.random.default_rng(_SEED)
+    u = halton_points(rays)
     out = np.zeros((len(rings), 1 + len(rings)))
     for k, ring in enumerate(rings):
-        p, nv, wt = _emitters(ring, rays, rng)
-        v = _cosine_directions(nv, rng)
-        who = _first_hit(p, v, rings)
-        out[k, 0] = wt[who < 0].sum()
+        p, nv = _emitters(ring, u[:, :3])
+        who = _first_hit(p, _cosine_directions(nv, u[:, 3:]), rings)
+        out[k, 0] = np.count_nonzero(who < 0) / rays
         for j in range(len(rings)):
-            out[k, 1 + j] = wt[who == j].sum()
+            out[k, 1 + j] = np.count_nonzero(who == j) / rays
     out.setflags(write=False)
     return out
 
@@ -194,7 +205,7 @@ def view_factors(rings: Sequence[PackRing], rays: int = RAYS_PER_PAIR) -> np.nda
     """Fractions of each pair's diffuse emission reaching ``[room, pair 0, pair 1, pair 2]``.
 
     Rows sum to 1; ``[:, 0]`` is the ``radiation_view_factor`` (what leaves the coil set).
-    Deterministic (fixed seed) and cached per geometry (values rounded to 1e-12 m).
+    Deterministic (Halton points) and cached per geometry (values rounded to 1e-12 m).
     """
     key = tuple(
         PackRing(
