@@ -18,6 +18,7 @@ import bisect
 import functools
 import itertools
 import math
+import os
 import time
 from collections.abc import Callable
 from dataclasses import replace
@@ -161,13 +162,20 @@ def size_design(
     return res
 
 
-def _start_standby(solver: FixedHardwareSolver, exact: DesignModel, helpers: list[Any]) -> Any:
-    """A helper that compiles the neighbours' fixed-hardware problem (that of ``exact``) now,
-    on a free core, while the relaxation runs here; None without one."""
+def _start_standby(
+    solver: FixedHardwareSolver,
+    exact: DesignModel,
+    helpers: list[Any],
+    fixed_model: DesignModel,
+    token: tuple | None,
+) -> Any:
+    """A helper that compiles the neighbours' fixed-hardware problem (that of ``exact``) and
+    finds the screen's least required torque now, on a free core, while the relaxation runs
+    here; None without one."""
     factory = _STANDBY[0]
     if factory is None:
         return None
-    standby = factory(functools.partial(solver.warm_up, exact))
+    standby = factory(functools.partial(_get_ready, solver, exact, fixed_model, token))
     if standby is not None:
         helpers.append(standby)
     return standby
@@ -194,7 +202,11 @@ def _size_design(
     hw_now = {v.name: min(max(base[v.name], v.lo), v.hi) for v in free}
     exact = buildable(fixed_model, hw_now, 0.0, checks=False) or fixed_model
     exact = prepare(exact)
-    standby = _start_standby(solver, exact, helpers)
+    # neighbours whose field-only limits already break at the least field the requirements
+    # need are ruled out without their NLP (optimize.screen); the least required torque is
+    # found once per sizing, by the standby helper while the relaxation runs here
+    token = (os.getpid(), next(_SIZINGS)) if SCREEN and screen.screens(model) else None
+    standby = _start_standby(solver, exact, helpers, fixed_model, token)
     hs = hw.HardwareStructure(
         tuple(v.name for v in free),
         hw.helmholtz_flags(model),
@@ -280,10 +292,7 @@ def _size_design(
         here = hw.hardware_of(exact)
         candidates.sort(key=lambda c: _copper_mass_kg({**here, **relaxed, **c}, exact))
 
-    # the least required torque, once: neighbours whose field-only limits already break at the
-    # least field the requirements need are ruled out without their NLP (optimize.screen)
-    least = screen.least_required_torque_Nm(exact) if SCREEN and screen.screens(model) else None
-    ctx = _Attempt(solver, fixed_model, relaxed, min_bore, warm, scales, least)
+    ctx = _Attempt(solver, fixed_model, relaxed, min_bore, warm, scales, token)
     # with a standby helper (it compiled the fixed-hardware problem while the relaxation ran)
     # the neighbours run there and on a sibling forked from it; else the first here (it
     # compiles the problem the forked ones then share) and the rest on the free cores. Each
@@ -358,6 +367,31 @@ def _size_design(
     )
 
 
+def _get_ready(
+    solver: FixedHardwareSolver, exact: DesignModel, fixed_model: DesignModel, token: Any
+) -> None:
+    """The standby helper's preparation (see :func:`_start_standby`)."""
+    solver.warm_up(exact)
+    if token is not None:
+        _least_required_Nm(token, fixed_model)
+
+
+#: Sizings started in this process (with the pid, a token naming one sizing's screen)
+_SIZINGS = itertools.count()
+#: The screen's least required torque per sizing token (found once, in whichever process)
+_LEAST: dict[tuple, float] = {}
+
+
+def _least_required_Nm(token: tuple, fixed_model: DesignModel) -> float:
+    """:func:`optimize.screen.least_required_torque_Nm` of ``fixed_model``, once per
+    sizing (the neighbours' capsule, tissues and requirements are its own)."""
+    if token not in _LEAST:
+        if len(_LEAST) > 64:
+            _LEAST.clear()
+        _LEAST[token] = screen.least_required_torque_Nm(fixed_model)
+    return _LEAST[token]
+
+
 class _Attempt(NamedTuple):
     """What a neighbour's solve needs besides its whole turns and wires (pickled to helpers)."""
 
@@ -367,8 +401,8 @@ class _Attempt(NamedTuple):
     min_bore_m: float
     warm: dict[str, Any]
     scales: Any
-    #: :func:`optimize.screen.least_required_torque_Nm` (None: no screen)
-    least_required_Nm: float | None = None
+    #: the sizing's screen token (None: no screen; see :func:`_least_required_Nm`)
+    screen_token: tuple | None = None
 
 
 def _attempt(ctx: _Attempt, combo: dict[str, float]) -> OptimizationResult | _Failed | None:
@@ -378,9 +412,10 @@ def _attempt(ctx: _Attempt, combo: dict[str, float]) -> OptimizationResult | _Fa
     m = buildable(ctx.fixed_model, {**ctx.relaxed, **combo}, ctx.min_bore_m)
     if m is None:
         return None
-    if ctx.least_required_Nm is not None:
+    if ctx.screen_token is not None:
+        least = _least_required_Nm(ctx.screen_token, ctx.fixed_model)
         m = prepare(m)
-        if screen.out_of_reach(m, ctx.least_required_Nm) is not None:
+        if screen.out_of_reach(m, least) is not None:
             return _Failed(0, "out of reach")
     try:
         return ctx.solver.optimize_design(
