@@ -261,8 +261,10 @@ def optimize_design(
     field = xs["field_scaled"] * scales.field_T
     # the field ends below what the limits allow when the objective or a registered row says so
     # (a candidate: taken as set, its rows hold every limit to the solver's tolerance)
-    capacity = field if candidate else margin_grid(model, alpha, f, capacity=True).field_amplitude_T
-    field_set = candidate or _minimises_power(model) or field < float(capacity) * (1 - 1e-7)
+    capacity = (
+        field if candidate else float(margin_grid(model, alpha, f, capacity=True).field_amplitude_T)
+    )
+    field_set = candidate or _minimises_power(model) or field < capacity * (1 - 1e-7)
     # an explicit field only where the optimum's differs from the largest the limits allow (or
     # the model carries a set field the optimiser was free to move)
     given = field if field_set else (capacity if model.field_amplitude_T is not None else None)

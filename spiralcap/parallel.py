@@ -328,18 +328,42 @@ def available_cores() -> int:
         return os.cpu_count() or 1
 
 
-def _child(send: Any, parent_pid: int, fn: Callable[..., Any], args: tuple) -> None:
-    worker_setup(parent_pid)
+def _outcome(fn: Callable[..., Any], *args: Any) -> tuple[bool, Any]:
+    """(True, fn(*args)), or (False, (the exception, its traceback)) to raise in the parent."""
     try:
-        result: tuple[bool, Any] = (True, fn(*args))
-    except BaseException as exc:  # sent back and raised in the parent
+        return True, fn(*args)
+    except BaseException as exc:
         import traceback
 
-        result = (False, (exc, traceback.format_exc()))
+        return False, (exc, traceback.format_exc())
+
+
+def _send(conn: Any, outcome: tuple[bool, Any]) -> None:
     try:
-        send.send(result)
+        conn.send(outcome)
     except Exception as exc:  # the result or the error did not pickle
-        send.send((False, (None, f"{type(exc).__name__}: {exc}")))
+        conn.send((False, (None, f"{type(exc).__name__}: {exc}")))
+
+
+def _received(outcome: tuple[bool, Any]) -> Any:
+    """The value of a child's outcome, or its exception raised here."""
+    ok, value = outcome
+    if ok:
+        return value
+    exc, text = value
+    if isinstance(exc, BaseException):
+        raise exc
+    raise RuntimeError(f"a worker process failed: {text.strip().splitlines()[-1]}")
+
+
+def _died(proc: Any) -> tuple[bool, Any]:
+    proc.join()  # reaped: its exit code is known
+    return False, (None, f"the worker process ended with exit code {proc.exitcode}")
+
+
+def _child(send: Any, parent_pid: int, fn: Callable[..., Any], args: tuple) -> None:
+    worker_setup(parent_pid)
+    _send(send, _outcome(fn, *args))
     send.close()
 
 
@@ -362,26 +386,9 @@ class Forked:
 
     def __init__(self, fn: Callable[..., Any], *args: Any) -> None:
         import multiprocessing
-        import os
-        import warnings
 
-        ctx = multiprocessing.get_context("fork")
-        self._recv, send = ctx.Pipe(duplex=False)
-        self._proc = ctx.Process(target=_child, args=(send, os.getpid(), fn, args))
-        with warnings.catch_warnings():
-            # Python >= 3.12 warns that forking a process with threads (OpenBLAS's pool) may
-            # deadlock; the children only compute (numpy, CasADi, matplotlib) and OpenBLAS
-            # re-initialises its pool after fork (pthread_atfork)
-            warnings.simplefilter("ignore", DeprecationWarning)
-            self._proc.start()
-        send.close()
-        _LIVE.add(self)
-        if not _LIVE_ATEXIT:
-            import atexit
-
-            # runs before multiprocessing's own exit handler, which would wait for the child
-            atexit.register(_cancel_live)
-            _LIVE_ATEXIT.append(True)
+        self._recv, send = multiprocessing.get_context("fork").Pipe(duplex=False)
+        self._proc = _start(self, _child, send, fn, args)
 
     def cancel(self) -> None:
         """Stop the child (its result is not wanted) and wait for it to end."""
@@ -393,37 +400,51 @@ class Forked:
     def result(self) -> Any:
         """The child's return value; its exception is raised here if it raised one."""
         try:
-            ok, value = self._recv.recv()
+            outcome = self._recv.recv()
         except EOFError:
-            self._proc.join()  # reaped: its exit code is known
-            ok, value = (
-                False,
-                (None, f"the worker process ended with exit code {self._proc.exitcode}"),
-            )
+            outcome = _died(self._proc)
         except BaseException:  # Ctrl-C or SIGTERM while waiting: the result is not wanted
             self.cancel()
             raise
         self._recv.close()
         self._proc.join()
         _LIVE.discard(self)
-        if ok:
-            return value
-        exc, text = value
-        if isinstance(exc, BaseException):
-            raise exc
-        raise RuntimeError(f"a worker process failed: {text.strip().splitlines()[-1]}")
+        return _received(outcome)
+
+
+def _start(owner: Forked | Standby, target: Callable[..., Any], conn: Any, *args: Any) -> Any:
+    """Fork and start ``target(conn, this pid, *args)``; ``owner`` is stopped at exit if still
+    running. The child's end of the pipe, ``conn``, is closed here."""
+    import multiprocessing
+    import os
+    import warnings
+
+    proc = multiprocessing.get_context("fork").Process(
+        target=target, args=(conn, os.getpid(), *args)
+    )
+    with warnings.catch_warnings():
+        # Python >= 3.12 warns that forking a process with threads (OpenBLAS's pool) may
+        # deadlock; the children only compute (numpy, CasADi, matplotlib) and OpenBLAS
+        # re-initialises its pool after fork (pthread_atfork)
+        warnings.simplefilter("ignore", DeprecationWarning)
+        proc.start()
+    conn.close()
+    _LIVE.add(owner)
+    if not _LIVE_ATEXIT:
+        import atexit
+
+        # runs before multiprocessing's own exit handler, which would wait for the child
+        atexit.register(_cancel_live)
+        _LIVE_ATEXIT.append(True)
+    return proc
 
 
 def _serve(conn: Any, parent_pid: int, setup: Callable[[], Any], processes: int) -> None:
     """:class:`Standby`'s child: ``setup()``, then requests until "stop" (or the pipe closes)."""
     import functools
-    import traceback
 
     worker_setup(parent_pid)
-    try:
-        setup()
-    except Exception:  # nothing is lost: the requests then do that work themselves
-        pass
+    _outcome(setup)  # a failure loses nothing: the requests then do that work themselves
     while True:
         try:
             request = conn.recv()
@@ -431,20 +452,12 @@ def _serve(conn: Any, parent_pid: int, setup: Callable[[], Any], processes: int)
             break
         if request[0] == "stop":
             break
-        try:
-            if request[0] == "map":
-                _, fn, shared, items = request
-                value = map_forked(functools.partial(fn, shared), items, processes)
-            else:
-                _, fn, args = request
-                value = fn(*args)
-            result: tuple[bool, Any] = (True, value)
-        except BaseException as exc:  # sent back and raised in the parent
-            result = (False, (exc, traceback.format_exc()))
-        try:
-            conn.send(result)
-        except Exception as exc:  # the result or the error did not pickle
-            conn.send((False, (None, f"{type(exc).__name__}: {exc}")))
+        if request[0] == "map":
+            _, fn, shared, items = request
+            _send(conn, _outcome(map_forked, functools.partial(fn, shared), items, processes))
+        else:
+            _, fn, args = request
+            _send(conn, _outcome(fn, *args))
     conn.close()
 
 
@@ -461,24 +474,9 @@ class Standby:
 
     def __init__(self, setup: Callable[[], Any], processes: int = 2) -> None:
         import multiprocessing
-        import os
-        import warnings
 
-        ctx = multiprocessing.get_context("fork")
-        self._conn, child_conn = ctx.Pipe(duplex=True)
-        self._proc = ctx.Process(
-            target=_serve, args=(child_conn, os.getpid(), setup, max(processes, 1))
-        )
-        with warnings.catch_warnings():  # as in Forked
-            warnings.simplefilter("ignore", DeprecationWarning)
-            self._proc.start()
-        child_conn.close()
-        _LIVE.add(self)
-        if not _LIVE_ATEXIT:
-            import atexit
-
-            atexit.register(_cancel_live)
-            _LIVE_ATEXIT.append(True)
+        self._conn, child_conn = multiprocessing.get_context("fork").Pipe(duplex=True)
+        self._proc = _start(self, _serve, child_conn, setup, max(processes, 1))
 
     def map(self, fn: Callable[[Any, Any], Any], shared: Any, items: Sequence[Any]) -> list[Any]:
         """``[fn(shared, x) for x in items]``, run by the helper and its siblings."""
@@ -491,22 +489,13 @@ class Standby:
     def _ask(self, request: tuple) -> Any:
         try:
             self._conn.send(request)
-            ok, value = self._conn.recv()
+            outcome = self._conn.recv()
         except (EOFError, BrokenPipeError):
-            self._proc.join()
-            ok, value = (
-                False,
-                (None, f"the worker process ended with exit code {self._proc.exitcode}"),
-            )
+            outcome = _died(self._proc)
         except BaseException:  # Ctrl-C or SIGTERM while waiting: the answer is not wanted
             self.cancel()
             raise
-        if ok:
-            return value
-        exc, text = value
-        if isinstance(exc, BaseException):
-            raise exc
-        raise RuntimeError(f"a worker process failed: {text.strip().splitlines()[-1]}")
+        return _received(outcome)
 
     def close(self) -> None:
         """Let the helper end (it is waited for)."""
