@@ -186,7 +186,13 @@ def _size_design(
     solver: FixedHardwareSolver,
     progress: Callable[[str], None] | None,
     helpers: list[Any],
-) -> OptimizationResult:
+    *,
+    start: dict[str, float] | None = None,
+    relax_only: bool = False,
+) -> Any:
+    """:func:`size_design`; ``start``: free hardware to start the relaxation from (default the
+    model's own, kept inside the box); ``relax_only``: stop after the relaxation (a
+    :class:`_Relaxed`, or the infeasible result)."""
     say = progress or (lambda _stage: None)
     from optimize.compiled import compile_problem, structure_of
 
@@ -198,7 +204,7 @@ def _size_design(
     fixed_model = replace(model, sizing=None)
     free = sizing.free
     min_bore = sizing.min_bore_m if sizing.min_bore_m is not None else hw.bore_m(model)
-    base = hw.hardware_of(model)
+    base = {**hw.hardware_of(model), **(start or {})}
     hw_now = {v.name: min(max(base[v.name], v.lo), v.hi) for v in free}
     exact = buildable(fixed_model, hw_now, 0.0, checks=False) or fixed_model
     exact = prepare(exact)
@@ -206,7 +212,7 @@ def _size_design(
     # need are ruled out without their NLP (optimize.screen); the least required torque is
     # found once per sizing, by the standby helper while the relaxation runs here
     token = (os.getpid(), next(_SIZINGS)) if SCREEN and screen.screens(model) else None
-    standby = _start_standby(solver, exact, helpers, fixed_model, token)
+    standby = None if relax_only else _start_standby(solver, exact, helpers, fixed_model, token)
     hs = hw.HardwareStructure(
         tuple(v.name for v in free),
         hw.helmholtz_flags(model),
@@ -264,6 +270,30 @@ def _size_design(
         frozen_prev = frozen
     spec = pb.OBJECTIVES[model.bounds.objective]
     scale = float(spec.scale(scales))
+    if best is None and start is None and not relax_only and _mass_limited(model):
+        # the copper limit may lie far below the starting hardware's copper: start again from
+        # the least copper the requirements need, or say that it is more than the limit
+        least = _least_copper(model, solver, helpers)
+        limit = float(model.limits.copper_mass_kg or 0.0)
+        if least is not None:
+            iterations += least.iterations
+            if least.objective <= limit * (1 + 1e-9):
+                res = _size_design(model, solver, progress, helpers, start=least.hardware)
+                return replace(
+                    res,
+                    iterations=res.iterations + iterations,
+                    solve_time_s=time.perf_counter() - t0,
+                )
+            lightest = buildable(fixed_model, least.hardware, 0.0, checks=False) or exact
+            return _no_design(
+                solver,
+                lightest,
+                t0,
+                iterations,
+                f"the requirements need at least {least.objective:.4g} kg of copper (continuous "
+                f"relaxation), more than limits.copper_mass_kg = {limit:.4g} kg allows; "
+                "closest with the hardware at " + _hardware_text(least.hardware),
+            )
     if best is None:  # what is out of reach with the hardware at its box (the first start)
         return _no_design(
             solver,
@@ -271,12 +301,14 @@ def _size_design(
             t0,
             iterations,
             "the relaxed sizing problem has no solution; closest with the hardware at "
-            + ", ".join(f"{k} = {v:.4g}" for k, v in hw_now.items()),
+            + _hardware_text(hw_now),
         )
     relaxed = {v.name: best.value(v.name) for v in free}
     relaxed_obj = -spec.sense * scale * best.f if spec.uses_t else scale * best.f
     if model.bounds.objective == "copper_mass":  # the mass alone, at the unrounded hardware
         relaxed_obj = _copper_mass_kg({**hw.hardware_of(exact), **relaxed}, exact)
+    if relax_only:
+        return _Relaxed(relaxed, float(relaxed_obj), iterations)
     warm = {
         "helical_angle": best.value("helical_angle"),
         "frequency": best.value("frequency"),
@@ -527,6 +559,37 @@ def _copper_mass_kg(values: dict[str, float], model: DesignModel) -> float:
             for ax in hw.AXES
         )
     )
+
+
+def _hardware_text(values: dict[str, float]) -> str:
+    return ", ".join(f"{k} = {v:.4g}" for k, v in values.items())
+
+
+def _mass_limited(model: DesignModel) -> bool:
+    return model.limits.copper_mass_kg is not None and model.bounds.objective != "copper_mass"
+
+
+class _Relaxed(NamedTuple):
+    """A continuous relaxation alone (``_size_design(..., relax_only=True)``)."""
+
+    hardware: dict[str, float]
+    objective: float
+    iterations: int
+
+
+def _least_copper(
+    model: DesignModel, solver: FixedHardwareSolver, helpers: list[Any]
+) -> _Relaxed | None:
+    """The continuous relaxation of ``model`` with the copper mass minimised and no copper limit
+    (None if it has no solution): where the copper limit sits far below the starting hardware,
+    IPOPT's starts end "locally infeasible" outside the small set of designs that meet it."""
+    least = replace(
+        model,
+        bounds=replace(model.bounds, objective="copper_mass"),
+        limits=replace(model.limits, copper_mass_kg=None),
+    )
+    out = _size_design(least, solver, None, helpers, relax_only=True)
+    return out if isinstance(out, _Relaxed) else None
 
 
 def _settled(a: hw.Frozen, b: hw.Frozen) -> bool:

@@ -249,6 +249,15 @@ def test_copper_mass_60kg_is_infeasible_as_cooled_and_says_so(tmp_path, capsys) 
     text = capsys.readouterr().out
     assert "limits.copper_mass_kg" in text and "60 kg" in text, text
     assert not out.exists(), "nothing written for an infeasible sizing"
+    import re
+
+    need = re.search(r"need at least ([0-9.]+) kg of copper", text)
+    assert need, f"the message gives the least copper the requirements need: {text}"
+    assert 60.0 < float(need.group(1)) <= least["copper_mass_kg"], (
+        f"that least copper ({need.group(1)} kg, the continuous relaxation) lies between the "
+        f"limit and the least-copper sizing's discrete {least['copper_mass_kg']:.2f} kg"
+    )
+    assert "244" not in text, "not the starting hardware's copper (244 kg) as 'the closest'"
 
 
 def test_copper_mass_against_turns_by_hand(capsys) -> None:
