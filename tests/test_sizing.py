@@ -108,7 +108,8 @@ def test_discrete_x_pair_is_standard_and_beats_a_brute_force_grid(model, x_sized
             m = buildable(model, {"x.turns": t, "x.wire_diameter_m": w * 1e-3}, hw.bore_m(model))
             if m is None:
                 continue
-            r = optimize_design(m, warm_start=warm, diagnose=False)
+            # the step-out searches change no margin (tests/test_fast_paths.py): skipped
+            r = optimize_design(m, warm_start=warm, diagnose=False, frequency_bounds=False)
             if r.status == "optimal":
                 best_grid = max(best_grid, r.margin_Nm)
     assert res.margin_Nm >= best_grid * (1 - 1e-9), (
