@@ -254,9 +254,10 @@ def _chains_from(
 ) -> dict[str, np.ndarray]:
     """Rows at sorted ``powers_W``: warm-started chains from ``optimum`` (at ``own_W``), up
     through the budgets at or above it and down through those below."""
-    from spiralcap.sweep import OPTIMIZE_COLUMNS, optimize_row, result_row, with_values
+    from spiralcap.sweep import optimize_columns, optimize_row, result_row, with_values
 
-    anchor = result_row(optimum)
+    columns = optimize_columns(base)
+    anchor = result_row(optimum, columns)
     rows: list[Any] = [None] * len(powers_W)
     up = [j for j in range(len(powers_W)) if powers_W[j] >= own_W]
     down = [j for j in reversed(range(len(powers_W))) if powers_W[j] < own_W]
@@ -268,7 +269,7 @@ def _chains_from(
             else:
                 rows[j] = optimize_row(with_values(base, {key: float(powers_W[j])}), warm)
             warm = rows[j]
-    return {k: np.array([r[k] for r in rows]) for k in OPTIMIZE_COLUMNS}
+    return {k: np.array([r[k] for r in rows]) for k in columns}
 
 
 def field_maps(

@@ -52,6 +52,29 @@ OPTIMIZE_COLUMNS = (
 )
 
 
+#: The objective's own value where no column above holds it (margin and ratio have theirs,
+#: the copper mass is always a column), in its unit; a registered objective's as
+#: ``objective_value``.
+_OBJECTIVE_COLUMNS = {"power": "power_W", "margin_p05": "margin_p05_Nm"}
+
+
+def optimize_columns(model: Any) -> tuple[str, ...]:
+    """The columns of an optimising sweep of ``model``: :data:`OPTIMIZE_COLUMNS`, the copper
+    mass of the three pairs (kg), the objective's own value where those do not hold it, and,
+    when hardware is free, the sized (discrete) hardware by design key (design units)."""
+    from spiralcap.assemble.system import hardware_design_values
+
+    extra = ["copper_mass_kg"]
+    objective = model.bounds.objective
+    if objective in _OBJECTIVE_COLUMNS:
+        extra.append(_OBJECTIVE_COLUMNS[objective])
+    elif objective not in ("margin", "ratio", "copper_mass"):
+        extra.append("objective_value")
+    if model.sizing is not None:
+        extra += list(hardware_design_values({v.name: 1.0 for v in model.sizing.free}))
+    return (*OPTIMIZE_COLUMNS, *extra)
+
+
 @dataclass(frozen=True)
 class Axis:
     """One swept key: ``n`` values from ``start`` to ``stop`` inclusive."""
@@ -226,16 +249,31 @@ def _at(design: Design, inputs: dict[str, np.ndarray], i: int) -> Design:
     return design.with_values(values)
 
 
-def _row(r) -> tuple:
-    return (
-        r.status,
-        r.helical_angle_deg,
-        r.frequency_hz,
-        r.margin_Nm,
-        r.safety_factor,
-        r.field_amplitude_T,
-        ";".join(b.name for b in r.binding_limits),
+def _row(r, columns: tuple[str, ...] = OPTIMIZE_COLUMNS) -> tuple:
+    """``columns`` (:func:`optimize_columns`) of the result ``r``; NaN where it has none (the
+    sized hardware of an infeasible sizing)."""
+    from spiralcap.assemble.system import hardware_design_values
+
+    values: dict[str, Any] = dict(
+        zip(
+            OPTIMIZE_COLUMNS,
+            (
+                r.status,
+                r.helical_angle_deg,
+                r.frequency_hz,
+                r.margin_Nm,
+                r.safety_factor,
+                r.field_amplitude_T,
+                ";".join(b.name for b in r.binding_limits),
+            ),
+        )
     )
+    values["copper_mass_kg"] = float(r.evaluation.copper_mass_kg)
+    for name in (*_OBJECTIVE_COLUMNS.values(), "objective_value"):
+        values[name] = float(r.objective_value)
+    if r.hardware is not None:
+        values.update(hardware_design_values(r.hardware.discrete))
+    return tuple(values.get(c, float("nan")) for c in columns)
 
 
 def _light(keys: Any) -> bool:
@@ -280,6 +318,7 @@ def _optimize_chunk(
     inputs: dict[str, np.ndarray],
     progress: Callable[[int], None] | None = None,
     base: Any = None,
+    columns: tuple[str, ...] = OPTIMIZE_COLUMNS,
 ) -> list[tuple]:
     """Re-optimise the points of one chunk, each warm-started from the previous optimum
     (variables and multipliers; the first from the grid starts). The problem's numbers are
@@ -292,7 +331,7 @@ def _optimize_chunk(
         warm = previous if previous is not None and previous.feasible else None
         # the rows need no step-out or highest frequency: those searches are skipped
         previous = optimize_design(model, warm_start=warm, frequency_bounds=False)
-        rows.append(_row(previous))
+        rows.append(_row(previous, columns))
         if progress:
             progress(i + 1)
     return rows
@@ -306,6 +345,9 @@ def _optimize_points(
     A chunk is a warm-started chain from a cold first point and is fixed by its index range,
     so the rows are the same bit for bit here, in worker processes or on a Dask cluster.
     """
+    from spiralcap.assemble import build_model
+
+    columns = optimize_columns(base if base is not None else build_model(design))
     n = len(next(iter(inputs.values())))
     chunks = [
         {k: v[s : s + OPTIMIZE_CHUNK] for k, v in inputs.items()}
@@ -316,7 +358,7 @@ def _optimize_points(
 
         parts = map_tasks(
             _optimize_chunk,
-            [(design, c) for c in chunks],
+            [(design, c, None, None, columns) for c in chunks],
             workers=workers,
             dask=dask,
             progress=(lambda done, _: progress(min(done * OPTIMIZE_CHUNK, n), n))
@@ -328,13 +370,13 @@ def _optimize_points(
         for j, c in enumerate(chunks):
             done = j * OPTIMIZE_CHUNK
             report = (lambda i, d=done: progress(d + i, n)) if progress else None
-            parts.append(_optimize_chunk(design, c, report, base))
+            parts.append(_optimize_chunk(design, c, report, base, columns))
     rows = [r for part in parts for r in part]
-    return {k: np.array([r[j] for r in rows]) for j, k in enumerate(OPTIMIZE_COLUMNS)}
+    return {k: np.array([r[j] for r in rows]) for j, k in enumerate(columns)}
 
 
 def optimize_row(model: Any, warm: dict[str, Any] | None = None) -> dict[str, Any]:
-    """One row of :data:`OPTIMIZE_COLUMNS`: ``model`` re-optimised (no step-out search).
+    """One row of :func:`optimize_columns`: ``model`` re-optimised (no step-out search).
 
     ``warm``: a row of a neighbouring problem (``helical_angle_deg``, ``frequency_hz``,
     ``field_amplitude_T``) to start from; its optimum need not be feasible here
@@ -349,9 +391,11 @@ def optimize_row(model: Any, warm: dict[str, Any] | None = None) -> dict[str, An
             "frequency": float(warm["frequency_hz"]),
             "field_T": float(warm["field_amplitude_T"]),
         }
-    return result_row(optimize_design(model, warm_start=start, frequency_bounds=False))
+    columns = optimize_columns(model)
+    return result_row(optimize_design(model, warm_start=start, frequency_bounds=False), columns)
 
 
-def result_row(result: Any) -> dict[str, Any]:
-    """An :class:`optimize.OptimizationResult` as a row of :data:`OPTIMIZE_COLUMNS`."""
-    return dict(zip(OPTIMIZE_COLUMNS, _row(result)))
+def result_row(result: Any, columns: tuple[str, ...] = OPTIMIZE_COLUMNS) -> dict[str, Any]:
+    """An :class:`optimize.OptimizationResult` as a row of ``columns``
+    (:func:`optimize_columns`)."""
+    return dict(zip(columns, _row(result, columns)))

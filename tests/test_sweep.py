@@ -3,6 +3,7 @@
 import csv
 
 import numpy as np
+import pytest
 
 from spiralcap.cli import main
 from spiralcap.design import load_design
@@ -96,3 +97,55 @@ def test_adaptive_power_sweep_from_the_designs_optimum_gives_the_same_curve():
     assert np.allclose(fast.outputs["margin_Nm"], plain.outputs["margin_Nm"], rtol=1e-8, atol=0)
     own = int(np.flatnonzero(p == design["limits.power_W"])[0])
     assert fast.outputs["margin_Nm"][own] == res.margin_Nm, "the design's budget: its optimum"
+
+
+def test_optimising_sweep_rows_carry_the_objective_and_the_sized_hardware(tmp_path, capsys):
+    """A sizing sweep's rows carry the copper mass and the sized hardware (design keys), and a
+    least-power sweep's the power in W: each the value a standalone ``optimize`` of that point
+    reports (its JSON), to 1e-9."""
+    import json
+
+    free = [
+        f"optimize.free.coils.{ax}.{k}={v}"
+        for ax in "xy"
+        for k, v in (("turns", "[50,800]"), ("wire_diameter_mm", "[0.8,3.0]"))
+    ]
+    sets = [a for f in [*free, "optimize.objective=copper_mass"] for a in ("--set", f)]
+    out = tmp_path / "sized.csv"
+    over = ["--over", "requirements.min_safety_factor=1.5:2.5:2"]
+    assert main(["sweep", "--optimize", *over, *sets, "--csv", str(out)]) == 0
+    with out.open() as fh:
+        rows = list(csv.DictReader(fh))
+    keys = [
+        "coils.x.turns",
+        "coils.x.wire_diameter_mm",
+        "coils.y.turns",
+        "coils.y.wire_diameter_mm",
+    ]
+    assert {"copper_mass_kg", *keys} <= set(rows[0]), f"columns: {list(rows[0])}"
+    capsys.readouterr()
+    for row in rows:
+        sf = row["requirements.min_safety_factor"]
+        extra = ["--set", f"requirements.min_safety_factor={sf}"]
+        assert main(["optimize", *sets, *extra, "--json"]) == 0
+        alone = json.loads(capsys.readouterr().out)
+        assert row["status"] == alone["status"] == "optimal"
+        assert float(row["copper_mass_kg"]) == pytest.approx(alone["copper_mass_kg"], rel=1e-9), (
+            f"SF {sf}: the sweep's copper is the standalone sizing's (1e-9)"
+        )
+        for k in keys:
+            assert float(row[k]) == pytest.approx(alone["hardware"]["discrete"][k], rel=1e-12), (
+                f"SF {sf}: sized {k} as the standalone sizing's"
+            )
+    power = tmp_path / "power.csv"
+    least = ["--set", "optimize.objective=power", "--set", "requirements.min_safety_factor=2"]
+    assert main(["sweep", "--optimize", "--over", "limits.current_A=10:20:2", *least,
+                 "--csv", str(power)]) == 0  # fmt: skip
+    with power.open() as fh:
+        prow = next(iter(csv.DictReader(fh)))
+    capsys.readouterr()
+    assert main(["optimize", *least, "--set", "limits.current_A=10", "--json"]) == 0
+    alone = json.loads(capsys.readouterr().out)
+    assert float(prow["power_W"]) == pytest.approx(alone["objective_value"], rel=1e-9), (
+        "the least-power sweep's power_W is the standalone optimum's objective (W, 1e-9)"
+    )

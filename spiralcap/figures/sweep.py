@@ -21,6 +21,9 @@ __all__ = ["MarginMapDrawn", "SweepDrawn", "draw_sweep", "plot_margin_map"]
 
 #: Output column -> (axis label, factor from SI).
 SHOWN_COLUMNS: dict[str, tuple[str, float]] = {
+    "copper_mass_kg": ("copper (kg)", 1.0),
+    "power_W": ("copper loss (W)", 1.0),
+    "margin_p05_Nm": ("p05 margin (mN·m)", 1e3),
     "margin_Nm": ("margin (mN·m)", 1e3),
     "safety_factor": ("safety factor", 1.0),
     "field_amplitude_T": ("field (mT)", 1e3),
@@ -253,6 +256,16 @@ def _label(key: str) -> str:
     return f"{key} ({unit})" if unit else key
 
 
+def _fixed_copper(column: str, values: Any) -> bool:
+    """The copper mass of hardware the sweep does not size (the same at every point): the
+    table says it, a flat panel would not add to it."""
+    if column != "copper_mass_kg":
+        return False
+    v = np.asarray(values, float)
+    v = v[np.isfinite(v)]
+    return v.size == 0 or float(np.ptp(v)) <= 1e-9 * max(abs(float(v.mean())), 1e-30)
+
+
 def draw_sweep(fig: Any, result: Any, failing: Any = None) -> SweepDrawn:
     """The figure of a sweep (:class:`spiralcap.sweep.SweepResult`) on ``fig``.
 
@@ -276,7 +289,7 @@ def draw_sweep(fig: Any, result: Any, failing: Any = None) -> SweepDrawn:
             ok = np.asarray(out["feasible"], bool)
         else:
             ok = np.asarray(out["status"]) == "optimal"
-        cols = [c for c in SHOWN_COLUMNS if c in out]
+        cols = [c for c in SHOWN_COLUMNS if c in out and not _fixed_copper(c, out[c])]
         axs = list(np.atleast_1d(fig.subplots(len(cols), 1, sharex=True)))
         for k, (ax, col) in enumerate(zip(axs, cols, strict=True)):
             label, factor = SHOWN_COLUMNS[col]
