@@ -532,7 +532,10 @@ def standby_on_free_core(setup: Callable[[], Any]) -> Standby | None:
     (as :func:`map_free_cores`); None elsewhere (the caller does the work itself)."""
     if not _may_fork_here() or available_cores() < 2:
         return None
-    return Standby(setup, min(available_cores(), 2))
+    try:
+        return Standby(setup, min(available_cores(), 2))
+    except OSError:  # no process to spare (resource limits): the caller does the work itself
+        return None
 
 
 def map_free_cores(fn: Callable[[Any], Any], items: Sequence[Any]) -> list[Any]:
