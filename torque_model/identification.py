@@ -565,8 +565,11 @@ def _result(
         if dof <= 0:
             why.append("no residual degree of freedom: uncertainty unknown")
         elif not in_null[i] and t * se_log[i] > REL_CI_LIMIT:
-            factor = math.exp(min(t * se_log[i], 700.0))
-            why.append(f"95 % interval spans a factor {factor:.3g} either way")
+            spread = t * se_log[i]  # ln of the factor: beyond 10⁶ a number says nothing more
+            if spread > math.log(1e6):
+                why.append("95 % interval spans more than a factor 10⁶ either way")
+            else:
+                why.append(f"95 % interval spans a factor {math.exp(spread):.3g} either way")
         if at_bound[i]:
             why.append("at a bound")
         sides = (profile or {}).get(i, [])
