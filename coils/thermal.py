@@ -404,6 +404,27 @@ def _resistance_ohm(resistance_20C_ohm: Any, temperature_C: Any) -> Any:
     )
 
 
+def _balance_inputs(
+    pack: WindingPack,
+    resistance_20C_ohm: Any,
+    current_amplitude_A: Any,
+    ambient_C: Any,
+    env: Surroundings | None,
+) -> tuple[Any, Any, Any, _Faces]:
+    """(R20, ambient, I²/2, the faces) of a surface balance; numpy scalars as Python floats
+    (the same values: the scalar path stays in float math)."""
+    resistance_20C_ohm, current_amplitude_A, ambient_C = (
+        _plain(x) for x in (resistance_20C_ohm, current_amplitude_A, ambient_C)
+    )
+    half_i2 = 0.5 * current_amplitude_A * current_amplitude_A
+    return (
+        resistance_20C_ohm,
+        ambient_C,
+        half_i2,
+        _Faces(pack, ambient_C, _surroundings(env, ambient_C)),
+    )
+
+
 @dataclass(frozen=True)
 class SteadyState:
     """Steady temperatures (°C), loss (W), resistance (Ω), coefficients (W/(m²·K)) at one current.
@@ -477,13 +498,10 @@ def steady_state(
     env : Surroundings, optional
         The other packs it radiates to (default: alone in the room).
     """
-    resistance_20C_ohm, current_amplitude_A, ambient_C = (
-        _plain(x) for x in (resistance_20C_ohm, current_amplitude_A, ambient_C)
+    resistance_20C_ohm, ambient_C, half_i2, faces = _balance_inputs(
+        pack, resistance_20C_ohm, current_amplitude_A, ambient_C, env
     )
-    env = _surroundings(env, ambient_C)
     alpha = COPPER_TEMPERATURE_COEFFICIENT_per_K
-    half_i2 = 0.5 * current_amplitude_A * current_amplitude_A
-    faces = _Faces(pack, ambient_C, env)
     r_m: Any = 0.0  # first stage: the mean at the surface; then the Robin offset at h_eff
     inner = None
     ok_denom: Any = 1.0
@@ -546,13 +564,10 @@ def surface_estimate_C(
     rise: its mean-above-surface share, ~3 % of the rise, left out) in 5 Newton steps from the
     same start; with a session, the lumped fraction 1 - e^(-t/τ) of that rise.
     """
-    resistance_20C_ohm, current_amplitude_A, ambient_C = (
-        _plain(x) for x in (resistance_20C_ohm, current_amplitude_A, ambient_C)
+    resistance_20C_ohm, ambient_C, half_i2, faces = _balance_inputs(
+        pack, resistance_20C_ohm, current_amplitude_A, ambient_C, env
     )
-    env = _surroundings(env, ambient_C)
     alpha = COPPER_TEMPERATURE_COEFFICIENT_per_K
-    half_i2 = 0.5 * current_amplitude_A * current_amplitude_A
-    faces = _Faces(pack, ambient_C, env)
     p_amb = _resistance_ohm(resistance_20C_ohm, ambient_C) * half_i2
     slope = alpha * resistance_20C_ohm * half_i2
     g0 = faces.slope_W_per_K(ambient_C + 30.0 + 0.0 * slope) - slope

@@ -278,6 +278,9 @@ def _size_design(
         if least is not None:
             iterations += least.iterations
             if least.objective <= limit * (1 + 1e-9):
+                if standby is not None:  # the restart starts its own
+                    helpers.remove(standby)
+                    standby.close()
                 res = _size_design(model, solver, progress, helpers, start=least.hardware)
                 return replace(
                     res,

@@ -229,22 +229,24 @@ def packs_of(model: DesignModel) -> tuple:
     )
 
 
+def pack_rings(coils: Any) -> list[Any]:
+    """The three pairs' winding packs as :class:`coils.viewfactors.PackRing` (the geometry the
+    view factors are traced on)."""
+    from coils.viewfactors import PackRing
+
+    return [
+        PackRing(
+            p.axis_index, p.radius_m, p.spacing_m, p.winding_pack_width_m, p.winding_pack_depth_m
+        )
+        for p in coils.pairs
+    ]
+
+
 def view_factors_of(coils: Any) -> Any:
     """Diffuse view factors ``[room, x, y, z]`` of the three pairs (cached ray trace)."""
-    from coils.viewfactors import PackRing, view_factors
+    from coils.viewfactors import view_factors
 
-    return view_factors(
-        [
-            PackRing(
-                p.axis_index,
-                p.radius_m,
-                p.spacing_m,
-                p.winding_pack_width_m,
-                p.winding_pack_depth_m,
-            )
-            for p in coils.pairs
-        ]
-    )
+    return view_factors(pack_rings(coils))
 
 
 def precompute(model: DesignModel) -> Constants:

@@ -23,6 +23,13 @@ def run(argv: list[str]) -> tuple[int, str, str]:
     return rc, out.getvalue(), err.getvalue()
 
 
+def run_json(argv: list[str]) -> dict:
+    """``spiralcap argv --json`` parsed; exit 0 asserted (stderr in the message)."""
+    rc, out, err = run([*argv, "--json"])
+    assert rc == 0, err
+    return json.loads(out)
+
+
 def bad_numbers(value: Any, path: str = "$") -> list[str]:
     """Where a JSON document holds null, a non-finite number, a number-like string or an
     ``_undefined`` flag (a NaN that was hidden)."""

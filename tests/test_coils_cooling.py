@@ -18,16 +18,9 @@ from spiralcap.design import load_design
 
 
 def _rings(model) -> list[PackRing]:
-    return [
-        PackRing(
-            p.axis_index,
-            p.radius_m,
-            p.spacing_m,
-            p.winding_pack_width_m,
-            p.winding_pack_depth_m,
-        )
-        for p in model.coils.pairs
-    ]
+    from optimize.system import pack_rings
+
+    return pack_rings(model.coils)
 
 
 def _sdf(points: np.ndarray, ring: PackRing, centre: float) -> np.ndarray:
@@ -119,6 +112,34 @@ def test_view_factors_against_an_independent_trace(built_in):
         assert f[k, 0] < 0.9, "nested packs: a share of the emission lands on the coils"
     alone = view_factors(rings[:1])
     assert alone[0, 0] > f[0, 0], "the x pair alone sees more of the room than nested"
+
+
+def test_halton_points_are_scipys():
+    """coils.viewfactors.halton_points: points 1..n of scipy.stats.qmc.Halton (unscrambled,
+    bases 2, 3, 5, 7, 11), to 1e-15."""
+    from scipy.stats import qmc
+
+    from coils.viewfactors import RAYS_PER_PAIR, halton_points
+
+    ref = qmc.Halton(5, scramble=False).random(RAYS_PER_PAIR + 1)[1:]
+    assert np.abs(halton_points(RAYS_PER_PAIR) - ref).max() <= 1e-15, "scipy's Halton points"
+
+
+def test_halton_trace_against_400k_random_rays(built_in):
+    """The 8192-ray Halton trace against the same faces and intersections fed 400 000 random
+    rays per pair (sampling error of a fraction <= sqrt(0.25/4e5) = 0.0008): every entry within
+    0.006 (measured 0.0026 against 2 million rays; 20 000 random rays were within 0.0044)."""
+    from coils import viewfactors as vf
+
+    rings = _rings(built_in)
+    u = np.random.default_rng(7).random((400_000, 5))
+    ref = np.zeros((3, 4))
+    for k, ring in enumerate(rings):
+        p, nv = vf._emitters(ring, u[:, :3])
+        who = vf._first_hit(p, vf._cosine_directions(nv, u[:, 3:]), rings)
+        ref[k] = [np.mean(who < 0), *(np.mean(who == j) for j in range(3))]
+    err = np.abs(vf.view_factors(rings) - ref).max()
+    assert err <= 0.006, f"Halton trace within 0.006 of 400k random rays (got {err:.4f})"
 
 
 def test_coupling_sweep_against_a_converged_fixed_point(built_in):

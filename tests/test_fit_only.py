@@ -12,9 +12,9 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from cli_outcome import run, run_json
 
 import torque_model as tm
-from spiralcap import cli
 
 try:
     import tomllib
@@ -26,16 +26,12 @@ EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 FIVE = ("E1_kPa", "E2_kPa", "E3_kPa", "eta1_kPa_s", "eta2_kPa_s")
 
 
-def _run(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, str, str]:
-    code = cli.main(list(argv))
-    out, err = capsys.readouterr()
-    return code, out, err
+def _run(_capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, str, str]:
+    return run(list(argv))
 
 
-def _json(capsys: pytest.CaptureFixture[str], *argv: str) -> dict:
-    code, out, err = _run(capsys, *argv, "--json")
-    assert code == 0, err
-    return json.loads(out)
+def _json(_capsys: pytest.CaptureFixture[str], *argv: str) -> dict:
+    return run_json(list(argv))
 
 
 def _scaled_sample2_csv(tmp_path: Path, k: float, noise: float) -> tuple[Path, np.ndarray]:

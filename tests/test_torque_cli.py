@@ -2,15 +2,14 @@
 
 from __future__ import annotations
 
-import json
 import math
 from pathlib import Path
 
 import numpy as np
 import pytest
+from cli_outcome import run, run_json
 
 import torque_model as tm
-from spiralcap import cli
 from spiralcap.assemble.tissue import build_tissues
 from spiralcap.design import load_design
 
@@ -18,16 +17,12 @@ EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 SAMPLE2 = tm.preset("zhou2013-sample2")
 
 
-def _run(capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, str, str]:
-    code = cli.main(list(argv))
-    out, err = capsys.readouterr()
-    return code, out, err
+def _run(_capsys: pytest.CaptureFixture[str], *argv: str) -> tuple[int, str, str]:
+    return run(list(argv))
 
 
-def _json(capsys: pytest.CaptureFixture[str], *argv: str) -> dict:
-    code, out, err = _run(capsys, *argv, "--json")
-    assert code == 0, err
-    return json.loads(out)
+def _json(_capsys: pytest.CaptureFixture[str], *argv: str) -> dict:
+    return run_json(list(argv))
 
 
 def _write_csv(
