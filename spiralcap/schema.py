@@ -289,6 +289,15 @@ KEYS.update(
             1,
             12,
         ),
+        "capsule.mass_g": _between(
+            "capsule mass, for the friction of its weight lying on the wall (default: from its "
+            "parts, the magnet at 7500 kg/m³ and the rest of the capsule at 1300 kg/m³, a "
+            "PillCam SB3's mean density); range: 0.1-500 g",
+            None,
+            0.1,
+            500.0,
+            open_=False,
+        ),
         "capsule.magnet.shape": _choice(
             "magnet shape, diametrically magnetised", "cylinder", ("cylinder", "ring")
         ),
@@ -455,6 +464,18 @@ KEYS.update(
             5.0,
             0.0,
             1000.0,
+            open_=False,
+        ),
+        "requirements.min_wall_strain": _between(
+            "least strain the spiral must stretch the intestinal wall by, (D' - lumen) / "
+            "(lumen + wall), for every tissue set: a spiral that does not stretch the wall does "
+            "not grip it, so it neither screws the capsule forward nor meets the model's "
+            "resistance (default 0.017: the least strain at which the paper measured a spiral "
+            "capsule's torque, capsule No. 4 at 20 deg in sample 3, 1.69 %); range: 1e-4-0.5 "
+            "(it cannot be switched off)",
+            0.017,
+            1e-4,
+            0.5,
             open_=False,
         ),
         "requirements.min_spiral_turns": _between(
