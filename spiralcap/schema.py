@@ -340,7 +340,8 @@ KEYS.update(
             TISSUE_PRESETS,
         ),
         "tissue.E1_kPa": _between(
-            "spring modulus E1 of the five-element model (overrides preset); range: 0 to 1 GPa, "
+            "spring modulus E1 of the five-element model (overrides tissue.preset only; each "
+            "worst-case preset keeps its own material); range: 0 to 1 GPa, "
             "beyond any soft tissue (the presets hold 10-7000 kPa)",
             None,
             0.0,
@@ -348,21 +349,22 @@ KEYS.update(
             open_=False,
         ),
         "tissue.E2_kPa": _between(
-            "spring modulus E2 (overrides preset); range as tissue.E1_kPa",
+            "spring modulus E2 (overrides tissue.preset only); range as tissue.E1_kPa",
             None,
             0.0,
             1e6,
             open_=False,
         ),
         "tissue.E3_kPa": _between(
-            "spring modulus E3 (overrides preset); range as tissue.E1_kPa",
+            "spring modulus E3 (overrides tissue.preset only); range as tissue.E1_kPa",
             None,
             0.0,
             1e6,
             open_=False,
         ),
         "tissue.eta1_kPa_s": _between(
-            "dashpot viscosity eta1 (overrides preset); range: 1e-3 to 1e8 kPa·s, the presets "
+            "dashpot viscosity eta1 (overrides tissue.preset only); range: 1e-3 to 1e8 kPa·s, "
+            "the presets "
             "hold 80-16000",
             None,
             1e-3,
@@ -370,29 +372,33 @@ KEYS.update(
             open_=False,
         ),
         "tissue.eta2_kPa_s": _between(
-            "dashpot viscosity eta2 (overrides preset); range as tissue.eta1_kPa_s",
+            "dashpot viscosity eta2 (overrides tissue.preset only); range as tissue.eta1_kPa_s",
             None,
             1e-3,
             1e8,
             open_=False,
         ),
         "tissue.lumen_diameter_mm": _between(
-            "inner diameter of the undeformed intestine (overrides); range: 1-100 mm (small "
-            "bowel ~10-30, colon up to ~80)",
+            "inner diameter of the patient's undeformed intestine: applies to every tissue set "
+            "(tissue.preset, each worst-case preset, the uncertainty samples centre on it); "
+            "default: each set's own bench lumen; range: 1-100 mm (small bowel ~10-30, colon up "
+            "to ~80)",
             None,
             1.0,
             100.0,
             open_=False,
         ),
         "tissue.wall_thickness_mm": _between(
-            "intestinal wall thickness (overrides preset); range: 0.05-20 mm",
+            "the patient's intestinal wall thickness: applies to every tissue set, as "
+            "tissue.lumen_diameter_mm; range: 0.05-20 mm",
             None,
             0.05,
             20.0,
             open_=False,
         ),
         "tissue.friction_coefficient": _between(
-            "capsule-mucosa Coulomb friction (overrides preset); range: 1e-3-5 (mucosa ~0.01-0.6)",
+            "capsule-mucosa Coulomb friction (overrides tissue.preset only: each worst-case "
+            "preset keeps its own); range: 1e-3-5 (mucosa ~0.01-0.6)",
             None,
             1e-3,
             5.0,

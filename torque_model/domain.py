@@ -57,8 +57,8 @@ def _lumens() -> tuple[float, float]:
 CALIBRATED: dict[str, tuple[float, float, str]] = {
     "helical_angle_rad": (math.radians(5.0), math.radians(20.0), "rad"),
     "frequency_hz": (0.5, 3.0, "Hz"),
-    "body_diameter_m": (PAPER_CAPSULE.body_diameter_m,) * 2 + ("m",),  # type: ignore[dict-item]
-    "wire_diameter_m": (PAPER_CAPSULE.wire_diameter_m,) * 2 + ("m",),  # type: ignore[dict-item]
+    "body_diameter_m": (PAPER_CAPSULE.body_diameter_m, PAPER_CAPSULE.body_diameter_m, "m"),
+    "wire_diameter_m": (PAPER_CAPSULE.wire_diameter_m, PAPER_CAPSULE.wire_diameter_m, "m"),
     "starts": (1.0, 1.0, "starts"),
     "lumen_diameter_m": (*_lumens(), "m"),
     "wall_strain": (*_paper_strains(), "1"),

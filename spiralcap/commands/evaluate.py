@@ -38,7 +38,12 @@ def tissue_line(ev) -> str:
         f"{name} {100 * s:.3g} %" if s > 0 else f"{name}: NOT TOUCHED (strain {100 * s:.3g} %)"
         for name, s in zip(ev.tissue_names, ev.wall_strains)
     ]
-    return "wall strain         " + ", ".join(parts)
+    note = (
+        " (material overrides reach the first set only)"
+        if any("+ tissue.{" in name for name in ev.tissue_names)
+        else ""
+    )
+    return "wall strain         " + ", ".join(parts) + note
 
 
 def format_evaluation(ev) -> str:
