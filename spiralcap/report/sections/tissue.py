@@ -51,9 +51,9 @@ def tissue_payload(data: Any) -> dict[str, Any]:
                 "source": p.source,
             }
         )
-    from torque_model.domain import validation_sigma_log
+    from torque_model.domain import validation_errors, validation_sigma_log
 
-    errors = [p["model_torque_mNm"] / p["paper_torque_mNm"] - 1.0 for p in points]
+    errors = [v.relative_error for v in validation_errors()]
     design = data.design
     return {
         "calibration_factor": CALIBRATION_FACTOR,
