@@ -391,6 +391,9 @@ class UncertaintyResult:
     margin_std_Nm: float
     sobol: SobolIndices | None
     margins_Nm: np.ndarray = field(repr=False, compare=False)
+    #: Probability that the spiral does not touch some tissue set's wall (a wider sampled
+    #: lumen): no grip, no screw (:func:`no_grip_probability`, exact).
+    no_grip_probability: float = 0.0
 
 
 PERCENTILES = (("p01", 1.0), ("p05", 5.0), ("p50", 50.0), ("p95", 95.0))
@@ -436,7 +439,45 @@ def summarise(
         margin_std_Nm=float(margins.std(ddof=1)) if n > 1 else 0.0,
         sobol=sobol,
         margins_Nm=margins,
+        no_grip_probability=no_grip_probability(problem),
     )
+
+
+def no_grip_probability(problem: MarginProblem) -> float:
+    """Probability that a sampled lumen is as wide as the spiral's D' in some tissue set.
+
+    The spiral stretches a wall only while D' > lumen + δ (the strain's sign does not depend on
+    the wall), and every set shares the one lumen offset δ, a normal N(0, σ²) truncated below
+    at −(1 − floor)·(least nominal lumen) (:func:`perturbed_tissues`). So the grip is lost when
+    δ ≥ x = min over sets of (D' − lumen), with probability (exact, by the truncated CDF)
+    1 − (Φ(x/σ) − Φ(lo/σ)) / (1 − Φ(lo/σ)).
+
+    Parameters
+    ----------
+    problem : MarginProblem
+        The design at its operating point and its uncertainty.
+
+    Returns
+    -------
+    float
+        The probability, dimensionless, in [0, 1].
+    """
+    import torque_model as tm
+
+    g = ph.contact_geometry(problem.constants)
+    d_prime = float(
+        tm.equivalent_diameter_m(
+            problem.helical_angle_rad, g.body_diameter_m, g.wire_diameter_m, g.starts
+        )
+    )
+    lumens = [float(t.lumen_diameter_m) for t in problem.tissues]
+    x = d_prime - max(lumens)
+    sigma = problem.uncertainty.lumen_diameter_sigma_m
+    if sigma <= 0:
+        return 1.0 if x <= 0 else 0.0
+    lo = special.ndtr(-(1.0 - _FLOOR) * min(lumens) / sigma)
+    cdf = (special.ndtr(x / sigma) - lo) / (1.0 - lo)
+    return float(min(max(1.0 - cdf, 0.0), 1.0))
 
 
 def sobol_indices(
@@ -535,7 +576,8 @@ def closed_form_stepout_probability(problem: MarginProblem) -> float:
 
     The resistive torque is linear in a common factor k on the five constants
     (TissueParameters.scaled) and the thrust torque does not depend on them, so the margin is
-    ``m(k) = A − k τ_res − τ_thrust`` and vanishes at ``k* = (A − τ_thrust)/τ_res``; with
+    ``m(k) = A − k τ_res − τ_g − τ_thrust`` (τ_g the weight friction, not a tissue constant) and
+    vanishes at ``k* = (A − τ_thrust − τ_g)/τ_res``; with
     ``ln k ~ N(0, σ²)``, P(m < 0) = P(k > k*) = 1 − Φ(ln k*/σ).
     """
     if len(problem.tissues) != 1 or problem.uncertainty.factors() != [("scale", "scale")]:
@@ -547,7 +589,9 @@ def closed_form_stepout_probability(problem: MarginProblem) -> float:
         problem.tissues,
         problem.requirements,
     )
-    k_star = (problem.available_torque_Nm - float(thr)) / float(res)
+    # the friction of the capsule's weight is not a tissue constant: it does not scale with k
+    weight = float(ph.weight_friction_Nm(problem.constants, problem.tissues[0]))
+    k_star = (problem.available_torque_Nm - float(thr) - weight) / (float(res) - weight)
     if k_star <= 0:
         return 1.0
     # the normal survival function Φ(-z) as scipy.special.ndtr: scipy.stats costs 0.3 s to import

@@ -244,3 +244,29 @@ def test_optimum_on_a_calibrated_edge_is_flagged():
     """The built-in optimum holds sample 3's strain at 1.7 %, the paper's least (1.69 %)."""
     rc, out, _ = run(["optimize"])
     assert rc == 0 and "calibrated edge of: wall strain 1.7 %" in out, out
+
+
+def test_no_grip_probability_against_sampling():
+    """P(no grip) in closed form against the share of sampled lumens as wide as D' (the same
+    truncated normal, 2e5 samples: within 4 binomial standard deviations)."""
+    from optimize.uncertainty import (
+        TissueUncertainty,
+        margin_problem,
+        no_grip_probability,
+        perturbed_tissues,
+    )
+
+    model = prepare(build_model(load_design(None, ["tissue.lumen_diameter_mm=11.1"])))
+    unc = TissueUncertainty(lumen_diameter_sigma_m=0.5e-3)
+    problem = margin_problem(model, unc)
+    exact = no_grip_probability(problem)
+    rng = np.random.default_rng(1)
+    u = rng.random((200_000, 1))
+    strains = [
+        tm.wall_strain(problem.helical_angle_rad, t, ph.contact_geometry(model.constants))
+        for t in perturbed_tissues(model.tissues, unc, u)
+    ]
+    sampled = float(np.mean(np.min(np.stack(strains), axis=0) <= 0))
+    sd = math.sqrt(exact * (1 - exact) / u.shape[0])
+    assert 0.1 < exact < 0.9, "a case where the grip is in doubt"
+    assert abs(sampled - exact) <= 4 * sd, "closed form vs sampling, 4 sigma"

@@ -42,7 +42,10 @@ def test_margin_p05_beats_the_deterministic_optimum_out_of_sample(capsys):
 
 
 def test_stepout_probability_constraint_holds_or_is_reported(capsys):
+    # the grip row held low: with the default 1.7 % it binds first (the angle that lowers the
+    # step-out risk is where the spiral stops gripping sample 3), which is not this test's row
     risky = ["--set", "tissue.uncertainty.scale_sigma_log=0.4", "--set", "optimize.scenarios=128"]
+    risky += ["--set", "requirements.min_wall_strain=0.005"]
     p_max = 0.02
     out = _run(capsys, *risky, "--set", f"requirements.max_stepout_probability={p_max}")
     r = out["robust"]
@@ -127,7 +130,7 @@ def test_compiled_scenario_rows_equal_numpy_margins():
 
 def test_stepout_row_multiplier_is_the_finite_difference_in_p():
     """The step-out row's multiplier (common solve path) is d margin / d p: central difference
-    of re-solves at p ± 1e-4 (inside one piece of the piecewise-smooth CVaR_p: p·S in (3, 4))."""
+    of re-solves at p ± 1e-4 (inside one piece of the piecewise-smooth CVaR_p: p·S in (5, 6))."""
     from optimize import optimize_design
     from optimize import robust as rb
     from spiralcap.assemble import build_model
@@ -141,6 +144,7 @@ def test_stepout_row_multiplier_is_the_finite_difference_in_p():
             "tissue.uncertainty.lumen_diameter_sigma_mm=0.3",
             "requirements.min_spiral_turns=0",
             "optimize.starts=1",
+            "requirements.min_wall_strain=0.005",  # the grip row elsewhere: this row binds
         ],
     )
     model, unc = build_model(design), build_uncertainty(design)
@@ -150,14 +154,14 @@ def test_stepout_row_multiplier_is_the_finite_difference_in_p():
             rb.with_scenarios(model, unc, scenarios=256, max_stepout_probability=p)
         )
 
-    mid = solve(0.0135)
+    mid = solve(0.02)
     row = next(b for b in mid.binding_limits if b.name == "stepout_probability")
-    fd = (solve(0.0136).objective_value - solve(0.0134).objective_value) / 2e-4
+    fd = (solve(0.0201).objective_value - solve(0.0199).objective_value) / 2e-4
     assert row.sensitivity > 0 and row.sensitivity == pytest.approx(fd, rel=0.01), (
         f"d margin / d max_stepout_probability: multiplier {row.sensitivity:.4g} N·m vs "
         f"central difference {fd:.4g} N·m (envelope theorem; 1 %, the O(h²) error)"
     )
-    assert row.value <= 0.0135, "the reported value is the in-sample step-out share <= p"
+    assert row.value <= 0.02, "the reported value is the in-sample step-out share <= p"
 
 
 def test_robust_sweep_chain_equals_cold_solves():

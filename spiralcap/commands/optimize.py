@@ -222,7 +222,7 @@ def _grip_binds(res) -> list[str]:
     tight = [
         c
         for c in ev.checks
-        if c.name.startswith("wall_strain[") and c.value <= c.allowed * (1 + 1e-3)
+        if c.name.startswith("wall_strain[") and abs(c.value / c.allowed - 1.0) <= 1e-3
     ]
     if not tight:
         return []
