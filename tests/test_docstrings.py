@@ -61,7 +61,6 @@ PENDING = {
     "optimize.discrete": "issue 27 rewrite pending",
     "optimize.hardware": "issue 27 rewrite pending",
     "optimize.screen": "issue 27 rewrite pending",
-    "coils": "documentation under way",
     "optimize": "documentation under way",
 }
 
