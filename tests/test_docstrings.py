@@ -61,7 +61,6 @@ PENDING = {
     "optimize.discrete": "issue 27 rewrite pending",
     "optimize.hardware": "issue 27 rewrite pending",
     "optimize.screen": "issue 27 rewrite pending",
-    "optimize": "documentation under way",
 }
 
 #: Unit symbols a numeric entry may state (SI, the prefixed forms the code uses, and the design
