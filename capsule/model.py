@@ -8,6 +8,7 @@ from typing import Any
 
 from capsule.body import GEOMETRY_RTOL, Body
 from capsule.magnet import Magnet, magnet_fit_check
+from capsule.mass import mass_from_parts_kg
 from capsule.propulsion import forward_speed_m_s, thrust_torque_Nm
 from capsule.spiral import (
     MAX_WIRE_TO_BODY_DIAMETER,
@@ -177,6 +178,9 @@ class Capsule:
         Spiral on the cylindrical part.
     magnet : Magnet
         Diametrically magnetised magnet centred in the shell.
+    set_mass_kg : float or None
+        Measured capsule mass, kg; None: estimated from the parts
+        (:func:`capsule.mass.mass_from_parts_kg`).
 
     Raises
     ------
@@ -187,6 +191,7 @@ class Capsule:
     body: Body
     spiral: Spiral
     magnet: Magnet
+    set_mass_kg: float | None = None
 
     def __post_init__(self) -> None:
         problems = geometry_problems(self.body, self.spiral, self.magnet)
@@ -214,6 +219,15 @@ class Capsule:
     def moment_Am2(self) -> float:
         """Magnet moment, A·m^2."""
         return self.magnet.moment_Am2
+
+    @property
+    def mass_kg(self) -> float:
+        """Capsule mass, kg: the measured one, else estimated from the parts."""
+        if self.set_mass_kg is not None:
+            return float(self.set_mass_kg)
+        return float(
+            mass_from_parts_kg(self.body.diameter_m, self.body.length_m, self.magnet.volume_m3)
+        )
 
     def figures(
         self,

@@ -316,6 +316,7 @@ _SCALAR_FIELDS = (
     "wire_diameter_m",
     "wound_length_m",
     "helix_diameter_m",
+    "mass_kg",
 )
 #: WindingPack fields that are parameters, one value per pair (coils.thermal.WindingPack).
 PACK_FIELDS = (

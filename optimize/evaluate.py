@@ -16,6 +16,7 @@ import numpy as np
 from optimize import physics as ph
 from optimize._roots import brentq
 from optimize.system import DesignModel, prepare
+from torque_model.domain import extrapolations
 
 #: Relative tolerance with which requirements are judged met (an optimum sits on its bounds).
 FEASIBILITY_RTOL = 1e-6
@@ -118,6 +119,15 @@ class Evaluation:
         Flag: every check holds.
     copper_masses_kg : tuple of float
         Copper of each pair, kg.
+    wall_strains : tuple of float
+        Strain the wound section stretches each tissue set's wall by, dimensionless (<= 0:
+        no contact).
+    tissue_names : tuple of str
+        Names of the tissue sets, in the order of ``wall_strains``.
+    weight_friction_Nm : float
+        Friction of the capsule's weight in the worst tissue set's required torque, N·m.
+    extrapolations : tuple of torque_model.domain.Extrapolation
+        Model inputs outside the paper's calibrated range.
     """
 
     helical_angle_rad: float
@@ -144,6 +154,19 @@ class Evaluation:
     checks: tuple[Check, ...]
     feasible: bool
     copper_masses_kg: tuple[float, float, float] = (math.nan, math.nan, math.nan)
+    #: Strain the wound section stretches each tissue set's wall by, in ``tissue_names`` order
+    #: (<= 0: the spiral does not touch that wall), dimensionless.
+    wall_strains: tuple[float, ...] = ()
+    tissue_names: tuple[str, ...] = ()
+    #: The friction of the capsule's weight in the worst tissue set's required torque, N·m.
+    weight_friction_Nm: float = 0.0
+    #: Model inputs outside the paper's calibrated range (torque_model.domain.Extrapolation).
+    extrapolations: tuple = ()
+
+    @property
+    def engaged(self) -> bool:
+        """Whether the spiral stretches every tissue set's wall (else it cannot screw forward)."""
+        return all(s > 0 for s in self.wall_strains)
 
     @property
     def copper_mass_kg(self) -> float:
@@ -228,6 +251,8 @@ class MarginGrid:
         Spiral turns over the wound length, count (fractional).
     feasible : ndarray of bool
         Mask: every requirement and limit holds.
+    wall_strain : ndarray or None
+        Least wall strain over the tissue sets, dimensionless.
     """
 
     margin_Nm: np.ndarray
@@ -236,6 +261,7 @@ class MarginGrid:
     speed_m_s: np.ndarray
     spiral_turns: np.ndarray
     feasible: np.ndarray
+    wall_strain: np.ndarray | None = None  # the least over the tissue sets
 
     def __getitem__(self, name: str) -> np.ndarray:
         """Column by name (``grid["margin_Nm"]``), for code written against the old dict."""
@@ -278,7 +304,9 @@ def margin_grid(
         field = np.minimum(field, model.field_amplitude_T)
     avail = np.asarray(ph.available_torque_Nm(field, c), dtype=float)
     required = worst_required(model, alpha, f).total_Nm
+    strain = least_wall_strain(model, alpha)
     speed = np.asarray(ph.speed_m_s(alpha, f, c, model.requirements), dtype=float)
+    speed = np.where(strain > 0, speed, 0.0)  # a spiral that does not grip does not screw
     turns = np.asarray(ph.spiral_turns(alpha, c), dtype=float)
     req = model.requirements
     with np.errstate(divide="ignore"):  # nothing required: an unbounded safety factor
@@ -290,6 +318,7 @@ def margin_grid(
         & (avail - sf * required >= -FEASIBILITY_RTOL * sf * required)
         & (speed >= req.min_speed_m_s * (1 - FEASIBILITY_RTOL))
         & (turns >= req.min_spiral_turns * (1 - FEASIBILITY_RTOL))
+        & (strain >= req.min_wall_strain * (1 - FEASIBILITY_RTOL))
     )
     return MarginGrid(
         margin_Nm=avail - required,
@@ -298,7 +327,28 @@ def margin_grid(
         speed_m_s=speed,
         spiral_turns=turns,
         feasible=ok,
+        wall_strain=strain,
     )
+
+
+def least_wall_strain(model: DesignModel, alpha_rad: Any) -> np.ndarray:
+    """The least strain the wound section stretches any tissue set's wall by (numpy).
+
+    Parameters
+    ----------
+    model : DesignModel
+        The design (capsule and tissue sets).
+    alpha_rad : float or array
+        Helical angle, rad.
+
+    Returns
+    -------
+    ndarray
+        min over tissue sets of torque_model.wall_strain, dimensionless (<= 0: no grip).
+    """
+    model = prepare(model)
+    strains = ph.wall_strains(np.asarray(alpha_rad, dtype=float), model.constants, model.tissues)
+    return np.min(np.stack([np.asarray(s, dtype=float) for s in strains]), axis=0)
 
 
 def _capacity_T(model: DesignModel, f: np.ndarray) -> np.ndarray:
@@ -562,12 +612,15 @@ def evaluate(
     avail = float(ph.available_torque_Nm(field, c))
     res, thr, required, worst = (float(np.asarray(v)) for v in worst_required(model, alpha, f))
     margin = avail - required
-    speed = float(ph.speed_m_s(alpha, f, c, req))
+    strains = tuple(float(x) for x in ph.wall_strains(alpha, c, model.tissues))
+    # a spiral that does not stretch every wall does not grip it: no screw, no speed
+    speed = float(ph.speed_m_s(alpha, f, c, req)) if min(strains) > 0 else 0.0
     turns = float(ph.spiral_turns(alpha, c))
     from optimize.buildcheck import build_checks, copper_masses_kg
 
     checks = [
         *_checks(model, f, field, margin, required, speed, turns),
+        *strain_checks(model, strains),
         self_lock_check(model, alpha),
         # a clearance is needed / achieved, the copper mass value / allowed (1 binds)
         *(
@@ -609,7 +662,42 @@ def evaluate(
         checks=tuple(checks),
         feasible=all(ch.ok for ch in checks),
         copper_masses_kg=copper_masses_kg(model),
+        wall_strains=strains,
+        tissue_names=tuple(t.name for t in model.tissues),
+        weight_friction_Nm=float(ph.weight_friction_Nm(c, model.tissues[int(worst)])),
+        extrapolations=extrapolations(alpha, f, ph.contact_geometry(c), model.tissues),
     )
+
+
+def strain_checks(model: DesignModel, strains: tuple[float, ...]) -> list[Check]:
+    """The engagement requirement: each tissue set's wall strain against
+    ``requirements.min_wall_strain`` (check ``wall_strain[<tissue>]``, needed / achieved).
+
+    Parameters
+    ----------
+    model : DesignModel
+        The design (its tissue sets and ``requirements.min_wall_strain``).
+    strains : tuple of float
+        Wall strain of each tissue set, dimensionless.
+
+    Returns
+    -------
+    list of Check
+        One ``wall_strain[<tissue>]`` check per set (dimensionless values).
+    """
+    need = model.requirements.min_wall_strain
+    return [
+        Check(
+            f"wall_strain[{t.name}]",
+            "1",
+            s,
+            need,
+            ">=",
+            s >= need * (1 - FEASIBILITY_RTOL),
+            _needed_over(need, s),
+        )
+        for t, s in zip(model.tissues, strains)
+    ]
 
 
 def _three(v: Any) -> tuple[float, float, float]:

@@ -424,6 +424,12 @@ def symbolic_constants(
         copper_mass_kg=ca.vertcat(*(q[k]["copper_mass_kg"] for k in range(3))),
         starts=spiral_starts,
         view_factors=view_factor_rows(b.parameter("frozen.view_factors", (12,))),
+        mass_kg=b.parameter("capsule.mass_base_kg")
+        + b.parameter("capsule.mass_per_magnet_volume_kg_m3")
+        * 0.25
+        * bk.pi
+        * (d_mag * d_mag - d_in * d_in)
+        * l_mag,
     )
     q.append({"power_W": power})
     return c, hw, q
@@ -528,6 +534,24 @@ def geometry_terms(b: Any, hs: HardwareStructure, hw: dict, q: list, ctx: Any) -
     return out
 
 
+def _mass_parameters(capsule: Any) -> dict[str, float]:
+    """The capsule's mass as base + rate x magnet volume (kg, kg/m³): a measured mass is
+    fixed; an estimated one follows a free magnet (capsule.mass_from_parts_kg)."""
+    import capsule as cap
+
+    if capsule.set_mass_kg is not None:
+        return {
+            "capsule.mass_base_kg": capsule.mass_kg,
+            "capsule.mass_per_magnet_volume_kg_m3": 0.0,
+        }
+    body = capsule.body
+    return {
+        "capsule.mass_base_kg": float(cap.mass_from_parts_kg(body.diameter_m, body.length_m, 0.0)),
+        "capsule.mass_per_magnet_volume_kg_m3": cap.NDFEB_DENSITY_kg_m3
+        - cap.CONTENTS_DENSITY_kg_m3,
+    }
+
+
 def sizing_parameters(model: Any, frozen: Frozen, min_bore_m: float) -> dict[str, Any]:
     """Values of the hardware, body, heading and frozen parameters of a sizing problem."""
     from spiralcap.constants import COPPER_RESISTIVITY_20C_ohm_m
@@ -556,6 +580,7 @@ def sizing_parameters(model: Any, frozen: Frozen, min_bore_m: float) -> dict[str
             "body.cylinder_length_m": body.cylinder_length_m,
             "magnet.inner_diameter_m": mag.inner_diameter_m,
             "magnet.remanence_T": mag.remanence_T,
+            **_mass_parameters(model.capsule),
             "spiral.wound_length_m": spiral.wound_length_m,
             "frozen.gain_correction": frozen.gain_correction,
             "frozen.mutual_correction": frozen.mutual_correction,

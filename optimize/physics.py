@@ -862,8 +862,10 @@ def required_torques_Nm(
 ) -> list[tuple[bk.Scalar, bk.Scalar]]:
     """(resistive, thrust) torque for every tissue set, N·m.
 
-    Resistive: the Zhou 2013 tissue model (torque_model.resistive_torque_Nm). Thrust: the screw
-    torque to push ``req.axial_load_N`` (capsule.thrust_torque_Nm) with that tissue's friction.
+    Resistive: the Zhou 2013 tissue model (torque_model.resistive_torque_Nm) plus the friction
+    of the capsule's weight lying on the wall (torque_model.weight_friction_torque_Nm, which the
+    paper's vertical bench left out). Thrust: the screw torque to push ``req.axial_load_N``
+    (capsule.thrust_torque_Nm) with that tissue's friction.
 
     Parameters
     ----------
@@ -884,14 +886,57 @@ def required_torques_Nm(
         (resistive, thrust) torque per tissue set, N·m (floats, arrays or CasADi).
     """
     geometry = contact_geometry(c)
+    radius = tm.contact_radius_m(c.body_diameter_m, c.wire_diameter_m)
     out = []
     for tissue in tissues:
-        res = tm.resistive_torque_Nm(helical_angle_rad, frequency_hz, tissue, geometry)
+        res = tm.resistive_torque_Nm(
+            helical_angle_rad, frequency_hz, tissue, geometry
+        ) + tm.weight_friction_torque_Nm(c.mass_kg, tissue.friction_coefficient, radius)
         thr = cap.thrust_torque_Nm(
             req.axial_load_N, c.helix_diameter_m, helical_angle_rad, tissue.friction_coefficient
         )
         out.append((res, thr))
     return out
+
+
+def weight_friction_Nm(c: Constants, tissue: Any) -> Any:
+    """Friction of the capsule's weight on ``tissue``'s wall, N·m (torque_model.engagement).
+
+    Parameters
+    ----------
+    c : Constants
+        The design's constants (capsule mass, kg; body and wire diameters, m).
+    tissue : TissueParameters
+        The tissue set (its friction coefficient).
+
+    Returns
+    -------
+    float or CasADi
+        Friction torque of the capsule's weight, N·m.
+    """
+    radius = tm.contact_radius_m(c.body_diameter_m, c.wire_diameter_m)
+    return tm.weight_friction_torque_Nm(c.mass_kg, tissue.friction_coefficient, radius)
+
+
+def wall_strains(helical_angle_rad: bk.Scalar, c: Constants, tissues: tuple) -> list[bk.Scalar]:
+    """Strain the wound section stretches each tissue set's wall by (engagement where > 0).
+
+    Parameters
+    ----------
+    helical_angle_rad : float, array or CasADi
+        Helical angle, rad.
+    c : Constants
+        The design's constants (capsule and spiral dimensions, m).
+    tissues : tuple of TissueParameters
+        The tissue sets (lumen and wall, m).
+
+    Returns
+    -------
+    list
+        One strain per tissue set, dimensionless (torque_model.wall_strain).
+    """
+    geometry = contact_geometry(c)
+    return [tm.wall_strain(helical_angle_rad, t, geometry) for t in tissues]
 
 
 def speed_m_s(helical_angle_rad: Any, frequency_hz: Any, c: Constants, req: Requirements) -> Any:

@@ -318,7 +318,9 @@ def _safety_row(_sf: Any, min_sf: Any, *, need: Any, available: Any, tau: Any, s
 
 
 def core_terms(ctx: Context) -> list[Term]:
-    """Limits, requirements and the self-lock rows every problem has.
+    """Limits, requirements (the wall strain of every tissue set among them) and the self-lock
+    rows every problem has. The spiral-turn slack of the relaxed problem also relaxes the wall
+    strain: both are the spiral's geometry.
 
     Parameters
     ----------
@@ -328,7 +330,7 @@ def core_terms(ctx: Context) -> list[Term]:
     Returns
     -------
     list of Term
-        Safety-factor, limit, speed, spiral-turn and self-lock rows.
+        Safety-factor, limit, speed, spiral-turn, wall-strain and self-lock rows.
     """
     c, req = ctx.constants, ctx.requirements
     relax = ctx.relax if ctx.relax is not None else (0.0, 0.0, 0.0)
@@ -365,6 +367,15 @@ def core_terms(ctx: Context) -> list[Term]:
             lambda v, a: a / v - 1.0 - relax[1],
         )
     )
+    for tis, strain in zip(ctx.tissues, ph.wall_strains(ctx.alpha, c, ctx.tissues)):
+        out.append(  # engagement: the spiral must stretch every tissue set's wall
+            Term(
+                Row(f"wall_strain[{tis.name}]", "requirement", "1", -1.0),
+                strain,
+                req.min_wall_strain,
+                lambda v, a: 1.0 - v / a - relax[1],
+            )
+        )
     for tis in ctx.tissues:
         out.append(
             Term(

@@ -14,6 +14,7 @@ from typing import Any
 import numpy as np
 
 from spiralcap.constants import COPPER_DENSITY_kg_m3
+from torque_model.engagement import DEFAULT_MIN_WALL_STRAIN
 
 
 def default_headings() -> np.ndarray:
@@ -98,6 +99,8 @@ class Requirements:
     ``min_safety_factor``: available / required torque for every tissue set (1: margin >= 0).
     ``min_clearance_m``: least distance between the winding packs of two pairs and between the
     packs' inner faces and a bore of radius ``bore_radius_m`` (coils.clearance).
+    ``min_wall_strain``: least strain the wound section must stretch every tissue set's wall by
+    (torque_model.engagement: without it the spiral neither grips nor propels), dimensionless.
 
     Attributes
     ----------
@@ -115,6 +118,8 @@ class Requirements:
         Least clearance between packs and to the bore, m.
     bore_radius_m : float
         Radius of the bore the packs keep clear of, m.
+    min_wall_strain : float
+        Least strain the wound section stretches every tissue set's wall by, dimensionless.
     """
 
     axial_load_N: float
@@ -124,6 +129,7 @@ class Requirements:
     min_safety_factor: float = 1.0
     min_clearance_m: float = 0.0
     bore_radius_m: float = 0.0
+    min_wall_strain: float = DEFAULT_MIN_WALL_STRAIN
 
 
 @dataclass(frozen=True)
@@ -251,6 +257,7 @@ class Constants:
     ``copper_mass_kg[k]``: copper of pair k (both coils), wire length x area x density.
     ``heading_current_per_tesla_A_per_T[h, k]``: sqrt(1 - n_hk²) / g_k, the current amplitude
     axis k carries per tesla for heading h (``current_per_tesla_A_per_T`` is its column max).
+    ``mass_kg``: the capsule's mass, whose weight rests on the wall (torque_model.engagement).
 
     Every field may hold CasADi values (the NLP builds it from parameters and, when sizing,
     from hardware variables: :mod:`optimize.compiled`, :mod:`optimize.hardware`).
@@ -290,6 +297,8 @@ class Constants:
         Run length, s (None: steady).
     view_factors : ndarray, shape (3, 4), or None
         Diffuse view factors of each pair, dimensionless (None: each alone in the room).
+    mass_kg : float
+        The capsule's mass, whose weight rests on the wall, kg.
     """
 
     gains_T_per_A: np.ndarray
@@ -311,6 +320,7 @@ class Constants:
     winding_temperature_C: Any = None
     session_s: Any = None
     view_factors: Any = None
+    mass_kg: Any = 0.0
 
 
 def packs_of(model: DesignModel) -> tuple:
@@ -438,6 +448,7 @@ def precompute(model: DesignModel) -> Constants:
         winding_temperature_C=model.winding_temperature_C,
         session_s=model.session_s,
         view_factors=view_factors_of(model.coils),
+        mass_kg=float(model.capsule.mass_kg),
     )
 
 

@@ -73,6 +73,7 @@ _NAMES = {
     "frequency_min": "lower frequency bound",
     "frequency_max": "upper frequency bound",
     "solver": "solver did not converge",
+    "wall_strain": "spiral stretches the wall by",
 }
 _PER_AXIS = {
     "current": "current",
@@ -129,6 +130,9 @@ def readable(name: str) -> str:
     """``voltage_x`` -> ``drive voltage, x pair``; unknown names are returned unchanged."""
     if name in _NAMES:
         return _NAMES[name]
+    if name.endswith("]") and "[" in name:  # a per-tissue row: ``wall_strain[sample3]``
+        stem, _, inner = name[:-1].partition("[")
+        return f"{readable(stem)} ({inner})"
     stem, _, axis = name.rpartition("_")
     if stem in _PER_AXIS and axis in ("x", "y", "z"):
         return f"{_PER_AXIS[stem]}, {axis} pair"
@@ -229,3 +233,46 @@ def gain_per_key_unit(objective: str, unit: str, key: str, gain_si: float) -> tu
         key_unit = "turn"
     obj = obj_unit or ("safety factor" if objective == "ratio" else "")
     return gain_si * obj_factor / key_factor, f"{obj} per {key_unit}".strip()
+
+
+#: How each model input of torque_model.domain.CALIBRATED is named and shown: quantity ->
+#: (words, design key, shown unit, factor from SI).
+_DOMAIN_WORDS: dict[str, tuple[str, str, str, float]] = {
+    "helical_angle_rad": ("helical angle", "capsule.spiral.helical_angle_deg", "°", 180 / math.pi),
+    "frequency_hz": ("rotation frequency", "operation.frequency_hz", "Hz", 1.0),
+    "body_diameter_m": ("capsule diameter", "capsule.diameter_mm", "mm", 1e3),
+    "wire_diameter_m": ("spiral wire diameter", "capsule.spiral.wire_diameter_mm", "mm", 1e3),
+    "starts": ("spiral starts", "capsule.spiral.starts", "", 1.0),
+    "lumen_diameter_m": ("lumen", "tissue.lumen_diameter_mm", "mm", 1e3),
+    "wall_strain": ("wall strain", "requirements.min_wall_strain", "%", 100.0),
+}
+
+
+def extrapolation_words(e: Any) -> str:
+    """One model input outside the paper's calibration, in words: ``helical angle 21.7° (the
+    paper measured 5-20°)``; ``e`` a :class:`torque_model.domain.Extrapolation`."""
+    words, _, unit, k = _DOMAIN_WORDS[e.quantity]
+    where = f" in {e.where}" if e.where else ""
+    measured = (
+        f"{e.low * k:.3g}{_sp(unit)}"
+        if e.low == e.high
+        else f"{e.low * k:.3g}-{e.high * k:.3g}{_sp(unit)}"
+    )
+    return f"{words} {e.value * k:.4g}{_sp(unit)}{where} (the paper measured {measured})"
+
+
+def extrapolation_key(e: Any) -> str:
+    """The design key behind an extrapolated model input (``capsule.spiral.helical_angle_deg``)."""
+    return _DOMAIN_WORDS[e.quantity][1]
+
+
+def _sp(unit: str) -> str:
+    return unit if unit in ("", "°", "%") else f" {unit}"
+
+
+def model_domain_text(extrapolations: Any) -> str:
+    """One paragraph: inside the paper's calibration, or each input the model extrapolates in."""
+    if not extrapolations:
+        return "tissue model        inside the paper's calibrated range (Zhou 2013)"
+    items = "; ".join(extrapolation_words(e) for e in extrapolations)
+    return f"tissue model        EXTRAPOLATES outside the paper's calibration: {items}"

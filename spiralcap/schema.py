@@ -289,6 +289,15 @@ KEYS.update(
             1,
             12,
         ),
+        "capsule.mass_g": _between(
+            "capsule mass, for the friction of its weight lying on the wall (default: from its "
+            "parts, the magnet at 7500 kg/m³ and the rest of the capsule at 1300 kg/m³, a "
+            "PillCam SB3's mean density); range: 0.1-500 g",
+            None,
+            0.1,
+            500.0,
+            open_=False,
+        ),
         "capsule.magnet.shape": _choice(
             "magnet shape, diametrically magnetised", "cylinder", ("cylinder", "ring")
         ),
@@ -331,7 +340,8 @@ KEYS.update(
             TISSUE_PRESETS,
         ),
         "tissue.E1_kPa": _between(
-            "spring modulus E1 of the five-element model (overrides preset); range: 0 to 1 GPa, "
+            "spring modulus E1 of the five-element model (overrides tissue.preset only; each "
+            "worst-case preset keeps its own material); range: 0 to 1 GPa, "
             "beyond any soft tissue (the presets hold 10-7000 kPa)",
             None,
             0.0,
@@ -339,21 +349,22 @@ KEYS.update(
             open_=False,
         ),
         "tissue.E2_kPa": _between(
-            "spring modulus E2 (overrides preset); range as tissue.E1_kPa",
+            "spring modulus E2 (overrides tissue.preset only); range as tissue.E1_kPa",
             None,
             0.0,
             1e6,
             open_=False,
         ),
         "tissue.E3_kPa": _between(
-            "spring modulus E3 (overrides preset); range as tissue.E1_kPa",
+            "spring modulus E3 (overrides tissue.preset only); range as tissue.E1_kPa",
             None,
             0.0,
             1e6,
             open_=False,
         ),
         "tissue.eta1_kPa_s": _between(
-            "dashpot viscosity eta1 (overrides preset); range: 1e-3 to 1e8 kPa·s, the presets "
+            "dashpot viscosity eta1 (overrides tissue.preset only); range: 1e-3 to 1e8 kPa·s, "
+            "the presets "
             "hold 80-16000",
             None,
             1e-3,
@@ -361,29 +372,33 @@ KEYS.update(
             open_=False,
         ),
         "tissue.eta2_kPa_s": _between(
-            "dashpot viscosity eta2 (overrides preset); range as tissue.eta1_kPa_s",
+            "dashpot viscosity eta2 (overrides tissue.preset only); range as tissue.eta1_kPa_s",
             None,
             1e-3,
             1e8,
             open_=False,
         ),
         "tissue.lumen_diameter_mm": _between(
-            "inner diameter of the undeformed intestine (overrides); range: 1-100 mm (small "
-            "bowel ~10-30, colon up to ~80)",
+            "inner diameter of the patient's undeformed intestine: applies to every tissue set "
+            "(tissue.preset, each worst-case preset, the uncertainty samples centre on it); "
+            "default: each set's own bench lumen; range: 1-100 mm (small bowel ~10-30, colon up "
+            "to ~80)",
             None,
             1.0,
             100.0,
             open_=False,
         ),
         "tissue.wall_thickness_mm": _between(
-            "intestinal wall thickness (overrides preset); range: 0.05-20 mm",
+            "the patient's intestinal wall thickness: applies to every tissue set, as "
+            "tissue.lumen_diameter_mm; range: 0.05-20 mm",
             None,
             0.05,
             20.0,
             open_=False,
         ),
         "tissue.friction_coefficient": _between(
-            "capsule-mucosa Coulomb friction (overrides preset); range: 1e-3-5 (mucosa ~0.01-0.6)",
+            "capsule-mucosa Coulomb friction (overrides tissue.preset only: each worst-case "
+            "preset keeps its own); range: 1e-3-5 (mucosa ~0.01-0.6)",
             None,
             1e-3,
             5.0,
@@ -455,6 +470,18 @@ KEYS.update(
             5.0,
             0.0,
             1000.0,
+            open_=False,
+        ),
+        "requirements.min_wall_strain": _between(
+            "least strain the spiral must stretch the intestinal wall by, (D' - lumen) / "
+            "(lumen + wall), for every tissue set: a spiral that does not stretch the wall does "
+            "not grip it, so it neither screws the capsule forward nor meets the model's "
+            "resistance (default 0.017: the least strain at which the paper measured a spiral "
+            "capsule's torque, capsule No. 4 at 20 deg in sample 3, 1.69 %); range: 1e-4-0.5 "
+            "(it cannot be switched off)",
+            0.017,
+            1e-4,
+            0.5,
             open_=False,
         ),
         "requirements.min_spiral_turns": _between(

@@ -33,12 +33,20 @@ _VECTOR_KEYS: dict[str, str] = {
     "requirements.slip_efficiency": "requirements",
     "requirements.min_speed_mm_s": "requirements",
     "requirements.min_spiral_turns": "requirements",
+    "requirements.min_wall_strain": "requirements",
 }
 #: Most grid points a sweep may have, by mode: the vectorised evaluation holds a few dozen
 #: float arrays of this length (2.5e5 points: ~0.2 GB at most); point-by-point evaluation
 #: rebuilds the model each time (~10 ms), re-optimisation solves an NLP each time (~0.1-1 s).
 MAX_POINTS = {"vectorised": 250_000, "points": 20_000, "optimize": 5_000}
-EVALUATE_COLUMNS = ("margin_Nm", "safety_factor", "field_amplitude_T", "speed_m_s", "feasible")
+EVALUATE_COLUMNS = (
+    "margin_Nm",
+    "safety_factor",
+    "field_amplitude_T",
+    "speed_m_s",
+    "wall_strain",  # the least over the tissue sets (the spiral grips where > 0)
+    "feasible",
+)
 #: Consecutive grid points re-optimised as one warm-started chain (one task).
 OPTIMIZE_CHUNK = 16
 OPTIMIZE_COLUMNS = (
@@ -235,7 +243,14 @@ def _evaluate_points(design, inputs, progress) -> dict[str, np.ndarray]:
     for i in range(n):
         ev = evaluate(build_model(_at(design, inputs, i)))
         rows.append(
-            (ev.margin_Nm, ev.safety_factor, ev.field_amplitude_T, ev.speed_m_s, ev.feasible)
+            (
+                ev.margin_Nm,
+                ev.safety_factor,
+                ev.field_amplitude_T,
+                ev.speed_m_s,
+                min(ev.wall_strains),
+                ev.feasible,
+            )
         )
         if progress:
             progress(i + 1, n)

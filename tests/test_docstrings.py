@@ -183,7 +183,7 @@ def function_problems(
             problems.append(f"no Returns section (returns {ret or 'unannotated'})")
         for e in returns:
             problems.append(unit_problem(e, ret if len(returns) == 1 else "") or "")
-    return [p for p in problems if p]
+    return list(dict.fromkeys(p for p in problems if p))  # an entry naming two: said once
 
 
 def _fields(cls: type) -> list[tuple[str, str]]:
@@ -207,7 +207,7 @@ def class_problems(cls: type) -> list[str]:
             f"field {n!r} not in Parameters/Attributes" for n, _ in fields if n not in documented
         ]
         problems += [unit_problem(documented[n], a) or "" for n, a in fields if n in documented]
-        return [p for p in problems if p]
+        return list(dict.fromkeys(p for p in problems if p))
     init = cls.__dict__.get("__init__")
     if inspect.isfunction(init) and not getattr(cls, "_is_protocol", False):
         has_own = bool(sections(init.__doc__).get("Parameters"))

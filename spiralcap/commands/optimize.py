@@ -130,8 +130,8 @@ def _shared_key_lines(res) -> list[str]:
 def format_result(res) -> str:
     """Readable summary of an :class:`optimize.OptimizationResult`."""
     from spiralcap.assemble.system import constraint_key, message_in_key_units
-    from spiralcap.commands.evaluate import safety_factor_text
-    from spiralcap.presentation import step_out_words
+    from spiralcap.commands.evaluate import safety_factor_text, tissue_line
+    from spiralcap.presentation import model_domain_text, step_out_words
     from spiralcap.serialize import _step_out
 
     ev = res.evaluation
@@ -161,6 +161,9 @@ def format_result(res) -> str:
             f"copper              {res.evaluation.copper_mass_kg:.4g} kg ("
             + ", ".join(f"{ax} {m:.4g}" for ax, m in zip("xyz", res.evaluation.copper_masses_kg))
             + ")",
+            tissue_line(ev),
+            model_domain_text(ev.extrapolations)
+            + (" (the optimum rests on this extrapolation)" if ev.extrapolations else ""),
             "binding limits"
             + (
                 " (of the continuous relaxation: the gains are those of the continuous bound):"
@@ -177,6 +180,7 @@ def format_result(res) -> str:
             lines += _hardware_lines(res)
     else:
         lines.append(message_in_key_units(res.message))
+        lines += _grip_binds(res)
         for s in res.shortfalls:
             label, factor = _ENGINEERING.get(s.unit, (s.unit, 1.0))
             if s.name == "margin":
@@ -205,6 +209,28 @@ def format_result(res) -> str:
                     f"{s.best / factor:.4g}{u} (short by {s.short_by / factor:.4g}{u})"
                 )
     return "\n".join(lines)
+
+
+def _grip_binds(res) -> list[str]:
+    """A line naming the engagement requirement where it binds at the closest design: the
+    spiral must stretch the wall (a small helical angle), which is what keeps the rest out of
+    reach (e.g. the speed, which needs a larger angle)."""
+    ev = res.evaluation
+    if ev is None:
+        return []
+    tight = [
+        c
+        for c in ev.checks
+        if c.name.startswith("wall_strain[") and c.value <= c.allowed * (1 + 1e-3)
+    ]
+    if not tight:
+        return []
+    need = tight[0].allowed
+    return [
+        f"  requirements.min_wall_strain binds there: for the spiral to stretch every wall by "
+        f"{100 * need:.3g} % (grip) the helical angle can be at most "
+        f"{ev.helical_angle_deg:.3g} deg, which holds the rest out of reach"
+    ]
 
 
 def _hardware_lines(res) -> list[str]:
