@@ -59,7 +59,6 @@ DOMAIN = ("coils", "capsule", "torque_model", "optimize")
 PENDING = {
     "optimize.solve": "issue 27 rewrite pending",
     "optimize.discrete": "issue 27 rewrite pending",
-    "optimize.hardware": "issue 27 rewrite pending",
     "optimize.screen": "issue 27 rewrite pending",
 }
 
