@@ -65,7 +65,7 @@ class AxisSizing:
         Self inductance of one coil, mutual inductance of the two, series inductance of the
         pair, H.
     impedance_ohm : float
-        Series R-L impedance magnitude at ``frequency_hz``, Ω.
+        Series R-L impedance magnitude at the drive frequency, Ω.
     voltage_amplitude_V : float
         Drive voltage amplitude, V.
     power_W : float

@@ -92,7 +92,7 @@ class FreeVariable:
     name : str
         A name of :data:`NAMES` (``"x.turns"``, ``"magnet.length_m"``, ...).
     lo, hi : float
-        Its box, in the unit its name carries (m; turns a count).
+        Its box, in the unit its name carries (m; turns a count; pack aspect dimensionless).
     """
 
     name: str

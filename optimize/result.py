@@ -117,7 +117,7 @@ class OptimizationResult:
     current_amplitudes_A : tuple of float
         Worst-heading current amplitude of each pair, A.
     current_phases_rad : tuple
-        Per heading, the amplitudes (A) and phases (rad) of the three currents.
+        Per heading, the centre allocation: the three current amplitudes (A) and phases (rad).
     headings : tuple of tuple of float
         The unit headings, dimensionless.
     speed_m_s : float
@@ -131,7 +131,7 @@ class OptimizationResult:
     solver_status : str
         IPOPT's return status.
     iterations : int
-        IPOPT iterations of the best start, count.
+        IPOPT iterations over every start tried, count.
     starts : int
         Number of starting points solved.
     solve_time_s : float
@@ -146,9 +146,11 @@ class OptimizationResult:
         Flag: the optimum's field is below the largest the limits allow.
     hardware : HardwareResult or None
         The sizing outcome, when hardware was free.
-    solution_x, solution_lam_g : ndarray or None
-        The raw optimum (scaled variables, dimensionless) and its constraint multipliers, for a
-        warm start.
+    solution_x : dict of str to float or None
+        The raw optimum by variable name, in the unit each name carries (``helical_angle``
+        rad, ``frequency`` Hz, ``field_T``, ``t_value`` in the objective's unit), a warm start.
+    solution_lam_g : ndarray or None
+        Its row multipliers, dimensionless (scaled rows), a warm start.
     scenario_solve : ScenarioSolve or None
         How the tissue scenarios were solved and checked.
     """

@@ -801,7 +801,7 @@ def check_seed(seed: Any, key: str = "--seed") -> int:
     Returns
     -------
     int
-        The seed as an int (an index of the sequence family).
+        The seed as a Python int.
     """
     if (
         isinstance(seed, bool)
