@@ -158,6 +158,31 @@ def _entries(secs: dict[str, list[Entry]], *names: str) -> dict[str, Entry]:
     return {n: e for s in names for e in secs.get(s, []) for n in e.names}
 
 
+def _parameter_problems(params: list[inspect.Parameter], secs: dict[str, list[Entry]]) -> list:
+    """Parameters missing from ``Parameters``, names it has that the signature lacks, units."""
+    documented = _entries(secs, "Parameters", "Other Parameters")
+    names = {p.name for p in params}
+    return [
+        *(f"parameter {p.name!r} not in Parameters" for p in params if p.name not in documented),
+        *(f"Parameters names {n!r}, not a parameter" for n in documented if n not in names),
+        *(
+            unit_problem(documented[p.name], _annotation_text(p.annotation))
+            for p in params
+            if p.name in documented
+        ),
+    ]
+
+
+def _return_problems(ret: str, secs: dict[str, list[Entry]]) -> list:
+    """A ``Returns`` (or ``Yields``) section when something is returned, and its units."""
+    if ret == "None":
+        return []
+    returns = secs.get("Returns", []) + secs.get("Yields", [])
+    if not returns:
+        return [f"no Returns section (returns {ret or 'unannotated'})"]
+    return [unit_problem(e, ret if len(returns) == 1 else "") for e in returns]
+
+
 def function_problems(
     func: Callable[..., Any], *, skip_first: bool = False, doc: str | None = None
 ) -> list[str]:
@@ -166,25 +191,13 @@ def function_problems(
     if not (doc or "").strip():
         return ["no docstring"]
     secs = sections(doc)
-    params = list(inspect.signature(func).parameters.values())
+    signature = inspect.signature(func)
+    params = list(signature.parameters.values())
     if skip_first and params and params[0].name in ("self", "cls"):
         params = params[1:]
-    documented = _entries(secs, "Parameters", "Other Parameters")
-    problems = [
-        f"parameter {p.name!r} not in Parameters" for p in params if p.name not in documented
-    ]
-    names = {p.name for p in params}
-    problems += [f"Parameters names {n!r}, not a parameter" for n in documented if n not in names]
-    for p in params:
-        if p.name in documented:
-            problems.append(unit_problem(documented[p.name], _annotation_text(p.annotation)) or "")
-    ret = _annotation_text(inspect.signature(func).return_annotation)
-    if ret != "None" and func.__name__ != "__init__":
-        returns = secs.get("Returns", []) + secs.get("Yields", [])
-        if not returns:
-            problems.append(f"no Returns section (returns {ret or 'unannotated'})")
-        for e in returns:
-            problems.append(unit_problem(e, ret if len(returns) == 1 else "") or "")
+    problems = _parameter_problems(params, secs)
+    if func.__name__ != "__init__":
+        problems += _return_problems(_annotation_text(signature.return_annotation), secs)
     return list(dict.fromkeys(p for p in problems if p))  # an entry naming two: said once
 
 
