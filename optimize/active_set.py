@@ -340,23 +340,6 @@ def solve_over_scenarios(
     :func:`optimize.optimize_design` on a model that carries a working set); ``start_points``
     the (angle, frequency, field) points that rank the scenarios for the first working set when
     there is no warm start (the grid starts).
-
-    Parameters
-    ----------
-    model : DesignModel
-        The design with its whole scenario set.
-    solve : callable
-        ``solve(model, warm_start) -> OptimizationResult``, the fixed-hardware solve.
-    warm_start : OptimizationResult or dict, optional
-        A neighbouring solve to start from.
-    start_points : callable, optional
-        ``start_points(model)``: (angle, rad; frequency, Hz; field, T) points for the first
-        ranking.
-
-    Returns
-    -------
-    OptimizationResult
-        The robust optimum, with its ``scenario_solve`` record.
     """
     model = prepare(model)
     sc = model.scenarios
