@@ -16,7 +16,7 @@ import numpy as np
 from optimize import physics as ph
 from optimize._roots import brentq
 from optimize.system import DesignModel, prepare
-from torque_model.domain import extrapolations
+from torque_model.domain import calibration_edges, extrapolations
 
 #: Relative tolerance with which requirements are judged met (an optimum sits on its bounds).
 FEASIBILITY_RTOL = 1e-6
@@ -162,6 +162,8 @@ class Evaluation:
     weight_friction_Nm: float = 0.0
     #: Model inputs outside the paper's calibrated range (torque_model.domain.Extrapolation).
     extrapolations: tuple = ()
+    #: Model inputs inside that range but on its edge (torque_model.domain.calibration_edges).
+    calibration_edges: tuple = ()
 
     @property
     def engaged(self) -> bool:
@@ -666,6 +668,7 @@ def evaluate(
         tissue_names=tuple(t.name for t in model.tissues),
         weight_friction_Nm=float(ph.weight_friction_Nm(c, model.tissues[int(worst)])),
         extrapolations=extrapolations(alpha, f, ph.contact_geometry(c), model.tissues),
+        calibration_edges=calibration_edges(alpha, f, ph.contact_geometry(c), model.tissues),
     )
 
 

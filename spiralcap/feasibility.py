@@ -39,8 +39,7 @@ def failing_requirements(model: Any, alpha_rad: np.ndarray, grid: Any) -> np.nda
     checks = [
         ("spiral self-locks", np.asarray(self_lock_margin(model, alpha_rad), float) <= 0),
         (
-            "spiral does not grip the wall"
-            + text(np.asarray(req.min_wall_strain) * 100, ".3g", " % strain"),
+            "wall strain (grip)" + text(np.asarray(req.min_wall_strain) * 100, ".3g", " %"),
             strain < np.asarray(req.min_wall_strain) * (1 - rtol),
         ),
         (

@@ -267,7 +267,7 @@ def extrapolation_key(e: Any) -> str:
 
 
 def _sp(unit: str) -> str:
-    return unit if unit in ("", "°", "%") else f" {unit}"
+    return unit if unit in ("", "°") else f" {unit}"
 
 
 def model_domain_text(extrapolations: Any) -> str:
@@ -276,3 +276,12 @@ def model_domain_text(extrapolations: Any) -> str:
         return "tissue model        inside the paper's calibrated range (Zhou 2013)"
     items = "; ".join(extrapolation_words(e) for e in extrapolations)
     return f"tissue model        EXTRAPOLATES outside the paper's calibration: {items}"
+
+
+def edge_text(edges: Any) -> str:
+    """``; the optimum sits on the calibrated edge of: ...`` or ``""``."""
+    if not edges:
+        return ""
+    return "; the optimum sits on the calibrated edge of: " + "; ".join(
+        extrapolation_words(e) for e in edges
+    )

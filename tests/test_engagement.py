@@ -238,3 +238,9 @@ def test_evaluate_json_carries_strains():
     ev = run_json(["evaluate"])
     assert len(ev["wall_strains"]) == len(ev["tissue_names"]) == 2
     assert json.dumps(ev)  # serialisable
+
+
+def test_optimum_on_a_calibrated_edge_is_flagged():
+    """The built-in optimum holds sample 3's strain at 1.7 %, the paper's least (1.69 %)."""
+    rc, out, _ = run(["optimize"])
+    assert rc == 0 and "calibrated edge of: wall strain 1.7 %" in out, out

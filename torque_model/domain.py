@@ -28,6 +28,7 @@ __all__ = [
     "CALIBRATED",
     "Extrapolation",
     "ValidationPoint",
+    "calibration_edges",
     "extrapolations",
     "validation_errors",
     "validation_sigma_log",
@@ -137,6 +138,57 @@ def extrapolations(
     for t in tissues:
         found.append(_outside("lumen_diameter_m", t.lumen_diameter_m, t.name))
         found.append(_outside("wall_strain", float(wall_strain(helical_angle_rad, t, g)), t.name))
+    return tuple(e for e in found if e is not None)
+
+
+#: Fraction of a calibrated range's width within which an input counts as on its edge.
+EDGE_FRACTION = 0.02
+
+
+def _on_edge(quantity: str, value: float, where: str = "") -> Extrapolation | None:
+    low, high, unit = CALIBRATED[quantity]
+    width = high - low
+    if width <= 0 or _outside(quantity, value, where) is not None:
+        return None
+    if min(value - low, high - value) > EDGE_FRACTION * width:
+        return None
+    return Extrapolation(quantity, float(value), low, high, unit, where)
+
+
+def calibration_edges(
+    helical_angle_rad: float,
+    frequency_hz: float,
+    geometry: ContactGeometry,
+    tissues: tuple[TissueParameters, ...] | list[TissueParameters],
+) -> tuple[Extrapolation, ...]:
+    """Inputs an optimiser moves (angle, frequency, wall strain) inside the calibrated range
+    but on its edge (within :data:`EDGE_FRACTION` of its width from an end): where an optimum
+    pressed against the range rests on its last measured point.
+
+    Parameters
+    ----------
+    helical_angle_rad : float
+        Helical angle, rad.
+    frequency_hz : float
+        Rotation frequency, Hz.
+    geometry : ContactGeometry
+        The capsule (dimensions, m).
+    tissues : sequence of TissueParameters
+        The tissue sets (lumen, m; wall strain per set).
+
+    Returns
+    -------
+    tuple of Extrapolation
+        The inputs on an edge (same record as :func:`extrapolations`).
+    """
+    found = [
+        _on_edge("helical_angle_rad", helical_angle_rad),
+        _on_edge("frequency_hz", frequency_hz),
+    ]
+    for t in tissues:  # the lumen is the patient's, not the optimiser's: not an edge it seeks
+        found.append(
+            _on_edge("wall_strain", float(wall_strain(helical_angle_rad, t, geometry)), t.name)
+        )
     return tuple(e for e in found if e is not None)
 
 

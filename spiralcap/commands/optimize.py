@@ -131,7 +131,7 @@ def format_result(res) -> str:
     """Readable summary of an :class:`optimize.OptimizationResult`."""
     from spiralcap.assemble.system import constraint_key, message_in_key_units
     from spiralcap.commands.evaluate import safety_factor_text, tissue_line
-    from spiralcap.presentation import model_domain_text, step_out_words
+    from spiralcap.presentation import edge_text, model_domain_text, step_out_words
     from spiralcap.serialize import _step_out
 
     ev = res.evaluation
@@ -163,7 +163,8 @@ def format_result(res) -> str:
             + ")",
             tissue_line(ev),
             model_domain_text(ev.extrapolations)
-            + (" (the optimum rests on this extrapolation)" if ev.extrapolations else ""),
+            + (" (the optimum rests on this extrapolation)" if ev.extrapolations else "")
+            + edge_text(ev.calibration_edges),
             "binding limits"
             + (
                 " (of the continuous relaxation: the gains are those of the continuous bound):"
