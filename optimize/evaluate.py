@@ -128,6 +128,8 @@ class Evaluation:
         Friction of the capsule's weight in the worst tissue set's required torque, N·m.
     extrapolations : tuple of torque_model.domain.Extrapolation
         Model inputs outside the paper's calibrated range.
+    calibration_edges : tuple
+        Model inputs inside that range but on its edge (torque_model.domain.calibration_edges).
     """
 
     helical_angle_rad: float
