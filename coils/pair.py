@@ -83,6 +83,20 @@ def stefan_bracket(radius: Any, width: Any, depth: Any) -> Any:
     (1 + (3b² + c²)/(96 a²)) ln(8a/d) - y1 + b²/(16 a²) y2, d = sqrt(b² + c²) (Rosa & Grover,
     Bull. Bur. Stand. 8, 1912, eq. 91), y1 from the rectangle's geometric mean distance, y2 from
     :data:`_Y2_FIT`; at b = c exactly the square-section constants. Backend-generic.
+
+    Parameters
+    ----------
+    radius : float or CasADi
+        Mean radius a of the coil, m.
+    width : float or CasADi
+        Axial width b of the winding pack, m.
+    depth : float or CasADi
+        Radial depth c of the winding pack, m.
+
+    Returns
+    -------
+    float or CasADi
+        L / (μ0 a N²), dimensionless.
     """
     from spiralcap import backend as bk
 
@@ -110,7 +124,7 @@ class HelmholtzPair:
     radius_m : float
         Mean radius R of each coil (centre of the winding pack), m.
     turns : int
-        Turns N of each coil.
+        Turns N of each coil, count.
     axis : {"x", "y", "z"}
         Common axis of the two coils.
     separation_m : float, optional
@@ -118,12 +132,14 @@ class HelmholtzPair:
     wire_diameter_m : float
         Bare copper diameter d, m.
     packing_factor : float
-        Copper area / pack area, in (0, π/(2√3)).
+        Copper area / pack area, dimensionless, in (0, π/(2√3)).
     filaments : (int, int)
-        Gauss-Legendre filaments across the radial and axial pack extent used for the *field*
-        (1, 1 = one filament at the mean radius; larger counts model the real pack).
+        Number of Gauss-Legendre filaments across the radial and axial pack extent used for
+        the *field* (1, 1 = one filament at the mean radius; larger counts model the real
+        pack).
     pack_aspect : float
-        Axial width / radial depth of the winding pack, in :data:`PACK_ASPECT_RANGE`; 1 = square.
+        Axial width / radial depth of the winding pack, dimensionless, in
+        :data:`PACK_ASPECT_RANGE`; 1 = square.
 
     Raises
     ------
@@ -183,7 +199,7 @@ class HelmholtzPair:
     # --- geometry ------------------------------------------------------------------------------
     @property
     def axis_index(self) -> int:
-        """0, 1 or 2 for x, y or z."""
+        """Axis index: 0, 1 or 2 for x, y or z."""
         return AXES.index(self.axis)
 
     @property
@@ -279,6 +295,11 @@ class HelmholtzPair:
         ----------
         temperature_C : float
             Copper temperature, °C.
+
+        Returns
+        -------
+        float
+            Resistance of the pair, Ω.
         """
         return float(
             copper_resistivity_ohm_m(temperature_C) * self.wire_length_m / self.wire_area_m2
@@ -344,6 +365,11 @@ class HelmholtzPair:
         ----------
         heat_transfer_coefficient_W_m2K : float
             Convective coefficient h, W/(m²·K).
+
+        Returns
+        -------
+        float
+            Conductance h A of both coils, W/K.
         """
         h = check_positive("heat_transfer_coefficient_W_m2K", heat_transfer_coefficient_W_m2K)
         return h * self.surface_area_m2

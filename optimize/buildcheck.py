@@ -22,7 +22,23 @@ BUILD_CHECK_NAMES = frozenset((*CLEARANCE_NAMES.values(), "bore_clearance", "cop
 
 
 class BuildCheck(NamedTuple):
-    """One buildability check (the fields of :class:`optimize.evaluate.Check`)."""
+    """One buildability check (the fields of :class:`optimize.evaluate.Check`).
+
+    Attributes
+    ----------
+    name : str
+        Name of the check (:data:`BUILD_CHECK_NAMES`).
+    unit : str
+        Unit symbol of ``value`` and ``allowed`` (``"m"`` or ``"kg"``).
+    value : float
+        The checked quantity, in the unit ``unit`` names.
+    allowed : float
+        Its bound, in the unit ``unit`` names.
+    sense : str
+        ``">="`` or ``"<="``.
+    ok : bool
+        Flag: the check holds.
+    """
 
     name: str
     unit: str
@@ -33,7 +49,18 @@ class BuildCheck(NamedTuple):
 
 
 def copper_masses_kg(model: Any) -> tuple[float, float, float]:
-    """Copper mass of each pair (both coils), density x wire length x bare section, kg."""
+    """Copper mass of each pair (both coils), density x wire length x bare section, kg.
+
+    Parameters
+    ----------
+    model : DesignModel
+        The design (its coils).
+
+    Returns
+    -------
+    tuple of float
+        Copper of the x, y and z pairs, kg.
+    """
     from spiralcap.constants import COPPER_DENSITY_kg_m3
 
     return tuple(  # type: ignore[return-value]
@@ -45,7 +72,20 @@ def build_checks(model: Any, rtol: float = 1e-6) -> list[BuildCheck]:
     """The buildability checks of ``model`` (a :class:`optimize.DesignModel`):
     ``clearance_xy``, ``clearance_xz``, ``clearance_yz``,
     ``bore_clearance`` (m, >= the least clearance) and ``copper_mass`` (kg, <= the limit, only
-    with ``limits.copper_mass_kg``)."""
+    with ``limits.copper_mass_kg``).
+
+    Parameters
+    ----------
+    model : DesignModel
+        The design.
+    rtol : float
+        Relative slack granted to each bound, dimensionless.
+
+    Returns
+    -------
+    list of BuildCheck
+        The clearance checks (m) and the copper-mass check (kg).
+    """
     from coils.clearance import bore_clearance_m, pack_clearances_m
 
     Check = BuildCheck
@@ -74,6 +114,18 @@ def buildable_ok(model: Any, rtol: float = 1e-6) -> bool:
     of A's mean turn of the exact distance to B's (:func:`optimize.hardware.mean_turn_gap_m`),
     and a distance is 1-Lipschitz, so the true gap is at least that less the half spacing of
     the points along A's circle (an arc of pi R_a / GAP_SAMPLES).
+
+    Parameters
+    ----------
+    model : DesignModel
+        The design.
+    rtol : float
+        Relative slack granted to each bound, dimensionless.
+
+    Returns
+    -------
+    bool
+        Flag: every build check holds.
     """
     import itertools
     import math

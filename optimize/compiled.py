@@ -46,7 +46,41 @@ _SLACKS = ("slack_speed", "slack_turns", "slack_safety")
 
 @dataclass(frozen=True)
 class Structure:
-    """What is compiled into a problem (everything else is a parameter)."""
+    """What is compiled into a problem (everything else is a parameter).
+
+    Attributes
+    ----------
+    objective : str
+        Objective name.
+    tissues : tuple of TissueParameters
+        The tissue sets (their names and friction shape the rows).
+    field_exposure : str
+        Exposure limit kind (``"occupational"``, ``"public"``, ``"off"``).
+    spiral_starts : int
+        Number of spiral starts.
+    relaxed : bool
+        Flag: the relaxed problem (slacks on the requirements).
+    warm : bool
+        Flag: IPOPT's warm-start options.
+    hooks : tuple
+        The registered constraint builders and the objective spec (objects).
+    hardware : HardwareStructure or None
+        Which hardware is free (sizing), or None.
+    headings : int
+        Number of headings.
+    fixed_winding_temperature : bool
+        Flag: the design fixes the copper temperature.
+    session : bool
+        Flag: a finite session instead of the steady state.
+    heading_pattern : tuple
+        :func:`optimize.headings.heading_pattern` of the headings (indices), or ().
+    scenarios : object
+        The structure of the tissue scenarios, or None.
+    convection : str
+        Cooling mode (one of :data:`coils.thermal.CONVECTION_MODES`).
+    surface_limit : bool
+        Flag: a surface-temperature limit is set.
+    """
 
     objective: str
     tissues: tuple
@@ -72,7 +106,24 @@ def structure_of(
     warm: bool = False,
     hardware: hw.HardwareStructure | None = None,
 ) -> Structure:
-    """The :class:`Structure` of ``model``'s problem."""
+    """The :class:`Structure` of ``model``'s problem.
+
+    Parameters
+    ----------
+    model : DesignModel
+        The design (prepared).
+    relaxed : bool
+        Flag: the relaxed problem.
+    warm : bool
+        Flag: warm-start options.
+    hardware : HardwareStructure, optional
+        Which hardware is free, when sizing.
+
+    Returns
+    -------
+    Structure
+        What the compiled problem depends on.
+    """
     return Structure(
         model.bounds.objective,
         model.tissues,
@@ -94,7 +145,15 @@ def structure_of(
 
 @dataclass(frozen=True)
 class CompiledProblem:
-    """A compiled design NLP and how to fill its parameters from a model."""
+    """A compiled design NLP and how to fill its parameters from a model.
+
+    Attributes
+    ----------
+    structure : Structure
+        What was compiled in.
+    nlp : CompiledNLP
+        The compiled NLP.
+    """
 
     structure: Structure
     nlp: CompiledNLP
@@ -102,7 +161,22 @@ class CompiledProblem:
     def parameters(
         self, model: DesignModel, scales: pb.Scales, extra: dict[str, Any] | None = None
     ) -> np.ndarray:
-        """The parameter vector of ``model`` (prepared) with ``scales`` (and sizing values)."""
+        """The parameter vector of ``model`` (prepared) with ``scales`` (and sizing values).
+
+        Parameters
+        ----------
+        model : DesignModel
+            The design (prepared).
+        scales : Scales
+            Reference magnitudes.
+        extra : dict, optional
+            More parameter values by name (sizing), each in the unit its name carries.
+
+        Returns
+        -------
+        ndarray
+            The parameter vector, each entry in the unit its parameter's name carries.
+        """
         values = {
             **(extra or {}),
             **constant_values(model.constants),
@@ -125,6 +199,16 @@ def compile_problem(structure: Structure) -> CompiledProblem:
     The warm-start variant shares the cold problem's expression graph and derivative
     functions (:meth:`optimize.nlp.CompiledNLP.with_options`): only IPOPT's options differ, so
     the NLP is built and differentiated once per structure whichever starts a caller uses.
+
+    Parameters
+    ----------
+    structure : Structure
+        What to compile in.
+
+    Returns
+    -------
+    CompiledProblem
+        The compiled problem.
     """
     if structure.warm:
         cold = compile_problem(replace(structure, warm=False))
@@ -248,7 +332,18 @@ PACK_FIELDS = (
 
 
 def constant_values(c: Any) -> dict[str, Any]:
-    """The values of the ``constant.*`` parameters for numeric :class:`Constants` ``c``."""
+    """The values of the ``constant.*`` parameters for numeric :class:`Constants` ``c``.
+
+    Parameters
+    ----------
+    c : Constants
+        Numeric constants.
+
+    Returns
+    -------
+    dict of str to float or ndarray
+        Value by parameter name (``constant.*``), in the unit each name carries.
+    """
     out: dict[str, Any] = {
         f"constant.{n}": np.asarray(getattr(c, n), float) for n in _VECTOR_FIELDS
     }

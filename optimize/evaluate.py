@@ -34,6 +34,23 @@ class Check:
     the self-lock as α + atan μ against 90°. ``utilisation``: how close it is to binding in the
     row's own form (value / allowed of a limit, a temperature rise over the allowed rise;
     needed / achieved of a requirement; 1 binds), NaN where it has no such ratio (the margin).
+
+    Attributes
+    ----------
+    name : str
+        Name of the requirement or limit.
+    unit : str
+        Unit symbol of ``value`` and ``allowed`` (SI: A, V, W, °C, N·m, m/s, rad, ...).
+    value : float
+        The checked quantity, in the unit ``unit`` names.
+    allowed : float
+        Its bound, in the unit ``unit`` names.
+    sense : str
+        ``"<="``, ``">="`` or ``"<"``: how ``value`` must relate to ``allowed``.
+    ok : bool
+        Flag: the check holds.
+    utilisation : float
+        How close it is to binding, dimensionless (1 binds; NaN: no such ratio).
     """
 
     name: str
@@ -55,7 +72,65 @@ def _build_utilisation(value: float, allowed: float, sense: str) -> float:
 
 @dataclass(frozen=True)
 class Evaluation:
-    """Immutable result of :func:`evaluate` (SI units; names say the unit)."""
+    """Immutable result of :func:`evaluate` (SI units; names say the unit).
+
+    Attributes
+    ----------
+    helical_angle_rad : float
+        Helical angle of the spiral, rad.
+    frequency_hz : float
+        Rotation frequency, Hz.
+    field_amplitude_T : float
+        Rotating-field amplitude at the centre, T.
+    field_limited_by : str
+        The limit that sets the field (``"fixed"`` for a set field).
+    workspace_factor : float
+        Weakest field over the workspace per tesla at the centre, dimensionless.
+    current_amplitudes_A : tuple of float
+        Worst-heading current amplitude of each pair, A.
+    magnetic_torque_Nm, resistive_torque_Nm, thrust_torque_Nm, required_torque_Nm : float
+        Available synchronous torque, the worst tissue's resistive and thrust torque and their
+        sum, N·m.
+    worst_tissue : str
+        Name of the tissue set that needs the most torque.
+    margin_Nm : float
+        Available minus required torque, N·m.
+    safety_factor : float
+        Available / required torque, dimensionless (a ratio).
+    lag_angle_rad : float
+        Angle the magnet lags the field by, rad (pi/2 where it cannot keep up).
+    step_out_frequency_hz : float
+        Frequency at which the magnet steps out at this field, Hz.
+    step_out_beyond_search : bool
+        Flag: no step-out within the search range (then its upper end).
+    max_frequency_hz : float
+        Highest frequency with a positive margin at the largest allowed field, Hz.
+    max_frequency_limited_by : str
+        The limit that sets the field there.
+    max_frequency_beyond_search : bool
+        Flag: the margin stays positive over the search range.
+    speed_m_s : float
+        Forward speed, m/s.
+    spiral_turns : float
+        Turns of the spiral over the wound length, count (fractional).
+    checks : tuple of Check
+        Every requirement and limit.
+    feasible : bool
+        Flag: every check holds.
+    copper_masses_kg : tuple of float
+        Copper of each pair, kg.
+    wall_strains : tuple of float
+        Strain the wound section stretches each tissue set's wall by, dimensionless (<= 0:
+        no contact).
+    tissue_names : tuple of str
+        Names of the tissue sets, in the order of ``wall_strains``.
+    weight_friction_Nm : float
+        Friction of the capsule's weight in the worst tissue set's required torque, N·m.
+    extrapolations : tuple of torque_model.domain.Extrapolation
+        Model inputs outside the paper's calibrated range.
+    calibration_edges : tuple
+        Model inputs inside that range but on its edge (torque_model.domain.calibration_edges).
+    """
 
     helical_angle_rad: float
     frequency_hz: float
@@ -104,16 +179,30 @@ class Evaluation:
 
     @property
     def helical_angle_deg(self) -> float:
-        """Helical angle in degrees."""
+        """Helical angle, deg."""
         return float(np.degrees(self.helical_angle_rad))
 
     def failed(self) -> list[Check]:
-        """The requirements and limits that do not hold."""
+        """The requirements and limits that do not hold.
+
+        Returns
+        -------
+        list of Check
+            The checks with ``ok`` False.
+        """
         return [c for c in self.checks if not c.ok]
 
 
 class WorstRequired(NamedTuple):
-    """The worst tissue's required torque at each point (arrays broadcast like the inputs)."""
+    """The worst tissue's required torque at each point (arrays broadcast like the inputs).
+
+    Attributes
+    ----------
+    resistive_Nm, thrust_Nm, total_Nm : ndarray
+        The worst tissue's resistive, thrust and total torque, N·m.
+    tissue_index : ndarray of int
+        Index of that tissue set in ``model.tissues``.
+    """
 
     resistive_Nm: np.ndarray
     thrust_Nm: np.ndarray
@@ -122,7 +211,22 @@ class WorstRequired(NamedTuple):
 
 
 def worst_required(model: DesignModel, alpha: Any, f: Any) -> WorstRequired:
-    """Worst tissue's resistive, thrust and total torque and its index at (alpha, f)."""
+    """Worst tissue's resistive, thrust and total torque and its index at (alpha, f).
+
+    Parameters
+    ----------
+    model : DesignModel
+        The design.
+    alpha : float or ndarray
+        Helical angle, rad.
+    f : float or ndarray
+        Rotation frequency, Hz (broadcasts against ``alpha``).
+
+    Returns
+    -------
+    WorstRequired
+        Torques in N·m and the tissue index, broadcast like the inputs.
+    """
     model = prepare(model)
     c = model.constants
     pairs = ph.required_torques_Nm(alpha, f, c, model.tissues, model.requirements)
@@ -135,7 +239,25 @@ def worst_required(model: DesignModel, alpha: Any, f: Any) -> WorstRequired:
 
 @dataclass(frozen=True)
 class MarginGrid:
-    """:func:`margin_grid` on broadcast arrays of (alpha, f); SI, names carry units."""
+    """:func:`margin_grid` on broadcast arrays of (alpha, f); SI, names carry units.
+
+    Attributes
+    ----------
+    margin_Nm : ndarray
+        Torque margin, N·m.
+    safety_factor : ndarray
+        Available / required torque, dimensionless.
+    field_amplitude_T : ndarray
+        Rotating-field amplitude at the centre, T.
+    speed_m_s : ndarray
+        Forward speed, m/s.
+    spiral_turns : ndarray
+        Spiral turns over the wound length, count (fractional).
+    feasible : ndarray of bool
+        Mask: every requirement and limit holds.
+    wall_strain : ndarray or None
+        Least wall strain over the tissue sets, dimensionless.
+    """
 
     margin_Nm: np.ndarray
     safety_factor: np.ndarray
@@ -159,6 +281,22 @@ def margin_grid(
     The field is the largest every limit allows, or the model's set field
     (``model.field_amplitude_T``) where it is given and ``capacity`` is False — capped at what
     the limits allow, with the point marked infeasible where the set field exceeds it.
+
+    Parameters
+    ----------
+    model : DesignModel
+        The design.
+    alpha_rad : float or ndarray
+        Helical angle, rad.
+    frequency_hz : float or ndarray
+        Rotation frequency, Hz (broadcasts against ``alpha_rad``).
+    capacity : bool
+        Flag: use the largest field the limits allow even where the model sets a field.
+
+    Returns
+    -------
+    MarginGrid
+        The columns on the broadcast shape, SI.
     """
     model = prepare(model)
     c = model.constants
@@ -239,6 +377,18 @@ def self_lock_margin(model: DesignModel, alpha_rad):
     At or below zero the screw self-locks: turning it cannot push the load, and the thrust
     torque F (D/2) tan(alpha + atan mu) (Shigley's power screw) turns negative, which would
     otherwise read as a larger margin.
+
+    Parameters
+    ----------
+    model : DesignModel
+        The design (its tissue sets' friction).
+    alpha_rad : float or ndarray
+        Helical angle, rad.
+
+    Returns
+    -------
+    float or ndarray
+        Margin to self-locking, rad.
     """
     import capsule as cap
 
@@ -247,7 +397,20 @@ def self_lock_margin(model: DesignModel, alpha_rad):
 
 
 def self_lock_check(model: DesignModel, alpha_rad: float) -> Check:
-    """The self-locking check: alpha + atan mu (most frictional tissue) must stay below 90 deg."""
+    """The self-locking check: alpha + atan mu (most frictional tissue) must stay below 90 deg.
+
+    Parameters
+    ----------
+    model : DesignModel
+        The design.
+    alpha_rad : float
+        Helical angle, rad.
+
+    Returns
+    -------
+    Check
+        ``self_lock``: alpha + atan mu against pi/2, rad.
+    """
     margin = float(self_lock_margin(model, alpha_rad))
     lead = float(np.pi / 2 - margin)  # alpha + atan mu
     return Check("self_lock", "rad", lead, float(np.pi / 2), "<", margin > 0, lead / (np.pi / 2))
@@ -259,7 +422,20 @@ STEP_OUT_SEARCH_HZ = SEARCH_RANGE_HZ  # the name the JSON layer reads
 
 
 def operating_field_T(model: DesignModel, frequency_hz):
-    """The centre field the coils are driven at: the fixed one, or the largest the limits allow."""
+    """The centre field the coils are driven at: the fixed one, or the largest the limits allow.
+
+    Parameters
+    ----------
+    model : DesignModel
+        The design.
+    frequency_hz : float or ndarray
+        Rotation frequency, Hz.
+
+    Returns
+    -------
+    ndarray
+        Centre field amplitude, T, shaped like ``frequency_hz``.
+    """
     model = prepare(model)
     if model.field_amplitude_T is not None:
         return np.broadcast_to(float(model.field_amplitude_T), np.shape(frequency_hz)).astype(float)
@@ -272,7 +448,15 @@ def operating_field_T(model: DesignModel, frequency_hz):
 @dataclass(frozen=True)
 class FrequencyBound:
     """Where a margin reaches zero along frequency: ``beyond_search`` if it does not below
-    ``frequency_hz`` (then the search bound); 0 if the margin is negative from the start."""
+    ``frequency_hz`` (then the search bound); 0 if the margin is negative from the start.
+
+    Attributes
+    ----------
+    frequency_hz : float
+        The frequency where the margin reaches zero, Hz.
+    beyond_search : bool
+        Flag: it does not within the search range.
+    """
 
     frequency_hz: float
     beyond_search: bool
@@ -307,6 +491,22 @@ def step_out_frequency_hz(
     the required torque, which rises with frequency (tissue viscosity); the step-out is where
     the two are equal. Evaluating at this frequency with ``operation.field_amplitude_mT`` fixed
     at that field gives zero margin.
+
+    Parameters
+    ----------
+    model : DesignModel
+        The design.
+    alpha_rad : float
+        Helical angle, rad.
+    field_T : float, optional
+        Centre field amplitude the capsule is driven with, T.
+    f_lo, f_hi : float
+        Search range, Hz.
+
+    Returns
+    -------
+    FrequencyBound
+        The step-out frequency, Hz.
     """
     model = prepare(model)
     c = model.constants
@@ -331,6 +531,22 @@ def max_frequency_hz(
     The field is re-maximised at every frequency (it falls with frequency through the
     inductive voltage and the exposure level while the tissue torque rises); returns the bound
     and the limit that sets the field there.
+
+    Parameters
+    ----------
+    model : DesignModel
+        The design.
+    alpha_rad : float
+        Helical angle, rad.
+    f_lo, f_hi : float
+        Search range, Hz.
+
+    Returns
+    -------
+    bound : FrequencyBound
+        The highest frequency with a positive margin, Hz.
+    limited_by : str
+        The limit that sets the field there.
     """
     model = prepare(model)
     c = model.constants
@@ -363,6 +579,24 @@ def evaluate(
     field is checked against the limits like any other operating value.
     ``frequency_bounds=False`` skips the step-out and highest-frequency searches (NaN there; no
     check depends on them): for candidates only compared by margin and feasibility.
+
+    Parameters
+    ----------
+    model : DesignModel
+        The design.
+    helical_angle_rad : float, optional
+        Helical angle, rad (default: the capsule's).
+    frequency_hz : float, optional
+        Rotation frequency, Hz (default: the model's).
+    field_amplitude_T : float, optional
+        Centre field amplitude, T (default: the model's set field or the largest allowed).
+    frequency_bounds : bool
+        Flag: also search the step-out and highest frequencies.
+
+    Returns
+    -------
+    Evaluation
+        Every figure and check at that operating point, SI.
     """
     model = prepare(model)
     c, req = model.constants, model.requirements
@@ -442,7 +676,20 @@ def evaluate(
 
 def strain_checks(model: DesignModel, strains: tuple[float, ...]) -> list[Check]:
     """The engagement requirement: each tissue set's wall strain against
-    ``requirements.min_wall_strain`` (check ``wall_strain[<tissue>]``, needed / achieved)."""
+    ``requirements.min_wall_strain`` (check ``wall_strain[<tissue>]``, needed / achieved).
+
+    Parameters
+    ----------
+    model : DesignModel
+        The design (its tissue sets and ``requirements.min_wall_strain``).
+    strains : tuple of float
+        Wall strain of each tissue set, dimensionless.
+
+    Returns
+    -------
+    list of Check
+        One ``wall_strain[<tissue>]`` check per set (dimensionless values).
+    """
     need = model.requirements.min_wall_strain
     return [
         Check(

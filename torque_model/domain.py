@@ -78,9 +78,9 @@ class Extrapolation:
     quantity : str
         The input, named as in :data:`CALIBRATED` (``"helical_angle_rad"``, ``"wall_strain"``).
     value : float
-        Its value, SI (unit in ``unit``).
+        Its value, SI, in the unit ``unit`` names.
     low, high : float
-        The calibrated range, SI.
+        The calibrated range, SI, in the unit ``unit`` names.
     unit : str
         SI unit of ``value``, ``low`` and ``high`` (``"1"``: dimensionless).
     where : str
@@ -256,7 +256,7 @@ def validation_sigma_log() -> float:
     Returns
     -------
     float
-        sqrt(mean(ln(model_i / paper_i)^2)).
+        sqrt(mean(ln(model_i / paper_i)^2)), dimensionless.
     """
     logs = np.log([p.model_Nm / p.paper_Nm for p in validation_errors()])
     return float(np.sqrt(np.mean(logs**2)))

@@ -58,7 +58,7 @@ class FitQuality:
     plausible : bool
         Torques and fitted constants within :data:`PLAUSIBLE_FACTOR` of the presets'.
     residual_std : float
-        s, relative residual standard deviation of the fit.
+        s, relative residual standard deviation of the fit (dimensionless).
     constant_model_std : float
         s0, the same for the best constant torque (the data's relative spread).
     explained_fraction : float
@@ -66,13 +66,15 @@ class FitQuality:
     optimizer_converged : bool
         The optimiser's own success flag.
     runs : int
-        Runs of equal residual sign, ordered by frequency.
+        Runs of equal residual sign, ordered by frequency, count.
     runs_z : float
-        Wald-Wolfowitz z of ``runs`` (0 when there are too few points or one sign only).
+        Wald-Wolfowitz z of ``runs``, dimensionless (0 when there are too few points or one
+        sign only).
     frequency_trend : float
-        Spearman rank correlation of torque with frequency (within each angle, averaged).
+        Spearman rank correlation of torque with frequency (within each angle, averaged),
+        dimensionless.
     torque_ratio_to_presets : dict[str, float]
-        Median measured / preset-predicted torque, per preset.
+        Median measured / preset-predicted torque, per preset, ratio.
     problems : tuple[str, ...]
         Each failed question in words (empty: none).
     """

@@ -87,36 +87,43 @@ class FitResult:
         parameter, SI (Pa, Pa·s; ``scale`` dimensionless); ``inf`` where the data do not
         determine the parameter, ``nan`` with no residual degree of freedom.
     standard_errors_log : dict[str, float]
-        Standard error of the natural log of each free parameter (the fit's own coordinates).
+        Standard error of the natural log of each free parameter (the fit's own coordinates),
+        dimensionless.
     ci95 : dict[str, tuple[float, float]]
-        95 % interval ``value x/÷ exp(t se_log)``: always positive; ``(0, inf)`` for a
+        95 % interval ``value x/÷ exp(t se_log)`` in the unit of ``values`` (Pa, Pa·s;
+        ``scale`` dimensionless): always positive; ``(0, inf)`` for a
         parameter that is not identifiable (:attr:`identifiable`).
     flags : dict[str, tuple[str, ...]]
         Why a parameter is not pinned down (empty tuple: pinned down); other parameters are
         named by their :data:`FREE_NAMES` name.
     correlation : numpy.ndarray
-        k x k correlation matrix of the log free parameters (nan where undefined).
+        k x k correlation matrix of the log free parameters, dimensionless (nan where
+        undefined).
     covariance_log : numpy.ndarray or None
-        5 x 5 covariance of ln(E1, E2, E3, eta1, eta2) carried by the pinned-down free
-        parameters only (rows and columns of what the data leave loose are zero; a free
-        ``scale`` moves all constants it multiplies together); ``None`` when nothing is pinned
-        down.
+        5 x 5 covariance of ln(E1, E2, E3, eta1, eta2), dimensionless, carried by the
+        pinned-down free parameters only (rows and columns of what the data leave loose are
+        zero; a free ``scale`` moves all constants it multiplies together); ``None`` when
+        nothing is pinned down.
     frequency_hz, helical_angle_rad, torque_Nm, predicted_Nm : numpy.ndarray
-        The data points, and the fitted model at them (N·m).
+        The data points, and the fitted model at them: Hz, rad, N·m, N·m.
     residuals : numpy.ndarray
-        Fit residuals, relative ((model - data)/data) or in N·m as ``relative`` says.
+        Fit residuals, relative ((model - data)/data, dimensionless) or in N·m as
+        ``relative`` says.
     relative : bool
         Whether residuals are relative.
     residual_std : float
-        s, the residual standard deviation on ``dof`` degrees of freedom (same unit as residuals).
+        s, the residual standard deviation on ``dof`` degrees of freedom (in the unit of
+        ``residuals``: dimensionless or N·m).
     dof : int
-        Points minus free parameters.
+        Points minus free parameters, count.
     condition_number : float
-        Of J^T J in log-parameters.
+        Of J^T J in log-parameters, dimensionless.
     cost : float
-        Half the sum of squared residuals.
+        Half the sum of squared residuals (dimensionless, or N·m² when not ``relative``).
     success : bool
-        The optimiser's convergence flag; ``message`` its words.
+        The optimiser's convergence flag.
+    message : str
+        The optimiser's words on how it ended.
     geometry : ContactGeometry
         Capsule geometry used, for :meth:`predict_Nm`.
     """
@@ -155,12 +162,36 @@ class FitResult:
         return tuple(n for n in self.free if self.flags[n])
 
     def identifiable(self, name: str) -> bool:
-        """Whether the data bound ``name`` at all (a finite, positive 95 % interval)."""
+        """Whether the data bound ``name`` at all (a finite, positive 95 % interval).
+
+        Parameters
+        ----------
+        name : str
+            A free parameter, from :data:`FREE_NAMES`.
+
+        Returns
+        -------
+        bool
+            True when its 95 % interval is finite and positive.
+        """
         lo, hi = self.ci95[name]
         return lo > 0 and math.isfinite(hi)
 
     def predict_Nm(self, frequency_hz: Any, helical_angle_rad: Any) -> Any:
-        """The fitted model's torque at other frequencies (Hz) and angles (rad), N·m."""
+        """The fitted model's torque at other frequencies (Hz) and angles (rad), N·m.
+
+        Parameters
+        ----------
+        frequency_hz : float or array
+            Rotation frequency, Hz.
+        helical_angle_rad : float or array
+            Helical angle, rad (broadcasts against ``frequency_hz``).
+
+        Returns
+        -------
+        float or array
+            Resistive torque of the fitted tissue on :attr:`geometry`, N·m.
+        """
         from torque_model.model import resistive_torque_Nm
 
         return resistive_torque_Nm(helical_angle_rad, frequency_hz, self.tissue, self.geometry)
@@ -264,8 +295,8 @@ def identify(
     relative : bool
         Relative residuals (default) or absolute ones in N·m.
     bounds : mapping, optional
-        ``{name: (low, high)}`` in SI for any of :data:`FREE_NAMES`; others from
-        :data:`DEFAULT_BOUNDS`.
+        ``{name: (low, high)}`` in SI (Pa, Pa·s; ``scale`` dimensionless) for any of
+        :data:`FREE_NAMES`; others from :data:`DEFAULT_BOUNDS`.
     jacobian : {"analytic", "2-point", "3-point"}
         Exact Jacobian (default) or scipy's finite differences (the benchmark's reference).
     profile_bounds : bool
