@@ -601,6 +601,9 @@ class UncertaintyResult:
         Sensitivity indices, when asked for.
     margins_Nm : ndarray
         Every sample's margin in sample order, N·m.
+    no_grip_probability : float
+        Probability that the spiral does not touch some tissue set's wall (a wider sampled
+        lumen: no grip, no screw; :func:`no_grip_probability`, exact), a probability.
     """
 
     samples: int
@@ -617,8 +620,6 @@ class UncertaintyResult:
     margin_std_Nm: float
     sobol: SobolIndices | None
     margins_Nm: np.ndarray = field(repr=False, compare=False)
-    #: Probability that the spiral does not touch some tissue set's wall (a wider sampled
-    #: lumen): no grip, no screw (:func:`no_grip_probability`, exact).
     no_grip_probability: float = 0.0
 
 
