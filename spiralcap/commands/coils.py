@@ -84,7 +84,7 @@ def _clearance_lines(p: dict[str, Any]) -> list[str]:
         f"winding packs as solids (axial width x radial depth), least clearance allowed "
         f"{need * 1e3:.4g} mm (coils.min_clearance_mm):",
         *(f"  {k}: {v * 1e3:.4g} mm  {mark(v)}" for k, v in cl.items()),
-        f"  inner faces to the bore (radius {p['bore_radius_m']:.4g} m): "
+        f"  inner faces to the workspace sphere (radius {p['bore_radius_m']:.4g} m): "
         f"{p['bore_clearance_m'] * 1e3:.4g} mm  {mark(p['bore_clearance_m'])}",
         f"copper: {p['copper_mass_kg']:.4g} kg in the three pairs",
     ]

@@ -137,7 +137,7 @@ def _build_paragraph(ctx: Context) -> Paragraph:
     parts += [
         ", and their inner faces keep ",
         ctx.num(f"{c}.bore_clearance_m", 1e3, "mm"),
-        " from the bore (radius ",
+        " from the workspace sphere (radius ",
         ctx.num(f"{c}.bore_radius_m", 1e3, "mm"),
         "); coils.min_clearance_mm asks for ",
         ctx.num(f"{c}.min_clearance_m", 1e3, "mm"),
