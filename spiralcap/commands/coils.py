@@ -70,7 +70,10 @@ def _cooling_words(p: dict[str, Any]) -> str:
         f"{h:.3g}" if math.isfinite(h) else "undefined (runaway)"
         for h in (p["axes"][ax]["convection_coefficient_W_m2K"] for ax in "xyz")
     )
-    return f"{p['cooling']} convection h = {hs} W/(m²·K) (x, y, z)"
+    return (
+        f"{p['cooling']} convection h_c = {hs} W/(m²·K) (x, y, z; at the surface temperatures "
+        "of the table below)"
+    )
 
 
 def _clearance_lines(p: dict[str, Any]) -> list[str]:
