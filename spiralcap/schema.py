@@ -542,7 +542,9 @@ KEYS.update(
         "optimize.objective": _choice(
             "maximise the torque margin or the safety factor, or minimise the copper power or "
             "the copper mass (the last two subject to requirements.min_safety_factor); "
-            "margin_p05: the 5th-percentile margin over the tissue uncertainty",
+            "margin_p05: maximise the CVaR at 5 % of the worst-case margin over "
+            "optimize.scenarios tissue scenarios (the mean of the worst 5 %, a lower bound on "
+            "the 5th percentile, which is reported beside it)",
             "margin",
             ("margin", "ratio", "power", "copper_mass", "margin_p05"),
         ),
