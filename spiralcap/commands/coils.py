@@ -131,7 +131,7 @@ def _text(p: dict[str, Any], bom: str = "") -> str:
             "pack_d_mm",
             "wire_m",
             "Cu_kg",
-            "mT_per_A",
+            "loop_mT_per_A",
             "R_ohm",
             "L_mH",
             "Z_ohm",
@@ -205,7 +205,8 @@ def _text(p: dict[str, Any], bom: str = "") -> str:
         f"{p['winding_conductivity_W_mK']:g} W/(m·K); R at the self-consistent mean temperature",
         "",
         "the three pairs together at the current limit (steady, radiating to each other; "
-        "'runaway': there is no steady state, the pair heats without bound):",
+        "'runaway': there is no steady state, the pair heats without bound; loop_mT_per_A: "
+        "centre field per ampere with each coil one loop at its mean radius, the field model):",
         table,
         f"total copper loss at the current limit, worst heading "
         f"({', '.join(f'{x:.3g}' for x in wh['heading'])}): {_watts(p['total_power_W'])} "

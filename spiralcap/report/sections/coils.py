@@ -18,7 +18,12 @@ SIZING_ROWS: tuple[tuple[str, str, str, float], ...] = (
     ("winding_pack_depth_m", "winding-pack depth (radial)", "mm", 1e3),
     ("wire_length_m", "wire length per pair", "m", 1.0),
     ("copper_mass_kg", "copper mass per pair", "kg", 1.0),
-    ("field_per_amp_T_per_A", "centre field per ampere", "mT/A", 1e3),
+    (
+        "field_per_amp_T_per_A",
+        "centre field per ampere (each coil one loop at its mean radius: the field model)",
+        "mT/A",
+        1e3,
+    ),
     ("resistance_ohm", "resistance of the pair (mean winding temperature)", "Ω", 1.0),
     ("self_inductance_H", "self inductance of one coil", "mH", 1e3),
     ("mutual_inductance_H", "mutual inductance of the two coils", "mH", 1e3),
