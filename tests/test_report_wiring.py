@@ -138,10 +138,7 @@ def test_heating_shows_the_surface_limit_when_set(session_min: float | None) -> 
 
 
 #: The coil table's row of h_c: at the surface temperature of the row above it (issue 26 a).
-H_LABEL = (
-    "convection coefficient h_c (area-weighted, at the steady mean surface temperature at the "
-    "current limit)"
-)
+H_LABEL = "convection coefficient h_c (area-weighted, at the steady mean surface temperature)"
 
 
 def test_sizing_table_shows_the_cooling_as_built() -> None:

@@ -37,8 +37,7 @@ SIZING_ROWS: tuple[tuple[str, str, str, float], ...] = (
     ("surface_max_temperature_C", "steady hottest surface at the current limit", "°C", 1.0),
     (
         "convection_coefficient_W_m2K",
-        "convection coefficient h_c (area-weighted, at the steady mean surface temperature "
-        "at the current limit)",
+        "convection coefficient h_c (area-weighted, at the steady mean surface temperature)",
         "W/(m²·K)",
         1.0,
     ),
