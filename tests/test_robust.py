@@ -215,6 +215,10 @@ def test_margin_p05_is_described_as_the_cvar_it_maximises():
         "the column is CVaR_0.05 of the scenario margins at the optimum (RU, 1e-6)"
     )
     assert cvar < ins.margin_p05_Nm, "and it is not their 5th percentile (CVaR < VaR here)"
+    assert ins.cvar_Nm == pytest.approx(cvar, rel=1e-12), (
+        "optimize --json's in_sample.cvar05_Nm is that same RU CVaR (β S = 3.2 scenarios: the "
+        "fourth weighed by 0.2, not the mean of the worst four), 1e-12"
+    )
     words = " ".join([KEYS["optimize.objective"].help, objective_words("margin_p05")[0]]).lower()
     assert "cvar" in words and "worst 5 %" in words and "5th-percentile margin" not in words
     schema = _json.loads(
