@@ -36,6 +36,9 @@ class AxisSizing:
 
     Temperatures are the steady, self-consistent state at this current (NaN if the pair runs
     away thermally); ``time_constant_s`` is the lumped τ of :func:`coils.thermal.transient`.
+    ``field_per_amp_T_per_A`` is the field model's centre gain (each coil one loop at its mean
+    radius, as a design builds it; ``field_amplitude_T`` is it times the current),
+    ``pack_field_per_amp_T_per_A`` the same with the current spread over the winding pack.
 
     Attributes
     ----------
@@ -58,7 +61,9 @@ class AxisSizing:
     copper_mass_kg : float
         Copper mass of both coils, kg.
     field_per_amp_T_per_A : float
-        Centre field per ampere, T/A.
+        Centre field per ampere of the field model (each coil one loop at its mean radius), T/A.
+    pack_field_per_amp_T_per_A : float
+        The same with the current spread over the winding pack, T/A.
     resistance_20C_ohm, resistance_ohm : float
         Resistance of the pair at 20 °C and at its mean winding temperature, Ω.
     self_inductance_H, mutual_inductance_H, inductance_H : float
@@ -121,6 +126,7 @@ class AxisSizing:
     surface_max_temperature_C: float = math.nan
     convection_coefficient_W_m2K: float = math.nan
     radiation_view_factor: float = 1.0
+    pack_field_per_amp_T_per_A: float = math.nan
 
 
 @dataclass(frozen=True)
@@ -328,6 +334,7 @@ def size_system(
                 convection_coefficient_W_m2K=float(st.convection_W_m2K),
                 radiation_view_factor=1.0 if view_factors is None else float(view_factors[k][0]),
                 field_amplitude_T=g * current_amplitude_A,
+                pack_field_per_amp_T_per_A=pair.pack_centre_field_per_amp_T_per_A,
             )
         )
     weakest = min(a.field_amplitude_T for a in axes)

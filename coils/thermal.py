@@ -39,7 +39,9 @@ from coils.conduction import robin_statics, robin_transient
 from coils.convection import _pack_convection_W_m2K, pack_convection_W_m2K
 from spiralcap import backend as bk
 from spiralcap.constants import (
+    COPPER_DENSITY_kg_m3,
     COPPER_RESISTIVITY_20C_ohm_m,
+    COPPER_SPECIFIC_HEAT_J_kgK,
     COPPER_TEMPERATURE_COEFFICIENT_per_K,
 )
 
@@ -68,8 +70,9 @@ __all__ = [
 
 #: Stefan-Boltzmann constant, W/(m²·K⁴) (CODATA 2018, exact).
 STEFAN_BOLTZMANN_W_m2K4 = 5.670374419e-8
-#: Copper: density 8960 kg/m³ times specific heat 385 J/(kg·K) (CRC Handbook, 97th ed.).
-COPPER_VOLUMETRIC_HEAT_CAPACITY_J_m3K = 8960.0 * 385.0
+#: Copper: the wire's density (IEC 60028 annealed copper, 8890 kg/m³, the same as the copper
+#: mass) times its specific heat 385 J/(kg·K) (CRC Handbook, 97th ed.), J/(m³·K).
+COPPER_VOLUMETRIC_HEAT_CAPACITY_J_m3K = COPPER_DENSITY_kg_m3 * COPPER_SPECIFIC_HEAT_J_kgK
 #: The rest of the pack taken as epoxy impregnation/enamel: 1200 kg/m³ x 1100 J/(kg·K)
 #: (typical cured epoxy; air voids would lower it, which shortens τ: see docs/coils.md).
 IMPREGNATION_VOLUMETRIC_HEAT_CAPACITY_J_m3K = 1200.0 * 1100.0

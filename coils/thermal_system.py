@@ -32,6 +32,7 @@ from coils.thermal import (
     _Faces,
     _internal,
     _resistance_ohm,
+    convection_coefficient_W_m2K,
     radiant_surroundings,
     session_linearisation_C,
     steady_state,
@@ -47,11 +48,15 @@ __all__ = ["PairTemperatures", "end_state", "mean_rise_at_K", "pair_temperatures
 class PairTemperatures:
     """One pair at the end of the run (steady, or at the end of the session); °C, W, W/(m²·K).
 
-    ``surface_C`` is the mean face temperature, ``surface_max_C`` the hottest face point.
-    Linearisation (for :func:`mean_rise_at_K` and the coupling): ``effective_h_W_m2K`` (h_c +
-    h_r at the faces), ``thermal_resistance_K_per_W`` R_th (mean above the sink per watt),
-    ``sink_rise_K`` θ_env from the other pairs, ``session_ratio`` (mean rise reached / its
-    linear steady value; 1 at steady state), ``runaway`` (1: no steady state).
+    ``surface_C`` is the mean face temperature, ``surface_max_C`` the hottest face point,
+    ``convection_W_m2K`` the faces' area-weighted convective h_c at ``surface_C`` (with the other
+    pairs radiating: at the coupled surface; h_c at the pair's surface alone is 2-3 % lower for
+    the built-in pairs). Linearisation (for :func:`mean_rise_at_K` and the coupling):
+    ``effective_h_W_m2K`` (h_c + h_r at the faces, of the pair alone: the coupling answers the
+    other pairs' flux with the tangent slope there), ``thermal_resistance_K_per_W`` R_th (mean
+    above the sink per watt), ``sink_rise_K`` θ_env from the other pairs, ``session_ratio`` (mean
+    rise reached / its linear steady value; 1 at steady state), ``runaway`` (1: no steady
+    state).
 
     Attributes
     ----------
@@ -170,7 +175,7 @@ def end_state(
     tau_safe = bk.where(tau > 0.0, tau, 1e30)
     lin = session_linearisation_C(st, tau_safe, session_s, ambient_C)
     run = transient(pack, resistance_20C_ohm, current_A, ambient_C, session_s, lin, env)
-    hc, heff, _ = _Faces(
+    _, heff, _ = _Faces(
         pack, ambient_C, env if env is not None else Surroundings(ambient_C)
     ).linearised(lin)
     r_lin, tau_lin, inner_lin = _lumped(pack, heff, p1)
@@ -181,7 +186,7 @@ def end_state(
         run.mean_C,
         run.hot_spot_C,
         run.power_W,
-        hc,
+        convection_coefficient_W_m2K(pack, run.surface_C, ambient_C),
         heff,
         tau_lin,
         r_lin,
@@ -229,13 +234,14 @@ def _coupled(
     mean = alone.mean_C + d_mean
     p_a = _resistance_ohm(resistance_20C_ohm, ambient_C) * 0.5 * current_A * current_A
     steady_rise = (theta_env + r_th * p_a) / bk.fmax(1.0 - p1 * r_th, 1e-12)
+    surface = alone.surface_C + d_surface
     return PairTemperatures(
-        alone.surface_C + d_surface,
+        surface,
         alone.surface_max_C + d_surface + inner.surface_max * d_power,
         mean,
         alone.hot_spot_C + d_surface + inner.centre * d_power,
         alone.power_W + d_power,
-        alone.convection_W_m2K,
+        convection_coefficient_W_m2K(pack, surface, ambient_C),  # h_c at the coupled surface
         heff,
         alone.time_constant_s,
         r_th,

@@ -36,6 +36,7 @@ from typing import Any
 
 import numpy as np
 
+from optimize.robust import cvar
 from optimize.system import DesignModel, prepare
 
 #: A scenario outside the working set may undercut the tail's edge by this share of the largest
@@ -88,32 +89,6 @@ class ScenarioSolve:
     stepout_probability: float
     outside_min_Nm: float
     tail_edge_Nm: float
-
-
-def cvar(m: np.ndarray, beta: float, total: int | None = None) -> float:
-    """Rockafellar-Uryasev CVaR_β of the values ``m`` normalised by ``total`` scenarios
-    (default ``m.size``): ``max_η η − Σ (η − m)^+ / (β total)``, at ``η`` the ``ceil(β total)``-th
-    smallest value.
-
-    Parameters
-    ----------
-    m : ndarray
-        The values, in the caller's unit (N·m for margins; the result's name carries it).
-    beta : float
-        Tail fraction, dimensionless.
-    total : int, optional
-        Number of scenarios of the normalisation (default ``m.size``).
-
-    Returns
-    -------
-    float
-        CVaR_β, in the unit of ``m`` (N·m for margins; the caller's name carries it).
-    """
-    n = m.size if total is None else total
-    k = beta * n
-    s = np.sort(np.asarray(m, dtype=float))
-    eta = s[min(max(math.ceil(k - 1e-9), 1), s.size) - 1]
-    return float(eta - np.sum(np.maximum(eta - s, 0.0)) / k)
 
 
 def worst_margins(model: DesignModel, alpha: float, f: float, field: float) -> np.ndarray:

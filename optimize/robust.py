@@ -416,12 +416,41 @@ pb.register_constraint(_stepout_terms)
 # --- what the optimum claims on its own scenarios ---------------------------------------------
 
 
+def cvar(m: np.ndarray, beta: float, total: int | None = None) -> float:
+    """Rockafellar-Uryasev CVaR_β of the values ``m`` normalised by ``total`` scenarios
+    (default ``m.size``): ``max_η η − Σ (η − m)^+ / (β total)``, at ``η`` the ``ceil(β total)``-th
+    smallest value.
+
+    Parameters
+    ----------
+    m : ndarray
+        The values, in the caller's unit (N·m for margins; the result's name carries it).
+    beta : float
+        Tail fraction, dimensionless.
+    total : int, optional
+        Number of scenarios of the normalisation (default ``m.size``).
+
+    Returns
+    -------
+    float
+        CVaR_β, in the unit of ``m`` (N·m for margins; the caller's name carries it).
+    """
+    n = m.size if total is None else total
+    k = beta * n
+    s = np.sort(np.asarray(m, dtype=float))
+    eta = s[min(max(math.ceil(k - 1e-9), 1), s.size) - 1]
+    return float(eta - np.sum(np.maximum(eta - s, 0.0)) / k)
+
+
 @dataclass(frozen=True)
 class InSample:
     """The worst-case margin over a design's own scenarios at an operating point (SI).
 
     ``margin_p05_Nm``: 5th percentile (the in-sample claim of ``margin_p05``); ``cvar_Nm``:
-    mean of the worst ``beta`` share; ``stepout_probability``: share with a negative margin.
+    the Rockafellar-Uryasev CVaR_β, the mean of the worst ``beta`` share (the last scenario
+    weighed in part where β S is not whole: what the objective ``margin_p05`` maximises, so it
+    equals the optimum's ``objective_value``); ``stepout_probability``: share with a negative
+    margin.
 
     Attributes
     ----------
@@ -434,7 +463,7 @@ class InSample:
     margin_p05_Nm : float
         5th percentile of the worst-case margin, N·m.
     cvar_Nm : float
-        Mean of the worst ``beta`` share, N·m.
+        Rockafellar-Uryasev CVaR_β, the mean of the worst ``beta`` share, N·m.
     stepout_probability : float
         Share of scenarios with a negative margin, a probability.
     margins_Nm : ndarray
@@ -478,13 +507,12 @@ def in_sample(model: DesignModel, result: Any) -> InSample:
         sc.tissues,
     )
     m = np.min(np.stack([np.asarray(x, dtype=float) for x in per_set]), axis=0)
-    k = max(int(np.ceil(sc.beta * m.size)), 1)
     return InSample(
         scenarios=sc.count,
         seed=sc.seed,
         beta=sc.beta,
         margin_p05_Nm=float(np.percentile(m, 100 * BETA)),
-        cvar_Nm=float(np.mean(np.sort(m)[:k])),
+        cvar_Nm=cvar(m, sc.beta),
         stepout_probability=float(np.mean(m < 0)),
         margins_Nm=m,
     )

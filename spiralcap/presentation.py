@@ -205,7 +205,8 @@ def step_out_words(
 OBJECTIVES: dict[str, tuple[str, str, float, str]] = {
     "margin": ("worst-case torque margin", "mN·m", 1e3, "maximised"),
     "margin_p05": (
-        "CVaR₀.₀₅ of the torque margin over the tissue scenarios",
+        "CVaR₀.₀₅ (mean of the worst 5 %) of the worst-case torque margin over the tissue "
+        "scenarios",
         "mN·m",
         1e3,
         "maximised",

@@ -176,9 +176,9 @@ KEYS: dict[str, Key] = {
     ),
     "coils.min_clearance_mm": _between(
         "least distance between the winding packs of two different pairs, and between the "
-        "inner faces of the packs and the bore (requirements.min_bore_m, else the workspace "
-        "sphere): room for a coil former's wall (3-5 mm glass-fibre epoxy) and an air gap "
-        "that cools the faces; range: 0 (packs may touch) to 200 mm",
+        "inner faces of the packs and the workspace sphere: room for a coil former's wall "
+        "(3-5 mm glass-fibre epoxy) and an air gap that cools the faces; range: 0 (packs may "
+        "touch) to 200 mm",
         10.0,
         0.0,
         200.0,
@@ -569,7 +569,9 @@ KEYS.update(
         "optimize.objective": _choice(
             "maximise the torque margin or the safety factor, or minimise the copper power or "
             "the copper mass (the last two subject to requirements.min_safety_factor); "
-            "margin_p05: the 5th-percentile margin over the tissue uncertainty",
+            "margin_p05: maximise the CVaR at 5 % of the worst-case margin over "
+            "optimize.scenarios tissue scenarios (the mean of the worst 5 %, a lower bound on "
+            "the 5th percentile, which is reported beside it)",
             "margin",
             ("margin", "ratio", "power", "copper_mass", "margin_p05"),
         ),
@@ -612,9 +614,10 @@ KEYS.update(
             ("iec-r40", "awg"),
         ),
         "requirements.min_bore_m": _between(
-            "least clear diameter inside every coil pair when coil hardware is freed "
-            "(default: what the design as entered has); range: up to 10 m, larger than any coil "
-            "system",
+            "least clear diameter inside every coil pair when coil hardware is freed, between "
+            "the inner faces of its winding packs (2R - h; a former's wall inside it is yours to "
+            "add); left out, the least that diameter is in the design as entered, exactly as if "
+            "set to it; range: up to 10 m, larger than any coil system",
             None,
             0.0,
             10.0,

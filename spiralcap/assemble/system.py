@@ -338,7 +338,13 @@ def optimum_design_toml(design: Design, result: Any) -> str:
 
 
 def bore_radius_m(d: Design) -> float:
-    """Radius of the bore the packs' inner faces keep ``coils.min_clearance_mm`` from:
-    half ``requirements.min_bore_m`` if set, else the workspace sphere's radius, m."""
-    bore = d.get("requirements.min_bore_m")
-    return 0.5 * float(bore) if bore is not None else float(d["workspace.radius_m"])
+    """Radius of the sphere the packs' inner faces keep ``coils.min_clearance_mm`` from: the
+    workspace sphere's, m.
+
+    Not ``requirements.min_bore_m``: that key is the least clear diameter between the packs'
+    inner faces (2R − h) a sizing keeps, and its default is the design's own, so the key left
+    out and the key set to its default size the same coils (issue 26). Half the key here made a
+    default entered by hand ask for ``coils.min_clearance_mm`` more than the design has on each
+    side (least power 160.6 W -> 302.8 W).
+    """
+    return float(d["workspace.radius_m"])

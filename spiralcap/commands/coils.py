@@ -70,7 +70,10 @@ def _cooling_words(p: dict[str, Any]) -> str:
         f"{h:.3g}" if math.isfinite(h) else "undefined (runaway)"
         for h in (p["axes"][ax]["convection_coefficient_W_m2K"] for ax in "xyz")
     )
-    return f"{p['cooling']} convection h = {hs} W/(m²·K) (x, y, z)"
+    return (
+        f"{p['cooling']} convection h_c = {hs} W/(m²·K) (x, y, z; at the surface temperatures "
+        "of the table below)"
+    )
 
 
 def _clearance_lines(p: dict[str, Any]) -> list[str]:
@@ -84,7 +87,7 @@ def _clearance_lines(p: dict[str, Any]) -> list[str]:
         f"winding packs as solids (axial width x radial depth), least clearance allowed "
         f"{need * 1e3:.4g} mm (coils.min_clearance_mm):",
         *(f"  {k}: {v * 1e3:.4g} mm  {mark(v)}" for k, v in cl.items()),
-        f"  inner faces to the bore (radius {p['bore_radius_m']:.4g} m): "
+        f"  inner faces to the workspace sphere (radius {p['bore_radius_m']:.4g} m): "
         f"{p['bore_clearance_m'] * 1e3:.4g} mm  {mark(p['bore_clearance_m'])}",
         f"copper: {p['copper_mass_kg']:.4g} kg in the three pairs",
     ]
@@ -128,7 +131,7 @@ def _text(p: dict[str, Any], bom: str = "") -> str:
             "pack_d_mm",
             "wire_m",
             "Cu_kg",
-            "mT_per_A",
+            "loop_mT_per_A",
             "R_ohm",
             "L_mH",
             "Z_ohm",
@@ -202,7 +205,8 @@ def _text(p: dict[str, Any], bom: str = "") -> str:
         f"{p['winding_conductivity_W_mK']:g} W/(m·K); R at the self-consistent mean temperature",
         "",
         "the three pairs together at the current limit (steady, radiating to each other; "
-        "'runaway': there is no steady state, the pair heats without bound):",
+        "'runaway': there is no steady state, the pair heats without bound; loop_mT_per_A: "
+        "centre field per ampere with each coil one loop at its mean radius, the field model):",
         table,
         f"total copper loss at the current limit, worst heading "
         f"({', '.join(f'{x:.3g}' for x in wh['heading'])}): {_watts(p['total_power_W'])} "

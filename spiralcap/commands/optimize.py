@@ -264,6 +264,13 @@ def _turns(values: dict[str, float]) -> dict[str, float]:
     return {f"coils.{k.split('.')[0]}.turns": v for k, v in values.items() if k.endswith(".turns")}
 
 
+#: What a scenario objective maximises, in the robust lines (the key's name says p05).
+_ROBUST_OBJECTIVE_WORDS = {
+    "margin_p05": " (maximises CVaR05, the mean of the worst 5 % of the scenario margins, a lower "
+    "bound on their p05)"
+}
+
+
 def format_robust(rc) -> str:
     """Text lines for the scenarios of a robust optimum (:class:`spiralcap.robust.RobustCheck`)."""
     from spiralcap.robust import format_scenario_solve, robust_to_dict
@@ -275,7 +282,7 @@ def format_robust(rc) -> str:
     return "\n".join(
         [
             f"tissue scenarios    {ins.scenarios} (Sobol', seed {ins.seed}); objective "
-            f"{rc.objective}{cons}",
+            f"{rc.objective}{_ROBUST_OBJECTIVE_WORDS.get(rc.objective, '')}{cons}",
             f"in-sample           margin p05 {ins.margin_p05_Nm * 1e3:.4g} mN·m, CVaR05 "
             f"{ins.cvar_Nm * 1e3:.4g} mN·m, P(step-out) {100 * ins.stepout_probability:.3g} %",
             f"out-of-sample       margin p05 {oos.margin_percentiles_Nm['p05'] * 1e3:.4g} mN·m"
