@@ -181,6 +181,7 @@ def test_forced_non_convergence_exits_3_and_writes_nothing(
 ) -> None:
     f6 = np.linspace(0.5, 3.0, 6)
     csv = _csv(tmp_path / "bench.csv", f6, _model_mNm(f6, 0.03, 7))
+    monkeypatch.setattr(ti, "_START_NFEV", 5)
     monkeypatch.setattr(ti, "_MAX_NFEV", 5)
     monkeypatch.setattr(ti, "_CHECK_NFEV_MIN", 10)
     toml, png = tmp_path / "f.toml", tmp_path / "f.png"

@@ -68,7 +68,9 @@ REL_CI_LIMIT = 1.0
 CORRELATION_LIMIT = 0.99
 SINGULAR_RCOND = 1e-10
 _N_STARTS = 4
-#: Evaluation budget of one least-squares run (each is a few microseconds of numpy).
+#: Evaluation budget of each start (and of each profile re-fit).
+_START_NFEV = 200
+#: Further evaluations for the best start when its budget ran out (``_converge``).
 _MAX_NFEV = 1000
 #: A run out of budget is continued for this fraction of it more, to see if the cost still falls.
 _CHECK_NFEV_FRACTION = 0.2
@@ -288,9 +290,9 @@ def identify(
         ``"scale"`` multiplies every constant *not* named, held in the base tissue's ratios:
         ``free=("scale",)`` fits only the calibration factor of the base set.
     max_nfev : int, optional
-        Evaluation budget of each least-squares run (default :data:`_MAX_NFEV`); a run that
-        uses it up is judged on its cost (``_solve``): ``success`` False when it had not
-        converged.
+        Further evaluations for the best start when its own budget (:data:`_START_NFEV`, or
+        ``max_nfev`` if smaller) ran out (default :data:`_MAX_NFEV`); a run that uses them up
+        too is judged on its cost (``_converge``): ``success`` False when it had not converged.
 
     Returns
     -------
@@ -339,14 +341,18 @@ def identify(
         return (G * scale)[:, None] * (integral.jacobian(c + A @ q) @ A)
 
     fit_jac = jac if jacobian == "analytic" else jacobian
+    budget = _MAX_NFEV if max_nfev is None else int(max_nfev)
     sols = [
-        _solve(residuals, fit_jac, q0, lo, hi, max_nfev)
+        _solve(residuals, fit_jac, q0, lo, hi, min(_START_NFEV, budget))
         for q0 in _starts(names, p0, integral, torque, G, scale, lo, hi)
     ]
     best = min(sols, key=lambda sol: sol.cost)
     # a converged start as good to COST_RTOL is preferred to a lower run that had not converged
     done = [sol for sol in sols if sol.success and sol.cost <= best.cost * (1.0 + COST_RTOL)]
-    best = min(done, key=lambda sol: sol.cost) if done else best
+    if done:
+        best = min(done, key=lambda sol: sol.cost)
+    else:
+        best = _converge(residuals, fit_jac, best, lo, hi, budget)
     order = _slow_arm_first(names, best.x, lo, hi)
     best.x, best.active_mask = best.x[order], best.active_mask[order]
     profile = _profile_to_bounds(residuals, fit_jac, best, lo, hi, n) if profile_bounds else None
@@ -408,44 +414,46 @@ def _log_map(names: tuple[str, ...], p0: np.ndarray) -> tuple[np.ndarray, np.nda
 
 
 def _solve(
-    fun: Any, jac: Any, q0: np.ndarray, lo: np.ndarray, hi: np.ndarray, max_nfev: int | None = None
+    fun: Any, jac: Any, q0: np.ndarray, lo: np.ndarray, hi: np.ndarray, max_nfev: int
 ) -> Any:
-    """Bounded TRF from ``q0``; a run stopped by the evaluation budget is judged on its cost.
+    """One bounded TRF run from ``q0`` with at most ``max_nfev`` evaluations."""
+    from scipy import optimize  # ~0.25 s to import: only when fitting
+
+    return optimize.least_squares(
+        fun,
+        q0,
+        jac=jac,
+        bounds=(lo, hi),
+        method="trf",
+        xtol=1e-9,
+        ftol=1e-9,
+        gtol=1e-9,
+        max_nfev=max_nfev,
+    )
+
+
+def _converge(fun: Any, jac: Any, sol: Any, lo: np.ndarray, hi: np.ndarray, budget: int) -> Any:
+    """Carry a run stopped by its evaluation budget on to convergence, or say it did not.
 
     scipy stops on a small step (``xtol``), a small relative drop of the cost (``ftol``) or a
     small scaled gradient (``gtol``). Along a direction the data do not determine (a null
     direction of J^T J, the usual case for five constants on a 0.5-3 Hz curve) none of these
     may trigger while the parameters drift at a constant cost, and the budget runs out. Such a
-    run is continued for :data:`_CHECK_NFEV_FRACTION` of the budget more (at least
-    :data:`_CHECK_NFEV_MIN` evaluations, time for the trust region to grow back): when that
-    lowers the cost by less than :data:`COST_RTOL` (relative), the cost has converged and the
-    run is accepted (``success`` True, ``message`` saying so) -- the fitted curve is the
-    minimum's to that tolerance (the residual standard deviation to half of it), and the
-    parameters that still move are the ones flagged as not pinned down. Otherwise ``success``
-    stays False with scipy's message and the drop measured.
+    run is continued with ``budget`` more evaluations, then :data:`_CHECK_NFEV_FRACTION` of it
+    more (at least :data:`_CHECK_NFEV_MIN`, time for the trust region to grow back): when that
+    last stretch lowers the cost by less than :data:`COST_RTOL` (relative), the cost has
+    converged and the run is accepted (``success`` True, ``message`` saying so) -- the fitted
+    curve is the minimum's to that tolerance (the residual standard deviation to half of it),
+    and the parameters that still move are the ones flagged as not pinned down. Otherwise
+    ``success`` stays False with scipy's message and the drop measured.
     """
-    from scipy import optimize  # ~0.25 s to import: only when fitting
-
-    budget = _MAX_NFEV if max_nfev is None else max_nfev
-
-    def run(start: np.ndarray, nfev: int) -> Any:
-        return optimize.least_squares(
-            fun,
-            start,
-            jac=jac,
-            bounds=(lo, hi),
-            method="trf",
-            xtol=1e-9,
-            ftol=1e-9,
-            gtol=1e-9,
-            max_nfev=nfev,
-        )
-
-    sol = run(q0, budget)
-    if sol.status != 0:  # 0: the evaluation budget ran out; < 0: scipy refused the problem
+    if sol.status != 0:  # converged (> 0) or refused by scipy (< 0): nothing to carry on
+        return sol
+    sol = _solve(fun, jac, np.clip(sol.x, lo, hi), lo, hi, budget)
+    if sol.status != 0:
         return sol
     extra = max(_CHECK_NFEV_MIN, int(budget * _CHECK_NFEV_FRACTION))
-    more = run(np.clip(sol.x, lo, hi), extra)
+    more = _solve(fun, jac, np.clip(sol.x, lo, hi), lo, hi, extra)
     if more.status != 0:  # converged by scipy's own criteria on the extra evaluations
         return more
     drop = (sol.cost - more.cost) / sol.cost if sol.cost > 0 else 0.0
@@ -457,8 +465,8 @@ def _solve(
         )
         return more
     more.message = (
-        f"{str(sol.message).rstrip('.')} ({budget + extra} evaluations; the last {extra} still "
-        f"lowered the cost by {drop:.1e}, relative)"
+        f"{str(sol.message).rstrip('.')} (the last {extra} evaluations still lowered the cost "
+        f"by {drop:.1e}, relative)"
     )
     return more
 
@@ -523,7 +531,9 @@ def _profile_to_bounds(
             if free:
                 pad = 1e-9 * (hi[free] - lo[free])
                 z0 = np.clip(best.x[free], lo[free] + pad, hi[free] - pad)
-                ssr_at_bound = 2.0 * _solve(f_sub, sub_jac, z0, lo[free], hi[free]).cost
+                ssr_at_bound = (
+                    2.0 * _solve(f_sub, sub_jac, z0, lo[free], hi[free], _START_NFEV).cost
+                )
             else:  # one free parameter: nothing to re-fit
                 r = fun(q)
                 ssr_at_bound = float(r @ r)
