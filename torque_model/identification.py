@@ -11,6 +11,11 @@ same family (``scipy.optimize.least_squares(method="trf")``) with three choices 
   every point alike (``relative=False`` gives the paper's absolute errors);
 - lumen, wall thickness and friction stay those of the base tissue.
 
+Four starts of 200 evaluations each; the best, when its budget ran out (parameters drifting
+along a null direction at a constant cost), is carried on and judged on its cost
+(``_converge``): ``success`` says whether the fit converged, and a fit that did not is not a
+fit (``spiralcap fit`` writes nothing and exits 3).
+
 The torque factorises exactly as G(alpha) x I(omega; E, eta) (:func:`torque_model.model.
 contact_factors_m3`), so the geometry is evaluated once per point; I and its Jacobian both come
 from the model's one :func:`~torque_model.model.relaxation_integral_Pa` (values on the numpy
