@@ -176,6 +176,21 @@ def test_the_issue_six_point_fit_converges_and_is_followed() -> None:
     assert quality.follows_data, quality.problems
 
 
+def test_a_fit_accepted_on_its_cost_predicts_as_the_converged_one() -> None:
+    """Budget 80: the best start stops with the parameters drifting along a null direction; 50
+    more evaluations lower the cost by < 1e-6, so the fit is accepted on its cost -- and its
+    curve is the fully converged fit's (gtol, 200 + 1000 evaluations) to 1e-6."""
+    f6 = np.linspace(0.5, 3.0, 6)
+    y = _model_mNm(f6, 0.03, 7) * 1e-3
+    full = tm.identify(f6, y, A10, SAMPLE2, tm.PAPER_CAPSULE, profile_bounds=False)
+    short = tm.identify(f6, y, A10, SAMPLE2, tm.PAPER_CAPSULE, profile_bounds=False, max_nfev=80)
+    assert short.success and short.message.startswith("cost converged"), short.message
+    assert short.cost == pytest.approx(full.cost, rel=1e-6), "the cost is the minimum's (1e-6)"
+    assert np.allclose(short.predicted_Nm, full.predicted_Nm, rtol=1e-6, atol=0), (
+        "the written constants give the converged fit's curve (1e-6)"
+    )
+
+
 def test_forced_non_convergence_exits_3_and_writes_nothing(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:

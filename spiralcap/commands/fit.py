@@ -432,6 +432,7 @@ def tissue_toml(result: Any, data_path: str, quality: Any = None) -> str:
         f"# spiralcap fit of {data_path}: {result.frequency_hz.size} points, "
         f"residual std {residual_std(result):.3g} (relative)",
     ]
+    lines.append(f"# optimiser: {result.message}")
     if quality is not None:
         lines.append(f"# verdict: {quality.verdict}")
     lines += [
