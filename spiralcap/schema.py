@@ -762,6 +762,60 @@ KEYS.update(
             "covariance of ln(E1, E2, E3, eta1, eta2) from `spiralcap fit -o` (read through "
             "tissue.uncertainty.covariance_from; not used on its own)",
         ),
+        **{
+            f"tissue.fit.bench_{leaf}": _between(
+                f"{what}: record of the bench the constants were fitted on; not used by the model "
+                f"(the design's own tissue.{leaf} is); range as tissue.{leaf}",
+                None,
+                lo,
+                hi,
+                open_=False,
+            )
+            for leaf, what, lo, hi in (
+                ("lumen_diameter_mm", "lumen diameter of the bench sample", 1.0, 100.0),
+                ("wall_thickness_mm", "wall thickness of the bench sample", 0.05, 20.0),
+                ("friction_coefficient", "capsule-mucosa friction of the bench", 1e-3, 5.0),
+            )
+        },
+        "tissue.fit.bench_capsule_diameter_mm": _between(
+            "capsule diameter on the bench: record of the bench the constants were fitted on; not "
+            "used by the model; range as capsule.diameter_mm",
+            None,
+            3.0,
+            40.0,
+            open_=False,
+        ),
+        "tissue.fit.bench_wire_diameter_mm": _between(
+            "spiral wire diameter on the bench: record of the bench the constants were fitted "
+            "on; not used by the model; range as capsule.spiral.wire_diameter_mm",
+            None,
+            0.05,
+            10.0,
+            open_=False,
+        ),
+        "tissue.fit.bench_helical_angles_deg": Key(
+            list,
+            None,
+            "a list of 1-64 numbers in (0, 90)",
+            lambda v: (
+                isinstance(v, list) and 0 < len(v) <= 64 and all(_num(x) and 0 < x < 90 for x in v)
+            ),
+            "helical angles of the bench capsules: record of the bench the constants were fitted "
+            "on; not used by the model",
+        ),
+        "tissue.fit.bench_frequency_range_hz": Key(
+            list,
+            None,
+            "[lowest, highest], numbers in [0.001, 100] with lowest <= highest",
+            lambda v: (
+                isinstance(v, list)
+                and len(v) == 2
+                and all(_num(x) and 1e-3 <= x <= 100.0 for x in v)
+                and v[0] <= v[1]
+            ),
+            "rotation frequencies the bench covered: record of the bench the constants were "
+            "fitted on; not used by the model (the fitted constants are calibrated only there)",
+        ),
         "requirements.max_stepout_probability": _between(
             "largest allowed probability that the capsule steps out over the tissue "
             "uncertainty (a CVaR constraint on optimize.scenarios scenarios; unset: none)",
