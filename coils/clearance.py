@@ -29,9 +29,11 @@ __all__ = [
     "Ring",
     "bore_clearance_m",
     "nearest_point_on_ring",
+    "outer_box_m",
     "pack_clearance_m",
     "pack_clearances_m",
     "pack_closest_points",
+    "pair_extent_m",
     "pair_rings",
     "ring_distance_m",
     "ring_signed_distance",
@@ -371,3 +373,63 @@ def torus_clearance_bound_m(mean_turn_gap_m: Any, pair_a: Any, pair_b: Any) -> A
         math.hypot(pair_a.winding_pack_width_m, pair_a.winding_pack_depth_m)
         + math.hypot(pair_b.winding_pack_width_m, pair_b.winding_pack_depth_m)
     )
+
+
+def pair_extent_m(
+    axis_index: int, radius_m: Any, separation_m: Any, width_m: Any, depth_m: Any
+) -> list[Any]:
+    """Half-extent of a pair's two packs, as solids, along x, y and z, m (backend-generic).
+
+    Along the pair's axis the packs reach s/2 + w/2 (outer faces of the two rings); across it,
+    R + h/2 (outer radius).
+
+    Parameters
+    ----------
+    axis_index : int
+        The pair's axis (0, 1, 2 for x, y, z), an index.
+    radius_m : float or CasADi
+        Mean winding radius R, m.
+    separation_m : float or CasADi
+        Distance between the two coils' mid-planes s, m.
+    width_m : float or CasADi
+        Axial width of a pack w, m.
+    depth_m : float or CasADi
+        Radial depth of a pack h, m.
+
+    Returns
+    -------
+    list of float or CasADi
+        The three half-extents, m.
+    """
+    outer = radius_m + 0.5 * depth_m
+    return [0.5 * separation_m + 0.5 * width_m if i == axis_index else outer for i in range(3)]
+
+
+def outer_box_m(pairs: Any) -> np.ndarray:
+    """Edge lengths of the smallest axis-aligned box round the coil set's packs, m.
+
+    Parameters
+    ----------
+    pairs : sequence of HelmholtzPair
+        The pairs (``axis_index``, ``radius_m``, ``separation_m``, ``winding_pack_width_m``,
+        ``winding_pack_depth_m``), centred on the origin.
+
+    Returns
+    -------
+    ndarray, shape (3,)
+        Twice the largest half-extent along x, y and z over the pairs, m.
+    """
+    halves = np.array(
+        [
+            pair_extent_m(
+                p.axis_index,
+                p.radius_m,
+                p.separation_m,
+                p.winding_pack_width_m,
+                p.winding_pack_depth_m,
+            )
+            for p in pairs
+        ],
+        dtype=float,
+    )
+    return 2.0 * halves.max(axis=0)

@@ -13,12 +13,23 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-__all__ = ["BUILD_CHECK_NAMES", "BuildCheck", "build_checks", "buildable_ok", "copper_masses_kg"]
+__all__ = [
+    "BUILD_CHECK_NAMES",
+    "BuildCheck",
+    "build_checks",
+    "buildable_ok",
+    "copper_masses_kg",
+    "envelope_checks",
+]
 
 #: check name -> pair of pairs
 CLEARANCE_NAMES = {"x/y": "clearance_xy", "x/z": "clearance_xz", "y/z": "clearance_yz"}
 #: every check :func:`build_checks` can return
-BUILD_CHECK_NAMES = frozenset((*CLEARANCE_NAMES.values(), "bore_clearance", "copper_mass"))
+#: the envelope checks, one per axis of the room's box (``limits.envelope_mm``)
+ENVELOPE_NAMES = ("envelope_x", "envelope_y", "envelope_z")
+BUILD_CHECK_NAMES = frozenset(
+    (*CLEARANCE_NAMES.values(), "bore_clearance", "copper_mass", *ENVELOPE_NAMES)
+)
 
 
 class BuildCheck(NamedTuple):
@@ -100,7 +111,35 @@ def build_checks(model: Any, rtol: float = 1e-6) -> list[BuildCheck]:
     if limit is not None:
         mass = float(np.sum(copper_masses_kg(model)))
         out.append(Check("copper_mass", "kg", mass, limit, "<=", mass <= limit * (1 + rtol)))
-    return out
+    return out + envelope_checks(model, rtol)
+
+
+def envelope_checks(model: Any, rtol: float = 1e-6) -> list[BuildCheck]:
+    """The coil set's outer box against ``limits.envelope_mm``, one check per axis (m, <=);
+    none without an envelope.
+
+    Parameters
+    ----------
+    model : DesignModel
+        The design.
+    rtol : float
+        Relative slack granted to each bound, dimensionless.
+
+    Returns
+    -------
+    list of BuildCheck
+        ``envelope_x``, ``envelope_y``, ``envelope_z`` (edge length of the set's box, m).
+    """
+    from coils.clearance import outer_box_m
+
+    env = model.limits.envelope_m
+    if env is None:
+        return []
+    box = outer_box_m(model.coils.pairs)
+    return [
+        BuildCheck(name, "m", float(v), float(a), "<=", bool(v <= a * (1 + rtol)))
+        for name, v, a in zip(ENVELOPE_NAMES, box, np.asarray(env, dtype=float))
+    ]
 
 
 def buildable_ok(model: Any, rtol: float = 1e-6) -> bool:
@@ -140,6 +179,8 @@ def buildable_ok(model: Any, rtol: float = 1e-6) -> bool:
     if limit is not None and not float(np.sum(copper_masses_kg(model))) <= limit * (1 + rtol):
         return False
     if not bore_clearance_m(pairs, model.requirements.bore_radius_m) >= need - slack:
+        return False
+    if not all(c.ok for c in envelope_checks(model, rtol)):
         return False
     for a, b in itertools.combinations(pairs, 2):
         gap = mean_turn_gap_m(a, b) - math.pi * a.radius_m / GAP_SAMPLES

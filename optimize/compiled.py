@@ -80,6 +80,10 @@ class Structure:
         Cooling mode (one of :data:`coils.thermal.CONVECTION_MODES`).
     surface_limit : bool
         Flag: a surface-temperature limit is set.
+    own_limits : frozenset of str
+        The per-pair amplifier limits set (``Limits.own``: ``"voltage_y"``, ...).
+    envelope : bool
+        Flag: the coil set must fit an envelope (``limits.envelope_mm``).
     """
 
     objective: str
@@ -97,6 +101,8 @@ class Structure:
     scenarios: Any = None  # DesignModel.scenarios.structure (counts, which rows)
     convection: str = "fixed"  # coils.thermal.CONVECTION_MODES
     surface_limit: bool = False  # limits.surface_temperature_C set
+    own_limits: frozenset = frozenset()  # per-pair amplifier limits set
+    envelope: bool = False  # limits.envelope_mm set
 
 
 def structure_of(
@@ -140,6 +146,8 @@ def structure_of(
         model.scenarios.structure if model.scenarios is not None else None,
         "fixed" if model.heat_transfer_coefficient_W_m2K is not None else model.cooling,
         model.limits.surface_temperature_C is not None,
+        model.limits.own,
+        model.limits.envelope_m is not None,
     )
 
 
@@ -180,7 +188,7 @@ class CompiledProblem:
         values = {
             **(extra or {}),
             **constant_values(model.constants),
-            **pb.parameter_values("limit", model.limits),
+            **_limit_values(model.limits),
             **pb.parameter_values("requirement", model.requirements),
             **pb.parameter_values("scale", scales),
             "ambient_temperature_C": model.ambient_temperature_C,
@@ -190,6 +198,16 @@ class CompiledProblem:
         return self.nlp.parameter_vector(
             {k: v for k, v in values.items() if k in self.nlp.param_slices}
         )
+
+
+def _limit_values(limits: Any) -> dict[str, Any]:
+    """The ``limit.*`` parameter values; a per-pair limit not set (NaN) is filled with 1 (its
+    entry is in no row)."""
+    values = pb.parameter_values("limit", limits)
+    return {
+        k: np.nan_to_num(np.asarray(v, dtype=float), nan=1.0) if k.startswith("limit.axis_") else v
+        for k, v in values.items()
+    }
 
 
 @functools.lru_cache(maxsize=16)
@@ -254,6 +272,7 @@ def _build_rows(b: NLPBuilder, structure: Structure) -> NLPBuilder:
         surface_temperature_C=(
             b.parameter("limit.surface_temperature_C") if structure.surface_limit else None
         ),
+        **_axis_limit_parameters(b, structure),
     )
     req = pb.symbolic(b, "requirement", Requirements(0.0, 0.0, 0.0, 0.0))
     scales = pb.symbolic(b, "scale", pb.Scales(1.0, 1.0))
@@ -289,6 +308,19 @@ def _build_rows(b: NLPBuilder, structure: Structure) -> NLPBuilder:
         b.constrain(term.row, g, term.allowed, dg, term.value)
     b.minimize(obj)
     return b
+
+
+def _axis_limit_parameters(b: NLPBuilder, structure: Structure) -> dict[str, Any]:
+    """The per-pair amplifier limits and the envelope as parameters, where the structure has
+    them (``Limits`` fields; the numbers filled by :func:`_limit_values`)."""
+    own = structure.own_limits
+    out: dict[str, Any] = {"own": own}
+    for kind, unit in (("current", "A"), ("voltage", "V"), ("power", "W")):
+        if any(name.startswith(kind + "_") for name in own):
+            out[f"axis_{kind}_{unit}"] = b.parameter(f"limit.axis_{kind}_{unit}", (3,))
+    if structure.envelope:
+        out["envelope_m"] = b.parameter("limit.envelope_m", (3,))
+    return out
 
 
 @dataclass(frozen=True)

@@ -608,6 +608,37 @@ def symbolic_constants(
     return c, hw, q
 
 
+def _envelope_terms(
+    hw: dict, q: list, ctx: Any, freed: list[bool], sep: Any, helmholtz: Any
+) -> list:
+    """Rows ``envelope_<i>[<pair>]``: each freed pair's packs inside half the envelope along
+    every axis (coils.clearance.pair_extent_m); none without ``limits.envelope_mm``."""
+    from coils.clearance import pair_extent_m
+    from optimize.nlp import Row
+    from optimize.problem import Term
+
+    env = ctx.limits.envelope_m
+    if env is None:
+        return []
+    out = []
+    for k, ax in enumerate(AXES):
+        if not freed[k]:
+            continue
+        r = hw[f"{ax}.radius_m"]
+        s = r if helmholtz[k] else sep[k]
+        halves = pair_extent_m(k, r, s, q[k]["width_m"], q[k]["depth_m"])
+        for i, half in enumerate(halves):
+            out.append(
+                Term(
+                    Row(f"envelope_{AXES[i]}[{ax}]", "limit", "m"),
+                    2.0 * half,
+                    env[i],
+                    lambda v, a: v / a - 1.0,
+                )
+            )
+    return out
+
+
 def geometry_terms(b: Any, hs: HardwareStructure, hw: dict, q: list, ctx: Any) -> list:
     """Rows that keep a freed design buildable: packs inside their radius, clear of each other
     and of the bore by the least clearance (module notes), a clear bore, the copper mass within
@@ -698,6 +729,7 @@ def geometry_terms(b: Any, hs: HardwareStructure, hw: dict, q: list, ctx: Any) -
                     lambda v, a: (a - v) / CLEARANCE_REF_m,
                 )
             )
+        out += _envelope_terms(hw, q, ctx, freed, sep, hs.helmholtz)
         if hs.copper_mass_limit:
             mass = q[0]["copper_mass_kg"] + q[1]["copper_mass_kg"] + q[2]["copper_mass_kg"]
             limit = b.parameter("limit.copper_mass_kg")

@@ -466,16 +466,28 @@ def limit_terms(
         key = _memo_key(k, per_amp)
         if key is not None:
             memo[key] = (current, r)
-        terms.append(LimitTerm(f"current_{ax}", "A", current, limits.current_A, 1))
+        name, allowed = limits.channel("current", k)
+        terms.append(LimitTerm(name, "A", current, allowed, 1))
+        name, allowed = limits.channel("voltage", k)
         terms.append(
             LimitTerm(
-                f"voltage_{ax}",
+                name,
                 "V",
                 coils.voltage_amplitude_V(r, ind, frequency_hz, current),
-                limits.voltage_V,
+                allowed,
                 1 if fixed_r else None,
             )
         )
+        if f"power_{ax}" in limits.own:  # the pair's own amplifier channel: its copper loss
+            terms.append(
+                LimitTerm(
+                    f"axis_power_{ax}",
+                    "W",
+                    0.5 * r * current * current,
+                    limits.axis_power_W[k],
+                    2 if fixed_r else None,
+                )
+            )
         terms.append(
             LimitTerm(
                 f"hot_spot_{ax}",
@@ -636,6 +648,22 @@ def _power_cap_T(c: Constants, allowed_W: Any, ambient_temperature_C: float) -> 
     return _cached_cap(c, key, lambda: _bisect_field_T(loss, allowed, allowed.shape))
 
 
+def _channel_power_cap_T(k: int, c: Constants, allowed_W: Any, ambient_temperature_C: float) -> Any:
+    """Largest centre field pair k's own channel power limit allows, R(I) I² / 2 <= P
+    (bisection; the resistance at the pair's self-consistent mean temperature; cached)."""
+    allowed = np.asarray(allowed_W, dtype=float)
+    per_amp = float(c.current_per_tesla_A_per_T[k])
+    if per_amp <= 0:
+        return np.full(allowed.shape, np.inf)
+
+    def value(b: Any) -> Any:
+        current = b * per_amp
+        return 0.5 * winding_resistance_ohm(current, k, c, ambient_temperature_C) * current**2
+
+    key = ("channel_power", k, *_array_key(allowed), float(ambient_temperature_C))
+    return _cached_cap(c, key, lambda: _bisect_field_T(value, allowed, allowed.shape))
+
+
 def _voltage_cap_T(
     k: int, frequency_hz: Any, c: Constants, allowed_V: Any, ambient_temperature_C: float
 ) -> Any:
@@ -754,6 +782,10 @@ def field_capacity_T(
             continue
         if t.power is None and t.name == "power":
             caps.append(_power_cap_T(c, t.allowed, ambient_temperature_C))
+            continue
+        if t.power is None and t.name.startswith("axis_power_"):
+            k = _AXES.index(t.name[-1])
+            caps.append(_channel_power_cap_T(k, c, t.allowed, ambient_temperature_C))
             continue
         if t.power is None:  # voltage with the self-consistent resistance
             caps.append(

@@ -81,6 +81,15 @@ class Limits:
         Largest temperature of the hottest pack surface, °C (None: no limit).
     copper_mass_kg : float or None
         Largest copper mass of the three pairs, kg (None: no limit).
+    axis_current_A, axis_voltage_V, axis_power_W : ndarray or None
+        Per pair (x, y, z), the current amplitude (A), drive voltage amplitude (V) and copper
+        loss (W) its own amplifier channel allows; an entry is used only where ``own`` names it
+        (``"current_x"``, ...), the global limit elsewhere (None: no pair has its own).
+    envelope_m : ndarray or None
+        Outer box the coil set must fit, (X, Y, Z) edge lengths, m (None: no envelope).
+    own : frozenset of str
+        Which per-pair limits are set: ``"current_x"``, ``"voltage_y"``, ``"power_z"``, ...
+        (structure: a compiled problem is built for one such set).
     """
 
     current_A: float
@@ -90,6 +99,36 @@ class Limits:
     field_exposure: str = "occupational"
     surface_temperature_C: float | None = None
     copper_mass_kg: float | None = None
+    axis_current_A: Any = None
+    axis_voltage_V: Any = None
+    axis_power_W: Any = None
+    envelope_m: Any = None
+    own: frozenset = frozenset()
+
+    def channel(self, kind: str, k: int) -> tuple[str, Any]:
+        """(row name, allowed value) of pair ``k``'s ``kind`` limit (``"current"`` or
+        ``"voltage"``): its own channel's (``axis_current_x``) where set, else the global one
+        (``current_x``).
+
+        Parameters
+        ----------
+        kind : str
+            ``"current"`` or ``"voltage"``.
+        k : int
+            Pair index (0, 1, 2 for x, y, z), count.
+
+        Returns
+        -------
+        tuple of (str, float or CasADi)
+            The row name and the allowed value, A or V.
+        """
+        ax = "xyz"[k]
+        if f"{kind}_{ax}" in self.own:
+            return f"axis_{kind}_{ax}", getattr(self, f"axis_{kind}_{_UNITS[kind]}")[k]
+        return f"{kind}_{ax}", getattr(self, f"{kind}_{_UNITS[kind]}")
+
+
+_UNITS = {"current": "A", "voltage": "V", "power": "W"}
 
 
 @dataclass(frozen=True)

@@ -74,8 +74,14 @@ _NAMES = {
     "frequency_max": "upper frequency bound",
     "solver": "solver did not converge",
     "wall_strain": "spiral stretches the wall by",
+    "envelope_x": "coil set along x (envelope)",
+    "envelope_y": "coil set along y (envelope)",
+    "envelope_z": "coil set along z (envelope)",
 }
 _PER_AXIS = {
+    "axis_current": "current (own channel)",
+    "axis_voltage": "drive voltage (own channel)",
+    "axis_power": "copper power (own channel)",
     "current": "current",
     "voltage": "drive voltage",
     "temperature_rise": "coil temperature rise",

@@ -195,6 +195,31 @@ KEYS: dict[str, Key] = {
 }
 # the built-in pairs nest 13.7 mm apart as solids (coils.min_clearance_mm = 10; issue 18)
 for _ax, _r, _n, _d in (("x", 0.43, 400, 3.0), ("y", 0.35, 350, 2.5), ("z", 0.28, 300, 2.36)):
+    KEYS[f"limits.{_ax}.current_A"] = _between(
+        f"current amplitude the {_ax} pair's own amplifier channel allows (optional: "
+        "limits.current_A applies where absent); range as limits.current_A",
+        None,
+        1e-3,
+        1e3,
+        open_=False,
+    )
+    KEYS[f"limits.{_ax}.voltage_V"] = _between(
+        f"drive-voltage amplitude the {_ax} pair's own amplifier channel allows (optional: "
+        "limits.voltage_V applies where absent); range as limits.voltage_V",
+        None,
+        1e-3,
+        1e4,
+        open_=False,
+    )
+    KEYS[f"limits.{_ax}.power_W"] = _between(
+        f"copper loss the {_ax} pair's own amplifier channel may drive, R I² / 2 at its "
+        "worst-heading current (optional, besides the total limits.power_W); range: 1 mW to "
+        "1 MW",
+        None,
+        1e-3,
+        1e6,
+        open_=False,
+    )
     KEYS[f"coils.{_ax}.radius_m"] = _between(
         f"mean radius of each coil of the {_ax} pair; range: a 1 cm bench coil to a 2 m "
         "whole-body system",
@@ -544,6 +569,19 @@ KEYS.update(
             "ICNIRP 2010 reference level applied to the rotating field",
             "occupational",
             ("occupational", "public", "off"),
+        ),
+        "limits.envelope_mm": Key(
+            list,
+            None,
+            "a list of three lengths [X, Y, Z] in mm, each from 10 to 20000",
+            lambda v: (
+                isinstance(v, list)
+                and len(v) == 3
+                and all(_num(c) and 10.0 <= c <= 20000.0 for c in v)
+            ),
+            "the room the coil set must fit: edge lengths of an axis-aligned box round the packs "
+            "as solids (outer faces and outer radii), a check and a row of the sizing NLP; "
+            "optional",
         ),
         # --- optimisation ---
         "optimize.helical_angle_min_deg": _between(

@@ -131,7 +131,7 @@ def format_result(res) -> str:
     """Readable summary of an :class:`optimize.OptimizationResult`."""
     from spiralcap.assemble.system import constraint_key, message_in_key_units
     from spiralcap.commands.evaluate import safety_factor_text, tissue_line
-    from spiralcap.presentation import edge_text, model_domain_text, step_out_words
+    from spiralcap.presentation import edge_text, model_domain_text, readable, step_out_words
     from spiralcap.serialize import _step_out
 
     ev = res.evaluation
@@ -200,6 +200,8 @@ def format_result(res) -> str:
                 u = f" {label}" if label else ""
                 key = constraint_key(s.name) or s.name
                 if key.startswith("limits."):  # a limit the closest design still breaks
+                    if key == "limits.envelope_mm":  # one key, three axes
+                        key = f"{key} ({readable(s.name)})"
                     lines.append(
                         f"  {key}: allows {s.needed / factor:.4g}{u}, the closest design "
                         f"reaches {s.best / factor:.4g}{u} (over by {s.short_by / factor:.4g}{u})"
