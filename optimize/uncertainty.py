@@ -772,9 +772,10 @@ def sobol_indices(
         raise InputError("uncertainty", "none", "at least one uncertain input")
     groups = [g for _, g in factors]
     unique = list(dict.fromkeys(groups))
-    if len(unique) == 1:  # one input explains everything; SALib needs two groups
-        one = (1.0,)
-        return SobolIndices(tuple(unique), one, (0.0,), one, (0.0,), base_samples)
+    if len(unique) == 1:  # one input explains everything (if anything moves); SALib needs two
+        probe = problem.margins_Nm(np.linspace(0.05, 0.95, 9)[:, None] * np.ones(len(factors)))
+        value = (1.0,) if np.ptp(probe) > 0 else (0.0,)
+        return SobolIndices(tuple(unique), value, (0.0,), value, (0.0,), base_samples)
     spec = {
         "num_vars": len(factors),
         "names": [n for n, _ in factors],
