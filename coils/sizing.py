@@ -36,6 +36,8 @@ class AxisSizing:
 
     Temperatures are the steady, self-consistent state at this current (NaN if the pair runs
     away thermally); ``time_constant_s`` is the lumped τ of :func:`coils.thermal.transient`.
+    A square pair (``shape`` "square") has its mean turn's side in ``side_m`` and half of it in
+    ``radius_m`` (:attr:`coils.SquarePair.radius_m`); a circle has ``side_m`` None.
     """
 
     axis: str
@@ -69,6 +71,8 @@ class AxisSizing:
     surface_max_temperature_C: float = math.nan
     convection_coefficient_W_m2K: float = math.nan
     radiation_view_factor: float = 1.0
+    shape: str = "circle"
+    side_m: float | None = None
 
 
 @dataclass(frozen=True)
@@ -102,11 +106,12 @@ class SystemSizing:
 def winding_pack(
     pair, conductivity_W_mK: float, heat_transfer_coefficient_W_m2K: float, emissivity: float
 ) -> WindingPack:
-    """The :class:`coils.thermal.WindingPack` of a :class:`coils.HelmholtzPair`."""
+    """The :class:`coils.thermal.WindingPack` of a :class:`coils.HelmholtzPair` (or a
+    :class:`coils.SquarePair`: a ring of its mean turn's length, the same volume and faces)."""
     return WindingPack(
         pack_width_m=pair.winding_pack_width_m,
         pack_depth_m=pair.winding_pack_depth_m,
-        mean_radius_m=pair.radius_m,
+        mean_radius_m=pair.turn_radius_m,
         packing_factor=pair.packing_factor,
         conductivity_W_mK=conductivity_W_mK,
         heat_transfer_coefficient_W_m2K=heat_transfer_coefficient_W_m2K,
@@ -187,6 +192,8 @@ def size_system(
         axes.append(
             AxisSizing(
                 axis=pair.axis,
+                shape=pair.shape,
+                side_m=pair.side_m if pair.shape == "square" else None,
                 radius_m=pair.radius_m,
                 separation_m=pair.spacing_m,
                 turns=pair.turns,

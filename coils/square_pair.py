@@ -207,6 +207,13 @@ class SquarePair:
         return self.half_side_m
 
     @property
+    def turn_radius_m(self) -> float:
+        """Radius of the circle as long as the mean turn, 4a / (2π), m: a ring of it has the
+        square frame's volume w h · 4a and faces 2 (w + h) · 4a exactly (the thermal model's
+        :class:`coils.thermal.WindingPack` takes a pack by this radius)."""
+        return self.mean_turn_length_m / (2.0 * math.pi)
+
+    @property
     def wire_area_m2(self) -> float:
         """Bare copper cross-section of the wire, π d² / 4, m²."""
         return math.pi * self.wire_diameter_m**2 / 4.0

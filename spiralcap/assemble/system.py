@@ -265,6 +265,16 @@ def build_sizing(design: Design) -> Any:
     free = free_keys(design)
     if not free:
         return None
+    for key in free:
+        ax = key.split(".")[1] if key.startswith("coils.") else ""
+        if design.get(f"coils.{ax}.shape") == "square":
+            raise InputError(
+                _FREE_PREFIX + key,
+                list(free[key]),
+                f"no free range: coils.{ax}.shape = 'square', and sizing the hardware of a "
+                "square pair (turns, wire, aspect, side) is not supported yet; rate it at fixed "
+                "hardware (drop the free range) or make the pair a circle",
+            )
     variables = tuple(
         hw.FreeVariable(
             _HARDWARE_NAMES[k][0], lo * _HARDWARE_NAMES[k][1], hi * _HARDWARE_NAMES[k][1]
