@@ -268,8 +268,16 @@ def test_bad_square_input_exits_2_naming_the_key(argv: list[str], key: str) -> N
 def test_free_side_is_refused_with_exit_2() -> None:
     rc, _, err = run(["optimize", *SQUARE_X, "--free", "coils.x.side_m=0.8:1.0"])
     assert rc == 2 and "side_m" in err and "not supported yet" in err, err
-    rc, _, err = run(["optimize", *SQUARE_X, "--free", "coils.x.turns=100:800"])
-    assert rc == 2 and "optimize.free.coils.x.turns" in err, err
+    for free in (
+        "coils.x.turns=100:800",
+        "coils.y.turns=100:800",
+        "capsule.magnet.diameter_mm=4:8",
+    ):
+        rc, _, err = run(["optimize", *SQUARE_X, "--free", free])
+        key = "optimize.free." + free.split("=")[0]
+        assert rc == 2 and key in err and "not supported yet" in err and "\n" not in err.strip(), (
+            err
+        )
 
 
 def test_square_x_pair_in_coils_and_evaluate() -> None:
@@ -349,3 +357,21 @@ def test_square_example_step_reads_back_six_solids_apart(tmp_path, capsys) -> No
         assert value * 1e3 == pytest.approx(kernel, abs=1e-3), (
             f"{key}: tool vs OpenCASCADE BRepExtrema distance of the exported frames (1 µm)"
         )
+
+
+def test_bill_of_materials_and_report_rows_of_a_square_pair() -> None:
+    from spiralcap.analysis.bom import LEAD_ALLOWANCE_PER_COIL_m
+    from spiralcap.report.document import Paragraph
+    from spiralcap.report.sections._util import Context
+    from spiralcap.report.sections.coils import _build_paragraph, _sizing_table
+
+    payload = run_json(["coils", *SQUARE_X])
+    bom = {r["axis"]: r for r in payload["bill_of_materials"]}["x"]
+    assert bom["wire_length_m"] == pytest.approx(2 * 400 * 4 * 0.95 + 2 * LEAD_ALLOWANCE_PER_COIL_m)
+    ctx = Context(data=None, payload={"coils": payload})
+    table = _sizing_table(ctx)
+    assert table.rows[0][2:] == ["square", "circle", "circle"], "the shape row leads"
+    assert table.rows[1][3] == "–" and float(table.rows[1][2].value) == 0.95, "a square's side"
+    paragraph = _build_paragraph(ctx)
+    assert isinstance(paragraph, Paragraph)
+    assert any("solid rings and square frames" in str(p) for p in paragraph.parts)
