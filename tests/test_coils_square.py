@@ -310,3 +310,24 @@ def test_square_pair_rejects_bad_parameters(kwargs: dict, key: str) -> None:
     with pytest.raises(InputError) as err:
         coils.SquarePair(**kwargs)
     assert err.value.key == key, str(err.value)
+
+
+def test_square_pair_uniform_region_is_not_taken_as_axisymmetric() -> None:
+    """The ±1 % sphere of a square pair alone, checked on random points just inside and on
+    the limiting ray just outside (a square pair has no axial symmetry: its sphere is found on
+    the full ray lattice)."""
+    pair = coils.SquarePair(0.78, 100, "y", wire_diameter_m=1e-3)
+    region = coils.uniform_region(pair, 0.01)
+    assert 0.0 < region.radius_m < pair.radius_m
+    rng = np.random.default_rng(11)
+    dirs = rng.normal(size=(20000, 3))
+    dirs /= np.linalg.norm(dirs, axis=1, keepdims=True)
+    inside = coils.uniformity(pair, 0.999 * region.radius_m * dirs)
+    assert np.max(np.abs(inside)) <= 0.01, "every random point 0.1 % inside is within 1 %"
+    out = coils.uniformity(pair, 1.001 * region.radius_m * region.limiting_ray[None, :])
+    assert abs(out[0]) > 0.01, "just outside along the limiting ray it is not"
+    # the field is not axisymmetric: the deviation differs between the side and corner planes
+    r = region.radius_m
+    side_plane = coils.uniformity(pair, np.array([[r, 0.0, 0.0]]))[0]
+    corner_plane = coils.uniformity(pair, np.array([[r / np.sqrt(2), 0.0, r / np.sqrt(2)]]))[0]
+    assert abs(side_plane - corner_plane) > 1e-4, "square, not round"

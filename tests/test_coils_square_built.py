@@ -375,3 +375,11 @@ def test_bill_of_materials_and_report_rows_of_a_square_pair() -> None:
     paragraph = _build_paragraph(ctx)
     assert isinstance(paragraph, Paragraph)
     assert any("solid rings and square frames" in str(p) for p in paragraph.parts)
+
+
+@pytest.mark.parametrize("command", ["coils", "evaluate"])
+def test_square_outputs_match_their_schemas(command: str) -> None:
+    jsonschema = pytest.importorskip("jsonschema")
+    docs = Path(__file__).resolve().parents[1] / "docs" / "json"
+    schema = json.loads((docs / f"{command}.schema.json").read_text())
+    jsonschema.validate(run_json([command, EXAMPLE]), schema)
