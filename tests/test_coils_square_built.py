@@ -257,6 +257,7 @@ def test_vertical_bar_convection_by_hand_and_blend() -> None:
         (["--set", "coils.y.side_m=0.8"], "coils.y.side_m"),
         (["--set", "coils.z.shape=square", "--set", "coils.z.side_m=7"], "coils.z.side_m"),
         (["--set", "coils.z.shape=hexagon"], "coils.z.shape"),
+        (["--set", "coils.y.shape=square", "--set", "coils.y.side_m=0.74"], "coils.y.side_m"),
     ],
 )
 def test_bad_square_input_exits_2_naming_the_key(argv: list[str], key: str) -> None:
