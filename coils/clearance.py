@@ -135,7 +135,13 @@ class Frame:
 
 def pair_packs(pair: Any) -> tuple[Any, Any]:
     """The two packs of a pair at ∓s/2 along its axis: :class:`Ring` for a circular pair
-    (:func:`pair_rings`), :class:`Frame` for a square one."""
+    (:func:`pair_rings`), :class:`Frame` for a square one.
+
+    Parameters
+    ----------
+    pair : coils.HelmholtzPair or coils.SquarePair
+        The pair (SI lengths).
+    """
     if getattr(pair, "shape", "circle") != "square":
         return pair_rings(pair)
     half = 0.5 * pair.spacing_m
@@ -165,6 +171,18 @@ def frame_signed_distance(frame: Frame, points: np.ndarray) -> np.ndarray:
     square the nearest point is on it, inside the hole on the inner one, within the annulus
     the nearer of the two); extruded over |z - c| <= w/2 exactly (the box formula with the
     2-D distance as one coordinate).
+
+    Parameters
+    ----------
+    frame : Frame
+        The solid (SI lengths).
+    points : ndarray, shape (..., 3)
+        Points, m.
+
+    Returns
+    -------
+    ndarray, shape (...)
+        Signed distance, m (negative inside).
     """
     p = np.asarray(points, dtype=float)
     u, v = (k for k in range(3) if k != frame.axis)
@@ -177,8 +195,14 @@ def frame_signed_distance(frame: Frame, points: np.ndarray) -> np.ndarray:
 
 
 def frame_bars(frame: Frame) -> np.ndarray:
-    """The frame as four axis-aligned bars, shape (4, 2, 3): [bar, (low, high) corner, xyz];
-    two bars run the full outer side, two fit between them (no overlap)."""
+    """The frame as four axis-aligned bars, shape (4, 2, 3): [bar, (low, high) corner, xyz],
+    m; two bars run the full outer side, two fit between them (no overlap).
+
+    Parameters
+    ----------
+    frame : Frame
+        The solid (SI lengths).
+    """
     a = frame.axis
     u, v = (k for k in range(3) if k != a)
     h_out = 0.5 * (frame.side_m + frame.depth_m)
@@ -204,6 +228,16 @@ def frame_distance_m(a: Frame, b: Frame) -> float:
     Exact: the least over their bars' pairs of the axis-aligned box distance
     sqrt(Σ max(gap_i, 0)²), gap_i = max(lo_b - hi_a, lo_a - hi_b); boxes that overlap have all
     gaps <= 0 and their overlap is max_i gap_i (the shortest move that parts them).
+
+    Parameters
+    ----------
+    a, b : Frame
+        The two solids (SI lengths).
+
+    Returns
+    -------
+    float
+        Least distance, m.
     """
     ba, bb = frame_bars(a)[:, None], frame_bars(b)[None, :]
     gap = np.maximum(bb[..., 0, :] - ba[..., 1, :], ba[..., 0, :] - bb[..., 1, :])  # (4, 4, 3)
@@ -316,8 +350,16 @@ def pack_closest_points(pair_a: Any, pair_b: Any) -> tuple[float, np.ndarray, np
 
 
 def nearest_point_on_frame(frame: Frame, point: np.ndarray) -> np.ndarray:
-    """The point of the solid frame nearest ``point`` (shape (3,)): the nearest of the point
-    clipped into each of its bars."""
+    """The point of the solid frame nearest ``point``: the nearest of the point clipped into
+    each of its bars.
+
+    Parameters
+    ----------
+    frame : Frame
+        The solid (SI lengths).
+    point : ndarray, shape (3,)
+        A point outside it, m.
+    """
     bars = frame_bars(frame)
     p = np.asarray(point, dtype=float)
     near = np.clip(p[None, :], bars[:, 0], bars[:, 1])

@@ -384,3 +384,21 @@ def test_square_outputs_match_their_schemas(command: str) -> None:
     docs = Path(__file__).resolve().parents[1] / "docs" / "json"
     schema = json.loads((docs / f"{command}.schema.json").read_text())
     jsonschema.validate(run_json([command, EXAMPLE]), schema)
+
+
+def test_optimum_of_the_square_example_is_reproduced_by_evaluate(tmp_path) -> None:
+    """``optimize`` at fixed hardware on a square set: the optimum it writes is what
+    ``evaluate`` finds (same margin), with the binding hot spot exactly at its limit."""
+    out = tmp_path / "best.toml"
+    res = run_json(["optimize", EXAMPLE, "-o", str(out)])
+    assert res["status"] == "optimal", res["message"]
+    ev = run_json(["evaluate", str(out)])
+    checks = {c["name"]: c for c in ev["checks"]}
+    binding = [b for b in res["binding_limits"] if b["name"].startswith("hot_spot")]
+    assert binding, f"a hot spot binds at the optimum: {res['binding_limits']}"
+    for b in binding:
+        check = checks[b["name"]]
+        assert check["value"] == pytest.approx(check["allowed"], rel=1e-4), (
+            f"{b['name']}: evaluate's hot spot at the optimum = the limit the NLP held, rel 1e-4"
+        )
+    assert ev["margin_Nm"] == pytest.approx(res["margin_Nm"], rel=1e-4), "same margin"
