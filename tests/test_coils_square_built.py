@@ -402,3 +402,32 @@ def test_optimum_of_the_square_example_is_reproduced_by_evaluate(tmp_path) -> No
             f"{b['name']}: evaluate's hot spot at the optimum = the limit the NLP held, rel 1e-4"
         )
     assert ev["margin_Nm"] == pytest.approx(res["margin_Nm"], rel=1e-4), "same margin"
+
+
+def test_compare_sweep_and_waveforms_take_square_sets() -> None:
+    from cli_outcome import bad_numbers, sound
+
+    _, out, _ = sound(["compare", "builtin", EXAMPLE, "--json"], allowed=(0,))
+    assert not bad_numbers(json.loads(out)), "circle vs square set compared, every number finite"
+    _, out, _ = sound(
+        ["sweep", EXAMPLE, "--over", "coils.x.side_m=0.92:1.0:3", "--json"], allowed=(0,)
+    )
+    rows = json.loads(out)
+    assert not bad_numbers(rows)
+    _, out, _ = sound(
+        [
+            "waveforms",
+            *SQUARE_X,
+            "--set",  # not at the voltage limit (a plane change overshoots a bound voltage)
+            "limits.voltage_V=200",
+            "--heading",
+            "1,0,0",
+            "--heading",
+            "0,1,0",
+            "--dwell-s",
+            "1",
+            "--json",
+        ],
+        allowed=(0,),
+    )
+    assert not bad_numbers(json.loads(out))
