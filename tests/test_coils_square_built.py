@@ -431,3 +431,15 @@ def test_compare_sweep_and_waveforms_take_square_sets() -> None:
         allowed=(0,),
     )
     assert not bad_numbers(json.loads(out))
+
+
+def test_help_says_a_square_pair_does_not_use_radius() -> None:
+    from spiralcap.schema import KEYS
+
+    for ax in "xyz":
+        help_ = KEYS[f"coils.{ax}.radius_m"].help
+        assert "square" in help_ and "does not use it" in help_ and f"coils.{ax}.side_m" in help_
+        assert KEYS[f"coils.{ax}.shape"].default == "circle"
+        assert (KEYS[f"coils.{ax}.side_m"].lo, KEYS[f"coils.{ax}.side_m"].hi) == (0.02, 4.0)
+    rc, out, _ = run(["coils", *SQUARE_X])
+    assert rc == 0 and "x (square)" in out and "radius_or_side_m" in out
