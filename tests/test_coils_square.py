@@ -248,19 +248,34 @@ def test_self_inductance_grover_and_volume_integral(axis: str) -> None:
     assert pair.self_inductance_H == pytest.approx(grover, rel=0.03), (
         "Grover's square-loop formula with the pack's GMD (1946, ch. 5), rel 3 %"
     )
-    assert pair.self_inductance_H == pytest.approx(grover, rel=2e-4), "(and in fact rel 2e-4)"
+    assert pair.self_inductance_H == pytest.approx(grover, rel=1.5e-3), "(and in fact 1.5e-3)"
     coarse, fine = (volume_self_inductance_H(side, w, d, 300, n) for n in (12, 24))
     reference = (4 * fine - coarse) / 3
     assert pair.self_inductance_H == pytest.approx(reference, rel=0.03), (
         "filament-sum volume integral of the exact square-to-square M (Richardson 12/24), rel 3 %"
     )
-    assert pair.self_inductance_H == pytest.approx(reference, rel=2e-3), "(and in fact rel 2e-3)"
+    assert pair.self_inductance_H == pytest.approx(reference, rel=1e-4), "(and in fact rel 1e-4)"
     # the pair's mutual inductance: the same exact M over both packs, thin-filament limit
     thin = 300**2 * square_mutual_inductance_H(side / 2, side / 2, pair.spacing_m)
     assert pair.mutual_inductance_H == pytest.approx(thin, rel=5e-3), (
         "pack-averaged M within 0.5 % of the mean turns' M (pack << spacing)"
     )
     assert pair.series_inductance_H == 2 * pair.self_inductance_H + 2 * pair.mutual_inductance_H
+
+
+@pytest.mark.parametrize("aspect", [0.3, 3.0])
+def test_self_inductance_of_flat_and_tall_packs_vs_volume_integral(aspect: float) -> None:
+    """Away from a square section Grover's GMD form (every filament at side a) drifts by up to
+    2.5e-3; the section average of the exact M stays within 1e-4 of the volume integral."""
+    pair = coils.SquarePair(0.62, 300, "z", wire_diameter_m=2.0e-3, pack_aspect=aspect)
+    w, d = pair.winding_pack_width_m, pair.winding_pack_depth_m
+    coarse, fine = (volume_self_inductance_H(0.62, w, d, 300, n) for n in (12, 24))
+    reference = (4 * fine - coarse) / 3
+    assert pair.self_inductance_H == pytest.approx(reference, rel=1e-4), (
+        f"filament-sum volume integral (Richardson 12/24), rel 1e-4 at aspect {aspect}"
+    )
+    grover = 300**2 * grover_square_inductance_H(0.62, rectangle_gmd_m(w, d))
+    assert pair.self_inductance_H == pytest.approx(grover, rel=0.03), "Grover with the GMD, 3 %"
 
 
 def test_grover_square_exact_form_and_numpy_casadi() -> None:
