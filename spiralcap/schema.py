@@ -221,8 +221,9 @@ for _ax, _r, _n, _d in (("x", 0.43, 400, 3.0), ("y", 0.35, 350, 2.5), ("z", 0.28
         open_=False,
     )
     KEYS[f"coils.{_ax}.radius_m"] = _between(
-        f"mean radius of each coil of the {_ax} pair; range: a 1 cm bench coil to a 2 m "
-        "whole-body system",
+        f"mean radius of each coil of the {_ax} pair (a circular pair; a square pair, "
+        f"coils.{_ax}.shape = 'square', does not use it: its size is coils.{_ax}.side_m); "
+        "range: a 1 cm bench coil to a 2 m whole-body system",
         _r,
         0.01,
         2.0,
@@ -253,10 +254,29 @@ for _ax, _r, _n, _d in (("x", 0.43, 400, 3.0), ("y", 0.35, 350, 2.5), ("z", 0.28
         open_=False,
     )
     KEYS[f"coils.{_ax}.separation_m"] = _between(
-        f"distance between the two {_ax} coils (default: the radius, Helmholtz spacing); "
-        "range: 5 mm to 4 m (twice the largest radius)",
+        f"distance between the two {_ax} coils (default: the radius, Helmholtz spacing; for "
+        "a square pair 0.5445 x the side, square Helmholtz spacing); range: 5 mm to 4 m "
+        "(twice the largest radius)",
         None,
         0.005,
+        4.0,
+        open_=False,
+    )
+# square coil pairs (issue 30): the shape of each pair and the side of a square one
+for _ax in "xyz":
+    KEYS[f"coils.{_ax}.shape"] = _choice(
+        f"shape of the {_ax} pair's coils: 'circle' (size coils.{_ax}.radius_m) or 'square' "
+        f"(size coils.{_ax}.side_m, sides parallel to the other two axes, sharp corners, so "
+        "square pairs nest into a cube; docs/coils-square.md)",
+        "circle",
+        ("circle", "square"),
+    )
+    KEYS[f"coils.{_ax}.side_m"] = _between(
+        f"side of each coil of a square {_ax} pair, on the winding's centre line (needed with "
+        f"coils.{_ax}.shape = 'square', not allowed with a circle); range: a 2 cm bench coil "
+        "to a 4 m room-size frame (the circles' radius range, doubled)",
+        None,
+        0.02,
         4.0,
         open_=False,
     )

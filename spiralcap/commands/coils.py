@@ -95,12 +95,13 @@ def _clearance_lines(p: dict[str, Any]) -> list[str]:
 
 def _text(p: dict[str, Any], bom: str = "") -> str:
     axes = [p["axes"][ax] for ax in "xyz"]
+    squares = any(a.get("shape") == "square" for a in axes)
     rows = [
         [
             _run(v)
             for v in (
-                a["axis"],
-                a["radius_m"],
+                a["axis"] + (" (square)" if a.get("shape") == "square" else ""),
+                a["side_m"] if "side_m" in a else a["radius_m"],
                 a["turns"],
                 a["wire_diameter_m"] * 1e3,
                 a["winding_pack_width_m"] * 1e3,
@@ -124,7 +125,7 @@ def _text(p: dict[str, Any], bom: str = "") -> str:
     table = format_table(
         [
             "axis",
-            "radius_m",
+            "radius_or_side_m" if squares else "radius_m",
             "turns",
             "wire_mm",
             "pack_w_mm",
