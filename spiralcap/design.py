@@ -6,14 +6,12 @@ values, in the units the key names. The built-in example design is the schema's 
 
 from __future__ import annotations
 
-import errno
 import hashlib
 import json
 import math
 import os
 import stat
 import sys
-import tempfile
 from collections.abc import Iterable, Iterator, Mapping, Sequence
 from pathlib import Path
 from typing import Any
@@ -24,6 +22,12 @@ else:  # Python 3.10
     import tomli as tomllib
 
 from spiralcap.errors import DataError, InputError
+from spiralcap.outputs import (  # noqa: F401 -- where commands have always imported them
+    WRITE_THROUGH,
+    special_file,
+    write_files_atomic,
+    write_text_atomic,
+)
 from spiralcap.schema import KEYS, defaults, validate_value
 
 
@@ -367,157 +371,3 @@ def example_toml() -> str:
         "# tissue.\n\n"
     )
     return head + _to_toml(defaults(), comments=True)
-
-
-def _target(path: str | os.PathLike[str]) -> Path:
-    """Where writing ``path`` lands: through a symlink to the file it points at."""
-    return Path(os.path.realpath(path))
-
-
-def _stage(p: Path, data: bytes) -> str:
-    """Write ``data`` to a new temporary file beside ``p`` and return its name.
-
-    On Linux the bytes go to an anonymous ``O_TMPFILE`` first and get a name only once they are
-    all written, so a process killed mid-write leaves nothing behind; elsewhere ``mkstemp``.
-    """
-    p.parent.mkdir(parents=True, exist_ok=True)
-    # the temporary name must fit the file system's 255-byte limit however long the target's is
-    stem = os.fsencode(p.name)[:200].decode("utf-8", "ignore") or "out"
-    umask = os.umask(0)
-    os.umask(umask)
-    flag = getattr(os, "O_TMPFILE", 0)
-    if flag and os.path.isdir("/proc/self/fd"):
-        try:
-            fd = os.open(p.parent, flag | os.O_WRONLY, 0o666 & ~umask)
-        except OSError:
-            fd = -1
-        if fd >= 0:
-            try:
-                _write_all(fd, data)
-                for _ in range(100):
-                    tmp = os.path.join(p.parent, f".{stem}.{os.urandom(4).hex()}.part")
-                    try:
-                        os.link(f"/proc/self/fd/{fd}", tmp, follow_symlinks=True)
-                        return tmp
-                    except FileExistsError:
-                        continue
-            except OSError:
-                pass
-            finally:
-                os.close(fd)
-    fd, tmp = tempfile.mkstemp(dir=p.parent, prefix=f".{stem}.", suffix=".part")
-    try:
-        with os.fdopen(fd, "wb") as fh:
-            fh.write(data)
-        os.chmod(tmp, 0o666 & ~umask)  # mkstemp makes 0600; give the file ordinary permissions
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
-    return tmp
-
-
-def _write_all(fd: int, data: bytes) -> None:
-    view = memoryview(data)
-    while view:
-        view = view[os.write(fd, view) :]
-
-
-def special_file(path: str | os.PathLike[str]) -> str | None:
-    """What an existing output that is not a regular file is ('character device', 'FIFO', ...);
-    None for a regular file or a path that does not exist yet (a symlink counts as its target)."""
-    try:
-        mode = os.stat(path).st_mode
-    except OSError:
-        return None
-    if stat.S_ISREG(mode):
-        return None
-    if stat.S_ISCHR(mode):
-        return "character device"
-    if stat.S_ISFIFO(mode):
-        return "FIFO"
-    if stat.S_ISBLK(mode):
-        return "block device"
-    if stat.S_ISSOCK(mode):
-        return "socket"
-    return "folder" if stat.S_ISDIR(mode) else "special file"
-
-
-#: Outputs that are written through (opened and written in place, never replaced by a file).
-WRITE_THROUGH = ("character device", "FIFO")
-
-
-def _write_through(path: str | os.PathLike[str], data: bytes) -> None:
-    """Write ``data`` into an existing character device or FIFO (``/dev/null``, a pipe a reader
-    holds open). A FIFO nobody reads is an error, not a hang; a full device (``/dev/full``) too."""
-    fd = os.open(path, os.O_WRONLY | os.O_NONBLOCK | getattr(os, "O_NOCTTY", 0))
-    try:
-        os.set_blocking(fd, True)
-        _write_all(fd, data)
-    finally:
-        os.close(fd)
-
-
-def write_files_atomic(files: Mapping[Any, str | bytes]) -> list[Path]:
-    """Write several files all or nothing: each staged beside its target, then all renamed.
-
-    A symlink given as a target is written through (the file it points at is replaced, the link
-    stays). An existing character device or FIFO (``-o /dev/null``) is written into, never
-    replaced by a file; a block device or socket is refused. Parent folders are created as
-    needed. If any file cannot be staged or any device written, no file is written and every
-    temporary file is removed (the devices are written after every file is staged, and before
-    any is renamed into place).
-
-    Raises
-    ------
-    DataError
-        A folder cannot be created, a file or device cannot be written (a full disk, a FIFO with
-        no reader), or a target is neither a regular file nor a device one can write into (one
-        line, exit 2).
-    """
-    staged: list[tuple[str, Path, Path]] = []
-    devices: list[tuple[Any, bytes]] = []
-    try:
-        for given, text in files.items():
-            # a file name of bytes that are not UTF-8 (held as surrogates) is written as "?"
-            data = text.encode("utf-8", "replace") if isinstance(text, str) else text
-            kind = special_file(given)
-            if kind in WRITE_THROUGH:
-                devices.append((given, data))
-                continue
-            if kind is not None:
-                raise DataError(f"{given}: cannot write into a {kind} (a regular file is needed)")
-            p = _target(given)
-            try:
-                staged.append((_stage(p, data), p, Path(given)))
-            except OSError as exc:
-                raise DataError(f"{given}: cannot write here ({exc.strerror or exc})") from None
-        for given, data in devices:
-            try:
-                _write_through(given, data)
-            except OSError as exc:
-                why = exc.strerror or str(exc)
-                if exc.errno == errno.ENXIO:
-                    why = "a FIFO that nobody reads"
-                raise DataError(f"{given}: cannot write ({why})") from None
-        for tmp, p, given in staged:
-            try:
-                os.replace(tmp, p)
-            except OSError as exc:
-                raise DataError(f"{given}: cannot write ({exc.strerror or exc})") from None
-    finally:
-        for tmp, _, _ in staged:
-            Path(tmp).unlink(missing_ok=True)
-    return [Path(g) for g in files]
-
-
-def write_text_atomic(path: str | os.PathLike[str], text: str | bytes) -> Path:
-    """Write a file all at once: to a temporary file beside it, then rename (no half files).
-
-    Parent folders are created as needed; a symlink is written through.
-
-    Raises
-    ------
-    DataError
-        The folder cannot be created or the file cannot be written (one line, exit 2).
-    """
-    return write_files_atomic({path: text})[0]
