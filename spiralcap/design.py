@@ -21,7 +21,7 @@ if sys.version_info >= (3, 11):
 else:  # Python 3.10
     import tomli as tomllib
 
-from spiralcap.errors import DataError, InputError
+from spiralcap.errors import DataError, InputError, short_text
 from spiralcap.outputs import (  # noqa: F401 -- where commands have always imported them
     WRITE_THROUGH,
     special_file,
@@ -85,12 +85,22 @@ class Design(Mapping[str, Any]):
         return hashlib.sha256(blob.encode()).hexdigest()
 
 
-def _flatten(table: Mapping[str, Any], prefix: str = "") -> dict[str, Any]:
+def _flatten(
+    table: Mapping[str, Any], where: str, prefix: str = "", depth: int = 1
+) -> dict[str, Any]:
+    """Dotted key -> value of a parsed TOML table; a key of more than :data:`MAX_NESTING` parts
+    (``a.b.c...`` written with dots builds nested tables the bracket scan does not see) is a
+    one-line DataError before any deeper recursion."""
     flat: dict[str, Any] = {}
     for key, value in table.items():
         dotted = f"{prefix}{key}"
         if isinstance(value, dict):
-            flat.update(_flatten(value, dotted + "."))
+            if depth >= MAX_NESTING:
+                raise DataError(
+                    f"{where}: a key nested more than {MAX_NESTING} levels deep "
+                    f"({short_text(dotted, 80)}...); design keys have at most {KEY_DEPTH}"
+                )
+            flat.update(_flatten(value, where, dotted + ".", depth + 1))
         else:
             flat[dotted] = value
     return flat
@@ -121,6 +131,11 @@ def parse_set(expr: str) -> tuple[str, Any]:
 MAX_FILE_BYTES = 4_000_000
 #: Deepest nesting of arrays and tables a design file may have (the schema needs 3).
 MAX_NESTING = 32
+#: Most dots between the parts of keys on one line of a design file (a dotted key
+#: ``a.b.c...`` of many parts makes the TOML parser build a table per part, in quadratic time).
+MAX_KEY_DOTS = 4 * MAX_NESTING
+#: Most dot-separated parts of a declared design key.
+KEY_DEPTH = max(k.count(".") + 1 for k in KEYS)
 #: Most digits of an integer in a design file (the largest count the schema allows has 6).
 MAX_INT_DIGITS = 30
 
@@ -195,34 +210,49 @@ def read_text_file(path: str | os.PathLike[str], what: str = "design file") -> s
 
 
 def _check_limits(text: str, where: str) -> None:
-    """Refuse nesting deeper than :data:`MAX_NESTING` and integers longer than
-    :data:`MAX_INT_DIGITS` before the parser meets them (it would recurse or convert without
-    bound). A light scan: brackets and digits outside strings and comments."""
-    depth = run = 0
+    """Refuse nesting deeper than :data:`MAX_NESTING`, integers longer than
+    :data:`MAX_INT_DIGITS` and lines of more than :data:`MAX_KEY_DOTS` key dots before the
+    parser meets them (it would recurse, convert or build nested tables without bound). A light
+    scan: brackets, digits and dots outside strings and comments (the dot of a float such as
+    ``1.5`` is not a key dot)."""
+    depth = run = dots = 0
     quote: str | None = None
-    comment = False
+    comment = number_dot = False
     line = 1
-    for ch in text:
+    for i, ch in enumerate(text):
         if ch == "\n":
             line += 1
-            comment = False
+            comment = number_dot = False
             quote = None if quote in ('"', "'") else quote
-            run = 0
+            run = dots = 0
             continue
-        if comment:
+        if comment or (quote and ch != quote):
             continue
         if quote:
-            if ch == quote:
-                quote = None
+            quote = None
             continue
         if ch.isdigit():
             run += 1
-            if run > MAX_INT_DIGITS:
-                raise DataError(
-                    f"{where} line {line}: a number of more than {MAX_INT_DIGITS} digits; no "
-                    "design value needs that many"
-                )
+            _check_count(
+                run,
+                MAX_INT_DIGITS,
+                f"{where} line {line}: a number of more than",
+                "digits; no design value needs that many",
+            )
             continue
+        if ch == ".":
+            if run and not number_dot and text[i + 1 : i + 2].isdigit():
+                number_dot = True  # the dot of a float
+            else:
+                dots += 1
+                _check_count(
+                    dots,
+                    MAX_KEY_DOTS,
+                    f"{where} line {line}: keys with more than",
+                    f"dots (design keys have at most {KEY_DEPTH} parts)",
+                )
+        elif ch != "_":
+            number_dot = False
         if ch != "_":
             run = 0
         if ch in "\"'":
@@ -231,12 +261,19 @@ def _check_limits(text: str, where: str) -> None:
             comment = True
         elif ch in "[{":
             depth += 1
-            if depth > MAX_NESTING:
-                raise DataError(
-                    f"{where} line {line}: arrays or tables nested more than {MAX_NESTING} deep"
-                )
+            _check_count(
+                depth,
+                MAX_NESTING,
+                f"{where} line {line}: arrays or tables nested more than",
+                "deep",
+            )
         elif ch in "]}":
             depth = max(depth - 1, 0)
+
+
+def _check_count(count: int, limit: int, before: str, after: str) -> None:
+    if count > limit:
+        raise DataError(f"{before} {limit} {after}")
 
 
 def _parse_toml(text: str, where: str) -> dict[str, Any]:
@@ -298,7 +335,7 @@ def load_design(
     origins: dict[str, str] = {}
     for p in paths:
         text = read_text_file(p)
-        layer = _flatten(_parse_toml(text, str(p)))
+        layer = _flatten(_parse_toml(text, str(p)), str(p))
         for key, value in layer.items():
             try:
                 values[key] = validate_value(key, value)

@@ -98,8 +98,9 @@ def _link_refusal(path: str) -> str:
     )
 
 
-def _missing_folder(path: str) -> str | None:
-    """The first folder on the way to ``path`` that does not exist, or None."""
+def _missing_folder(path: str) -> tuple[str | None, str]:
+    """The first folder on the way to ``path`` that does not exist (None if all do), and the
+    nearest existing one above it."""
     parent = os.path.dirname(path)
     missing = None
     while parent and not os.path.lexists(parent):
@@ -108,7 +109,7 @@ def _missing_folder(path: str) -> str | None:
         if up == parent:
             break
         parent = up
-    return missing
+    return missing, parent or "."
 
 
 def check_output(flag: str, path: str) -> str | None:
@@ -143,16 +144,15 @@ def check_output(flag: str, path: str) -> str | None:
         raise InputError(flag, path, "a file path, not an existing folder")
     if kind is not None:
         raise InputError(flag, path, f"a file path or a character device (this is a {kind})")
-    missing = _missing_folder(path)
+    missing, parent = _missing_folder(path)
+    if not os.path.isdir(parent):
+        raise InputError(flag, path, f"a writable path (cannot write inside {parent}: a file)")
     if missing is not None:
         raise InputError(
             flag,
             path,
             f"a path in an existing folder ({missing} does not exist; no folder is made)",
         )
-    parent = os.path.dirname(path) or "."
-    if not os.path.isdir(parent):
-        raise InputError(flag, path, f"a writable path (cannot write inside {parent}: a file)")
     if os.path.exists(path) and not os.access(path, os.W_OK):
         raise InputError(flag, path, "a writable file (cannot write: this one is read-only)")
     if not os.access(parent, os.W_OK | os.X_OK):
@@ -298,7 +298,8 @@ def _stage_one(given: Any, data: bytes) -> str:
         raise DataError(f"{given}: cannot write into a {kind} (a regular file is needed)")
     p = Path(given)
     if not p.parent.is_dir():
-        raise DataError(f"{given}: the folder {p.parent} does not exist (no folder is made)")
+        why = "does not exist; no folder is made" if not p.parent.exists() else "is not a folder"
+        raise DataError(f"{given}: cannot write here ({p.parent} {why})")
     try:
         return _stage(p, data)
     except OSError as exc:
