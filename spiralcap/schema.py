@@ -615,14 +615,17 @@ def _free_range(key: str) -> Key:
         if not (isinstance(v, list) and len(v) == 2 and all(_num(x) for x in v)):
             return False
         lo, hi = v
-        if spec.kind is int:
-            lo, hi = math.ceil(lo), math.floor(hi)
+        if spec.kind is int:  # a count: whole-number bounds, never rounded behind the user
+            if not all(math.isfinite(x) and float(x).is_integer() for x in v):
+                return False
+            lo, hi = int(lo), int(hi)
         return lo < hi and spec.check(lo) and spec.check(hi)
 
+    whole = "whole numbers " if spec.kind is int else ""
     return Key(
         list,
         None,
-        f"a pair [min, max] with min < max, each {spec.allowed}",
+        f"a pair [min, max] of {whole}with min < max, each {spec.allowed}",
         ok,
         f"let the optimiser choose {key} between min and max",
     )

@@ -39,6 +39,9 @@ _VECTOR_KEYS: dict[str, str] = {
 #: rebuilds the model each time (~10 ms), re-optimisation solves an NLP each time (~0.1-1 s).
 MAX_POINTS = {"vectorised": 250_000, "points": 20_000, "optimize": 5_000}
 EVALUATE_COLUMNS = ("margin_Nm", "safety_factor", "field_amplitude_T", "speed_m_s", "feasible")
+#: Fewest points of a vectorised evaluation per array call; a larger grid is cut into about
+#: ten calls (each a progress step; each call costs a fixed 0.3-1.5 s besides its points).
+VECTOR_CHUNK = 16_384
 #: Consecutive grid points re-optimised as one warm-started chain (one task).
 OPTIMIZE_CHUNK = 16
 OPTIMIZE_COLUMNS = (
@@ -94,7 +97,8 @@ class SweepResult:
 
 
 def parse_over(expr: str) -> Axis:
-    """Parse ``KEY=START:STOP:N`` (N >= 1; integer keys are rounded and must stay distinct)."""
+    """Parse ``KEY=START:STOP:N`` (N >= 1; a whole-number key takes whole START and STOP, the
+    points between are rounded and must stay distinct)."""
     key, sep, rng = expr.partition("=")
     parts = rng.split(":")
     allowed = "the form KEY=START:STOP:N, e.g. operation.frequency_hz=0.5:5:10"
@@ -115,7 +119,9 @@ def parse_over(expr: str) -> Axis:
         )
     values = np.linspace(start, stop, n)
     for v in (start, stop):
-        if not KEYS[key].check(round(v) if KEYS[key].kind is int else v):
+        if KEYS[key].kind is int and not v.is_integer():  # a count: whole-number bounds
+            raise InputError("--over", expr, f"whole numbers START and STOP: {key} is a count")
+        if not KEYS[key].check(int(v) if KEYS[key].kind is int else v):
             raise InputError(key, v, KEYS[key].allowed)
     if KEYS[key].kind is int:
         values = np.unique(np.round(values).astype(int))
@@ -170,7 +176,7 @@ def sweep(
         outputs = _optimize_points(design, inputs, workers, progress, dask, model)
         mode = "optimize"
     elif all(a.key in _VECTOR_KEYS for a in axes):
-        outputs = _evaluate_vectorised(design, inputs)
+        outputs = _evaluate_vectorised(design, inputs, progress)
         mode = "evaluate (vectorised)"
     else:
         outputs = _evaluate_points(design, inputs, progress)
@@ -178,13 +184,15 @@ def sweep(
     return SweepResult(tuple(axes), inputs, outputs, mode)
 
 
-def _vector_model(design: Design, inputs: dict[str, np.ndarray]) -> tuple[Any, Any, Any]:
+def _vector_model(
+    design: Design, inputs: dict[str, np.ndarray], base: Any = None
+) -> tuple[Any, Any, Any]:
     """The model with the swept limits and requirements as arrays, and the angle and frequency
-    at every point (rad, Hz)."""
+    at every point (rad, Hz); ``base`` is the prepared model of ``design`` when already built."""
     from optimize import prepare
     from spiralcap.assemble import build_model
 
-    model = prepare(build_model(design))
+    model = base if base is not None else prepare(build_model(design))
     alpha: Any = model.capsule.spiral.helical_angle_rad
     f: Any = model.frequency_hz
     groups: dict[str, dict[str, Any]] = {"limits": {}, "requirements": {}}
@@ -205,12 +213,30 @@ def _vector_model(design: Design, inputs: dict[str, np.ndarray]) -> tuple[Any, A
     return model, np.broadcast_to(alpha, (n,)), np.broadcast_to(f, (n,))
 
 
-def _evaluate_vectorised(design: Design, inputs: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
-    from optimize import margin_grid
+def _evaluate_vectorised(
+    design: Design,
+    inputs: dict[str, np.ndarray],
+    progress: Callable[[int, int], None] | None = None,
+) -> dict[str, np.ndarray]:
+    """Every point in array calls (one up to :data:`VECTOR_CHUNK` points, else about ten; the
+    same numbers as one call: each point is computed on its own), ``progress(done, total)``
+    after each."""
+    from optimize import margin_grid, prepare
+    from spiralcap.assemble import build_model
 
-    model, alpha, f = _vector_model(design, inputs)
-    out = margin_grid(model, alpha, f)
-    return {k: np.asarray(out[k]) for k in EVALUATE_COLUMNS}
+    base = prepare(build_model(design))
+    n = len(next(iter(inputs.values())))
+    parts: dict[str, list[np.ndarray]] = {k: [] for k in EVALUATE_COLUMNS}
+    step = max(VECTOR_CHUNK, -(-n // 10))
+    for lo in range(0, n, step):
+        chunk = {k: v[lo : lo + step] for k, v in inputs.items()}
+        model, alpha, f = _vector_model(design, chunk, base)
+        out = margin_grid(model, alpha, f)
+        for k in EVALUATE_COLUMNS:
+            parts[k].append(np.broadcast_to(np.asarray(out[k]), alpha.shape))
+        if progress:
+            progress(min(lo + step, n), n)
+    return {k: np.concatenate(v) for k, v in parts.items()}
 
 
 def failing_requirements(design: Design, result: SweepResult) -> np.ndarray | None:
