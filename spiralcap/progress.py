@@ -27,6 +27,16 @@ def _on_terminal() -> bool:
         return False
 
 
+def _os_stream(stream: Any) -> bool:
+    """Whether ``stream`` writes to a file descriptor (a pipe, a log file), not to an in-process
+    buffer (Python code capturing the output of :func:`spiralcap.cli.main`)."""
+    try:
+        stream.fileno()
+    except (AttributeError, ValueError, OSError):  # io.UnsupportedOperation is both
+        return False
+    return True
+
+
 @contextmanager
 def progress_bar(
     description: str, *, unit: str = "point", enabled: bool | None = None
@@ -37,7 +47,7 @@ def progress_bar(
     short job); None when ``enabled`` is False.
     """
     if enabled is None and not _on_terminal():
-        yield PlainProgress(description, unit=unit)
+        yield PlainProgress(description, unit=unit) if _os_stream(sys.stderr) else None
         return
     if enabled is False:
         yield None
