@@ -109,7 +109,14 @@ def _ascii_errors(exc: UnicodeError) -> tuple[str, int]:
 def ascii_fallback(stream: object) -> None:
     """Make ``stream`` write ASCII spellings of the units (``mN m``, ``deg C``) when its encoding
     cannot encode them and its error handler would raise (``PYTHONIOENCODING=ascii``); a stream
-    that can, or one the user gave a handler (``ascii:replace``), is left as it is."""
+    that can, or one the user gave a handler (``ascii:replace``), is left as it is.
+
+    Parameters
+    ----------
+    stream : text stream
+        ``sys.stdout`` or ``sys.stderr`` (anything with ``encoding``, ``errors`` and
+        ``reconfigure``; other objects are left alone).
+    """
     import codecs
 
     encoding = getattr(stream, "encoding", None)

@@ -49,7 +49,15 @@ def _short_repr(value: Any, limit: int = 240) -> str:
 
 def short_text(text: str, limit: int = 120) -> str:
     """``text`` cut in the middle to at most ``limit`` characters (``coils.x.aaa...zzz.turns``),
-    so a long key stays recognisable by both ends and an error stays one short line."""
+    so a long key stays recognisable by both ends and an error stays one short line.
+
+    Parameters
+    ----------
+    text : str
+        A key or name as given.
+    limit : int
+        Most characters kept, the ``...`` included.
+    """
     if len(text) <= limit:
         return text
     head = (limit - 3) * 2 // 3

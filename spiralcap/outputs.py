@@ -146,7 +146,9 @@ def check_output(flag: str, path: str) -> str | None:
         raise InputError(flag, path, f"a file path or a character device (this is a {kind})")
     missing, parent = _missing_folder(path)
     if not os.path.isdir(parent):
-        raise InputError(flag, path, f"a writable path (cannot write inside {parent}: a file)")
+        raise InputError(
+            flag, path, f"a writable path (cannot write inside {parent}: not a folder)"
+        )
     if missing is not None:
         raise InputError(
             flag,
