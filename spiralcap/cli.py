@@ -106,21 +106,24 @@ def _ascii_errors(exc: UnicodeError) -> tuple[str, int]:
     return "".join(out), end
 
 
-def ascii_fallback(stream: object) -> None:
+def ascii_fallback(stream: object, defaults: tuple[str, ...] = ("strict",)) -> None:
     """Make ``stream`` write ASCII spellings of the units (``mN m``, ``deg C``) when its encoding
-    cannot encode them and its error handler would raise (``PYTHONIOENCODING=ascii``); a stream
-    that can, or one the user gave a handler (``ascii:replace``), is left as it is.
+    cannot encode them and its error handler is the default (``PYTHONIOENCODING=ascii``); a
+    stream that can, or one the user gave another handler (``ascii:replace``), is left as it is.
 
     Parameters
     ----------
     stream : text stream
         ``sys.stdout`` or ``sys.stderr`` (anything with ``encoding``, ``errors`` and
         ``reconfigure``; other objects are left alone).
+    defaults : tuple of str
+        The error handlers taken as Python's default for this stream (``strict`` for stdout;
+        ``backslashreplace`` too for stderr, which Python gives it unasked).
     """
     import codecs
 
     encoding = getattr(stream, "encoding", None)
-    if not encoding or getattr(stream, "errors", "strict") != "strict":
+    if not encoding or getattr(stream, "errors", "strict") not in defaults:
         return
     try:
         "".join(ASCII_SPELLINGS).encode(encoding)
@@ -174,7 +177,7 @@ def build_parser(only: str | None = None) -> argparse.ArgumentParser:
 def main(argv: list[str] | None = None) -> int:
     """Entry point: parse, run, and turn every expected error into one line and an exit status."""
     ascii_fallback(sys.stdout)
-    ascii_fallback(sys.stderr)
+    ascii_fallback(sys.stderr, ("strict", "backslashreplace"))
     words = sys.argv[1:] if argv is None else argv
     # The top-level parser has only options, so its first other word names the subcommand.
     command = next((w for w in words if not w.startswith("-")), None)

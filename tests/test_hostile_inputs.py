@@ -127,6 +127,17 @@ def test_any_text_goes_through_a_narrow_stream(text, encoding):
     assert all(ch in written for ch in set(text) if ord(ch) < 128 and ch.isalnum())
 
 
+def test_stderr_with_pythons_default_handler_gets_the_spellings_too():
+    stream = io.TextIOWrapper(io.BytesIO(), encoding="ascii", errors="backslashreplace")
+    ascii_fallback(stream, ("strict", "backslashreplace"))
+    stream.write("90 °C")
+    stream.flush()
+    assert stream.buffer.getvalue() == b"90 deg C"  # type: ignore[attr-defined]
+    chosen = io.TextIOWrapper(io.BytesIO(), encoding="ascii", errors="replace")
+    ascii_fallback(chosen, ("strict", "backslashreplace"))
+    assert chosen.errors == "replace", "a handler the user chose is kept"
+
+
 def test_a_stream_that_encodes_the_units_is_left_alone():
     stream = io.TextIOWrapper(io.BytesIO(), encoding="utf-8")
     ascii_fallback(stream)
