@@ -6,7 +6,9 @@ writes (``-o``, ``--pdf``, ``--csv``, ``--plot``, ``--step``, ``--stl``, ``init`
 - a symbolic link is refused (the user gives the file it points at): a link planted in a shared
   folder cannot make the tool replace, or change the permissions of, a file elsewhere. The one
   exception is the system's own stream links (``/dev/stdout``, ``/dev/fd/1``,
-  ``/proc/self/fd/1``) to a character device or FIFO, which are written into;
+  ``/proc/self/fd/1``) to a character device or FIFO, which are written into. A folder on the
+  way that is a link another user planted in a shared sticky folder is refused too
+  (:func:`planted_link`, the kernel's ``protected_symlinks`` rule);
 - a missing parent folder is refused; no folder is ever created;
 - an existing character device or FIFO (``/dev/null``, a pipe a reader holds open) is written
   into, never replaced; a block device, socket or folder is refused;
@@ -98,6 +100,30 @@ def _link_refusal(path: str) -> str:
     )
 
 
+def planted_link(path: str | os.PathLike[str]) -> str | None:
+    """The first folder on the way to ``path`` that is a symbolic link another user planted in a
+    shared folder (world-writable and sticky, like ``/tmp``), or None.
+
+    The kernel's own rule (``fs.protected_symlinks``), applied whether or not the kernel is set
+    to: such a link is followed only when this process or the shared folder's owner owns it.
+    Links in private folders (``/var/run``, a project folder linked from home) are followed.
+    """
+    parts = Path(os.path.abspath(path)).parent.parts
+    for i in range(2, len(parts) + 1):
+        here = Path(*parts[:i])
+        try:
+            link = os.lstat(here)
+            if not stat.S_ISLNK(link.st_mode):
+                continue
+            folder = os.stat(here.parent)
+        except OSError:
+            return None  # a missing folder: said by the caller
+        shared = folder.st_mode & stat.S_ISVTX and folder.st_mode & stat.S_IWOTH
+        if shared and link.st_uid not in (os.geteuid(), folder.st_uid):
+            return str(here)
+    return None
+
+
 def _missing_folder(path: str) -> tuple[str | None, str]:
     """The first folder on the way to ``path`` that does not exist (None if all do), and the
     nearest existing one above it."""
@@ -144,6 +170,14 @@ def check_output(flag: str, path: str) -> str | None:
         raise InputError(flag, path, "a file path, not an existing folder")
     if kind is not None:
         raise InputError(flag, path, f"a file path or a character device (this is a {kind})")
+    planted = planted_link(path)
+    if planted is not None:
+        raise InputError(
+            flag,
+            path,
+            f"a path that does not go through {planted} (a link another user owns in a shared "
+            "folder)",
+        )
     missing, parent = _missing_folder(path)
     if not os.path.isdir(parent):
         raise InputError(
@@ -299,6 +333,9 @@ def _stage_one(given: Any, data: bytes) -> str:
     if kind is not None:
         raise DataError(f"{given}: cannot write into a {kind} (a regular file is needed)")
     p = Path(given)
+    planted = planted_link(p)
+    if planted is not None:
+        raise DataError(f"{given}: not written through {planted}, a link another user owns")
     if not p.parent.is_dir():
         why = "does not exist; no folder is made" if not p.parent.exists() else "is not a folder"
         raise DataError(f"{given}: cannot write here ({p.parent} {why})")

@@ -105,6 +105,24 @@ def test_a_link_planted_in_a_sticky_folder_does_not_redirect_the_output(tmp_path
     assert _snapshot(tmp_path) == before
 
 
+def test_a_folder_link_planted_by_another_user_in_a_shared_folder_is_refused(tmp_path):
+    """The kernel's protected_symlinks rule, applied whether or not the kernel is set to."""
+    if os.geteuid() != 0:
+        pytest.skip("giving a link another owner needs root")
+    shared, elsewhere = tmp_path / "sticky", tmp_path / "elsewhere"
+    shared.mkdir()
+    elsewhere.mkdir()
+    os.chmod(shared, 0o1777)
+    (shared / "proj").symlink_to(elsewhere)
+    os.chown(shared / "proj", 4321, 4321, follow_symlinks=False)
+    rc, _, err = run(["init", str(shared / "proj" / "x.toml")])
+    _one_line_exit_2(rc, err, str(shared / "proj"), "another user")
+    assert os.listdir(elsewhere) == []
+    os.chown(shared / "proj", 0, 0, follow_symlinks=False)  # a link of one's own is followed
+    rc, _, err = run(["init", str(shared / "proj" / "x.toml")])
+    assert rc == 0 and os.listdir(elsewhere) == ["x.toml"], err
+
+
 def test_a_dangling_link_creates_neither_its_folder_nor_its_file(tmp_path):
     link = tmp_path / "out.step"
     link.symlink_to(tmp_path / "made" / "deeper" / "x.step")
