@@ -39,9 +39,10 @@ _VECTOR_KEYS: dict[str, str] = {
 #: rebuilds the model each time (~10 ms), re-optimisation solves an NLP each time (~0.1-1 s).
 MAX_POINTS = {"vectorised": 250_000, "points": 20_000, "optimize": 5_000}
 EVALUATE_COLUMNS = ("margin_Nm", "safety_factor", "field_amplitude_T", "speed_m_s", "feasible")
-#: Fewest points of a vectorised evaluation per array call; a larger grid is cut into about
-#: ten calls (each a progress step; each call costs a fixed 0.3-1.5 s besides its points).
-VECTOR_CHUNK = 16_384
+#: Most points of a vectorised evaluation per array call: a larger grid is cut into equal calls,
+#: each a progress step (a call costs about 1.5 s besides its points, the field-capacity
+#: bisection; at most 4 calls for the largest grid, MAX_POINTS["vectorised"]).
+VECTOR_CHUNK = 65_536
 #: Consecutive grid points re-optimised as one warm-started chain (one task).
 OPTIMIZE_CHUNK = 16
 OPTIMIZE_COLUMNS = (
@@ -218,16 +219,17 @@ def _evaluate_vectorised(
     inputs: dict[str, np.ndarray],
     progress: Callable[[int, int], None] | None = None,
 ) -> dict[str, np.ndarray]:
-    """Every point in array calls (one up to :data:`VECTOR_CHUNK` points, else about ten; the
-    same numbers as one call: each point is computed on its own), ``progress(done, total)``
-    after each."""
+    """Every point in equal array calls of at most :data:`VECTOR_CHUNK` points (the same
+    numbers as one call: each point is computed on its own), ``progress(done, total)`` after
+    each."""
     from optimize import margin_grid, prepare
     from spiralcap.assemble import build_model
 
     base = prepare(build_model(design))
     n = len(next(iter(inputs.values())))
     parts: dict[str, list[np.ndarray]] = {k: [] for k in EVALUATE_COLUMNS}
-    step = max(VECTOR_CHUNK, -(-n // 10))
+    calls = -(-n // VECTOR_CHUNK)
+    step = -(-n // calls)
     for lo in range(0, n, step):
         chunk = {k: v[lo : lo + step] for k, v in inputs.items()}
         model, alpha, f = _vector_model(design, chunk, base)
