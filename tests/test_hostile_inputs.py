@@ -181,6 +181,13 @@ def test_a_duplicated_csv_column_is_refused(tmp_path):
     _one_line_exit_2(["fit", path], "torque_mNm", "more than once")
 
 
+def test_a_header_of_long_column_names_is_shortened_in_the_error_line(tmp_path):
+    names = ",".join(["frequency_hz", "x" * 5000, *(f"c{i}" for i in range(3000))])
+    path = _file(tmp_path, "wide.csv", names + "\n1,2,3\n")
+    line = _one_line_exit_2(["fit", path], "missing column 'torque_mNm'")
+    assert len(line) < 600, f"the header is not echoed whole: {len(line)} characters"
+
+
 # --- long sweeps off a terminal --------------------------------------------------------------
 
 

@@ -135,7 +135,7 @@ def read_bench_csv(path: str | Path) -> dict[str, list[float]]:
         if col not in header:
             raise DataError(
                 f"{p} line {header_line}: missing column {col!r} "
-                f"(header has {', '.join(repr(h) for h in header)})"
+                f"(header has {_short(', '.join(repr(_short(h, 40)) for h in header), 300)})"
             )
     wanted = [c for c in REQUIRED + OPTIONAL if c in header]
     for col in wanted:
