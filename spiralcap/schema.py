@@ -703,14 +703,17 @@ def _free_range(key: str) -> Key:
         if not (isinstance(v, list) and len(v) == 2 and all(_num(x) for x in v)):
             return False
         lo, hi = v
-        if spec.kind is int:
-            lo, hi = math.ceil(lo), math.floor(hi)
+        if spec.kind is int:  # a count: whole-number bounds, never rounded behind the user
+            if not all(math.isfinite(x) and float(x).is_integer() for x in v):
+                return False
+            lo, hi = int(lo), int(hi)
         return lo < hi and spec.check(lo) and spec.check(hi)
 
+    whole = "whole numbers " if spec.kind is int else ""
     return Key(
         list,
         None,
-        f"a pair [min, max] with min < max, each {spec.allowed}",
+        f"a pair [min, max] of {whole}with min < max, each {spec.allowed}",
         ok,
         f"let the optimiser choose {key} between min and max",
     )
@@ -994,9 +997,29 @@ def validate_value(key: str, value: Any) -> Any:
             value = float(value)
         except OverflowError:
             raise InputError(key, value, spec.allowed) from None
+    if isinstance(value, str) and _control_character(value):
+        raise InputError(
+            key, value, f"text without control characters ({_control_character(value)})"
+        )
     if not spec.check(value):
         raise InputError(key, value, spec.allowed)
     return value
+
+
+#: Characters that are not text: line and paragraph separators, and the bidirectional
+#: embeddings, overrides and isolates that make text read other than it is stored.
+_NOT_TEXT = "\u2028\u2029\u202a\u202b\u202c\u202d\u202e\u2066\u2067\u2068\u2069"
+
+
+def _control_character(text: str) -> str | None:
+    """The first control character of ``text`` (NUL, escape, a line break, a bidirectional
+    override) by its code point, ``"U+0000"``; None if there is none."""
+    import unicodedata
+
+    for ch in text:
+        if ch in _NOT_TEXT or unicodedata.category(ch) == "Cc":
+            return f"U+{ord(ch):04X}"
+    return None
 
 
 def defaults() -> dict[str, Any]:

@@ -78,6 +78,10 @@ def parse_free(expr: str) -> str:
         raise InputError(
             "--free", expr, "numbers MIN and MAX, e.g. coils.x.turns=100:800"
         ) from None
+    from spiralcap.schema import KEYS
+
+    if KEYS[key].kind is int and not (lo.is_integer() and hi.is_integer()):
+        raise InputError("--free", expr, f"whole numbers MIN and MAX: {key} is a count")
     return f"optimize.free.{key}=[{lo!r}, {hi!r}]"
 
 
