@@ -123,7 +123,7 @@ class Frame:
     Parameters
     ----------
     axis : int
-        0, 1, 2 for a frame about x, y, z (sides along the other two axes).
+        Axis index: 0, 1, 2 for a frame about x, y, z (sides along the other two axes).
     side_m : float
         Side a of the mean turn (the section's centre line), m.
     centre_m : float
@@ -154,6 +154,11 @@ def pair_packs(pair: Any) -> tuple[Any, Any]:
     ----------
     pair : coils.HelmholtzPair or coils.SquarePair
         The pair (SI lengths).
+
+    Returns
+    -------
+    tuple of Ring or tuple of Frame
+        The coil at -s/2 and the coil at +s/2 (SI).
     """
     if getattr(pair, "shape", "circle") != "square":
         return pair_rings(pair)
@@ -215,6 +220,11 @@ def frame_bars(frame: Frame) -> np.ndarray:
     ----------
     frame : Frame
         The solid (SI lengths).
+
+    Returns
+    -------
+    ndarray, shape (4, 2, 3)
+        Low and high corner of each bar, m.
     """
     a = frame.axis
     u, v = (k for k in range(3) if k != a)

@@ -316,6 +316,11 @@ def vertical_bar_convection_W_m2K(
         Forced-air speed, m/s (``forced`` only).
     forced : bool
         Add forced air.
+
+    Returns
+    -------
+    float, array or CasADi
+        Convective heat-transfer coefficient h of the bar's faces, W/(m²·K).
     """
     if isinstance(surface_C, float) and isinstance(ambient_C, (float, int)):
         surface_C = max(float(surface_C), float(ambient_C))

@@ -187,11 +187,12 @@ class SquareFilamentSet:
     centres_m : ndarray, shape (L,)
         Axial coordinate of each filament's plane, m.
     turns : ndarray, shape (L,)
-        Ampere-turns per ampere of drive current (fractional for a quadrature node).
+        Ampere-turns per ampere of drive current, a count of turns (fractional for a
+        quadrature node).
     columns : ndarray of int, shape (L,)
-        Drive current each filament carries.
+        Column index of the drive current each filament carries.
     column_axes : tuple of int
-        Axis of each drive column.
+        Axis index of each drive column (0, 1, 2 for x, y, z).
     """
 
     axes: np.ndarray
@@ -283,6 +284,11 @@ class SquareFilamentSet:
         ----------
         points : ndarray, shape (n, 3)
             Field points, m.
+
+        Returns
+        -------
+        ndarray, shape (n, 3, n_currents)
+            Field per ampere of each drive current, T/A.
         """
         points = np.asarray(points, dtype=float)
         mats = self._matrices(False)
@@ -314,7 +320,7 @@ class MixedFilamentSet:
 
     @property
     def column_axes(self) -> tuple[int, ...]:
-        """Axis of each drive column."""
+        """Axis index of each drive column (0, 1, 2 for x, y, z)."""
         return tuple(self.parts[0].column_axes)
 
     @property
@@ -331,6 +337,11 @@ class MixedFilamentSet:
             Field points, m.
         currents : ndarray or CasADi, shape (n_currents, 1)
             Drive currents as a column, A.
+
+        Returns
+        -------
+        ndarray (n, 3) or CasADi (1, 3)
+            Magnetic flux density, T.
         """
         total = self.parts[0].field(points, currents)
         for part in self.parts[1:]:
@@ -344,6 +355,11 @@ class MixedFilamentSet:
         ----------
         points : ndarray, shape (n, 3)
             Field points, m.
+
+        Returns
+        -------
+        ndarray, shape (n, 3, n_currents)
+            Field per ampere of each drive current, T/A.
         """
         total = self.parts[0].field_matrix(points)
         for part in self.parts[1:]:

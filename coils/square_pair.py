@@ -60,6 +60,11 @@ def rectangle_gmd_m(width_m: Any, depth_m: Any) -> Any:
     ----------
     width_m, depth_m : float, array or CasADi
         Sides of the rectangle, m.
+
+    Returns
+    -------
+    same kind
+        Geometric mean distance g, m.
     """
     return bk.sqrt(width_m * width_m + depth_m * depth_m) * bk.exp(
         _stefan_y1(width_m / depth_m) - 2.0
@@ -85,6 +90,11 @@ def grover_square_inductance_H(side_m: Any, gmd_m: Any) -> Any:
         Side a of the square (centre line of the conductor), m.
     gmd_m : float, array or CasADi
         Geometric mean distance g of the conductor's section from itself, m.
+
+    Returns
+    -------
+    same kind
+        Self inductance L, H (one turn).
     """
     a, g = side_m, gmd_m
     r = bk.sqrt(a * a + g * g)
@@ -172,7 +182,7 @@ class SquarePair:
     side_m : float
         Side a of each coil's mean turn (the centre line of the winding pack), m.
     turns : int
-        Turns N of each coil.
+        Turns N of each coil, count.
     axis : {"x", "y", "z"}
         Common axis of the two coils.
     separation_m : float, optional
@@ -180,11 +190,13 @@ class SquarePair:
     wire_diameter_m : float
         Bare copper diameter d, m.
     packing_factor : float
-        Copper area / pack area, in (0, π/(2√3)).
+        Copper area / pack area, dimensionless, in (0, π/(2√3)).
     filaments : (int, int)
-        Gauss-Legendre filaments across the pack's depth and width used for the field.
+        Number of Gauss-Legendre filaments across the pack's depth and width used for the
+        field, counts.
     pack_aspect : float
-        Axial width / depth of the winding pack, in :data:`coils.pair.PACK_ASPECT_RANGE`.
+        Axial width / depth of the winding pack, a ratio (dimensionless), in
+        :data:`coils.pair.PACK_ASPECT_RANGE`.
 
     Raises
     ------
@@ -244,7 +256,7 @@ class SquarePair:
     # --- geometry ------------------------------------------------------------------------------
     @property
     def axis_index(self) -> int:
-        """0, 1 or 2 for x, y or z."""
+        """Axis index: 0, 1 or 2 for x, y or z."""
         return AXES.index(self.axis)
 
     @property
@@ -387,6 +399,11 @@ class SquarePair:
         ----------
         temperature_C : float
             Copper temperature, °C.
+
+        Returns
+        -------
+        float
+            DC resistance of the series pair, Ω.
         """
         return float(
             copper_resistivity_ohm_m(temperature_C) * self.wire_length_m / self.wire_area_m2
@@ -437,6 +454,11 @@ class SquarePair:
         ----------
         heat_transfer_coefficient_W_m2K : float
             Convective coefficient h, W/(m²·K).
+
+        Returns
+        -------
+        float
+            Thermal conductance h A of both coils' outer surface, W/K.
         """
         h = check_positive("heat_transfer_coefficient_W_m2K", heat_transfer_coefficient_W_m2K)
         return h * self.surface_area_m2

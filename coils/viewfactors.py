@@ -65,7 +65,19 @@ class PackRing:
 @dataclass(frozen=True)
 class PackFrame:
     """One square pair's pack geometry (SI): axis index, side of the mean turn, coil spacing,
-    width, depth (a frame of four bars about the axis, sides along the other two axes)."""
+    width, depth (a frame of four bars about the axis, sides along the other two axes).
+
+    Attributes
+    ----------
+    axis_index : int
+        Axis index of the pair: 0, 1, 2 for x, y, z.
+    side_m : float
+        Side of each coil's mean turn (the centre line of the pack), m.
+    separation_m : float
+        Distance between the coil planes (the packs' mid-planes, at ±s/2), m.
+    width_m, depth_m : float
+        Axial width of each pack and its depth across each side, m.
+    """
 
     axis_index: int
     side_m: float
