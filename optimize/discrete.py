@@ -590,8 +590,23 @@ def _neighbours(problem, p, bounds, best, free, sizing) -> tuple[list[dict[str, 
     Wire diameters first: for each combination of the standard sizes just below and above the
     relaxed ones, the relaxation is re-solved with those wires fixed (the turns re-balance), and
     each turn count of that solution is rounded down and up. Without free wires: every turn
-    count rounded down and up.
+    count rounded down and up. Continuous quantities then re-balance around each.
     """
+    unique, iterations = _rounded(problem, p, bounds, best, free, sizing)
+    continuous = [v for v in free if v.kind not in ("turns", "wire")]
+    if continuous:  # radii, magnet, spiral wire re-balance around the whole turns and wires
+        whole_names = [v.name for v in free if v.kind in ("turns", "wire")]
+        for combo in unique:
+            box = {**bounds, **{n: (combo[n], combo[n]) for n in whole_names}}
+            sol = problem.nlp.solve({**best.values(), **combo}, p, box)
+            iterations += sol.iterations
+            if sol.success:
+                combo.update({v.name: sol.value(v.name) for v in continuous})
+    return unique, iterations
+
+
+def _rounded(problem, p, bounds, best, free, sizing) -> tuple[list[dict[str, float]], int]:
+    """Whole turns and standard wires around ``best`` (see :func:`_neighbours`), each once."""
     wires = [v for v in free if v.kind == "wire"]
     rest = [v for v in free if v.kind != "wire"]
     out: list[dict[str, float]] = []
@@ -609,17 +624,7 @@ def _neighbours(problem, p, bounds, best, free, sizing) -> tuple[list[dict[str, 
         rest_options = [_options(v, sol.value(v.name), sizing.wire_diameters_m) for v in rest]
         for rc in itertools.product(*rest_options):
             out.append({**fixed, **dict(zip((v.name for v in rest), rc))})
-    unique = list({tuple(sorted(c.items())): c for c in out}.values())
-    continuous = [v for v in rest if v.kind not in ("turns", "wire")]
-    if continuous:  # radii, magnet, spiral wire re-balance around the whole turns and wires
-        for combo in unique:
-            whole = {v.name: combo[v.name] for v in free if v.kind in ("turns", "wire")}
-            box = {**bounds, **{n: (d, d) for n, d in whole.items()}}
-            sol = problem.nlp.solve({**best.values(), **combo}, p, box)
-            iterations += sol.iterations
-            if sol.success:
-                combo.update({v.name: sol.value(v.name) for v in continuous})
-    return unique, iterations
+    return list({tuple(sorted(c.items())): c for c in out}.values()), iterations
 
 
 def buildable(

@@ -357,6 +357,15 @@ def binding(
     k = spec.sense * _obj_scale(model, scales)  # U = -sense * scale * F
     if model.bounds.objective == "copper_mass" and not extra_bounds:
         k = 0.0  # fixed hardware: no limit moves the copper (F's power term only picks a field)
+    return _row_bindings(model, sol, k, spec.sense) + _bound_bindings(
+        model, sol, k, spec.sense, extra_bounds or {}
+    )
+
+
+def _row_bindings(
+    model: DesignModel, sol: Solution, k: float, sense: float
+) -> tuple[BindingLimit, ...]:
+    """The binding rows (``k``: d U / d F, the objective's scale and sense)."""
     allowed, _, value = sol.allowed()
     sens = sol.row_sensitivities()
     amb = float(model.ambient_temperature_C)
@@ -370,10 +379,22 @@ def binding(
         if row.kind == "limit" and unit == "K":  # a temperature rise: the temperature, °C
             unit, v, a = "°C", v + amb, a + amb
         gain = float(-k * sens[i]) if k else 0.0  # no -0.0 where nothing moves
-        out.append(BindingLimit(row.name, unit, v, a, gain, row.relax_sign, spec.sense))
-    box = {**variable_bounds(model), **(extra_bounds or {})}
+        out.append(BindingLimit(row.name, unit, v, a, gain, row.relax_sign, sense))
+    return tuple(out)
+
+
+def _bound_bindings(
+    model: DesignModel,
+    sol: Solution,
+    k: float,
+    sense: float,
+    extra_bounds: dict[str, tuple[float, float]],
+) -> tuple[BindingLimit, ...]:
+    """The variables at a bound of their box (angle, frequency, free hardware)."""
+    box = {**variable_bounds(model), **extra_bounds}
     named = [("helical_angle", "rad"), ("frequency", "Hz")]
-    named += [(n, "turns" if n.endswith("turns") else "m") for n in (extra_bounds or {})]
+    named += [(n, "turns" if n.endswith("turns") else "m") for n in extra_bounds]
+    out = []
     for name, unit in named:
         lam = sol.bound_multiplier(name)  # d F / d ub = -lam (per physical unit)
         if abs(lam) < 1e-9 / sol.nlp.variables[sol.nlp.var_index[name]].ref:
@@ -381,7 +402,7 @@ def binding(
         lo, hi = box[name]
         x = sol.value(name)
         at_hi = abs(x - hi) < abs(x - lo)
-        sep = "@" if name in (extra_bounds or {}) else "_"
+        sep = "@" if name in extra_bounds else "_"
         out.append(
             BindingLimit(
                 f"{name}{sep}{'max' if at_hi else 'min'}",
@@ -390,7 +411,7 @@ def binding(
                 float(hi if at_hi else lo),
                 float(k * lam),
                 1.0 if at_hi else -1.0,
-                spec.sense,
+                sense,
             )
         )
     return tuple(out)
@@ -410,19 +431,9 @@ def _binds(value: float, allowed: float, g: float, lam: float) -> bool:
 
 def _infeasible(model, scales, starts, iterations, tried, t0, status_text, ev=None):
     """Solve the relaxed problem and report which requirement is out of reach, by how much."""
-    problem = compile_problem(structure_of(model, relaxed=True))
-    p = problem.parameters(model, scales)
-    bounds = {**variable_bounds(model), "t": (0.0, 0.0)}
-    starts = starts or initial_points(model, scales, model.bounds.starts)
-    best = None
-    slacks = [v.name for v in problem.nlp.variables if v.name.startswith("slack")]
-    for x0 in starts:
-        sol = problem.nlp.solve({**x0, "t": 0.0, **dict.fromkeys(slacks, 1.0)}, p, bounds)
-        iterations += sol.iterations
-        tried += 1
-        if best is None or sol.f < best.f:
-            best = sol
-    assert best is not None  # at least one start
+    best, spent = _relaxed_optimum(model, scales, starts)
+    iterations += spent
+    tried += len(starts or initial_points(model, scales, model.bounds.starts))
     xs = best.values()
     alpha, f = xs["helical_angle"], xs["frequency"]
     capacity = float(margin_grid(model, alpha, f, capacity=True).field_amplitude_T)
@@ -442,15 +453,7 @@ def _infeasible(model, scales, starts, iterations, tried, t0, status_text, ev=No
     if not shortfalls and ev.feasible:
         # the relaxed optimum meets everything (IPOPT failed from the grid starts for another
         # reason): start the problem itself there
-        warm = {
-            "helical_angle": alpha,
-            "frequency": f,
-            "field_T": ev.field_amplitude_T,
-            "t_value": _objective_value(model, ev) if not _minimises_power(model) else 0.0,
-        }
-        if model.bounds.objective not in ("margin", "ratio"):
-            warm.pop("t_value")
-        again = solve_fixed(model, warm, SolveOptions(diagnose=False, grid_starts=False))
+        again = _from_relaxed_optimum(model, ev, alpha, f)
         if again.status == "optimal":
             return replace(again, iterations=again.iterations + iterations)
     if not shortfalls:  # IPOPT failed for another reason: say where it stopped, with numbers
@@ -472,6 +475,42 @@ def _infeasible(model, scales, starts, iterations, tried, t0, status_text, ev=No
         solution=None,
         field_set=field is not None,
     )
+
+
+def _relaxed_optimum(
+    model: DesignModel, scales: pb.Scales, starts: list[dict[str, float]]
+) -> tuple[Solution, int]:
+    """The relaxed problem (slacks on the requirements) from each start: the best solve, and
+    the iterations spent."""
+    problem = compile_problem(structure_of(model, relaxed=True))
+    p = problem.parameters(model, scales)
+    bounds = {**variable_bounds(model), "t": (0.0, 0.0)}
+    starts = starts or initial_points(model, scales, model.bounds.starts)
+    best, iterations = None, 0
+    slacks = [v.name for v in problem.nlp.variables if v.name.startswith("slack")]
+    for x0 in starts:
+        sol = problem.nlp.solve({**x0, "t": 0.0, **dict.fromkeys(slacks, 1.0)}, p, bounds)
+        iterations += sol.iterations
+        if best is None or sol.f < best.f:
+            best = sol
+    assert best is not None  # at least one start
+    return best, iterations
+
+
+def _from_relaxed_optimum(
+    model: DesignModel, ev: Any, alpha: float, f: float
+) -> OptimizationResult:
+    """The problem itself, warm-started at the relaxed optimum (angle ``alpha``, rad, and
+    frequency ``f``, Hz) and its evaluation ``ev``."""
+    warm = {
+        "helical_angle": alpha,
+        "frequency": f,
+        "field_T": ev.field_amplitude_T,
+        "t_value": _objective_value(model, ev) if not _minimises_power(model) else 0.0,
+    }
+    if model.bounds.objective not in ("margin", "ratio"):
+        warm.pop("t_value")
+    return solve_fixed(model, warm, SolveOptions(diagnose=False, grid_starts=False))
 
 
 def _hook_shortfalls(sol: Solution) -> tuple[Shortfall, ...]:
