@@ -140,9 +140,9 @@ def _read_covariance(design: Mapping[str, Any], path: str) -> tuple[tuple[float,
     fit = table.get("tissue", {})
     fit = fit.get("fit", {}) if isinstance(fit, dict) else None
     raw = fit.get("covariance_log") if isinstance(fit, dict) else None
-    why = _entries_problem(raw) or _matrix_problem(np.asarray(raw, dtype=float))
-    if why is not None:
-        raise InputError(key, str(p), why)
+    problem = _entries_problem(raw) or _matrix_problem(np.asarray(raw, dtype=float))
+    if problem is not None:
+        raise InputError(key, str(p), problem)
     return tuple(tuple(float(x) for x in row) for row in np.asarray(raw, dtype=float))
 
 
