@@ -38,7 +38,6 @@ from optimize.compiled import compile_problem, structure_of
 from optimize.nlp import Solution
 from optimize.result import HardwareResult, OptimizationResult, Shortfall
 from optimize.solve import (
-    NoSolutionError,
     SolveOptions,
     binding,
     initial_points,
@@ -298,27 +297,26 @@ def _attempt_of(s: _Setup, r: Relaxation, least_required_Nm: float | None) -> _A
 
 
 class _Failed(NamedTuple):
-    """A neighbour whose fixed-hardware solve found no solution: only its iterations count."""
+    """A neighbour the screen ruled out without its solve."""
 
     iterations: int
     status: str = "infeasible"
 
 
 #: How a neighbour is solved: warm from the relaxation, with its scales, ranked by objective
-#: only (no step-out search, no field capacity), nothing evaluated when it fails.
+#: only (no step-out search, no field capacity: 26-32 % of a sizing, docs/architecture.md).
 NEIGHBOUR_SOLVE = SolveOptions(
     diagnose=False,
     grid_starts=False,
     frequency_bounds=False,
-    evaluate_failed=False,
     candidate=True,
 )
 
 
 def _attempt(ctx: _Attempt, combo: dict[str, float]) -> OptimizationResult | _Failed | None:
-    """One neighbour re-optimised at its fixed hardware: None if it cannot be built,
-    :class:`_Failed` if its solve finds no solution or a limit rules it out first
-    (:func:`optimize.screen.out_of_reach`)."""
+    """One neighbour re-optimised at its fixed hardware (an 'infeasible' result if its solve
+    finds no solution): None if it cannot be built, :class:`_Failed` if a limit rules it out
+    first (:func:`optimize.screen.out_of_reach`)."""
     m = buildable(ctx.fixed_model, {**ctx.relaxed, **combo}, ctx.min_bore_m)
     if m is None:
         return None
@@ -326,10 +324,7 @@ def _attempt(ctx: _Attempt, combo: dict[str, float]) -> OptimizationResult | _Fa
         m = prepare(m)
         if screen.out_of_reach(m, ctx.least_required_Nm) is not None:
             return _Failed(0, "out of reach")
-    try:
-        return solve_hardware(m, ctx.warm, replace(NEIGHBOUR_SOLVE, scales=ctx.scales))
-    except NoSolutionError as failed:  # only its iterations are read
-        return _Failed(failed.iterations)
+    return solve_hardware(m, ctx.warm, replace(NEIGHBOUR_SOLVE, scales=ctx.scales))
 
 
 def _full_result(ctx: _Attempt, values: dict[str, float]) -> OptimizationResult:

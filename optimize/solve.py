@@ -109,15 +109,6 @@ def variable_bounds(model: DesignModel) -> dict[str, tuple[float, float]]:
     }
 
 
-class NoSolutionError(Exception):
-    """No start converged (``SolveOptions(diagnose=False, evaluate_failed=False)``): the
-    iterations spent, and nothing evaluated."""
-
-    def __init__(self, iterations: int) -> None:
-        super().__init__(f"no start converged ({iterations} iterations)")
-        self.iterations = iterations
-
-
 def warm_up(model: DesignModel) -> None:
     """Compile the problem a warm-started solve of the fixed-hardware ``model`` uses (what
     :func:`solve_fixed` would compile on its first warm-started call; memoised by structure)."""
@@ -143,9 +134,6 @@ class SolveOptions:
     frequency_bounds : bool
         Search the evaluation's step-out and highest frequency (False: NaN; the rows of a
         sweep and the ranking of sizing's neighbours need neither).
-    evaluate_failed : bool
-        With ``diagnose=False``, when no start converges: evaluate the model at its default
-        operating point (False: raise :class:`NoSolutionError` with the iterations spent).
     scales : Scales, optional
         The NLP's reference field (T), torque (N·m), power (W) and mass (kg); default
         :func:`scales_for` of the model (sizing passes the relaxation's).
@@ -158,7 +146,6 @@ class SolveOptions:
     diagnose: bool = True
     grid_starts: bool = True
     frequency_bounds: bool = True
-    evaluate_failed: bool = True
     scales: pb.Scales | None = None
     candidate: bool = False
 
@@ -246,8 +233,6 @@ def solve_fixed(
     how = (found.iterations, found.tried, t0)
     status_text = best.status if best is not None else "no start"
     if (best is None or not best.success) and not options.diagnose:
-        if not options.evaluate_failed:
-            raise NoSolutionError(found.iterations)
         ev = evaluate(model, frequency_bounds=options.frequency_bounds)
         message = "infeasible: no start converged"
         return _result(
