@@ -33,54 +33,71 @@ ROBUST = [
 COPPER = ["--set", "optimize.objective=copper_mass", "--set", "requirements.min_safety_factor=2.5"]
 OUT = str(Path(tempfile.gettempdir()) / "spiralcap-bench-pieces.html")
 
-#: name -> (command on, command off, code run before the command when off)
-PIECES: dict[str, tuple[list[str], list[str], str]] = {
-    "neighbours on a process pool (sizing)": (
+POOLED = (
+    "import optimize, spiralcap.parallel as p\n"
+    "real = optimize.optimize_design\n"
+    "def pooled(model, **kw):\n"
+    "    with p.process_pool(2) as pool:\n"
+    "        return real(model, executor=pool, **kw)\n"
+    "optimize.optimize_design = pooled"
+)
+
+#: name -> (command on, code run before it; command off, code run before it)
+PIECES: dict[str, tuple[list[str], str, list[str], str]] = {
+    "sizing's neighbours on two forked workers (retired)": (
         ["optimize", "--json", *SIX],
+        POOLED,
         ["optimize", "--json", *SIX],
-        "import contextlib, spiralcap.parallel as p; "
-        "p.free_cores = lambda most=2: contextlib.nullcontext(None)",
+        "",
     ),
-    "early compile future (sizing)": (
-        ["optimize", "--json", *SIX],
-        ["optimize", "--json", *SIX],
-        "import optimize.discrete as d; "
-        "d.size_design.__kwdefaults__['options'] = d.SizingOptions(early_compiles=0)",
+    "screen (least copper, safety factor 2.5)": (
+        ["optimize", "--json", *SIX, *COPPER],
+        "",
+        ["optimize", "--json", *SIX, *COPPER],
+        "import optimize.discrete as d\n"
+        "d.size_design.__kwdefaults__['options'] = d.SizingOptions(screen=False)",
     ),
     "report analyses and figures in forked processes": (
         ["report", "-o", OUT],
+        "",
         ["report", "-o", OUT, "--workers", "1"],
         "",
     ),
 }
 
 #: The pieces retired in issue 27, measured on the tree before it (``--base``).
-BASE_PIECES: dict[str, tuple[list[str], list[str], str]] = {
+BASE_PIECES: dict[str, tuple[list[str], str, list[str], str]] = {
     "standby helper (sizing)": (
         ["optimize", "--json", *SIX],
+        "",
         ["optimize", "--json", *SIX],
-        "import spiralcap.assemble, optimize.discrete as d; "
-        "from spiralcap.parallel import map_free_cores; d.set_neighbour_map(map_free_cores, None)",
+        "import spiralcap.assemble, optimize.discrete as d\n"
+        "from spiralcap.parallel import map_free_cores\n"
+        "d.set_neighbour_map(map_free_cores, None)",
     ),
     "screen (least copper, safety factor 2.5)": (
         ["optimize", "--json", *SIX, *COPPER],
+        "",
         ["optimize", "--json", *SIX, *COPPER],
         "import optimize.discrete as d; d.SCREEN = False",
     ),
     "robust run's forked deterministic optimum": (
         ["optimize", "--json", *ROBUST],
+        "",
         ["optimize", "--json", *ROBUST],
         "import spiralcap.robust as r; r._fork = lambda fn: None",
     ),
     "field thread pool (coils)": (
         ["coils", "--json"],
+        "",
         ["coils", "--json"],
         "import coils.filaments as f; f.THREADS = 1",
     ),
     "GC pause and gc.freeze (report)": (
         ["report", "-o", OUT],
+        "",
         ["report", "-o", OUT],
-        "import contextlib, gc, spiralcap.runtime as r; "
+        "import contextlib, gc, spiralcap.runtime as r\n"
         "r.cyclic_gc_paused = contextlib.nullcontext; gc.freeze = lambda: None",
     ),
 }
@@ -103,17 +120,17 @@ def main() -> None:
         del argv[i : i + 2]
     pieces = BASE_PIECES if "--base" in argv else PIECES
     chosen = [a for a in argv if not a.startswith("--")]
-    for name, (on, off, setup) in pieces.items():
+    for name, (on, on_setup, off, off_setup) in pieces.items():
         if chosen and not any(c in name for c in chosen):
             continue
         t_on, t_off = [], []
         for _ in range(repeat):
-            t_on.append(_wall_s(on, ""))
-            t_off.append(_wall_s(off, setup))
+            t_on.append(_wall_s(on, on_setup))
+            t_off.append(_wall_s(off, off_setup))
         m_on, m_off = statistics.median(t_on), statistics.median(t_off)
         print(
             f"{name}: on {m_on:.2f} s, off {m_off:.2f} s, saving {100 * (1 - m_on / m_off):.0f} % "
-            f"(median of {repeat})",
+            f"(median of {repeat}; load average {os.getloadavg()[0]:.1f})",
             flush=True,
         )
 

@@ -43,7 +43,6 @@ from optimize.solve import (
     initial_points,
     scales_for,
     variable_bounds,
-    warm_up,
 )
 from optimize.system import DesignModel, prepare
 
@@ -68,10 +67,6 @@ class SizingOptions:
     batch : int
         Neighbours ranked at once when the first feasible one wins (objective
         ``copper_mass``, neighbours in copper order); the result does not depend on it.
-    early_compiles : int
-        Fixed-hardware compilations submitted to the executor before the relaxation starts,
-        one per worker that will rank neighbours (they compile while the relaxation runs);
-        the result does not depend on it.
     screen : bool
         Rule out neighbours a field-only limit already breaks at the least field the
         requirements need, without their NLP (:mod:`optimize.screen`; the least required
@@ -81,7 +76,6 @@ class SizingOptions:
 
     outer_max: int = 8
     batch: int = 8
-    early_compiles: int = 2
     screen: bool = True
 
 
@@ -414,6 +408,7 @@ def finish(
     n, tried, feasible = len(s.free), ranking.tried, ranking.feasible
     return replace(
         full,
+        iterations=0,  # the winner's solve is counted once, as a neighbour (size_design adds)
         hardware=result,
         binding_limits=binding(r.exact, s.scales, r.best, free_box),
         message=f"optimal: {n} hardware quantities sized ({feasible} of {tried} "
@@ -450,15 +445,12 @@ def size_design(
     """
     say = progress or (lambda _stage: None)
     t0 = time.perf_counter()
-    # early work, done by the executor while the relaxation runs here: the screen's least
-    # required torque and the neighbours' fixed-hardware problem, compiled by each worker
-    exact = _starting_model(model, None)
+    # the screen's least required torque, found once; early, so that an executor finds it
+    # while the relaxation runs here
     least = None
     if options.screen and screen.screens(model):
         least = _submit(executor, screen.least_required_torque_Nm, replace(model, sizing=None))
-    for _ in range(options.early_compiles if executor is not None else 0):
-        executor.submit(warm_up, exact)  # type: ignore[union-attr]
-    s = _setup(model, None, exact)
+    s = _setup(model)
     r = relax(s, options, say)
     spent = 0
     if r.best is None and _mass_limited(model):

@@ -109,14 +109,6 @@ def variable_bounds(model: DesignModel) -> dict[str, tuple[float, float]]:
     }
 
 
-def warm_up(model: DesignModel) -> None:
-    """Compile the problem a warm-started solve of the fixed-hardware ``model`` uses (what
-    :func:`solve_fixed` would compile on its first warm-started call; memoised by structure)."""
-    if model.scenarios is not None and model.scenarios.whole:  # working sets compile per size
-        return
-    compile_problem(structure_of(prepare(model), warm=True))
-
-
 # --- the solve --------------------------------------------------------------------------------
 
 

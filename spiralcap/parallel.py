@@ -125,19 +125,6 @@ def _stop_pool(pool: Any) -> None:
         proc.join(5)
 
 
-@contextlib.contextmanager
-def free_cores(most: int = 2) -> Iterator[Executor | None]:
-    """A :func:`process_pool` on up to ``most`` of this machine's cores, for work a command
-    would otherwise do itself (sizing's neighbours); None where there is one core or this
-    process may not fork. Nothing is forked until the first ``submit``."""
-    processes = min(available_cores(), most)
-    if processes < 2 or not can_fork():
-        yield None
-        return
-    with process_pool(processes) as pool:
-        yield pool
-
-
 _INHERITED: dict[int, Callable[..., Any]] = {}
 _KEYS = itertools.count()
 

@@ -105,10 +105,7 @@ def robust_optimum(design: Any, samples: int = OUT_OF_SAMPLE) -> RobustCheck:
         return det, _fresh(design, det, samples, fresh)
 
     model = robust_model(design, base)
-    from spiralcap.parallel import free_cores
-
-    with free_cores() as executor:  # a sizing's neighbours on the free cores
-        res = optimize_design(model, executor=executor)
+    res = optimize_design(model)
     oos = _fresh(design, res, samples, fresh)
     if res.scenario_solve is not None and res.scenario_solve.skipped:
         det, det_oos = res, oos  # the step-out row cannot bind: the deterministic optimum

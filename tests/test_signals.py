@@ -207,20 +207,26 @@ def _first_child(pid: int, timeout_s: float) -> int | None:
         ),
         (
             [
-                "optimize",
-                "-o",
-                "out.toml",
-                *(f"--free=coils.{ax}.turns=100:800" for ax in "xyz"),
-                *(f"--free=coils.{ax}.wire_diameter_mm=0.8:3.0" for ax in "xyz"),
+                "sweep",
+                "--optimize",
+                "--over",
+                "limits.power_W=300:3000:40",
+                "--over",
+                "limits.current_A=5:30:40",
+                "--workers",
+                "2",
+                "--csv",
+                "out.csv",
             ],
-            "optimize",
+            "sweep",
         ),
     ],
-    ids=["uncertainty worker", "sizing helper"],
+    ids=["uncertainty worker", "sweep worker"],
 )
 def test_a_worker_killed_from_outside_is_one_line(tmp_path: Path, argv: list[str], what: str):
-    """SIGKILL of an uncertainty worker or of a sizing helper: one line on stderr naming what
-    happened, a non-zero exit, no traceback, nothing written, no process left."""
+    """SIGKILL of an uncertainty or a sweep worker: one line on stderr naming what happened, a
+    non-zero exit, no traceback, nothing written, no process left. (Sizing has no helper
+    process since issue 27: ``spiralcap optimize`` runs it here.)"""
     proc = subprocess.Popen(
         [*SPIRALCAP, *argv],
         cwd=tmp_path,

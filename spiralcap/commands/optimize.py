@@ -282,10 +282,8 @@ def run(args: argparse.Namespace) -> int:
             rc = robust_optimum(design)
         res = rc.result
     else:
-        from spiralcap.parallel import free_cores
-
-        with working("optimize") as say, free_cores() as executor:
-            res = optimize_design(optimization_model(design), progress=say, executor=executor)
+        with working("optimize") as say:
+            res = optimize_design(optimization_model(design), progress=say)
     written = None
     if args.output and res.status == "optimal":
         from spiralcap.assemble.system import optimum_design_toml
