@@ -10,8 +10,6 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any
 
-from optimize.active_set import solve_hardware
-from optimize.discrete import Executor, size_design
 from optimize.result import OptimizationResult
 from optimize.solve import SolveOptions
 from optimize.system import DesignModel
@@ -23,7 +21,7 @@ def optimize_design(
     warm_start: OptimizationResult | dict | None = None,
     frequency_bounds: bool = True,
     progress: Callable[[str], None] | None = None,
-    executor: Executor | Any | None = None,
+    executor: Any | None = None,
 ) -> OptimizationResult:
     """Best design of ``model`` for its objective (docs/optimisation.md).
 
@@ -43,14 +41,20 @@ def optimize_design(
         ``progress(stage)`` for each stage of a sizing (the relaxation's outer rounds, the
         neighbours), for a progress line.
     executor : optional
-        Where a sizing solves its neighbours (``submit``/``map``: a process pool, a Dask
-        client); None: here. The result is the same either way.
+        Where a sizing solves its neighbours (:class:`optimize.discrete.Executor`: anything
+        with ``submit``/``map``, a process pool, a Dask client); None: here. The result is the
+        same either way.
 
     Returns
     -------
     OptimizationResult
         'optimal', or 'infeasible' naming what is out of reach.
     """
+    # imported here: a command that sizes nothing does not load the sizing and scenario modules
     if model.sizing is not None and model.sizing.free:
+        from optimize.discrete import size_design
+
         return size_design(model, progress=progress, executor=executor)
+    from optimize.active_set import solve_hardware
+
     return solve_hardware(model, warm_start, SolveOptions(frequency_bounds=frequency_bounds))
