@@ -245,7 +245,21 @@ def solve_hardware(
 ) -> Any:
     """The optimum of ``model`` at its fixed hardware: over its tissue scenarios
     (:func:`optimize_scenarios`) when it carries a whole scenario set, else one NLP
-    (:func:`optimize.solve.solve_fixed`). Parameters as :func:`optimize_scenarios`."""
+    (:func:`optimize.solve.solve_fixed`).
+
+    Parameters
+    ----------
+    model : DesignModel
+        The design, SI (its hardware fixed).
+    warm_start : OptimizationResult or dict, optional
+        As :func:`optimize_scenarios`: angle (rad), frequency (Hz), field (T).
+    options : SolveOptions, optional
+        How each NLP is solved (default ``SolveOptions()``).
+
+    Returns
+    -------
+    OptimizationResult
+    """
     if model.scenarios is not None and model.scenarios.whole:
         return optimize_scenarios(model, warm_start, options)
     return solve_fixed(model, warm_start, options or SolveOptions())

@@ -84,11 +84,37 @@ class Executor:
     ``submit(fn, *args)`` returning an object with ``result()``, and ``map(fn, items)``."""
 
     def submit(self, fn: Callable[..., Any], /, *args: Any) -> Any:  # pragma: no cover
-        """``fn(*args)`` to run, as a future."""
+        """``fn(*args)`` to run.
+
+        Parameters
+        ----------
+        fn : callable
+            A module-level function (it may be pickled to another process).
+        *args
+            Its arguments.
+
+        Returns
+        -------
+        future
+            An object whose ``result()`` is ``fn(*args)``.
+        """
         raise NotImplementedError
 
     def map(self, fn: Callable[[Any], Any], items: Sequence[Any]) -> Any:  # pragma: no cover
-        """``fn(x)`` for every item, in order."""
+        """``fn(x)`` for every item.
+
+        Parameters
+        ----------
+        fn : callable
+            A module-level function (or a ``functools.partial`` of one).
+        items : sequence
+            Its arguments, one call each.
+
+        Returns
+        -------
+        iterable
+            The results, in ``items`` order.
+        """
         raise NotImplementedError
 
 
@@ -212,7 +238,23 @@ def relax(
     s: _Setup, options: SizingOptions = SizingOptions(), say: Callable[[str], None] = print
 ) -> Relaxation:
     """Step 1: the continuous relaxation, re-solved warm until the frozen factors settle (and,
-    with tissue scenarios, until the tail lies in the working set)."""
+    with tissue scenarios, until the tail lies in the working set).
+
+    Parameters
+    ----------
+    s : _Setup
+        The relaxation's model at its starting hardware and its compiled NLP (:func:`_setup`).
+    options : SizingOptions
+        ``outer_max``: the most outer rounds.
+    say : callable
+        ``say(stage)`` at each outer round.
+
+    Returns
+    -------
+    Relaxation
+        The best solution (None if no start converged), the free hardware there (SI: m,
+        turns), the model prepared there, the rounds and IPOPT iterations spent.
+    """
     exact, problem, ws = s.exact, s.problem, s.ws
     hw_now = dict(s.hw_start)
     iterations, outer, outer_max = 0, 0, options.outer_max
@@ -257,8 +299,23 @@ def _relaxed_objective(s: _Setup, r: Relaxation) -> float:
 
 
 def neighbours(s: _Setup, r: Relaxation) -> tuple[list[dict[str, float]], int]:
-    """Step 2: the buildable candidates around the relaxed optimum (see :func:`_neighbours`),
-    in copper order when the copper mass is the objective; and the iterations spent."""
+    """Step 2: the candidates around the relaxed optimum (see :func:`_neighbours`).
+
+    Parameters
+    ----------
+    s : _Setup
+        The relaxation's setup.
+    r : Relaxation
+        Its outcome (``r.best`` not None).
+
+    Returns
+    -------
+    candidates : list of dict
+        Free hardware of each candidate by name (SI: turns, m), in copper order when the
+        copper mass is the objective.
+    iterations : int
+        IPOPT iterations of the re-balancing solves.
+    """
     candidates, iterations = _neighbours(r.problem, r.p, s.bounds, r.best, s.free, s.model.sizing)
     if s.model.bounds.objective == "copper_mass":
         here = hw.hardware_of(r.exact)
@@ -349,9 +406,33 @@ def rank(
     options: SizingOptions = SizingOptions(),
     say: Callable[[str], None] = print,
 ) -> Ranking:
-    """Step 3: solve the neighbours (through ``executor``) and keep the best feasible one;
-    ``first_wins``: candidates in objective order, the first feasible one ends the search
-    (they are solved ``options.batch`` at a time)."""
+    """Step 3: solve the neighbours (through ``executor``) and keep the best feasible one.
+
+    Parameters
+    ----------
+    ctx : _Attempt
+        What every neighbour's solve shares (the fixed model, the relaxed hardware, the warm
+        start and scales, the screen's least required torque in N·m).
+    candidates : list of dict
+        The neighbours' free hardware by name (SI: turns, m).
+    sense : float
+        +1 where a larger objective is better, -1 where a smaller one is.
+    first_wins : bool
+        Candidates in objective order: the first feasible one ends the search (they are
+        solved ``options.batch`` at a time).
+    executor : Executor, optional
+        Where the solves run (None: here, in order).
+    options : SizingOptions
+        ``batch``.
+    say : callable
+        ``say(stage)`` for each neighbour.
+
+    Returns
+    -------
+    Ranking
+        The winner (hardware, result) or None, the neighbours tried and feasible, the first
+        buildable one's model, the IPOPT iterations spent.
+    """
     tried, feasible, iterations = 0, 0, 0
     winner: tuple[dict[str, float], OptimizationResult] | None = None
     first_built = None
@@ -390,6 +471,25 @@ def finish(
     What binds, and what relaxing it buys, comes from the continuous relaxation (hardware and
     operating point free together); the discrete design's own multipliers would hold its
     hardware fixed (0 for the copper mass).
+
+    Parameters
+    ----------
+    s : _Setup
+        The relaxation's setup.
+    r : Relaxation
+        Its outcome.
+    ranking : Ranking
+        The neighbours' ranking (``ranking.winner`` not None).
+    ctx : _Attempt
+        What the neighbours' solves shared.
+    executor : Executor, optional
+        Where the winner is solved again in full (None: here).
+
+    Returns
+    -------
+    OptimizationResult
+        The sized design: ``hardware`` (relaxed and discrete hardware, SI), the binding limits
+        with their gains, the evaluation with step-out and highest frequency.
     """
     assert ranking.winner is not None and r.best is not None
     values = ranking.winner[0]
@@ -498,9 +598,23 @@ class _Relaxed(NamedTuple):
 
 
 def least_copper(model: DesignModel, options: SizingOptions = SizingOptions()) -> _Relaxed | None:
-    """The continuous relaxation of ``model`` with the copper mass minimised and no copper limit
-    (None if it has no solution): where the copper limit sits far below the starting hardware,
-    IPOPT's starts end "locally infeasible" outside the small set of designs that meet it."""
+    """The continuous relaxation of ``model`` with the copper mass minimised and no copper limit:
+    where the copper limit sits far below the starting hardware, IPOPT's starts end "locally
+    infeasible" outside the small set of designs that meet it.
+
+    Parameters
+    ----------
+    model : DesignModel
+        A model with free hardware (``model.sizing``), SI.
+    options : SizingOptions
+        ``outer_max``.
+
+    Returns
+    -------
+    _Relaxed or None
+        The free hardware (SI), the least copper mass (kg) and the iterations spent; None if
+        the relaxation has no solution.
+    """
     least = replace(
         model,
         bounds=replace(model.bounds, objective="copper_mass"),

@@ -328,7 +328,23 @@ def binding(
 ) -> tuple[BindingLimit, ...]:
     """Active rows and bounds with their sensitivities d objective / d allowed (SI).
 
-    ``extra_bounds``: boxes of further variables (free hardware, named ``<name>@max``/``@min``).
+    Parameters
+    ----------
+    model : DesignModel
+        The design the NLP was built for, SI.
+    scales : Scales
+        The NLP's reference field (T), torque (N·m), power (W) and mass (kg).
+    sol : Solution
+        A converged solve.
+    extra_bounds : dict, optional
+        Boxes of further variables (free hardware, SI: m, turns), reported as
+        ``<name>@max``/``@min``.
+
+    Returns
+    -------
+    tuple of BindingLimit
+        Each binding row or bound: its value and allowed value (SI, temperatures in °C) and
+        the gain of the objective per unit of the allowed value.
     """
     spec = pb.OBJECTIVES[model.bounds.objective]
     k = spec.sense * _obj_scale(model, scales)  # U = -sense * scale * F

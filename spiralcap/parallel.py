@@ -86,10 +86,21 @@ def can_fork() -> bool:
 
 @contextlib.contextmanager
 def process_pool(processes: int) -> Iterator[Executor]:
-    """A fork-context ``ProcessPoolExecutor`` of ``processes`` workers (:class:`InProcess` where
-    :func:`can_fork` is False). The workers are forked at the first ``submit``
-    and stopped when the block is left, whatever the way out; a worker killed from outside
-    raises :class:`WorkerLostError` (one line, no traceback)."""
+    """A fork-context ``ProcessPoolExecutor`` (:class:`InProcess` where :func:`can_fork` is False).
+
+    The workers are forked at the first ``submit`` and stopped when the block is left,
+    whatever the way out; a worker killed from outside raises :class:`WorkerLostError` (one
+    line, no traceback).
+
+    Parameters
+    ----------
+    processes : int
+        Worker processes (each a fork of this one).
+
+    Yields
+    ------
+    concurrent.futures.Executor
+    """
     if not can_fork():
         yield InProcess()
         return
@@ -135,8 +146,19 @@ def _call_inherited(key: int, *args: Any) -> Any:
 
 @contextlib.contextmanager
 def inherited(fn: Callable[..., Any]) -> Iterator[Callable[..., Any]]:
-    """``fn`` (a closure, say) as a picklable callable for the workers of a
-    :func:`process_pool` entered inside this block: they are forked with it in memory."""
+    """``fn`` as a picklable callable for the workers of a :func:`process_pool` entered inside
+    this block: they are forked with ``fn`` in memory, so nothing of it is pickled.
+
+    Parameters
+    ----------
+    fn : callable
+        Anything callable here, a closure over a model or figures included.
+
+    Yields
+    ------
+    callable
+        A picklable stand-in: calling it in a worker calls ``fn`` with the same arguments.
+    """
     key = next(_KEYS)
     _INHERITED[key] = fn
     try:
