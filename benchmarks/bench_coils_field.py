@@ -1,7 +1,7 @@
 """Field speed of ``coils`` against magpylib on the same six loops, in one process.
 
-Prints throughput at 10^6 points (target >= 5x magpylib; the chunks on ``coils.filaments.THREADS``
-threads, and on one thread for comparison, bit-identical) and the single-point call rate
+Prints throughput at 10^6 points (target >= 5x magpylib; one thread: the chunk thread pool was
+retired in issue 27, it saved nothing measurable) and the single-point call rate
 (target >= 20x magpylib's single-point ``getB``). Our single-point path is the compiled CasADi
 Function behind ``ThreeAxisHelmholtz.point_field`` (called through a CasADi buffer), the one a
 point-at-a-time optimiser uses. Asserts nothing; run ``python benchmarks/bench_coils_field.py``.
@@ -17,7 +17,6 @@ import scipy.constants
 from scipy.spatial.transform import Rotation
 
 import coils
-import coils.filaments as cf
 from spiralcap.constants import MU0_T_m_per_A
 
 _TURN_TO = {
@@ -77,18 +76,9 @@ def main() -> None:
         clock=time.process_time,
     )
     print(
-        f"10^6 points, 6 loops: coils {t_ours:.3f} s ({cf.THREADS} threads), magpylib "
+        f"10^6 points, 6 loops: coils {t_ours:.3f} s, magpylib "
         f"{t_mag:.3f} s, ratio {t_mag / t_ours:.1f}x (target >= 5x); CPU time {c_ours:.3f} s vs "
         f"{c_mag:.3f} s, ratio {c_mag / c_ours:.1f}x; max |dB|/|B| {rel.max():.1e}"
-    )
-    threads, cf.THREADS = cf.THREADS, 1
-    one = system.field(points, currents)
-    (t_one,) = best_of([lambda: system.field(points, currents)], 5)
-    cf.THREADS = threads
-    print(
-        f"  one thread {t_one:.3f} s ({t_one / t_ours:.2f}x the {threads}-thread time; ratio to "
-        f"magpylib {t_mag / t_one:.1f}x); {threads} threads bit-identical to one: "
-        f"{np.array_equal(one, ours)}"
     )
 
     single = points[:2000]

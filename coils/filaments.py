@@ -17,10 +17,7 @@ so the field matrix is G(p) = p S^T + diag-like T and B = G(p) I.
 from __future__ import annotations
 
 import math
-import os
-import threading
 from collections.abc import Callable
-from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from typing import Any, Literal
 
@@ -36,55 +33,18 @@ __all__ = ["AXES", "FilamentSet", "gauss_legendre_pack"]
 Axis = Literal["x", "y", "z"]
 AXES: tuple[Axis, Axis, Axis] = ("x", "y", "z")
 
-#: Per-thread scratch of the numpy path (see FilamentSet._workspace).
-_WORK = threading.local()
+#: The last scratch of the numpy path (see FilamentSet._workspace): (sizes, buffers).
+_WORK: dict[str, Any] = {}
 
 #: Point-filament pairs per chunk on the numpy path: bounds the scratch (about 7 MB) and keeps
 #: it reused, whatever the number of filaments.
 CHUNK_ELEMENTS = 49152
 
 
-#: Threads the numpy path runs the chunks of a large batch on (numpy releases the GIL inside
-#: its calls; each thread has its own scratch). Every chunk is the same computation whichever
-#: thread runs it, so the result is the same bits with one thread or several.
-THREADS = min(2, os.cpu_count() or 1)
-_POOL: dict[str, Any] = {"pool": None, "size": 0, "pid": 0}
-_POOL_LOCK = threading.Lock()
-
-
-def _pool(size: int) -> ThreadPoolExecutor:
-    """A pool of ``size`` worker threads (made again in a forked child: its threads are gone)."""
-    with _POOL_LOCK:
-        if _POOL["pool"] is None or _POOL["size"] != size or _POOL["pid"] != os.getpid():
-            _POOL.update(
-                pool=ThreadPoolExecutor(size, thread_name_prefix="coils-field"),
-                size=size,
-                pid=os.getpid(),
-            )
-        return _POOL["pool"]
-
-
 def _each_chunk(n_points: int, step: int, fn: Callable[[int], None]) -> None:
-    """``fn(start)`` for every chunk start, the chunks split into :data:`THREADS` contiguous
-    blocks run at once when there are at least two chunks per thread."""
-    starts = list(range(0, n_points, step))
-    threads = max(int(THREADS), 1)
-    if threads == 1 or len(starts) < 2 * threads:
-        for start in starts:
-            fn(start)
-        return
-    blocks = [b.tolist() for b in np.array_split(np.array(starts), threads)]
-
-    def run(block: list[int]) -> None:
-        for start in block:
-            fn(start)
-
-    futures = [_pool(threads - 1).submit(run, b) for b in blocks[1:]]
-    try:
-        run(blocks[0])
-    finally:
-        for f in futures:
-            f.result()
+    """``fn(start)`` for every chunk start, in order."""
+    for start in range(0, n_points, step):
+        fn(start)
 
 
 def _groups(axes: np.ndarray) -> tuple[list[int], int] | None:
@@ -261,13 +221,13 @@ class FilamentSet:
     def _workspace(self, n: int) -> dict[str, np.ndarray]:
         """Buffers for :meth:`_terms_rows` on n points, reused chunk after chunk.
 
-        Scratch only (no content survives a call), so the last one built in this thread is
+        Scratch only (no content survives a call), so the last one built is
         kept and handed to any filament set of the same sizes: repeated small calls skip the
         allocation, and a big batch keeps its pages.
         """
         L, k = len(self.radii_m), self.n_currents
         key = (L, k, n)
-        cached = getattr(_WORK, "last", None)
+        cached = _WORK.get("last")
         if cached is not None and cached[0] == key:
             return cached[1]
         shapes = {
@@ -291,7 +251,7 @@ class FilamentSet:
             name: flat[end - size : end].reshape(shape)
             for (name, shape), size, end in zip(shapes.items(), sizes, ends, strict=True)
         }
-        _WORK.last = (key, work)
+        _WORK["last"] = (key, work)
         return work
 
     def _rows(self) -> dict[str, np.ndarray]:

@@ -555,6 +555,26 @@ def uniform_regions(
             "system_or_pair", type(system_or_pair).__name__, "a HelmholtzPair or ThreeAxisHelmholtz"
         )
     system = system_or_pair
+    _check_pair_regions(pair_regions, tols)
+    r_max = min(p.radius_m for p in system.pairs)
+    gains = system.centre_gains_T_per_A
+    currents = _drive_currents(currents_A, direction, gains)
+    candidates = [[0] for _ in tols]
+    if len(currents) > 1:
+        # Rank the directions on the scan grid alone, then refine every direction within one
+        # grid step of the worst (per tolerance).
+        candidates = _rank_directions(system, currents, tols, r_max)
+    found = _search_directions(system, currents, candidates, tols, r_max, pair_regions)
+    out = []
+    for i, tol in enumerate(tols):
+        radius, ray, worst = min(((*found[i, k], k) for k in candidates[i]), key=lambda x: x[0])
+        b0 = currents[worst] * gains
+        out.append(UniformRegion(radius, tol, ray, b0 / np.linalg.norm(b0)))
+    return tuple(out)
+
+
+def _check_pair_regions(pair_regions: Any, tols: tuple[float, ...]) -> None:
+    """InputError unless ``pair_regions`` is None or the three pairs' regions at ``tols``."""
     if pair_regions is not None and (
         len(pair_regions) != 3
         or any(len(regs) != len(tols) for regs in pair_regions)
@@ -563,23 +583,32 @@ def uniform_regions(
         raise InputError(
             "pair_regions", "mismatched", "pair_uniform_regions(system.pairs, tolerances)"
         )
-    r_max = min(p.radius_m for p in system.pairs)
-    gains = system.centre_gains_T_per_A
+
+
+def _drive_currents(currents_A: Any, direction: Any, gains: np.ndarray) -> list[np.ndarray]:
+    """The currents (A) of each field direction searched: the given currents, the given
+    direction, or the 13 static-field symmetry directions."""
     if currents_A is not None:
-        currents = [np.asarray(currents_A, dtype=float)]
-    elif direction is not None:
+        return [np.asarray(currents_A, dtype=float)]
+    if direction is not None:
         n = np.asarray(direction, dtype=float)
         if n.shape != (3,) or not np.all(np.isfinite(n)) or not np.any(n):
             raise InputError("direction", direction, "three finite numbers, not all zero")
-        currents = [n / gains]
-    else:
-        currents = [n / gains for n in _SYMMETRY_DIRECTIONS]
-    candidates = [[0] for _ in tols]
-    if len(currents) > 1:
-        # Rank the directions on the scan grid alone, then refine every direction within one
-        # grid step of the worst (per tolerance).
-        candidates = _rank_directions(system, currents, tols, r_max)
-    # Every candidate direction searched once for all the tolerances it is a candidate of.
+        return [n / gains]
+    return [n / gains for n in _SYMMETRY_DIRECTIONS]
+
+
+def _search_directions(
+    system: ThreeAxisHelmholtz,
+    currents: list[np.ndarray],
+    candidates: list[list[int]],
+    tols: tuple[float, ...],
+    r_max: float,
+    pair_regions: Any,
+) -> dict[tuple[int, int], tuple[float, np.ndarray]]:
+    """(tolerance index, direction index) -> (radius, limiting ray): every candidate direction
+    searched once for all the tolerances it is a candidate of (a single-axis direction takes
+    its pair's region when that lies inside the smallest coil)."""
     found: dict[tuple[int, int], tuple[float, np.ndarray]] = {}
     for k in sorted(set().union(*candidates)):
         mine = [i for i, c in enumerate(candidates) if k in c]
@@ -594,12 +623,7 @@ def uniform_regions(
         field = _field_function(system, currents[k])
         for i, res in zip(mine, _radius(field, tuple(tols[i] for i in mine), r_max)):
             found[i, k] = res
-    out = []
-    for i, tol in enumerate(tols):
-        radius, ray, worst = min(((*found[i, k], k) for k in candidates[i]), key=lambda x: x[0])
-        b0 = currents[worst] * gains
-        out.append(UniformRegion(radius, tol, ray, b0 / np.linalg.norm(b0)))
-    return tuple(out)
+    return found
 
 
 def uniform_region(

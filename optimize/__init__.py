@@ -18,9 +18,10 @@ from optimize.evaluate import (
     worst_required,
 )
 from optimize.hardware import FreeVariable, Sizing
+from optimize.optimum import optimize_design
 from optimize.physics import ICNIRP2010_LEVELS_T, exposure_level_T
 from optimize.result import BindingLimit, HardwareResult, OptimizationResult, Shortfall
-from optimize.solve import optimize_design, with_operating_point
+from optimize.solve import with_operating_point
 from optimize.system import Bounds, DesignModel, Limits, Requirements, prepare
 
 # registers the objective margin_p05 and the step-out probability rows (problem hooks)

@@ -30,6 +30,7 @@ The check at the end is over every scenario of the whole set (numpy, the margins
 from __future__ import annotations
 
 import math
+import time
 from collections.abc import Callable
 from dataclasses import dataclass, replace
 from typing import Any
@@ -37,6 +38,7 @@ from typing import Any
 import numpy as np
 
 from optimize.robust import cvar
+from optimize.solve import SolveOptions, grid_points, solve_fixed
 from optimize.system import DesignModel, prepare
 
 #: A scenario outside the working set may undercut the tail's edge by this share of the largest
@@ -303,19 +305,64 @@ def _next_index(index, m, must, cap) -> tuple[np.ndarray, set[int]]:
     return np.array(new, dtype=np.intp), changed
 
 
-def solve_over_scenarios(
-    model: DesignModel,
-    solve: Callable[..., Any],
-    warm_start: Any = None,
-    start_points: Callable[[DesignModel], list[tuple[float, float, float]]] | None = None,
+def solve_hardware(
+    model: DesignModel, warm_start: Any = None, options: SolveOptions | None = None
 ) -> Any:
-    """The robust optimum of ``model`` (whole scenario set) by the working-set loop.
+    """The optimum of ``model`` at its fixed hardware: over its tissue scenarios
+    (:func:`optimize_scenarios`) when it carries a whole scenario set, else one NLP
+    (:func:`optimize.solve.solve_fixed`).
 
-    ``solve(model, warm_start)`` is the fixed-hardware solve of one NLP (the common path,
-    :func:`optimize.optimize_design` on a model that carries a working set); ``start_points``
-    the (angle, frequency, field) points that rank the scenarios for the first working set when
-    there is no warm start (the grid starts).
+    Parameters
+    ----------
+    model : DesignModel
+        The design, SI (its hardware fixed).
+    warm_start : OptimizationResult or dict, optional
+        As :func:`optimize_scenarios`: angle (rad), frequency (Hz), field (T).
+    options : SolveOptions, optional
+        How each NLP is solved (default ``SolveOptions()``).
+
+    Returns
+    -------
+    OptimizationResult
     """
+    if model.scenarios is not None and model.scenarios.whole:
+        return optimize_scenarios(model, warm_start, options)
+    return solve_fixed(model, warm_start, options or SolveOptions())
+
+
+def optimize_scenarios(
+    model: DesignModel, warm_start: Any = None, options: SolveOptions | None = None
+) -> Any:
+    """The robust optimum of ``model`` (whole scenario set, fixed hardware) by the working-set
+    loop: each round one NLP on the working set (:func:`optimize.solve.solve_fixed`), checked
+    over every scenario.
+
+    Parameters
+    ----------
+    model : DesignModel
+        The design with its whole tissue-scenario set (``model.scenarios``), SI.
+    warm_start : OptimizationResult or dict, optional
+        A neighbouring problem's result, or a dict of ``helical_angle`` (rad), ``frequency``
+        (Hz), ``field_T`` (T) and optionally ``scenario_index`` (a working set to start from);
+        without one, the grid starts rank the scenarios for the first working set.
+    options : SolveOptions, optional
+        How each working-set NLP is solved (default ``SolveOptions()``).
+
+    Returns
+    -------
+    OptimizationResult
+        With ``scenario_solve`` recording the working set and rounds.
+    """
+    t0 = time.perf_counter()
+    how = options or SolveOptions()
+    res = _working_set_loop(model, lambda m, warm: solve_fixed(m, warm, how), warm_start)
+    return replace(res, solve_time_s=time.perf_counter() - t0)
+
+
+def _working_set_loop(
+    model: DesignModel, solve: Callable[[DesignModel, Any], Any], warm_start: Any
+) -> Any:
+    """:func:`optimize_scenarios` with ``solve(model, warm_start)`` the one-NLP solve."""
     model = prepare(model)
     sc = model.scenarios
     whole = sc.count
@@ -346,8 +393,8 @@ def solve_over_scenarios(
         if not points:
             point = _warm_point(warm)
             points = [point] if point is not None else []
-        if not points and start_points is not None:
-            points = start_points(model)
+        if not points:
+            points = grid_points(model)
         ws = WorkingSet(model, initial_index(model, cap, points))
         warm = _core(warm)
     while True:

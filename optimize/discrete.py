@@ -1,15 +1,20 @@
-"""Hardware sizing: solve the continuous relaxation, then search the neighbouring buildable
-designs (whole turns, standard wire diameters), re-optimising the operating point of each.
+"""Hardware sizing as four named steps: relax, neighbours, rank, finish.
 
-1. The relaxation: hardware and operating point in one NLP (:mod:`optimize.hardware`), with the
+1. :func:`relax`: hardware and operating point in one NLP (:mod:`optimize.hardware`), with the
    frozen factors (pack corrections, workspace field factor, linearised gaps between the mean
-   turns, the clearance correction) recomputed
-   exactly at each new hardware and the NLP re-solved warm until they settle.
-2. The neighbours: each turn count rounded down and up, each wire diameter to the standard sizes
-   just below and above; continuous quantities (radii, magnet, spiral wire) stay at the relaxed
-   value. Every neighbour is built exactly (coils, capsule), checked (exact pack clearances,
-   bore, copper mass, magnet fit)
-   and re-optimised with the fixed-hardware solver; the best wins.
+   turns, the clearance correction) recomputed exactly at each new hardware and the NLP
+   re-solved warm until they settle.
+2. :func:`neighbours`: each turn count rounded down and up, each wire diameter to the standard
+   sizes just below and above; continuous quantities (radii, magnet, spiral wire) re-balanced
+   around them.
+3. :func:`rank`: every neighbour built exactly (coils, capsule), checked (exact pack
+   clearances, bore, copper mass, magnet fit) and re-optimised at its fixed hardware; the best
+   wins. The solves are independent: they go through the caller's ``executor`` (anything with
+   ``submit`` and ``map``), the same results wherever they run.
+4. :func:`finish`: the winner's full result, with the binding limits of the relaxation.
+
+A copper-mass limit far below the starting hardware restarts the relaxation from the least
+copper the requirements need (:func:`least_copper`), or says that it is more than the limit.
 """
 
 from __future__ import annotations
@@ -18,10 +23,9 @@ import bisect
 import functools
 import itertools
 import math
-import os
 import time
-from collections.abc import Callable
-from dataclasses import replace
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, replace
 from typing import Any, NamedTuple
 
 import numpy as np
@@ -29,10 +33,19 @@ import numpy as np
 from optimize import hardware as hw
 from optimize import problem as pb
 from optimize import screen
+from optimize.active_set import solve_hardware
+from optimize.compiled import compile_problem, structure_of
+from optimize.nlp import Solution
 from optimize.result import HardwareResult, OptimizationResult, Shortfall
+from optimize.solve import (
+    SolveOptions,
+    binding,
+    initial_points,
+    scales_for,
+    variable_bounds,
+)
 from optimize.system import DesignModel, prepare
 
-_OUTER_MAX = 8
 #: Frozen factors settled (relative): the relaxed hardware itself moves by ~1e-7 relative from
 #: round to round at IPOPT's tolerance where the objective is flat in it (the margin objective),
 #: so factors computed from it settle no tighter (the inductance's pack correction by ~1e-8).
@@ -41,6 +54,621 @@ _OUTER_RTOL = 1e-7
 #: (the exact clearance is resolved to 1e-9 m; the hardware's round-to-round movement at
 #: IPOPT's tolerance moves it by ~2e-9 m).
 _DELTA_ATOL_m = 1e-8
+
+
+@dataclass(frozen=True)
+class SizingOptions:
+    """How a sizing runs.
+
+    Parameters
+    ----------
+    outer_max : int
+        Outer rounds of the relaxation (frozen factors recomputed) before it stops unsettled.
+    batch : int
+        Neighbours ranked at once when the first feasible one wins (objective
+        ``copper_mass``, neighbours in copper order); the result does not depend on it.
+    screen : bool
+        Rule out neighbours a field-only limit already breaks at the least field the
+        requirements need, without their NLP (:mod:`optimize.screen`; the least required
+        torque is found once per sizing, by the executor while the relaxation runs). The
+        result does not depend on it (tests/test_sizing_speed.py); only the work spent.
+    """
+
+    outer_max: int = 8
+    batch: int = 8
+    screen: bool = True
+
+
+class Executor:
+    """What sizing needs of an executor (``concurrent.futures.Executor``, a Dask client, ...):
+    ``submit(fn, *args)`` returning an object with ``result()``, and ``map(fn, items)``."""
+
+    def submit(self, fn: Callable[..., Any], /, *args: Any) -> Any:  # pragma: no cover
+        """``fn(*args)`` to run.
+
+        Parameters
+        ----------
+        fn : callable
+            A module-level function (it may be pickled to another process).
+        *args
+            Its arguments.
+
+        Returns
+        -------
+        future
+            An object whose ``result()`` is ``fn(*args)``.
+        """
+        raise NotImplementedError
+
+    def map(self, fn: Callable[[Any], Any], items: Sequence[Any]) -> Any:  # pragma: no cover
+        """``fn(x)`` for every item.
+
+        Parameters
+        ----------
+        fn : callable
+            A module-level function (or a ``functools.partial`` of one).
+        items : sequence
+            Its arguments, one call each.
+
+        Returns
+        -------
+        iterable
+            The results, in ``items`` order.
+        """
+        raise NotImplementedError
+
+
+class _Done(NamedTuple):
+    value: Any
+
+    def result(self) -> Any:
+        return self.value
+
+
+def _submit(executor: Executor | None, fn: Callable[..., Any], *args: Any) -> Any:
+    return executor.submit(fn, *args) if executor is not None else _Done(fn(*args))
+
+
+def _map(executor: Executor | None, fn: Callable[[Any], Any], items: list[Any]) -> list[Any]:
+    if executor is None or len(items) < 2:
+        return [fn(x) for x in items]
+    return list(executor.map(fn, items))
+
+
+class _Setup(NamedTuple):
+    """What the relaxation solves: the model at the starting hardware and its compiled NLP."""
+
+    model: DesignModel
+    fixed_model: DesignModel  # the model without free hardware (neighbours are built from it)
+    free: tuple[hw.FreeVariable, ...]
+    min_bore_m: float
+    hw_start: dict[str, float]
+    exact: DesignModel  # prepared, at the starting hardware
+    structure: hw.HardwareStructure
+    bounds: dict[str, tuple[float, float]]
+    scales: Any
+    starts: list[dict[str, float]]
+    ws: Any  # the scenario working set, or None
+    problem: Any
+
+
+def _starting_model(model: DesignModel, start: dict[str, float] | None) -> DesignModel:
+    """The fixed model at the free hardware's start (the model's own, or ``start``), kept
+    inside the box, prepared."""
+    fixed_model = replace(model, sizing=None)
+    hw_start = _start_values(model, start)
+    return prepare(buildable(fixed_model, hw_start, 0.0, checks=False) or fixed_model)
+
+
+def _start_values(model: DesignModel, start: dict[str, float] | None) -> dict[str, float]:
+    base = {**hw.hardware_of(model), **(start or {})}
+    return {v.name: min(max(base[v.name], v.lo), v.hi) for v in model.sizing.free}
+
+
+def _setup(
+    model: DesignModel, start: dict[str, float] | None = None, exact: DesignModel | None = None
+) -> _Setup:
+    """The relaxation of ``model`` from ``start`` (default: the model's own hardware);
+    ``exact``: :func:`_starting_model` of that, if already built."""
+    sizing = model.sizing
+    free = sizing.free
+    exact = exact if exact is not None else _starting_model(model, start)
+    hs = hw.HardwareStructure(
+        tuple(v.name for v in free),
+        hw.helmholtz_flags(model),
+        len(model.headings),
+        model.limits.copper_mass_kg is not None,
+    )
+    bounds = {**variable_bounds(exact), **{v.name: (v.lo, v.hi) for v in free}}
+    scales = scales_for(exact)
+    grid = initial_points(exact, scales, model.bounds.starts)
+    ws = _working_set(exact, grid, scales)  # tissue scenarios: the ones that matter
+    problem = compile_problem(structure_of(ws.model(exact) if ws else exact, hardware=hs))
+    hw_start = _start_values(model, start)
+    starts = [{**x, **hw_start, "power_W_scaled": _loss_scaled(exact, x, scales)} for x in grid]
+    min_bore = sizing.min_bore_m if sizing.min_bore_m is not None else hw.bore_m(model)
+    return _Setup(
+        model,
+        replace(model, sizing=None),
+        free,
+        min_bore,
+        hw_start,
+        exact,
+        hs,
+        bounds,
+        scales,
+        starts,
+        ws,
+        problem,
+    )
+
+
+class Relaxation(NamedTuple):
+    """The continuous relaxation's outcome (``best`` None: no start converged)."""
+
+    best: Solution | None
+    hardware: dict[str, float]  # the free hardware at the optimum (else at the start)
+    exact: DesignModel  # prepared at that hardware
+    problem: Any
+    p: Any  # the parameters of the last round's solve
+    outer: int
+    iterations: int
+
+
+def _best_of(problem: Any, starts: list[dict[str, float]], p: Any, bounds: dict) -> tuple:
+    """The best converged solve from ``starts`` (None if none converged), and the iterations."""
+    found, iterations = None, 0
+    for x0 in starts:
+        sol = problem.nlp.solve(x0, p, bounds)
+        iterations += sol.iterations
+        if sol.success and (found is None or sol.f < found.f):
+            found = sol
+    return found, iterations
+
+
+def _point(sol: Solution, scales: Any) -> tuple[float, float, float]:
+    return (
+        sol.value("helical_angle"),
+        sol.value("frequency"),
+        sol.value("field_scaled") * scales.field_T,
+    )
+
+
+def relax(
+    s: _Setup, options: SizingOptions = SizingOptions(), say: Callable[[str], None] = print
+) -> Relaxation:
+    """Step 1: the continuous relaxation, re-solved warm until the frozen factors settle (and,
+    with tissue scenarios, until the tail lies in the working set).
+
+    Parameters
+    ----------
+    s : _Setup
+        The relaxation's model at its starting hardware and its compiled NLP (:func:`_setup`).
+    options : SizingOptions
+        ``outer_max``: the most outer rounds.
+    say : callable
+        ``say(stage)`` at each outer round.
+
+    Returns
+    -------
+    Relaxation
+        The best solution (None if no start converged), the free hardware there (SI: m,
+        turns), the model prepared there, the rounds and IPOPT iterations spent.
+    """
+    exact, problem, ws = s.exact, s.problem, s.ws
+    hw_now = dict(s.hw_start)
+    iterations, outer, outer_max = 0, 0, options.outer_max
+    best, frozen_prev, next_start, p = None, None, None, None
+    while outer < outer_max:
+        outer += 1
+        say(f"continuous relaxation, outer iteration {outer}")
+        frozen = hw.frozen_factors(exact)
+        params = hw.sizing_parameters(exact, frozen, s.min_bore_m)
+        p = problem.parameters(ws.model(exact) if ws else exact, s.scales, params)
+        xs0 = s.starts if best is None else [next_start or best.values()]
+        found, its = _best_of(problem, xs0, p, s.bounds)
+        iterations += its
+        if found is None:
+            break
+        best = found
+        hw_now = {v.name: best.value(v.name) for v in s.free}
+        moved = buildable(s.fixed_model, hw_now, 0.0, checks=False)
+        if moved is None:
+            break
+        exact, next_start = prepare(moved), None
+        # every scenario at the new optimum: does the tail lie in the set?
+        changed = ws.update(exact, _point(best, s.scales)) if ws is not None else None
+        if changed is not None:  # re-solve on the grown set (the set only grows: finite)
+            outer_max += 1
+            problem = compile_problem(structure_of(ws.model(exact), hardware=s.structure))
+            next_start = {k: v for k, v in best.values().items() if not _slot_variable(k, changed)}
+        elif frozen_prev is not None and _settled(frozen_prev, frozen):
+            break
+        frozen_prev = frozen
+    return Relaxation(best, hw_now, exact, problem, p, outer, iterations)
+
+
+def _relaxed_objective(s: _Setup, r: Relaxation) -> float:
+    """The relaxation's objective value (the copper mass alone at the unrounded hardware)."""
+    assert r.best is not None
+    if s.model.bounds.objective == "copper_mass":
+        return _copper_mass_kg({**hw.hardware_of(r.exact), **r.hardware}, r.exact)
+    spec = pb.OBJECTIVES[s.model.bounds.objective]
+    scale = float(spec.scale(s.scales))
+    return float(-spec.sense * scale * r.best.f if spec.uses_t else scale * r.best.f)
+
+
+def neighbours(s: _Setup, r: Relaxation) -> tuple[list[dict[str, float]], int]:
+    """Step 2: the candidates around the relaxed optimum (see :func:`_neighbours`).
+
+    Parameters
+    ----------
+    s : _Setup
+        The relaxation's setup.
+    r : Relaxation
+        Its outcome (``r.best`` not None).
+
+    Returns
+    -------
+    candidates : list of dict
+        Free hardware of each candidate by name (SI: turns, m), in copper order when the
+        copper mass is the objective.
+    iterations : int
+        IPOPT iterations of the re-balancing solves.
+    """
+    candidates, iterations = _neighbours(r.problem, r.p, s.bounds, r.best, s.free, s.model.sizing)
+    if s.model.bounds.objective == "copper_mass":
+        here = hw.hardware_of(r.exact)
+        candidates.sort(key=lambda c: _copper_mass_kg({**here, **r.hardware, **c}, r.exact))
+    return candidates, iterations
+
+
+class _Attempt(NamedTuple):
+    """What a neighbour's solve needs besides its whole turns and wires (pickled to workers)."""
+
+    fixed_model: DesignModel
+    relaxed: dict[str, float]
+    min_bore_m: float
+    warm: dict[str, Any]
+    scales: Any
+    #: the screen's least required torque, N·m (None: no screen)
+    least_required_Nm: float | None = None
+
+
+def _attempt_of(s: _Setup, r: Relaxation, least_required_Nm: float | None) -> _Attempt:
+    assert r.best is not None
+    warm: dict[str, Any] = {
+        "helical_angle": r.best.value("helical_angle"),
+        "frequency": r.best.value("frequency"),
+        "field_T": r.best.value("field_scaled") * s.scales.field_T,
+    }
+    if s.ws is not None:  # the neighbours start from the relaxation's working set
+        warm["scenario_index"] = s.ws.index
+    return _Attempt(s.fixed_model, r.hardware, s.min_bore_m, warm, s.scales, least_required_Nm)
+
+
+class _Failed(NamedTuple):
+    """A neighbour the screen ruled out without its solve."""
+
+    iterations: int
+    status: str = "infeasible"
+
+
+#: How a neighbour is solved: warm from the relaxation, with its scales, ranked by objective
+#: only (no step-out search, no field capacity: 26-32 % of a sizing, docs/architecture.md).
+NEIGHBOUR_SOLVE = SolveOptions(
+    diagnose=False,
+    grid_starts=False,
+    frequency_bounds=False,
+    candidate=True,
+)
+
+
+def _attempt(ctx: _Attempt, combo: dict[str, float]) -> OptimizationResult | _Failed | None:
+    """One neighbour re-optimised at its fixed hardware (an 'infeasible' result if its solve
+    finds no solution): None if it cannot be built, :class:`_Failed` if a limit rules it out
+    first (:func:`optimize.screen.out_of_reach`)."""
+    m = buildable(ctx.fixed_model, {**ctx.relaxed, **combo}, ctx.min_bore_m)
+    if m is None:
+        return None
+    if ctx.least_required_Nm is not None:
+        m = prepare(m)
+        if screen.out_of_reach(m, ctx.least_required_Nm) is not None:
+            return _Failed(0, "out of reach")
+    return solve_hardware(m, ctx.warm, replace(NEIGHBOUR_SOLVE, scales=ctx.scales))
+
+
+def _full_result(ctx: _Attempt, values: dict[str, float]) -> OptimizationResult:
+    """The winner's full result (step-out, highest frequency): its neighbour solve again."""
+    m = buildable(ctx.fixed_model, values, ctx.min_bore_m)
+    assert m is not None  # it was built as a neighbour
+    full = SolveOptions(diagnose=False, grid_starts=False, scales=ctx.scales)
+    return solve_hardware(m, ctx.warm, full)
+
+
+class Ranking(NamedTuple):
+    """Step 3's outcome: the best feasible neighbour (hardware, result) or None."""
+
+    winner: tuple[dict[str, float], OptimizationResult] | None
+    tried: int
+    feasible: int
+    first_built: DesignModel | None
+    iterations: int
+
+
+def rank(
+    ctx: _Attempt,
+    candidates: list[dict[str, float]],
+    sense: float,
+    *,
+    first_wins: bool = False,
+    executor: Executor | None = None,
+    options: SizingOptions = SizingOptions(),
+    say: Callable[[str], None] = print,
+) -> Ranking:
+    """Step 3: solve the neighbours (through ``executor``) and keep the best feasible one.
+
+    Parameters
+    ----------
+    ctx : _Attempt
+        What every neighbour's solve shares (the fixed model, the relaxed hardware, the warm
+        start and scales, the screen's least required torque in N·m).
+    candidates : list of dict
+        The neighbours' free hardware by name (SI: turns, m).
+    sense : float
+        +1 where a larger objective is better, -1 where a smaller one is.
+    first_wins : bool
+        Candidates in objective order: the first feasible one ends the search (they are
+        solved ``options.batch`` at a time).
+    executor : Executor, optional
+        Where the solves run (None: here, in order).
+    options : SizingOptions
+        ``batch``.
+    say : callable
+        ``say(stage)`` for each neighbour.
+
+    Returns
+    -------
+    Ranking
+        The winner (hardware, result) or None, the neighbours tried and feasible, the first
+        buildable one's model, the IPOPT iterations spent.
+    """
+    tried, feasible, iterations = 0, 0, 0
+    winner: tuple[dict[str, float], OptimizationResult] | None = None
+    first_built = None
+    size = options.batch if first_wins else max(len(candidates), 1)
+    for start in range(0, len(candidates), size):
+        part = candidates[start : start + size]
+        for combo, res in zip(part, _map(executor, functools.partial(_attempt, ctx), part)):
+            tried += 1
+            say(f"whole turns and standard wire: neighbour {tried} of {len(candidates)}")
+            if res is None:
+                continue
+            if first_built is None:
+                first_built = buildable(ctx.fixed_model, {**ctx.relaxed, **combo}, ctx.min_bore_m)
+            iterations += res.iterations
+            if isinstance(res, _Failed) or res.status != "optimal":
+                continue
+            feasible += 1
+            if winner is None or sense * (res.objective_value - winner[1].objective_value) > 0:
+                winner = ({**ctx.relaxed, **combo}, res)
+            if first_wins:
+                break
+        if first_wins and winner is not None:
+            break
+    return Ranking(winner, tried, feasible, first_built, iterations)
+
+
+def finish(
+    s: _Setup,
+    r: Relaxation,
+    ranking: Ranking,
+    ctx: _Attempt,
+    executor: Executor | None = None,
+) -> OptimizationResult:
+    """Step 4: the winner's full result, with what binds taken from the relaxation.
+
+    What binds, and what relaxing it buys, comes from the continuous relaxation (hardware and
+    operating point free together); the discrete design's own multipliers would hold its
+    hardware fixed (0 for the copper mass).
+
+    Parameters
+    ----------
+    s : _Setup
+        The relaxation's setup.
+    r : Relaxation
+        Its outcome.
+    ranking : Ranking
+        The neighbours' ranking (``ranking.winner`` not None).
+    ctx : _Attempt
+        What the neighbours' solves shared.
+    executor : Executor, optional
+        Where the winner is solved again in full (None: here).
+
+    Returns
+    -------
+    OptimizationResult
+        The sized design: ``hardware`` (relaxed and discrete hardware, SI), the binding limits
+        with their gains, the evaluation with step-out and highest frequency.
+    """
+    assert ranking.winner is not None and r.best is not None
+    values = ranking.winner[0]
+    # the same solve again, bit for bit, with the step-out and highest frequency
+    full = _submit(executor, _full_result, ctx, values).result()
+    free_box = {v.name: (v.lo, v.hi) for v in s.free}
+    result = HardwareResult(
+        relaxed=r.hardware,
+        relaxed_objective=_relaxed_objective(s, r),
+        discrete={v.name: values[v.name] for v in s.free},
+        discrete_objective=full.objective_value,
+        candidates=ranking.tried,
+        feasible=ranking.feasible,
+        outer_iterations=r.outer,
+    )
+    n, tried, feasible = len(s.free), ranking.tried, ranking.feasible
+    return replace(
+        full,
+        iterations=0,  # the winner's solve is counted once, as a neighbour (size_design adds)
+        hardware=result,
+        binding_limits=binding(r.exact, s.scales, r.best, free_box),
+        message=f"optimal: {n} hardware quantities sized ({feasible} of {tried} "
+        "buildable neighbours feasible); every requirement met inside every limit",
+    )
+
+
+def size_design(
+    model: DesignModel,
+    *,
+    progress: Callable[[str], None] | None = None,
+    executor: Executor | None = None,
+    options: SizingOptions = SizingOptions(),
+) -> OptimizationResult:
+    """Size the free hardware of ``model`` (``model.sizing``) for its objective.
+
+    Parameters
+    ----------
+    model : DesignModel
+        A design model with free hardware (``model.sizing.free``), SI.
+    progress : callable, optional
+        ``progress(stage)`` for each outer round of the relaxation and each neighbour.
+    executor : optional
+        Where the neighbours are solved (``submit``/``map``, e.g. a process pool or a Dask
+        client); None: one after another here. The result is the same either way.
+    options : SizingOptions
+        How the search runs.
+
+    Returns
+    -------
+    OptimizationResult
+        The best buildable design (``hardware`` holds the relaxed and discrete hardware), or
+        an infeasible result naming what is out of reach.
+    """
+    say = progress or (lambda _stage: None)
+    t0 = time.perf_counter()
+    # the screen's least required torque, found once; early, so that an executor finds it
+    # while the relaxation runs here
+    least = None
+    if options.screen and screen.screens(model):
+        least = _submit(executor, screen.least_required_torque_Nm, replace(model, sizing=None))
+    s = _setup(model)
+    r = relax(s, options, say)
+    spent = 0
+    if r.best is None and _mass_limited(model):
+        # the copper limit may lie far below the starting hardware's copper: start again from
+        # the least copper the requirements need, or say that it is more than the limit
+        least = least_copper(model, options)
+        limit = float(model.limits.copper_mass_kg or 0.0)
+        if least is not None and least.objective > limit * (1 + 1e-9):
+            lightest = buildable(s.fixed_model, least.hardware, 0.0, checks=False) or r.exact
+            why = (
+                f"the requirements need at least {least.objective:.4g} kg of copper (continuous "
+                f"relaxation), more than limits.copper_mass_kg = {limit:.4g} kg allows; "
+                "closest with the hardware at " + _hardware_text(least.hardware)
+            )
+            spent = r.iterations + least.iterations
+            return _timed(_no_design(lightest, why), t0, spent)
+        if least is not None:
+            spent = r.iterations + least.iterations
+            s = _setup(model, least.hardware)
+            r = relax(s, options, say)
+    if r.best is None:  # what is out of reach with the hardware at its box (the first start)
+        why = "the relaxed sizing problem has no solution; closest with the hardware at "
+        return _timed(
+            _no_design(r.exact, why + _hardware_text(r.hardware)), t0, spent + r.iterations
+        )
+    candidates, its = neighbours(s, r)
+    ctx = _attempt_of(s, r, least.result() if least is not None else None)
+    first_wins = model.bounds.objective == "copper_mass"  # the mass is known before a solve
+    sense = pb.OBJECTIVES[model.bounds.objective].sense
+    ranking = rank(
+        ctx, candidates, sense, first_wins=first_wins, executor=executor, options=options, say=say
+    )
+    spent += r.iterations + its + ranking.iterations
+    if ranking.winner is None:
+        return _timed(_no_neighbour(s, ranking, candidates, ctx.relaxed), t0, spent)
+    return _timed(finish(s, r, ranking, ctx, executor), t0, spent)
+
+
+class _Relaxed(NamedTuple):
+    """A continuous relaxation alone: its free hardware and objective value."""
+
+    hardware: dict[str, float]
+    objective: float
+    iterations: int
+
+
+def least_copper(model: DesignModel, options: SizingOptions = SizingOptions()) -> _Relaxed | None:
+    """The continuous relaxation of ``model`` with the copper mass minimised and no copper limit:
+    where the copper limit sits far below the starting hardware, IPOPT's starts end "locally
+    infeasible" outside the small set of designs that meet it.
+
+    Parameters
+    ----------
+    model : DesignModel
+        A model with free hardware (``model.sizing``), SI.
+    options : SizingOptions
+        ``outer_max``.
+
+    Returns
+    -------
+    _Relaxed or None
+        The free hardware (SI), the least copper mass (kg) and the iterations spent; None if
+        the relaxation has no solution.
+    """
+    least = replace(
+        model,
+        bounds=replace(model.bounds, objective="copper_mass"),
+        limits=replace(model.limits, copper_mass_kg=None),
+    )
+    s = _setup(least)
+    r = relax(s, options, lambda _stage: None)
+    if r.best is None:
+        return None
+    return _Relaxed(r.hardware, _relaxed_objective(s, r), r.iterations)
+
+
+def _timed(res: OptimizationResult, t0: float, iterations: int) -> OptimizationResult:
+    """``res`` with the sizing's iterations added and its wall time."""
+    return replace(
+        res, iterations=res.iterations + iterations, solve_time_s=time.perf_counter() - t0
+    )
+
+
+def _no_neighbour(
+    s: _Setup, ranking: Ranking, candidates: list[dict[str, float]], relaxed: dict[str, float]
+) -> OptimizationResult:
+    """What keeps the neighbours out: the first buildable one's own shortfalls (the relaxed
+    problem at that hardware), or the geometric rule the first one breaks."""
+    closest = ranking.first_built
+    geometry: tuple = ()
+    if closest is None and candidates:
+        geometry = unbuildable(s.fixed_model, {**relaxed, **candidates[0]}, s.min_bore_m)
+    why = (
+        "no buildable neighbour of the relaxed optimum meets every requirement "
+        f"({ranking.tried} tried)"
+    )
+    return _no_design(closest or s.fixed_model, why, geometry)
+
+
+def _no_design(model: DesignModel, why: str, geometry: tuple = ()) -> OptimizationResult:
+    """An infeasible result: what is out of reach at ``model``'s hardware (the relaxed
+    problem's shortfalls), or the geometric rules the neighbours break."""
+    res = solve_hardware(model, None, SolveOptions())
+    shortfalls = geometry or res.shortfalls
+    if not shortfalls:  # that hardware meets everything by itself: say so with its numbers
+        ev = res.evaluation
+        shortfalls = (
+            Shortfall("safety_factor", "1", model.requirements.min_safety_factor, ev.safety_factor),
+        )
+    return replace(res, status="infeasible", shortfalls=shortfalls, message=f"infeasible: {why}")
+
+
+def _mass_limited(model: DesignModel) -> bool:
+    return model.limits.copper_mass_kg is not None and model.bounds.objective != "copper_mass"
+
+
+def _hardware_text(values: dict[str, float]) -> str:
+    return ", ".join(f"{k} = {v:.4g}" for k, v in values.items())
 
 
 def _options(v: hw.FreeVariable, x: float, wires: tuple[float, ...]) -> list[float]:
@@ -63,8 +691,23 @@ def _neighbours(problem, p, bounds, best, free, sizing) -> tuple[list[dict[str, 
     Wire diameters first: for each combination of the standard sizes just below and above the
     relaxed ones, the relaxation is re-solved with those wires fixed (the turns re-balance), and
     each turn count of that solution is rounded down and up. Without free wires: every turn
-    count rounded down and up.
+    count rounded down and up. Continuous quantities then re-balance around each.
     """
+    unique, iterations = _rounded(problem, p, bounds, best, free, sizing)
+    continuous = [v for v in free if v.kind not in ("turns", "wire")]
+    if continuous:  # radii, magnet, spiral wire re-balance around the whole turns and wires
+        whole_names = [v.name for v in free if v.kind in ("turns", "wire")]
+        for combo in unique:
+            box = {**bounds, **{n: (combo[n], combo[n]) for n in whole_names}}
+            sol = problem.nlp.solve({**best.values(), **combo}, p, box)
+            iterations += sol.iterations
+            if sol.success:
+                combo.update({v.name: sol.value(v.name) for v in continuous})
+    return unique, iterations
+
+
+def _rounded(problem, p, bounds, best, free, sizing) -> tuple[list[dict[str, float]], int]:
+    """Whole turns and standard wires around ``best`` (see :func:`_neighbours`), each once."""
     wires = [v for v in free if v.kind == "wire"]
     rest = [v for v in free if v.kind != "wire"]
     out: list[dict[str, float]] = []
@@ -82,17 +725,7 @@ def _neighbours(problem, p, bounds, best, free, sizing) -> tuple[list[dict[str, 
         rest_options = [_options(v, sol.value(v.name), sizing.wire_diameters_m) for v in rest]
         for rc in itertools.product(*rest_options):
             out.append({**fixed, **dict(zip((v.name for v in rest), rc))})
-    unique = list({tuple(sorted(c.items())): c for c in out}.values())
-    continuous = [v for v in rest if v.kind not in ("turns", "wire")]
-    if continuous:  # radii, magnet, spiral wire re-balance around the whole turns and wires
-        for combo in unique:
-            whole = {v.name: combo[v.name] for v in free if v.kind in ("turns", "wire")}
-            box = {**bounds, **{n: (d, d) for n, d in whole.items()}}
-            sol = problem.nlp.solve({**best.values(), **combo}, p, box)
-            iterations += sol.iterations
-            if sol.success:
-                combo.update({v.name: sol.value(v.name) for v in continuous})
-    return unique, iterations
+    return list({tuple(sorted(c.items())): c for c in out}.values()), iterations
 
 
 def buildable(
@@ -116,402 +749,6 @@ def buildable(
     if cap.magnet_fit_check(m.capsule.body, m.capsule.magnet) is not None:
         return None
     return m
-
-
-class FixedHardwareSolver(NamedTuple):
-    """What sizing needs of the fixed-hardware solve; :mod:`optimize.solve` passes itself in
-    (so this module does not import it: no import cycle)."""
-
-    optimize_design: Callable[..., OptimizationResult]
-    binding: Callable[..., Any]
-    initial_points: Callable[..., Any]
-    scales_for: Callable[..., Any]
-    variable_bounds: Callable[..., Any]
-    #: what ``optimize_design(..., evaluate_failed=False)`` raises when no start converges
-    no_solution: type[Exception]
-    #: ``warm_up(model)`` compiles what a warm-started fixed-hardware solve of ``model`` needs
-    warm_up: Callable[[DesignModel], None]
-
-
-class _Failed(NamedTuple):
-    """A neighbour whose fixed-hardware solve found no solution: only its iterations count
-    (the search never reads a failed neighbour's evaluation, so none is computed)."""
-
-    iterations: int
-    status: str = "infeasible"
-
-
-def size_design(
-    model: DesignModel,
-    solver: FixedHardwareSolver,
-    progress: Callable[[str], None] | None = None,
-) -> OptimizationResult:
-    """Size the free hardware of ``model`` (``model.sizing``) for its objective.
-
-    ``progress(stage)`` is told each outer iteration of the relaxation and each neighbour.
-    """
-    helpers: list[Any] = []
-    try:
-        res = _size_design(model, solver, progress, helpers)
-    except BaseException:
-        for helper in helpers:
-            helper.cancel()
-        raise
-    for helper in helpers:
-        helper.close()
-    return res
-
-
-def _start_standby(
-    solver: FixedHardwareSolver,
-    exact: DesignModel,
-    helpers: list[Any],
-    fixed_model: DesignModel,
-    token: tuple | None,
-) -> Any:
-    """A helper that compiles the neighbours' fixed-hardware problem (that of ``exact``) and
-    finds the screen's least required torque now, on a free core, while the relaxation runs
-    here; None without one."""
-    factory = _STANDBY[0]
-    if factory is None:
-        return None
-    standby = factory(functools.partial(_get_ready, solver, exact, fixed_model, token))
-    if standby is not None:
-        helpers.append(standby)
-    return standby
-
-
-def _size_design(
-    model: DesignModel,
-    solver: FixedHardwareSolver,
-    progress: Callable[[str], None] | None,
-    helpers: list[Any],
-    *,
-    start: dict[str, float] | None = None,
-    relax_only: bool = False,
-) -> Any:
-    """:func:`size_design`; ``start``: free hardware to start the relaxation from (default the
-    model's own, kept inside the box); ``relax_only``: stop after the relaxation (a
-    :class:`_Relaxed`, or the infeasible result)."""
-    say = progress or (lambda _stage: None)
-    from optimize.compiled import compile_problem, structure_of
-
-    _binding = solver.binding
-    initial_points, scales_for = solver.initial_points, solver.scales_for
-    variable_bounds = solver.variable_bounds
-    t0 = time.perf_counter()
-    sizing = model.sizing
-    fixed_model = replace(model, sizing=None)
-    free = sizing.free
-    min_bore = sizing.min_bore_m if sizing.min_bore_m is not None else hw.bore_m(model)
-    base = {**hw.hardware_of(model), **(start or {})}
-    hw_now = {v.name: min(max(base[v.name], v.lo), v.hi) for v in free}
-    exact = buildable(fixed_model, hw_now, 0.0, checks=False) or fixed_model
-    exact = prepare(exact)
-    # neighbours whose field-only limits already break at the least field the requirements
-    # need are ruled out without their NLP (optimize.screen); the least required torque is
-    # found once per sizing, by the standby helper while the relaxation runs here
-    token = (os.getpid(), next(_SIZINGS)) if SCREEN and screen.screens(model) else None
-    standby = None if relax_only else _start_standby(solver, exact, helpers, fixed_model, token)
-    hs = hw.HardwareStructure(
-        tuple(v.name for v in free),
-        hw.helmholtz_flags(model),
-        len(model.headings),
-        model.limits.copper_mass_kg is not None,
-    )
-    bounds = {**variable_bounds(exact), **{v.name: (v.lo, v.hi) for v in free}}
-    scales = scales_for(exact)
-    grid = initial_points(exact, scales, model.bounds.starts)
-    ws = _working_set(exact, grid, scales)  # tissue scenarios: the ones that matter
-    problem = compile_problem(structure_of(ws.model(exact) if ws else exact, hardware=hs))
-    starts = [{**x, **hw_now, "power_W_scaled": _loss_scaled(exact, x, scales)} for x in grid]
-    iterations, outer, best, frozen_prev = 0, 0, None, None
-    outer_max, next_start = _OUTER_MAX, None
-    while outer < outer_max:
-        outer += 1
-        say(f"continuous relaxation, outer iteration {outer}")
-        frozen = hw.frozen_factors(exact)
-        p = problem.parameters(
-            ws.model(exact) if ws else exact, scales, hw.sizing_parameters(exact, frozen, min_bore)
-        )
-        xs0 = starts if best is None else [next_start or best.values()]
-        found = None
-        for x0 in xs0:
-            sol = problem.nlp.solve(x0, p, bounds)
-            iterations += sol.iterations
-            if sol.success and (found is None or sol.f < found.f):
-                found = sol
-        if found is None:
-            break
-        best = found
-        hw_now = {v.name: best.value(v.name) for v in free}
-        moved = buildable(fixed_model, hw_now, 0.0, checks=False)
-        if moved is None:
-            break
-        exact = prepare(moved)
-        next_start = None
-        if ws is not None:  # every scenario at the new optimum: does the tail lie in the set?
-            point = (
-                best.value("helical_angle"),
-                best.value("frequency"),
-                best.value("field_scaled") * scales.field_T,
-            )
-            changed = ws.update(exact, point)
-            if changed is not None:  # re-solve on the grown set (the set only grows: finite)
-                outer_max += 1
-                problem = compile_problem(structure_of(ws.model(exact), hardware=hs))
-                next_start = {
-                    k: v for k, v in best.values().items() if not _slot_variable(k, changed)
-                }
-                frozen_prev = frozen
-                continue
-        if frozen_prev is not None and _settled(frozen_prev, frozen):
-            break
-        frozen_prev = frozen
-    spec = pb.OBJECTIVES[model.bounds.objective]
-    scale = float(spec.scale(scales))
-    if best is None and start is None and not relax_only and _mass_limited(model):
-        # the copper limit may lie far below the starting hardware's copper: start again from
-        # the least copper the requirements need, or say that it is more than the limit
-        least = _least_copper(model, solver, helpers)
-        limit = float(model.limits.copper_mass_kg or 0.0)
-        if least is not None:
-            iterations += least.iterations
-            if least.objective <= limit * (1 + 1e-9):
-                if standby is not None:  # the restart starts its own
-                    helpers.remove(standby)
-                    standby.close()
-                res = _size_design(model, solver, progress, helpers, start=least.hardware)
-                return replace(
-                    res,
-                    iterations=res.iterations + iterations,
-                    solve_time_s=time.perf_counter() - t0,
-                )
-            lightest = buildable(fixed_model, least.hardware, 0.0, checks=False) or exact
-            return _no_design(
-                solver,
-                lightest,
-                t0,
-                iterations,
-                f"the requirements need at least {least.objective:.4g} kg of copper (continuous "
-                f"relaxation), more than limits.copper_mass_kg = {limit:.4g} kg allows; "
-                "closest with the hardware at " + _hardware_text(least.hardware),
-            )
-    if best is None:  # what is out of reach with the hardware at its box (the first start)
-        return _no_design(
-            solver,
-            exact,
-            t0,
-            iterations,
-            "the relaxed sizing problem has no solution; closest with the hardware at "
-            + _hardware_text(hw_now),
-        )
-    relaxed = {v.name: best.value(v.name) for v in free}
-    relaxed_obj = -spec.sense * scale * best.f if spec.uses_t else scale * best.f
-    if model.bounds.objective == "copper_mass":  # the mass alone, at the unrounded hardware
-        relaxed_obj = _copper_mass_kg({**hw.hardware_of(exact), **relaxed}, exact)
-    if relax_only:
-        return _Relaxed(relaxed, float(relaxed_obj), iterations)
-    warm = {
-        "helical_angle": best.value("helical_angle"),
-        "frequency": best.value("frequency"),
-        "field_T": best.value("field_scaled") * scales.field_T,
-    }
-    if ws is not None:  # the neighbours start from the relaxation's working set
-        warm["scenario_index"] = ws.index
-    candidates, extra_iterations = _neighbours(problem, p, bounds, best, free, sizing)
-    iterations += extra_iterations
-    tried, feasible, winner, first_built = 0, 0, None, None
-    by_mass = model.bounds.objective == "copper_mass"
-    if by_mass:  # the objective is known before the solve: the first feasible one is the best
-        here = hw.hardware_of(exact)
-        candidates.sort(key=lambda c: _copper_mass_kg({**here, **relaxed, **c}, exact))
-
-    ctx = _Attempt(solver, fixed_model, relaxed, min_bore, warm, scales, token)
-    # with a standby helper (it compiled the fixed-hardware problem while the relaxation ran)
-    # the neighbours run there and on a sibling forked from it; else the first here (it
-    # compiles the problem the forked ones then share) and the rest on the free cores. Each
-    # solve is independent: the same results however spread. By mass in small batches, since
-    # the first feasible one ends the search.
-    batch = BATCH if by_mass else len(candidates)
-    done = 0
-    while done < len(candidates) and not (by_mass and winner is not None):
-        size = 1 if done == 0 and standby is None else batch
-        part = candidates[done : done + size]
-        if standby is not None:
-            results = standby.map(_attempt, ctx, part)
-        else:
-            results = _map(functools.partial(_attempt, ctx), part)
-        done += len(part)
-        for combo, res in zip(part, results, strict=True):
-            if by_mass and winner is not None:
-                break
-            tried += 1
-            say(f"whole turns and standard wire: neighbour {tried} of {len(candidates)}")
-            if res is None:
-                continue
-            if first_built is None:
-                first_built = buildable(fixed_model, {**relaxed, **combo}, min_bore)
-            iterations += res.iterations
-            if isinstance(res, _Failed) or res.status != "optimal":
-                continue
-            feasible += 1
-            if winner is None or spec.sense * (res.objective_value - winner[1].objective_value) > 0:
-                winner = ({**relaxed, **combo}, res)
-    if winner is None:
-        # what keeps the neighbours out: the first buildable one's own shortfalls (the
-        # relaxed problem at that hardware), or the geometric rule the first one breaks
-        closest = first_built
-        geometry = ()
-        if closest is None and candidates:
-            geometry = unbuildable(fixed_model, {**relaxed, **candidates[0]}, min_bore)
-        return _no_design(
-            solver,
-            closest or fixed_model,
-            t0,
-            iterations,
-            f"no buildable neighbour of the relaxed optimum meets every requirement "
-            f"({tried} tried)",
-            geometry,
-        )
-    values, res = winner
-    # the winner's full result (step-out, highest frequency): the same solve again, bit for bit
-    full = standby.call(_full_result, ctx, values) if standby else _full_result(ctx, values)
-    res = replace(full, iterations=res.iterations)
-    # what binds, and what relaxing it buys, comes from the continuous relaxation (hardware and
-    # operating point free together): the gains are those of the continuous bound; the
-    # discrete design's own multipliers would hold its hardware fixed (0 for the copper mass)
-    sizing_binding = _binding(exact, scales, best, {v.name: (v.lo, v.hi) for v in free})
-    result = HardwareResult(
-        relaxed=relaxed,
-        relaxed_objective=float(relaxed_obj),
-        discrete={v.name: values[v.name] for v in free},
-        discrete_objective=res.objective_value,
-        candidates=tried,
-        feasible=feasible,
-        outer_iterations=outer,
-    )
-    return replace(
-        res,
-        hardware=result,
-        binding_limits=sizing_binding,
-        iterations=iterations,
-        solve_time_s=time.perf_counter() - t0,
-        message=f"optimal: {len(free)} hardware quantities sized ({feasible} of {tried} "
-        "buildable neighbours feasible); every requirement met inside every limit",
-    )
-
-
-def _get_ready(
-    solver: FixedHardwareSolver, exact: DesignModel, fixed_model: DesignModel, token: Any
-) -> None:
-    """The standby helper's preparation (see :func:`_start_standby`)."""
-    solver.warm_up(exact)
-    if token is not None:
-        _least_required_Nm(token, fixed_model)
-
-
-#: Sizings started in this process (with the pid, a token naming one sizing's screen)
-_SIZINGS = itertools.count()
-#: The screen's least required torque per sizing token (found once, in whichever process)
-_LEAST: dict[tuple, float] = {}
-
-
-def _least_required_Nm(token: tuple, fixed_model: DesignModel) -> float:
-    """:func:`optimize.screen.least_required_torque_Nm` of ``fixed_model``, once per
-    sizing (the neighbours' capsule, tissues and requirements are its own)."""
-    if token not in _LEAST:
-        if len(_LEAST) > 64:
-            _LEAST.clear()
-        _LEAST[token] = screen.least_required_torque_Nm(fixed_model)
-    return _LEAST[token]
-
-
-class _Attempt(NamedTuple):
-    """What a neighbour's solve needs besides its whole turns and wires (pickled to helpers)."""
-
-    solver: FixedHardwareSolver
-    fixed_model: DesignModel
-    relaxed: dict[str, float]
-    min_bore_m: float
-    warm: dict[str, Any]
-    scales: Any
-    #: the sizing's screen token (None: no screen; see :func:`_least_required_Nm`)
-    screen_token: tuple | None = None
-
-
-def _attempt(ctx: _Attempt, combo: dict[str, float]) -> OptimizationResult | _Failed | None:
-    """One buildable neighbour re-optimised (fixed hardware) from the relaxation's operating
-    point, with the relaxation's scales; None if it cannot be built, :class:`_Failed` if its
-    solve finds no solution or a limit rules it out first (:func:`optimize.screen.out_of_reach`)."""
-    m = buildable(ctx.fixed_model, {**ctx.relaxed, **combo}, ctx.min_bore_m)
-    if m is None:
-        return None
-    if ctx.screen_token is not None:
-        least = _least_required_Nm(ctx.screen_token, ctx.fixed_model)
-        m = prepare(m)
-        if screen.out_of_reach(m, least) is not None:
-            return _Failed(0, "out of reach")
-    try:
-        return ctx.solver.optimize_design(
-            m,
-            warm_start=ctx.warm,
-            diagnose=False,
-            grid_starts=False,
-            frequency_bounds=False,
-            evaluate_failed=not SKIP_FAILED_EVALUATION,
-            scales=ctx.scales,
-            candidate=True,
-        )
-    except ctx.solver.no_solution as failed:  # only its iterations are read
-        return _Failed(int(getattr(failed, "iterations", 0)))
-
-
-def _full_result(ctx: _Attempt, values: dict[str, float]) -> OptimizationResult:
-    """The winner's full result (step-out, highest frequency): its neighbour solve again."""
-    m = buildable(ctx.fixed_model, values, ctx.min_bore_m)
-    assert m is not None  # it was built as a neighbour
-    return ctx.solver.optimize_design(
-        m, warm_start=ctx.warm, diagnose=False, grid_starts=False, scales=ctx.scales
-    )
-
-
-#: How the buildable neighbours are mapped, ``mapper(fn, items) -> [fn(x) for x in items]``:
-#: serial here; the application sets one that runs them on its free cores
-#: (:func:`set_neighbour_map`). Each solve is independent, so the results are the same.
-_MAPPER: list[Callable[[Callable[[Any], Any], list[Any]], list[Any]] | None] = [None]
-#: Neighbours tried at once when the first feasible one wins (``copper_mass``).
-BATCH = 8
-#: Neighbours a field-only limit rules out at the least field needed skip their NLP
-#: (:mod:`optimize.screen`). False: every one solved, for the test that both agree.
-SCREEN = True
-#: A neighbour whose solve finds no solution is not evaluated (its result is never read; a
-#: quarter of a failed neighbour's time). False: the long way, for the test that both agree.
-SKIP_FAILED_EVALUATION = True
-
-
-#: ``standby(setup)``: a helper process that runs ``setup()`` now and later takes the
-#: neighbours (``.map(fn, shared, items)``, ``.call(fn, *args)``, ``.close()``), or None where
-#: there is no free core; set by the application (:func:`set_neighbour_map`).
-_STANDBY: list[Callable[[Callable[[], Any]], Any] | None] = [None]
-
-
-def set_neighbour_map(
-    mapper: Callable[[Callable[[Any], Any], list[Any]], list[Any]] | None,
-    standby: Callable[[Callable[[], Any]], Any] | None = None,
-) -> None:
-    """Run the neighbours' solves through ``mapper`` (None: one after another here), or, where
-    ``standby(setup)`` gives a helper, on it: it compiles the fixed-hardware problem while the
-    relaxation runs here."""
-    _MAPPER[0] = mapper
-    _STANDBY[0] = standby
-
-
-def _map(fn: Callable[[Any], Any], items: list[Any]) -> list[Any]:
-    mapper = _MAPPER[0]
-    if mapper is None or len(items) < 2:
-        return [fn(x) for x in items]
-    return mapper(fn, items)
 
 
 def _working_set(model: DesignModel, grid: list[dict[str, float]], scales: Any) -> Any:
@@ -564,37 +801,6 @@ def _copper_mass_kg(values: dict[str, float], model: DesignModel) -> float:
     )
 
 
-def _hardware_text(values: dict[str, float]) -> str:
-    return ", ".join(f"{k} = {v:.4g}" for k, v in values.items())
-
-
-def _mass_limited(model: DesignModel) -> bool:
-    return model.limits.copper_mass_kg is not None and model.bounds.objective != "copper_mass"
-
-
-class _Relaxed(NamedTuple):
-    """A continuous relaxation alone (``_size_design(..., relax_only=True)``)."""
-
-    hardware: dict[str, float]
-    objective: float
-    iterations: int
-
-
-def _least_copper(
-    model: DesignModel, solver: FixedHardwareSolver, helpers: list[Any]
-) -> _Relaxed | None:
-    """The continuous relaxation of ``model`` with the copper mass minimised and no copper limit
-    (None if it has no solution): where the copper limit sits far below the starting hardware,
-    IPOPT's starts end "locally infeasible" outside the small set of designs that meet it."""
-    least = replace(
-        model,
-        bounds=replace(model.bounds, objective="copper_mass"),
-        limits=replace(model.limits, copper_mass_kg=None),
-    )
-    out = _size_design(least, solver, None, helpers, relax_only=True)
-    return out if isinstance(out, _Relaxed) else None
-
-
 def _settled(a: hw.Frozen, b: hw.Frozen) -> bool:
     pairs = (
         (a.gain_correction, b.gain_correction),
@@ -641,30 +847,3 @@ def unbuildable(model: DesignModel, values: dict[str, float], min_bore_m: float)
         room = body.cylinder_length_m + 2 * math.sqrt(max(r_in**2 - half_d**2, 0.0))
         out.append(Shortfall("magnet_length", "m", room, magnet.length_m))
     return tuple(out)
-
-
-def _no_design(
-    solver: FixedHardwareSolver,
-    model: DesignModel,
-    t0: float,
-    iterations: int,
-    why: str,
-    geometry: tuple = (),
-) -> OptimizationResult:
-    """An infeasible result: what is out of reach at ``model``'s hardware (the relaxed
-    problem's shortfalls), or the geometric rules the neighbours break."""
-    res = solver.optimize_design(model)
-    shortfalls = geometry or res.shortfalls
-    if not shortfalls:  # that hardware meets everything by itself: say so with its numbers
-        ev = res.evaluation
-        shortfalls = (
-            Shortfall("safety_factor", "1", model.requirements.min_safety_factor, ev.safety_factor),
-        )
-    return replace(
-        res,
-        status="infeasible",
-        shortfalls=shortfalls,
-        iterations=res.iterations + iterations,
-        solve_time_s=time.perf_counter() - t0,
-        message=f"infeasible: {why}",
-    )

@@ -467,6 +467,68 @@ class HardwareStructure:
     copper_mass_limit: bool = False
 
 
+def _hardware_symbols(b: Any, hs: HardwareStructure) -> dict[str, Any]:
+    """Every hardware quantity by name: an NLP variable where free, else a parameter."""
+    hw: dict[str, Any] = {}
+    for name in NAMES:
+        if name in hs.free:
+            hw[name] = b.variable(name, REFERENCE[name.split(".", 1)[1]], 0.0, np.inf)
+        else:
+            hw[name] = b.parameter(f"hw.{name}")
+    return hw
+
+
+def _coil_symbols(b: Any, hs: HardwareStructure, hw: dict[str, Any]) -> tuple[list, Any, Any]:
+    """:func:`coil_quantities` of the three pairs as expressions, with the packing factor and
+    heat-transfer coefficient parameters they use."""
+    packing, rho, hcoef = (
+        b.parameter("hw.packing"),
+        b.parameter("hw.resistivity"),
+        b.parameter("hw.h"),
+    )
+    sep = b.parameter("hw.separation_m", (3,))
+    q = []
+    for k, ax in enumerate(AXES):
+        r = hw[f"{ax}.radius_m"]
+        q.append(
+            coil_quantities(
+                r,
+                hw[f"{ax}.turns"],
+                hw[f"{ax}.wire_diameter_m"],
+                r if hs.helmholtz[k] else sep[k],
+                packing=packing,
+                resistivity=rho,
+                h=hcoef,
+                aspect=hw[f"{ax}.pack_aspect"],
+            )
+        )
+    return q, packing, hcoef
+
+
+def _pack_symbols(
+    b: Any, hw: dict[str, Any], q: list, packing: Any, hcoef: Any, convection: str
+) -> tuple:
+    """The three winding packs (:class:`coils.thermal.WindingPack`) as expressions."""
+    from coils.thermal import WindingPack
+
+    conductivity, emissivity = b.parameter("hw.conductivity"), b.parameter("hw.emissivity")
+    return tuple(
+        WindingPack(
+            pack_width_m=q[k]["width_m"],
+            pack_depth_m=q[k]["depth_m"],
+            mean_radius_m=hw[f"{AXES[k]}.radius_m"],
+            packing_factor=packing,
+            conductivity_W_mK=conductivity,
+            heat_transfer_coefficient_W_m2K=hcoef,
+            emissivity=emissivity,
+            vertical_axis=AXES[k] == "z",
+            air_speed_m_s=b.parameter("hw.air_speed_m_s"),
+            convection=convection,
+        )
+        for k in range(3)
+    )
+
+
 def symbolic_constants(
     b: Any,
     hs: HardwareStructure,
@@ -505,42 +567,16 @@ def symbolic_constants(
     import casadi as ca
 
     import capsule as cap
-    from coils.thermal import WindingPack
     from optimize.system import Constants
 
-    hw: dict[str, Any] = {}
-    for name in NAMES:
-        if name in hs.free:
-            hw[name] = b.variable(name, REFERENCE[name.split(".", 1)[1]], 0.0, np.inf)
-        else:
-            hw[name] = b.parameter(f"hw.{name}")
-    packing, rho, hcoef = (
-        b.parameter("hw.packing"),
-        b.parameter("hw.resistivity"),
-        b.parameter("hw.h"),
-    )
-    sep = b.parameter("hw.separation_m", (3,))
+    hw = _hardware_symbols(b, hs)
+    q, packing, hcoef = _coil_symbols(b, hs, hw)
     gcorr, mcorr = (
         b.parameter("frozen.gain_correction", (3,)),
         b.parameter("frozen.mutual_correction", (3,)),
     )
     s_max = b.parameter("heading.s", (3,))
     s_all = ca.reshape(b.parameter("heading.s_all", (hs.headings, 3)), 3, hs.headings).T
-    q = []
-    for k, ax in enumerate(AXES):
-        r = hw[f"{ax}.radius_m"]
-        q.append(
-            coil_quantities(
-                r,
-                hw[f"{ax}.turns"],
-                hw[f"{ax}.wire_diameter_m"],
-                r if hs.helmholtz[k] else sep[k],
-                packing=packing,
-                resistivity=rho,
-                h=hcoef,
-                aspect=hw[f"{ax}.pack_aspect"],
-            )
-        )
     g = [gcorr[k] * q[k]["gain_T_per_A"] for k in range(3)]
     res = [q[k]["resistance_ohm"] for k in range(3)]  # at 20 °C ("hw.resistivity" is ρ20)
     # worst-heading copper loss, W: an epigraph variable above every heading's loss (a max of
@@ -554,22 +590,7 @@ def symbolic_constants(
         per_tesla, worst = shared_heading_table(
             lambda h, k: s_all[h, k] / g[k], pattern, hs.headings
         )
-    conductivity, emissivity = b.parameter("hw.conductivity"), b.parameter("hw.emissivity")
-    packs = tuple(
-        WindingPack(
-            pack_width_m=q[k]["width_m"],
-            pack_depth_m=q[k]["depth_m"],
-            mean_radius_m=hw[f"{AXES[k]}.radius_m"],
-            packing_factor=packing,
-            conductivity_W_mK=conductivity,
-            heat_transfer_coefficient_W_m2K=hcoef,
-            emissivity=emissivity,
-            vertical_axis=AXES[k] == "z",
-            air_speed_m_s=b.parameter("hw.air_speed_m_s"),
-            convection=convection,
-        )
-        for k in range(3)
-    )
+    packs = _pack_symbols(b, hw, q, packing, hcoef, convection)
     body_d, body_l = b.parameter("body.diameter_m"), b.parameter("body.length_m")
     wire_sp = hw["spiral.wire_diameter_m"]
     d_mag, l_mag = hw["magnet.diameter_m"], hw["magnet.length_m"]

@@ -21,6 +21,15 @@ import numpy as np
 __all__ = ["CompiledNLP", "NLPBuilder", "Row", "Solution"]
 
 
+class SolveInterrupted(KeyboardInterrupt):
+    """IPOPT was stopped from outside mid-solve (CasADi turns an interrupt that arrives during a
+    solve into a status, ``NonIpopt_Exception_Thrown``); raised so the interrupt is not lost."""
+
+
+#: IPOPT statuses that mean the solve was stopped from outside, not that it failed.
+INTERRUPTED = ("NonIpopt_Exception_Thrown", "User_Requested_Stop")
+
+
 @dataclass(frozen=True)
 class Row:
     """One constraint row ``g <= 0``: its name, kind, unit and which way relaxing goes.
@@ -551,6 +560,8 @@ class CompiledNLP:
             kw["lam_g0"] = lam_g0
         sol = self.solver(x0=x0s, p=p, lbx=lo, ubx=hi, lbg=-np.inf, ubg=0.0, **kw)
         st = self.solver.stats()
+        if st["return_status"] in INTERRUPTED:
+            raise SolveInterrupted(str(st["return_status"]))
         return Solution(
             self,
             np.asarray(sol["x"]).ravel(),

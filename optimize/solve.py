@@ -14,9 +14,8 @@
 from __future__ import annotations
 
 import time
-from collections.abc import Callable
-from dataclasses import replace
-from typing import Any
+from dataclasses import dataclass, replace
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -159,135 +158,124 @@ def variable_bounds(model: DesignModel) -> dict[str, tuple[float, float]]:
     }
 
 
-class NoSolutionError(Exception):
-    """No start converged (``optimize_design(..., evaluate_failed=False)``): the iterations
-    spent, and nothing evaluated."""
-
-    def __init__(self, iterations: int) -> None:
-        super().__init__(f"no start converged ({iterations} iterations)")
-        self.iterations = iterations
-
-
-def warm_up(model: DesignModel) -> None:
-    """Compile the problem a warm-started solve of the fixed-hardware ``model`` uses (what
-    :func:`optimize_design` would compile on its first call; memoised by structure)."""
-    if model.scenarios is not None and model.scenarios.whole:  # working sets compile per size
-        return
-    compile_problem(structure_of(prepare(model), warm=True))
-
-
 # --- the solve --------------------------------------------------------------------------------
 
 
-def optimize_design(
-    model: DesignModel,
-    *,
-    warm_start: OptimizationResult | dict | None = None,
-    diagnose: bool = True,
-    grid_starts: bool = True,
-    frequency_bounds: bool = True,
-    progress: Callable[[str], None] | None = None,
-    evaluate_failed: bool = True,
-    scales: pb.Scales | None = None,
-    candidate: bool = False,
-) -> OptimizationResult:
-    """Best design of ``model`` for its objective; see the module notes.
+@dataclass(frozen=True)
+class SolveOptions:
+    """How :func:`solve_fixed` solves a design at fixed hardware.
 
-    ``progress``: called with the name of each stage of a sizing run (the continuous
-    relaxation's outer iterations, the discrete neighbours), for a progress line.
-
-    ``warm_start``: a result of a neighbouring problem (the previous sweep point), or a dict of
-    ``helical_angle``, ``frequency``, ``field_T`` (and ``t_value``); it is tried first and the
-    grid starts only if it fails. A model with free hardware (``model.sizing``) is sized by
-    :func:`optimize.discrete.size_design`. ``diagnose=False`` skips the relaxed problem that
-    says what is out of reach when nothing is feasible (the status is still 'infeasible');
-    ``grid_starts=False`` tries only the warm start (the discrete search's neighbours);
-    ``frequency_bounds=False`` leaves the evaluation's step-out and highest frequency NaN
-    (:func:`optimize.evaluate.evaluate`; neighbours compared by their objective only).
-    ``evaluate_failed=False`` (with ``diagnose=False``): when no start converges, raise
-    :class:`NoSolutionError` with the iterations spent instead of evaluating the model at its default
-    operating point for a result nobody reads (the discrete search's failed neighbours).
-    ``scales``: the NLP's reference field, torque, power and mass (default :func:`scales_for`
-    of ``model``, whose field capacity costs more than a neighbour's solve); the discrete
-    search passes the relaxation's, so each neighbour is scaled as the problem that found it.
-    ``candidate=True``: a result only ranked by its objective and feasibility (the discrete
-    search's neighbours, whose winner is solved again in full): evaluated at the solver's field
-    as a set field, without the field capacity of the limits (three quarters of a neighbour's
-    time); the objective agrees with the full result's to the solver's tolerance.
+    Parameters
+    ----------
+    diagnose : bool
+        When nothing is feasible, solve the relaxed problem that says what is out of reach
+        (False: the status is still 'infeasible').
+    grid_starts : bool
+        Try the grid starts when the warm start fails (False: the warm start alone).
+    frequency_bounds : bool
+        Search the evaluation's step-out and highest frequency (False: NaN; the rows of a
+        sweep and the ranking of sizing's neighbours need neither).
+    scales : Scales, optional
+        The NLP's reference field (T), torque (N·m), power (W) and mass (kg); default
+        :func:`scales_for` of the model (sizing passes the relaxation's).
+    candidate : bool
+        A result only ranked by its objective and feasibility (sizing's neighbours):
+        evaluated at the solver's field as a set field, without the field capacity of the
+        limits; the objective agrees with the full result's to the solver's tolerance.
     """
-    if model.sizing is not None and model.sizing.free:
-        from optimize.discrete import FixedHardwareSolver, size_design
 
-        solver = FixedHardwareSolver(
-            optimize_design,
-            _binding,
-            initial_points,
-            scales_for,
-            variable_bounds,
-            NoSolutionError,
-            warm_up,
-        )
-        return size_design(model, solver, progress)
-    if model.scenarios is not None and model.scenarios.whole:  # the scenarios that matter
-        from optimize.active_set import solve_over_scenarios
+    diagnose: bool = True
+    grid_starts: bool = True
+    frequency_bounds: bool = True
+    scales: pb.Scales | None = None
+    candidate: bool = False
 
-        def once(m: DesignModel, warm: Any) -> OptimizationResult:
-            return optimize_design(
-                m,
-                warm_start=warm,
-                diagnose=diagnose,
-                grid_starts=grid_starts,
-                frequency_bounds=frequency_bounds,
-                evaluate_failed=evaluate_failed,
-                scales=scales,
-                candidate=candidate,
-            )
 
-        t0 = time.perf_counter()
-        res = solve_over_scenarios(model, once, warm_start, grid_points)
-        return replace(res, solve_time_s=time.perf_counter() - t0)
-    t0 = time.perf_counter()
-    model = prepare(model)
-    scales = scales_for(model) if scales is None else scales
-    bounds = variable_bounds(model)
-    iterations, tried = 0, 0
-    best: Solution | None = None
-    candidates: list[tuple[Any, Any, bool]] = []
+def _warm_candidates(warm_start: OptimizationResult | dict | None) -> list[tuple[Any, Any, bool]]:
+    """(start, multipliers, warm) of a warm start: a dict of ``helical_angle``, ``frequency``,
+    ``field_T`` (``t_value``), or a neighbouring problem's result."""
     if isinstance(warm_start, dict):
-        candidates.append((dict(warm_start), None, True))
-    elif warm_start is not None and warm_start.solution_x:
-        candidates.append((dict(warm_start.solution_x), warm_start.solution_lam_g, True))
+        return [(dict(warm_start), None, True)]
+    if warm_start is not None and warm_start.solution_x:
+        return [(dict(warm_start.solution_x), warm_start.solution_lam_g, True)]
+    return []
+
+
+class _Search(NamedTuple):
+    best: Solution | None
+    grid: list[dict[str, float]]
+    iterations: int
+    tried: int
+
+
+def _search(model: DesignModel, scales: pb.Scales, warm_start: Any, grid_starts: bool) -> _Search:
+    """The warm start first (if any; a converged warm solve ends the search), then the grid
+    starts unless ``grid_starts`` is False; the best converged solve."""
+    bounds = variable_bounds(model)
+    candidates = _warm_candidates(warm_start)
+    iterations, tried, i = 0, 0, 0
+    best: Solution | None = None
     grid: list[dict[str, float]] | None = None
-    i = 0
     while True:
-        if i < len(candidates):
-            x0, lam0, warm = candidates[i]
-        else:
-            if best is not None and best.success:
+        if i >= len(candidates):
+            if (best is not None and best.success) or grid is not None:
                 break
-            if grid is None and (grid_starts or not candidates):
-                grid = initial_points(model, scales, model.bounds.starts)
-                candidates += [(x, None, False) for x in grid]
-                continue
-            break
+            if not grid_starts and candidates:
+                break
+            grid = initial_points(model, scales, model.bounds.starts)
+            candidates += [(x, None, False) for x in grid]
+            continue
+        x0, lam0, warm = candidates[i]
         i += 1
         problem = compile_problem(structure_of(model, warm=warm))
         p = problem.parameters(model, scales)
         if warm:
             x0 = {**x0, "field_scaled": x0["field_T"] / scales.field_T}
             x0["t"] = x0["t_value"] / _obj_scale(model, scales) if "t_value" in x0 else 0.0
-        sol = problem.nlp.solve(x0, p, bounds, lam_g0=lam0 if warm and lam0 is not None else None)
-        iterations += sol.iterations
-        tried += 1
+        sol = problem.nlp.solve(x0, p, bounds, lam_g0=lam0 if warm else None)
+        iterations, tried = iterations + sol.iterations, tried + 1
         if sol.success and (best is None or not best.success or sol.f < best.f):
             best = sol
         if warm and sol.success:
             break
+    return _Search(best, grid or [], iterations, tried)
+
+
+def solve_fixed(
+    model: DesignModel,
+    warm_start: OptimizationResult | dict | None = None,
+    options: SolveOptions = SolveOptions(),
+) -> OptimizationResult:
+    """Best operating point of ``model`` at its fixed hardware, for its objective (one NLP;
+    a model with a whole tissue-scenario set goes through
+    :func:`optimize.active_set.optimize_scenarios`).
+
+    Parameters
+    ----------
+    model : DesignModel
+        The design, SI; its hardware is fixed (``model.sizing`` is not read).
+    warm_start : OptimizationResult or dict, optional
+        A result of a neighbouring problem (the previous sweep point), or a dict of
+        ``helical_angle`` (rad), ``frequency`` (Hz), ``field_T`` (T) (and ``t_value``); tried
+        first, the grid starts only if it fails.
+    options : SolveOptions
+        What to search and evaluate.
+
+    Returns
+    -------
+    OptimizationResult
+        'optimal', or 'infeasible' with what is out of reach.
+    """
+    t0 = time.perf_counter()
+    model = prepare(model)
+    scales = scales_for(model) if options.scales is None else options.scales
+    found = _search(model, scales, warm_start, options.grid_starts)
+    best = found.best
+    how = (found.iterations, found.tried, t0)
     status_text = best.status if best is not None else "no start"
-    if (best is None or not best.success) and not diagnose:
-        if not evaluate_failed:
-            raise NoSolutionError(iterations)
-        ev = evaluate(model, frequency_bounds=frequency_bounds)
+    if (best is None or not best.success) and not options.diagnose:
+        ev = evaluate(model, frequency_bounds=options.frequency_bounds)
+        message = "infeasible: no start converged"
         return _result(
             model,
             "infeasible",
@@ -295,32 +283,46 @@ def optimize_design(
             (),
             (),
             status_text,
-            iterations,
-            tried,
-            t0,
-            "infeasible: no start converged",
+            *how,
+            message,
             objective_value=float("nan"),
             solution=None,
             field_set=False,
         )
     if best is None or not best.success:
-        return _infeasible(model, scales, grid or [], iterations, tried, t0, status_text)
+        return _infeasible(model, scales, found.grid, *how, status_text)
+    return _optimum(model, scales, best, found, options, t0)
+
+
+def _optimum(
+    model: DesignModel,
+    scales: pb.Scales,
+    best: Solution,
+    found: _Search,
+    options: SolveOptions,
+    t0: float,
+) -> OptimizationResult:
+    """The result at a converged optimum: evaluated, with what binds."""
     xs = best.values()
     alpha, f = xs["helical_angle"], xs["frequency"]
     field = xs["field_scaled"] * scales.field_T
     # the field ends below what the limits allow when the objective or a registered row says so
     # (a candidate: taken as set, its rows hold every limit to the solver's tolerance)
     capacity = (
-        field if candidate else float(margin_grid(model, alpha, f, capacity=True).field_amplitude_T)
+        field
+        if options.candidate
+        else float(margin_grid(model, alpha, f, capacity=True).field_amplitude_T)
     )
-    field_set = candidate or _minimises_power(model) or field < capacity * (1 - 1e-7)
+    field_set = options.candidate or _minimises_power(model) or field < capacity * (1 - 1e-7)
     # an explicit field only where the optimum's differs from the largest the limits allow (or
     # the model carries a set field the optimiser was free to move)
     given = field if field_set else (capacity if model.field_amplitude_T is not None else None)
-    ev = evaluate(model, alpha, f, field_amplitude_T=given, frequency_bounds=frequency_bounds)
+    ev = evaluate(
+        model, alpha, f, field_amplitude_T=given, frequency_bounds=options.frequency_bounds
+    )
+    how = (found.iterations, found.tried, t0)
     if not ev.feasible:
-        return _infeasible(model, scales, grid or [], iterations, tried, t0, status_text, ev)
-    binding = _binding(model, scales, best)
+        return _infeasible(model, scales, found.grid, *how, best.status, ev)
     x_named = {
         **{k: v for k, v in xs.items() if k not in ("field_scaled", "t")},  # + hooks' variables
         "field_T": field,
@@ -330,12 +332,10 @@ def optimize_design(
         model,
         "optimal",
         ev,
-        binding,
+        binding(model, scales, best),
         (),
-        status_text,
-        iterations,
-        tried,
-        t0,
+        best.status,
+        *how,
         "optimal: every requirement met inside every limit",
         objective_value=_objective_value(model, ev, best.f, scales),
         solution=(x_named, best.lam_g),
@@ -369,7 +369,7 @@ def _objective_value(
     return ev.margin_Nm
 
 
-def _binding(
+def binding(
     model: DesignModel,
     scales: pb.Scales,
     sol: Solution,
@@ -377,12 +377,37 @@ def _binding(
 ) -> tuple[BindingLimit, ...]:
     """Active rows and bounds with their sensitivities d objective / d allowed (SI).
 
-    ``extra_bounds``: boxes of further variables (free hardware, named ``<name>@max``/``@min``).
+    Parameters
+    ----------
+    model : DesignModel
+        The design the NLP was built for, SI.
+    scales : Scales
+        The NLP's reference field (T), torque (N·m), power (W) and mass (kg).
+    sol : Solution
+        A converged solve.
+    extra_bounds : dict, optional
+        Boxes of further variables (free hardware, SI: m, turns), reported as
+        ``<name>@max``/``@min``.
+
+    Returns
+    -------
+    tuple of BindingLimit
+        Each binding row or bound: its value and allowed value (SI, temperatures in °C) and
+        the gain of the objective per unit of the allowed value.
     """
     spec = pb.OBJECTIVES[model.bounds.objective]
     k = spec.sense * _obj_scale(model, scales)  # U = -sense * scale * F
     if model.bounds.objective == "copper_mass" and not extra_bounds:
         k = 0.0  # fixed hardware: no limit moves the copper (F's power term only picks a field)
+    return _row_bindings(model, sol, k, spec.sense) + _bound_bindings(
+        model, sol, k, spec.sense, extra_bounds or {}
+    )
+
+
+def _row_bindings(
+    model: DesignModel, sol: Solution, k: float, sense: float
+) -> tuple[BindingLimit, ...]:
+    """The binding rows (``k``: d U / d F, the objective's scale and sense)."""
     allowed, _, value = sol.allowed()
     sens = sol.row_sensitivities()
     amb = float(model.ambient_temperature_C)
@@ -396,10 +421,22 @@ def _binding(
         if row.kind == "limit" and unit == "K":  # a temperature rise: the temperature, °C
             unit, v, a = "°C", v + amb, a + amb
         gain = float(-k * sens[i]) if k else 0.0  # no -0.0 where nothing moves
-        out.append(BindingLimit(row.name, unit, v, a, gain, row.relax_sign, spec.sense))
-    box = {**variable_bounds(model), **(extra_bounds or {})}
+        out.append(BindingLimit(row.name, unit, v, a, gain, row.relax_sign, sense))
+    return tuple(out)
+
+
+def _bound_bindings(
+    model: DesignModel,
+    sol: Solution,
+    k: float,
+    sense: float,
+    extra_bounds: dict[str, tuple[float, float]],
+) -> tuple[BindingLimit, ...]:
+    """The variables at a bound of their box (angle, frequency, free hardware)."""
+    box = {**variable_bounds(model), **extra_bounds}
     named = [("helical_angle", "rad"), ("frequency", "Hz")]
-    named += [(n, "turns" if n.endswith("turns") else "m") for n in (extra_bounds or {})]
+    named += [(n, "turns" if n.endswith("turns") else "m") for n in extra_bounds]
+    out = []
     for name, unit in named:
         lam = sol.bound_multiplier(name)  # d F / d ub = -lam (per physical unit)
         if abs(lam) < 1e-9 / sol.nlp.variables[sol.nlp.var_index[name]].ref:
@@ -407,7 +444,7 @@ def _binding(
         lo, hi = box[name]
         x = sol.value(name)
         at_hi = abs(x - hi) < abs(x - lo)
-        sep = "@" if name in (extra_bounds or {}) else "_"
+        sep = "@" if name in extra_bounds else "_"
         out.append(
             BindingLimit(
                 f"{name}{sep}{'max' if at_hi else 'min'}",
@@ -416,7 +453,7 @@ def _binding(
                 float(hi if at_hi else lo),
                 float(k * lam),
                 1.0 if at_hi else -1.0,
-                spec.sense,
+                sense,
             )
         )
     return tuple(out)
@@ -436,19 +473,9 @@ def _binds(value: float, allowed: float, g: float, lam: float) -> bool:
 
 def _infeasible(model, scales, starts, iterations, tried, t0, status_text, ev=None):
     """Solve the relaxed problem and report which requirement is out of reach, by how much."""
-    problem = compile_problem(structure_of(model, relaxed=True))
-    p = problem.parameters(model, scales)
-    bounds = {**variable_bounds(model), "t": (0.0, 0.0)}
-    starts = starts or initial_points(model, scales, model.bounds.starts)
-    best = None
-    slacks = [v.name for v in problem.nlp.variables if v.name.startswith("slack")]
-    for x0 in starts:
-        sol = problem.nlp.solve({**x0, "t": 0.0, **dict.fromkeys(slacks, 1.0)}, p, bounds)
-        iterations += sol.iterations
-        tried += 1
-        if best is None or sol.f < best.f:
-            best = sol
-    assert best is not None  # at least one start
+    best, spent = _relaxed_optimum(model, scales, starts)
+    iterations += spent
+    tried += len(starts or initial_points(model, scales, model.bounds.starts))
     xs = best.values()
     alpha, f = xs["helical_angle"], xs["frequency"]
     capacity = float(margin_grid(model, alpha, f, capacity=True).field_amplitude_T)
@@ -468,15 +495,7 @@ def _infeasible(model, scales, starts, iterations, tried, t0, status_text, ev=No
     if not shortfalls and ev.feasible:
         # the relaxed optimum meets everything (IPOPT failed from the grid starts for another
         # reason): start the problem itself there
-        warm = {
-            "helical_angle": alpha,
-            "frequency": f,
-            "field_T": ev.field_amplitude_T,
-            "t_value": _objective_value(model, ev) if not _minimises_power(model) else 0.0,
-        }
-        if model.bounds.objective not in ("margin", "ratio"):
-            warm.pop("t_value")
-        again = optimize_design(model, warm_start=warm, diagnose=False, grid_starts=False)
+        again = _from_relaxed_optimum(model, ev, alpha, f)
         if again.status == "optimal":
             return replace(again, iterations=again.iterations + iterations)
     if not shortfalls:  # IPOPT failed for another reason: say where it stopped, with numbers
@@ -498,6 +517,42 @@ def _infeasible(model, scales, starts, iterations, tried, t0, status_text, ev=No
         solution=None,
         field_set=field is not None,
     )
+
+
+def _relaxed_optimum(
+    model: DesignModel, scales: pb.Scales, starts: list[dict[str, float]]
+) -> tuple[Solution, int]:
+    """The relaxed problem (slacks on the requirements) from each start: the best solve, and
+    the iterations spent."""
+    problem = compile_problem(structure_of(model, relaxed=True))
+    p = problem.parameters(model, scales)
+    bounds = {**variable_bounds(model), "t": (0.0, 0.0)}
+    starts = starts or initial_points(model, scales, model.bounds.starts)
+    best, iterations = None, 0
+    slacks = [v.name for v in problem.nlp.variables if v.name.startswith("slack")]
+    for x0 in starts:
+        sol = problem.nlp.solve({**x0, "t": 0.0, **dict.fromkeys(slacks, 1.0)}, p, bounds)
+        iterations += sol.iterations
+        if best is None or sol.f < best.f:
+            best = sol
+    assert best is not None  # at least one start
+    return best, iterations
+
+
+def _from_relaxed_optimum(
+    model: DesignModel, ev: Any, alpha: float, f: float
+) -> OptimizationResult:
+    """The problem itself, warm-started at the relaxed optimum (angle ``alpha``, rad, and
+    frequency ``f``, Hz) and its evaluation ``ev``."""
+    warm = {
+        "helical_angle": alpha,
+        "frequency": f,
+        "field_T": ev.field_amplitude_T,
+        "t_value": _objective_value(model, ev) if not _minimises_power(model) else 0.0,
+    }
+    if model.bounds.objective not in ("margin", "ratio"):
+        warm.pop("t_value")
+    return solve_fixed(model, warm, SolveOptions(diagnose=False, grid_starts=False))
 
 
 def _hook_shortfalls(sol: Solution) -> tuple[Shortfall, ...]:

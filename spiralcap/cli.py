@@ -202,10 +202,13 @@ def main(argv: list[str] | None = None) -> int:
             file=sys.stderr,
         )
         return 2
-    except KeyboardInterrupt as exc:  # Ctrl-C, or SIGTERM/SIGHUP (parallel.Terminated)
+    except KeyboardInterrupt as exc:  # Ctrl-C, or SIGTERM/SIGHUP (stopping.Terminated)
         import signal
 
-        signum = int(getattr(exc, "signum", signal.SIGINT))
+        from spiralcap.stopping import requested
+
+        # inside IPOPT the signal ends the solve, which raises its own KeyboardInterrupt
+        signum = int(getattr(exc, "signum", 0) or requested() or signal.SIGINT)
         name = signal.Signals(signum).name
         what = "interrupted" if signum == signal.SIGINT else f"stopped by {name}"
         print(f"spiralcap {args.command}: {what}", file=sys.stderr)
@@ -230,31 +233,19 @@ def _discard_stdout() -> None:
 
 
 def console() -> None:  # pragma: no cover -- the installed ``spiralcap`` command
-    """The ``spiralcap`` command: :func:`main`, then exit without a last garbage collection.
-
-    At exit CPython collects cyclic garbage over every live object (CasADi graphs, matplotlib
-    artists): about 0.05 s after ``optimize`` and 0.25 s after ``report``. By then the command's
-    output is written and its files closed, so the objects are frozen (``gc.freeze``) and left
-    to the operating system (:data:`spiralcap.runtime.ONE_SHOT`). Only the command does this;
-    :func:`main` called from Python does not.
-    """
-    import gc
+    """The ``spiralcap`` command: :func:`main` with SIGTERM and SIGHUP stopping it like Ctrl-C
+    (:mod:`spiralcap.stopping`), BLAS single-threaded, then exit with its status."""
     import os
 
-    from spiralcap import runtime
-
-    runtime.ONE_SHOT = True
     # spiralcap's matrices are small: extra BLAS threads would only spin after each call (a
     # third of the CPU time of `optimize`) and take a core from the report's worker processes.
     # Set before numpy is first imported; a value the user set is kept.
     for var in ("OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
         os.environ.setdefault(var, "1")
-    from spiralcap.parallel import stop_on_signals
+    from spiralcap.stopping import stop_on_signals
 
     stop_on_signals()  # SIGTERM, SIGHUP unwind like Ctrl-C: workers stopped, nothing half-written
-    status = main()
-    gc.freeze()
-    sys.exit(status)
+    sys.exit(main())
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -84,35 +84,33 @@ def _row(quantity: str, si_unit: str, values: Sequence[Any]) -> Row:
     return Row(quantity, si_unit, vals, _differs(vals))
 
 
+#: The evaluation's own rows: (quantity, SI unit, attribute of the evaluation).
+_EVALUATION_ROWS = (
+    ("helical angle", "deg", "helical_angle_deg"),
+    ("rotation frequency", "Hz", "frequency_hz"),
+    ("torque margin", "N·m", "margin_Nm"),
+    ("safety factor", "", "safety_factor"),
+    ("rotating field at the centre", "T", "field_amplitude_T"),
+    ("field limited by", "", "field_limited_by"),
+    ("magnetic torque", "N·m", "magnetic_torque_Nm"),
+    ("required torque", "N·m", "required_torque_Nm"),
+    ("forward speed", "m/s", "speed_m_s"),
+    ("step-out frequency", "Hz", "step_out_frequency_hz"),
+    ("drive's maximum frequency", "Hz", "max_frequency_hz"),
+)
+
+
 def evaluation_rows(evaluations: Sequence[Any]) -> tuple[Row, ...]:
     """Margin, safety factor, field, torques, speed, step-out and every check, per design."""
     rows = [
-        _row("helical angle", "deg", [e.helical_angle_deg for e in evaluations]),
-        _row("rotation frequency", "Hz", [e.frequency_hz for e in evaluations]),
-        _row("torque margin", "N·m", [e.margin_Nm for e in evaluations]),
-        _row("safety factor", "", [e.safety_factor for e in evaluations]),
-        _row("rotating field at the centre", "T", [e.field_amplitude_T for e in evaluations]),
-        _row("field limited by", "", [e.field_limited_by for e in evaluations]),
-        _row("magnetic torque", "N·m", [e.magnetic_torque_Nm for e in evaluations]),
-        _row("required torque", "N·m", [e.required_torque_Nm for e in evaluations]),
-        _row("forward speed", "m/s", [e.speed_m_s for e in evaluations]),
-        _row("step-out frequency", "Hz", [e.step_out_frequency_hz for e in evaluations]),
-        _row("drive's maximum frequency", "Hz", [e.max_frequency_hz for e in evaluations]),
+        _row(quantity, unit, [getattr(e, name) for e in evaluations])
+        for quantity, unit, name in _EVALUATION_ROWS
     ]
     for k, axis in enumerate("xyz"):
         rows.append(
             _row(f"current, {axis} pair", "A", [e.current_amplitudes_A[k] for e in evaluations])
         )
-    names: list[str] = []
-    for e in evaluations:
-        for c in e.checks:
-            if (
-                c.name not in names
-                and c.name not in ("margin", "speed")
-                and not (c.name.startswith("current_"))
-            ):
-                names.append(c.name)
-    for name in names:
+    for name in _check_names(evaluations):
         found = [next((c for c in e.checks if c.name == name), None) for e in evaluations]
         unit = next(c.unit for c in found if c is not None)
         label = (
@@ -123,6 +121,18 @@ def evaluation_rows(evaluations: Sequence[Any]) -> tuple[Row, ...]:
         rows.append(_row(label, unit, [None if c is None else c.value for c in found]))
     rows.append(_row("feasible", "", [e.feasible for e in evaluations]))
     return tuple(rows)
+
+
+def _check_names(evaluations: Sequence[Any]) -> list[str]:
+    """The checks of any of the evaluations, in first-seen order, but the margin, the speed
+    and the currents (rows of their own)."""
+    names: list[str] = []
+    for e in evaluations:
+        for c in e.checks:
+            own_row = c.name in ("margin", "speed") or c.name.startswith("current_")
+            if c.name not in names and not own_row:
+                names.append(c.name)
+    return names
 
 
 def objective_text(result: Any) -> str:

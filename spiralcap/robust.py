@@ -89,9 +89,8 @@ class RobustCheck:
 def robust_optimum(design: Any, samples: int = OUT_OF_SAMPLE) -> RobustCheck:
     """Solve the design over its scenarios, then check it on ``samples`` fresh tissues.
 
-    The deterministic optimum and its fresh-sample check are independent of the robust solve:
-    where a second core is free they run in a forked process meanwhile (the same computation,
-    the same bits; :class:`spiralcap.parallel.Forked`).
+    The deterministic optimum and its fresh-sample check follow (running them in a forked
+    process meanwhile saved 12 % of the command: not kept, docs/architecture.md).
     """
     from optimize import optimize_design
     from optimize import robust as rb
@@ -105,22 +104,13 @@ def robust_optimum(design: Any, samples: int = OUT_OF_SAMPLE) -> RobustCheck:
         det = optimize_design(det_model)
         return det, _fresh(design, det, samples, fresh)
 
-    model = robust_model(design, base)  # bad input is named here, before any fork
-    # objective "margin" with a step-out row: the robust solve starts with this very optimum
-    child = _fork(deterministic) if design["optimize.objective"] != "margin" else None
-    try:
-        res = optimize_design(model)
-        oos = _fresh(design, res, samples, fresh)
-    except BaseException:
-        if child is not None:
-            child.cancel()
-        raise
+    model = robust_model(design, base)
+    res = optimize_design(model)
+    oos = _fresh(design, res, samples, fresh)
     if res.scenario_solve is not None and res.scenario_solve.skipped:
-        if child is not None:
-            child.cancel()
         det, det_oos = res, oos  # the step-out row cannot bind: the deterministic optimum
     else:
-        det, det_oos = child.result() if child is not None else deterministic()
+        det, det_oos = deterministic()
     own = model if res.hardware is None else robust_model(*_as_built(design, res))
     return RobustCheck(
         result=res,
@@ -132,17 +122,6 @@ def robust_optimum(design: Any, samples: int = OUT_OF_SAMPLE) -> RobustCheck:
         objective=model.bounds.objective,
         max_stepout_probability=model.scenarios.max_stepout_probability,
     )
-
-
-def _fork(fn: Any) -> Any:
-    """``fn`` in a forked process if this one may fork and a second core is there, else None."""
-    import multiprocessing
-
-    from spiralcap.parallel import Forked, available_cores, can_fork
-
-    if not can_fork() or available_cores() < 2 or multiprocessing.current_process().daemon:
-        return None
-    return Forked(fn)
 
 
 def _as_built(design: Any, res: Any) -> tuple[Any, Any]:

@@ -259,30 +259,6 @@ def test_filament_order_does_not_matter(nested_system) -> None:
     assert np.allclose(fs.field_matrix(pts), shuffled.field_matrix(pts), rtol=1e-13, atol=1e-18)
 
 
-@pytest.mark.parametrize("threads", [2, 3])
-def test_threaded_batch_is_bit_identical_to_one_thread(monkeypatch, threads) -> None:
-    """A large batch runs its chunks on a thread pool: every chunk is the same computation
-    whichever thread runs it, so the field and the field matrix equal one thread's bit for bit
-    (an uneven last chunk included)."""
-    import coils.filaments as cf
-
-    system = coils.ThreeAxisHelmholtz(
-        coils.HelmholtzPair(0.4, 400, "x"),
-        coils.HelmholtzPair(0.35, 350, "y"),
-        coils.HelmholtzPair(0.3, 300, "z"),
-    )
-    points = np.random.default_rng(4).uniform(-0.2, 0.2, (70_001, 3))
-    currents = np.array([1.3, -0.7, 2.1])
-    monkeypatch.setattr(cf, "THREADS", 1)
-    one = system.field(points, currents)
-    one_g = system.field_matrix(points[:40_000])
-    monkeypatch.setattr(cf, "THREADS", threads)
-    many = system.field(points, currents)
-    many_g = system.field_matrix(points[:40_000])
-    assert np.array_equal(one, many), f"{threads} threads: field equals one thread's bit for bit"
-    assert np.array_equal(one_g, many_g), "field matrix: same bits on threads"
-
-
 def _thick_solenoid_centre_field(pair: coils.HelmholtzPair) -> float:
     """Centre field per ampere of the two packs with uniform current density, closed form.
 

@@ -1,7 +1,7 @@
 """``--dask`` to a scheduler with no workers (issue 22): a one-line error, exit 2, in bounded time.
 
 A scheduler that answers but has no worker (none started yet), and one whose only worker is
-killed mid-run: the command waits :data:`spiralcap.parallel.NO_WORKERS_S` seconds for a worker,
+killed mid-run: the command waits :data:`spiralcap.dask_cluster.NO_WORKERS_S` seconds for a worker,
 then says so; it never waits forever. The command runs as a process (its exit status and stderr
 are the promise); the scheduler is a LocalCluster in this process, on ports the OS picks.
 """
@@ -16,7 +16,7 @@ from pathlib import Path
 import pytest
 from proc_util import SPIRALCAP
 
-from spiralcap.parallel import NO_WORKERS_S
+from spiralcap.dask_cluster import NO_WORKERS_S
 
 distributed = pytest.importorskip("distributed")
 

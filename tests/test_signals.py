@@ -111,16 +111,18 @@ def test_workers_of_a_killed_parent_die_too(tmp_path: Path) -> None:
 
 
 @pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGKILL])
-def test_forked_children_die_with_the_command(tmp_path: Path, sig: int) -> None:
-    """The report's forked workers (``map_forked``, ``Forked``), as the command runs them."""
+def test_pool_workers_die_with_the_command(tmp_path: Path, sig: int) -> None:
+    """The workers of a process pool (the report's forked drawing, sizing's neighbours), as the
+    command runs them: a closure each (:func:`spiralcap.parallel.inherited`)."""
     script = textwrap.dedent(
         """
         import sys, time
-        from spiralcap.parallel import Forked, map_forked, stop_on_signals
+        from spiralcap.parallel import inherited, process_pool
+        from spiralcap.stopping import stop_on_signals
         stop_on_signals()
         try:
-            job = Forked(time.sleep, 600)
-            map_forked(lambda i: time.sleep(600), list(range(4)), 3)
+            with inherited(lambda i: time.sleep(600)) as nap, process_pool(3) as pool:
+                list(pool.map(nap, range(4)))
         except KeyboardInterrupt as exc:
             print("stopped", exc.signum, file=sys.stderr)
             sys.exit(1)
@@ -130,3 +132,122 @@ def test_forked_children_die_with_the_command(tmp_path: Path, sig: int) -> None:
     err = _stop_and_check(proc, sig, workers=3, after_s=1.0)
     if sig == signal.SIGTERM:
         assert err.strip() == f"stopped {int(sig)}", err
+
+
+#: A re-optimising sweep without --workers: every solve runs in the command's own process, so
+#: a signal mostly lands inside IPOPT. (A 40-point sweep ends in about 1.6 s, before 3 s: the
+#: grid is 40 x 40 points so that the command still runs 9 s in.)
+LONG_SWEEP = [
+    "sweep",
+    "--optimize",
+    "--over",
+    "limits.power_W=300:3000:40",
+    "--over",
+    "limits.current_A=5:30:40",
+    "--csv",
+    "out.csv",
+]
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("after_s", [3.0, 6.0, 9.0])
+def test_sigterm_inside_ipopt_ends_the_sweep_within_5_s(tmp_path: Path, after_s: float) -> None:
+    """SIGTERM reaches a solve in IPOPT (CasADi turns it into a status the NLP layer raises as
+    :class:`optimize.nlp.SolveInterrupted`): the command ends within 5 s, exit 128 + 15, says
+    so on its last stderr line, writes nothing and leaves no process."""
+    proc = _start([*SPIRALCAP, *LONG_SWEEP], tmp_path)
+    t0 = time.monotonic()
+    time.sleep(after_s)
+    assert proc.poll() is None, f"the sweep still runs {after_s} s in"
+    os.kill(proc.pid, signal.SIGTERM)
+    t_sent = time.monotonic()
+    try:
+        ended = _poll(lambda: proc.poll() is not None and not _group(proc.pid), 5.0)
+        took = time.monotonic() - t_sent
+        assert ended, f"still running 5 s after SIGTERM at {after_s} s: {_group(proc.pid)}"
+    finally:
+        for pid in _group(proc.pid):
+            os.kill(pid, signal.SIGKILL)
+        _, err = proc.communicate(timeout=30)
+    assert proc.returncode == 128 + signal.SIGTERM, f"exit 143 ({err})"
+    assert err.strip().splitlines()[-1] == "spiralcap sweep: stopped by SIGTERM", err
+    assert list(tmp_path.iterdir()) == [], f"nothing written ({took:.1f} s after the signal)"
+    assert t_sent - t0 >= after_s
+
+
+def _first_child(pid: int, timeout_s: float) -> int | None:
+    """A live child process of ``pid`` (a pool worker), once one runs."""
+    found: list[int] = []
+
+    def look() -> bool:
+        found[:] = [p for p in _group(pid) if p != pid]
+        return bool(found) or _group(pid) == []
+
+    _poll(look, timeout_s)
+    return found[0] if found else None
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(
+    ("argv", "what"),
+    [
+        (
+            [
+                "uncertainty",
+                "--set",
+                "tissue.uncertainty.scale_sigma_log=0.3",
+                "--samples",
+                "4000000",
+                "--workers",
+                "2",
+                "--plot",
+                "out.png",
+            ],
+            "uncertainty",
+        ),
+        (
+            [
+                "sweep",
+                "--optimize",
+                "--over",
+                "limits.power_W=300:3000:40",
+                "--over",
+                "limits.current_A=5:30:40",
+                "--workers",
+                "2",
+                "--csv",
+                "out.csv",
+            ],
+            "sweep",
+        ),
+    ],
+    ids=["uncertainty worker", "sweep worker"],
+)
+def test_a_worker_killed_from_outside_is_one_line(tmp_path: Path, argv: list[str], what: str):
+    """SIGKILL of an uncertainty or a sweep worker: one line on stderr naming what happened, a
+    non-zero exit, no traceback, nothing written, no process left. (Sizing has no helper
+    process since issue 27: ``spiralcap optimize`` runs it here.)"""
+    proc = subprocess.Popen(
+        [*SPIRALCAP, *argv],
+        cwd=tmp_path,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        start_new_session=True,
+    )
+    try:
+        child = _first_child(proc.pid, 60)
+        assert child is not None, "a worker process started"
+        os.kill(child, signal.SIGKILL)
+        out, err = proc.communicate(timeout=60)
+    finally:
+        for pid in _group(proc.pid):
+            os.kill(pid, signal.SIGKILL)
+    assert proc.returncode not in (0, None), f"a non-zero exit ({err})"
+    lines = err.strip().splitlines()
+    assert lines == [
+        f"spiralcap {what}: error: a worker process was killed from outside; no result written"
+    ], err
+    assert "Traceback" not in err and out == "", "no traceback, no output"
+    assert list(tmp_path.iterdir()) == [], "nothing written"
+    assert _poll(lambda: not _group(proc.pid), 10), "no process left"

@@ -13,6 +13,7 @@ import coils
 from optimize import hardware as hw
 from optimize import optimize_design, prepare
 from optimize.discrete import buildable
+from optimize.solve import SolveOptions, solve_fixed
 from spiralcap.assemble import build_model
 from spiralcap.cli import main
 from spiralcap.constants import COPPER_DENSITY_kg_m3, MU0_T_m_per_A
@@ -109,7 +110,8 @@ def test_discrete_x_pair_is_standard_and_beats_a_brute_force_grid(model, x_sized
             if m is None:
                 continue
             # the step-out searches change no margin (tests/test_fast_paths.py): skipped
-            r = optimize_design(m, warm_start=warm, diagnose=False, frequency_bounds=False)
+            how = SolveOptions(diagnose=False, frequency_bounds=False)
+            r = solve_fixed(m, warm, how)
             if r.status == "optimal":
                 best_grid = max(best_grid, r.margin_Nm)
     assert res.margin_Nm >= best_grid * (1 - 1e-9), (

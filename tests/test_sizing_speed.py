@@ -3,10 +3,11 @@
 - the neighbours' buildability decided by a proven clearance bound first is the answer of every
   exact check (``build_checks``), on designs that pass by the bound, need the exact distance,
   and fail;
-- the frozen factors' settling rule ends the outer loop before ``_OUTER_MAX`` rounds and the
+- the frozen factors' settling rule ends the outer loop before ``SizingOptions.outer_max`` rounds and the
   sized design is the one the strict rule (every round run) finds;
-- neighbours solved on a standby helper (which compiled their problem while the relaxation ran)
-  give the result of the same search in this process, bit for bit, for every objective;
+- neighbours solved on a process pool (which compiled their problem while the relaxation ran)
+  give the result of the same search in this process, bit for bit (every neighbour ranked, and
+  the first feasible one ending the search);
 - a neighbour ranked as a candidate (no field capacity, no step-out search) has the objective
   and status of its full solve.
 """
@@ -18,6 +19,7 @@ import pytest
 from optimize import discrete, optimize_design, prepare
 from optimize import hardware as hw
 from optimize.buildcheck import build_checks, buildable_ok
+from optimize.solve import SolveOptions, solve_fixed
 from spiralcap.assemble import build_model
 from spiralcap.design import load_design
 
@@ -62,8 +64,9 @@ def test_settled_sizing_is_the_strict_rules_design(model, monkeypatch):
     monkeypatch.setattr(discrete, "_OUTER_RTOL", 1e-9)
     monkeypatch.setattr(discrete, "_DELTA_ATOL_m", 0.0)  # the rule before: never settled
     strict = optimize_design(sized)
-    assert strict.hardware.outer_iterations == discrete._OUTER_MAX
-    assert fast.hardware.outer_iterations < discrete._OUTER_MAX, "settled early"
+    outer_max = discrete.SizingOptions().outer_max
+    assert strict.hardware.outer_iterations == outer_max
+    assert fast.hardware.outer_iterations < outer_max, "settled early"
     assert fast.hardware.discrete == strict.hardware.discrete, "the same sized design"
     assert fast.objective_value == pytest.approx(strict.objective_value, rel=1e-9), (
         "the same discrete optimum (its operating point solved from a relaxation 1e-7 apart)"
@@ -74,71 +77,30 @@ def test_settled_sizing_is_the_strict_rules_design(model, monkeypatch):
         )
 
 
-def test_failed_neighbours_skipped_evaluation_changes_nothing(model, monkeypatch):
-    """Failed neighbours are not evaluated (their result is never read): the sized design, its
-    operating point, its iterations and its every number are bit for bit those of the long way,
-    with fewer evaluations."""
-    from optimize import solve
-
-    m = replace(
-        model,
-        bounds=replace(model.bounds, objective="copper_mass"),
-        requirements=replace(model.requirements, min_safety_factor=3.0),
-        sizing=hw.Sizing(SIX[:2]),
-    )
-    monkeypatch.setattr(discrete, "_MAPPER", [None])  # in this process: count the evaluations
-    monkeypatch.setattr(discrete, "_STANDBY", [None])
-    monkeypatch.setattr(discrete, "SCREEN", False)  # every failed neighbour reaches its NLP
-    calls = [0]
-    real = solve.evaluate
-
-    def counted(*args, **kwargs):
-        calls[0] += 1
-        return real(*args, **kwargs)
-
-    monkeypatch.setattr(solve, "evaluate", counted)
-    fast = optimize_design(m)
-    fast_calls = calls[0]
-    monkeypatch.setattr(discrete, "SKIP_FAILED_EVALUATION", False)
-    calls[0] = 0
-    slow = optimize_design(m)
-    h = fast.hardware
-    assert fast.status == "optimal" and h.candidates > h.feasible, "some neighbours fail"
-    assert fast_calls < calls[0], f"fewer evaluations ({fast_calls} against {calls[0]})"
-    same = replace(fast, solve_time_s=0.0, evaluation=None)
-    assert same == replace(slow, solve_time_s=0.0, evaluation=None), "the same result, bit for bit"
-    assert repr(fast.evaluation) == repr(slow.evaluation), "the same evaluation, bit for bit"
-
-
-def _serial(monkeypatch):
-    monkeypatch.setattr(discrete, "_MAPPER", [None])
-    monkeypatch.setattr(discrete, "_STANDBY", [None])
-
-
 @pytest.mark.parametrize(
-    ("objective", "free"), [("margin", SIX), ("power", SIX[:4]), ("copper_mass", SIX[:2])]
+    # every neighbour ranked, and the first feasible one in copper order ending the search
+    ("objective", "free"),
+    [("margin", SIX), ("copper_mass", SIX[:2])],
 )
-def test_standby_helper_gives_this_process_result_bit_for_bit(model, monkeypatch, objective, free):
-    from spiralcap.parallel import available_cores, can_fork
+def test_neighbours_on_a_process_pool_give_this_process_result_bit_for_bit(model, objective, free):
+    from spiralcap.parallel import can_fork, process_pool
 
-    if not can_fork() or available_cores() < 2:
-        pytest.skip("the standby helper needs fork and a second core")
+    if not can_fork():
+        pytest.skip("the process pool needs fork")
     m = replace(model, bounds=replace(model.bounds, objective=objective), sizing=hw.Sizing(free))
-    assert discrete._STANDBY[0] is not None, "the application runs neighbours on a helper"
-    spread = optimize_design(m)
-    _serial(monkeypatch)
+    with process_pool(2) as pool:
+        spread = optimize_design(m, executor=pool)
     here = optimize_design(m)
     assert spread.status == "optimal", f"{objective}: sized"
     assert replace(spread, solve_time_s=0.0) == replace(here, solve_time_s=0.0), (
-        f"{objective}: the same sized result on a standby helper and its sibling as in this "
-        "process, bit for bit"
+        f"{objective}: the same sized result with the neighbours on two forked workers as in "
+        "this process, bit for bit"
     )
 
 
 def test_candidate_neighbours_rank_as_their_full_solves(model, monkeypatch):
     """Each buildable neighbour's candidate result (evaluated at the solver's field) has the
     status of its full solve and its objective to 1e-9 relative (IPOPT's tolerance 1e-10)."""
-    _serial(monkeypatch)
     seen = []
     real = discrete._attempt
 
@@ -153,10 +115,11 @@ def test_candidate_neighbours_rank_as_their_full_solves(model, monkeypatch):
         m = discrete.buildable(ctx.fixed_model, {**ctx.relaxed, **combo}, ctx.min_bore_m)
         if m is None:
             continue
-        kw = {"warm_start": ctx.warm, "diagnose": False, "grid_starts": False}
-        kw |= {"frequency_bounds": False, "scales": ctx.scales}
-        full = optimize_design(m, **kw)
-        quick = optimize_design(m, candidate=True, **kw)
+        how = SolveOptions(
+            diagnose=False, grid_starts=False, frequency_bounds=False, scales=ctx.scales
+        )
+        full = solve_fixed(m, ctx.warm, how)
+        quick = solve_fixed(m, ctx.warm, replace(how, candidate=True))
         assert quick.status == full.status, f"{combo}: the status of the full solve"
         if full.status == "optimal":
             assert quick.objective_value == pytest.approx(full.objective_value, rel=1e-9), (
@@ -205,9 +168,6 @@ def test_screen_rules_out_only_neighbours_the_nlp_cannot_solve(copper, monkeypat
     screen rules out is feasible, and the screen rules out most of the infeasible ones."""
     from optimize.screen import least_required_torque_Nm, out_of_reach
 
-    _serial(monkeypatch)
-    monkeypatch.setattr(discrete, "SCREEN", False)
-    monkeypatch.setattr(discrete, "BATCH", 1000)  # every neighbour, not only up to the winner
     seen = []
     real = discrete._attempt
 
@@ -218,7 +178,9 @@ def test_screen_rules_out_only_neighbours_the_nlp_cannot_solve(copper, monkeypat
 
     monkeypatch.setattr(discrete, "_attempt", keep)
     m = replace(copper, requirements=replace(copper.requirements, min_safety_factor=sf))
-    optimize_design(replace(m, sizing=hw.Sizing(free)))
+    # every neighbour, not only up to the winner, each solved in full
+    options = discrete.SizingOptions(batch=1000, screen=False)
+    discrete.size_design(replace(m, sizing=hw.Sizing(free)), options=options)
     least = least_required_torque_Nm(m)
     screened = infeasible = 0
     for ctx, combo, res in seen:
@@ -234,14 +196,12 @@ def test_screen_rules_out_only_neighbours_the_nlp_cannot_solve(copper, monkeypat
     assert screened >= 0.8 * infeasible, f"most ruled out ({screened} of {infeasible})"
 
 
-def test_screened_sizing_is_the_unscreened_one(copper, monkeypatch):
+def test_screened_sizing_is_the_unscreened_one(copper):
     """The screen changes what is solved, not the answer: the same sized hardware, objective
     and evaluation bit for bit (only the iterations spent differ)."""
-    _serial(monkeypatch)
     m = replace(copper, sizing=hw.Sizing(SIX))
     fast = optimize_design(m)
-    monkeypatch.setattr(discrete, "SCREEN", False)
-    slow = optimize_design(m)
+    slow = discrete.size_design(m, options=discrete.SizingOptions(screen=False))
     assert fast.status == "optimal" and fast.hardware.candidates > fast.hardware.feasible
     assert replace(fast, solve_time_s=0.0, iterations=0) == replace(
         slow, solve_time_s=0.0, iterations=0

@@ -10,15 +10,4 @@ from spiralcap.assemble.coils import build_coils
 from spiralcap.assemble.system import build_model
 from spiralcap.assemble.tissue import build_tissues
 
-
-def _neighbours_on_free_cores() -> None:
-    """Sizing's buildable neighbours run on the free cores (forked; same results)."""
-    from optimize.discrete import set_neighbour_map
-    from spiralcap.parallel import map_free_cores, standby_on_free_core
-
-    set_neighbour_map(map_free_cores, standby_on_free_core)
-
-
-_neighbours_on_free_cores()
-
 __all__ = ["build_capsule", "build_coils", "build_model", "build_tissues"]

@@ -151,16 +151,21 @@ def _read_covariance(design: Mapping[str, Any], path: str) -> tuple[tuple[float,
             key, str(p), f"a readable TOML file from `spiralcap fit -o` ({why})"
         ) from None
 
-    def refuse(why: str) -> InputError:
-        return InputError(key, str(p), why)
-
     fit = table.get("tissue", {})
     fit = fit.get("fit", {}) if isinstance(fit, dict) else None
     raw = fit.get("covariance_log") if isinstance(fit, dict) else None
+    problem = _entries_problem(raw) or _matrix_problem(np.asarray(raw, dtype=float))
+    if problem is not None:
+        raise InputError(key, str(p), problem)
+    return tuple(tuple(float(x) for x in row) for row in np.asarray(raw, dtype=float))
+
+
+def _entries_problem(raw: Any) -> str | None:
+    """Why ``raw`` is not a 5 x 5 table of finite numbers (None: it is)."""
     if raw is None:
-        raise refuse(
+        return (
             "a file from `spiralcap fit -o` with tissue.fit.covariance_log (the fit writes it "
-            "only when the data pin down a fitted parameter; try `fit --only scale`)",
+            "only when the data pin down a fitted parameter; try `fit --only scale`)"
         )
     ok = (
         isinstance(raw, list)
@@ -169,23 +174,28 @@ def _read_covariance(design: Mapping[str, Any], path: str) -> tuple[tuple[float,
         and all(isinstance(x, (int, float)) and not isinstance(x, bool) for r in raw for x in r)
     )
     if not ok:
-        raise refuse("tissue.fit.covariance_log must be 5 x 5 numbers (E1, E2, E3, eta1, eta2)")
+        return "tissue.fit.covariance_log must be 5 x 5 numbers (E1, E2, E3, eta1, eta2)"
     if not all(math.isfinite(float(x)) for r in raw for x in r):
-        raise refuse("tissue.fit.covariance_log with finite entries (no inf, no nan)")
-    cov = np.asarray(raw, dtype=float)
+        return "tissue.fit.covariance_log with finite entries (no inf, no nan)"
+    return None
+
+
+def _matrix_problem(cov: Any) -> str | None:
+    """Why the 5 x 5 matrix ``cov`` is not a usable covariance of log-parameters (None: it is):
+    variances in range, symmetric, positive semi-definite."""
+    import numpy as np
+
     diag = np.diag(cov)
     if diag.min() < 0:
-        raise refuse(
-            "a positive semi-definite tissue.fit.covariance_log (a negative variance on its diagonal)"
-        )
+        return "a positive semi-definite tissue.fit.covariance_log (a negative variance on its diagonal)"
     if diag.max() > MAX_LOG_VARIANCE:
-        raise refuse(
+        return (
             f"tissue.fit.covariance_log with variances of ln(parameter) up to {MAX_LOG_VARIANCE:g} "
             f"(a standard deviation of 2, as the *_sigma_log keys; largest given "
             f"{diag.max():.3g})"
         )
     if diag.max() < MIN_LOG_VARIANCE:
-        raise refuse(
+        return (
             f"tissue.fit.covariance_log with at least one variance of {MIN_LOG_VARIANCE:g} or "
             f"more (a relative uncertainty of 1e-6; largest given {diag.max():.3g})"
         )
@@ -193,16 +203,16 @@ def _read_covariance(design: Mapping[str, Any], path: str) -> tuple[tuple[float,
     # checks below work on numbers of order 1: no overflow, no LinAlgError
     bound = np.sqrt(np.outer(diag, diag))
     if np.any(np.abs(cov) > bound * (1 + 1e-9) + 1e-300):
-        raise refuse(
+        return (
             "a positive semi-definite tissue.fit.covariance_log (an off-diagonal entry exceeds "
             "sqrt(c_ii c_jj))"
         )
     if not np.allclose(cov, cov.T, rtol=1e-8, atol=1e-14 * float(diag.max())):
-        raise refuse("a symmetric tissue.fit.covariance_log")
+        return "a symmetric tissue.fit.covariance_log"
     lam = np.linalg.eigvalsh(0.5 * (cov + cov.T))
     if lam.min() < -1e-10 * float(lam.max()):
-        raise refuse(
+        return (
             "a positive semi-definite tissue.fit.covariance_log (smallest eigenvalue "
             f"{lam.min():.3g})"
         )
-    return tuple(tuple(float(x) for x in row) for row in cov)
+    return None

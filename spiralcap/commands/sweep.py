@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import csv
 import io
+from typing import Any
 
 from spiralcap.commands._common import (
     add_design_arguments,
@@ -74,16 +75,19 @@ def _rows(result) -> tuple[list[str], list[list]]:
     ]
 
 
-def run(args: argparse.Namespace) -> int:
-    from spiralcap.design import write_text_atomic
-    from spiralcap.sweep import parse_over, sweep
-
+def _check_options(args: argparse.Namespace) -> None:
+    """The output paths, ``--workers`` and ``--dask`` checked (InputError, exit 2)."""
     check_outputs({"--csv": args.csv, "--plot": args.plot}, design_paths(args))
     if not 1 <= args.workers <= 64:
         raise InputError("--workers", args.workers, "a whole number in [1, 64]")
     if args.dask is not None and not args.optimize:
         raise InputError("--dask", args.dask, "only with --optimize (evaluation sweeps run here)")
-    design = design_from_args(args)
+
+
+def _checked_axes(args: argparse.Namespace) -> list[Any]:
+    """The ``--over`` axes, with ``--plot`` checked against them (InputError, exit 2)."""
+    from spiralcap.sweep import parse_over
+
     axes = [parse_over(o) for o in args.over]
     if len({a.key for a in axes}) != len(axes):
         raise InputError("--over", args.over, "each key at most once")
@@ -93,6 +97,16 @@ def run(args: argparse.Namespace) -> int:
         check_figure_path("--plot", args.plot)
         if len(axes) > 2:
             raise InputError("--plot", args.plot, "a sweep over one or two keys (--over)")
+    return axes
+
+
+def run(args: argparse.Namespace) -> int:
+    from spiralcap.design import write_text_atomic
+    from spiralcap.sweep import sweep
+
+    _check_options(args)
+    design = design_from_args(args)
+    axes = _checked_axes(args)
     from spiralcap.progress import progress_bar
 
     stage = "re-optimising" if args.optimize else "evaluating"
@@ -107,20 +121,31 @@ def run(args: argparse.Namespace) -> int:
         )
     header, rows = _rows(result)
     if args.plot:
-        from spiralcap.commands._plot import write_figure
-        from spiralcap.figures.sweep import draw_sweep
-
-        size = (6.4, 4.6) if len(axes) == 2 else (6.4, 7.0)
-        from spiralcap.sweep import failing_requirements
-
-        failing = failing_requirements(design, result) if len(result.axes) == 2 else None
-        write_figure(args.plot, lambda fig: draw_sweep(fig, result, failing), size)
+        _write_plot(args.plot, design, result, len(axes))
     if args.csv:
         buf = io.StringIO()
         writer = csv.writer(buf)
         writer.writerow(header)
         writer.writerows(rows)
         write_text_atomic(args.csv, buf.getvalue())
+    _print(args, design, result, axes, header, rows)
+    return 0
+
+
+def _write_plot(path: str, design: Any, result: Any, n_axes: int) -> None:
+    from spiralcap.commands._plot import write_figure
+    from spiralcap.figures.sweep import draw_sweep
+    from spiralcap.sweep import failing_requirements
+
+    size = (6.4, 4.6) if n_axes == 2 else (6.4, 7.0)
+    failing = failing_requirements(design, result) if len(result.axes) == 2 else None
+    write_figure(path, lambda fig: draw_sweep(fig, result, failing), size)
+
+
+def _print(
+    args: argparse.Namespace, design: Any, result: Any, axes: list[Any], header: list, rows: list
+) -> None:
+    """The sweep as JSON, as a table (200 rows at most), or a line saying what was written."""
     if args.json:
         print_json(
             {
@@ -142,4 +167,3 @@ def run(args: argparse.Namespace) -> int:
         print(f"wrote {len(rows)} rows to {args.csv} ({result.mode})")
     if args.plot and not args.json:
         print(f"wrote {args.plot}")
-    return 0

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import contextlib
 import datetime as _dt
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -115,13 +116,8 @@ def build_report(
     spiralcap.errors.InputError
         The design is inconsistent (cross-key checks of :func:`spiralcap.assemble.build_model`).
     """
-    from spiralcap.runtime import cyclic_gc_paused
-
     say = progress or (lambda _stage: None)
-    # a bounded job: the collector's passes over CasADi's and matplotlib's objects cost about
-    # 0.15 s of a report, and its cyclic garbage (the saved figures) is about 6 MB
-    with cyclic_gc_paused():
-        return _build(design, pdf, workers, command, say, progress, compare)
+    return _build(design, pdf, workers, command, say, progress, compare)
 
 
 def _build(
@@ -138,20 +134,22 @@ def _build(
     from spiralcap.report.render import DrawnElsewhere, render_figures
 
     early: list[DrawnElsewhere] = []  # the coil figures, when the analyses run elsewhere
+    with contextlib.ExitStack() as stack:  # the early drawing's process, stopped on leaving
 
-    def draw_coil_figures(coils: CoilStage) -> None:
-        # the analyses run in a forked process: load matplotlib here and draw the figures that
-        # need only the coil analysis in another, so both cores stay busy whichever finishes
-        # first (drawing them here would leave a core idle once the analyses are done)
-        from spiralcap.parallel import Forked
-        from spiralcap.report.render import draw_svgs, preload
-        from spiralcap.report.sections.coils import coil_figures
+        def draw_coil_figures(coils: CoilStage) -> None:
+            # the analyses run in a forked process: load matplotlib here and draw the figures
+            # that need only the coil analysis in another, so both cores stay busy whichever
+            # finishes first (drawing them here would leave a core idle once the analyses end)
+            from spiralcap.parallel import inherited, process_pool
+            from spiralcap.report.render import draw_svgs, preload
+            from spiralcap.report.sections.coils import coil_figures
 
-        preload()
-        figures = coil_figures(coils)
-        early.append(DrawnElsewhere(frozenset(figures), Forked(draw_svgs, figures)))
+            preload()
+            figures = coil_figures(coils)
+            job = stack.enter_context(inherited(lambda: draw_svgs(figures)))
+            pool = stack.enter_context(process_pool(1))
+            early.append(DrawnElsewhere(frozenset(figures), pool.submit(job)))
 
-    try:
         data = collect(
             design,
             workers=workers,
@@ -167,10 +165,6 @@ def _build(
         footer = f"{front.title} · {design.source} · SHA-256 {sha[:12]}…"
         say("figures")
         svgs = render_figures(sections, workers=workers, elsewhere=early[0] if early else None)
-    except BaseException:
-        for drawing in early:
-            drawing.cancel()
-        raise
     say("HTML")
     html = render_html(front, sections, payload, footer, svgs)
     pdf_bytes, pages = None, 0

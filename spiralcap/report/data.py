@@ -296,7 +296,7 @@ def collect(
     spiralcap.errors.InputError
         The design is inconsistent (raised by :func:`spiralcap.assemble.build_model`).
     """
-    from spiralcap.parallel import Forked, can_fork
+    from spiralcap.parallel import can_fork, inherited, process_pool
 
     say = progress or (lambda _stage: None)
     powers = design["limits.power_W"] * np.asarray(power_factors, dtype=float)
@@ -309,15 +309,13 @@ def collect(
         import spiralcap.sweep  # noqa: F401
 
         quiet = lambda _stage: None  # noqa: E731 -- the children print nothing
-        analyses = Forked(_core_then_power, design, model, powers, quiet)
-        try:
+        core_then_power = lambda: _core_then_power(design, model, powers, quiet)  # noqa: E731
+        with inherited(core_then_power) as job, process_pool(1) as pool:
+            analyses = pool.submit(job)
             coil, coil_t = _coil_stage(design, model, say)
             if while_waiting is not None:
                 while_waiting(coil)
-        except BaseException:
-            analyses.cancel()
-            raise
-        (core, core_t), (power, power_t) = analyses.result()
+            (core, core_t), (power, power_t) = analyses.result()
         for stage in (*core_t, "power sweep"):
             say(stage)
     else:

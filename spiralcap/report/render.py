@@ -18,10 +18,10 @@ from __future__ import annotations
 
 import io
 from collections.abc import Mapping, Sequence
+from concurrent.futures import Future
 from dataclasses import dataclass
 from typing import Any, cast
 
-from spiralcap.parallel import Forked
 from spiralcap.report.document import FigureBlock, Section
 
 #: rcParams that make the SVG reproducible (no date, fixed ids) and self-contained.
@@ -116,15 +116,11 @@ def draw_svgs(figures: Mapping[str, tuple[Any, tuple[float, float]]]) -> dict[st
 
 @dataclass(frozen=True)
 class DrawnElsewhere:
-    """Figures another process is drawing: their ids, and the job whose result is id -> SVG
-    (a :class:`spiralcap.parallel.Forked` of :func:`draw_svgs`)."""
+    """Figures another process is drawing: their ids, and the future whose result is id -> SVG
+    (:func:`draw_svgs` on a :func:`spiralcap.parallel.process_pool`)."""
 
     ids: frozenset[str]
-    job: Forked
-
-    def cancel(self) -> None:
-        """Stop drawing them (the report failed)."""
-        self.job.cancel()
+    job: Future
 
 
 def render_figures(
@@ -132,19 +128,23 @@ def render_figures(
 ) -> dict[str, str]:
     """``figure id -> SVG text`` for every figure of the report, in reading order.
 
-    With ``workers >= 2`` the figures are shared out, one at a time, between this process and
-    ``workers - 1`` forked ones (:func:`spiralcap.parallel.map_forked`); each figure is drawn
-    by the same function either way, so the SVG text is the same. Figures ``elsewhere`` is
-    already drawing are not drawn again; its SVGs are taken when it is done.
+    With ``workers >= 2`` the figures are handed out, one at a time, to ``workers`` forked
+    processes (:func:`spiralcap.parallel.process_pool`); each figure is drawn by the same
+    function either way, so the SVG text is the same. Figures ``elsewhere`` is already drawing
+    are not drawn again; its SVGs are taken when it is done.
     """
-    from spiralcap.parallel import map_forked
+    from spiralcap.parallel import can_fork, inherited, process_pool
 
     blocks = [b for s in sections for b in s.blocks if isinstance(b, FigureBlock)]
     ids = elsewhere.ids if elsewhere is not None else frozenset()
     todo = [b for b in blocks if b.id not in ids]
-    if workers >= 2:
+    if workers >= 2 and len(todo) > 1 and can_fork():
         preload()  # once, before forking, rather than in every process
-    done = dict(zip((b.id for b in todo), map_forked(figure_svg, todo, workers), strict=True))
+        with inherited(lambda i: figure_svg(todo[i])) as draw, process_pool(workers) as pool:
+            svgs = list(pool.map(draw, range(len(todo))))
+    else:
+        svgs = [figure_svg(b) for b in todo]
+    done = dict(zip((b.id for b in todo), svgs, strict=True))
     if elsewhere is not None:
         done.update(elsewhere.job.result())
     return {b.id: done[b.id] for b in blocks}
