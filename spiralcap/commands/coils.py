@@ -34,6 +34,19 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="also write the same solids as an STL mesh (needs the cad extra)",
     )
     parser.add_argument(
+        "--field-grid",
+        metavar="FILE.csv|FILE.npz",
+        help="also write the field per ampere of each pair on a grid over the workspace cube: "
+        "columns x_m, y_m, z_m and B{x,y,z}_per_A_{x,y,z}_T_per_A (component, then pair), as "
+        "CSV or NumPy .npz arrays of those names",
+    )
+    parser.add_argument(
+        "--grid-step-mm",
+        type=float,
+        metavar="S",
+        help="grid spacing of --field-grid, mm (default: the workspace diameter / 20)",
+    )
+    parser.add_argument(
         "--cad-workspace",
         action="store_true",
         help="add the workspace sphere to the CAD model as a seventh body",
@@ -238,11 +251,21 @@ def run(args: argparse.Namespace) -> int:
     """Print the sizing table (or JSON); with --plot also draw the geometry view."""
     from spiralcap.commands._plot import check_figure_path, write_geometry
 
-    check_outputs({"--plot": args.plot, "--step": args.step, "--stl": args.stl}, design_paths(args))
+    check_outputs(
+        {
+            "--plot": args.plot,
+            "--step": args.step,
+            "--stl": args.stl,
+            "--field-grid": args.field_grid,
+        },
+        design_paths(args),
+    )
     if args.plot:
         check_figure_path("--plot", args.plot)
     _check_cad_paths(args)
+    _check_grid_arguments(args)
     design = design_from_args(args)
+    grid = _field_grid(args, design)  # before any output: a bad step leaves nothing printed
     from spiralcap.analysis.bom import bom_table
     from spiralcap.analysis.coils import analyse_coils, coils_payload
 
@@ -256,7 +279,45 @@ def run(args: argparse.Namespace) -> int:
         write_geometry(args.plot, design, quiet=args.json)
     if args.step or args.stl:
         _write_cad(args, design)
+    if grid is not None:
+        _write_grid(args, grid)
     return 0
+
+
+def _check_grid_arguments(args: argparse.Namespace) -> None:
+    """--field-grid: a .csv or .npz name; --grid-step-mm: a spacing > 0, only with it."""
+    from spiralcap.errors import InputError
+
+    if args.field_grid is not None and not args.field_grid.lower().endswith((".csv", ".npz")):
+        raise InputError("--field-grid", args.field_grid, "a file name ending in .csv or .npz")
+    if args.grid_step_mm is not None:
+        if args.field_grid is None:
+            raise InputError("--grid-step-mm", args.grid_step_mm, "used with --field-grid")
+        if not (math.isfinite(args.grid_step_mm) and args.grid_step_mm > 0):
+            raise InputError("--grid-step-mm", args.grid_step_mm, "a grid spacing > 0 mm")
+
+
+def _field_grid(args: argparse.Namespace, design: Any) -> Any:
+    """The --field-grid samples over the workspace cube (None without --field-grid)."""
+    if args.field_grid is None:
+        return None
+    from spiralcap.export import field_grid
+
+    step = None if args.grid_step_mm is None else args.grid_step_mm * 1e-3
+    return field_grid(design, float(design["workspace.radius_m"]), step)
+
+
+def _write_grid(args: argparse.Namespace, grid: Any) -> None:
+    import sys
+
+    from spiralcap.export import write_field_grid
+
+    write_field_grid(args.field_grid, grid)
+    print(
+        f"wrote the field per ampere of each pair at {len(grid.points_m)} points "
+        f"(step {grid.step_m * 1e3:.4g} mm) to {args.field_grid}",
+        file=sys.stderr if args.json else sys.stdout,
+    )
 
 
 def _check_cad_paths(args: argparse.Namespace) -> None:
