@@ -76,14 +76,105 @@ def _watts(v: float) -> str:
 
 
 def _cooling_words(p: dict[str, Any]) -> str:
+    """The surface heat transfer at the operating point (fixed h, or the correlation's h)."""
     h = p.get("heat_transfer_coefficient_W_m2K")
     if h is not None:
         return f"h = {h:g} W/(m²·K)"
+    op = p["operating_point"]["axes"]
     hs = ", ".join(
-        f"{h:.3g}" if math.isfinite(h) else "undefined (runaway)"
-        for h in (p["axes"][ax]["convection_coefficient_W_m2K"] for ax in "xyz")
+        f"{h:.3g}" if math.isfinite(h) else "undefined"
+        for h in (op[ax].get("convection_coefficient_W_m2K", math.nan) for ax in "xyz")
     )
     return f"{p['cooling']} convection h = {hs} W/(m²·K) (x, y, z)"
+
+
+def _hardware_table(axes: list[dict[str, Any]]) -> str:
+    """What does not depend on the current: geometry, copper, field per ampere, inductance."""
+    return format_table(
+        [
+            "axis",
+            "radius_m",
+            "turns",
+            "wire_mm",
+            "pack_w_mm",
+            "pack_d_mm",
+            "wire_m",
+            "Cu_kg",
+            "mT_per_A",
+            "L_mH",
+            "F_room",
+        ],
+        [
+            [
+                a["axis"],
+                a["radius_m"],
+                a["turns"],
+                a["wire_diameter_m"] * 1e3,
+                a["winding_pack_width_m"] * 1e3,
+                a["winding_pack_depth_m"] * 1e3,
+                a["wire_length_m"],
+                a["copper_mass_kg"],
+                a["field_per_amp_T_per_A"] * 1e3,
+                a["inductance_H"] * 1e3,
+                a["radiation_view_factor"],
+            ]
+            for a in axes
+        ],
+    )
+
+
+def _rating_lines(p: dict[str, Any]) -> list[str]:
+    """The three pairs at the amplifier rating (limits.current_A), in words: a pair that runs
+    away thermally is said so with the current to hold it below, never with temperatures."""
+    axes = [p["axes"][ax] for ax in "xyz"]
+    rating = p["current_amplitude_A"]
+    steady = [a for a in axes if not a.get("thermal_runaway")]
+    lines = [
+        f"at the amplifier rating, {rating:g} A per pair (limits.current_A), all three pairs "
+        "together, steady:"
+    ]
+    for a in axes:
+        if a.get("thermal_runaway"):
+            lines.append(
+                f"  at {rating:g} A the {a['axis']} pair runs away thermally (it has no steady "
+                f"temperature): hold it below {a['max_current_A']:.4g} A "
+                f"({_limited_words(a['max_current_limited_by'])})"
+            )
+    if steady:
+        lines.append(
+            format_table(
+                ["axis", "R_ohm", "Z_ohm", "V_amp_V", "P_W", "surf_C", "hot_C", "B_mT"],
+                [
+                    [
+                        a["axis"],
+                        a["resistance_ohm"],
+                        a["impedance_ohm"],
+                        a["voltage_amplitude_V"],
+                        a["power_W"],
+                        a["surface_temperature_C"],
+                        a["hot_spot_temperature_C"],
+                        a["field_amplitude_T"] * 1e3,
+                    ]
+                    for a in steady
+                ],
+            )
+        )
+    wh = p["worst_heading"]
+    lines.append(
+        f"total copper loss at {rating:g} A, worst heading "
+        f"({', '.join(f'{x:.3g}' for x in wh['heading'])}): {_watts(p['total_power_W'])} "
+        f"at {wh['field_amplitude_T'] * 1e3:.4g} mT"
+    )
+    return lines
+
+
+def _limited_words(limited_by: str) -> str:
+    return {
+        "hot_spot": "its winding hot-spot limit",
+        "voltage": "its drive-voltage limit",
+        "current": "the current limit",
+        "surface": "its surface-temperature limit",
+    }.get(limited_by, f"limited by {limited_by}")
 
 
 def _clearance_lines(p: dict[str, Any]) -> list[str]:
@@ -103,77 +194,9 @@ def _clearance_lines(p: dict[str, Any]) -> list[str]:
     ]
 
 
-def _text(p: dict[str, Any], bom: str = "") -> str:
-    axes = [p["axes"][ax] for ax in "xyz"]
-    rows = [
-        [
-            _run(v)
-            for v in (
-                a["axis"],
-                a["radius_m"],
-                a["turns"],
-                a["wire_diameter_m"] * 1e3,
-                a["winding_pack_width_m"] * 1e3,
-                a["winding_pack_depth_m"] * 1e3,
-                a["wire_length_m"],
-                a["copper_mass_kg"],
-                a["field_per_amp_T_per_A"] * 1e3,
-                a["resistance_ohm"],
-                a["inductance_H"] * 1e3,
-                a["impedance_ohm"],
-                a["voltage_amplitude_V"],
-                a["power_W"],
-                a["surface_temperature_C"],
-                a["hot_spot_temperature_C"],
-                a["radiation_view_factor"],
-                a["field_amplitude_T"] * 1e3,
-            )
-        ]
-        for a in axes
-    ]
-    table = format_table(
-        [
-            "axis",
-            "radius_m",
-            "turns",
-            "wire_mm",
-            "pack_w_mm",
-            "pack_d_mm",
-            "wire_m",
-            "Cu_kg",
-            "mT_per_A",
-            "R_ohm",
-            "L_mH",
-            "Z_ohm",
-            "V_amp_V",
-            "P_W",
-            "surf_C",
-            "hot_C",
-            "F_room",
-            "B_mT",
-        ],
-        rows,
-    )
-    uniform = p["uniform_region"]
-    limits = format_table(
-        ["axis", "I_max_A", "limited_by", "B_rot_max_mT", "uniform_1pct_m", "uniform_5pct_m"],
-        [
-            [
-                a["axis"],
-                a["max_current_A"],
-                a["max_current_limited_by"],
-                a["max_rotating_field_T"] * 1e3,
-                uniform["per_axis"][a["axis"]]["radius_1pct_m"],
-                uniform["per_axis"][a["axis"]]["radius_5pct_m"],
-            ]
-            for a in axes
-        ],
-    )
-    w = p["rotating_field_within_limits"]
-    wh = p["worst_heading"]
-    op = p["operating_point"]
+def _operating_table(op: dict[str, Any]) -> str:
     session = op.get("session_s")
-    therm = format_table(
+    return format_table(
         [
             "axis",
             "I_A",
@@ -202,6 +225,30 @@ def _text(p: dict[str, Any], bom: str = "") -> str:
             for t in (op["axes"][ax] for ax in "xyz")
         ],
     )
+
+
+def _text(p: dict[str, Any], bom: str = "") -> str:
+    """The operating point first (where the design runs), then what each pair may carry, the
+    hardware, the amplifier rating in words, uniformity, clearances and the bill of materials."""
+    axes = [p["axes"][ax] for ax in "xyz"]
+    uniform = p["uniform_region"]
+    limits = format_table(
+        ["axis", "I_max_A", "limited_by", "B_rot_max_mT", "uniform_1pct_m", "uniform_5pct_m"],
+        [
+            [
+                a["axis"],
+                a["max_current_A"],
+                a["max_current_limited_by"],
+                a["max_rotating_field_T"] * 1e3,
+                uniform["per_axis"][a["axis"]]["radius_1pct_m"],
+                uniform["per_axis"][a["axis"]]["radius_5pct_m"],
+            ]
+            for a in axes
+        ],
+    )
+    w = p["rotating_field_within_limits"]
+    op = p["operating_point"]
+    session = op.get("session_s")
     run_words = (
         "steady state"
         if session is None
@@ -209,25 +256,22 @@ def _text(p: dict[str, Any], bom: str = "") -> str:
     )
     lines = [
         f"design: {p['design']}",
-        f"current amplitude {p['current_amplitude_A']:g} A per pair at {p['frequency_hz']:g} Hz; "
-        f"ambient {p['ambient_temperature_C']:g} °C, {_cooling_words(p)}, "
-        f"emissivity {p['surface_emissivity']:g}, winding k = "
+        f"operating point: rotating field {op['field_amplitude_T'] * 1e3:.4g} mT"
+        f"{' (fixed)' if op['field_fixed'] else ''} at {p['frequency_hz']:g} Hz, each pair at "
+        f"its worst-heading current, {run_words}; hot-spot limit "
+        f"{op['limit_temperature_C']:g} °C; ambient {p['ambient_temperature_C']:g} °C, "
+        f"{_cooling_words(p)}, emissivity {p['surface_emissivity']:g}, winding k = "
         f"{p['winding_conductivity_W_mK']:g} W/(m·K); R at the self-consistent mean temperature",
-        "",
-        "the three pairs together at the current limit (steady, radiating to each other; "
-        "'runaway': there is no steady state, the pair heats without bound):",
-        table,
-        f"total copper loss at the current limit, worst heading "
-        f"({', '.join(f'{x:.3g}' for x in wh['heading'])}): {_watts(p['total_power_W'])} "
-        f"at {wh['field_amplitude_T'] * 1e3:.4g} mT",
+        _operating_table(op),
+        *p.get("warnings", []),
         "",
         "largest current each pair may carry, worst heading (current, voltage, hot spot):",
         limits,
         "",
-        f"at the operating field {op['field_amplitude_T'] * 1e3:.4g} mT"
-        f"{' (fixed)' if op['field_fixed'] else ''}, worst-heading currents, {run_words}; "
-        f"limit {op['limit_temperature_C']:g} °C at the hot spot:",
-        therm,
+        "the pairs:",
+        _hardware_table(axes),
+        "",
+        *_rating_lines(p),
         "",
         "uniform region of the three-axis system (worst of 13 static field directions):",
         f"  ±1 %: radius {uniform['radius_1pct_m']:.4g} m;  "
@@ -271,6 +315,7 @@ def run(args: argparse.Namespace) -> int:
 
     analysis = analyse_coils(design)
     payload = coils_payload(analysis)
+    payload["warnings"] = coil_warnings(design, analysis)
     if args.json:
         print_json(payload)
     else:
@@ -282,6 +327,15 @@ def run(args: argparse.Namespace) -> int:
     if grid is not None:
         _write_grid(args, grid)
     return 0
+
+
+def coil_warnings(design: Any, analysis: Any) -> list[str]:
+    """The touch-temperature warning at the operating field (spiralcap.analysis.touch)."""
+    from spiralcap.analysis.touch import touch_warning
+    from spiralcap.assemble import build_model
+
+    w = touch_warning(build_model(design), analysis.operating_field_T)
+    return [w.words()] if w is not None else []
 
 
 def _check_grid_arguments(args: argparse.Namespace) -> None:

@@ -124,6 +124,18 @@ def _typical(header: str, texts: Sequence[str]) -> int:
     return max([lengths[(3 * (len(lengths) - 1)) // 4], *words, 1])
 
 
+def _wide_columns(natural: Sequence[int], budget: float) -> set[int]:
+    """The columns that share what is left once every column narrower than a fair share of it
+    keeps its natural width (the fair share grows as narrow columns drop out)."""
+    wide = set(range(len(natural)))
+    while True:
+        left = budget - sum(n for i, n in enumerate(natural) if i not in wide)
+        narrow = {i for i in wide if natural[i] <= left / max(len(wide), 1)}
+        if not narrow or narrow == wide:
+            return wide
+        wide -= narrow
+
+
 def column_layout(
     t: Table, rows: Sequence[Sequence[Cell]], units: Sequence[str]
 ) -> tuple[list[str], list[float]]:
@@ -142,13 +154,7 @@ def column_layout(
     budget = _line_chars(t) - 2.0 * ncol  # the cells' insets
     if sum(natural) <= budget:
         return ["auto"] * ncol, [float(n) for n in natural]
-    wide = set(range(ncol))
-    while True:
-        left = budget - sum(natural[i] for i in range(ncol) if i not in wide)
-        narrow = {i for i in wide if natural[i] <= left / max(len(wide), 1)}
-        if not narrow or narrow == wide:
-            break
-        wide -= narrow
+    wide = _wide_columns(natural, budget)
     left = budget - sum(natural[i] for i in range(ncol) if i not in wide)
     weight = {i: min(_typical(headers[i], texts[i]), natural[i]) for i in wide}
     total = sum(weight.values())

@@ -207,10 +207,26 @@ def build(ctx: Context) -> Section:
             ").",
         ]
     )
-    blocks: list[Block] = [_as_entered(ctx), proposed, *lines, change_first(ctx), verdict]
+    blocks: list[Block] = [
+        _as_entered(ctx),
+        *_warnings(ctx),
+        proposed,
+        *lines,
+        change_first(ctx),
+        verdict,
+    ]
     if (ctx.payload.get("coils") or {}).get("bill_of_materials"):
         blocks.append(bom_brief(ctx))
     return Section("summary", "Summary", blocks)
+
+
+def _warnings(ctx: Context) -> list[Paragraph]:
+    """The evaluation's warnings (a pack surface above IEC 60601-1's touch limit) as callouts."""
+    out = []
+    for w in (ctx.payload.get("evaluate") or {}).get("warnings", []):
+        text = w.removeprefix("warning: ")
+        out.append(Paragraph([Strong("Warning. "), text[:1].upper() + text[1:] + "."], "alert"))
+    return out
 
 
 def _same(ctx: Context, a: str, b: str, scale: float = 1.0) -> bool:
