@@ -8,11 +8,12 @@ design-file keys.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 
 from optimize.evaluate import Evaluation
+from optimize.views import Viewable
 
 
 @dataclass(frozen=True)
@@ -58,7 +59,7 @@ class Shortfall:
 
 
 @dataclass(frozen=True)
-class OptimizationResult:
+class OptimizationResult(Viewable):
     """Result of :func:`optimize.optimize_design` (SI inside; names carry units).
 
     ``status`` is 'optimal' or 'infeasible'. ``evaluation`` is :func:`optimize.evaluate` at the
@@ -67,6 +68,8 @@ class OptimizationResult:
     limits allow (objectives ``power`` and ``copper_mass``), so a saved design must carry it.
     ``solution_x`` / ``solution_lam_g``: the raw optimum, a warm start for a neighbouring solve.
     """
+
+    _view_kind: ClassVar[str] = "optimization"
 
     status: str
     objective: str

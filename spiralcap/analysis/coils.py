@@ -12,9 +12,11 @@ from __future__ import annotations
 
 import math
 from dataclasses import asdict, dataclass, replace
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
+
+from optimize.views import Viewable
 
 _TOLERANCES = (("1pct", 0.01), ("5pct", 0.05))
 _AXES = ("x", "y", "z")
@@ -89,8 +91,11 @@ class UniformRegions:
 
 
 @dataclass(frozen=True)
-class CoilAnalysis:
-    """Everything ``spiralcap coils`` reports (SI; names carry units)."""
+class CoilAnalysis(Viewable):
+    """Everything ``spiralcap coils`` reports (SI; names carry units); in a notebook a table of
+    the operating point, ``.plot()`` the heating curves (:mod:`spiralcap.notebook`)."""
+
+    _view_kind: ClassVar[str] = "coil_analysis"
 
     design: str
     sizing: Any  # coils.SystemSizing at the current limit
