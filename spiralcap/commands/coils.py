@@ -315,7 +315,6 @@ def run(args: argparse.Namespace) -> int:
 
     analysis = analyse_coils(design)
     payload = coils_payload(analysis)
-    payload["warnings"] = coil_warnings(design, analysis)
     if args.json:
         print_json(payload)
     else:
@@ -327,15 +326,6 @@ def run(args: argparse.Namespace) -> int:
     if grid is not None:
         _write_grid(args, grid)
     return 0
-
-
-def coil_warnings(design: Any, analysis: Any) -> list[str]:
-    """The touch-temperature warning at the operating field (spiralcap.analysis.touch)."""
-    from spiralcap.analysis.touch import touch_warning
-    from spiralcap.assemble import build_model
-
-    w = touch_warning(build_model(design), analysis.operating_field_T)
-    return [w.words()] if w is not None else []
 
 
 def _check_grid_arguments(args: argparse.Namespace) -> None:
