@@ -73,11 +73,14 @@ class _EvaluationView:
 
 class _OptimizationView:
     def html(self, res: Any) -> str:
+        from spiralcap.presentation import binding as on_bound
         from spiralcap.presentation import readable
 
         rows = [("status", res.status), ("objective", res.objective)]
         rows += [(k, v) for k, v in _evaluation_rows(res.evaluation) if k != rows[0][0]]
-        binding = [(readable(b.name), b.value, b.allowed, b.unit) for b in res.binding_limits]
+        binding = [
+            (readable(b.name), b.value, b.allowed, b.unit) for b in on_bound(res.binding_limits)
+        ]
         out = table("spiralcap optimum", rows)
         if binding:
             out += table("binding limits (SI)", binding, ("limit", "value", "allowed", "unit"))

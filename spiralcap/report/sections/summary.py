@@ -65,6 +65,19 @@ def binding_parts(ctx: Context, limit_index: int) -> list[Inline]:
     verb, gain = binding_gain(ctx, limit_index)
     unit = gain.unit.split(" per ", 1)[-1]
     better = "less" if b["objective_sense"] < 0 else "more"
+    if fmt(float(gain.value)) == "0":  # say what a zero gain means, not "gains 0"
+        fixed = ctx.value("optimize.objective") == "copper_mass" and not ctx.value("optimize").get(
+            "hardware"
+        )
+        return [
+            Strong(readable(b["name"])),
+            f" ({b['key']}): on its bound, "
+            + (
+                "but the copper is fixed (free hardware keys to size it)"
+                if fixed
+                else "relaxing it does not change the objective to four figures"
+            ),
+        ]
     return [
         Strong(readable(b["name"])),
         f" ({b['key']}): {verb} it by 1 {unit} gains ",
