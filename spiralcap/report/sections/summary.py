@@ -374,6 +374,8 @@ def sized_hardware_changes(ctx: Context) -> list[str]:
     for key, new in hardware["discrete"].items():
         old = ctx.data.design.get(key)
         was = f"{old:.6g}" if isinstance(old, (int, float)) else "unset"
+        if was == f"{new:.6g}":  # sized to what it was: not a change
+            continue
         out.append(f"{key} {was} → {new:.6g}")
     return out
 
