@@ -140,7 +140,12 @@ def _rating_lines(p: dict[str, Any]) -> list[str]:
                 f"temperature): hold it below {a['max_current_A']:.4g} A "
                 f"({_limited_words(a['max_current_limited_by'])})"
             )
-    if steady:
+    if len(steady) < len(axes):  # radiating to each other: no common steady state, no numbers
+        lines.append(
+            "  the three pairs have no common steady state at this current (they heat each "
+            "other), so no temperature, resistance or loss is given for any of them"
+        )
+    else:
         lines.append(
             format_table(
                 ["axis", "R_ohm", "Z_ohm", "V_amp_V", "P_W", "surf_C", "hot_C", "B_mT"],
@@ -155,7 +160,7 @@ def _rating_lines(p: dict[str, Any]) -> list[str]:
                         a["hot_spot_temperature_C"],
                         a["field_amplitude_T"] * 1e3,
                     ]
-                    for a in steady
+                    for a in axes
                 ],
             )
         )
