@@ -32,6 +32,9 @@ def test_coils_at_a_rating_that_holds_shows_its_temperatures(capsys) -> None:
     text = _out(capsys, ["coils"])
     rating = text[text.index("at the amplifier rating, 15 A") : text.index("uniform region")]
     assert "runs away" not in rating and "hot_C" in rating, rating
+    assert (
+        "at 15 A the y pair's hot spot passes its 90 °C limit: hold it below 11.82 A" in rating
+    ), "the rating above what the limits allow is said in words, with the current to keep below"
 
 
 def test_surface_above_iec_60601_is_a_warning_only_without_a_surface_limit(capsys) -> None:

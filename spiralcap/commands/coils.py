@@ -133,7 +133,14 @@ def _rating_lines(p: dict[str, Any]) -> list[str]:
         f"at the amplifier rating, {rating:g} A per pair (limits.current_A), all three pairs "
         "together, steady:"
     ]
+    limit_C = p["operating_point"]["limit_temperature_C"]
     for a in axes:
+        if not a.get("thermal_runaway") and a["hot_spot_temperature_C"] > limit_C:
+            lines.append(
+                f"  at {rating:g} A the {a['axis']} pair's hot spot passes its {limit_C:g} °C "
+                f"limit: hold it below {a['max_current_A']:.4g} A "
+                f"({_limited_words(a['max_current_limited_by'])})"
+            )
         if a.get("thermal_runaway"):
             lines.append(
                 f"  at {rating:g} A the {a['axis']} pair runs away thermally (it has no steady "
