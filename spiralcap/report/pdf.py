@@ -100,6 +100,8 @@ CHAR_EM = 0.5
 TABLE_PT, COMPACT_PT = 8.5, 6.5
 #: Type size of preformatted text (the design file), pt.
 CODE_PT = 6.5
+#: A word longer than this (characters) does not widen its column: it breaks at its dots.
+WORD_CAP = 24
 #: Break opportunity in a long identifier (a design key), PDF only.
 _BREAK = "\u200b"
 _BREAK_AFTER = re.compile(r"([._/])(?=\w)")
@@ -115,13 +117,20 @@ def _natural(header: str, texts: Sequence[str]) -> int:
     return max([len(w) for w in header.split()] + [len(x) for x in texts] + [1])
 
 
-def _typical(header: str, texts: Sequence[str]) -> int:
-    """A column's share of a crowded line: its typical cell (the upper quartile of the lengths),
-    at least its longest word, so one long outlier cell (a tissue set's name among numbers)
-    wraps in its own column instead of squeezing the others."""
-    words = [len(w) for x in [header, *texts] for w in x.split()]
+def _longest_word(header: str, texts: Sequence[str]) -> int:
+    """The longest word of a column (header included), capped at :data:`WORD_CAP` characters: a
+    longer one is a design key, broken at its dots by :func:`breakable`."""
+    return min(max([len(w) for x in [header, *texts] for w in x.split()] + [1]), WORD_CAP)
+
+
+def _weight(header: str, texts: Sequence[str], natural: int) -> float:
+    """A wide column's claim on what is left of the line: between its typical cell (the upper
+    quartile of the lengths) and its longest (their geometric mean), so one long outlier (a
+    tissue set's name among numbers, a covariance matrix) wraps in its own column without
+    squeezing the others, nor being squeezed to a word a line."""
     lengths = sorted(len(x) for x in texts) or [1]
-    return max([lengths[(3 * (len(lengths) - 1)) // 4], *words, 1])
+    typical = max(lengths[(3 * (len(lengths) - 1)) // 4], 1)
+    return math.sqrt(typical * natural)
 
 
 def _wide_columns(natural: Sequence[int], budget: float) -> set[int]:
@@ -156,10 +165,16 @@ def column_layout(
         return ["auto"] * ncol, [float(n) for n in natural]
     wide = _wide_columns(natural, budget)
     left = budget - sum(natural[i] for i in range(ncol) if i not in wide)
-    weight = {i: min(_typical(headers[i], texts[i]), natural[i]) for i in wide}
+    # every wide column gets its longest word, then a share of the rest by its weight
+    least = {i: _longest_word(headers[i], texts[i]) for i in wide}
+    weight = {i: _weight(headers[i], texts[i], natural[i]) for i in wide}
+    spare = max(left - sum(least.values()), 0.0)
     total = sum(weight.values())
-    chars = [left * weight[i] / total if i in wide else float(natural[i]) for i in range(ncol)]
-    widths = [f"{weight[i]}fr" if i in wide else "auto" for i in range(ncol)]
+    chars = [
+        least[i] + spare * weight[i] / total if i in wide else float(natural[i])
+        for i in range(ncol)
+    ]
+    widths = [f"{chars[i]:.2f}fr" if i in wide else "auto" for i in range(ncol)]
     return widths, chars
 
 
