@@ -17,6 +17,12 @@ from capsule.magnet import (
     magnet_fit_problem,
     remanence_for_grade,
 )
+from capsule.mass import (
+    CONTENTS_DENSITY_kg_m3,
+    NDFEB_DENSITY_kg_m3,
+    body_volume_m3,
+    mass_from_parts_kg,
+)
 from capsule.model import Capsule, CapsuleFigures, geometry_problems
 from capsule.propulsion import forward_speed_m_s, self_lock_margin_rad, thrust_torque_Nm
 from capsule.spiral import (
@@ -42,10 +48,13 @@ __all__ = [
     "GRADE_REMANENCE_T",
     "MAX_WIRE_TO_BODY_DIAMETER",
     "Body",
+    "CONTENTS_DENSITY_kg_m3",
     "Capsule",
     "CapsuleFigures",
     "Magnet",
+    "NDFEB_DENSITY_kg_m3",
     "Spiral",
+    "body_volume_m3",
     "footprint_width_m",
     "forward_speed_m_s",
     "geometry_problems",
@@ -55,6 +64,7 @@ __all__ = [
     "magnet_fit_check",
     "magnet_fit_problem",
     "magnetic_torque_Nm",
+    "mass_from_parts_kg",
     "max_helical_angle_for_turns_rad",
     "max_synchronous_torque_Nm",
     "min_helical_angle_for_clearance_rad",

@@ -8,6 +8,7 @@ from typing import Any
 
 from capsule.body import GEOMETRY_RTOL, Body
 from capsule.magnet import Magnet, magnet_fit_check
+from capsule.mass import mass_from_parts_kg
 from capsule.propulsion import forward_speed_m_s, thrust_torque_Nm
 from capsule.spiral import (
     MAX_WIRE_TO_BODY_DIAMETER,
@@ -98,19 +99,19 @@ class CapsuleFigures:
     remanence_T : float
         Magnet remanence, T.
     helical_angle_deg : float
-        Helical angle, degrees.
+        Helical angle, deg.
     helix_diameter_m : float
         Wire centre-line diameter, m.
     lead_m : float
         Advance per revolution of each start, m.
     pitch_m : float
-        Same as ``lead_m`` (the advance per turn, pi D_h tan(alpha); :func:`capsule.lead_m`).
+        Same as ``lead_m`` (the advance per turn, pi D_h tan(alpha); :func:`capsule.lead_m`), m.
     wire_spacing_m : float
         Axial distance between neighbouring wires, ``lead / starts``, m.
     turns : float
-        Turns of each start over the wound length.
+        Turns of each start over the wound length, count (fractional).
     min_turns : float
-        Fewest turns asked for (0: rule off).
+        Fewest turns asked for (0: rule off), count.
     full_turn_ok : bool
         ``turns >= min_turns``.
     max_helical_angle_for_min_turns_deg : float
@@ -120,13 +121,13 @@ class CapsuleFigures:
     frequency_hz : float
         Rotation frequency, Hz.
     slip_efficiency : float
-        Forward speed / (frequency x lead).
+        Forward speed / (frequency x lead), dimensionless.
     speed_m_s : float
         Forward speed, m/s.
     axial_load_N : float
         Axial load pushed, N.
     friction_coefficient : float
-        Wire-tissue friction coefficient used for the thrust torque.
+        Wire-tissue friction coefficient used for the thrust torque, dimensionless.
     thrust_torque_Nm : float
         Torque to push the axial load, N·m.
     synchronous_torque_per_mT_Nm : float
@@ -155,7 +156,13 @@ class CapsuleFigures:
     synchronous_torque_per_mT_Nm: float
 
     def to_dict(self) -> dict[str, Any]:
-        """The figures as a plain dict (for JSON)."""
+        """The figures as a plain dict (for JSON).
+
+        Returns
+        -------
+        dict of str to float
+            Field name to value, in the unit its name carries (``_m``, ``_deg``, ``_Nm`` ...).
+        """
         return asdict(self)
 
 
@@ -171,6 +178,9 @@ class Capsule:
         Spiral on the cylindrical part.
     magnet : Magnet
         Diametrically magnetised magnet centred in the shell.
+    set_mass_kg : float or None
+        Measured capsule mass, kg; None: estimated from the parts
+        (:func:`capsule.mass.mass_from_parts_kg`).
 
     Raises
     ------
@@ -181,6 +191,7 @@ class Capsule:
     body: Body
     spiral: Spiral
     magnet: Magnet
+    set_mass_kg: float | None = None
 
     def __post_init__(self) -> None:
         problems = geometry_problems(self.body, self.spiral, self.magnet)
@@ -201,13 +212,22 @@ class Capsule:
 
     @property
     def turns(self) -> float:
-        """Turns of each start over the wound length."""
+        """Turns of each start over the wound length, count (fractional)."""
         return self.spiral.turns(self.body)
 
     @property
     def moment_Am2(self) -> float:
         """Magnet moment, A·m^2."""
         return self.magnet.moment_Am2
+
+    @property
+    def mass_kg(self) -> float:
+        """Capsule mass, kg: the measured one, else estimated from the parts."""
+        if self.set_mass_kg is not None:
+            return float(self.set_mass_kg)
+        return float(
+            mass_from_parts_kg(self.body.diameter_m, self.body.length_m, self.magnet.volume_m3)
+        )
 
     def figures(
         self,
@@ -226,15 +246,17 @@ class Capsule:
         axial_load_N : float
             Axial load the spiral pushes, N.
         friction_coefficient : float
-            Wire-tissue Coulomb friction coefficient.
+            Wire-tissue Coulomb friction coefficient, dimensionless.
         slip_efficiency : float
-            Forward speed / (frequency x lead), in [0, 1].
+            Forward speed / (frequency x lead), dimensionless, in [0, 1].
         min_turns : float
-            Fewest spiral turns over the wound length that count as manufacturable (0: off).
+            Fewest spiral turns over the wound length that count as manufacturable (0: off),
+            count.
 
         Returns
         -------
         CapsuleFigures
+            Magnet, spiral and kinematic figures, SI with units in the field names.
         """
         s, d_h = self.spiral, self.helix_diameter_m
         lead, turns = self.lead_m, self.turns

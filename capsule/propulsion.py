@@ -30,7 +30,8 @@ def forward_speed_m_s(frequency_hz: Any, lead_m: Any, slip_efficiency: Any) -> A
     lead_m : float, array or CasADi
         Advance per revolution of the spiral, m (see :func:`capsule.lead_m`).
     slip_efficiency : float, array or CasADi
-        Forward speed / (frequency x lead), in [0, 1]; 1 is a nut on a rigid screw.
+        Forward speed / (frequency x lead), dimensionless, in [0, 1]; 1 is a nut on a rigid
+        screw.
 
     Returns
     -------
@@ -55,7 +56,7 @@ def thrust_torque_Nm(
     helical_angle_rad : float, array or CasADi
         Helical angle ``alpha`` (the screw's lead angle), rad.
     friction_coefficient : float, array or CasADi
-        Coulomb friction coefficient ``mu`` between wire and tissue.
+        Coulomb friction coefficient ``mu`` between wire and tissue, dimensionless.
 
     Returns
     -------
@@ -92,13 +93,14 @@ def self_lock_margin_rad(helical_angle_rad: Any, friction_coefficient: Any) -> A
     helical_angle_rad : float, array or CasADi
         Helical (lead) angle ``alpha``, rad.
     friction_coefficient : float, array or CasADi
-        Coulomb friction coefficient ``mu`` between wire and tissue.
+        Coulomb friction coefficient ``mu`` between wire and tissue, dimensionless.
 
     Returns
     -------
     float, array or CasADi
-        Positive while turning the screw can push the load; at zero or below the screw
-        self-locks and :func:`thrust_torque_Nm` (``tan(alpha + atan(mu))``) has no meaning.
+        Margin to self-locking, rad. Positive while turning the screw can push the load; at
+        zero or below the screw self-locks and :func:`thrust_torque_Nm`
+        (``tan(alpha + atan(mu))``) has no meaning.
 
     Notes
     -----

@@ -215,7 +215,7 @@ class Spiral:
 
     @property
     def helical_angle_deg(self) -> float:
-        """Helical angle, degrees."""
+        """Helical angle, deg."""
         return math.degrees(self.helical_angle_rad)
 
     @property
@@ -224,19 +224,63 @@ class Spiral:
         return float(footprint_width_m(self.helical_angle_rad, self.wire_diameter_m))
 
     def helix_diameter_m(self, body: Body) -> float:
-        """Helix (wire centre-line) diameter on ``body``, m."""
+        """Helix (wire centre-line) diameter on ``body``, m.
+
+        Parameters
+        ----------
+        body : Body
+            The shell the wire is wound on.
+
+        Returns
+        -------
+        float
+            ``D + d_w``, m.
+        """
         return float(helix_diameter_m(body.diameter_m, self.wire_diameter_m))
 
     def lead_m(self, body: Body) -> float:
-        """Advance per revolution of each start on ``body``, m."""
+        """Advance per revolution of each start on ``body``, m.
+
+        Parameters
+        ----------
+        body : Body
+            The shell the wire is wound on.
+
+        Returns
+        -------
+        float
+            ``pi D_h tan(alpha)``, m.
+        """
         return float(lead_m(self.helical_angle_rad, self.helix_diameter_m(body)))
 
     def wire_spacing_m(self, body: Body) -> float:
-        """Axial distance between neighbouring wires (``lead / starts``) on ``body``, m."""
+        """Axial distance between neighbouring wires (``lead / starts``) on ``body``, m.
+
+        Parameters
+        ----------
+        body : Body
+            The shell the wire is wound on.
+
+        Returns
+        -------
+        float
+            Wire spacing along the axis, m.
+        """
         return self.lead_m(body) / self.starts
 
     def turns(self, body: Body) -> float:
-        """Turns each start makes over the wound length on ``body`` (dimensionless)."""
+        """Turns each start makes over the wound length on ``body`` (dimensionless).
+
+        Parameters
+        ----------
+        body : Body
+            The shell the wire is wound on.
+
+        Returns
+        -------
+        float
+            Turns of one start, count (fractional).
+        """
         return float(
             spiral_turns(self.helical_angle_rad, self.helix_diameter_m(body), self.wound_length_m)
         )

@@ -29,9 +29,11 @@ __all__ = [
     "Ring",
     "bore_clearance_m",
     "nearest_point_on_ring",
+    "outer_box_m",
     "pack_clearance_m",
     "pack_clearances_m",
     "pack_closest_points",
+    "pair_extent_m",
     "pair_rings",
     "ring_distance_m",
     "ring_signed_distance",
@@ -51,7 +53,7 @@ class Ring:
     Parameters
     ----------
     axis : int
-        0, 1, 2 for a ring about x, y, z.
+        Axis index: 0, 1, 2 for a ring about x, y, z.
     radius_m : float
         Mean radius R of the section's centre, m.
     centre_m : float
@@ -75,7 +77,18 @@ class Ring:
 
 
 def pair_rings(pair: Any) -> tuple[Ring, Ring]:
-    """The two packs of a :class:`coils.HelmholtzPair` at ∓s/2 along its axis."""
+    """The two packs of a :class:`coils.HelmholtzPair` at ∓s/2 along its axis.
+
+    Parameters
+    ----------
+    pair : HelmholtzPair
+        The pair (its radius, spacing and winding pack).
+
+    Returns
+    -------
+    tuple of Ring
+        The coil at -s/2 and the coil at +s/2 (SI).
+    """
     half = 0.5 * pair.spacing_m
     return tuple(  # type: ignore[return-value]
         Ring(
@@ -100,6 +113,18 @@ def ring_signed_distance(ring: Ring, points: np.ndarray) -> np.ndarray:
 
     Positive outside, negative inside: the 2-D box distance of (ρ - R, z - c) to the half
     extents (h/2, w/2).
+
+    Parameters
+    ----------
+    ring : Ring
+        The solid ring.
+    points : ndarray, shape (..., 3)
+        Points, m.
+
+    Returns
+    -------
+    ndarray, shape (...)
+        Signed distance of each point, m.
     """
     rho, z = _cylindrical(points, ring.axis)
     qx = np.abs(rho - ring.radius_m) - 0.5 * ring.depth_m
@@ -131,7 +156,22 @@ def _section_point(ring: Ring, s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 def ring_surface_points(ring: Ring, phi: np.ndarray, s: np.ndarray) -> np.ndarray:
     """Points on the ring's surface at angle ``phi`` (rad) and section arc length ``s`` (m);
-    ``phi`` and ``s`` broadcast; returns shape (..., 3)."""
+    ``phi`` and ``s`` broadcast; returns shape (..., 3).
+
+    Parameters
+    ----------
+    ring : Ring
+        The solid ring.
+    phi : ndarray
+        Angle about the ring's axis, rad.
+    s : ndarray
+        Arc length along the section's boundary from its inner-low corner, m.
+
+    Returns
+    -------
+    ndarray, shape (..., 3)
+        The surface points, m.
+    """
     rho, z = _section_point(ring, np.asarray(s, dtype=float))
     phi = np.asarray(phi, dtype=float)
     rho, z, phi = np.broadcast_arrays(rho, z, phi)
@@ -148,6 +188,16 @@ def ring_distance_m(a: Ring, b: Ring) -> float:
 
     Minimum of B's exact signed distance over A's surface: a grid search, then zooming grids
     around the best cells (see the module notes). Converged to well below 1 µm.
+
+    Parameters
+    ----------
+    a, b : Ring
+        The two solid rings.
+
+    Returns
+    -------
+    float
+        Least distance, m (negative: overlap, by at least that depth).
     """
     return _ring_distance(a, b)
 
@@ -157,7 +207,20 @@ def _ring_distance(a: Ring, b: Ring) -> float:
 
 
 def nearest_point_on_ring(ring: Ring, point: np.ndarray) -> np.ndarray:
-    """The point of the solid ring nearest ``point`` (shape (3,)), for a point outside it."""
+    """The point of the solid ring nearest ``point`` (shape (3,)), for a point outside it.
+
+    Parameters
+    ----------
+    ring : Ring
+        The solid ring.
+    point : ndarray, shape (3,)
+        A point outside the ring, m.
+
+    Returns
+    -------
+    ndarray, shape (3,)
+        The nearest point of the ring, m.
+    """
     p = np.asarray(point, dtype=float)
     rho, z = _cylindrical(p, ring.axis)
     r_near = np.clip(rho, ring.radius_m - 0.5 * ring.depth_m, ring.radius_m + 0.5 * ring.depth_m)
@@ -171,7 +234,20 @@ def nearest_point_on_ring(ring: Ring, point: np.ndarray) -> np.ndarray:
 
 def pack_closest_points(pair_a: Any, pair_b: Any) -> tuple[float, np.ndarray, np.ndarray]:
     """(clearance m, nearest point on A's packs, nearest point on B's packs) of two pairs; the
-    points are meaningful when the packs are apart (clearance > 0)."""
+    points are meaningful when the packs are apart (clearance > 0).
+
+    Parameters
+    ----------
+    pair_a, pair_b : HelmholtzPair
+        Two pairs on different axes.
+
+    Returns
+    -------
+    clearance_m : float
+        Least distance between the packs, m (negative: overlap).
+    point_a, point_b : ndarray, shape (3,)
+        Nearest points on A's and on B's packs, m.
+    """
     d, pa, rb = _closest(pair_rings(pair_a)[1], pair_rings(pair_b)[1])  # see pack_clearance_m
     return d, pa, nearest_point_on_ring(rb, pa)
 
@@ -221,12 +297,33 @@ def pack_clearance_m(pair_a: Any, pair_b: Any) -> float:
     The four coil combinations are congruent (the mirror x_a -> -x_a swaps A's coils and maps
     B's, whose axis is perpendicular, onto themselves; likewise for B), so one is computed.
     Negative: the packs overlap (by at least that depth).
+
+    Parameters
+    ----------
+    pair_a, pair_b : HelmholtzPair
+        Two pairs on different axes.
+
+    Returns
+    -------
+    float
+        Least distance between their packs, m.
     """
     return ring_distance_m(pair_rings(pair_a)[1], pair_rings(pair_b)[1])
 
 
 def pack_clearances_m(pairs: Any) -> dict[str, float]:
-    """``{"x/y": …, "x/z": …, "y/z": …}`` of :func:`pack_clearance_m` for the three pairs."""
+    """``{"x/y": …, "x/z": …, "y/z": …}`` of :func:`pack_clearance_m` for the three pairs.
+
+    Parameters
+    ----------
+    pairs : sequence of HelmholtzPair
+        The three pairs of a system.
+
+    Returns
+    -------
+    dict of str to float
+        Clearance of each two pairs, m, keyed ``"x/y"``, ``"x/z"``, ``"y/z"``.
+    """
     return {
         f"{a.axis}/{b.axis}": pack_clearance_m(a, b) for a, b in itertools.combinations(pairs, 2)
     }
@@ -238,6 +335,18 @@ def bore_clearance_m(pairs: Any, bore_radius_m: float) -> float:
     min over pairs of (R - h/2) - bore radius: the inner face of every pack is a cylinder of
     radius R - h/2 about its axis, the bore a coaxial cylinder (or the workspace sphere, which
     touches that cylinder's radius first at its equator).
+
+    Parameters
+    ----------
+    pairs : sequence of HelmholtzPair
+        The pairs of a system.
+    bore_radius_m : float
+        Radius of the bore (or workspace sphere) to keep clear, m.
+
+    Returns
+    -------
+    float
+        Least radial room, m (negative: a pack reaches into the bore).
     """
     return min(p.radius_m - 0.5 * p.winding_pack_depth_m for p in pairs) - bore_radius_m
 
@@ -247,8 +356,80 @@ def torus_clearance_bound_m(mean_turn_gap_m: Any, pair_a: Any, pair_b: Any) -> A
     sections' half diagonals (each ring lies inside the torus of that tube radius).
 
     Conservative by at most ((sqrt(w_a² + h_a²) - max(w_a, h_a)) + (same for b)) / 2.
+
+    Parameters
+    ----------
+    mean_turn_gap_m : float or CasADi
+        Least distance between the two pairs' mean turns (centre circles of the sections), m.
+    pair_a, pair_b : HelmholtzPair
+        The two pairs (their winding pack width and depth).
+
+    Returns
+    -------
+    float or CasADi
+        Lower bound of the pack clearance, m.
     """
     return mean_turn_gap_m - 0.5 * (
         math.hypot(pair_a.winding_pack_width_m, pair_a.winding_pack_depth_m)
         + math.hypot(pair_b.winding_pack_width_m, pair_b.winding_pack_depth_m)
     )
+
+
+def pair_extent_m(
+    axis_index: int, radius_m: Any, separation_m: Any, width_m: Any, depth_m: Any
+) -> list[Any]:
+    """Half-extent of a pair's two packs, as solids, along x, y and z, m (backend-generic).
+
+    Along the pair's axis the packs reach s/2 + w/2 (outer faces of the two rings); across it,
+    R + h/2 (outer radius).
+
+    Parameters
+    ----------
+    axis_index : int
+        The pair's axis (0, 1, 2 for x, y, z), an index.
+    radius_m : float or CasADi
+        Mean winding radius R, m.
+    separation_m : float or CasADi
+        Distance between the two coils' mid-planes s, m.
+    width_m : float or CasADi
+        Axial width of a pack w, m.
+    depth_m : float or CasADi
+        Radial depth of a pack h, m.
+
+    Returns
+    -------
+    list of float or CasADi
+        The three half-extents, m.
+    """
+    outer = radius_m + 0.5 * depth_m
+    return [0.5 * separation_m + 0.5 * width_m if i == axis_index else outer for i in range(3)]
+
+
+def outer_box_m(pairs: Any) -> np.ndarray:
+    """Edge lengths of the smallest axis-aligned box round the coil set's packs, m.
+
+    Parameters
+    ----------
+    pairs : sequence of HelmholtzPair
+        The pairs (``axis_index``, ``radius_m``, ``separation_m``, ``winding_pack_width_m``,
+        ``winding_pack_depth_m``), centred on the origin.
+
+    Returns
+    -------
+    ndarray, shape (3,)
+        Twice the largest half-extent along x, y and z over the pairs, m.
+    """
+    halves = np.array(
+        [
+            pair_extent_m(
+                p.axis_index,
+                p.radius_m,
+                p.separation_m,
+                p.winding_pack_width_m,
+                p.winding_pack_depth_m,
+            )
+            for p in pairs
+        ],
+        dtype=float,
+    )
+    return 2.0 * halves.max(axis=0)

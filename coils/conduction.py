@@ -49,7 +49,20 @@ _STEPS = 24
 
 
 def eigenvalues(biot: Any, count: int) -> list[Any]:
-    """The first ``count`` roots β_m of β tan β = Bi (backend-generic)."""
+    """The first ``count`` roots β_m of β tan β = Bi (backend-generic).
+
+    Parameters
+    ----------
+    biot : float or CasADi
+        Biot number Bi = h a / k, dimensionless.
+    count : int
+        Number of roots wanted, count.
+
+    Returns
+    -------
+    list of float or CasADi
+        β_0 < β_1 < ..., dimensionless (β_m in (mπ, mπ + π/2)).
+    """
     out = []
     for m in range(count):
         base = m * bk.pi
@@ -69,7 +82,14 @@ def _projection(beta: Any) -> Any:
 
 @dataclass(frozen=True)
 class RobinStatics:
-    """Steady rises above the sink per unit q'''/k (m²): centre, mean, mean face, hottest face."""
+    """Steady rises above the sink per unit q'''/k (m²): centre, mean, mean face, hottest face.
+
+    Attributes
+    ----------
+    centre, mean, surface_mean, surface_max : float or CasADi
+        Steady rise above the sink divided by q'''/k at the centre, over the section, over the
+        faces and at the hottest face point, m² (multiply by q'''/k in K/m² for K).
+    """
 
     centre: Any
     mean: Any
@@ -106,14 +126,36 @@ def _statics(width_m: Any, depth_m: Any, h_W_m2K: Any, k_W_mK: Any) -> tuple[Any
 
 
 def robin_statics(width_m: Any, depth_m: Any, h_W_m2K: Any, k_W_mK: Any) -> RobinStatics:
-    """Exact steady rises of the w x d section (see the module notes), times q/k."""
+    """Exact steady rises of the w x d section (see the module notes), times q/k.
+
+    Parameters
+    ----------
+    width_m, depth_m : float or CasADi
+        Axial width and radial depth of the section, m.
+    h_W_m2K : float or CasADi
+        Heat transfer coefficient on all four faces, W/(m²·K).
+    k_W_mK : float or CasADi
+        Effective conductivity of the pack, W/(m·K).
+
+    Returns
+    -------
+    RobinStatics
+        The steady rises per unit q'''/k, m².
+    """
     centre, mean, surface_mean, face_a, face_b = _statics(width_m, depth_m, h_W_m2K, k_W_mK)
     return RobinStatics(centre, mean, surface_mean, bk.fmax(face_a, face_b))
 
 
 @dataclass(frozen=True)
 class RobinTransient:
-    """Rises above ambient at time t (K): centre, mean, mean face and hottest face point."""
+    """Rises above ambient at time t (K): centre, mean, mean face and hottest face point.
+
+    Attributes
+    ----------
+    centre, mean, surface_mean, surface_max : float or CasADi
+        Rise above ambient at the centre, over the section, over the faces and at the hottest
+        face point, K.
+    """
 
     centre: Any
     mean: Any
@@ -146,6 +188,30 @@ def robin_transient(
 
     The source is q = ``source_W_m3`` + ``source_slope_W_m3K`` · (mean rise); the faces see a
     sink ``sink_rise_K`` above ambient from t = 0. Temperatures are rises above ambient.
+
+    Parameters
+    ----------
+    width_m, depth_m : float or CasADi
+        Axial width and radial depth of the section, m.
+    h_W_m2K : float or CasADi
+        Heat transfer coefficient on all four faces, W/(m²·K).
+    k_W_mK : float or CasADi
+        Effective conductivity of the pack, W/(m·K).
+    heat_capacity_J_m3K : float or CasADi
+        Volumetric heat capacity ρ c of the pack, J/(m³·K).
+    source_W_m3 : float or CasADi
+        Volumetric heat at ambient temperature, W/m³.
+    source_slope_W_m3K : float or CasADi
+        Growth of the volumetric heat per kelvin of mean rise (copper resistance), W/(m³·K).
+    sink_rise_K : float or CasADi
+        Step of the sink temperature above ambient from t = 0, K.
+    time_s : float or CasADi
+        Heating time, s.
+
+    Returns
+    -------
+    RobinTransient
+        The rises above ambient at ``time_s``, K.
     """
     a, b = _halves(width_m, depth_m)
     bi_a, bi_b = h_W_m2K * a / k_W_mK, h_W_m2K * b / k_W_mK

@@ -55,7 +55,19 @@ _DT_FLOOR_K = 0.1
 
 @dataclass(frozen=True)
 class AirProperties:
-    """Dry air at one temperature (SI): conductivity, kinematic viscosity, diffusivity, Pr."""
+    """Dry air at one temperature (SI): conductivity, kinematic viscosity, diffusivity, Pr.
+
+    Attributes
+    ----------
+    conductivity_W_mK : float or CasADi
+        Thermal conductivity, W/(m·K).
+    kinematic_viscosity_m2_s : float or CasADi
+        Kinematic viscosity ν, m²/s.
+    diffusivity_m2_s : float or CasADi
+        Thermal diffusivity, m²/s.
+    prandtl : float or CasADi
+        Prandtl number ν / diffusivity, dimensionless.
+    """
 
     conductivity_W_mK: Any
     kinematic_viscosity_m2_s: Any
@@ -64,7 +76,18 @@ class AirProperties:
 
 
 def air_properties(temperature_C: Any) -> AirProperties:
-    """Dry air at 1 atm: Sutherland viscosity and conductivity, ideal-gas density, c_p const."""
+    """Dry air at 1 atm: Sutherland viscosity and conductivity, ideal-gas density, c_p const.
+
+    Parameters
+    ----------
+    temperature_C : float or CasADi
+        Air (film) temperature, °C.
+
+    Returns
+    -------
+    AirProperties
+        The properties at that temperature, SI.
+    """
     return AirProperties(*_air(temperature_C))
 
 
@@ -79,29 +102,90 @@ def _air(temperature_C: Any) -> tuple[Any, Any, Any, Any]:
 
 
 def vertical_plate_nusselt(ra: Any, pr: Any) -> Any:
-    """Churchill & Chu (1975a), every Ra: {0.825 + 0.387 Ra^(1/6)/[1+(0.492/Pr)^(9/16)]^(8/27)}²."""
+    """Churchill & Chu (1975a), every Ra: {0.825 + 0.387 Ra^(1/6)/[1+(0.492/Pr)^(9/16)]^(8/27)}².
+
+    Parameters
+    ----------
+    ra : float or CasADi
+        Rayleigh number on the plate height, dimensionless.
+    pr : float or CasADi
+        Prandtl number, dimensionless.
+
+    Returns
+    -------
+    float or CasADi
+        Mean Nusselt number on the height, dimensionless.
+    """
     f = (1.0 + (0.492 / pr) ** (9.0 / 16.0)) ** (8.0 / 27.0)
     return (0.825 + 0.387 * ra ** (1.0 / 6.0) / f) ** 2
 
 
 def horizontal_cylinder_nusselt(ra: Any, pr: Any) -> Any:
-    """Churchill & Chu (1975b), Ra_D <= 1e12: {0.60 + 0.387 Ra^(1/6)/[1+(0.559/Pr)^(9/16)]^(8/27)}²."""
+    """Churchill & Chu (1975b), Ra_D <= 1e12: {0.60 + 0.387 Ra^(1/6)/[1+(0.559/Pr)^(9/16)]^(8/27)}².
+
+    Parameters
+    ----------
+    ra : float or CasADi
+        Rayleigh number on the diameter, dimensionless.
+    pr : float or CasADi
+        Prandtl number, dimensionless.
+
+    Returns
+    -------
+    float or CasADi
+        Mean Nusselt number on the diameter, dimensionless.
+    """
     f = (1.0 + (0.559 / pr) ** (9.0 / 16.0)) ** (8.0 / 27.0)
     return (0.60 + 0.387 * ra ** (1.0 / 6.0) / f) ** 2
 
 
 def upper_plate_nusselt(ra: Any) -> Any:
-    """Upper face of a hot plate, 0.54 Ra^(1/4) (Lloyd & Moran 1974; 1e4 <= Ra <= 1e7)."""
+    """Upper face of a hot plate, 0.54 Ra^(1/4) (Lloyd & Moran 1974; 1e4 <= Ra <= 1e7).
+
+    Parameters
+    ----------
+    ra : float or CasADi
+        Rayleigh number on L = area / perimeter, dimensionless.
+
+    Returns
+    -------
+    float or CasADi
+        Mean Nusselt number on L, dimensionless.
+    """
     return 0.54 * ra**0.25
 
 
 def lower_plate_nusselt(ra: Any) -> Any:
-    """Lower face of a hot plate, 0.52 Ra^(1/5) (Incropera 7th ed. eq. 9.32; 1e4 <= Ra <= 1e9)."""
+    """Lower face of a hot plate, 0.52 Ra^(1/5) (Incropera 7th ed. eq. 9.32; 1e4 <= Ra <= 1e9).
+
+    Parameters
+    ----------
+    ra : float or CasADi
+        Rayleigh number on L = area / perimeter, dimensionless.
+
+    Returns
+    -------
+    float or CasADi
+        Mean Nusselt number on L, dimensionless.
+    """
     return 0.52 * ra**0.2
 
 
 def forced_cylinder_nusselt(re: Any, pr: Any) -> Any:
-    """Churchill & Bernstein (1977), cylinder in cross flow, Re·Pr >= 0.2."""
+    """Churchill & Bernstein (1977), cylinder in cross flow, Re·Pr >= 0.2.
+
+    Parameters
+    ----------
+    re : float or CasADi
+        Reynolds number on the diameter, dimensionless.
+    pr : float or CasADi
+        Prandtl number, dimensionless.
+
+    Returns
+    -------
+    float or CasADi
+        Mean Nusselt number on the diameter, dimensionless.
+    """
     return (
         0.3
         + 0.62
@@ -126,6 +210,26 @@ def pack_convection_W_m2K(
     ``vertical_axis``: True for the z pair (horizontal rings), False for x and y (vertical
     rings); the orientation is part of the model's structure, not a value. ``forced``: add
     forced air at ``air_speed_m_s``.
+
+    Parameters
+    ----------
+    width_m, depth_m : float or CasADi
+        Axial width and radial depth of the pack's section, m.
+    vertical_axis : bool
+        Flag: the pair's axis is vertical (z pair).
+    surface_C : float or CasADi
+        Mean surface temperature of the pack, °C.
+    ambient_C : float or CasADi
+        Ambient air temperature, °C.
+    air_speed_m_s : float or CasADi
+        Speed of the forced air across the pack, m/s (used when ``forced``).
+    forced : bool
+        Flag: fans blow air across the packs.
+
+    Returns
+    -------
+    float or CasADi
+        Convective heat transfer coefficient, W/(m²·K).
     """
     return _pack_convection(
         width_m, depth_m, surface_C, ambient_C, air_speed_m_s, bool(vertical_axis), bool(forced)

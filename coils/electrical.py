@@ -31,6 +31,11 @@ def copper_resistivity_ohm_m(temperature_C: Any) -> Any:
     ----------
     temperature_C : float, array or CasADi
         Copper temperature, °C.
+
+    Returns
+    -------
+    float, array or CasADi
+        Resistivity, Ω·m.
     """
     return COPPER_RESISTIVITY_20C_ohm_m * (
         1.0 + COPPER_TEMPERATURE_COEFFICIENT_per_K * (temperature_C - 20.0)
@@ -48,6 +53,11 @@ def impedance_ohm(resistance_ohm: Any, inductance_H: Any, frequency_hz: Any) -> 
         Series inductance, H.
     frequency_hz : float, array or CasADi
         Drive frequency, Hz.
+
+    Returns
+    -------
+    float, array or CasADi
+        Impedance magnitude, Ω.
     """
     reactance = 2.0 * bk.pi * frequency_hz * inductance_H
     return bk.sqrt(resistance_ohm * resistance_ohm + reactance * reactance)
@@ -68,6 +78,11 @@ def voltage_amplitude_V(
         Drive frequency, Hz.
     current_amplitude_A : float, array or CasADi
         Current amplitude (peak), A.
+
+    Returns
+    -------
+    float, array or CasADi
+        Voltage amplitude, V.
     """
     return impedance_ohm(resistance_ohm, inductance_H, frequency_hz) * current_amplitude_A
 
@@ -81,6 +96,11 @@ def copper_loss_W(resistance_ohm: Any, current_amplitude_A: Any) -> Any:
         Resistance, Ω.
     current_amplitude_A : float, array or CasADi
         Current amplitude (peak), A.
+
+    Returns
+    -------
+    float, array or CasADi
+        Mean power dissipated, W.
     """
     return 0.5 * resistance_ohm * current_amplitude_A * current_amplitude_A
 
@@ -94,5 +114,10 @@ def temperature_rise_K(power_W: Any, thermal_conductance_W_per_K: Any) -> Any:
         Dissipated power, W.
     thermal_conductance_W_per_K : float, array or CasADi
         Conductance to ambient, W/K.
+
+    Returns
+    -------
+    float, array or CasADi
+        Temperature rise, K.
     """
     return power_W / thermal_conductance_W_per_K

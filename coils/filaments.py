@@ -114,7 +114,7 @@ def gauss_legendre_pack(
     side_m : float
         Radial depth of the pack (the side of a square pack), m.
     counts : (int, int)
-        Nodes across the radial and the axial extent.
+        Number of nodes across the radial and the axial extent.
     width_m : float, optional
         Axial width of the pack, m (default: ``side_m``, a square).
 
@@ -148,7 +148,7 @@ class FilamentSet:
     columns : ndarray of int, shape (L,)
         Drive current each filament carries (index into the current vector).
     column_axes : tuple of int
-        Axis of each drive column (all its filaments share it).
+        Axis index (0, 1, 2) of each drive column (all its filaments share it).
     """
 
     axes: np.ndarray
@@ -161,7 +161,7 @@ class FilamentSet:
 
     @property
     def n_currents(self) -> int:
-        """Number of drive currents."""
+        """Number of drive currents, count."""
         return len(self.column_axes)
 
     def _matrices(self, casadi: bool) -> dict[str, Scalar]:
@@ -354,6 +354,11 @@ class FilamentSet:
         ----------
         points : ndarray, shape (n, 3)
             Field points, m.
+
+        Returns
+        -------
+        ndarray, shape (n, 3, n_currents)
+            Field per ampere of each drive current, T/A.
         """
         out = np.empty((len(points), 3, self.n_currents))
         direction = self._rows()["direction"]

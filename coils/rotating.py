@@ -31,6 +31,11 @@ def heading_frame(heading: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarr
     ------
     InputError
         ``heading`` not three finite numbers of non-zero length.
+
+    Returns
+    -------
+    n, u, v : ndarray, shape (3,)
+        Orthonormal right-handed frame, dimensionless.
     """
     h = np.asarray(heading, dtype=float)
     norm = float(np.linalg.norm(h)) if h.shape == (3,) else 0.0
@@ -54,7 +59,7 @@ def allocation(
     field_matrix_T_per_A : ndarray, shape (3, 3)
         G with B = G I at the point, T/A.
     heading : array_like, shape (3,)
-        Rotation axis n.
+        Rotation axis n, dimensionless (normalised here).
     amplitude_T : float
         Field amplitude B0, T.
 
@@ -84,7 +89,7 @@ def ellipse_semi_axes(
     field_cos_T, field_sin_T : ndarray, shape (n, 3)
         Field vectors P and Q, T.
     heading : array_like, shape (3,)
-        Rotation axis n.
+        Rotation axis n, dimensionless (normalised here).
 
     Returns
     -------

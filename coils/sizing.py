@@ -36,6 +36,63 @@ class AxisSizing:
 
     Temperatures are the steady, self-consistent state at this current (NaN if the pair runs
     away thermally); ``time_constant_s`` is the lumped τ of :func:`coils.thermal.transient`.
+    ``field_per_amp_T_per_A`` is the field model's centre gain (each coil one loop at its mean
+    radius, as a design builds it; ``field_amplitude_T`` is it times the current),
+    ``pack_field_per_amp_T_per_A`` the same with the current spread over the winding pack.
+
+    Attributes
+    ----------
+    axis : str
+        ``"x"``, ``"y"`` or ``"z"``.
+    radius_m : float
+        Mean coil radius R, m.
+    separation_m : float
+        Distance between the coil planes, m.
+    turns : int
+        Turns of each coil, count.
+    wire_diameter_m : float
+        Bare copper diameter, m.
+    winding_pack_side_m, winding_pack_width_m, winding_pack_depth_m : float
+        Side of the square of the pack's area, its axial width and its radial depth, m.
+    pack_aspect : float
+        Axial width / radial depth of the pack, dimensionless.
+    wire_length_m : float
+        Wire length of both coils, m.
+    copper_mass_kg : float
+        Copper mass of both coils, kg.
+    field_per_amp_T_per_A : float
+        Centre field per ampere of the field model (each coil one loop at its mean radius), T/A.
+    pack_field_per_amp_T_per_A : float
+        The same with the current spread over the winding pack, T/A.
+    resistance_20C_ohm, resistance_ohm : float
+        Resistance of the pair at 20 °C and at its mean winding temperature, Ω.
+    self_inductance_H, mutual_inductance_H, inductance_H : float
+        Self inductance of one coil, mutual inductance of the two, series inductance of the
+        pair, H.
+    impedance_ohm : float
+        Series R-L impedance magnitude at the drive frequency, Ω.
+    voltage_amplitude_V : float
+        Drive voltage amplitude, V.
+    power_W : float
+        Mean copper loss of the pair, W.
+    surface_conductance_W_per_K : float
+        Surface area times effective coefficient (convection and radiation), W/K.
+    surface_temperature_C, mean_temperature_C, hot_spot_temperature_C : float
+        Steady mean surface, mean winding and hottest winding temperature, °C (NaN: runaway).
+    temperature_rise_K : float
+        Hot spot above ambient, K.
+    heat_capacity_J_per_K : float
+        Heat capacity of both packs, J/K.
+    time_constant_s : float
+        Lumped thermal time constant, s.
+    field_amplitude_T : float
+        Centre field at the current amplitude, T.
+    surface_max_temperature_C : float
+        Hottest point of the pack's faces, °C.
+    convection_coefficient_W_m2K : float
+        Convective part of the face coefficient, W/(m²·K).
+    radiation_view_factor : float
+        Fraction of the pack's radiation that reaches the room, dimensionless (1: alone).
     """
 
     axis: str
@@ -69,11 +126,24 @@ class AxisSizing:
     surface_max_temperature_C: float = math.nan
     convection_coefficient_W_m2K: float = math.nan
     radiation_view_factor: float = 1.0
+    pack_field_per_amp_T_per_A: float = math.nan
 
 
 @dataclass(frozen=True)
 class WorstHeading:
-    """The heading drawing the most copper loss with its busiest axis at the current limit."""
+    """The heading drawing the most copper loss with its busiest axis at the current limit.
+
+    Attributes
+    ----------
+    heading : tuple of float
+        Unit heading of the rotation axis, dimensionless.
+    field_amplitude_T : float
+        Rotating field amplitude at which its busiest axis reaches the current limit, T.
+    current_amplitudes_A : tuple of float
+        Current amplitude of each pair (x, y, z), A.
+    total_power_W : float
+        Copper loss of the three pairs, W (NaN: a pair runs away).
+    """
 
     heading: tuple[float, float, float]
     field_amplitude_T: float
@@ -83,7 +153,35 @@ class WorstHeading:
 
 @dataclass(frozen=True)
 class SystemSizing:
-    """Sizing of the three pairs and the worst-heading rotating field at the given current."""
+    """Sizing of the three pairs and the worst-heading rotating field at the given current.
+
+    Attributes
+    ----------
+    frequency_hz : float
+        Drive frequency, Hz.
+    current_amplitude_A : float
+        Current amplitude of every pair (the current limit), A.
+    ambient_temperature_C : float
+        Air temperature, °C.
+    heat_transfer_coefficient_W_m2K : float or None
+        Fixed face coefficient, W/(m²·K) (None: the packs' correlations).
+    winding_conductivity_W_mK : float
+        Effective transverse conductivity of the packs, W/(m·K).
+    surface_emissivity : float
+        Grey-body emissivity of the winding surface, dimensionless.
+    axes : tuple of AxisSizing
+        The x, y and z pairs.
+    worst_heading : WorstHeading
+        The heading with the most copper loss.
+    total_power_W : float
+        Copper loss at the worst heading, W.
+    current_limited_rotating_field_T : float
+        Weakest pair's centre field at the current limit, T.
+    current_limiting_axes : tuple of str
+        The pairs that reach it.
+    cooling : str
+        Cooling mode of the packs (one of :data:`coils.thermal.CONVECTION_MODES`).
+    """
 
     frequency_hz: float
     current_amplitude_A: float
@@ -102,7 +200,24 @@ class SystemSizing:
 def winding_pack(
     pair, conductivity_W_mK: float, heat_transfer_coefficient_W_m2K: float, emissivity: float
 ) -> WindingPack:
-    """The :class:`coils.thermal.WindingPack` of a :class:`coils.HelmholtzPair`."""
+    """The :class:`coils.thermal.WindingPack` of a :class:`coils.HelmholtzPair`.
+
+    Parameters
+    ----------
+    pair : HelmholtzPair
+        The pair (its pack geometry and packing factor).
+    conductivity_W_mK : float
+        Effective transverse conductivity of the pack, W/(m·K).
+    heat_transfer_coefficient_W_m2K : float
+        Face coefficient, W/(m²·K).
+    emissivity : float
+        Grey-body emissivity of the winding surface, dimensionless.
+
+    Returns
+    -------
+    WindingPack
+        One coil's pack, SI.
+    """
     return WindingPack(
         pack_width_m=pair.winding_pack_width_m,
         pack_depth_m=pair.winding_pack_depth_m,
@@ -144,19 +259,21 @@ def size_system(
     winding_conductivity_W_mK : float
         Effective transverse conductivity of the packs, W/(m·K).
     surface_emissivity : float
-        Grey-body emissivity of the winding surface.
+        Grey-body emissivity of the winding surface, dimensionless.
     headings : ndarray, shape (h, 3), optional
-        Unit headings for the worst-heading total (default: the three axes).
+        Unit headings for the worst-heading total, dimensionless (default: the three axes).
     packs : tuple of coils.thermal.WindingPack, optional
         The packs as cooled (convection correlations, forced air); default: a fixed
         ``heat_transfer_coefficient_W_m2K``.
     view_factors : ndarray (3, 4), optional
-        Rows ``[room, x, y, z]`` (:func:`coils.viewfactors.view_factors`): the three pairs,
-        all at this current, radiate to each other; default: each alone in the room.
+        View factors, dimensionless, rows ``[room, x, y, z]``
+        (:func:`coils.viewfactors.view_factors`): the three pairs, all at this current,
+        radiate to each other; default: each alone in the room.
 
     Returns
     -------
     SystemSizing
+        Every pair's electrical and thermal state and the worst-heading total, SI.
     """
     axes = []
     states = []
@@ -217,6 +334,7 @@ def size_system(
                 convection_coefficient_W_m2K=float(st.convection_W_m2K),
                 radiation_view_factor=1.0 if view_factors is None else float(view_factors[k][0]),
                 field_amplitude_T=g * current_amplitude_A,
+                pack_field_per_amp_T_per_A=pair.pack_centre_field_per_amp_T_per_A,
             )
         )
     weakest = min(a.field_amplitude_T for a in axes)

@@ -36,6 +36,11 @@ class PointEvaluator:
     Uses CasADi's ``Function.buffer()``: inputs and outputs are fixed numpy arrays the Function
     reads and writes in place, so a call costs a copy-in, the evaluation and a copy-out. Not
     thread-safe (one buffer per evaluator).
+
+    Parameters
+    ----------
+    function : casadi.Function
+        The compiled function, object (its inputs and outputs in the units it names).
     """
 
     def __init__(self, function: Any) -> None:
@@ -49,7 +54,18 @@ class PointEvaluator:
             self._buffer.set_res(i, a.data)
 
     def __call__(self, *args: Any) -> np.ndarray | tuple[np.ndarray, ...]:
-        """Evaluate; arguments and results flattened column-major (CasADi order)."""
+        """Evaluate; arguments and results flattened column-major (CasADi order).
+
+        Parameters
+        ----------
+        *args : array_like
+            One flat array per input of the function, in the unit its name carries.
+
+        Returns
+        -------
+        ndarray or tuple of ndarray
+            One flat copy per output, in the unit its name carries.
+        """
         for dst, src in zip(self._inputs, args, strict=True):
             dst[:] = src
         self._trigger()
@@ -126,6 +142,11 @@ class ThreeAxisHelmholtz:
         ----------
         points_m : array_like, shape (n, 3)
             Field points, m.
+
+        Returns
+        -------
+        ndarray, shape (n, 3, 3)
+            Field per ampere of each pair, T/A.
         """
         return self.filament_set.field_matrix(_points(points_m))
 
@@ -145,7 +166,13 @@ class ThreeAxisHelmholtz:
         return point, currents, ca.densify(field)
 
     def casadi_field_function(self) -> Any:
-        """CasADi Function ``coil_field(point_m[3], currents_A[3]) -> field_T[3]`` (SX, exact)."""
+        """CasADi Function ``coil_field(point_m[3], currents_A[3]) -> field_T[3]`` (SX, exact).
+
+        Returns
+        -------
+        casadi.Function
+            The field function, object (inputs in m and A, output in T).
+        """
         import casadi as ca
 
         p, i, b = self._casadi_symbols
@@ -155,6 +182,11 @@ class ThreeAxisHelmholtz:
         """CasADi Function ``(point_m, currents_A) -> (field_T[3], dfield_dpoint_T_per_m[3x3])``.
 
         The Jacobian J[i, j] = ∂B_i/∂p_j is exact (algorithmic differentiation).
+
+        Returns
+        -------
+        casadi.Function
+            The field and Jacobian function, object (inputs in m and A, outputs in T and T/m).
         """
         import casadi as ca
 
@@ -169,7 +201,13 @@ class ThreeAxisHelmholtz:
         )
 
     def casadi_field_matrix_function(self) -> Any:
-        """CasADi Function ``coil_field_matrix(point_m[3]) -> G_T_per_A[3x3]`` with B = G I."""
+        """CasADi Function ``coil_field_matrix(point_m[3]) -> G_T_per_A[3x3]`` with B = G I.
+
+        Returns
+        -------
+        casadi.Function
+            The field-matrix function, object (input in m, output in T/A).
+        """
         import casadi as ca
 
         p, i, b = self._casadi_symbols
@@ -193,6 +231,11 @@ class ThreeAxisHelmholtz:
         ----------
         heading : array_like, shape (3,)
             Rotation axis n (normalised here).
+
+        Returns
+        -------
+        ndarray, shape (3,)
+            Current amplitude per tesla of each pair, A/T.
         """
         return self.rotating_allocation(heading, 1.0)[0]
 
@@ -211,7 +254,8 @@ class ThreeAxisHelmholtz:
         Returns
         -------
         amplitudes_A, phases_rad : ndarray, shape (3,)
-            I_k(t) = A_k cos(2π f t + φ_k); A_k = B0 sqrt(1 - n_k²) / g_k.
+            Amplitudes A_k, A, and phases φ_k, rad, of I_k(t) = A_k cos(2π f t + φ_k);
+            A_k = B0 sqrt(1 - n_k²) / g_k.
         """
         return allocation(np.diag(self.centre_gains_T_per_A), heading, amplitude_T)
 
@@ -225,9 +269,16 @@ class ThreeAxisHelmholtz:
         point_m : array_like, shape (3,)
             Where the rotating field must be exact, m.
         heading : array_like, shape (3,)
-            Rotation axis n.
+            Rotation axis n, dimensionless (normalised here).
         amplitude_T : float
             Field amplitude B0, T.
+
+        Returns
+        -------
+        amplitudes_A : ndarray, shape (3,)
+            Current amplitudes, A.
+        phases_rad : ndarray, shape (3,)
+            Current phases, rad.
         """
         return allocation(self.field_matrix(point_m)[0], heading, amplitude_T)
 
@@ -239,13 +290,18 @@ class ThreeAxisHelmholtz:
         Parameters
         ----------
         heading : array_like, shape (3,)
-            Rotation axis n.
+            Rotation axis n, dimensionless (normalised here).
         amplitude_T : float
             Field amplitude B0, T.
         frequency_hz : float
             Rotation frequency f, Hz.
         t_s : array_like, shape (m,)
             Times, s.
+
+        Returns
+        -------
+        ndarray, shape (m, 3)
+            Current of each pair at each time, A.
         """
         amps, phases = self.rotating_allocation(heading, amplitude_T)
         t = np.atleast_1d(np.asarray(t_s, dtype=float))
@@ -261,14 +317,14 @@ class ThreeAxisHelmholtz:
         points_m : array_like, shape (n, 3)
             Field points, m.
         heading : array_like, shape (3,)
-            Rotation axis n.
+            Rotation axis n, dimensionless (normalised here).
         amplitude_T : float
             Field amplitude B0 at the centre, T.
 
         Returns
         -------
         minor_T, major_T : ndarray, shape (n,)
-            Smallest and largest in-plane field during one turn (minor is what the capsule
+            Smallest and largest in-plane field during one turn, T (minor is what the capsule
             magnet is sure to see; minor/B0 is the workspace derating).
         """
         amps, phases = self.rotating_allocation(heading, amplitude_T)

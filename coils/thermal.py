@@ -39,7 +39,9 @@ from coils.conduction import robin_statics, robin_transient
 from coils.convection import _pack_convection_W_m2K, pack_convection_W_m2K
 from spiralcap import backend as bk
 from spiralcap.constants import (
+    COPPER_DENSITY_kg_m3,
     COPPER_RESISTIVITY_20C_ohm_m,
+    COPPER_SPECIFIC_HEAT_J_kgK,
     COPPER_TEMPERATURE_COEFFICIENT_per_K,
 )
 
@@ -68,8 +70,9 @@ __all__ = [
 
 #: Stefan-Boltzmann constant, W/(m²·K⁴) (CODATA 2018, exact).
 STEFAN_BOLTZMANN_W_m2K4 = 5.670374419e-8
-#: Copper: density 8960 kg/m³ times specific heat 385 J/(kg·K) (CRC Handbook, 97th ed.).
-COPPER_VOLUMETRIC_HEAT_CAPACITY_J_m3K = 8960.0 * 385.0
+#: Copper: the wire's density (IEC 60028 annealed copper, 8890 kg/m³, the same as the copper
+#: mass) times its specific heat 385 J/(kg·K) (CRC Handbook, 97th ed.), J/(m³·K).
+COPPER_VOLUMETRIC_HEAT_CAPACITY_J_m3K = COPPER_DENSITY_kg_m3 * COPPER_SPECIFIC_HEAT_J_kgK
 #: The rest of the pack taken as epoxy impregnation/enamel: 1200 kg/m³ x 1100 J/(kg·K)
 #: (typical cured epoxy; air voids would lower it, which shortens τ: see docs/coils.md).
 IMPREGNATION_VOLUMETRIC_HEAT_CAPACITY_J_m3K = 1200.0 * 1100.0
@@ -91,6 +94,16 @@ def square_pack_coefficients(terms: int = 60) -> tuple[float, float]:
     (Carslaw & Jaeger 1959, §6.3), λ_n = (2n+1)π/(2b):
     θ(0,0) = b²/2 - Σ 2(-1)^n / (b λ_n³ cosh λ_n b) and
     mean θ = b²/3 - Σ 2 tanh(λ_n b) / (b³ λ_n⁵), both times q'''/k, divided by a² = 4b².
+
+    Parameters
+    ----------
+    terms : int
+        Number of series terms summed.
+
+    Returns
+    -------
+    centre, mean : float
+        Rise coefficients κ_c and κ_m, dimensionless (times q''' a²/k for K).
     """
     b = 0.5
     centre = b * b / 2.0
@@ -123,6 +136,16 @@ def rectangle_pack_coefficients(width: Any, depth: Any) -> tuple[Any, Any]:
     mean θ = a²/3 - Σ 2 tanh(λ_n b) / (a² b λ_n⁵), both divided by w d = 4ab (Carslaw &
     Jaeger 1959, §6.3). The value is symmetric in w, d and smooth; min/max only choose the
     way to sum it (backend-generic). At w = d it equals :data:`KAPPA_CENTRE`, :data:`KAPPA_MEAN`.
+
+    Parameters
+    ----------
+    width, depth : float, array or CasADi
+        Axial width w and radial depth d of the section, m.
+
+    Returns
+    -------
+    centre, mean : float, array or CasADi
+        Rise coefficients, dimensionless (times q''' w d/k for K).
     """
     a = 0.5 * bk.fmin(width, depth)
     b = 0.5 * bk.fmax(width, depth)
@@ -148,17 +171,28 @@ class WindingPack:
 
     Parameters
     ----------
-    pack_width_m : axial width w of each winding pack, m.
-    pack_depth_m : radial depth d of each winding pack, m.
-    mean_radius_m : mean radius of each coil, m.
-    packing_factor : copper area / pack area.
-    conductivity_W_mK : effective transverse conductivity k of the pack, W/(m·K).
-    heat_transfer_coefficient_W_m2K : convective coefficient h at the faces (``"fixed"``).
-    emissivity : grey-body emissivity ε of the faces.
-    air_speed_m_s : forced-air speed (``"forced"``), m/s.
-    vertical_axis : True for a pair whose axis is vertical (z).
-    convection : one of :data:`CONVECTION_MODES`.
-    coils : number of identical coils (2 for a pair).
+    pack_width_m : float, array or CasADi
+        Axial width w of each winding pack, m.
+    pack_depth_m : float, array or CasADi
+        Radial depth d of each winding pack, m.
+    mean_radius_m : float, array or CasADi
+        Mean radius of each coil, m.
+    packing_factor : float, array or CasADi
+        Copper area / pack area, dimensionless.
+    conductivity_W_mK : float, array or CasADi
+        Effective transverse conductivity k of the pack, W/(m·K).
+    heat_transfer_coefficient_W_m2K : float, array or CasADi
+        Convective coefficient h at the faces (``"fixed"``), W/(m²·K).
+    emissivity : float, array or CasADi
+        Grey-body emissivity ε of the faces, dimensionless.
+    air_speed_m_s : float, array or CasADi
+        Forced-air speed (``"forced"``), m/s.
+    vertical_axis : bool
+        Flag: True for a pair whose axis is vertical (z).
+    convection : str
+        One of :data:`CONVECTION_MODES`.
+    coils : int
+        Number of identical coils (2 for a pair).
     """
 
     pack_width_m: Any
@@ -197,8 +231,8 @@ class WindingPack:
 
     @property
     def poisson_coefficients(self) -> tuple[Any, Any]:
-        """(centre, mean) rise of the section with isothermal faces, in units of q w d/k
-        (the limit h -> infinity of the Robin problem the model solves)."""
+        """(centre, mean) rise of the section with isothermal faces, in units of q w d/k, so
+        dimensionless (the limit h -> infinity of the Robin problem the model solves)."""
         return rectangle_pack_coefficients(self.pack_width_m, self.pack_depth_m)
 
     @property
@@ -241,6 +275,13 @@ class Surroundings:
     ``radiant_C``: temperature T_r with (1 - F_self) T_r⁴ = F_room T_a⁴ + Σ_j F_j T_j⁴ (the
     other packs at their own temperatures); ``radiating_fraction``: 1 - F_self (the share of
     its emission that does not land on its own pair). Default: a pack alone in the room.
+
+    Attributes
+    ----------
+    radiant_C : float, array or CasADi
+        Radiant temperature T_r of the surroundings, °C.
+    radiating_fraction : float, array or CasADi
+        1 - F_self, dimensionless.
     """
 
     radiant_C: Any
@@ -251,7 +292,24 @@ def radiant_surroundings(
     view_factors: Any, k: int, others_surface_C: Any, ambient_C: Any
 ) -> Surroundings:
     """:class:`Surroundings` of pair k from its view-factor row ``[room, x, y, z]`` and the
-    surface temperatures of the three pairs (entry k is not used)."""
+    surface temperatures of the three pairs (entry k is not used).
+
+    Parameters
+    ----------
+    view_factors : ndarray, shape (3, 4)
+        View factors, dimensionless, rows ``[room, x, y, z]`` per pair.
+    k : int
+        Index of the pair (0, 1, 2 for x, y, z).
+    others_surface_C : sequence of float or CasADi
+        Mean surface temperature of each of the three pairs, °C.
+    ambient_C : float or CasADi
+        Room temperature, °C.
+
+    Returns
+    -------
+    Surroundings
+        What pair k radiates to (°C, dimensionless fraction).
+    """
     ta = ambient_C + _KELVIN
     f_self = view_factors[k][1 + k]
     sum4 = view_factors[k][0] * ta**4
@@ -268,13 +326,42 @@ def radiation_coefficient_W_m2K(surface_C: Any, ambient_C: Any, emissivity: Any)
 
     Exact in the sense h_r (T_s - T_a) = ε σ (T_s⁴ - T_a⁴) (grey surface in a large enclosure
     at ambient; Incropera & DeWitt, *Fundamentals of Heat and Mass Transfer*, 6th ed., eq. 1.9).
+
+    Parameters
+    ----------
+    surface_C : float, array or CasADi
+        Surface temperature, °C.
+    ambient_C : float, array or CasADi
+        Temperature of the enclosure, °C.
+    emissivity : float, array or CasADi
+        Grey-body emissivity ε, dimensionless.
+
+    Returns
+    -------
+    float, array or CasADi
+        Radiation coefficient h_r, W/(m²·K).
     """
     ts, ta = surface_C + _KELVIN, ambient_C + _KELVIN
     return emissivity * STEFAN_BOLTZMANN_W_m2K4 * (ts * ts + ta * ta) * (ts + ta)
 
 
 def convection_coefficient_W_m2K(pack: WindingPack, surface_C: Any, ambient_C: Any) -> Any:
-    """Area-weighted convective coefficient of the pack's faces at ``surface_C``, W/(m²·K)."""
+    """Area-weighted convective coefficient of the pack's faces at ``surface_C``, W/(m²·K).
+
+    Parameters
+    ----------
+    pack : WindingPack
+        The pack and its cooling mode.
+    surface_C : float, array or CasADi
+        Mean surface temperature, °C.
+    ambient_C : float, array or CasADi
+        Air temperature, °C.
+
+    Returns
+    -------
+    float, array or CasADi
+        Convective coefficient h_c, W/(m²·K).
+    """
     if pack.convection == "fixed":
         return pack.heat_transfer_coefficient_W_m2K + 0.0 * surface_C
     return pack_convection_W_m2K(
@@ -296,7 +383,24 @@ def surface_loss_W(
     pack: WindingPack, surface_C: Any, ambient_C: Any, env: Surroundings | None = None
 ) -> Any:
     """Heat the faces shed at a mean surface temperature, W:
-    A [h_c (T_s - T_a) + ε σ (1 - F_self)(T_s⁴ - T_r⁴)]."""
+    A [h_c (T_s - T_a) + ε σ (1 - F_self)(T_s⁴ - T_r⁴)].
+
+    Parameters
+    ----------
+    pack : WindingPack
+        The pack and its cooling.
+    surface_C : float, array or CasADi
+        Mean surface temperature T_s, °C.
+    ambient_C : float, array or CasADi
+        Air temperature T_a, °C.
+    env : Surroundings, optional
+        What the faces radiate to (default: the room at ambient).
+
+    Returns
+    -------
+    float, array or CasADi
+        Heat shed by convection and radiation, W.
+    """
     return _Faces(pack, ambient_C, _surroundings(env, ambient_C)).loss_W(surface_C)
 
 
@@ -434,6 +538,24 @@ class SteadyState:
     Newton iterates had not converged, i.e. temperatures of thousands of °C. The other fields
     are then finite upper bounds (far beyond any limit), so limits built on them stay violated
     and smooth.
+
+    Attributes
+    ----------
+    surface_C, mean_C, hot_spot_C : float, array or CasADi
+        Mean face, mean winding and hottest winding temperature, °C.
+    power_W : float, array or CasADi
+        Copper loss of the pair, W.
+    resistance_ohm : float, array or CasADi
+        Pair resistance at ``mean_C``, Ω.
+    runaway : float, array or CasADi
+        Flag, 1.0 where no steady state was found, else 0.0.
+    surface_max_C : float, array or CasADi
+        Hottest face point, °C.
+    convection_W_m2K, effective_h_W_m2K : float, array or CasADi
+        Convective and effective (convection + radiation) face coefficient, W/(m²·K).
+    centre_offset_K_per_W, mean_offset_K_per_W, surface_max_offset_K_per_W : float, array or CasADi
+        Rise of the centre, the mean and the hottest face point above the mean face per watt of
+        pack loss, K/W.
     """
 
     surface_C: Any
@@ -489,6 +611,7 @@ def steady_state(
     Parameters
     ----------
     pack : WindingPack
+        The pair's packs and their cooling.
     resistance_20C_ohm : float, array or CasADi
         Pair resistance at 20 °C, Ω.
     current_amplitude_A : float, array or CasADi
@@ -497,6 +620,11 @@ def steady_state(
         Ambient air, °C.
     env : Surroundings, optional
         The other packs it radiates to (default: alone in the room).
+
+    Returns
+    -------
+    SteadyState
+        Temperatures in °C, loss in W, resistance in Ω, coefficients in W/(m²·K).
     """
     resistance_20C_ohm, ambient_C, half_i2, faces = _balance_inputs(
         pack, resistance_20C_ohm, current_amplitude_A, ambient_C, env
@@ -563,6 +691,26 @@ def surface_estimate_C(
     The balance of :func:`steady_state` with the loss at the surface temperature (no internal
     rise: its mean-above-surface share, ~3 % of the rise, left out) in 5 Newton steps from the
     same start; with a session, the lumped fraction 1 - e^(-t/τ) of that rise.
+
+    Parameters
+    ----------
+    pack : WindingPack
+        The pair's packs and their cooling.
+    resistance_20C_ohm : float, array or CasADi
+        Pair resistance at 20 °C, Ω.
+    current_amplitude_A : float, array or CasADi
+        Current amplitude (peak), A.
+    ambient_C : float, array or CasADi
+        Ambient air, °C.
+    env : Surroundings, optional
+        The other packs it radiates to (default: alone in the room).
+    session_s : float, array or CasADi, optional
+        Length of the session, s (default: steady state).
+
+    Returns
+    -------
+    float, array or CasADi
+        Mean surface temperature, °C.
     """
     resistance_20C_ohm, ambient_C, half_i2, faces = _balance_inputs(
         pack, resistance_20C_ohm, current_amplitude_A, ambient_C, env
@@ -587,6 +735,23 @@ class Transient:
 
     ``time_constant_s`` is the lumped τ = C / (1/R_th - α R20 I²/2) of the mean rise;
     ``final_*`` the steady temperatures of the same linearised faces.
+
+    Attributes
+    ----------
+    time_s : float, array or CasADi
+        Time since switch-on, s.
+    surface_C, mean_C, hot_spot_C : float, array or CasADi
+        Mean face, mean winding and hottest winding temperature at ``time_s``, °C.
+    power_W : float, array or CasADi
+        Copper loss at ``time_s``, W.
+    time_constant_s : float, array or CasADi
+        Lumped time constant of the mean rise, s.
+    heat_capacity_J_per_K : float, array or CasADi
+        Heat capacity of the packs, J/K.
+    final_mean_C, final_hot_spot_C : float, array or CasADi
+        Steady mean and hottest winding temperature of the linearised faces, °C.
+    surface_max_C : float, array or CasADi
+        Hottest face point at ``time_s``, °C.
     """
 
     time_s: Any
@@ -621,6 +786,7 @@ def transient(
     Parameters
     ----------
     pack : WindingPack
+        The pair's packs and their cooling.
     resistance_20C_ohm, current_amplitude_A : float, array or CasADi
         Pair resistance at 20 °C (Ω) and current amplitude (A).
     ambient_C : float
@@ -631,6 +797,11 @@ def transient(
         Surface temperature at which the faces are linearised, °C.
     env : Surroundings, optional
         The other packs it radiates to (default: alone in the room).
+
+    Returns
+    -------
+    Transient
+        Temperatures in °C, loss in W, times in s, heat capacity in J/K.
     """
     env = _surroundings(env, ambient_C)
     alpha = COPPER_TEMPERATURE_COEFFICIENT_per_K
@@ -676,10 +847,39 @@ def session_linearisation_C(steady: SteadyState, tau_s: Any, time_s: Any, ambien
 
     The faces of :func:`transient` are linearised there (exact at steady state, where the
     session ends at the steady surface); τ is the lumped time constant of the steady faces.
+
+    Parameters
+    ----------
+    steady : SteadyState
+        The pair's steady state.
+    tau_s : float, array or CasADi
+        Lumped time constant, s.
+    time_s : float, array or CasADi
+        Session length, s.
+    ambient_C : float, array or CasADi
+        Ambient air, °C.
+
+    Returns
+    -------
+    float, array or CasADi
+        Surface temperature to linearise at, °C.
     """
     return ambient_C + (steady.surface_C - ambient_C) * (1.0 - bk.exp(-time_s / tau_s))
 
 
 def pair_resistance_20C_ohm(wire_length_m: Any, wire_diameter_m: Any) -> Any:
-    """Resistance of a wire at 20 °C, ρ20 ℓ / (π d²/4), Ω (IEC 60028)."""
+    """Resistance of a wire at 20 °C, ρ20 ℓ / (π d²/4), Ω (IEC 60028).
+
+    Parameters
+    ----------
+    wire_length_m : float, array or CasADi
+        Wire length ℓ, m.
+    wire_diameter_m : float, array or CasADi
+        Bare copper diameter d, m.
+
+    Returns
+    -------
+    float, array or CasADi
+        Resistance at 20 °C, Ω.
+    """
     return COPPER_RESISTIVITY_20C_ohm_m * wire_length_m / (bk.pi * wire_diameter_m**2 / 4.0)

@@ -32,6 +32,7 @@ from coils.thermal import (
     _Faces,
     _internal,
     _resistance_ohm,
+    convection_coefficient_W_m2K,
     radiant_surroundings,
     session_linearisation_C,
     steady_state,
@@ -47,11 +48,38 @@ __all__ = ["PairTemperatures", "end_state", "mean_rise_at_K", "pair_temperatures
 class PairTemperatures:
     """One pair at the end of the run (steady, or at the end of the session); °C, W, W/(m²·K).
 
-    ``surface_C`` is the mean face temperature, ``surface_max_C`` the hottest face point.
-    Linearisation (for :func:`mean_rise_at_K` and the coupling): ``effective_h_W_m2K`` (h_c +
-    h_r at the faces), ``thermal_resistance_K_per_W`` R_th (mean above the sink per watt),
-    ``sink_rise_K`` θ_env from the other pairs, ``session_ratio`` (mean rise reached / its
-    linear steady value; 1 at steady state), ``runaway`` (1: no steady state).
+    ``surface_C`` is the mean face temperature, ``surface_max_C`` the hottest face point,
+    ``convection_W_m2K`` the faces' area-weighted convective h_c at ``surface_C`` (with the other
+    pairs radiating: at the coupled surface; h_c at the pair's surface alone is 2-3 % lower for
+    the built-in pairs). Linearisation (for :func:`mean_rise_at_K` and the coupling):
+    ``effective_h_W_m2K`` (h_c + h_r at the faces, of the pair alone: the coupling answers the
+    other pairs' flux with the tangent slope there), ``thermal_resistance_K_per_W`` R_th (mean
+    above the sink per watt), ``sink_rise_K`` θ_env from the other pairs, ``session_ratio`` (mean
+    rise reached / its linear steady value; 1 at steady state), ``runaway`` (1: no steady
+    state).
+
+    Attributes
+    ----------
+    surface_C, surface_max_C, mean_C, hot_spot_C : float, array or CasADi
+        Mean face, hottest face point, mean winding and hottest winding temperature, °C.
+    power_W : float, array or CasADi
+        Copper loss of the pair, W.
+    convection_W_m2K, effective_h_W_m2K : float, array or CasADi
+        Convective and effective (convection + radiation) face coefficient, W/(m²·K).
+    time_constant_s : float, array or CasADi
+        Lumped time constant of the mean rise, s.
+    thermal_resistance_K_per_W : float, array or CasADi
+        R_th, mean winding above the sink per watt, K/W.
+    sink_rise_K : float, array or CasADi
+        θ_env, the sink's rise above ambient from the other pairs, K.
+    session_ratio : float, array or CasADi
+        Mean rise reached / its linear steady value, dimensionless (1 at steady state).
+    runaway : float, array or CasADi
+        Flag, 1.0 where no steady state exists, else 0.0.
+    internal : object, optional
+        The Robin offsets above the mean face at ``effective_h_W_m2K`` (K/W), when kept.
+    tangent_h_W_m2K : float, array or CasADi, optional
+        Tangent slope of the face loss per unit area, W/(m²·K), when kept.
     """
 
     surface_C: Any
@@ -99,7 +127,28 @@ def end_state(
     env: Surroundings | None,
     session_s: Any,
 ) -> PairTemperatures:
-    """One pair in fixed radiant surroundings: steady (``session_s`` None) or at session end."""
+    """One pair in fixed radiant surroundings: steady (``session_s`` None) or at session end.
+
+    Parameters
+    ----------
+    pack : WindingPack
+        The pair's packs and their cooling.
+    resistance_20C_ohm : float, array or CasADi
+        Pair resistance at 20 °C, Ω.
+    current_A : float, array or CasADi
+        Current amplitude, A.
+    ambient_C : float, array or CasADi
+        Ambient air, °C.
+    env : Surroundings or None
+        Fixed radiant surroundings (None: alone in the room).
+    session_s : float, array, CasADi or None
+        Session length, s (None: steady state).
+
+    Returns
+    -------
+    PairTemperatures
+        The pair at the end of the run (°C, W, W/(m²·K), s, K/W).
+    """
     st = steady_state(pack, resistance_20C_ohm, current_A, ambient_C, env)
     half_i2 = 0.5 * current_A * current_A
     p1 = COPPER_TEMPERATURE_COEFFICIENT_per_K * resistance_20C_ohm * half_i2
@@ -126,7 +175,7 @@ def end_state(
     tau_safe = bk.where(tau > 0.0, tau, 1e30)
     lin = session_linearisation_C(st, tau_safe, session_s, ambient_C)
     run = transient(pack, resistance_20C_ohm, current_A, ambient_C, session_s, lin, env)
-    hc, heff, _ = _Faces(
+    _, heff, _ = _Faces(
         pack, ambient_C, env if env is not None else Surroundings(ambient_C)
     ).linearised(lin)
     r_lin, tau_lin, inner_lin = _lumped(pack, heff, p1)
@@ -137,7 +186,7 @@ def end_state(
         run.mean_C,
         run.hot_spot_C,
         run.power_W,
-        hc,
+        convection_coefficient_W_m2K(pack, run.surface_C, ambient_C),
         heff,
         tau_lin,
         r_lin,
@@ -185,13 +234,14 @@ def _coupled(
     mean = alone.mean_C + d_mean
     p_a = _resistance_ohm(resistance_20C_ohm, ambient_C) * 0.5 * current_A * current_A
     steady_rise = (theta_env + r_th * p_a) / bk.fmax(1.0 - p1 * r_th, 1e-12)
+    surface = alone.surface_C + d_surface
     return PairTemperatures(
-        alone.surface_C + d_surface,
+        surface,
         alone.surface_max_C + d_surface + inner.surface_max * d_power,
         mean,
         alone.hot_spot_C + d_surface + inner.centre * d_power,
         alone.power_W + d_power,
-        alone.convection_W_m2K,
+        convection_coefficient_W_m2K(pack, surface, ambient_C),  # h_c at the coupled surface
         heff,
         alone.time_constant_s,
         r_th,
@@ -218,6 +268,28 @@ def pair_temperatures(
     view_factors`), or None (each pair alone in the room). The neighbours' surfaces come from
     :func:`coils.thermal.surface_estimate_C`. ``only``: solve that pair alone (the others'
     entries None; the same numbers as the full call).
+
+    Parameters
+    ----------
+    packs : tuple of WindingPack
+        The x, y and z pairs' packs.
+    resistances_20C_ohm : sequence of float or CasADi
+        Each pair's resistance at 20 °C, Ω.
+    currents_A : sequence of float or CasADi
+        Each pair's current amplitude, A.
+    ambient_C : float or CasADi
+        Ambient air, °C.
+    view_factors : ndarray, shape (3, 4), or None
+        View factors, dimensionless, rows ``[room, x, y, z]`` per pair (None: each alone).
+    session_s : float, array, CasADi or None
+        Session length, s (None: steady state).
+    only : int, optional
+        Index of the one pair to solve (0, 1, 2), or None for all three.
+
+    Returns
+    -------
+    list of PairTemperatures or None
+        One per pair (x, y, z); None for the pairs ``only`` leaves out.
     """
     want = range(3) if only is None else (only,)
     if view_factors is None:
@@ -272,6 +344,22 @@ def mean_rise_at_K(
     θ = ratio · (θ_env + R_th P_a) / (1 - p₁ R_th), P_a = R(T_a) I²/2, p₁ = α R20 I²/2: the
     steady balance of the linearised faces (times the share of it the session reaches at the
     state's current). Equal to ``state``'s mean rise at ``state``'s own current.
+
+    Parameters
+    ----------
+    state : PairTemperatures
+        The pair's state whose faces are linearised.
+    resistance_20C_ohm : float, array or CasADi
+        Pair resistance at 20 °C, Ω.
+    current_A : float, array or CasADi
+        The other current amplitude, A.
+    ambient_C : float, array or CasADi
+        Ambient air, °C.
+
+    Returns
+    -------
+    float, array or CasADi
+        Mean winding rise above ambient, K.
     """
     half_i2 = 0.5 * current_A * current_A
     p1 = COPPER_TEMPERATURE_COEFFICIENT_per_K * resistance_20C_ohm * half_i2

@@ -106,7 +106,7 @@ def uniformity(system: Any, points_m: Any, currents_A: Any = None) -> np.ndarray
     Returns
     -------
     ndarray, shape (n,)
-        Deviation of the field magnitude from the centre value.
+        Relative deviation of the field magnitude from the centre value, dimensionless.
     """
     points = np.atleast_2d(np.asarray(points_m, dtype=float))
     return _deviation(_field_function(system, currents_A), points)
@@ -373,9 +373,11 @@ class UniformRegion:
     tolerance : float
         Relative tolerance used.
     limiting_ray : ndarray, shape (3,)
-        Unit direction from the centre along which the deviation first reaches the tolerance.
+        Unit direction from the centre along which the deviation first reaches the tolerance,
+        dimensionless.
     field_direction : ndarray, shape (3,)
-        Unit direction of the centre field for which the radius holds (the worst one tried).
+        Unit direction of the centre field for which the radius holds (the worst one tried),
+        dimensionless.
     """
 
     radius_m: float
@@ -448,6 +450,18 @@ def pair_uniform_regions(pairs: Any, tolerances: Any) -> tuple[tuple[UniformRegi
     filaments are the same in units of their radius (:func:`_pair_similarity_key`, compared
     bit for bit) are searched once: the field of one is the other's scaled and rotated, so its
     radii scale with R and its rays map by the cyclic permutation of the axes.
+
+    Parameters
+    ----------
+    pairs : sequence of HelmholtzPair
+        The pairs, each on its own.
+    tolerances : sequence of float
+        Allowed relative deviations, dimensionless (0.01 for ±1 %).
+
+    Returns
+    -------
+    tuple of tuple of UniformRegion
+        ``[pair][tolerance]``, radii in m.
     """
     tols = tuple(check_positive("tolerance", t) for t in tolerances)
     done: dict[tuple[bytes, bytes, bytes], tuple[HelmholtzPair, tuple[UniformRegion, ...]]] = {}
@@ -499,6 +513,24 @@ def uniform_regions(
     axis drives that pair alone, an axisymmetric field: its region is the pair's
     (:func:`pair_uniform_regions`, or ``pair_regions[axis]`` when given for these
     tolerances) if that lies inside the smallest coil, as the system's search is capped there.
+
+    Parameters
+    ----------
+    system_or_pair : ThreeAxisHelmholtz or HelmholtzPair
+        The coils.
+    tolerances : sequence of float
+        Allowed relative deviations, dimensionless (0.01 for ±1 %).
+    currents_A : array_like (3,), optional
+        System currents, A. If omitted, ``direction`` sets them.
+    direction : array_like (3,), optional
+        Field direction at the centre, dimensionless (see :func:`uniform_region`).
+    pair_regions : tuple of tuple of UniformRegion, optional
+        :func:`pair_uniform_regions` of the system's pairs at these tolerances, if known.
+
+    Returns
+    -------
+    tuple of UniformRegion
+        One per tolerance, radii in m.
     """
     tols = tuple(check_positive("tolerance", t) for t in tolerances)
     if isinstance(system_or_pair, HelmholtzPair):
@@ -590,5 +622,21 @@ def uniform_region_radius_m(
     See :func:`uniform_region` (same parameters) for the search and the defaults; for a
     system with neither ``currents_A`` nor ``direction`` this is the worst over 13 static
     field directions.
+
+    Parameters
+    ----------
+    system_or_pair : ThreeAxisHelmholtz or HelmholtzPair
+        The coils.
+    tolerance : float
+        Allowed relative deviation, dimensionless (0.01 for ±1 %).
+    currents_A : array_like (3,), optional
+        System currents, A.
+    direction : array_like (3,), optional
+        Field direction at the centre, dimensionless.
+
+    Returns
+    -------
+    float
+        Radius of the uniform sphere, m.
     """
     return uniform_region(system_or_pair, tolerance, currents_A, direction).radius_m

@@ -37,7 +37,19 @@ _BASES = (2, 3, 5, 7, 11)
 
 @dataclass(frozen=True)
 class PackRing:
-    """One pair's pack geometry (SI): axis index, mean radius, coil spacing, width, depth."""
+    """One pair's pack geometry (SI): axis index, mean radius, coil spacing, width, depth.
+
+    Attributes
+    ----------
+    axis_index : int
+        Axis index of the pair: 0, 1, 2 for x, y, z.
+    radius_m : float
+        Mean coil radius, m.
+    separation_m : float
+        Distance between the coil planes, m.
+    width_m, depth_m : float
+        Axial width and radial depth of each pack, m.
+    """
 
     axis_index: int
     radius_m: float
@@ -127,7 +139,20 @@ def _frame(normal: Sequence[np.ndarray]) -> tuple[tuple[np.ndarray, ...], tuple[
 
 def radical_inverse(index: np.ndarray, base: int) -> np.ndarray:
     """Van der Corput radical inverse of non-negative integers in ``base`` (Halton's
-    coordinates): the digits of ``index`` mirrored about the radix point."""
+    coordinates): the digits of ``index`` mirrored about the radix point.
+
+    Parameters
+    ----------
+    index : ndarray of int
+        Sequence indices, count (>= 0).
+    base : int
+        Radix, a prime (count).
+
+    Returns
+    -------
+    ndarray of float
+        The radical inverses in [0, 1), dimensionless.
+    """
     i = np.array(index, dtype=np.int64)
     out = np.zeros(i.shape)
     scale = 1.0
@@ -141,7 +166,18 @@ def radical_inverse(index: np.ndarray, base: int) -> np.ndarray:
 @functools.lru_cache(maxsize=4)
 def halton_points(n: int) -> np.ndarray:
     """Points 1..n of the Halton sequence in :data:`_BASES` (n x 5; point 0, the origin, left
-    out)."""
+    out).
+
+    Parameters
+    ----------
+    n : int
+        Number of points.
+
+    Returns
+    -------
+    ndarray, shape (n, 5)
+        Points in [0, 1)⁵, dimensionless, read-only.
+    """
     index = np.arange(1, n + 1)
     pts = np.stack([radical_inverse(index, b) for b in _BASES], axis=1)
     pts.setflags(write=False)
@@ -206,6 +242,18 @@ def view_factors(rings: Sequence[PackRing], rays: int = RAYS_PER_PAIR) -> np.nda
 
     Rows sum to 1; ``[:, 0]`` is the ``radiation_view_factor`` (what leaves the coil set).
     Deterministic (Halton points) and cached per geometry (values rounded to 1e-12 m).
+
+    Parameters
+    ----------
+    rings : sequence of PackRing
+        The three pairs' packs, in pair order.
+    rays : int
+        Number of rays traced per pair.
+
+    Returns
+    -------
+    ndarray, shape (3, 4)
+        View factors, dimensionless; row k is pair k's ``[room, pair 0, pair 1, pair 2]``.
     """
     key = tuple(
         PackRing(

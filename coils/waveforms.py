@@ -26,7 +26,35 @@ __all__ = ["LimitSample", "WaveformCheck", "Waveforms", "check_waveforms", "head
 
 @dataclass(frozen=True)
 class Waveforms:
-    """Sampled waveforms (SI): ``time_s`` (n,), ``heading_index`` (n,), (n, 3) arrays."""
+    """Sampled waveforms (SI): ``time_s`` (n,), ``heading_index`` (n,), (n, 3) arrays.
+
+    Attributes
+    ----------
+    time_s : ndarray, shape (n,)
+        Sample times, s.
+    heading_index : ndarray of int, shape (n,)
+        Index of the heading each sample belongs to.
+    current_A : ndarray, shape (n, 3)
+        Current of each pair, A.
+    voltage_V : ndarray, shape (n, 3)
+        Drive voltage of each pair, R I + L dI/dt, V.
+    field_T : ndarray, shape (n, 3)
+        Centre field, T.
+    headings : ndarray, shape (h, 3)
+        Unit rotation axes, dimensionless.
+    resistance_ohm : ndarray, shape (3,)
+        Series resistance of each pair, Ω.
+    inductance_H : ndarray, shape (3,)
+        Series inductance of each pair, H.
+    amplitude_T : float
+        Field amplitude B0, T.
+    frequency_hz : float
+        Rotation frequency, Hz.
+    dwell_s : float
+        Time each heading is held, s.
+    ramp_s : float
+        Duration of each change of rotation plane, s.
+    """
 
     time_s: np.ndarray
     heading_index: np.ndarray
@@ -74,7 +102,7 @@ def heading_waveforms(
     resistance_ohm, inductance_H : array_like, shape (3,)
         Series resistance (Ω) and inductance (H) of each pair.
     headings : array_like, shape (h, 3)
-        Rotation axes, any non-zero length.
+        Rotation axes, any non-zero length, dimensionless.
     amplitude_T : float
         Field amplitude B0, T.
     frequency_hz : float
@@ -84,7 +112,12 @@ def heading_waveforms(
     ramp_s : float
         Duration of each change of rotation plane, 0 < ramp <= dwell, s.
     samples_per_period : int
-        Samples per rotation period (also at least 200 per ramp).
+        Number of samples per rotation period (also at least 200 per ramp).
+
+    Returns
+    -------
+    Waveforms
+        The sampled currents (A), voltages (V) and centre field (T) against time (s).
     """
     frames = []
     n0, u0, v0 = heading_frame(np.asarray(headings[0], dtype=float))
@@ -146,7 +179,23 @@ def heading_waveforms(
 
 @dataclass(frozen=True)
 class LimitSample:
-    """The sample where one quantity comes closest to (or goes furthest past) its limit."""
+    """The sample where one quantity comes closest to (or goes furthest past) its limit.
+
+    Attributes
+    ----------
+    quantity : str
+        ``"current"`` or ``"voltage"``.
+    axis : str
+        ``"x"``, ``"y"`` or ``"z"``.
+    time_s : float
+        Time of the sample, s.
+    heading_index : int
+        Index of the heading it belongs to.
+    value : float
+        The sample's current (A) or voltage (V), as ``quantity`` says.
+    allowed : float
+        The limit, in the unit of ``value`` (A or V).
+    """
 
     quantity: str  # "current" or "voltage"
     axis: str
@@ -157,13 +206,21 @@ class LimitSample:
 
     @property
     def utilisation(self) -> float:
-        """|value| / allowed."""
+        """|value| / allowed, dimensionless (a ratio)."""
         return abs(self.value) / self.allowed
 
 
 @dataclass(frozen=True)
 class WaveformCheck:
-    """Per heading, the sample that binds most; ``exceeded``: first violation per quantity-axis."""
+    """Per heading, the sample that binds most; ``exceeded``: first violation per quantity-axis.
+
+    Attributes
+    ----------
+    binding : tuple of LimitSample
+        Per heading, the sample closest to (or furthest past) its limit.
+    exceeded : tuple of LimitSample
+        The first violation of each quantity and axis, in time order (empty: none).
+    """
 
     binding: tuple[LimitSample, ...]
     exceeded: tuple[LimitSample, ...]
@@ -175,7 +232,22 @@ class WaveformCheck:
 
 
 def check_waveforms(w: Waveforms, current_limit_A: float, voltage_limit_V: float) -> WaveformCheck:
-    """Check every sample's |I_k| and |V_k| against the limits (switching transients included)."""
+    """Check every sample's |I_k| and |V_k| against the limits (switching transients included).
+
+    Parameters
+    ----------
+    w : Waveforms
+        The sampled waveforms.
+    current_limit_A : float
+        Allowed |I| of each pair, A.
+    voltage_limit_V : float
+        Allowed |V| of each pair, V.
+
+    Returns
+    -------
+    WaveformCheck
+        Binding samples and violations.
+    """
     binding: list[LimitSample] = []
     exceeded: list[LimitSample] = []
     series = (("current", w.current_A, current_limit_A), ("voltage", w.voltage_V, voltage_limit_V))

@@ -36,6 +36,7 @@ from typing import Any
 
 import numpy as np
 
+from optimize.robust import cvar
 from optimize.system import DesignModel, prepare
 
 #: A scenario outside the working set may undercut the tail's edge by this share of the largest
@@ -57,6 +58,25 @@ class ScenarioSolve:
     set at the optimum; ``stepout_probability``: the whole set's step-out share there;
     ``outside_min_Nm`` / ``tail_edge_Nm``: the smallest margin outside the working set and the
     ``k``-th smallest inside it (the check: the first is not below the second).
+
+    Attributes
+    ----------
+    scenarios : int
+        Number of scenarios of the whole set.
+    capacity : int
+        Number of scenarios in the working set (see above).
+    rounds : int
+        Number of NLP solves of the loop.
+    index : tuple of int
+        The final working set, whole-set indices in slot order.
+    skipped : bool
+        Flag: the step-out constraint could not bind.
+    cvar_Nm, stepout_cvar_Nm : float
+        CVaR_β and CVaR_p of the worst-case margin over the whole set, N·m.
+    stepout_probability : float
+        The whole set's step-out share, a probability.
+    outside_min_Nm, tail_edge_Nm : float
+        Smallest margin outside the working set and the tail's edge inside it, N·m.
     """
 
     scenarios: int
@@ -71,19 +91,25 @@ class ScenarioSolve:
     tail_edge_Nm: float
 
 
-def cvar(m: np.ndarray, beta: float, total: int | None = None) -> float:
-    """Rockafellar-Uryasev CVaR_β of the values ``m`` normalised by ``total`` scenarios
-    (default ``m.size``): ``max_η η − Σ (η − m)^+ / (β total)``, at ``η`` the ``ceil(β total)``-th
-    smallest value."""
-    n = m.size if total is None else total
-    k = beta * n
-    s = np.sort(np.asarray(m, dtype=float))
-    eta = s[min(max(math.ceil(k - 1e-9), 1), s.size) - 1]
-    return float(eta - np.sum(np.maximum(eta - s, 0.0)) / k)
-
-
 def worst_margins(model: DesignModel, alpha: float, f: float, field: float) -> np.ndarray:
-    """The worst-case (over tissue sets) margin of every scenario of ``model``, N·m."""
+    """The worst-case (over tissue sets) margin of every scenario of ``model``, N·m.
+
+    Parameters
+    ----------
+    model : DesignModel
+        The design with its scenarios (prepared).
+    alpha : float
+        Helical angle, rad.
+    f : float
+        Rotation frequency, Hz.
+    field : float
+        Rotating-field amplitude at the centre, T.
+
+    Returns
+    -------
+    ndarray, shape (S,)
+        Worst-case margin of each scenario, N·m.
+    """
     from optimize.robust import scenario_margins
 
     sc = model.scenarios
@@ -93,7 +119,18 @@ def worst_margins(model: DesignModel, alpha: float, f: float, field: float) -> n
 
 
 def tail_count(model: DesignModel) -> int:
-    """How many scenarios the CVaR terms of ``model`` weigh at most (``ceil(max(β, p) S)``)."""
+    """How many scenarios the CVaR terms of ``model`` weigh at most (``ceil(max(β, p) S)``).
+
+    Parameters
+    ----------
+    model : DesignModel
+        The design with its scenarios.
+
+    Returns
+    -------
+    int
+        Number of scenarios in the tail.
+    """
     sc = model.scenarios
     share = sc.beta if model.bounds.objective == "margin_p05" else 0.0
     if sc.max_stepout_probability is not None:
@@ -103,7 +140,20 @@ def tail_count(model: DesignModel) -> int:
 
 def capacity_for(tail: int, whole: int) -> int:
     """Working-set size for a tail of ``tail`` scenarios: 1.25 x, rounded up to 16 (the whole
-    set when that is more than half of it)."""
+    set when that is more than half of it).
+
+    Parameters
+    ----------
+    tail : int
+        Number of scenarios in the tail.
+    whole : int
+        Number of scenarios of the whole set.
+
+    Returns
+    -------
+    int
+        Number of scenarios of the working set.
+    """
     cap = max(MIN_CAPACITY, 16 * math.ceil(1.25 * tail / 16))
     return whole if 2 * cap > whole else cap
 
@@ -145,7 +195,22 @@ def _record(model, res, rounds, capacity, index, skipped) -> ScenarioSolve:
 
 def initial_index(model, cap, points) -> np.ndarray:
     """The first working set: the ``cap`` scenarios of the best rank at any of ``points``
-    (ties by index)."""
+    (ties by index).
+
+    Parameters
+    ----------
+    model : DesignModel
+        The design with its whole scenario set.
+    cap : int
+        Number of scenarios of the working set.
+    points : list of (float, float, float)
+        (angle, rad; frequency, Hz; field, T) points to rank the scenarios at.
+
+    Returns
+    -------
+    ndarray of int
+        Whole-set indices of the working set.
+    """
     if not points:
         return np.arange(cap)
     ranks = []
@@ -302,6 +367,13 @@ class WorkingSet:
     """The scenarios a robust NLP is solved on, and how they grow (see the module notes).
 
     ``index``: whole-set indices in slot order (its size is the capacity compiled in).
+
+    Parameters
+    ----------
+    model : DesignModel
+        The design with its whole scenario set.
+    index : ndarray of int
+        Whole-set indices of the first working set, slot order.
     """
 
     def __init__(self, model: DesignModel, index: np.ndarray) -> None:
@@ -312,18 +384,43 @@ class WorkingSet:
 
     @property
     def capacity(self) -> int:
-        """Scenarios compiled in."""
+        """Number of scenarios compiled in."""
         return int(self.index.size)
 
     def model(self, model: DesignModel) -> DesignModel:
-        """``model`` (whole scenario set) carrying this working set instead."""
+        """``model`` (whole scenario set) carrying this working set instead.
+
+        Parameters
+        ----------
+        model : DesignModel
+            The design with its whole scenario set.
+
+        Returns
+        -------
+        DesignModel
+            The same design carrying the working set.
+        """
         return replace(model, scenarios=model.scenarios.working(self.index))
 
     def update(self, model: DesignModel, point: tuple[float, float, float]) -> set[int] | None:
         """Check the optimum ``point`` over every scenario of ``model``: None if no scenario
         outside the set undercuts the tail's edge inside it (the set's optimum is the whole
         problem's), else move to the next set and return the slots that changed (all of them
-        when the capacity grew)."""
+        when the capacity grew).
+
+        Parameters
+        ----------
+        model : DesignModel
+            The design with its whole scenario set.
+        point : (float, float, float)
+            The optimum's angle (rad), frequency (Hz) and field (T).
+
+        Returns
+        -------
+        set of int or None
+            Indices of the slots that changed, or None when the working set's optimum is the whole
+            problem's.
+        """
         m = worst_margins(model, *point)
         inside = np.zeros(self.whole, dtype=bool)
         inside[self.index] = True
@@ -344,7 +441,22 @@ class WorkingSet:
         return changed
 
     def record(self, model: DesignModel, res: Any, rounds: int) -> ScenarioSolve:
-        """The evidence of a converged solve."""
+        """The evidence of a converged solve.
+
+        Parameters
+        ----------
+        model : DesignModel
+            The design with its whole scenario set.
+        res : OptimizationResult
+            The converged solve.
+        rounds : int
+            Number of NLP solves so far.
+
+        Returns
+        -------
+        ScenarioSolve
+            The record of the loop.
+        """
         return _record(model, res, rounds, self.capacity, self.index, False)
 
 

@@ -13,16 +13,43 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-__all__ = ["BUILD_CHECK_NAMES", "BuildCheck", "build_checks", "buildable_ok", "copper_masses_kg"]
+__all__ = [
+    "BUILD_CHECK_NAMES",
+    "BuildCheck",
+    "build_checks",
+    "buildable_ok",
+    "copper_masses_kg",
+    "envelope_checks",
+]
 
 #: check name -> pair of pairs
 CLEARANCE_NAMES = {"x/y": "clearance_xy", "x/z": "clearance_xz", "y/z": "clearance_yz"}
 #: every check :func:`build_checks` can return
-BUILD_CHECK_NAMES = frozenset((*CLEARANCE_NAMES.values(), "bore_clearance", "copper_mass"))
+#: the envelope checks, one per axis of the room's box (``limits.envelope_mm``)
+ENVELOPE_NAMES = ("envelope_x", "envelope_y", "envelope_z")
+BUILD_CHECK_NAMES = frozenset(
+    (*CLEARANCE_NAMES.values(), "bore_clearance", "copper_mass", *ENVELOPE_NAMES)
+)
 
 
 class BuildCheck(NamedTuple):
-    """One buildability check (the fields of :class:`optimize.evaluate.Check`)."""
+    """One buildability check (the fields of :class:`optimize.evaluate.Check`).
+
+    Attributes
+    ----------
+    name : str
+        Name of the check (:data:`BUILD_CHECK_NAMES`).
+    unit : str
+        Unit symbol of ``value`` and ``allowed`` (``"m"`` or ``"kg"``).
+    value : float
+        The checked quantity, in the unit ``unit`` names.
+    allowed : float
+        Its bound, in the unit ``unit`` names.
+    sense : str
+        ``">="`` or ``"<="``.
+    ok : bool
+        Flag: the check holds.
+    """
 
     name: str
     unit: str
@@ -33,7 +60,18 @@ class BuildCheck(NamedTuple):
 
 
 def copper_masses_kg(model: Any) -> tuple[float, float, float]:
-    """Copper mass of each pair (both coils), density x wire length x bare section, kg."""
+    """Copper mass of each pair (both coils), density x wire length x bare section, kg.
+
+    Parameters
+    ----------
+    model : DesignModel
+        The design (its coils).
+
+    Returns
+    -------
+    tuple of float
+        Copper of the x, y and z pairs, kg.
+    """
     from spiralcap.constants import COPPER_DENSITY_kg_m3
 
     return tuple(  # type: ignore[return-value]
@@ -45,7 +83,20 @@ def build_checks(model: Any, rtol: float = 1e-6) -> list[BuildCheck]:
     """The buildability checks of ``model`` (a :class:`optimize.DesignModel`):
     ``clearance_xy``, ``clearance_xz``, ``clearance_yz``,
     ``bore_clearance`` (m, >= the least clearance) and ``copper_mass`` (kg, <= the limit, only
-    with ``limits.copper_mass_kg``)."""
+    with ``limits.copper_mass_kg``).
+
+    Parameters
+    ----------
+    model : DesignModel
+        The design.
+    rtol : float
+        Relative slack granted to each bound, dimensionless.
+
+    Returns
+    -------
+    list of BuildCheck
+        The clearance checks (m) and the copper-mass check (kg).
+    """
     from coils.clearance import bore_clearance_m, pack_clearances_m
 
     Check = BuildCheck
@@ -60,7 +111,35 @@ def build_checks(model: Any, rtol: float = 1e-6) -> list[BuildCheck]:
     if limit is not None:
         mass = float(np.sum(copper_masses_kg(model)))
         out.append(Check("copper_mass", "kg", mass, limit, "<=", mass <= limit * (1 + rtol)))
-    return out
+    return out + envelope_checks(model, rtol)
+
+
+def envelope_checks(model: Any, rtol: float = 1e-6) -> list[BuildCheck]:
+    """The coil set's outer box against ``limits.envelope_mm``, one check per axis (m, <=);
+    none without an envelope.
+
+    Parameters
+    ----------
+    model : DesignModel
+        The design.
+    rtol : float
+        Relative slack granted to each bound, dimensionless.
+
+    Returns
+    -------
+    list of BuildCheck
+        ``envelope_x``, ``envelope_y``, ``envelope_z`` (edge length of the set's box, m).
+    """
+    from coils.clearance import outer_box_m
+
+    env = model.limits.envelope_m
+    if env is None:
+        return []
+    box = outer_box_m(model.coils.pairs)
+    return [
+        BuildCheck(name, "m", float(v), float(a), "<=", bool(v <= a * (1 + rtol)))
+        for name, v, a in zip(ENVELOPE_NAMES, box, np.asarray(env, dtype=float))
+    ]
 
 
 def buildable_ok(model: Any, rtol: float = 1e-6) -> bool:
@@ -74,6 +153,18 @@ def buildable_ok(model: Any, rtol: float = 1e-6) -> bool:
     of A's mean turn of the exact distance to B's (:func:`optimize.hardware.mean_turn_gap_m`),
     and a distance is 1-Lipschitz, so the true gap is at least that less the half spacing of
     the points along A's circle (an arc of pi R_a / GAP_SAMPLES).
+
+    Parameters
+    ----------
+    model : DesignModel
+        The design.
+    rtol : float
+        Relative slack granted to each bound, dimensionless.
+
+    Returns
+    -------
+    bool
+        Flag: every build check holds.
     """
     import itertools
     import math
@@ -88,6 +179,8 @@ def buildable_ok(model: Any, rtol: float = 1e-6) -> bool:
     if limit is not None and not float(np.sum(copper_masses_kg(model))) <= limit * (1 + rtol):
         return False
     if not bore_clearance_m(pairs, model.requirements.bore_radius_m) >= need - slack:
+        return False
+    if not all(c.ok for c in envelope_checks(model, rtol)):
         return False
     for a, b in itertools.combinations(pairs, 2):
         gap = mean_turn_gap_m(a, b) - math.pi * a.radius_m / GAP_SAMPLES

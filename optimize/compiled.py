@@ -46,7 +46,45 @@ _SLACKS = ("slack_speed", "slack_turns", "slack_safety")
 
 @dataclass(frozen=True)
 class Structure:
-    """What is compiled into a problem (everything else is a parameter)."""
+    """What is compiled into a problem (everything else is a parameter).
+
+    Attributes
+    ----------
+    objective : str
+        Objective name.
+    tissues : tuple of TissueParameters
+        The tissue sets (their names and friction shape the rows).
+    field_exposure : str
+        Exposure limit kind (``"occupational"``, ``"public"``, ``"off"``).
+    spiral_starts : int
+        Number of spiral starts.
+    relaxed : bool
+        Flag: the relaxed problem (slacks on the requirements).
+    warm : bool
+        Flag: IPOPT's warm-start options.
+    hooks : tuple
+        The registered constraint builders and the objective spec (objects).
+    hardware : HardwareStructure or None
+        Which hardware is free (sizing), or None.
+    headings : int
+        Number of headings.
+    fixed_winding_temperature : bool
+        Flag: the design fixes the copper temperature.
+    session : bool
+        Flag: a finite session instead of the steady state.
+    heading_pattern : tuple
+        :func:`optimize.headings.heading_pattern` of the headings (indices), or ().
+    scenarios : object
+        The structure of the tissue scenarios, or None.
+    convection : str
+        Cooling mode (one of :data:`coils.thermal.CONVECTION_MODES`).
+    surface_limit : bool
+        Flag: a surface-temperature limit is set.
+    own_limits : frozenset of str
+        The per-pair amplifier limits set (``Limits.own``: ``"voltage_y"``, ...).
+    envelope : bool
+        Flag: the coil set must fit an envelope (``limits.envelope_mm``).
+    """
 
     objective: str
     tissues: tuple
@@ -63,6 +101,8 @@ class Structure:
     scenarios: Any = None  # DesignModel.scenarios.structure (counts, which rows)
     convection: str = "fixed"  # coils.thermal.CONVECTION_MODES
     surface_limit: bool = False  # limits.surface_temperature_C set
+    own_limits: frozenset = frozenset()  # per-pair amplifier limits set
+    envelope: bool = False  # limits.envelope_mm set
 
 
 def structure_of(
@@ -72,7 +112,24 @@ def structure_of(
     warm: bool = False,
     hardware: hw.HardwareStructure | None = None,
 ) -> Structure:
-    """The :class:`Structure` of ``model``'s problem."""
+    """The :class:`Structure` of ``model``'s problem.
+
+    Parameters
+    ----------
+    model : DesignModel
+        The design (prepared).
+    relaxed : bool
+        Flag: the relaxed problem.
+    warm : bool
+        Flag: warm-start options.
+    hardware : HardwareStructure, optional
+        Which hardware is free, when sizing.
+
+    Returns
+    -------
+    Structure
+        What the compiled problem depends on.
+    """
     return Structure(
         model.bounds.objective,
         model.tissues,
@@ -89,12 +146,22 @@ def structure_of(
         model.scenarios.structure if model.scenarios is not None else None,
         "fixed" if model.heat_transfer_coefficient_W_m2K is not None else model.cooling,
         model.limits.surface_temperature_C is not None,
+        model.limits.own,
+        model.limits.envelope_m is not None,
     )
 
 
 @dataclass(frozen=True)
 class CompiledProblem:
-    """A compiled design NLP and how to fill its parameters from a model."""
+    """A compiled design NLP and how to fill its parameters from a model.
+
+    Attributes
+    ----------
+    structure : Structure
+        What was compiled in.
+    nlp : CompiledNLP
+        The compiled NLP.
+    """
 
     structure: Structure
     nlp: CompiledNLP
@@ -102,11 +169,26 @@ class CompiledProblem:
     def parameters(
         self, model: DesignModel, scales: pb.Scales, extra: dict[str, Any] | None = None
     ) -> np.ndarray:
-        """The parameter vector of ``model`` (prepared) with ``scales`` (and sizing values)."""
+        """The parameter vector of ``model`` (prepared) with ``scales`` (and sizing values).
+
+        Parameters
+        ----------
+        model : DesignModel
+            The design (prepared).
+        scales : Scales
+            Reference magnitudes.
+        extra : dict, optional
+            More parameter values by name (sizing), each in the unit its name carries.
+
+        Returns
+        -------
+        ndarray
+            The parameter vector, each entry in the unit its parameter's name carries.
+        """
         values = {
             **(extra or {}),
             **constant_values(model.constants),
-            **pb.parameter_values("limit", model.limits),
+            **_limit_values(model.limits),
             **pb.parameter_values("requirement", model.requirements),
             **pb.parameter_values("scale", scales),
             "ambient_temperature_C": model.ambient_temperature_C,
@@ -118,6 +200,16 @@ class CompiledProblem:
         )
 
 
+def _limit_values(limits: Any) -> dict[str, Any]:
+    """The ``limit.*`` parameter values; a per-pair limit not set (NaN) is filled with 1 (its
+    entry is in no row)."""
+    values = pb.parameter_values("limit", limits)
+    return {
+        k: np.nan_to_num(np.asarray(v, dtype=float), nan=1.0) if k.startswith("limit.axis_") else v
+        for k, v in values.items()
+    }
+
+
 @functools.lru_cache(maxsize=16)
 def compile_problem(structure: Structure) -> CompiledProblem:
     """Build and compile the NLP of ``structure`` (memoised by value).
@@ -125,6 +217,16 @@ def compile_problem(structure: Structure) -> CompiledProblem:
     The warm-start variant shares the cold problem's expression graph and derivative
     functions (:meth:`optimize.nlp.CompiledNLP.with_options`): only IPOPT's options differ, so
     the NLP is built and differentiated once per structure whichever starts a caller uses.
+
+    Parameters
+    ----------
+    structure : Structure
+        What to compile in.
+
+    Returns
+    -------
+    CompiledProblem
+        The compiled problem.
     """
     if structure.warm:
         cold = compile_problem(replace(structure, warm=False))
@@ -170,6 +272,7 @@ def _build_rows(b: NLPBuilder, structure: Structure) -> NLPBuilder:
         surface_temperature_C=(
             b.parameter("limit.surface_temperature_C") if structure.surface_limit else None
         ),
+        **_axis_limit_parameters(b, structure),
     )
     req = pb.symbolic(b, "requirement", Requirements(0.0, 0.0, 0.0, 0.0))
     scales = pb.symbolic(b, "scale", pb.Scales(1.0, 1.0))
@@ -207,6 +310,19 @@ def _build_rows(b: NLPBuilder, structure: Structure) -> NLPBuilder:
     return b
 
 
+def _axis_limit_parameters(b: NLPBuilder, structure: Structure) -> dict[str, Any]:
+    """The per-pair amplifier limits and the envelope as parameters, where the structure has
+    them (``Limits`` fields; the numbers filled by :func:`_limit_values`)."""
+    own = structure.own_limits
+    out: dict[str, Any] = {"own": own}
+    for kind, unit in (("current", "A"), ("voltage", "V"), ("power", "W")):
+        if any(name.startswith(kind + "_") for name in own):
+            out[f"axis_{kind}_{unit}"] = b.parameter(f"limit.axis_{kind}_{unit}", (3,))
+    if structure.envelope:
+        out["envelope_m"] = b.parameter("limit.envelope_m", (3,))
+    return out
+
+
 @dataclass(frozen=True)
 class _Template:
     tissues: tuple
@@ -232,6 +348,7 @@ _SCALAR_FIELDS = (
     "wire_diameter_m",
     "wound_length_m",
     "helix_diameter_m",
+    "mass_kg",
 )
 #: WindingPack fields that are parameters, one value per pair (coils.thermal.WindingPack).
 PACK_FIELDS = (
@@ -247,7 +364,18 @@ PACK_FIELDS = (
 
 
 def constant_values(c: Any) -> dict[str, Any]:
-    """The values of the ``constant.*`` parameters for numeric :class:`Constants` ``c``."""
+    """The values of the ``constant.*`` parameters for numeric :class:`Constants` ``c``.
+
+    Parameters
+    ----------
+    c : Constants
+        Numeric constants.
+
+    Returns
+    -------
+    dict of str to float or ndarray
+        Value by parameter name (``constant.*``), in the unit each name carries.
+    """
     out: dict[str, Any] = {
         f"constant.{n}": np.asarray(getattr(c, n), float) for n in _VECTOR_FIELDS
     }

@@ -17,6 +17,7 @@ from optimize import physics as ph
 from optimize._roots import brentq
 from optimize.system import DesignModel, prepare
 from optimize.views import Viewable
+from torque_model.domain import calibration_edges, extrapolations
 
 #: Relative tolerance with which requirements are judged met (an optimum sits on its bounds).
 FEASIBILITY_RTOL = 1e-6
@@ -34,6 +35,23 @@ class Check:
     the self-lock as α + atan μ against 90°. ``utilisation``: how close it is to binding in the
     row's own form (value / allowed of a limit, a temperature rise over the allowed rise;
     needed / achieved of a requirement; 1 binds), NaN where it has no such ratio (the margin).
+
+    Attributes
+    ----------
+    name : str
+        Name of the requirement or limit.
+    unit : str
+        Unit symbol of ``value`` and ``allowed`` (SI: A, V, W, °C, N·m, m/s, rad, ...).
+    value : float
+        The checked quantity, in the unit ``unit`` names.
+    allowed : float
+        Its bound, in the unit ``unit`` names.
+    sense : str
+        ``"<="``, ``">="`` or ``"<"``: how ``value`` must relate to ``allowed``.
+    ok : bool
+        Flag: the check holds.
+    utilisation : float
+        How close it is to binding, dimensionless (1 binds; NaN: no such ratio).
     """
 
     name: str
@@ -55,7 +73,65 @@ def _build_utilisation(value: float, allowed: float, sense: str) -> float:
 
 @dataclass(frozen=True)
 class Evaluation(Viewable):
-    """Immutable result of :func:`evaluate` (SI units; names say the unit)."""
+    """Immutable result of :func:`evaluate` (SI units; names say the unit).
+
+    Attributes
+    ----------
+    helical_angle_rad : float
+        Helical angle of the spiral, rad.
+    frequency_hz : float
+        Rotation frequency, Hz.
+    field_amplitude_T : float
+        Rotating-field amplitude at the centre, T.
+    field_limited_by : str
+        The limit that sets the field (``"fixed"`` for a set field).
+    workspace_factor : float
+        Weakest field over the workspace per tesla at the centre, dimensionless.
+    current_amplitudes_A : tuple of float
+        Worst-heading current amplitude of each pair, A.
+    magnetic_torque_Nm, resistive_torque_Nm, thrust_torque_Nm, required_torque_Nm : float
+        Available synchronous torque, the worst tissue's resistive and thrust torque and their
+        sum, N·m.
+    worst_tissue : str
+        Name of the tissue set that needs the most torque.
+    margin_Nm : float
+        Available minus required torque, N·m.
+    safety_factor : float
+        Available / required torque, dimensionless (a ratio).
+    lag_angle_rad : float
+        Angle the magnet lags the field by, rad (pi/2 where it cannot keep up).
+    step_out_frequency_hz : float
+        Frequency at which the magnet steps out at this field, Hz.
+    step_out_beyond_search : bool
+        Flag: no step-out within the search range (then its upper end).
+    max_frequency_hz : float
+        Highest frequency with a positive margin at the largest allowed field, Hz.
+    max_frequency_limited_by : str
+        The limit that sets the field there.
+    max_frequency_beyond_search : bool
+        Flag: the margin stays positive over the search range.
+    speed_m_s : float
+        Forward speed, m/s.
+    spiral_turns : float
+        Turns of the spiral over the wound length, count (fractional).
+    checks : tuple of Check
+        Every requirement and limit.
+    feasible : bool
+        Flag: every check holds.
+    copper_masses_kg : tuple of float
+        Copper of each pair, kg.
+    wall_strains : tuple of float
+        Strain the wound section stretches each tissue set's wall by, dimensionless (<= 0:
+        no contact).
+    tissue_names : tuple of str
+        Names of the tissue sets, in the order of ``wall_strains``.
+    weight_friction_Nm : float
+        Friction of the capsule's weight in the worst tissue set's required torque, N·m.
+    extrapolations : tuple of torque_model.domain.Extrapolation
+        Model inputs outside the paper's calibrated range.
+    calibration_edges : tuple
+        Model inputs inside that range but on its edge (torque_model.domain.calibration_edges).
+    """
 
     _view_kind: ClassVar[str] = "evaluation"
 
@@ -83,6 +159,21 @@ class Evaluation(Viewable):
     checks: tuple[Check, ...]
     feasible: bool
     copper_masses_kg: tuple[float, float, float] = (math.nan, math.nan, math.nan)
+    #: Strain the wound section stretches each tissue set's wall by, in ``tissue_names`` order
+    #: (<= 0: the spiral does not touch that wall), dimensionless.
+    wall_strains: tuple[float, ...] = ()
+    tissue_names: tuple[str, ...] = ()
+    #: The friction of the capsule's weight in the worst tissue set's required torque, N·m.
+    weight_friction_Nm: float = 0.0
+    #: Model inputs outside the paper's calibrated range (torque_model.domain.Extrapolation).
+    extrapolations: tuple = ()
+    #: Model inputs inside that range but on its edge (torque_model.domain.calibration_edges).
+    calibration_edges: tuple = ()
+
+    @property
+    def engaged(self) -> bool:
+        """Whether the spiral stretches every tissue set's wall (else it cannot screw forward)."""
+        return all(s > 0 for s in self.wall_strains)
 
     @property
     def copper_mass_kg(self) -> float:
@@ -91,16 +182,30 @@ class Evaluation(Viewable):
 
     @property
     def helical_angle_deg(self) -> float:
-        """Helical angle in degrees."""
+        """Helical angle, deg."""
         return float(np.degrees(self.helical_angle_rad))
 
     def failed(self) -> list[Check]:
-        """The requirements and limits that do not hold."""
+        """The requirements and limits that do not hold.
+
+        Returns
+        -------
+        list of Check
+            The checks with ``ok`` False.
+        """
         return [c for c in self.checks if not c.ok]
 
 
 class WorstRequired(NamedTuple):
-    """The worst tissue's required torque at each point (arrays broadcast like the inputs)."""
+    """The worst tissue's required torque at each point (arrays broadcast like the inputs).
+
+    Attributes
+    ----------
+    resistive_Nm, thrust_Nm, total_Nm : ndarray
+        The worst tissue's resistive, thrust and total torque, N·m.
+    tissue_index : ndarray of int
+        Index of that tissue set in ``model.tissues``.
+    """
 
     resistive_Nm: np.ndarray
     thrust_Nm: np.ndarray
@@ -109,7 +214,22 @@ class WorstRequired(NamedTuple):
 
 
 def worst_required(model: DesignModel, alpha: Any, f: Any) -> WorstRequired:
-    """Worst tissue's resistive, thrust and total torque and its index at (alpha, f)."""
+    """Worst tissue's resistive, thrust and total torque and its index at (alpha, f).
+
+    Parameters
+    ----------
+    model : DesignModel
+        The design.
+    alpha : float or ndarray
+        Helical angle, rad.
+    f : float or ndarray
+        Rotation frequency, Hz (broadcasts against ``alpha``).
+
+    Returns
+    -------
+    WorstRequired
+        Torques in N·m and the tissue index, broadcast like the inputs.
+    """
     model = prepare(model)
     c = model.constants
     pairs = ph.required_torques_Nm(alpha, f, c, model.tissues, model.requirements)
@@ -122,7 +242,25 @@ def worst_required(model: DesignModel, alpha: Any, f: Any) -> WorstRequired:
 
 @dataclass(frozen=True)
 class MarginGrid:
-    """:func:`margin_grid` on broadcast arrays of (alpha, f); SI, names carry units."""
+    """:func:`margin_grid` on broadcast arrays of (alpha, f); SI, names carry units.
+
+    Attributes
+    ----------
+    margin_Nm : ndarray
+        Torque margin, N·m.
+    safety_factor : ndarray
+        Available / required torque, dimensionless.
+    field_amplitude_T : ndarray
+        Rotating-field amplitude at the centre, T.
+    speed_m_s : ndarray
+        Forward speed, m/s.
+    spiral_turns : ndarray
+        Spiral turns over the wound length, count (fractional).
+    feasible : ndarray of bool
+        Mask: every requirement and limit holds.
+    wall_strain : ndarray or None
+        Least wall strain over the tissue sets, dimensionless.
+    """
 
     margin_Nm: np.ndarray
     safety_factor: np.ndarray
@@ -130,6 +268,7 @@ class MarginGrid:
     speed_m_s: np.ndarray
     spiral_turns: np.ndarray
     feasible: np.ndarray
+    wall_strain: np.ndarray | None = None  # the least over the tissue sets
 
     def __getitem__(self, name: str) -> np.ndarray:
         """Column by name (``grid["margin_Nm"]``), for code written against the old dict."""
@@ -145,6 +284,22 @@ def margin_grid(
     The field is the largest every limit allows, or the model's set field
     (``model.field_amplitude_T``) where it is given and ``capacity`` is False — capped at what
     the limits allow, with the point marked infeasible where the set field exceeds it.
+
+    Parameters
+    ----------
+    model : DesignModel
+        The design.
+    alpha_rad : float or ndarray
+        Helical angle, rad.
+    frequency_hz : float or ndarray
+        Rotation frequency, Hz (broadcasts against ``alpha_rad``).
+    capacity : bool
+        Flag: use the largest field the limits allow even where the model sets a field.
+
+    Returns
+    -------
+    MarginGrid
+        The columns on the broadcast shape, SI.
     """
     model = prepare(model)
     c = model.constants
@@ -156,7 +311,9 @@ def margin_grid(
         field = np.minimum(field, model.field_amplitude_T)
     avail = np.asarray(ph.available_torque_Nm(field, c), dtype=float)
     required = worst_required(model, alpha, f).total_Nm
+    strain = least_wall_strain(model, alpha)
     speed = np.asarray(ph.speed_m_s(alpha, f, c, model.requirements), dtype=float)
+    speed = np.where(strain > 0, speed, 0.0)  # a spiral that does not grip does not screw
     turns = np.asarray(ph.spiral_turns(alpha, c), dtype=float)
     req = model.requirements
     with np.errstate(divide="ignore"):  # nothing required: an unbounded safety factor
@@ -168,6 +325,7 @@ def margin_grid(
         & (avail - sf * required >= -FEASIBILITY_RTOL * sf * required)
         & (speed >= req.min_speed_m_s * (1 - FEASIBILITY_RTOL))
         & (turns >= req.min_spiral_turns * (1 - FEASIBILITY_RTOL))
+        & (strain >= req.min_wall_strain * (1 - FEASIBILITY_RTOL))
     )
     return MarginGrid(
         margin_Nm=avail - required,
@@ -176,7 +334,28 @@ def margin_grid(
         speed_m_s=speed,
         spiral_turns=turns,
         feasible=ok,
+        wall_strain=strain,
     )
+
+
+def least_wall_strain(model: DesignModel, alpha_rad: Any) -> np.ndarray:
+    """The least strain the wound section stretches any tissue set's wall by (numpy).
+
+    Parameters
+    ----------
+    model : DesignModel
+        The design (capsule and tissue sets).
+    alpha_rad : float or array
+        Helical angle, rad.
+
+    Returns
+    -------
+    ndarray
+        min over tissue sets of torque_model.wall_strain, dimensionless (<= 0: no grip).
+    """
+    model = prepare(model)
+    strains = ph.wall_strains(np.asarray(alpha_rad, dtype=float), model.constants, model.tissues)
+    return np.min(np.stack([np.asarray(s, dtype=float) for s in strains]), axis=0)
 
 
 def _capacity_T(model: DesignModel, f: np.ndarray) -> np.ndarray:
@@ -201,6 +380,18 @@ def self_lock_margin(model: DesignModel, alpha_rad):
     At or below zero the screw self-locks: turning it cannot push the load, and the thrust
     torque F (D/2) tan(alpha + atan mu) (Shigley's power screw) turns negative, which would
     otherwise read as a larger margin.
+
+    Parameters
+    ----------
+    model : DesignModel
+        The design (its tissue sets' friction).
+    alpha_rad : float or ndarray
+        Helical angle, rad.
+
+    Returns
+    -------
+    float or ndarray
+        Margin to self-locking, rad.
     """
     import capsule as cap
 
@@ -209,7 +400,20 @@ def self_lock_margin(model: DesignModel, alpha_rad):
 
 
 def self_lock_check(model: DesignModel, alpha_rad: float) -> Check:
-    """The self-locking check: alpha + atan mu (most frictional tissue) must stay below 90 deg."""
+    """The self-locking check: alpha + atan mu (most frictional tissue) must stay below 90 deg.
+
+    Parameters
+    ----------
+    model : DesignModel
+        The design.
+    alpha_rad : float
+        Helical angle, rad.
+
+    Returns
+    -------
+    Check
+        ``self_lock``: alpha + atan mu against pi/2, rad.
+    """
     margin = float(self_lock_margin(model, alpha_rad))
     lead = float(np.pi / 2 - margin)  # alpha + atan mu
     return Check("self_lock", "rad", lead, float(np.pi / 2), "<", margin > 0, lead / (np.pi / 2))
@@ -221,7 +425,20 @@ STEP_OUT_SEARCH_HZ = SEARCH_RANGE_HZ  # the name the JSON layer reads
 
 
 def operating_field_T(model: DesignModel, frequency_hz):
-    """The centre field the coils are driven at: the fixed one, or the largest the limits allow."""
+    """The centre field the coils are driven at: the fixed one, or the largest the limits allow.
+
+    Parameters
+    ----------
+    model : DesignModel
+        The design.
+    frequency_hz : float or ndarray
+        Rotation frequency, Hz.
+
+    Returns
+    -------
+    ndarray
+        Centre field amplitude, T, shaped like ``frequency_hz``.
+    """
     model = prepare(model)
     if model.field_amplitude_T is not None:
         return np.broadcast_to(float(model.field_amplitude_T), np.shape(frequency_hz)).astype(float)
@@ -234,7 +451,15 @@ def operating_field_T(model: DesignModel, frequency_hz):
 @dataclass(frozen=True)
 class FrequencyBound:
     """Where a margin reaches zero along frequency: ``beyond_search`` if it does not below
-    ``frequency_hz`` (then the search bound); 0 if the margin is negative from the start."""
+    ``frequency_hz`` (then the search bound); 0 if the margin is negative from the start.
+
+    Attributes
+    ----------
+    frequency_hz : float
+        The frequency where the margin reaches zero, Hz.
+    beyond_search : bool
+        Flag: it does not within the search range.
+    """
 
     frequency_hz: float
     beyond_search: bool
@@ -269,6 +494,22 @@ def step_out_frequency_hz(
     the required torque, which rises with frequency (tissue viscosity); the step-out is where
     the two are equal. Evaluating at this frequency with ``operation.field_amplitude_mT`` fixed
     at that field gives zero margin.
+
+    Parameters
+    ----------
+    model : DesignModel
+        The design.
+    alpha_rad : float
+        Helical angle, rad.
+    field_T : float, optional
+        Centre field amplitude the capsule is driven with, T.
+    f_lo, f_hi : float
+        Search range, Hz.
+
+    Returns
+    -------
+    FrequencyBound
+        The step-out frequency, Hz.
     """
     model = prepare(model)
     c = model.constants
@@ -293,6 +534,22 @@ def max_frequency_hz(
     The field is re-maximised at every frequency (it falls with frequency through the
     inductive voltage and the exposure level while the tissue torque rises); returns the bound
     and the limit that sets the field there.
+
+    Parameters
+    ----------
+    model : DesignModel
+        The design.
+    alpha_rad : float
+        Helical angle, rad.
+    f_lo, f_hi : float
+        Search range, Hz.
+
+    Returns
+    -------
+    bound : FrequencyBound
+        The highest frequency with a positive margin, Hz.
+    limited_by : str
+        The limit that sets the field there.
     """
     model = prepare(model)
     c = model.constants
@@ -325,6 +582,24 @@ def evaluate(
     field is checked against the limits like any other operating value.
     ``frequency_bounds=False`` skips the step-out and highest-frequency searches (NaN there; no
     check depends on them): for candidates only compared by margin and feasibility.
+
+    Parameters
+    ----------
+    model : DesignModel
+        The design.
+    helical_angle_rad : float, optional
+        Helical angle, rad (default: the capsule's).
+    frequency_hz : float, optional
+        Rotation frequency, Hz (default: the model's).
+    field_amplitude_T : float, optional
+        Centre field amplitude, T (default: the model's set field or the largest allowed).
+    frequency_bounds : bool
+        Flag: also search the step-out and highest frequencies.
+
+    Returns
+    -------
+    Evaluation
+        Every figure and check at that operating point, SI.
     """
     model = prepare(model)
     c, req = model.constants, model.requirements
@@ -344,12 +619,15 @@ def evaluate(
     avail = float(ph.available_torque_Nm(field, c))
     res, thr, required, worst = (float(np.asarray(v)) for v in worst_required(model, alpha, f))
     margin = avail - required
-    speed = float(ph.speed_m_s(alpha, f, c, req))
+    strains = tuple(float(x) for x in ph.wall_strains(alpha, c, model.tissues))
+    # a spiral that does not stretch every wall does not grip it: no screw, no speed
+    speed = float(ph.speed_m_s(alpha, f, c, req)) if min(strains) > 0 else 0.0
     turns = float(ph.spiral_turns(alpha, c))
     from optimize.buildcheck import build_checks, copper_masses_kg
 
     checks = [
         *_checks(model, f, field, margin, required, speed, turns),
+        *strain_checks(model, strains),
         self_lock_check(model, alpha),
         # a clearance is needed / achieved, the copper mass value / allowed (1 binds)
         *(
@@ -391,7 +669,43 @@ def evaluate(
         checks=tuple(checks),
         feasible=all(ch.ok for ch in checks),
         copper_masses_kg=copper_masses_kg(model),
+        wall_strains=strains,
+        tissue_names=tuple(t.name for t in model.tissues),
+        weight_friction_Nm=float(ph.weight_friction_Nm(c, model.tissues[int(worst)])),
+        extrapolations=extrapolations(alpha, f, ph.contact_geometry(c), model.tissues),
+        calibration_edges=calibration_edges(alpha, f, ph.contact_geometry(c), model.tissues),
     )
+
+
+def strain_checks(model: DesignModel, strains: tuple[float, ...]) -> list[Check]:
+    """The engagement requirement: each tissue set's wall strain against
+    ``requirements.min_wall_strain`` (check ``wall_strain[<tissue>]``, needed / achieved).
+
+    Parameters
+    ----------
+    model : DesignModel
+        The design (its tissue sets and ``requirements.min_wall_strain``).
+    strains : tuple of float
+        Wall strain of each tissue set, dimensionless.
+
+    Returns
+    -------
+    list of Check
+        One ``wall_strain[<tissue>]`` check per set (dimensionless values).
+    """
+    need = model.requirements.min_wall_strain
+    return [
+        Check(
+            f"wall_strain[{t.name}]",
+            "1",
+            s,
+            need,
+            ">=",
+            s >= need * (1 - FEASIBILITY_RTOL),
+            _needed_over(need, s),
+        )
+        for t, s in zip(model.tissues, strains)
+    ]
 
 
 def _three(v: Any) -> tuple[float, float, float]:

@@ -73,13 +73,27 @@ IEC_R40_mm = (
 
 
 def awg_diameters_mm() -> tuple[float, ...]:
-    """AWG 0 to 40 bare diameters, mm: d = 0.127 · 92^((36 − n)/39) (ASTM B258)."""
+    """AWG 0 to 40 bare diameters, mm: d = 0.127 · 92^((36 − n)/39) (ASTM B258).
+
+    Returns
+    -------
+    tuple of float
+        AWG 40 to AWG 0 bare diameters, ascending, mm.
+    """
     return tuple(0.127 * 92.0 ** ((36 - n) / 39.0) for n in range(40, -1, -1))
 
 
 @dataclass(frozen=True)
 class FreeVariable:
-    """One freed hardware quantity (a name of :data:`NAMES`) and its box, SI."""
+    """One freed hardware quantity (a name of :data:`NAMES`) and its box, SI.
+
+    Attributes
+    ----------
+    name : str
+        A name of :data:`NAMES` (``"x.turns"``, ``"magnet.length_m"``, ...).
+    lo, hi : float
+        Its box, in the unit its name carries (m; turns a count; pack aspect dimensionless).
+    """
 
     name: str
     lo: float
@@ -87,7 +101,8 @@ class FreeVariable:
 
     @property
     def kind(self) -> str:
-        """'turns' (whole numbers), 'wire' (a standard coil-wire diameter) or 'continuous'."""
+        """'turns' (whole numbers), 'wire' (a standard coil-wire diameter) or 'continuous' (a
+        category, no unit)."""
         q = self.name.split(".", 1)[1]
         if q == "turns":
             return "turns"
@@ -96,7 +111,17 @@ class FreeVariable:
 
 @dataclass(frozen=True)
 class Sizing:
-    """Which hardware is free, the standard wire diameters (m) and the least coil bore (m)."""
+    """Which hardware is free, the standard wire diameters (m) and the least coil bore (m).
+
+    Attributes
+    ----------
+    free : tuple of FreeVariable
+        The freed hardware and its boxes.
+    wire_diameters_m : tuple of float
+        Standard bare wire diameters a coil may use, m.
+    min_bore_m : float or None
+        Least clear diameter inside the smallest pair, m (None: no row).
+    """
 
     free: tuple[FreeVariable, ...]
     wire_diameters_m: tuple[float, ...] = tuple(d * 1e-3 for d in IEC_R40_mm)
@@ -104,7 +129,19 @@ class Sizing:
 
 
 def hardware_of(model: Any) -> dict[str, float]:
-    """The hardware values of a model, by name."""
+    """The hardware values of a model, by name.
+
+    Parameters
+    ----------
+    model : DesignModel
+        The design.
+
+    Returns
+    -------
+    dict of str to float
+        Value by :data:`NAMES` name, in the unit each name carries (m; turns a count; aspect
+        dimensionless).
+    """
     out: dict[str, float] = {}
     for ax, p in zip(AXES, model.coils.pairs):
         out[f"{ax}.radius_m"] = float(p.radius_m)
@@ -119,7 +156,18 @@ def hardware_of(model: Any) -> dict[str, float]:
 
 
 def helmholtz_flags(model: Any) -> tuple[bool, bool, bool]:
-    """Per pair: does the separation follow the radius (Helmholtz spacing)?"""
+    """Per pair: does the separation follow the radius (Helmholtz spacing)?
+
+    Parameters
+    ----------
+    model : DesignModel
+        The design.
+
+    Returns
+    -------
+    tuple of bool
+        Per pair (x, y, z), flag: the separation equals the radius.
+    """
     x, y, z = (abs(p.separation_m - p.radius_m) <= 1e-12 * p.radius_m for p in model.coils.pairs)
     return (x, y, z)
 
@@ -128,6 +176,18 @@ def with_hardware(model: Any, values: Mapping[str, float]) -> Any:
     """The model rebuilt with hardware ``values`` (turns rounded; exact domain objects).
 
     Raises ``spiralcap.errors.InputError`` when the coils or the magnet cannot be built.
+
+    Parameters
+    ----------
+    model : DesignModel
+        The design.
+    values : mapping of str to float
+        New hardware by :data:`NAMES` name, in the unit each name carries.
+
+    Returns
+    -------
+    DesignModel
+        The rebuilt design (constants cleared).
     """
     import coils
 
@@ -171,7 +231,18 @@ def _gain_formula(radius: Any, turns: Any, separation: Any) -> Any:
 
 
 def mean_turn_gap_m(pa: Any, pb: Any) -> float:
-    """Least distance between the mean-turn circles of two orthogonal pairs, m (sampled)."""
+    """Least distance between the mean-turn circles of two orthogonal pairs, m (sampled).
+
+    Parameters
+    ----------
+    pa, pb : HelmholtzPair
+        Two pairs on different axes.
+
+    Returns
+    -------
+    float
+        Least distance between their mean turns, m.
+    """
     return _gap(
         pa.axis_index, pa.radius_m, pa.separation_m, pb.axis_index, pb.radius_m, pb.separation_m
     )
@@ -198,7 +269,27 @@ def _gap(ia: int, ra: float, sa_m: float, ib: int, rb: float, sb_m: float) -> fl
 
 @dataclass(frozen=True)
 class Frozen:
-    """Numbers held fixed during one inner solve (see the module notes)."""
+    """Numbers held fixed during one inner solve (see the module notes).
+
+    Attributes
+    ----------
+    gain_correction : ndarray, shape (3,)
+        Exact filament-model centre gain / the two-loop formula, per pair, dimensionless.
+    mutual_correction : ndarray, shape (3,)
+        Exact pack mutual inductance / N² times the filament one, per pair, dimensionless.
+    workspace_factor : float
+        Weakest field over the workspace per tesla at the centre, dimensionless.
+    gap0_m : ndarray, shape (3,)
+        Mean-turn gaps of the pairs xy, xz, yz, m.
+    dgap_dra, dgap_drb : ndarray, shape (3,)
+        Their derivatives with the first and the second pair's radius, dimensionless (m/m).
+    radii0_m : ndarray, shape (3,)
+        The radii the gaps were linearised at, m.
+    view_factors : ndarray, shape (3, 4)
+        The packs' view factors ``[room, x, y, z]``, dimensionless.
+    clearance_delta_m : ndarray, shape (3,)
+        Exact clearance minus the torus bound, m (>= 0).
+    """
 
     gain_correction: np.ndarray  # (3,)
     mutual_correction: np.ndarray  # (3,)
@@ -217,7 +308,18 @@ CLEARANCE_REF_m = 0.01
 
 
 def frozen_factors(model: Any) -> Frozen:
-    """The frozen numbers at ``model``'s (exact, built) hardware."""
+    """The frozen numbers at ``model``'s (exact, built) hardware.
+
+    Parameters
+    ----------
+    model : DesignModel
+        The design at the outer iteration's hardware.
+
+    Returns
+    -------
+    Frozen
+        The frozen numbers (dimensionless factors, m).
+    """
     from coils.clearance import pack_clearance_m, torus_clearance_bound_m
     from coils.loop import coaxial_mutual_inductance_H
     from optimize.system import prepare
@@ -275,7 +377,33 @@ def coil_quantities(
 ) -> dict[str, Any]:
     """Pack side (of the equal-area square), width (axial) and depth (radial), uncorrected
     gain, resistance, self inductance, filament mutual inductance (times N²), thermal
-    conductance and copper mass of one pair (backend-generic)."""
+    conductance and copper mass of one pair (backend-generic).
+
+    Parameters
+    ----------
+    radius : float or CasADi
+        Mean coil radius R, m.
+    turns : float or CasADi
+        Turns N of each coil, count (continuous in the relaxation).
+    wire : float or CasADi
+        Bare wire diameter d, m.
+    separation : float or CasADi
+        Distance s between the coil planes, m.
+    packing : float or CasADi
+        Copper area / pack area, dimensionless.
+    resistivity : float or CasADi
+        Copper resistivity, Ω·m.
+    h : float or CasADi
+        Face heat transfer coefficient, W/(m²·K).
+    aspect : float or CasADi
+        Axial width / radial depth of the pack, dimensionless.
+
+    Returns
+    -------
+    dict of str to float or CasADi
+        Each quantity by name, the unit in each name (``side_m``, ``gain_T_per_A``,
+        ``resistance_ohm``, ``self_inductance_H``, ``conductance_W_per_K``, ``copper_mass_kg``).
+    """
     from coils.loop import coaxial_mutual_inductance_H
     from coils.pair import stefan_bracket
 
@@ -302,13 +430,36 @@ def coil_quantities(
 
 
 def view_factor_rows(flat: Any) -> list[list[Any]]:
-    """The (3, 4) view-factor rows ``[room, x, y, z]`` of a flat (12,) CasADi parameter."""
+    """The (3, 4) view-factor rows ``[room, x, y, z]`` of a flat (12,) CasADi parameter.
+
+    Parameters
+    ----------
+    flat : casadi.SX, shape (12,)
+        The view factors row by row, dimensionless.
+
+    Returns
+    -------
+    list of list of casadi.SX
+        The (3, 4) rows, dimensionless.
+    """
     return [[flat[4 * k + j] for j in range(4)] for k in range(3)]
 
 
 @dataclass(frozen=True)
 class HardwareStructure:
-    """What a sizing problem compiles in: the free names, Helmholtz spacing per pair, headings."""
+    """What a sizing problem compiles in: the free names, Helmholtz spacing per pair, headings.
+
+    Attributes
+    ----------
+    free : tuple of str
+        The freed :data:`NAMES`.
+    helmholtz : tuple of bool
+        Per pair, flag: Helmholtz spacing (the separation follows the radius).
+    headings : int
+        Number of headings.
+    copper_mass_limit : bool
+        Flag: the copper-mass row is part of the problem.
+    """
 
     free: tuple[str, ...]
     helmholtz: tuple[bool, bool, bool]
@@ -328,6 +479,28 @@ def symbolic_constants(
     ``pattern``: :func:`optimize.headings.heading_pattern` of the headings (headings with the
     same current share one node, hence one thermal solve); () builds every entry on its own.
     Returns (constants, hardware expressions by name, geometry terms builder args).
+
+    Parameters
+    ----------
+    b : NLPBuilder
+        The problem being built.
+    hs : HardwareStructure
+        Which hardware is free.
+    spiral_starts : int
+        Number of spiral starts.
+    pattern : tuple
+        :func:`optimize.headings.heading_pattern` of the headings (indices), or ().
+    convection : str
+        Cooling mode (one of :data:`coils.thermal.CONVECTION_MODES`).
+
+    Returns
+    -------
+    constants : Constants
+        The constants as CasADi expressions, SI.
+    hardware : dict of str to casadi.SX
+        Each hardware quantity by name, in the unit its name carries.
+    quantities : list of dict
+        Per pair :func:`coil_quantities` (units in the names), then ``{"power_W": ...}`` (W).
     """
     import casadi as ca
 
@@ -424,15 +597,71 @@ def symbolic_constants(
         copper_mass_kg=ca.vertcat(*(q[k]["copper_mass_kg"] for k in range(3))),
         starts=spiral_starts,
         view_factors=view_factor_rows(b.parameter("frozen.view_factors", (12,))),
+        mass_kg=b.parameter("capsule.mass_base_kg")
+        + b.parameter("capsule.mass_per_magnet_volume_kg_m3")
+        * 0.25
+        * bk.pi
+        * (d_mag * d_mag - d_in * d_in)
+        * l_mag,
     )
     q.append({"power_W": power})
     return c, hw, q
 
 
+def _envelope_terms(
+    hw: dict, q: list, ctx: Any, freed: list[bool], sep: Any, helmholtz: Any
+) -> list:
+    """Rows ``envelope_<i>[<pair>]``: each freed pair's packs inside half the envelope along
+    every axis (coils.clearance.pair_extent_m); none without ``limits.envelope_mm``."""
+    from coils.clearance import pair_extent_m
+    from optimize.nlp import Row
+    from optimize.problem import Term
+
+    env = ctx.limits.envelope_m
+    if env is None:
+        return []
+    out = []
+    for k, ax in enumerate(AXES):
+        if not freed[k]:
+            continue
+        r = hw[f"{ax}.radius_m"]
+        s = r if helmholtz[k] else sep[k]
+        halves = pair_extent_m(k, r, s, q[k]["width_m"], q[k]["depth_m"])
+        for i, half in enumerate(halves):
+            out.append(
+                Term(
+                    Row(f"envelope_{AXES[i]}[{ax}]", "limit", "m"),
+                    2.0 * half,
+                    env[i],
+                    lambda v, a: v / a - 1.0,
+                )
+            )
+    return out
+
+
 def geometry_terms(b: Any, hs: HardwareStructure, hw: dict, q: list, ctx: Any) -> list:
     """Rows that keep a freed design buildable: packs inside their radius, clear of each other
     and of the bore by the least clearance (module notes), a clear bore, the copper mass within
-    its limit, the magnet inside the shell, the spiral's turns apart."""
+    its limit, the magnet inside the shell, the spiral's turns apart.
+
+    Parameters
+    ----------
+    b : NLPBuilder
+        The problem being built.
+    hs : HardwareStructure
+        Which hardware is free.
+    hw : dict of str to casadi.SX
+        The hardware expressions by name, in the unit each name carries.
+    q : list of dict
+        :func:`symbolic_constants`'s per-pair quantities (units in the names).
+    ctx : Context
+        The expressions at the operating point.
+
+    Returns
+    -------
+    list of Term
+        The geometry, clearance, copper-mass and heading-loss rows.
+    """
     import capsule as cap
     from optimize.nlp import Row
     from optimize.problem import ALPHA_REF_rad, Term
@@ -500,6 +729,7 @@ def geometry_terms(b: Any, hs: HardwareStructure, hw: dict, q: list, ctx: Any) -
                     lambda v, a: (a - v) / CLEARANCE_REF_m,
                 )
             )
+        out += _envelope_terms(hw, q, ctx, freed, sep, hs.helmholtz)
         if hs.copper_mass_limit:
             mass = q[0]["copper_mass_kg"] + q[1]["copper_mass_kg"] + q[2]["copper_mass_kg"]
             limit = b.parameter("limit.copper_mass_kg")
@@ -528,8 +758,41 @@ def geometry_terms(b: Any, hs: HardwareStructure, hw: dict, q: list, ctx: Any) -
     return out
 
 
+def _mass_parameters(capsule: Any) -> dict[str, float]:
+    """The capsule's mass as base + rate x magnet volume (kg, kg/m³): a measured mass is
+    fixed; an estimated one follows a free magnet (capsule.mass_from_parts_kg)."""
+    import capsule as cap
+
+    if capsule.set_mass_kg is not None:
+        return {
+            "capsule.mass_base_kg": capsule.mass_kg,
+            "capsule.mass_per_magnet_volume_kg_m3": 0.0,
+        }
+    body = capsule.body
+    return {
+        "capsule.mass_base_kg": float(cap.mass_from_parts_kg(body.diameter_m, body.length_m, 0.0)),
+        "capsule.mass_per_magnet_volume_kg_m3": cap.NDFEB_DENSITY_kg_m3
+        - cap.CONTENTS_DENSITY_kg_m3,
+    }
+
+
 def sizing_parameters(model: Any, frozen: Frozen, min_bore_m: float) -> dict[str, Any]:
-    """Values of the hardware, body, heading and frozen parameters of a sizing problem."""
+    """Values of the hardware, body, heading and frozen parameters of a sizing problem.
+
+    Parameters
+    ----------
+    model : DesignModel
+        The design at the outer iteration's hardware.
+    frozen : Frozen
+        The frozen numbers.
+    min_bore_m : float
+        Least clear bore diameter, m.
+
+    Returns
+    -------
+    dict of str to float or ndarray
+        Value by parameter name, in the unit each name carries.
+    """
     from spiralcap.constants import COPPER_RESISTIVITY_20C_ohm_m
 
     hw = hardware_of(model)
@@ -556,6 +819,7 @@ def sizing_parameters(model: Any, frozen: Frozen, min_bore_m: float) -> dict[str
             "body.cylinder_length_m": body.cylinder_length_m,
             "magnet.inner_diameter_m": mag.inner_diameter_m,
             "magnet.remanence_T": mag.remanence_T,
+            **_mass_parameters(model.capsule),
             "spiral.wound_length_m": spiral.wound_length_m,
             "frozen.gain_correction": frozen.gain_correction,
             "frozen.mutual_correction": frozen.mutual_correction,
@@ -572,5 +836,16 @@ def sizing_parameters(model: Any, frozen: Frozen, min_bore_m: float) -> dict[str
 
 
 def bore_m(model: Any) -> float:
-    """Clear diameter inside the smallest pair: min over pairs of 2R − h (h radial depth), m."""
+    """Clear diameter inside the smallest pair: min over pairs of 2R − h (h radial depth), m.
+
+    Parameters
+    ----------
+    model : DesignModel
+        The design.
+
+    Returns
+    -------
+    float
+        Clear bore diameter, m.
+    """
     return float(min(2.0 * p.radius_m - p.winding_pack_depth_m for p in model.coils.pairs))

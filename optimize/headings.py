@@ -20,6 +20,17 @@ def heading_pattern(headings: Any) -> tuple:
     sqrt(1 - n_k²) equals heading h's (-1 where it is 0: no current) and ``worst`` the heading
     with the largest. The NLP builds one node per distinct entry, so a thermal solve is shared
     by the headings that carry the same current (optimize.physics.heading_losses_W).
+
+    Parameters
+    ----------
+    headings : array_like, shape (h, 3)
+        Unit headings, dimensionless.
+
+    Returns
+    -------
+    tuple of (tuple of int, int)
+        Per axis: the index of each heading's first equal heading (-1: no current) and that of
+        the worst heading.
     """
     s = np.sqrt(np.clip(1.0 - np.asarray(headings, dtype=float) ** 2, 0.0, 1.0))
     out = []
@@ -41,6 +52,24 @@ def shared_heading_table(entry: Any, pattern: tuple, headings: int) -> tuple[Any
 
     ``entry(h, k)`` builds the value of heading h on axis k; ``pattern`` is
     :func:`heading_pattern`'s. Zero entries are the constant 0.
+
+    Parameters
+    ----------
+    entry : callable
+        ``entry(h, k)``, the value of heading h on axis k (a CasADi expression, in the caller's
+        unit).
+    pattern : tuple
+        :func:`heading_pattern` of the headings.
+    headings : int
+        Number of headings.
+
+    Returns
+    -------
+    table : casadi.SX, shape (headings, 3)
+        The values, in the unit of ``entry``'s quantity (its name carries it).
+    worst : casadi.SX, shape (3,)
+        Each axis' worst heading's value, in the unit of ``entry``'s quantity (its name
+    carries it).
     """
     nodes: dict[tuple[int, int], Any] = {}
     cols, worst = [], []

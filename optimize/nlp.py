@@ -28,6 +28,17 @@ class Row:
     ``kind`` is "objective" (epigraph rows), "limit", "requirement" or "geometry"; ``unit`` the
     SI unit of the quantity it bounds; ``relax_sign`` +1 when relaxing means raising the
     allowed value (a limit), -1 when lowering it (a minimum).
+
+    Attributes
+    ----------
+    name : str
+        Row name (``current_x``, ``speed``, ...).
+    kind : str
+        ``"objective"``, ``"epigraph"``, ``"limit"``, ``"requirement"`` or ``"geometry"``.
+    unit : str
+        SI unit symbol of the bounded quantity (empty: none).
+    relax_sign : float
+        +1 or -1, dimensionless: the direction of the bound that relaxes the row.
     """
 
     name: str
@@ -68,6 +79,22 @@ class NLPBuilder:
         ``start``: an expression of the variables declared before and the parameters that
         gives this one's initial value when a solve's start does not name it (an auxiliary
         epigraph variable started where its rows hold).
+
+        Parameters
+        ----------
+        name : str
+            Variable name (its unit suffix says the physical unit).
+        ref : float
+            Scale: physical = ``ref`` x scaled, in the unit the variable's name carries.
+        lo, hi : float
+            Bounds, in the unit the variable's name carries.
+        start : casadi.SX, optional
+            Expression of its initial value, in the unit the variable's name carries.
+
+        Returns
+        -------
+        casadi.SX
+            The physical expression ``ref * scaled``, in the unit the variable's name carries.
         """
         if name in self._names:
             raise ValueError(f"variable {name!r} declared twice")
@@ -86,6 +113,18 @@ class NLPBuilder:
         wherever the optimiser is pushed to make ``s`` small (a cost), smooth where ``max`` has a
         corner. Expressions of the parameters alone stay ``fmax`` (no kink IPOPT moves across),
         and so do vectors (the scenarios of a robust problem).
+
+        Parameters
+        ----------
+        x : casadi.SX or float
+            The expression, in the caller's unit (its name carries it).
+        ref : float
+            Scale of the epigraph variable, in the unit of ``x`` (its name carries it).
+
+        Returns
+        -------
+        casadi.SX
+            ``max(x, 0)``, in the unit of ``x`` (its name carries it).
         """
         x = ca.SX(x)
         if x.numel() != 1 or not self._xsym or not ca.depends_on(x, ca.vertcat(*self._xsym)):
@@ -102,7 +141,20 @@ class NLPBuilder:
         return ca.reshape(ca.vertcat(*out), x.shape[0], x.shape[1])
 
     def parameter(self, name: str, shape: tuple[int, ...] = ()) -> Any:
-        """A parameter of ``shape`` (``()`` scalar, ``(n,)`` vector); returns its symbol."""
+        """A parameter of ``shape`` (``()`` scalar, ``(n,)`` vector); returns its symbol.
+
+        Parameters
+        ----------
+        name : str
+            Parameter name (its unit suffix says the unit).
+        shape : tuple of int
+            ``()`` for a scalar, ``(n,)`` for a vector of n, a count.
+
+        Returns
+        -------
+        casadi.SX
+            The parameter's symbol, in the unit its name carries.
+        """
         if name in self._params:
             return self._params[name][0]
         n = int(np.prod(shape)) if shape else 1
@@ -119,7 +171,21 @@ class NLPBuilder:
         value: Any = None,
     ) -> None:
         """Add the row ``expr <= 0``; ``value`` the bounded quantity, ``allowed`` its bound and
-        ``dg_dallowed`` ∂expr/∂bound (for the sensitivities)."""
+        ``dg_dallowed`` ∂expr/∂bound (for the sensitivities).
+
+        Parameters
+        ----------
+        row : Row
+            The row's name, kind and unit.
+        expr : casadi.SX
+            g of the row ``g <= 0``, scaled (dimensionless, O(1)).
+        allowed : casadi.SX or float, optional
+            The bound, in the unit ``row.unit`` names.
+        dg_dallowed : casadi.SX or float, optional
+            ∂expr/∂allowed, per unit of ``row.unit`` (the unit its name gives).
+        value : casadi.SX or float, optional
+            The bounded quantity, in the unit ``row.unit`` names.
+        """
         self._rows.append(row)
         self._value.append(np.nan if value is None else value)
         self._g.append(expr)
@@ -127,11 +193,28 @@ class NLPBuilder:
         self._dgda.append(0.0 if dg_dallowed is None else dg_dallowed)
 
     def minimize(self, expr: Any) -> None:
-        """Set the objective (to minimise)."""
+        """Set the objective (to minimise).
+
+        Parameters
+        ----------
+        expr : casadi.SX
+            Objective to minimise, scaled (dimensionless, O(1)).
+        """
         self._f = expr
 
     def compile(self, options: Mapping[str, Any]) -> CompiledNLP:
-        """The IPOPT solver of everything declared so far."""
+        """The IPOPT solver of everything declared so far.
+
+        Parameters
+        ----------
+        options : mapping
+            ``casadi.nlpsol`` / IPOPT options (objects by option name).
+
+        Returns
+        -------
+        CompiledNLP
+            The compiled problem.
+        """
         if self._f is None:
             raise ValueError("no objective")
         x = ca.vertcat(*self._xsym)
@@ -169,7 +252,27 @@ class NLPBuilder:
 
 @dataclass(frozen=True)
 class Solution:
-    """One IPOPT solve, readable by name (physical units for variables)."""
+    """One IPOPT solve, readable by name (physical units for variables).
+
+    Attributes
+    ----------
+    nlp : CompiledNLP
+        The problem solved.
+    x_scaled : ndarray
+        Scaled variables at the solution, dimensionless.
+    p : ndarray
+        Parameter vector, each entry in the unit its parameter's name carries.
+    f : float
+        Objective (scaled, dimensionless).
+    g : ndarray
+        Rows (scaled, dimensionless).
+    lam_g, lam_x : ndarray
+        Multipliers of the rows and of the scaled variable bounds, dimensionless.
+    status : str
+        IPOPT's return status.
+    iterations : int
+        IPOPT iterations, count.
+    """
 
     nlp: CompiledNLP
     x_scaled: np.ndarray
@@ -187,36 +290,109 @@ class Solution:
         return self.status in ("Solve_Succeeded", "Solved_To_Acceptable_Level")
 
     def value(self, name: str) -> float:
-        """A variable's value, physical units."""
+        """A variable's value, physical units.
+
+        Parameters
+        ----------
+        name : str
+            Variable name.
+
+        Returns
+        -------
+        float
+            Its value, in the unit its name carries.
+        """
         i = self.nlp.var_index[name]
         return float(self.x_scaled[i] * self.nlp.variables[i].ref)
 
     def values(self) -> dict[str, float]:
-        """Every variable, physical units."""
+        """Every variable, physical units.
+
+        Returns
+        -------
+        dict of str to float
+            Every variable's value, in the unit its name carries.
+        """
         return {v.name: self.value(v.name) for v in self.nlp.variables}
 
     def bound_multiplier(self, name: str) -> float:
-        """d f / d (upper bound) = -lam_x / ref (per physical unit); sign: >0 at the upper."""
+        """d f / d (upper bound) = -lam_x / ref (per physical unit); sign: >0 at the upper.
+
+        Parameters
+        ----------
+        name : str
+            Variable name.
+
+        Returns
+        -------
+        float
+            Scaled objective per unit of the variable (the unit its name carries).
+        """
         i = self.nlp.var_index[name]
         return float(self.lam_x[i] / self.nlp.variables[i].ref)
 
     def allowed(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Every row's allowed value (NaN where none), ∂g/∂allowed and bounded value."""
+        """Every row's allowed value (NaN where none), ∂g/∂allowed and bounded value.
+
+        Returns
+        -------
+        allowed : ndarray
+            Each row's bound, in the unit its row names (NaN: none).
+        dg_dallowed : ndarray
+            ∂g/∂allowed of each row, per unit its row names.
+        value : ndarray
+            Each row's bounded quantity, in the unit its row names.
+        """
         a, d, v = self.nlp.allowed(self.x_scaled, self.p)
         return np.asarray(a).ravel(), np.asarray(d).ravel(), np.asarray(v).ravel()
 
     def row_sensitivities(self) -> np.ndarray:
-        """d f / d (allowed value of row i) through row i alone: lam_i ∂g_i/∂allowed_i."""
+        """d f / d (allowed value of row i) through row i alone: lam_i ∂g_i/∂allowed_i.
+
+        Returns
+        -------
+        ndarray
+            Scaled objective per unit of each row's bound (the unit its row names).
+        """
         return self.lam_g * self.allowed()[1]
 
     def parameter_sensitivity(self, name: str) -> np.ndarray:
-        """d f / d parameter ``name`` (all rows and the objective), shape of the parameter."""
+        """d f / d parameter ``name`` (all rows and the objective), shape of the parameter.
+
+        Parameters
+        ----------
+        name : str
+            Parameter name.
+
+        Returns
+        -------
+        ndarray
+            Scaled objective per unit of the parameter (the unit its name carries), its shape.
+        """
         full = np.asarray(self.nlp.dldp(self.x_scaled, self.p, self.lam_g)).ravel()
         return full[self.nlp.param_slices[name]]
 
 
 class CompiledNLP:
-    """A compiled problem: solve with parameter values by name, warm starts and new bounds."""
+    """A compiled problem: solve with parameter values by name, warm starts and new bounds.
+
+    Parameters
+    ----------
+    solver : casadi.Function
+        The IPOPT ``nlpsol``, object.
+    variables : tuple
+        The declared variables (name, scale, bounds).
+    params : dict
+        Parameter symbols and shapes by name (objects).
+    rows : tuple of Row
+        The constraint rows.
+    dldp, allowed, funcs : casadi.Function
+        ∂L/∂p, the rows' bounds and bounded values, and (f, g), as functions of (x, p).
+    start : casadi.Function, optional
+        Initial values of the variables a start does not name.
+    problem : dict, optional
+        The symbolic problem (for :meth:`with_options`), objects by name.
+    """
 
     def __init__(
         self, solver, variables, params, rows, dldp, allowed, funcs, start=None, problem=None
@@ -246,6 +422,16 @@ class CompiledNLP:
         Hessian of the Lagrangian: CasADi's ``cache`` option), so it costs well under a
         millisecond instead of a fresh symbolic differentiation; it evaluates the very same
         functions, so its iterates are those of a solver compiled from scratch bit for bit.
+
+        Parameters
+        ----------
+        options : mapping
+            IPOPT options (objects by option name).
+
+        Returns
+        -------
+        CompiledNLP
+            The same problem with the new solver.
         """
         if self._problem is None:
             raise ValueError("this problem was compiled without its expressions")
@@ -269,7 +455,18 @@ class CompiledNLP:
         return tuple(r.name for r in self.rows)
 
     def parameter_vector(self, values: Mapping[str, Any]) -> np.ndarray:
-        """Pack named parameter values (every parameter must be given)."""
+        """Pack named parameter values (every parameter must be given).
+
+        Parameters
+        ----------
+        values : mapping of str to float or array
+            Every parameter's value, in the unit its name carries.
+
+        Returns
+        -------
+        ndarray
+            The packed parameter vector, each entry in the unit its parameter's name carries.
+        """
         p = np.empty(self.n_params)
         missing = set(self.param_slices) - set(values)
         if missing:
@@ -279,12 +476,36 @@ class CompiledNLP:
         return p
 
     def scale(self, physical: Mapping[str, float]) -> np.ndarray:
-        """Physical variable values -> the scaled vector (missing names: 0)."""
+        """Physical variable values -> the scaled vector (missing names: 0).
+
+        Parameters
+        ----------
+        physical : mapping of str to float
+            Variable values by name, in the unit each name carries.
+
+        Returns
+        -------
+        ndarray
+            The scaled vector, dimensionless.
+        """
         return np.array([physical.get(v.name, 0.0) / v.ref for v in self.variables])
 
     def scaled_start(self, x0: Mapping[str, float], p: np.ndarray) -> np.ndarray:
         """The scaled vector of physical ``x0``; variables it does not name at their declared
-        ``start`` expression (auxiliary epigraph variables where their rows hold), else 0."""
+        ``start`` expression (auxiliary epigraph variables where their rows hold), else 0.
+
+        Parameters
+        ----------
+        x0 : mapping of str to float
+            Starting values by name, in the unit each name carries.
+        p : ndarray
+            Parameter vector, each entry in the unit its parameter's name carries.
+
+        Returns
+        -------
+        ndarray
+            The scaled starting vector, dimensionless.
+        """
         x0s = self.scale(x0)
         missing = [i for i, v in enumerate(self.variables) if v.name not in x0]
         if missing and self.start is not None:
@@ -301,6 +522,22 @@ class CompiledNLP:
         """One IPOPT solve from ``x0`` (physical by name, or a scaled vector).
 
         Variables ``x0`` does not name start at their declared ``start`` expression (else 0).
+
+        Parameters
+        ----------
+        x0 : mapping of str to float, or sequence of float
+            Start: by name in the unit each name carries, or the scaled vector (dimensionless).
+        p : ndarray
+            Parameter vector, each entry in the unit its parameter's name carries.
+        bounds : mapping of str to (float, float), optional
+            Bounds replacing the declared ones, in the unit each variable's name carries.
+        lam_g0 : ndarray, optional
+            Warm-start row multipliers, dimensionless.
+
+        Returns
+        -------
+        Solution
+            The solve, readable by name.
         """
         if isinstance(x0, Mapping):
             x0s = self.scaled_start(x0, p)
@@ -327,6 +564,21 @@ class CompiledNLP:
         )
 
     def evaluate(self, x_scaled: Sequence[float], p: np.ndarray) -> tuple[float, np.ndarray]:
-        """Objective and rows at a scaled point (numbers)."""
+        """Objective and rows at a scaled point (numbers).
+
+        Parameters
+        ----------
+        x_scaled : sequence of float
+            Scaled variables, dimensionless.
+        p : ndarray
+            Parameter vector, each entry in the unit its parameter's name carries.
+
+        Returns
+        -------
+        f : float
+            Objective, scaled (dimensionless).
+        g : ndarray
+            Rows, scaled (dimensionless).
+        """
         f, g = self.funcs(np.asarray(x_scaled, dtype=float), p)
         return float(f), np.asarray(g).ravel()

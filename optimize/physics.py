@@ -36,6 +36,18 @@ def exposure_level_T(frequency_hz: Any, kind: str) -> Any:
 
     The guideline starts at 1 Hz; below it the 1 Hz value is held (conservative and continuous).
     The rms of a circularly rotating field equals its amplitude, so the level bounds ``B0``.
+
+    Parameters
+    ----------
+    frequency_hz : float, array or CasADi
+        Rotation frequency, Hz.
+    kind : str
+        ``"occupational"`` or ``"public"``.
+
+    Returns
+    -------
+    float, array or CasADi
+        Reference level, T (rms).
     """
     a, b, c = ICNIRP2010_LEVELS_T[kind]
     f = bk.fmax(frequency_hz, 1.0)
@@ -44,7 +56,21 @@ def exposure_level_T(frequency_hz: Any, kind: str) -> Any:
 
 @dataclass(frozen=True)
 class LimitTerm:
-    """One limit at one operating point: ``value <= allowed`` (units in ``unit``)."""
+    """One limit at one operating point: ``value <= allowed`` (units in ``unit``).
+
+    Attributes
+    ----------
+    name : str
+        Name of the limit (``current_x``, ``power``, ``hot_spot_z``, ...).
+    unit : str
+        Unit symbol of ``value`` and ``allowed`` (A, V, W, K, T).
+    value : float, array or CasADi
+        The limited quantity, in the unit ``unit`` names.
+    allowed : float, array or CasADi
+        Its limit, in the unit ``unit`` names.
+    power : int or None
+        Exponent of B0 in ``value`` (a count; None: not a power law).
+    """
 
     name: str
     unit: str
@@ -54,7 +80,7 @@ class LimitTerm:
 
     @property
     def utilisation(self) -> Any:
-        """value / allowed (1 means the limit binds)."""
+        """value / allowed, dimensionless (1 means the limit binds)."""
         return self.value / self.allowed
 
 
@@ -80,7 +106,24 @@ def pair_states(
 ) -> list[Any]:
     """:class:`coils.thermal_system.PairTemperatures` of the three pairs at centre field
     ``field_T``, each at its worst-heading current, radiating to each other (steady, or at the
-    end of the session); ``only``: that pair alone (the others None, same numbers)."""
+    end of the session); ``only``: that pair alone (the others None, same numbers).
+
+    Parameters
+    ----------
+    field_T : float or CasADi
+        Rotating-field amplitude at the centre, T.
+    c : Constants
+        The design's constants.
+    ambient_temperature_C : float or CasADi
+        Ambient air, °C.
+    only : int, optional
+        Index of the one pair to solve (0, 1, 2), or None for all three.
+
+    Returns
+    -------
+    list of coils.thermal_system.PairTemperatures or None
+        One per pair (x, y, z); °C, W, s.
+    """
     from coils.thermal_system import pair_temperatures
 
     fk, ak = _field_key(field_T), _field_key(ambient_temperature_C)
@@ -112,7 +155,24 @@ def pair_states(
 
 def pair_state(current_A: Any, k: int, c: Constants, ambient_temperature_C: Any) -> Any:
     """Pair k of :func:`pair_states` at the field where its worst heading carries ``current_A``
-    (the other pairs at their worst-heading currents of that field)."""
+    (the other pairs at their worst-heading currents of that field).
+
+    Parameters
+    ----------
+    current_A : float or CasADi
+        Worst-heading current amplitude of pair k, A.
+    k : int
+        Index of the pair (0, 1, 2 for x, y, z).
+    c : Constants
+        The design's constants.
+    ambient_temperature_C : float or CasADi
+        Ambient air, °C.
+
+    Returns
+    -------
+    coils.thermal_system.PairTemperatures
+        Pair k's temperatures, °C.
+    """
     per = c.current_per_tesla_A_per_T
     field = current_A / bk.fmax(per[k], 1e-300)
     return pair_states(field, c, ambient_temperature_C, only=k)[k]
@@ -121,7 +181,24 @@ def pair_state(current_A: Any, k: int, c: Constants, ambient_temperature_C: Any)
 def winding_temperatures_C(
     current_A: Any, k: int, c: Constants, ambient_temperature_C: Any
 ) -> tuple[Any, Any, Any]:
-    """(surface, mean, hot spot) of axis k at a current amplitude, °C: steady or session end."""
+    """(surface, mean, hot spot) of axis k at a current amplitude, °C: steady or session end.
+
+    Parameters
+    ----------
+    current_A : float or CasADi
+        Current amplitude of pair k, A.
+    k : int
+        Index of the pair (0, 1, 2 for x, y, z).
+    c : Constants
+        The design's constants.
+    ambient_temperature_C : float or CasADi
+        Ambient air, °C.
+
+    Returns
+    -------
+    surface_C, mean_C, hot_spot_C : float or CasADi
+        Mean face, mean winding and hottest winding temperature, °C.
+    """
     s = pair_state(current_A, k, c, ambient_temperature_C)
     return s.surface_C, s.mean_C, s.hot_spot_C
 
@@ -136,6 +213,24 @@ def winding_resistance_ohm(
     k's :class:`coils.thermal_system.PairTemperatures` at the field's worst-heading current, if
     the current is a lighter heading's (its faces linearised there,
     :func:`coils.thermal_system.mean_rise_at_K`).
+
+    Parameters
+    ----------
+    current_A : float, array or CasADi
+        Current amplitude of pair k, A.
+    k : int
+        Index of the pair (0, 1, 2 for x, y, z).
+    c : Constants
+        The design's constants.
+    ambient_temperature_C : float or CasADi
+        Ambient air, °C.
+    state : coils.thermal_system.PairTemperatures, optional
+        Pair k's state at the field's worst-heading current (for a lighter heading's current).
+
+    Returns
+    -------
+    float, array or CasADi
+        Resistance of the pair, Ω.
     """
     if c.winding_temperature_C is not None:
         return _resistance_at(None, k, c)
@@ -166,6 +261,22 @@ def hot_spot_rise_K(current_A: Any, k: int, c: Constants, ambient_temperature_C:
     conduction in the pack from ambient to the end of the session (:func:`coils.thermal.
     transient`). Beyond thermal runaway the rise is a finite upper bound far above any limit
     (coils.thermal.steady_state). Increasing in the current.
+
+    Parameters
+    ----------
+    current_A : float, array or CasADi
+        Current amplitude of axis k, A.
+    k : int
+        Index of the pair (0, 1, 2 for x, y, z).
+    c : Constants
+        The design's constants.
+    ambient_temperature_C : float
+        Ambient air, °C.
+
+    Returns
+    -------
+    float, array or CasADi
+        Hot-spot rise above ambient, K.
     """
     return winding_temperatures_C(current_A, k, c, ambient_temperature_C)[2] - ambient_temperature_C
 
@@ -203,6 +314,24 @@ def heading_losses_W(
     pair at its own self-consistent resistance (:func:`winding_resistance_ohm`). With numbers,
     currents per tesla that recur (few distinct values per axis) share one thermal solve through
     ``memo``; with CasADi values, entries that are the same node do (:func:`_memo_key`).
+
+    Parameters
+    ----------
+    field_T : float or CasADi
+        Rotating-field amplitude at the centre, T.
+    c : Constants
+        The design's constants.
+    ambient_temperature_C : float or CasADi
+        Ambient air, °C.
+    memo : dict, optional
+        Shared (current, resistance) per current-per-tesla key, filled here (object).
+    states : list of PairTemperatures, optional
+        The three pairs' states at ``field_T`` if the caller has them.
+
+    Returns
+    -------
+    list of float or CasADi
+        Copper loss of each heading, W.
     """
     a = c.heading_current_per_tesla_A_per_T
     memo = {} if memo is None else memo
@@ -250,6 +379,24 @@ def total_loss_W(
 
     See :func:`heading_losses_W`; the resistance is each pair's at its own mean winding
     temperature at that current (steady or at the end of the session).
+
+    Parameters
+    ----------
+    field_T : float or CasADi
+        Rotating-field amplitude at the centre, T.
+    c : Constants
+        The design's constants.
+    ambient_temperature_C : float or CasADi
+        Ambient air, °C.
+    memo : dict, optional
+        Shared thermal solves (see :func:`heading_losses_W`), object.
+    states : list of PairTemperatures, optional
+        The three pairs' states at ``field_T`` if the caller has them.
+
+    Returns
+    -------
+    float or CasADi
+        Worst-heading copper loss, W.
     """
     worst: Any = None
     for loss in heading_losses_W(field_T, c, ambient_temperature_C, memo, states):
@@ -281,6 +428,26 @@ def limit_terms(
     Every argument may be a number, a numpy array or a CasADi value (the NLP builds the same
     terms with its variables and parameters). ``loss_W``: the worst-heading loss if the caller
     has it already (the sizing NLP's epigraph variable); default :func:`total_loss_W`.
+
+    Parameters
+    ----------
+    frequency_hz : float, array or CasADi
+        Rotation frequency f, Hz.
+    field_T : float, array or CasADi
+        Rotating-field amplitude at the centre B0, T.
+    c : Constants
+        The design's constants.
+    limits : Limits
+        The limits, SI.
+    ambient_temperature_C : float or CasADi
+        Ambient air, °C.
+    loss_W : float or CasADi, optional
+        Worst-heading copper loss if already known, W.
+
+    Returns
+    -------
+    list of LimitTerm
+        One term per limit and axis, each in its own unit.
     """
     import coils
 
@@ -299,16 +466,28 @@ def limit_terms(
         key = _memo_key(k, per_amp)
         if key is not None:
             memo[key] = (current, r)
-        terms.append(LimitTerm(f"current_{ax}", "A", current, limits.current_A, 1))
+        name, allowed = limits.channel("current", k)
+        terms.append(LimitTerm(name, "A", current, allowed, 1))
+        name, allowed = limits.channel("voltage", k)
         terms.append(
             LimitTerm(
-                f"voltage_{ax}",
+                name,
                 "V",
                 coils.voltage_amplitude_V(r, ind, frequency_hz, current),
-                limits.voltage_V,
+                allowed,
                 1 if fixed_r else None,
             )
         )
+        if f"power_{ax}" in limits.own:  # the pair's own amplifier channel: its copper loss
+            terms.append(
+                LimitTerm(
+                    f"axis_power_{ax}",
+                    "W",
+                    0.5 * r * current * current,
+                    limits.axis_power_W[k],
+                    2 if fixed_r else None,
+                )
+            )
         terms.append(
             LimitTerm(
                 f"hot_spot_{ax}",
@@ -469,6 +648,22 @@ def _power_cap_T(c: Constants, allowed_W: Any, ambient_temperature_C: float) -> 
     return _cached_cap(c, key, lambda: _bisect_field_T(loss, allowed, allowed.shape))
 
 
+def _channel_power_cap_T(k: int, c: Constants, allowed_W: Any, ambient_temperature_C: float) -> Any:
+    """Largest centre field pair k's own channel power limit allows, R(I) I² / 2 <= P
+    (bisection; the resistance at the pair's self-consistent mean temperature; cached)."""
+    allowed = np.asarray(allowed_W, dtype=float)
+    per_amp = float(c.current_per_tesla_A_per_T[k])
+    if per_amp <= 0:
+        return np.full(allowed.shape, np.inf)
+
+    def value(b: Any) -> Any:
+        current = b * per_amp
+        return 0.5 * winding_resistance_ohm(current, k, c, ambient_temperature_C) * current**2
+
+    key = ("channel_power", k, *_array_key(allowed), float(ambient_temperature_C))
+    return _cached_cap(c, key, lambda: _bisect_field_T(value, allowed, allowed.shape))
+
+
 def _voltage_cap_T(
     k: int, frequency_hz: Any, c: Constants, allowed_V: Any, ambient_temperature_C: float
 ) -> Any:
@@ -550,6 +745,26 @@ def field_capacity_T(
 
     Power-law terms invert in closed form; the session hot-spot term (``power`` None) by a
     vectorised bisection on the same expression (:func:`_bisect_field_T`).
+
+    Parameters
+    ----------
+    frequency_hz : float or ndarray
+        Rotation frequency, Hz.
+    c : Constants
+        The design's constants.
+    limits : Limits
+        The limits, SI.
+    ambient_temperature_C : float
+        Ambient air, °C.
+
+    Returns
+    -------
+    field_T : ndarray
+        Largest centre field all limits allow, T.
+    caps_T : list of ndarray
+        The field each limit allows, T, in the order of ``terms``.
+    terms : list of LimitTerm
+        The limit terms at B0 = 1 T.
     """
     unit = limit_terms(frequency_hz, 1.0, c, limits, ambient_temperature_C)
     caps = []
@@ -568,6 +783,10 @@ def field_capacity_T(
         if t.power is None and t.name == "power":
             caps.append(_power_cap_T(c, t.allowed, ambient_temperature_C))
             continue
+        if t.power is None and t.name.startswith("axis_power_"):
+            k = _AXES.index(t.name[-1])
+            caps.append(_channel_power_cap_T(k, c, t.allowed, ambient_temperature_C))
+            continue
         if t.power is None:  # voltage with the self-consistent resistance
             caps.append(
                 _voltage_cap_T(
@@ -582,7 +801,17 @@ def field_capacity_T(
 
 @dataclass(frozen=True)
 class FieldCapacity:
-    """The largest centre field the limits allow at one frequency, and the limit that sets it."""
+    """The largest centre field the limits allow at one frequency, and the limit that sets it.
+
+    Attributes
+    ----------
+    field_T : float
+        Largest centre field the limits allow, T.
+    limited_by : str
+        Name of the limit that sets it.
+    caps_T : dict of str to float
+        The field each limit allows, T.
+    """
 
     field_T: float
     limited_by: str
@@ -592,7 +821,24 @@ class FieldCapacity:
 def field_capacity(
     frequency_hz: float, c: Constants, limits: Limits, ambient_temperature_C: float
 ) -> FieldCapacity:
-    """:func:`field_capacity_T` at one frequency with the binding limit named (computed once)."""
+    """:func:`field_capacity_T` at one frequency with the binding limit named (computed once).
+
+    Parameters
+    ----------
+    frequency_hz : float
+        Rotation frequency, Hz.
+    c : Constants
+        The design's constants.
+    limits : Limits
+        The limits, SI.
+    ambient_temperature_C : float
+        Ambient air, °C.
+
+    Returns
+    -------
+    FieldCapacity
+        The field (T) and the binding limit.
+    """
     best, caps, terms = field_capacity_T(frequency_hz, c, limits, ambient_temperature_C)
     values = [float(x) for x in caps]
     i = int(np.argmin(values))
@@ -604,12 +850,36 @@ def field_capacity(
 
 
 def available_torque_Nm(field_T: Any, c: Constants) -> Any:
-    """Largest synchronous torque over the workspace: m · B0 · (weakest-field factor)."""
+    """Largest synchronous torque over the workspace: m · B0 · (weakest-field factor).
+
+    Parameters
+    ----------
+    field_T : float, array or CasADi
+        Rotating-field amplitude at the centre, T.
+    c : Constants
+        The design's constants (magnet moment, workspace factor).
+
+    Returns
+    -------
+    float, array or CasADi
+        Available torque, N·m.
+    """
     return cap.max_synchronous_torque_Nm(c.moment_Am2, field_T * c.workspace_factor)
 
 
 def contact_geometry(c: Constants) -> tm.ContactGeometry:
-    """The capsule as the tissue model sees it (symbols pass through for free hardware)."""
+    """The capsule as the tissue model sees it (symbols pass through for free hardware).
+
+    Parameters
+    ----------
+    c : Constants
+        The design's constants.
+
+    Returns
+    -------
+    torque_model.ContactGeometry
+        Body, wire and wound length in m, the number of starts.
+    """
     return tm.ContactGeometry(
         c.body_diameter_m, c.body_length_m, c.wire_diameter_m, c.wound_length_m, c.starts
     )
@@ -624,13 +894,36 @@ def required_torques_Nm(
 ) -> list[tuple[bk.Scalar, bk.Scalar]]:
     """(resistive, thrust) torque for every tissue set, N·m.
 
-    Resistive: the Zhou 2013 tissue model (torque_model.resistive_torque_Nm). Thrust: the screw
-    torque to push ``req.axial_load_N`` (capsule.thrust_torque_Nm) with that tissue's friction.
+    Resistive: the Zhou 2013 tissue model (torque_model.resistive_torque_Nm) plus the friction
+    of the capsule's weight lying on the wall (torque_model.weight_friction_torque_Nm, which the
+    paper's vertical bench left out). Thrust: the screw torque to push ``req.axial_load_N``
+    (capsule.thrust_torque_Nm) with that tissue's friction.
+
+    Parameters
+    ----------
+    helical_angle_rad : float, array or CasADi
+        Helical angle, rad.
+    frequency_hz : float, array or CasADi
+        Rotation frequency, Hz.
+    c : Constants
+        The design's constants.
+    tissues : tuple of TissueParameters
+        The tissue sets.
+    req : Requirements
+        The requirements (axial load).
+
+    Returns
+    -------
+    list of (float, float)
+        (resistive, thrust) torque per tissue set, N·m (floats, arrays or CasADi).
     """
     geometry = contact_geometry(c)
+    radius = tm.contact_radius_m(c.body_diameter_m, c.wire_diameter_m)
     out = []
     for tissue in tissues:
-        res = tm.resistive_torque_Nm(helical_angle_rad, frequency_hz, tissue, geometry)
+        res = tm.resistive_torque_Nm(
+            helical_angle_rad, frequency_hz, tissue, geometry
+        ) + tm.weight_friction_torque_Nm(c.mass_kg, tissue.friction_coefficient, radius)
         thr = cap.thrust_torque_Nm(
             req.axial_load_N, c.helix_diameter_m, helical_angle_rad, tissue.friction_coefficient
         )
@@ -638,13 +931,83 @@ def required_torques_Nm(
     return out
 
 
+def weight_friction_Nm(c: Constants, tissue: Any) -> Any:
+    """Friction of the capsule's weight on ``tissue``'s wall, N·m (torque_model.engagement).
+
+    Parameters
+    ----------
+    c : Constants
+        The design's constants (capsule mass, kg; body and wire diameters, m).
+    tissue : TissueParameters
+        The tissue set (its friction coefficient).
+
+    Returns
+    -------
+    float or CasADi
+        Friction torque of the capsule's weight, N·m.
+    """
+    radius = tm.contact_radius_m(c.body_diameter_m, c.wire_diameter_m)
+    return tm.weight_friction_torque_Nm(c.mass_kg, tissue.friction_coefficient, radius)
+
+
+def wall_strains(helical_angle_rad: bk.Scalar, c: Constants, tissues: tuple) -> list[bk.Scalar]:
+    """Strain the wound section stretches each tissue set's wall by (engagement where > 0).
+
+    Parameters
+    ----------
+    helical_angle_rad : float, array or CasADi
+        Helical angle, rad.
+    c : Constants
+        The design's constants (capsule and spiral dimensions, m).
+    tissues : tuple of TissueParameters
+        The tissue sets (lumen and wall, m).
+
+    Returns
+    -------
+    list
+        One strain per tissue set, dimensionless (torque_model.wall_strain).
+    """
+    geometry = contact_geometry(c)
+    return [tm.wall_strain(helical_angle_rad, t, geometry) for t in tissues]
+
+
 def speed_m_s(helical_angle_rad: Any, frequency_hz: Any, c: Constants, req: Requirements) -> Any:
-    """Forward speed: slip efficiency × frequency × spiral lead (capsule.forward_speed_m_s)."""
+    """Forward speed: slip efficiency × frequency × spiral lead (capsule.forward_speed_m_s).
+
+    Parameters
+    ----------
+    helical_angle_rad : float, array or CasADi
+        Helical angle, rad.
+    frequency_hz : float, array or CasADi
+        Rotation frequency, Hz.
+    c : Constants
+        The design's constants.
+    req : Requirements
+        The requirements (slip efficiency).
+
+    Returns
+    -------
+    float, array or CasADi
+        Forward speed, m/s.
+    """
     return cap.forward_speed_m_s(
         frequency_hz, cap.lead_m(helical_angle_rad, c.helix_diameter_m), req.slip_efficiency
     )
 
 
 def spiral_turns(helical_angle_rad: Any, c: Constants) -> Any:
-    """Full turns the spiral makes over its wound length (capsule.spiral_turns)."""
+    """Full turns the spiral makes over its wound length (capsule.spiral_turns).
+
+    Parameters
+    ----------
+    helical_angle_rad : float, array or CasADi
+        Helical angle, rad.
+    c : Constants
+        The design's constants.
+
+    Returns
+    -------
+    float, array or CasADi
+        Turns over the wound length, count (fractional).
+    """
     return cap.spiral_turns(helical_angle_rad, c.helix_diameter_m, c.wound_length_m)

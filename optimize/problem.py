@@ -49,7 +49,19 @@ _SPEED_FLOOR_m_s = 1e-4
 
 @dataclass(frozen=True)
 class Scales:
-    """Reference magnitudes that make the variables and the objective O(1)."""
+    """Reference magnitudes that make the variables and the objective O(1).
+
+    Attributes
+    ----------
+    field_T : float
+        Reference field B_ref, T.
+    torque_Nm : float
+        Reference torque tau_ref, N·m.
+    power_W : float
+        Reference copper loss, W.
+    mass_kg : float
+        Reference copper mass, kg.
+    """
 
     field_T: float
     torque_Nm: float
@@ -63,6 +75,17 @@ class Term:
 
     ``form`` is the normalised comparison (e.g. ``value / allowed - 1``); keeping ``allowed``
     separate lets the solver report d(objective)/d(allowed) per row.
+
+    Attributes
+    ----------
+    row : Row
+        The row's name, kind and unit.
+    value : float or CasADi
+        The bounded quantity, in the unit ``row.unit`` names.
+    allowed : float, CasADi or None
+        Its bound, in the unit ``row.unit`` names (None: an objective row).
+    form : callable
+        ``form(value, allowed)``, the normalised row (dimensionless), ``<= 0`` when it holds.
     """
 
     row: Row
@@ -72,13 +95,55 @@ class Term:
 
     @property
     def g(self) -> Any:
-        """The row's expression (``<= 0`` when it holds)."""
+        """The row's expression (``<= 0`` when it holds).
+
+        Returns
+        -------
+        float or CasADi
+            The normalised row, dimensionless.
+        """
         return self.form(self.value, self.allowed)
 
 
 @dataclass(frozen=True)
 class Context:
-    """Backend-generic expressions objective and constraint builders work with (SI)."""
+    """Backend-generic expressions objective and constraint builders work with (SI).
+
+    Attributes
+    ----------
+    alpha : float or CasADi
+        Helical angle, rad.
+    frequency : float or CasADi
+        Rotation frequency, Hz.
+    field : float or CasADi
+        Rotating-field amplitude at the centre, T.
+    t : float or CasADi
+        Epigraph variable: margin / tau_ref or the safety factor, dimensionless.
+    constants : Constants
+        The design's constants (numbers or parameters).
+    limits : Limits
+        The limits (numbers or parameters).
+    requirements : Requirements
+        The requirements (numbers or parameters).
+    tissues : tuple of TissueParameters
+        The tissue sets.
+    ambient_temperature_C : float or CasADi
+        Ambient air, °C.
+    scales : Scales
+        Reference magnitudes.
+    available_Nm : float or CasADi
+        Available synchronous torque, N·m.
+    required_Nm : tuple of float or CasADi
+        Required torque (resistive + thrust) per tissue set, N·m.
+    relax : tuple of float or CasADi, optional
+        Slacks (speed, turns, safety) of the relaxed problem, dimensionless; None otherwise.
+    variable, parameter : callable, optional
+        Declare an auxiliary variable or parameter in the compiled problem.
+    scenarios : object, optional
+        The structure of the model's tissue scenarios.
+    loss_W : float or CasADi, optional
+        Worst-heading copper loss at the field, W.
+    """
 
     alpha: Any
     frequency: Any
@@ -111,6 +176,19 @@ class ObjectiveSpec:
     ``sense`` +1 maximises the reported value, -1 minimises it; the reported value is
     ``report(ctx)``; ``scale(ctx)`` converts F back (U = -sense · scale · F for the sensitivities);
     ``uses_t``: whether the epigraph variable is part of it (else it is fixed at 0).
+
+    Attributes
+    ----------
+    build : callable
+        ``build(ctx) -> (F, terms)``: scaled objective (dimensionless) and its rows.
+    sense : float
+        +1 (maximise the reported value) or -1 (minimise), dimensionless.
+    unit : str
+        Unit symbol of the reported value (``"N·m"``, ``"W"``, ``"kg"``, ``"1"``).
+    scale : callable
+        ``scale(scales)``, the reported value per unit of F, in the unit ``unit`` names.
+    uses_t : bool
+        Flag: the epigraph variable is part of the objective.
     """
 
     build: Callable[[Context], tuple[Any, list[Term]]]
@@ -157,12 +235,33 @@ def copper_power_W(ctx: Context) -> Any:
 
     Each pair's resistance is at its own mean winding temperature at the operating current
     (steady, or at the end of the session; optimize.physics.total_loss_W), not at the limit.
+
+    Parameters
+    ----------
+    ctx : Context
+        The expressions at the operating point.
+
+    Returns
+    -------
+    float or CasADi
+        Worst-heading copper loss, W.
     """
     return ctx.loss_W
 
 
 def copper_mass_kg(ctx: Context) -> Any:
-    """Copper of the three pairs, kg."""
+    """Copper of the three pairs, kg.
+
+    Parameters
+    ----------
+    ctx : Context
+        The expressions at the operating point.
+
+    Returns
+    -------
+    float or CasADi
+        Copper mass, kg.
+    """
     m = ctx.constants.copper_mass_kg
     return m[0] + m[1] + m[2]
 
@@ -188,12 +287,26 @@ CONSTRAINTS: list[Callable[[Context], list[Term]]] = []
 
 
 def register_objective(name: str, spec: ObjectiveSpec) -> None:
-    """Add (or replace) an objective the solver can be asked for by ``Bounds.objective``."""
+    """Add (or replace) an objective the solver can be asked for by ``Bounds.objective``.
+
+    Parameters
+    ----------
+    name : str
+        Objective name (``Bounds.objective``).
+    spec : ObjectiveSpec
+        How to build it.
+    """
     OBJECTIVES[name] = spec
 
 
 def register_constraint(builder: Callable[[Context], list[Term]]) -> None:
-    """Add rows to every problem: ``builder(ctx)`` returns :class:`Term` objects (``<= 0``)."""
+    """Add rows to every problem: ``builder(ctx)`` returns :class:`Term` objects (``<= 0``).
+
+    Parameters
+    ----------
+    builder : callable
+        ``builder(ctx) -> list of Term``.
+    """
     if builder not in CONSTRAINTS:
         CONSTRAINTS.append(builder)
 
@@ -205,7 +318,20 @@ def _safety_row(_sf: Any, min_sf: Any, *, need: Any, available: Any, tau: Any, s
 
 
 def core_terms(ctx: Context) -> list[Term]:
-    """Limits, requirements and the self-lock rows every problem has."""
+    """Limits, requirements (the wall strain of every tissue set among them) and the self-lock
+    rows every problem has. The spiral-turn slack of the relaxed problem also relaxes the wall
+    strain: both are the spiral's geometry.
+
+    Parameters
+    ----------
+    ctx : Context
+        The expressions at the operating point.
+
+    Returns
+    -------
+    list of Term
+        Safety-factor, limit, speed, spiral-turn, wall-strain and self-lock rows.
+    """
     c, req = ctx.constants, ctx.requirements
     relax = ctx.relax if ctx.relax is not None else (0.0, 0.0, 0.0)
     tau = ctx.scales.torque_Nm
@@ -241,6 +367,15 @@ def core_terms(ctx: Context) -> list[Term]:
             lambda v, a: a / v - 1.0 - relax[1],
         )
     )
+    for tis, strain in zip(ctx.tissues, ph.wall_strains(ctx.alpha, c, ctx.tissues)):
+        out.append(  # engagement: the spiral must stretch every tissue set's wall
+            Term(
+                Row(f"wall_strain[{tis.name}]", "requirement", "1", -1.0),
+                strain,
+                req.min_wall_strain,
+                lambda v, a: 1.0 - v / a - relax[1],
+            )
+        )
     for tis in ctx.tissues:
         out.append(
             Term(
@@ -272,6 +407,32 @@ def make_context(
 
     ``loss_W``: the worst-heading copper loss expression if the caller has one (the sizing
     NLP's epigraph variable); default :func:`optimize.physics.total_loss_W` at the field.
+
+    Parameters
+    ----------
+    x : sequence of float or CasADi
+        Physical (alpha rad, f Hz, B0 T, t dimensionless).
+    model : DesignModel
+        The design.
+    scales : Scales
+        Reference magnitudes.
+    constants, limits, requirements : optional
+        Symbolic or other values replacing the model's (objects).
+    ambient_temperature_C : float or CasADi, optional
+        Ambient air, °C (default: the model's).
+    relax : tuple of float or CasADi, optional
+        Slacks of the relaxed problem, dimensionless.
+    variable, parameter : callable, optional
+        Declarers of the compiled problem.
+    scenarios : object, optional
+        The structure of the tissue scenarios.
+    loss_W : float or CasADi, optional
+        Worst-heading copper loss, W.
+
+    Returns
+    -------
+    Context
+        The expressions, SI.
     """
     c = model.constants if constants is None else constants
     req = model.requirements if requirements is None else requirements
@@ -308,6 +469,20 @@ def all_terms(ctx: Context, objective: str) -> tuple[Any, list[Term]]:
     own rows are left out (its ``build`` is not called); a registered row of kind
     "requirement" gets its own slack there (variable ``slack[<row>]``), so a requirement a hook
     adds is diagnosed like the core ones.
+
+    Parameters
+    ----------
+    ctx : Context
+        The expressions at the operating point.
+    objective : str
+        Objective name.
+
+    Returns
+    -------
+    objective : float or CasADi
+        Scaled objective F to minimise, dimensionless.
+    terms : list of Term
+        Every row.
     """
     spec = OBJECTIVES[objective]
     if ctx.relax is None:
@@ -341,6 +516,28 @@ def expressions(
 
     The numbers of the model are plain values here (the oracle and the tests use it); the
     compiled solver builds the same terms with parameters (:func:`optimize.solve.compile_problem`).
+
+    Parameters
+    ----------
+    x : sequence of float or CasADi
+        Scaled (alpha, f, B0, t), dimensionless.
+    model : DesignModel
+        The design (with its constants).
+    scales : Scales
+        Reference magnitudes.
+    relax : tuple, optional
+        Slacks of the relaxed problem, dimensionless.
+    objective : str, optional
+        Objective name (default: the model's).
+
+    Returns
+    -------
+    objective : float or CasADi
+        Scaled objective, dimensionless.
+    rows : list of float or CasADi
+        Each row ``g``, dimensionless (``<= 0`` holds).
+    names : list of Row
+        The rows' names, kinds and units.
     """
     phys = (x[0] * ALPHA_REF_rad, x[1] * F_REF_hz, x[2] * scales.field_T, x[3])
     ctx = make_context(phys, model, scales, relax=relax)
@@ -361,7 +558,22 @@ def _numeric_fields(obj: Any) -> dict[str, Any]:
 
 
 def symbolic(builder: Any, prefix: str, obj: Any) -> Any:
-    """``obj`` (a frozen dataclass) with every float / array field a named parameter."""
+    """``obj`` (a frozen dataclass) with every float / array field a named parameter.
+
+    Parameters
+    ----------
+    builder : NLPBuilder
+        The problem being built.
+    prefix : str
+        Parameter name prefix (``"limits"``, ...).
+    obj : dataclass
+        A frozen dataclass of numbers (SI, units in the field names).
+
+    Returns
+    -------
+    dataclass
+        The same with each float or array field a parameter symbol, in the unit its name carries.
+    """
     kw = {
         name: builder.parameter(f"{prefix}.{name}", np.shape(v))
         for name, v in _numeric_fields(obj).items()
@@ -370,12 +582,38 @@ def symbolic(builder: Any, prefix: str, obj: Any) -> Any:
 
 
 def parameter_values(prefix: str, obj: Any) -> dict[str, Any]:
-    """The values of :func:`symbolic`'s parameters for ``obj``."""
+    """The values of :func:`symbolic`'s parameters for ``obj``.
+
+    Parameters
+    ----------
+    prefix : str
+        Parameter name prefix.
+    obj : dataclass
+        A frozen dataclass of numbers (SI, units in the field names).
+
+    Returns
+    -------
+    dict of str to float or ndarray
+        Value by parameter name, in the unit each name carries.
+    """
     return {f"{prefix}.{name}": v for name, v in _numeric_fields(obj).items()}
 
 
 def exposure_allowed_T(model: DesignModel, frequency_hz: float) -> float:
-    """The exposure level at ``frequency_hz`` (the only limit whose allowed value moves with f)."""
+    """The exposure level at ``frequency_hz`` (the only limit whose allowed value moves with f).
+
+    Parameters
+    ----------
+    model : DesignModel
+        The design.
+    frequency_hz : float
+        Rotation frequency, Hz.
+
+    Returns
+    -------
+    float
+        ICNIRP reference level, T (NaN when exposure is off).
+    """
     if model.limits.field_exposure == "off":
         return float("nan")
     return float(ph.exposure_level_T(frequency_hz, model.limits.field_exposure))

@@ -26,6 +26,24 @@ class BindingLimit:
     value (a current limit, an upper bound) and -1 where it means lowering it (a minimum speed, a
     lower bound); ``objective_sense`` +1 for an objective maximised, -1 for one minimised, so
     :attr:`gain_per_unit_relaxed` is the improvement relaxing by one unit buys (>= 0).
+
+    Attributes
+    ----------
+    name : str
+        Row name of the constraint.
+    unit : str
+        Unit symbol of ``value`` and ``allowed`` (SI).
+    value : float
+        The constrained quantity at the optimum, in the unit ``unit`` names.
+    allowed : float
+        Its bound, in the unit ``unit`` names.
+    sensitivity : float
+        d(objective)/d(allowed), in the objective's unit (N·m, W, kg; dimensionless for the
+        safety factor) per unit of ``unit``.
+    relax_sign : float
+        +1 or -1, dimensionless: the direction that relaxes the constraint.
+    objective_sense : float
+        +1 (maximised) or -1 (minimised), dimensionless.
     """
 
     name: str
@@ -38,13 +56,26 @@ class BindingLimit:
 
     @property
     def gain_per_unit_relaxed(self) -> float:
-        """Objective improvement per SI unit of relaxation."""
+        """Objective improvement per SI unit of relaxation, in the objective's unit (N·m, W, kg;
+        dimensionless for the safety factor) per unit of the limit (``unit``)."""
         return self.sensitivity * self.relax_sign * self.objective_sense
 
 
 @dataclass(frozen=True)
 class Shortfall:
-    """A requirement no design inside the limits can meet, and the closest it gets."""
+    """A requirement no design inside the limits can meet, and the closest it gets.
+
+    Attributes
+    ----------
+    name : str
+        Row name of the requirement.
+    unit : str
+        Unit symbol of ``needed`` and ``best`` (SI).
+    needed : float
+        What the requirement asks, in the unit ``unit`` names.
+    best : float
+        The closest any design inside the limits gets, in the unit ``unit`` names.
+    """
 
     name: str
     unit: str
@@ -67,6 +98,62 @@ class OptimizationResult(Viewable):
     the objective in its unit; ``field_is_set`` says the optimum's field is below the largest the
     limits allow (objectives ``power`` and ``copper_mass``), so a saved design must carry it.
     ``solution_x`` / ``solution_lam_g``: the raw optimum, a warm start for a neighbouring solve.
+
+    Attributes
+    ----------
+    status : str
+        ``"optimal"`` or ``"infeasible"``.
+    objective : str
+        Name of the objective.
+    helical_angle_rad : float
+        Optimal helical angle, rad.
+    frequency_hz : float
+        Optimal rotation frequency, Hz.
+    field_amplitude_T : float
+        Centre field amplitude at the optimum, T.
+    margin_Nm : float
+        Torque margin, N·m.
+    safety_factor : float
+        Available / required torque, dimensionless.
+    current_amplitudes_A : tuple of float
+        Worst-heading current amplitude of each pair, A.
+    current_phases_rad : tuple
+        Per heading, the centre allocation: the three current amplitudes (A) and phases (rad).
+    headings : tuple of tuple of float
+        The unit headings, dimensionless.
+    speed_m_s : float
+        Forward speed, m/s.
+    step_out_frequency_hz : float
+        Step-out frequency at the optimum's field, Hz.
+    binding_limits : tuple of BindingLimit
+        The active constraints.
+    shortfalls : tuple of Shortfall
+        Requirements out of reach (infeasible only).
+    solver_status : str
+        IPOPT's return status.
+    iterations : int
+        IPOPT iterations over every start tried, count.
+    starts : int
+        Number of starting points solved.
+    solve_time_s : float
+        Wall time of the solve, s.
+    evaluation : Evaluation
+        :func:`optimize.evaluate` at the optimum.
+    message : str
+        One line on the outcome.
+    objective_value : float
+        The objective, in its unit (N·m, W, kg; dimensionless for the safety factor).
+    field_is_set : bool
+        Flag: the optimum's field is below the largest the limits allow.
+    hardware : HardwareResult or None
+        The sizing outcome, when hardware was free.
+    solution_x : dict of str to float or None
+        The raw optimum by variable name, in the unit each name carries (``helical_angle``
+        rad, ``frequency`` Hz, ``field_T``, ``t_value`` in the objective's unit), a warm start.
+    solution_lam_g : ndarray or None
+        Its row multipliers, dimensionless (scaled rows), a warm start.
+    scenario_solve : ScenarioSolve or None
+        How the tissue scenarios were solved and checked.
     """
 
     _view_kind: ClassVar[str] = "optimization"
@@ -102,7 +189,7 @@ class OptimizationResult(Viewable):
 
     @property
     def helical_angle_deg(self) -> float:
-        """Optimal helical angle, degrees."""
+        """Optimal helical angle, deg."""
         return float(np.degrees(self.helical_angle_rad))
 
     @property
@@ -120,6 +207,25 @@ class HardwareResult:
     ``discrete_objective``: the best buildable neighbour (whole turns, standard wire),
     re-optimised over the operating point. ``candidates`` tried, ``feasible`` among them,
     ``outer_iterations`` of the frozen factors (docs/optimisation.md).
+
+    Attributes
+    ----------
+    relaxed : dict of str to float
+        Continuous optimum of the free hardware, by name, the unit in each name.
+    relaxed_objective : float
+        Its objective, in the objective's unit (N·m, W, kg; dimensionless for the safety
+        factor).
+    discrete : dict of str to float
+        The best buildable neighbour, by name, the unit in each name.
+    discrete_objective : float
+        Its objective, in the objective's unit (N·m, W, kg; dimensionless for the safety
+        factor).
+    candidates : int
+        Number of neighbours tried.
+    feasible : int
+        Number of those that were feasible.
+    outer_iterations : int
+        Number of outer iterations of the frozen factors.
     """
 
     relaxed: dict[str, float]
@@ -132,5 +238,6 @@ class HardwareResult:
 
     @property
     def rounding_cost(self) -> float:
-        """|relaxed − discrete| objective: what whole turns and standard wire cost."""
+        """|relaxed − discrete| objective: what whole turns and standard wire cost, in the
+        objective's unit (N·m, W, kg; dimensionless for the safety factor)."""
         return abs(self.relaxed_objective - self.discrete_objective)

@@ -70,7 +70,17 @@ FIELDS = (
 
 @dataclass(frozen=True)
 class ScenarioStructure:
-    """What of the scenarios is compiled in: how many, for how many tissue sets, which rows."""
+    """What of the scenarios is compiled in: how many, for how many tissue sets, which rows.
+
+    Attributes
+    ----------
+    count : int
+        Number of scenarios compiled in.
+    sets : int
+        Number of nominal tissue sets.
+    stepout_constraint : bool
+        Flag: the step-out probability row is part of the problem.
+    """
 
     count: int
     sets: int
@@ -85,6 +95,23 @@ class ScenarioSet:
     field an array of ``count`` scenarios; ``latent_u``: the latent uniforms they come from
     (count x d, to reproduce them); ``beta``: the tail of the CVaR objective;
     ``max_stepout_probability``: the chance constraint's ``p`` (None: no constraint).
+
+    Attributes
+    ----------
+    tissues : tuple of TissueArrays
+        Per nominal set, each tissue field an array of ``count`` scenarios, SI (Pa, Pa·s, m).
+    latent_u : ndarray, shape (count, d)
+        The latent uniforms in (0, 1), dimensionless.
+    seed : int
+        Seed of the scrambled Sobol' points.
+    beta : float
+        Tail fraction of the CVaR objective, dimensionless.
+    max_stepout_probability : float or None
+        The chance constraint's p, a probability (None: no constraint).
+    index : ndarray of int or None
+        For a working set, the indices of its scenarios in the whole set.
+    total : int or None
+        For a working set, the number of scenarios of the whole set.
     """
 
     tissues: tuple
@@ -99,7 +126,7 @@ class ScenarioSet:
 
     @property
     def count(self) -> int:
-        """Number of scenarios (of this set or working set)."""
+        """Number of scenarios (of this set or working set), count."""
         return int(self.latent_u.shape[0])
 
     @property
@@ -109,7 +136,18 @@ class ScenarioSet:
 
     def working(self, index: np.ndarray) -> ScenarioSet:
         """The working set of the scenarios ``index`` of this (whole) set: the CVaR sums over
-        it keep the whole set's normalisation ``1/(β S)``."""
+        it keep the whole set's normalisation ``1/(β S)``.
+
+        Parameters
+        ----------
+        index : ndarray of int
+            Indices of the scenarios to keep.
+
+        Returns
+        -------
+        ScenarioSet
+            The working set.
+        """
         idx = np.asarray(index, dtype=np.intp)
         tissues = tuple(
             replace(t, **{n: np.broadcast_to(getattr(t, n), (self.count,))[idx] for n in FIELDS})
@@ -127,7 +165,14 @@ class ScenarioSet:
         )
 
     def parameter_values(self) -> dict[str, Any]:
-        """Values of the scenario parameters by name (unused names are ignored)."""
+        """Values of the scenario parameters by name (unused names are ignored).
+
+        Returns
+        -------
+        dict of str to float or ndarray
+            Value by parameter name (``scenario.*``), in the unit each name carries (``E1_Pa``, ...;
+            ``beta`` and the probability dimensionless, ``total`` a count).
+        """
         p = self.max_stepout_probability
         out: dict[str, Any] = {
             "scenario.total": float(self.total if self.total is not None else self.count),
@@ -158,6 +203,26 @@ def with_scenarios(
     ------
     InputError
         No uncertain input, fewer than 2 scenarios, or ``p`` outside (0, 1).
+
+    Parameters
+    ----------
+    model : DesignModel
+        The design.
+    uncertainty : TissueUncertainty
+        The tissue uncertainty to draw from.
+    scenarios : int
+        Number of scenarios, >= 2.
+    seed : int
+        Seed of the scrambled Sobol' points.
+    beta : float
+        Tail fraction of the CVaR objective, dimensionless.
+    max_stepout_probability : float, optional
+        Largest step-out probability allowed, a probability in (0, 1).
+
+    Returns
+    -------
+    DesignModel
+        The model with ``scenarios`` set.
     """
     from optimize import uncertainty as uq
 
@@ -184,6 +249,27 @@ def cvar_rows(
     ``margins``: one (S x 1) expression per tissue set (scenario margins, any scale);
     ``eta``: scalar; ``u``: S variables bounded below by 0; ``total``: the scenario count of the
     normalisation (a working set's whole set; default S).
+
+    Parameters
+    ----------
+    margins : list of casadi.SX
+        Per tissue set, the (S x 1) scenario margins, in the caller's scale (margin / tau_ref,
+        dimensionless, in the design NLP).
+    eta : casadi.SX
+        The quantile variable η, in the unit of ``margins`` (dimensionless here).
+    u : casadi.SX
+        S excess variables >= 0, in the unit of ``margins`` (dimensionless in the design NLP).
+    beta : float or casadi.SX
+        Tail fraction, dimensionless.
+    total : float or casadi.SX, optional
+        Number of scenarios of the normalisation (a count; default S).
+
+    Returns
+    -------
+    cvar : casadi.SX
+        CVaR_β, in the unit of ``margins`` (dimensionless in the design NLP).
+    rows : list of casadi.SX
+        Rows ``<= 0``, in the unit of ``margins`` (dimensionless in the design NLP).
     """
     n = u.shape[0] if total is None else total
     rows = [eta - m - u for m in margins]
@@ -191,7 +277,28 @@ def cvar_rows(
 
 
 def scenario_margins(alpha: Any, f: Any, field: Any, c: Any, req: Any, arrays: tuple) -> list:
-    """Per tissue set, the margin of every scenario (numpy arrays or CasADi vectors), N·m."""
+    """Per tissue set, the margin of every scenario (numpy arrays or CasADi vectors), N·m.
+
+    Parameters
+    ----------
+    alpha : float or CasADi
+        Helical angle, rad.
+    f : float or CasADi
+        Rotation frequency, Hz.
+    field : float or CasADi
+        Rotating-field amplitude at the centre, T.
+    c : Constants
+        The design's constants.
+    req : Requirements
+        The requirements.
+    arrays : tuple of TissueArrays
+        Per tissue set, the scenario fields (numpy arrays or CasADi vectors), SI.
+
+    Returns
+    -------
+    list of ndarray or CasADi
+        Per tissue set, each scenario's margin, N·m.
+    """
     avail = ph.available_torque_Nm(field, c)
     return [avail - (r + t) for r, t in ph.required_torques_Nm(alpha, f, c, arrays, req)]
 
@@ -309,12 +416,58 @@ pb.register_constraint(_stepout_terms)
 # --- what the optimum claims on its own scenarios ---------------------------------------------
 
 
+def cvar(m: np.ndarray, beta: float, total: int | None = None) -> float:
+    """Rockafellar-Uryasev CVaR_β of the values ``m`` normalised by ``total`` scenarios
+    (default ``m.size``): ``max_η η − Σ (η − m)^+ / (β total)``, at ``η`` the ``ceil(β total)``-th
+    smallest value.
+
+    Parameters
+    ----------
+    m : ndarray
+        The values, in the caller's unit (N·m for margins; the result's name carries it).
+    beta : float
+        Tail fraction, dimensionless.
+    total : int, optional
+        Number of scenarios of the normalisation (default ``m.size``).
+
+    Returns
+    -------
+    float
+        CVaR_β, in the unit of ``m`` (N·m for margins; the caller's name carries it).
+    """
+    n = m.size if total is None else total
+    k = beta * n
+    s = np.sort(np.asarray(m, dtype=float))
+    eta = s[min(max(math.ceil(k - 1e-9), 1), s.size) - 1]
+    return float(eta - np.sum(np.maximum(eta - s, 0.0)) / k)
+
+
 @dataclass(frozen=True)
 class InSample:
     """The worst-case margin over a design's own scenarios at an operating point (SI).
 
     ``margin_p05_Nm``: 5th percentile (the in-sample claim of ``margin_p05``); ``cvar_Nm``:
-    mean of the worst ``beta`` share; ``stepout_probability``: share with a negative margin.
+    the Rockafellar-Uryasev CVaR_β, the mean of the worst ``beta`` share (the last scenario
+    weighed in part where β S is not whole: what the objective ``margin_p05`` maximises, so it
+    equals the optimum's ``objective_value``); ``stepout_probability``: share with a negative
+    margin.
+
+    Attributes
+    ----------
+    scenarios : int
+        Number of scenarios.
+    seed : int
+        Seed they were drawn with.
+    beta : float
+        Tail fraction of the CVaR, dimensionless.
+    margin_p05_Nm : float
+        5th percentile of the worst-case margin, N·m.
+    cvar_Nm : float
+        Rockafellar-Uryasev CVaR_β, the mean of the worst ``beta`` share, N·m.
+    stepout_probability : float
+        Share of scenarios with a negative margin, a probability.
+    margins_Nm : ndarray
+        Worst-case margin of every scenario, N·m.
     """
 
     scenarios: int
@@ -327,7 +480,20 @@ class InSample:
 
 
 def in_sample(model: DesignModel, result: Any) -> InSample:
-    """:class:`InSample` of ``model``'s scenarios at ``result``'s angle, frequency and field."""
+    """:class:`InSample` of ``model``'s scenarios at ``result``'s angle, frequency and field.
+
+    Parameters
+    ----------
+    model : DesignModel
+        The design with its scenarios.
+    result : OptimizationResult
+        The optimum (its angle, frequency and field).
+
+    Returns
+    -------
+    InSample
+        The in-sample figures, N·m.
+    """
     model = prepare(model)
     sc = model.scenarios
     if sc is None:
@@ -341,13 +507,12 @@ def in_sample(model: DesignModel, result: Any) -> InSample:
         sc.tissues,
     )
     m = np.min(np.stack([np.asarray(x, dtype=float) for x in per_set]), axis=0)
-    k = max(int(np.ceil(sc.beta * m.size)), 1)
     return InSample(
         scenarios=sc.count,
         seed=sc.seed,
         beta=sc.beta,
         margin_p05_Nm=float(np.percentile(m, 100 * BETA)),
-        cvar_Nm=float(np.mean(np.sort(m)[:k])),
+        cvar_Nm=cvar(m, sc.beta),
         stepout_probability=float(np.mean(m < 0)),
         margins_Nm=m,
     )

@@ -32,7 +32,18 @@ from optimize.system import DesignModel, prepare
 
 
 def scales_for(model: DesignModel) -> pb.Scales:
-    """Reference field, torque, power and mass: values at the centre of the search box."""
+    """Reference field, torque, power and mass: values at the centre of the search box.
+
+    Parameters
+    ----------
+    model : DesignModel
+        The design (prepared).
+
+    Returns
+    -------
+    Scales
+        Reference field (T), torque (N·m), power (W) and copper mass (kg).
+    """
     b = model.bounds
     alpha = 0.5 * (b.helical_angle_min_rad + b.helical_angle_max_rad)
     f = 0.5 * (b.frequency_min_hz + b.frequency_max_hz)
@@ -54,7 +65,23 @@ def _minimises_power(model: DesignModel) -> bool:
 
 
 def initial_points(model: DesignModel, scales: pb.Scales, starts: int) -> list[dict[str, float]]:
-    """One start per helical-angle band: the best point of a coarse grid in that band."""
+    """One start per helical-angle band: the best point of a coarse grid in that band.
+
+    Parameters
+    ----------
+    model : DesignModel
+        The design (prepared).
+    scales : Scales
+        Reference magnitudes.
+    starts : int
+        Number of starts (helical-angle bands).
+
+    Returns
+    -------
+    list of dict of str to float
+        Per start, ``helical_angle`` (rad), ``frequency`` (Hz), ``field_scaled`` (field /
+        ``scales.field_T``, dimensionless) and ``t`` (the epigraph variable, dimensionless).
+    """
     b = model.bounds
     alphas = np.linspace(b.helical_angle_min_rad, b.helical_angle_max_rad, 8 * max(starts, 1))
     freqs = np.geomspace(b.frequency_min_hz, b.frequency_max_hz, 24)
@@ -91,7 +118,18 @@ def initial_points(model: DesignModel, scales: pb.Scales, starts: int) -> list[d
 
 
 def grid_points(model: DesignModel) -> list[tuple[float, float, float]]:
-    """The grid starts of ``model`` as (angle, frequency, field) points."""
+    """The grid starts of ``model`` as (angle, frequency, field) points.
+
+    Parameters
+    ----------
+    model : DesignModel
+        The design (prepared).
+
+    Returns
+    -------
+    list of (float, float, float)
+        (angle, rad; frequency, Hz; field, T) of each grid start.
+    """
     scales = scales_for(model)
     return [
         (x["helical_angle"], x["frequency"], x["field_scaled"] * scales.field_T)
@@ -100,7 +138,18 @@ def grid_points(model: DesignModel) -> list[tuple[float, float, float]]:
 
 
 def variable_bounds(model: DesignModel) -> dict[str, tuple[float, float]]:
-    """Box bounds of the named variables (physical units)."""
+    """Box bounds of the named variables (physical units).
+
+    Parameters
+    ----------
+    model : DesignModel
+        The design.
+
+    Returns
+    -------
+    dict of str to (float, float)
+        Bounds of ``helical_angle`` (rad), ``frequency`` (Hz) and ``t`` (dimensionless).
+    """
     b = model.bounds
     t = (0.0, 0.0) if _minimises_power(model) else (-np.inf, np.inf)
     return {
@@ -512,7 +561,20 @@ def _result(
 
 
 def with_operating_point(model: DesignModel, result: OptimizationResult) -> DesignModel:
-    """The model moved to the optimum's helical angle, frequency (and field, where set)."""
+    """The model moved to the optimum's helical angle, frequency (and field, where set).
+
+    Parameters
+    ----------
+    model : DesignModel
+        The design.
+    result : OptimizationResult
+        The optimum.
+
+    Returns
+    -------
+    DesignModel
+        The design at the optimum's angle (rad), frequency (Hz) and set field (T).
+    """
     spiral = replace(model.capsule.spiral, helical_angle_rad=result.helical_angle_rad)
     return replace(
         model,

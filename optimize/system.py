@@ -14,6 +14,7 @@ from typing import Any
 import numpy as np
 
 from spiralcap.constants import COPPER_DENSITY_kg_m3
+from torque_model.engagement import DEFAULT_MIN_WALL_STRAIN
 
 
 def default_headings() -> np.ndarray:
@@ -22,6 +23,11 @@ def default_headings() -> np.ndarray:
     At the centre the three axis headings alone already give the exact worst case over the
     sphere (per-axis current peaks when the heading is ⟂ that axis; the power, a quadratic form
     in the heading, peaks on an axis); the diagonals add the off-centre field shapes.
+
+    Returns
+    -------
+    ndarray, shape (13, 3)
+        Unit headings (a copy), dimensionless.
     """
     from coils.uniformity import CUBE_DIRECTIONS
 
@@ -29,7 +35,18 @@ def default_headings() -> np.ndarray:
 
 
 def workspace_points(radius_m: float) -> np.ndarray:
-    """Centre, the six points at ±radius on the axes, and the eight cube corners on the sphere."""
+    """Centre, the six points at ±radius on the axes, and the eight cube corners on the sphere.
+
+    Parameters
+    ----------
+    radius_m : float
+        Radius of the workspace sphere about the coil centre, m (<= 0: the centre alone).
+
+    Returns
+    -------
+    ndarray, shape (15, 3) or (1, 3)
+        The points, m.
+    """
     if radius_m <= 0:
         return np.zeros((1, 3))
     corners = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)])
@@ -46,7 +63,34 @@ def workspace_points(radius_m: float) -> np.ndarray:
 @dataclass(frozen=True)
 class Limits:
     """Hardware and exposure limits (SI); ``field_exposure``: 'occupational', 'public', 'off';
-    ``surface_temperature_C``: the hottest pack surface (None: no limit)."""
+    ``surface_temperature_C``: the hottest pack surface (None: no limit).
+
+    Attributes
+    ----------
+    current_A : float
+        Largest current amplitude of any pair, A.
+    voltage_V : float
+        Largest drive voltage amplitude of any pair, V.
+    power_W : float
+        Largest total copper loss (worst heading), W.
+    coil_temperature_C : float
+        Largest hot-spot winding temperature, °C.
+    field_exposure : str
+        Field exposure limit: ``"occupational"``, ``"public"`` or ``"off"``.
+    surface_temperature_C : float or None
+        Largest temperature of the hottest pack surface, °C (None: no limit).
+    copper_mass_kg : float or None
+        Largest copper mass of the three pairs, kg (None: no limit).
+    axis_current_A, axis_voltage_V, axis_power_W : ndarray or None
+        Per pair (x, y, z), the current amplitude (A), drive voltage amplitude (V) and copper
+        loss (W) its own amplifier channel allows; an entry is used only where ``own`` names it
+        (``"current_x"``, ...), the global limit elsewhere (None: no pair has its own).
+    envelope_m : ndarray or None
+        Outer box the coil set must fit, (X, Y, Z) edge lengths, m (None: no envelope).
+    own : frozenset of str
+        Which per-pair limits are set: ``"current_x"``, ``"voltage_y"``, ``"power_z"``, ...
+        (structure: a compiled problem is built for one such set).
+    """
 
     current_A: float
     voltage_V: float
@@ -55,6 +99,36 @@ class Limits:
     field_exposure: str = "occupational"
     surface_temperature_C: float | None = None
     copper_mass_kg: float | None = None
+    axis_current_A: Any = None
+    axis_voltage_V: Any = None
+    axis_power_W: Any = None
+    envelope_m: Any = None
+    own: frozenset = frozenset()
+
+    def channel(self, kind: str, k: int) -> tuple[str, Any]:
+        """(row name, allowed value) of pair ``k``'s ``kind`` limit (``"current"`` or
+        ``"voltage"``): its own channel's (``axis_current_x``) where set, else the global one
+        (``current_x``).
+
+        Parameters
+        ----------
+        kind : str
+            ``"current"`` or ``"voltage"``.
+        k : int
+            Pair index (0, 1, 2 for x, y, z), count.
+
+        Returns
+        -------
+        tuple of (str, float or CasADi)
+            The row name and the allowed value, A or V.
+        """
+        ax = "xyz"[k]
+        if f"{kind}_{ax}" in self.own:
+            return f"axis_{kind}_{ax}", getattr(self, f"axis_{kind}_{_UNITS[kind]}")[k]
+        return f"{kind}_{ax}", getattr(self, f"{kind}_{_UNITS[kind]}")
+
+
+_UNITS = {"current": "A", "voltage": "V", "power": "W"}
 
 
 @dataclass(frozen=True)
@@ -64,6 +138,27 @@ class Requirements:
     ``min_safety_factor``: available / required torque for every tissue set (1: margin >= 0).
     ``min_clearance_m``: least distance between the winding packs of two pairs and between the
     packs' inner faces and a bore of radius ``bore_radius_m`` (coils.clearance).
+    ``min_wall_strain``: least strain the wound section must stretch every tissue set's wall by
+    (torque_model.engagement: without it the spiral neither grips nor propels), dimensionless.
+
+    Attributes
+    ----------
+    axial_load_N : float
+        Axial load the capsule pushes, N.
+    slip_efficiency : float
+        Forward speed / (frequency x lead), dimensionless.
+    min_speed_m_s : float
+        Least forward speed, m/s.
+    min_spiral_turns : float
+        Fewest spiral turns over the wound length, count (0: off).
+    min_safety_factor : float
+        Least available / required torque, dimensionless (a ratio).
+    min_clearance_m : float
+        Least clearance between packs and to the bore, m.
+    bore_radius_m : float
+        Radius of the bore the packs keep clear of, m.
+    min_wall_strain : float
+        Least strain the wound section stretches every tissue set's wall by, dimensionless.
     """
 
     axial_load_N: float
@@ -73,6 +168,7 @@ class Requirements:
     min_safety_factor: float = 1.0
     min_clearance_m: float = 0.0
     bore_radius_m: float = 0.0
+    min_wall_strain: float = DEFAULT_MIN_WALL_STRAIN
 
 
 @dataclass(frozen=True)
@@ -82,6 +178,17 @@ class Bounds:
     ``objective``: "margin" or "ratio" (maximise the torque margin or the safety factor),
     "power" or "copper_mass" (minimise the worst-heading copper loss or the copper mass), or any
     name registered with :func:`optimize.problem.register_objective`.
+
+    Attributes
+    ----------
+    helical_angle_min_rad, helical_angle_max_rad : float
+        Range of the helical angle, rad.
+    frequency_min_hz, frequency_max_hz : float
+        Range of the rotation frequency, Hz.
+    objective : str
+        Name of the objective.
+    starts : int
+        Number of multistart points of the solver.
     """
 
     helical_angle_min_rad: float
@@ -126,7 +233,7 @@ class DesignModel:
     winding_conductivity_W_mK : float
         Effective transverse conductivity of the winding packs, W/(m·K).
     surface_emissivity : float
-        Grey-body emissivity of the winding surface.
+        Grey-body emissivity of the winding surface, dimensionless.
     session_s : float or None
         Length of a continuous run from ambient, s; None: steady state.
     field_amplitude_T : float or None
@@ -137,6 +244,14 @@ class DesignModel:
         Tissue scenarios drawn from the design's uncertainty, for the objectives and rows that
         judge a design over them (``margin_p05``, the step-out probability constraint); their
         numbers are parameters of the compiled problem.
+    limits : Limits
+        Hardware and exposure limits, SI.
+    requirements : Requirements
+        What the capsule must do, SI.
+    bounds : Bounds
+        The optimiser's search box and options.
+    constants : Constants or None
+        The precomputed constants (:func:`prepare` fills them), or None.
     """
 
     coils: Any
@@ -181,9 +296,48 @@ class Constants:
     ``copper_mass_kg[k]``: copper of pair k (both coils), wire length x area x density.
     ``heading_current_per_tesla_A_per_T[h, k]``: sqrt(1 - n_hk²) / g_k, the current amplitude
     axis k carries per tesla for heading h (``current_per_tesla_A_per_T`` is its column max).
+    ``mass_kg``: the capsule's mass, whose weight rests on the wall (torque_model.engagement).
 
     Every field may hold CasADi values (the NLP builds it from parameters and, when sizing,
     from hardware variables: :mod:`optimize.compiled`, :mod:`optimize.hardware`).
+
+    Attributes
+    ----------
+    gains_T_per_A : ndarray, shape (3,)
+        Centre field per ampere of each pair, T/A.
+    resistance_20C_ohm : ndarray, shape (3,)
+        Pair resistances at 20 °C, Ω.
+    inductance_H : ndarray, shape (3,)
+        Series inductance of each pair, H.
+    packs : tuple of coils.thermal.WindingPack
+        The thermal description of each pair.
+    current_per_tesla_A_per_T : ndarray, shape (3,)
+        Worst-heading current amplitude per tesla of each pair, A/T.
+    power_weights_per_T2 : ndarray, shape (h, 3)
+        Weights w_hk = (1 - n_k²) / (2 g_k²), A²/T²: the copper loss of heading h is
+        Σ_k w_hk R_k B0², W.
+    workspace_factor : float
+        Weakest field seen over the workspace per tesla of centre amplitude, dimensionless.
+    moment_Am2 : float
+        Magnet moment, A·m².
+    body_diameter_m, body_length_m : float
+        Capsule body diameter and overall length, m.
+    wire_diameter_m, wound_length_m, helix_diameter_m : float
+        Spiral wire diameter, wound length and helix diameter, m.
+    copper_mass_kg : ndarray, shape (3,)
+        Copper of each pair, kg.
+    heading_current_per_tesla_A_per_T : ndarray, shape (h, 3)
+        Current amplitude per tesla of each pair for each heading, A/T.
+    starts : int
+        Number of spiral starts, count.
+    winding_temperature_C : float or None
+        Fixed copper temperature for the voltage/power resistance, °C (None: self-consistent).
+    session_s : float or None
+        Run length, s (None: steady).
+    view_factors : ndarray, shape (3, 4), or None
+        Diffuse view factors of each pair, dimensionless (None: each alone in the room).
+    mass_kg : float
+        The capsule's mass, whose weight rests on the wall, kg.
     """
 
     gains_T_per_A: np.ndarray
@@ -205,10 +359,22 @@ class Constants:
     winding_temperature_C: Any = None
     session_s: Any = None
     view_factors: Any = None
+    mass_kg: Any = 0.0
 
 
 def packs_of(model: DesignModel) -> tuple:
-    """The :class:`coils.thermal.WindingPack` of each pair of ``model`` (its cooling options)."""
+    """The :class:`coils.thermal.WindingPack` of each pair of ``model`` (its cooling options).
+
+    Parameters
+    ----------
+    model : DesignModel
+        The design (its coils and cooling options).
+
+    Returns
+    -------
+    tuple of coils.thermal.WindingPack
+        One per pair (x, y, z), SI.
+    """
     from coils.thermal import WindingPack
 
     h = model.heat_transfer_coefficient_W_m2K
@@ -231,7 +397,18 @@ def packs_of(model: DesignModel) -> tuple:
 
 def pack_rings(coils: Any) -> list[Any]:
     """The three pairs' winding packs as :class:`coils.viewfactors.PackRing` (the geometry the
-    view factors are traced on)."""
+    view factors are traced on).
+
+    Parameters
+    ----------
+    coils : coils.ThreeAxisHelmholtz
+        The coil set.
+
+    Returns
+    -------
+    list of coils.viewfactors.PackRing
+        One per pair, SI.
+    """
     from coils.viewfactors import PackRing
 
     return [
@@ -243,14 +420,36 @@ def pack_rings(coils: Any) -> list[Any]:
 
 
 def view_factors_of(coils: Any) -> Any:
-    """Diffuse view factors ``[room, x, y, z]`` of the three pairs (cached ray trace)."""
+    """Diffuse view factors ``[room, x, y, z]`` of the three pairs (cached ray trace).
+
+    Parameters
+    ----------
+    coils : coils.ThreeAxisHelmholtz
+        The coil set.
+
+    Returns
+    -------
+    ndarray, shape (3, 4)
+        View factors, dimensionless.
+    """
     from coils.viewfactors import view_factors
 
     return view_factors(pack_rings(coils))
 
 
 def precompute(model: DesignModel) -> Constants:
-    """Reduce coils, headings and workspace to the constants of the margin and the limits."""
+    """Reduce coils, headings and workspace to the constants of the margin and the limits.
+
+    Parameters
+    ----------
+    model : DesignModel
+        The design.
+
+    Returns
+    -------
+    Constants
+        The reduced constants, SI.
+    """
     import capsule as cap
 
     pairs = model.coils.pairs
@@ -288,11 +487,23 @@ def precompute(model: DesignModel) -> Constants:
         winding_temperature_C=model.winding_temperature_C,
         session_s=model.session_s,
         view_factors=view_factors_of(model.coils),
+        mass_kg=float(model.capsule.mass_kg),
     )
 
 
 def prepare(model: DesignModel) -> DesignModel:
-    """The model with its :class:`Constants` computed (returned unchanged if already there)."""
+    """The model with its :class:`Constants` computed (returned unchanged if already there).
+
+    Parameters
+    ----------
+    model : DesignModel
+        The design.
+
+    Returns
+    -------
+    DesignModel
+        The same design with ``constants`` set.
+    """
     if model.constants is not None:
         return model
     from dataclasses import replace

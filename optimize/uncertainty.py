@@ -59,6 +59,21 @@ class TissueUncertainty:
 
     ``covariance_log`` is the 5 x 5 covariance of ln(E1, E2, E3, eta1, eta2) (tuple of rows),
     or ``None``. Defaults: no uncertainty.
+
+    Attributes
+    ----------
+    scale_sigma_log : float
+        Standard deviation of ln k of one common factor k on the five constants, dimensionless.
+    sigma_log : tuple of float
+        Standard deviations of ln E1, ln E2, ln E3, ln eta1, ln eta2, independent, dimensionless.
+    friction_sigma_log : float
+        Standard deviation of ln mu, dimensionless.
+    lumen_diameter_sigma_m : float
+        Standard deviation of an additive lumen-diameter offset, m.
+    wall_thickness_sigma_m : float
+        Standard deviation of an additive wall-thickness offset, m.
+    covariance_log : tuple of tuple of float or None
+        5 x 5 covariance of the log constants, dimensionless (None: none).
     """
 
     scale_sigma_log: float = 0.0
@@ -84,7 +99,13 @@ class TissueUncertainty:
             covariance_factor(np.asarray(self.covariance_log, dtype=float))
 
     def factors(self) -> list[tuple[str, str]]:
-        """The active latent dimensions as (source, Sobol group), in sampling order."""
+        """The active latent dimensions as (source, Sobol group), in sampling order.
+
+        Returns
+        -------
+        list of (str, str)
+            (source, Sobol group) of each latent dimension.
+        """
         out = []
         if self.scale_sigma_log > 0:
             out.append(("scale", "scale"))
@@ -102,7 +123,7 @@ class TissueUncertainty:
 
     @property
     def active(self) -> bool:
-        """Whether any input is uncertain."""
+        """Flag: any input is uncertain."""
         return bool(self.factors())
 
 
@@ -119,6 +140,18 @@ def covariance_factor(cov: np.ndarray, key: str = "covariance_log") -> np.ndarra
     InputError
         Not 5 x 5, not finite, not symmetric, or an eigenvalue below ``-1e-10 · max|λ|`` (not
         positive semi-definite).
+
+    Parameters
+    ----------
+    cov : ndarray, shape (5, 5)
+        Covariance of the log constants, dimensionless.
+    key : str
+        Name an error gives.
+
+    Returns
+    -------
+    ndarray, shape (5, r)
+        The factor L, dimensionless.
     """
     if cov.shape != (5, 5):
         raise InputError(key, cov.shape, "a 5 x 5 matrix over E1, E2, E3, eta1, eta2")
@@ -138,7 +171,21 @@ def covariance_factor(cov: np.ndarray, key: str = "covariance_log") -> np.ndarra
 
 @dataclass(frozen=True)
 class TissueArrays:
-    """Tissue parameters as arrays (one entry per sample): duck-types TissueParameters."""
+    """Tissue parameters as arrays (one entry per sample): duck-types TissueParameters.
+
+    Attributes
+    ----------
+    E1_Pa, E2_Pa, E3_Pa : ndarray or CasADi
+        Spring moduli per sample, Pa.
+    eta1_Pa_s, eta2_Pa_s : ndarray or CasADi
+        Dashpot viscosities per sample, Pa·s.
+    lumen_diameter_m, wall_thickness_m : ndarray or CasADi
+        Lumen diameter and wall thickness per sample, m.
+    friction_coefficient : ndarray or CasADi
+        Friction coefficient per sample, dimensionless.
+    name : str
+        Name of the nominal set.
+    """
 
     E1_Pa: Any
     E2_Pa: Any
@@ -161,7 +208,13 @@ def perturbed_tissues(tissues: tuple, unc: TissueUncertainty, u: np.ndarray) -> 
     unc : TissueUncertainty
         What is uncertain; ``d = len(unc.factors())``.
     u : ndarray, shape (n, d)
-        Uniforms in (0, 1), one column per latent factor.
+        Uniforms in (0, 1), dimensionless, one column per latent factor.
+
+    Returns
+    -------
+    tuple of TissueArrays
+        One per nominal set, each field an (n,) array, SI (Pa, Pa·s, m; friction
+        dimensionless).
     """
     u = np.clip(np.asarray(u, dtype=float), _U_EPS, 1.0 - _U_EPS)
     n = u.shape[0]
@@ -219,6 +272,25 @@ class MarginProblem:
     """Everything needed to evaluate the worst-case margin of one design for sampled tissues.
 
     Small and picklable: it is what a worker process or a Dask worker receives.
+
+    Attributes
+    ----------
+    helical_angle_rad : float
+        Helical angle, rad.
+    frequency_hz : float
+        Rotation frequency, Hz.
+    available_torque_Nm : float
+        Available synchronous torque, N·m.
+    speed_m_s : float
+        Forward speed when the capsule keeps up, m/s.
+    constants : Constants
+        The design's constants.
+    requirements : Requirements
+        The requirements.
+    tissues : tuple of TissueParameters
+        The nominal tissue sets.
+    uncertainty : TissueUncertainty
+        What is uncertain.
     """
 
     helical_angle_rad: float
@@ -232,7 +304,7 @@ class MarginProblem:
 
     @property
     def dimension(self) -> int:
-        """Number of latent factors."""
+        """Number of latent factors, count."""
         return len(self.uncertainty.factors())
 
     def margins_Nm(self, u: np.ndarray) -> np.ndarray:
@@ -241,6 +313,16 @@ class MarginProblem:
         Evaluated in blocks of :data:`BLOCK` rows: temporaries stay below glibc's mmap threshold
         (Dask's nanny sets ``MALLOC_TRIM_THRESHOLD_``, which makes every larger array an
         mmap + page faults, twice as slow); each sample is element-wise, so blocks change nothing.
+
+        Parameters
+        ----------
+        u : ndarray, shape (n, d)
+            Latent uniforms in (0, 1), dimensionless.
+
+        Returns
+        -------
+        ndarray, shape (n,)
+            Worst-case margin per sample, N·m.
         """
         u = np.asarray(u, dtype=float)
         if u.shape[0] <= BLOCK:
@@ -256,7 +338,13 @@ class MarginProblem:
         return self.available_torque_Nm - need
 
     def nominal_margin_Nm(self) -> float:
-        """The deterministic worst-case margin (the nominal tissue sets), N·m."""
+        """The deterministic worst-case margin (the nominal tissue sets), N·m.
+
+        Returns
+        -------
+        float
+            The nominal worst-case margin, N·m.
+        """
         pairs = ph.required_torques_Nm(
             self.helical_angle_rad,
             self.frequency_hz,
@@ -280,6 +368,24 @@ def margin_problem(
     The field is ``field_T``, else the model's set field (``operation.field_amplitude_mT``,
     capped at what the limits allow), else the largest every limit allows at the frequency —
     as :func:`optimize.evaluate`.
+
+    Parameters
+    ----------
+    model : DesignModel
+        The design.
+    uncertainty : TissueUncertainty
+        What is uncertain.
+    helical_angle_rad : float, optional
+        Helical angle, rad (default: the capsule's).
+    frequency_hz : float, optional
+        Rotation frequency, Hz (default: the model's).
+    field_T : float, optional
+        Centre field amplitude, T.
+
+    Returns
+    -------
+    MarginProblem
+        The picklable problem, SI.
     """
     model = prepare(model)
     c = model.constants
@@ -309,6 +415,24 @@ def latent_uniforms(d: int, start: int, count: int, seed: int, method: str = "so
     ``"sobol"`` and ``"halton"`` are scrambled low-discrepancy sequences (scipy.stats.qmc),
     fast-forwarded to ``start``; ``"random"`` draws each :data:`CHUNK`-sized block from
     ``numpy.random.default_rng((seed, block))`` (``start`` must then be a multiple of CHUNK).
+
+    Parameters
+    ----------
+    d : int
+        Number of latent dimensions.
+    start : int
+        Index of the first point.
+    count : int
+        Number of points.
+    seed : int
+        Seed of the sequence.
+    method : str
+        ``"sobol"``, ``"halton"`` or ``"random"``.
+
+    Returns
+    -------
+    ndarray, shape (count, d)
+        Uniforms in (0, 1), dimensionless.
     """
     if method == "random":
         if start % CHUNK:
@@ -338,7 +462,26 @@ def latent_uniforms(d: int, start: int, count: int, seed: int, method: str = "so
 def chunk_margins(
     problem: MarginProblem, start: int, count: int, seed: int, method: str
 ) -> np.ndarray:
-    """Margins of samples ``start .. start+count-1`` (the unit of work sent to a worker), N·m."""
+    """Margins of samples ``start .. start+count-1`` (the unit of work sent to a worker), N·m.
+
+    Parameters
+    ----------
+    problem : MarginProblem
+        The design and its uncertainty.
+    start : int
+        Index of the first sample.
+    count : int
+        Number of samples.
+    seed : int
+        Seed of the sequence.
+    method : str
+        Sampling method (:data:`METHODS`).
+
+    Returns
+    -------
+    ndarray, shape (count,)
+        Worst-case margins, N·m.
+    """
     u = latent_uniforms(problem.dimension, start, count, seed, method)
     return problem.margins_Nm(u)
 
@@ -346,24 +489,77 @@ def chunk_margins(
 def batch_margins(
     problem: MarginProblem, pieces: tuple[tuple[int, int], ...], seed: int, method: str
 ) -> np.ndarray:
-    """:func:`chunk_margins` of several (start, count) chunks, concatenated (one task)."""
+    """:func:`chunk_margins` of several (start, count) chunks, concatenated (one task).
+
+    Parameters
+    ----------
+    problem : MarginProblem
+        The design and its uncertainty.
+    pieces : tuple of (int, int)
+        (start index, count) of each chunk.
+    seed : int
+        Seed of the sequence.
+    method : str
+        Sampling method.
+
+    Returns
+    -------
+    ndarray
+        The chunks' margins in order, N·m.
+    """
     return np.concatenate([chunk_margins(problem, s, n, seed, method) for s, n in pieces])
 
 
 def batches(samples: int, per_task: int = 8) -> list[tuple[tuple[int, int], ...]]:
-    """The chunks of ``samples`` grouped ``per_task`` to a task (fewer round trips)."""
+    """The chunks of ``samples`` grouped ``per_task`` to a task (fewer round trips).
+
+    Parameters
+    ----------
+    samples : int
+        Number of samples.
+    per_task : int
+        Number of chunks per task.
+
+    Returns
+    -------
+    list of tuple of (int, int)
+        Per task, (start index, count) of its chunks.
+    """
     c = chunks(samples)
     return [tuple(c[i : i + per_task]) for i in range(0, len(c), per_task)]
 
 
 def chunks(samples: int) -> list[tuple[int, int]]:
-    """(start, count) of each fixed-size chunk of ``samples``."""
+    """(start, count) of each fixed-size chunk of ``samples``.
+
+    Parameters
+    ----------
+    samples : int
+        Number of samples.
+
+    Returns
+    -------
+    list of (int, int)
+        (start index, count) of each chunk.
+    """
     return [(s, min(CHUNK, samples - s)) for s in range(0, samples, CHUNK)]
 
 
 @dataclass(frozen=True)
 class SobolIndices:
-    """First-order and total Sobol indices of the margin per uncertain input (SALib)."""
+    """First-order and total Sobol indices of the margin per uncertain input (SALib).
+
+    Attributes
+    ----------
+    inputs : tuple of str
+        The uncertain inputs (Sobol groups).
+    first_order, total : tuple of float
+        First-order and total index of each input, dimensionless (fractions of the variance).
+    first_order_conf, total_conf : tuple of float
+        Their 95 % confidence half-widths, dimensionless.
+    base_samples : int
+        Number of base samples of the Saltelli design.
+    """
 
     inputs: tuple[str, ...]
     first_order: tuple[float, ...]
@@ -375,7 +571,40 @@ class SobolIndices:
 
 @dataclass(frozen=True)
 class UncertaintyResult:
-    """Distribution of the worst-case margin and speed over the sampled tissues (SI)."""
+    """Distribution of the worst-case margin and speed over the sampled tissues (SI).
+
+    Attributes
+    ----------
+    samples : int
+        Number of tissue samples.
+    seed : int
+        Seed of the sequence.
+    method : str
+        Sampling method.
+    nominal_margin_Nm : float
+        Worst-case margin of the nominal sets, N·m.
+    available_torque_Nm : float
+        Available synchronous torque, N·m.
+    speed_nominal_m_s : float
+        Forward speed when the capsule keeps up, m/s.
+    stepout_probability : float
+        Share of samples with a negative margin, a probability.
+    stepout_ci95 : (float, float)
+        Wilson 95 % interval of that probability.
+    margin_percentiles_Nm : dict of str to float
+        Margin percentiles (``p01``, ``p05``, ``p50``, ``p95``), N·m.
+    speed_percentiles_m_s : dict of str to float
+        Speed percentiles, m/s.
+    margin_mean_Nm, margin_std_Nm : float
+        Mean and standard deviation of the margin, N·m.
+    sobol : SobolIndices or None
+        Sensitivity indices, when asked for.
+    margins_Nm : ndarray
+        Every sample's margin in sample order, N·m.
+    no_grip_probability : float
+        Probability that the spiral does not touch some tissue set's wall (a wider sampled
+        lumen: no grip, no screw; :func:`no_grip_probability`, exact), a probability.
+    """
 
     samples: int
     seed: int
@@ -391,13 +620,29 @@ class UncertaintyResult:
     margin_std_Nm: float
     sobol: SobolIndices | None
     margins_Nm: np.ndarray = field(repr=False, compare=False)
+    no_grip_probability: float = 0.0
 
 
 PERCENTILES = (("p01", 1.0), ("p05", 5.0), ("p50", 50.0), ("p95", 95.0))
 
 
 def wilson_interval(k: int, n: int, z: float = 1.959963984540054) -> tuple[float, float]:
-    """Wilson score 95 % interval of a binomial proportion k/n (Wilson 1927)."""
+    """Wilson score 95 % interval of a binomial proportion k/n (Wilson 1927).
+
+    Parameters
+    ----------
+    k : int
+        Number of successes.
+    n : int
+        Number of trials.
+    z : float
+        Normal quantile of the interval, dimensionless (1.96 for 95 %).
+
+    Returns
+    -------
+    (float, float)
+        Lower and upper bound of the proportion, a probability.
+    """
     p = k / n
     den = 1.0 + z * z / n
     centre = (p + z * z / (2 * n)) / den
@@ -414,7 +659,26 @@ def summarise(
     method: str,
     sobol: SobolIndices | None = None,
 ) -> UncertaintyResult:
-    """The statistics of a vector of sampled margins (in sample order)."""
+    """The statistics of a vector of sampled margins (in sample order).
+
+    Parameters
+    ----------
+    problem : MarginProblem
+        The design and its uncertainty.
+    margins : ndarray
+        Sampled worst-case margins in sample order, N·m.
+    seed : int
+        Seed of the sequence.
+    method : str
+        Sampling method.
+    sobol : SobolIndices, optional
+        Sensitivity indices to attach.
+
+    Returns
+    -------
+    UncertaintyResult
+        The statistics, SI.
+    """
     margins = np.asarray(margins, dtype=float)
     n = margins.size
     out = int(np.count_nonzero(margins < 0))
@@ -436,7 +700,45 @@ def summarise(
         margin_std_Nm=float(margins.std(ddof=1)) if n > 1 else 0.0,
         sobol=sobol,
         margins_Nm=margins,
+        no_grip_probability=no_grip_probability(problem),
     )
+
+
+def no_grip_probability(problem: MarginProblem) -> float:
+    """Probability that a sampled lumen is as wide as the spiral's D' in some tissue set.
+
+    The spiral stretches a wall only while D' > lumen + δ (the strain's sign does not depend on
+    the wall), and every set shares the one lumen offset δ, a normal N(0, σ²) truncated below
+    at −(1 − floor)·(least nominal lumen) (:func:`perturbed_tissues`). So the grip is lost when
+    δ ≥ x = min over sets of (D' − lumen), with probability (exact, by the truncated CDF)
+    1 − (Φ(x/σ) − Φ(lo/σ)) / (1 − Φ(lo/σ)).
+
+    Parameters
+    ----------
+    problem : MarginProblem
+        The design at its operating point and its uncertainty.
+
+    Returns
+    -------
+    float
+        The probability, dimensionless, in [0, 1].
+    """
+    import torque_model as tm
+
+    g = ph.contact_geometry(problem.constants)
+    d_prime = float(
+        tm.equivalent_diameter_m(
+            problem.helical_angle_rad, g.body_diameter_m, g.wire_diameter_m, g.starts
+        )
+    )
+    lumens = [float(t.lumen_diameter_m) for t in problem.tissues]
+    x = d_prime - max(lumens)
+    sigma = problem.uncertainty.lumen_diameter_sigma_m
+    if sigma <= 0:
+        return 1.0 if x <= 0 else 0.0
+    lo = special.ndtr(-(1.0 - _FLOOR) * min(lumens) / sigma)
+    cdf = (special.ndtr(x / sigma) - lo) / (1.0 - lo)
+    return float(min(max(1.0 - cdf, 0.0), 1.0))
 
 
 def sobol_indices(
@@ -447,6 +749,20 @@ def sobol_indices(
     The latent uniforms are the SALib inputs; the factors of a fitted covariance form one group
     ("fit covariance"), so every group is independent of the others and the indices are
     well defined. ``base_samples`` (a power of two) gives ``base_samples·(groups + 2)`` runs.
+
+    Parameters
+    ----------
+    problem : MarginProblem
+        The design and its uncertainty.
+    base_samples : int
+        Number of base samples (a power of two).
+    seed : int
+        Seed of the Saltelli design and the bootstrap.
+
+    Returns
+    -------
+    SobolIndices
+        First-order and total indices, dimensionless.
     """
     from SALib.analyze import sobol as sa_analyze
     from SALib.sample import sobol as sa_sample
@@ -456,9 +772,10 @@ def sobol_indices(
         raise InputError("uncertainty", "none", "at least one uncertain input")
     groups = [g for _, g in factors]
     unique = list(dict.fromkeys(groups))
-    if len(unique) == 1:  # one input explains everything; SALib needs two groups
-        one = (1.0,)
-        return SobolIndices(tuple(unique), one, (0.0,), one, (0.0,), base_samples)
+    if len(unique) == 1:  # one input explains everything (if anything moves); SALib needs two
+        probe = problem.margins_Nm(np.linspace(0.05, 0.95, 9)[:, None] * np.ones(len(factors)))
+        value = (1.0,) if np.ptp(probe) > 0 else (0.0,)
+        return SobolIndices(tuple(unique), value, (0.0,), value, (0.0,), base_samples)
     spec = {
         "num_vars": len(factors),
         "names": [n for n, _ in factors],
@@ -492,13 +809,43 @@ def sobol_indices(
 def run_local(
     problem: MarginProblem, samples: int, seed: int = 0, method: str = "sobol"
 ) -> np.ndarray:
-    """All ``samples`` margins in this process, chunk by chunk (what the executors reproduce)."""
+    """All ``samples`` margins in this process, chunk by chunk (what the executors reproduce).
+
+    Parameters
+    ----------
+    problem : MarginProblem
+        The design and its uncertainty.
+    samples : int
+        Number of samples.
+    seed : int
+        Seed of the sequence.
+    method : str
+        Sampling method.
+
+    Returns
+    -------
+    ndarray, shape (samples,)
+        Worst-case margins, N·m.
+    """
     check_samples(samples)
     return np.concatenate([chunk_margins(problem, s, n, seed, method) for s, n in chunks(samples)])
 
 
 def check_seed(seed: Any, key: str = "--seed") -> int:
-    """``seed`` as an int from 0 to :data:`MAX_SEED`, else InputError naming ``key``."""
+    """``seed`` as an int from 0 to :data:`MAX_SEED`, else InputError naming ``key``.
+
+    Parameters
+    ----------
+    seed : int
+        The seed to check.
+    key : str
+        Name an error gives.
+
+    Returns
+    -------
+    int
+        The seed as a Python int.
+    """
     if (
         isinstance(seed, bool)
         or not isinstance(seed, (int, np.integer))
@@ -520,7 +867,20 @@ MAX_SEED = 2**32 - 1
 
 
 def check_samples(samples: Any, key: str = "--samples") -> int:
-    """``samples`` as an int from 1 to :data:`MAX_SAMPLES`, else InputError naming ``key``."""
+    """``samples`` as an int from 1 to :data:`MAX_SAMPLES`, else InputError naming ``key``.
+
+    Parameters
+    ----------
+    samples : int
+        The number of samples to check.
+    key : str
+        Name an error gives.
+
+    Returns
+    -------
+    int
+        The number of samples as an int.
+    """
     if (
         isinstance(samples, bool)
         or not isinstance(samples, (int, np.integer))
@@ -535,8 +895,19 @@ def closed_form_stepout_probability(problem: MarginProblem) -> float:
 
     The resistive torque is linear in a common factor k on the five constants
     (TissueParameters.scaled) and the thrust torque does not depend on them, so the margin is
-    ``m(k) = A − k τ_res − τ_thrust`` and vanishes at ``k* = (A − τ_thrust)/τ_res``; with
+    ``m(k) = A − k τ_res − τ_g − τ_thrust`` (τ_g the weight friction, not a tissue constant) and
+    vanishes at ``k* = (A − τ_thrust − τ_g)/τ_res``; with
     ``ln k ~ N(0, σ²)``, P(m < 0) = P(k > k*) = 1 − Φ(ln k*/σ).
+
+    Parameters
+    ----------
+    problem : MarginProblem
+        One tissue set with scale-only uncertainty.
+
+    Returns
+    -------
+    float
+        Step-out probability, a probability.
     """
     if len(problem.tissues) != 1 or problem.uncertainty.factors() != [("scale", "scale")]:
         raise InputError("uncertainty", "more than the scale factor", "scale only, one set")
@@ -547,7 +918,9 @@ def closed_form_stepout_probability(problem: MarginProblem) -> float:
         problem.tissues,
         problem.requirements,
     )
-    k_star = (problem.available_torque_Nm - float(thr)) / float(res)
+    # the friction of the capsule's weight is not a tissue constant: it does not scale with k
+    weight = float(ph.weight_friction_Nm(problem.constants, problem.tissues[0]))
+    k_star = (problem.available_torque_Nm - float(thr) - weight) / (float(res) - weight)
     if k_star <= 0:
         return 1.0
     # the normal survival function Φ(-z) as scipy.special.ndtr: scipy.stats costs 0.3 s to import

@@ -20,14 +20,32 @@ _VIEWS: dict[str, str] = {}
 
 
 def register_view(kind: str, target: str) -> None:
-    """Register the view of results of ``kind`` (``"evaluation"``, ``"optimization"``, ...) as
-    the import path ``"package.module:attribute"`` of an object with ``html`` and ``plot``."""
+    """Register where the view of one kind of result lives.
+
+    Parameters
+    ----------
+    kind : str
+        The result kind (``"evaluation"``, ``"optimization"``, ...), a class's ``_view_kind``.
+    target : str
+        Import path ``"package.module:attribute"`` of an object with ``html`` and ``plot``.
+    """
     _VIEWS[kind] = target
 
 
 def view_of(kind: str) -> Any | None:
-    """The registered view of ``kind``, imported now; None when the application registered
-    none (the domain used on its own)."""
+    """The registered view of ``kind``, imported now.
+
+    Parameters
+    ----------
+    kind : str
+        The result kind.
+
+    Returns
+    -------
+    object or None
+        The view (``html`` and ``plot``); None when the application registered none (the
+        domain used on its own).
+    """
     target = _VIEWS.get(kind)
     if target is None:
         return None
@@ -47,8 +65,17 @@ class Viewable:
         return None if view is None else str(view.html(self))
 
     def plot(self, ax: Any = None) -> Any:
-        """Draw the result's main figure on ``ax`` (a matplotlib Axes; a new figure when None)
-        and return the figures API's ``Plot`` (figure, axes, artists).
+        """Draw the result's main figure.
+
+        Parameters
+        ----------
+        ax : matplotlib Axes, optional
+            Where to draw; a new figure when None.
+
+        Returns
+        -------
+        spiralcap.figures.api.Plot
+            The figure, its main axes and what was drawn.
 
         Raises
         ------

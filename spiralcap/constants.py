@@ -18,8 +18,13 @@ COPPER_TEMPERATURE_COEFFICIENT_per_K = 0.00393
 #: Standard gravity, m/s² (used to quote loads in gram-force where a paper does).
 STANDARD_GRAVITY_m_s2 = 9.80665
 
-#: Density of annealed copper, kg/m³ (IEC 60028: 8.89 g/cm³ at 20 °C).
+#: Density of annealed copper, kg/m³ (IEC 60028: 8.89 g/cm³ at 20 °C, the standard of the
+#: winding wire). The one copper density: the copper mass and the winding's heat capacity.
 COPPER_DENSITY_kg_m3 = 8890.0
+
+#: Specific heat of copper at 20-25 °C, J/(kg·K) (CRC Handbook of Chemistry and Physics, 97th
+#: ed., 0.385 J/(g·K)).
+COPPER_SPECIFIC_HEAT_J_kgK = 385.0
 
 #: Unit suffixes of design-key names -> (SI unit suffix, factor to SI). The longest matching
 #: suffix wins, so ``_kPa_s`` is read before ``_s`` and ``_mm_s`` before ``_s``. A name whose

@@ -15,12 +15,12 @@ def _grid_field(grid: Any, name: str) -> np.ndarray:
 def failing_requirements(model: Any, alpha_rad: np.ndarray, grid: Any) -> np.ndarray:
     """The first requirement not met at each point of a ``margin_grid`` (``""``: none).
 
-    In the order self-locking, spiral turns, speed, set field, safety factor, with
+    In the order self-locking, grip (wall strain), spiral turns, speed, set field, safety factor, with
     :data:`optimize.evaluate.FEASIBILITY_RTOL` as ``feasible`` allows; a point whose only
     failure is a negative margin (it steps out) gets ``""``: the map draws that region itself.
     Any other infeasible point left unnamed is ``"a requirement not met"``.
     """
-    from optimize.evaluate import FEASIBILITY_RTOL, self_lock_margin
+    from optimize.evaluate import FEASIBILITY_RTOL, least_wall_strain, self_lock_margin
 
     req = model.requirements
     margin = _grid_field(grid, "margin_Nm").astype(float)
@@ -35,8 +35,13 @@ def failing_requirements(model: Any, alpha_rad: np.ndarray, grid: Any) -> np.nda
         # a swept requirement is an array: name it without a number
         return f" < {value:{fmt}}{unit}" if np.ndim(value) == 0 else " below the requirement"
 
+    strain = np.asarray(least_wall_strain(model, alpha_rad), float)
     checks = [
         ("spiral self-locks", np.asarray(self_lock_margin(model, alpha_rad), float) <= 0),
+        (
+            "wall strain (grip)" + text(np.asarray(req.min_wall_strain) * 100, ".3g", " %"),
+            strain < np.asarray(req.min_wall_strain) * (1 - rtol),
+        ),
         (
             "spiral turns" + text(req.min_spiral_turns, "g"),
             turns < np.asarray(req.min_spiral_turns) * (1 - rtol),

@@ -73,8 +73,15 @@ _NAMES = {
     "frequency_min": "lower frequency bound",
     "frequency_max": "upper frequency bound",
     "solver": "solver did not converge",
+    "wall_strain": "spiral stretches the wall by",
+    "envelope_x": "coil set along x (envelope)",
+    "envelope_y": "coil set along y (envelope)",
+    "envelope_z": "coil set along z (envelope)",
 }
 _PER_AXIS = {
+    "axis_current": "current (own channel)",
+    "axis_voltage": "drive voltage (own channel)",
+    "axis_power": "copper power (own channel)",
     "current": "current",
     "voltage": "drive voltage",
     "temperature_rise": "coil temperature rise",
@@ -129,6 +136,9 @@ def readable(name: str) -> str:
     """``voltage_x`` -> ``drive voltage, x pair``; unknown names are returned unchanged."""
     if name in _NAMES:
         return _NAMES[name]
+    if name.endswith("]") and "[" in name:  # a per-tissue row: ``wall_strain[sample3]``
+        stem, _, inner = name[:-1].partition("[")
+        return f"{readable(stem)} ({inner})"
     stem, _, axis = name.rpartition("_")
     if stem in _PER_AXIS and axis in ("x", "y", "z"):
         return f"{_PER_AXIS[stem]}, {axis} pair"
@@ -201,7 +211,8 @@ def step_out_words(
 OBJECTIVES: dict[str, tuple[str, str, float, str]] = {
     "margin": ("worst-case torque margin", "mN·m", 1e3, "maximised"),
     "margin_p05": (
-        "CVaR₀.₀₅ of the torque margin over the tissue scenarios",
+        "CVaR₀.₀₅ (mean of the worst 5 %) of the worst-case torque margin over the tissue "
+        "scenarios",
         "mN·m",
         1e3,
         "maximised",
@@ -255,3 +266,55 @@ def binding(limits: Any) -> tuple[Any, ...]:
         return float(b.value), float(b.allowed)
 
     return tuple(b for b in limits if on_bound(*parts(b)))
+
+
+#: How each model input of torque_model.domain.CALIBRATED is named and shown: quantity ->
+#: (words, design key, shown unit, factor from SI).
+_DOMAIN_WORDS: dict[str, tuple[str, str, str, float]] = {
+    "helical_angle_rad": ("helical angle", "capsule.spiral.helical_angle_deg", "°", 180 / math.pi),
+    "frequency_hz": ("rotation frequency", "operation.frequency_hz", "Hz", 1.0),
+    "body_diameter_m": ("capsule diameter", "capsule.diameter_mm", "mm", 1e3),
+    "wire_diameter_m": ("spiral wire diameter", "capsule.spiral.wire_diameter_mm", "mm", 1e3),
+    "starts": ("spiral starts", "capsule.spiral.starts", "", 1.0),
+    "lumen_diameter_m": ("lumen", "tissue.lumen_diameter_mm", "mm", 1e3),
+    "wall_strain": ("wall strain", "requirements.min_wall_strain", "%", 100.0),
+}
+
+
+def extrapolation_words(e: Any) -> str:
+    """One model input outside the paper's calibration, in words: ``helical angle 21.7° (the
+    paper measured 5-20°)``; ``e`` a :class:`torque_model.domain.Extrapolation`."""
+    words, _, unit, k = _DOMAIN_WORDS[e.quantity]
+    where = f" in {e.where}" if e.where else ""
+    measured = (
+        f"{e.low * k:.3g}{_sp(unit)}"
+        if e.low == e.high
+        else f"{e.low * k:.3g}-{e.high * k:.3g}{_sp(unit)}"
+    )
+    return f"{words} {e.value * k:.4g}{_sp(unit)}{where} (the paper measured {measured})"
+
+
+def extrapolation_key(e: Any) -> str:
+    """The design key behind an extrapolated model input (``capsule.spiral.helical_angle_deg``)."""
+    return _DOMAIN_WORDS[e.quantity][1]
+
+
+def _sp(unit: str) -> str:
+    return unit if unit in ("", "°") else f" {unit}"
+
+
+def model_domain_text(extrapolations: Any) -> str:
+    """One paragraph: inside the paper's calibration, or each input the model extrapolates in."""
+    if not extrapolations:
+        return "tissue model        inside the paper's calibrated range (Zhou 2013)"
+    items = "; ".join(extrapolation_words(e) for e in extrapolations)
+    return f"tissue model        EXTRAPOLATES outside the paper's calibration: {items}"
+
+
+def edge_text(edges: Any) -> str:
+    """``; the optimum sits on the calibrated edge of: ...`` or ``""``."""
+    if not edges:
+        return ""
+    return "; the optimum sits on the calibrated edge of: " + "; ".join(
+        extrapolation_words(e) for e in edges
+    )

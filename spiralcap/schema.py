@@ -176,9 +176,9 @@ KEYS: dict[str, Key] = {
     ),
     "coils.min_clearance_mm": _between(
         "least distance between the winding packs of two different pairs, and between the "
-        "inner faces of the packs and the bore (requirements.min_bore_m, else the workspace "
-        "sphere): room for a coil former's wall (3-5 mm glass-fibre epoxy) and an air gap "
-        "that cools the faces; range: 0 (packs may touch) to 200 mm",
+        "inner faces of the packs and the workspace sphere: room for a coil former's wall "
+        "(3-5 mm glass-fibre epoxy) and an air gap that cools the faces; range: 0 (packs may "
+        "touch) to 200 mm",
         10.0,
         0.0,
         200.0,
@@ -195,6 +195,31 @@ KEYS: dict[str, Key] = {
 }
 # the built-in pairs nest 13.7 mm apart as solids (coils.min_clearance_mm = 10; issue 18)
 for _ax, _r, _n, _d in (("x", 0.43, 400, 3.0), ("y", 0.35, 350, 2.5), ("z", 0.28, 300, 2.36)):
+    KEYS[f"limits.{_ax}.current_A"] = _between(
+        f"current amplitude the {_ax} pair's own amplifier channel allows (optional: "
+        "limits.current_A applies where absent); range as limits.current_A",
+        None,
+        1e-3,
+        1e3,
+        open_=False,
+    )
+    KEYS[f"limits.{_ax}.voltage_V"] = _between(
+        f"drive-voltage amplitude the {_ax} pair's own amplifier channel allows (optional: "
+        "limits.voltage_V applies where absent); range as limits.voltage_V",
+        None,
+        1e-3,
+        1e4,
+        open_=False,
+    )
+    KEYS[f"limits.{_ax}.power_W"] = _between(
+        f"copper loss the {_ax} pair's own amplifier channel may drive, R I² / 2 at its "
+        "worst-heading current (optional, besides the total limits.power_W); range: 1 mW to "
+        "1 MW",
+        None,
+        1e-3,
+        1e6,
+        open_=False,
+    )
     KEYS[f"coils.{_ax}.radius_m"] = _between(
         f"mean radius of each coil of the {_ax} pair; range: a 1 cm bench coil to a 2 m "
         "whole-body system",
@@ -289,6 +314,15 @@ KEYS.update(
             1,
             12,
         ),
+        "capsule.mass_g": _between(
+            "capsule mass, for the friction of its weight lying on the wall (default: from its "
+            "parts, the magnet at 7500 kg/m³ and the rest of the capsule at 1300 kg/m³, a "
+            "PillCam SB3's mean density); range: 0.1-500 g",
+            None,
+            0.1,
+            500.0,
+            open_=False,
+        ),
         "capsule.magnet.shape": _choice(
             "magnet shape, diametrically magnetised", "cylinder", ("cylinder", "ring")
         ),
@@ -331,7 +365,8 @@ KEYS.update(
             TISSUE_PRESETS,
         ),
         "tissue.E1_kPa": _between(
-            "spring modulus E1 of the five-element model (overrides preset); range: 0 to 1 GPa, "
+            "spring modulus E1 of the five-element model (overrides tissue.preset only; each "
+            "worst-case preset keeps its own material); range: 0 to 1 GPa, "
             "beyond any soft tissue (the presets hold 10-7000 kPa)",
             None,
             0.0,
@@ -339,21 +374,22 @@ KEYS.update(
             open_=False,
         ),
         "tissue.E2_kPa": _between(
-            "spring modulus E2 (overrides preset); range as tissue.E1_kPa",
+            "spring modulus E2 (overrides tissue.preset only); range as tissue.E1_kPa",
             None,
             0.0,
             1e6,
             open_=False,
         ),
         "tissue.E3_kPa": _between(
-            "spring modulus E3 (overrides preset); range as tissue.E1_kPa",
+            "spring modulus E3 (overrides tissue.preset only); range as tissue.E1_kPa",
             None,
             0.0,
             1e6,
             open_=False,
         ),
         "tissue.eta1_kPa_s": _between(
-            "dashpot viscosity eta1 (overrides preset); range: 1e-3 to 1e8 kPa·s, the presets "
+            "dashpot viscosity eta1 (overrides tissue.preset only); range: 1e-3 to 1e8 kPa·s, "
+            "the presets "
             "hold 80-16000",
             None,
             1e-3,
@@ -361,29 +397,33 @@ KEYS.update(
             open_=False,
         ),
         "tissue.eta2_kPa_s": _between(
-            "dashpot viscosity eta2 (overrides preset); range as tissue.eta1_kPa_s",
+            "dashpot viscosity eta2 (overrides tissue.preset only); range as tissue.eta1_kPa_s",
             None,
             1e-3,
             1e8,
             open_=False,
         ),
         "tissue.lumen_diameter_mm": _between(
-            "inner diameter of the undeformed intestine (overrides); range: 1-100 mm (small "
-            "bowel ~10-30, colon up to ~80)",
+            "inner diameter of the patient's undeformed intestine: applies to every tissue set "
+            "(tissue.preset, each worst-case preset, the uncertainty samples centre on it); "
+            "default: each set's own bench lumen; range: 1-100 mm (small bowel ~10-30, colon up "
+            "to ~80)",
             None,
             1.0,
             100.0,
             open_=False,
         ),
         "tissue.wall_thickness_mm": _between(
-            "intestinal wall thickness (overrides preset); range: 0.05-20 mm",
+            "the patient's intestinal wall thickness: applies to every tissue set, as "
+            "tissue.lumen_diameter_mm; range: 0.05-20 mm",
             None,
             0.05,
             20.0,
             open_=False,
         ),
         "tissue.friction_coefficient": _between(
-            "capsule-mucosa Coulomb friction (overrides preset); range: 1e-3-5 (mucosa ~0.01-0.6)",
+            "capsule-mucosa Coulomb friction (overrides tissue.preset only: each worst-case "
+            "preset keeps its own); range: 1e-3-5 (mucosa ~0.01-0.6)",
             None,
             1e-3,
             5.0,
@@ -457,6 +497,18 @@ KEYS.update(
             1000.0,
             open_=False,
         ),
+        "requirements.min_wall_strain": _between(
+            "least strain the spiral must stretch the intestinal wall by, (D' - lumen) / "
+            "(lumen + wall), for every tissue set: a spiral that does not stretch the wall does "
+            "not grip it, so it neither screws the capsule forward nor meets the model's "
+            "resistance (default 0.017: the least strain at which the paper measured a spiral "
+            "capsule's torque, capsule No. 4 at 20 deg in sample 3, 1.69 %); range: 1e-4-0.5 "
+            "(it cannot be switched off)",
+            0.017,
+            1e-4,
+            0.5,
+            open_=False,
+        ),
         "requirements.min_spiral_turns": _between(
             "fewest spiral turns over the wound length that can be made (0 switches the rule "
             "off); range: 0-1000",
@@ -518,6 +570,19 @@ KEYS.update(
             "occupational",
             ("occupational", "public", "off"),
         ),
+        "limits.envelope_mm": Key(
+            list,
+            None,
+            "a list of three lengths [X, Y, Z] in mm, each from 10 to 20000",
+            lambda v: (
+                isinstance(v, list)
+                and len(v) == 3
+                and all(_num(c) and 10.0 <= c <= 20000.0 for c in v)
+            ),
+            "the room the coil set must fit: edge lengths of an axis-aligned box round the packs "
+            "as solids (outer faces and outer radii), a check and a row of the sizing NLP; "
+            "optional",
+        ),
         # --- optimisation ---
         "optimize.helical_angle_min_deg": _between(
             "lower bound on the helical angle; range: strictly between 0 and 90 deg", 2.0, 0, 90
@@ -542,7 +607,9 @@ KEYS.update(
         "optimize.objective": _choice(
             "maximise the torque margin or the safety factor, or minimise the copper power or "
             "the copper mass (the last two subject to requirements.min_safety_factor); "
-            "margin_p05: the 5th-percentile margin over the tissue uncertainty",
+            "margin_p05: maximise the CVaR at 5 % of the worst-case margin over "
+            "optimize.scenarios tissue scenarios (the mean of the worst 5 %, a lower bound on "
+            "the 5th percentile, which is reported beside it)",
             "margin",
             ("margin", "ratio", "power", "copper_mass", "margin_p05"),
         ),
@@ -585,9 +652,10 @@ KEYS.update(
             ("iec-r40", "awg"),
         ),
         "requirements.min_bore_m": _between(
-            "least clear diameter inside every coil pair when coil hardware is freed "
-            "(default: what the design as entered has); range: up to 10 m, larger than any coil "
-            "system",
+            "least clear diameter inside every coil pair when coil hardware is freed, between "
+            "the inner faces of its winding packs (2R - h; a former's wall inside it is yours to "
+            "add); left out, the least that diameter is in the design as entered, exactly as if "
+            "set to it; range: up to 10 m, larger than any coil system",
             None,
             0.0,
             10.0,
@@ -731,6 +799,60 @@ KEYS.update(
             _is_matrix5,
             "covariance of ln(E1, E2, E3, eta1, eta2) from `spiralcap fit -o` (read through "
             "tissue.uncertainty.covariance_from; not used on its own)",
+        ),
+        **{
+            f"tissue.fit.bench_{leaf}": _between(
+                f"{what}: record of the bench the constants were fitted on; not used by the model "
+                f"(the design's own tissue.{leaf} is); range as tissue.{leaf}",
+                None,
+                lo,
+                hi,
+                open_=False,
+            )
+            for leaf, what, lo, hi in (
+                ("lumen_diameter_mm", "lumen diameter of the bench sample", 1.0, 100.0),
+                ("wall_thickness_mm", "wall thickness of the bench sample", 0.05, 20.0),
+                ("friction_coefficient", "capsule-mucosa friction of the bench", 1e-3, 5.0),
+            )
+        },
+        "tissue.fit.bench_capsule_diameter_mm": _between(
+            "capsule diameter on the bench: record of the bench the constants were fitted on; not "
+            "used by the model; range as capsule.diameter_mm",
+            None,
+            3.0,
+            40.0,
+            open_=False,
+        ),
+        "tissue.fit.bench_wire_diameter_mm": _between(
+            "spiral wire diameter on the bench: record of the bench the constants were fitted "
+            "on; not used by the model; range as capsule.spiral.wire_diameter_mm",
+            None,
+            0.05,
+            10.0,
+            open_=False,
+        ),
+        "tissue.fit.bench_helical_angles_deg": Key(
+            list,
+            None,
+            "a list of 1-64 numbers in (0, 90)",
+            lambda v: (
+                isinstance(v, list) and 0 < len(v) <= 64 and all(_num(x) and 0 < x < 90 for x in v)
+            ),
+            "helical angles of the bench capsules: record of the bench the constants were fitted "
+            "on; not used by the model",
+        ),
+        "tissue.fit.bench_frequency_range_hz": Key(
+            list,
+            None,
+            "[lowest, highest], numbers in [0.001, 100] with lowest <= highest",
+            lambda v: (
+                isinstance(v, list)
+                and len(v) == 2
+                and all(_num(x) and 1e-3 <= x <= 100.0 for x in v)
+                and v[0] <= v[1]
+            ),
+            "rotation frequencies the bench covered: record of the bench the constants were "
+            "fitted on; not used by the model (the fitted constants are calibrated only there)",
         ),
         "requirements.max_stepout_probability": _between(
             "largest allowed probability that the capsule steps out over the tissue "

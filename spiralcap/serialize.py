@@ -49,7 +49,7 @@ TRANSFORMS: dict[str, tuple[str, Callable[[Any], Any]]] = {
 }
 
 #: properties shown as fields where a class has them
-PROPERTIES = ("gain_per_unit_relaxed", "short_by", "copper_mass_kg")
+PROPERTIES = ("gain_per_unit_relaxed", "short_by", "copper_mass_kg", "engaged")
 
 #: fields shown by a dedicated rule of their parent (not field by field)
 _SKIPPED = {"current_phases_rad", "headings", "solution_x", "solution_lam_g", "scenario_solve"}

@@ -119,6 +119,7 @@ def study_to_dict(st: Study, design_source: str = "") -> dict[str, Any]:
         "nominal_margin_Nm": r.nominal_margin_Nm,
         "available_torque_Nm": r.available_torque_Nm,
         "stepout_probability": r.stepout_probability,
+        "no_grip_probability": r.no_grip_probability,
         "stepout_probability_ci95": list(r.stepout_ci95),
         "stepout_probability_interval": "Wilson score (binomial; conservative for quasi-random)",
         "margin_percentiles_Nm": r.margin_percentiles_Nm,

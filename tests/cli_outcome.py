@@ -73,6 +73,10 @@ def sound(argv: list[str], allowed: tuple[int, ...] = (0, 2, 3)) -> tuple[int, s
 
 #: Options that make the required torque zero (no axial load, a lumen wider than the capsule,
 #: one tissue set): the infinite safety factor case.
+#: A lumen wider than the capsule and no axial load: the spiral does not touch the wall, so the
+#: tissue model resists nothing and only the friction of the capsule's weight remains (the
+#: design fails the grip requirement). No design file reaches a required torque of exactly 0
+#: any more (``capsule.mass_g`` >= 0.1 g): :func:`weightless` builds that edge case in Python.
 ZERO_TORQUE = [
     "--set",
     "requirements.axial_load_mN=0",
@@ -81,3 +85,16 @@ ZERO_TORQUE = [
     "--set",
     "tissue.worst_case_presets=[]",
 ]
+
+
+def weightless(sets: list[str]) -> Any:
+    """The prepared model of the built-in design with ``sets`` and a capsule of no mass: with
+    :data:`ZERO_TORQUE` nothing at all resists it (the required torque is exactly 0)."""
+    from dataclasses import replace
+
+    from optimize import prepare
+    from spiralcap.assemble import build_model
+    from spiralcap.design import load_design
+
+    model = build_model(load_design(None, [s for s in sets if s != "--set"]))
+    return prepare(replace(model, capsule=replace(model.capsule, set_mass_kg=0.0)))

@@ -39,9 +39,10 @@ def _whole_formulation(model):
 def _same_optimum(a, b, what):
     for name in ("helical_angle_rad", "frequency_hz", "objective_value"):
         x, y = getattr(a, name), getattr(b, name)
-        assert x == pytest.approx(y, rel=1e-6), (
+        # the objective (N·m) may sit near 0: 1e-6 of the 1 mN·m torque scale as a floor
+        assert x == pytest.approx(y, rel=1e-6, abs=1e-9 if name == "objective_value" else 0), (
             f"{what}: {name} {x!r} on the working set vs {y!r} with every scenario in the NLP "
-            "(same optimum, solver tolerance 1e-6 relative)"
+            "(same optimum, solver tolerance 1e-6 relative, 1e-9 N·m)"
         )
 
 
@@ -93,19 +94,20 @@ def test_the_loop_grows_a_working_set_that_misses_the_tail():
 
 
 def test_binding_stepout_constraint_on_a_working_set_equals_every_scenario():
-    sets = [  # binds (as in test_robust's multiplier test; cooling as built, issue 19)
+    sets = [  # binds (as in test_robust's multiplier test; the grip row held out of its way)
         "tissue.uncertainty.scale_sigma_log=0.4",
         "tissue.uncertainty.lumen_diameter_sigma_mm=0.3",
         "requirements.min_spiral_turns=0",
+        "requirements.min_wall_strain=0.005",
         "optimize.starts=1",
     ]
-    model = _model(sets, "margin", p=0.0135)
+    model = _model(sets, "margin", p=0.02)
     res = optimize_design(model)
     rec = res.scenario_solve
     assert not rec.skipped and rec.capacity < 256
     row = next(b for b in res.binding_limits if b.name == "stepout_probability")
     whole = optimize_design(_whole_formulation(model))
-    _same_optimum(res, whole, "max_stepout_probability 0.0135, 256 scenarios")
+    _same_optimum(res, whole, "max_stepout_probability 0.02, 256 scenarios")
     ref = next(b for b in whole.binding_limits if b.name == "stepout_probability")
     assert row.sensitivity == pytest.approx(ref.sensitivity, rel=1e-4), (
         "same multiplier d objective / d p (1e-4: the whole NLP carries 256 barrier terms more)"

@@ -41,7 +41,7 @@ def test_a_design_at_its_optimum_is_told_so_in_one_sentence() -> None:
     line = next(
         t for t in _text(summary.build(moved)).splitlines() if t.startswith("What to change")
     )
-    assert "helical angle 10 → 21.7" in line, line  # _text drops the units
+    assert "helical angle 10 → " in line and "rotation 2 → " in line, line  # no units in _text
 
 
 def test_compare_says_a_search_ceiling_as_above(tmp_path: Path) -> None:

@@ -171,6 +171,36 @@ def test_coupling_sweep_against_a_converged_fixed_point(built_in):
         assert float(swept[k].hot_spot_C) > float(alone[k].hot_spot_C) + 1.0, (
             "the other pairs' radiation heats each pair (issue 19: packs see each other)"
         )
+        exact_h = float(states[k].convection_W_m2K)
+        assert float(swept[k].convection_W_m2K) == pytest.approx(exact_h, rel=5e-3), (
+            "issue 26 (a): h_c of the coupled sweep is that of the fixed point of the coupled "
+            "balance (0.5 %; the surfaces agree to ~0.3 K)"
+        )
+        assert abs(float(alone[k].convection_W_m2K) / exact_h - 1.0) > 0.01, (
+            "h_c of the pair alone is > 1 % off the coupled value (what was reported before)"
+        )
+
+
+def test_reported_h_is_the_correlation_at_the_reported_surface(run_cli, capsys):
+    """Issue 26 (a): `coils --json` gives, beside each surface temperature (steady at the
+    current limit, and at the operating point), h_c of the Churchill-Chu / Morgan correlation
+    (coils.convection) at that very temperature, to 1e-12."""
+    assert run_cli(["coils", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    packs = prepare(build_model(load_design(None))).constants.packs
+    for k, ax in enumerate("xyz"):
+        p = packs[k]
+        for where in (out["axes"][ax], out["operating_point"]["axes"][ax]):
+            h = pack_convection_W_m2K(
+                p.pack_width_m,
+                p.pack_depth_m,
+                p.vertical_axis,
+                where["surface_temperature_C"],
+                out["ambient_temperature_C"],
+            )
+            assert where["convection_coefficient_W_m2K"] == pytest.approx(h, rel=1e-12), (
+                f"{ax}: h_c at the surface temperature printed beside it (1e-12)"
+            )
 
 
 def test_air_properties_against_incropera_table_a4():

@@ -281,3 +281,75 @@ def test_threaded_batch_is_bit_identical_to_one_thread(monkeypatch, threads) -> 
     many_g = system.field_matrix(points[:40_000])
     assert np.array_equal(one, many), f"{threads} threads: field equals one thread's bit for bit"
     assert np.array_equal(one_g, many_g), "field matrix: same bits on threads"
+
+
+def _thick_solenoid_centre_field(pair: coils.HelmholtzPair) -> float:
+    """Centre field per ampere of the two packs with uniform current density, closed form.
+
+    On the axis of a coil of radii a1..a2 between z1 and z2 (from the field point), current
+    density J: B = μ0 J/2 [z ln((a2 + sqrt(a2² + z²)) / (a1 + sqrt(a1² + z²)))] from z1 to z2
+    (Montgomery, *Solenoid Magnet Design*, 1969, eq. 1.5; the integral of the loop's axial
+    field over the section), J = N I / (w h)."""
+    w, h, r = pair.winding_pack_width_m, pair.winding_pack_depth_m, pair.radius_m
+    a1, a2 = r - 0.5 * h, r + 0.5 * h
+
+    def f(z: float) -> float:
+        return z * np.log((a2 + np.hypot(a2, z)) / (a1 + np.hypot(a1, z)))
+
+    half = 0.5 * pair.separation_m
+    one = MU0_T_m_per_A * pair.turns / (w * h) / 2.0 * (f(half + 0.5 * w) - f(half - 0.5 * w))
+    return 2.0 * one
+
+
+@pytest.mark.parametrize(
+    ("radius", "turns", "wire_mm", "aspect"),
+    [(0.43, 400, 3.0, 1.0), (0.35, 350, 2.5, 1.0), (0.28, 300, 2.36, 1.0), (0.2, 500, 2.0, 3.0)],
+)
+def test_pack_field_per_amp_is_the_thick_solenoid_closed_form(radius, turns, wire_mm, aspect):
+    """Issue 26 (e): the pack's centre field per ampere (current spread over the winding pack)
+    against the closed form of a thick solenoid (Montgomery 1969), 1e-10; the field model's
+    gain (one loop at the mean radius each) is what it says: (4/5)^{3/2} μ0 N / R at s = R."""
+    pair = coils.HelmholtzPair(
+        radius, turns, wire_diameter_m=wire_mm * 1e-3, pack_aspect=aspect, separation_m=radius
+    )
+    assert pair.pack_centre_field_per_amp_T_per_A == pytest.approx(
+        _thick_solenoid_centre_field(pair), rel=1e-10
+    ), "uniform current over the pack vs the thick-solenoid closed form (Montgomery), 1e-10"
+    loop = (4 / 5) ** 1.5 * MU0_T_m_per_A * turns / radius
+    assert pair.centre_field_per_amp_T_per_A == pytest.approx(loop, rel=1e-12), (
+        "the field model's gain is the one-loop Helmholtz closed form, 1e-12"
+    )
+
+
+def test_coils_json_labels_the_loop_gain_and_gives_the_pack_gain(run_cli, capsys) -> None:
+    """Issue 26 (e): `coils --json` gives the field model's gain (one loop per coil: the
+    field at the current limit is it times the current) and the pack's gain beside it (the
+    thick-solenoid closed form, 1e-10)."""
+    import json
+
+    from spiralcap.assemble.coils import build_coils
+    from spiralcap.design import load_design
+
+    assert run_cli(["coils", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    system = build_coils(load_design(None))
+    for pair in system.pairs:
+        a = out["axes"][pair.axis]
+        loop = (
+            MU0_T_m_per_A
+            * pair.turns
+            * pair.radius_m**2
+            / (pair.radius_m**2 + (0.5 * pair.separation_m) ** 2) ** 1.5
+        )
+        assert a["field_per_amp_T_per_A"] == pytest.approx(loop, rel=1e-12), (
+            "field_per_amp is two loops at the mean radius (Biot-Savart on the axis), 1e-12"
+        )
+        assert a["field_amplitude_T"] == pytest.approx(
+            a["field_per_amp_T_per_A"] * out["current_amplitude_A"], rel=1e-12
+        ), "the field shown at the current limit is that gain times the current"
+        assert a["pack_field_per_amp_T_per_A"] == pytest.approx(
+            _thick_solenoid_centre_field(pair), rel=1e-10
+        ), "pack_field_per_amp: thick-solenoid closed form (Montgomery), 1e-10"
+        assert 1e-4 < 1.0 - a["pack_field_per_amp_T_per_A"] / a["field_per_amp_T_per_A"] < 1e-3, (
+            "the pack's gain is a few 1e-4 below the loop's for the built-in pairs"
+        )

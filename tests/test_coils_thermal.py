@@ -345,3 +345,28 @@ def test_rectangle_pack_numpy_and_casadi_agree() -> None:
         out = fn(ww, dd)
         assert float(out[0]) == pytest.approx(float(ref[0]), rel=1e-12), "numpy vs CasADi"
         assert float(out[1]) == pytest.approx(float(ref[1]), rel=1e-12), "numpy vs CasADi"
+
+
+def test_heat_capacity_and_copper_mass_use_one_copper_density() -> None:
+    """Issue 26 (c): the pack's copper heat capacity is the copper mass of the bill of
+    materials times copper's specific heat. The copper volume of a pack is pf · V = 2N·2πR·πd²/4
+    (the wire's volume), so C = m_Cu c_Cu + (V - m_Cu/ρ) ρc_epoxy with ρ the IEC 60028 density
+    (8890 kg/m³), c_Cu = 385 J/(kg·K) (CRC Handbook, 97th ed.), epoxy 1200 x 1100 J/(m³·K)
+    (the documented impregnation); exact to 1e-12."""
+    from spiralcap.analysis.coils import analyse_coils, coils_payload
+
+    design = load_design(None)
+    model = prepare(build_model(design))
+    out = coils_payload(analyse_coils(design, model))
+    rho_iec, c_crc, epoxy = 8890.0, 385.0, 1200.0 * 1100.0
+    for k, ax in enumerate("xyz"):
+        mass = out["axes"][ax]["copper_mass_kg"]
+        pack = model.constants.packs[k]
+        expected = mass * c_crc + (float(pack.volume_m3) - mass / rho_iec) * epoxy
+        assert out["axes"][ax]["heat_capacity_J_per_K"] == pytest.approx(expected, rel=1e-12), (
+            f"{ax}: heat capacity from the reported copper mass (IEC 60028 8890 kg/m³, CRC "
+            "385 J/(kg·K)), 1e-12"
+        )
+        assert mass == pytest.approx(rho_iec * pack.volume_m3 * pack.packing_factor, rel=1e-12), (
+            f"{ax}: copper mass is 8890 kg/m³ (IEC 60028) x the pack's copper volume, 1e-12"
+        )

@@ -138,7 +138,7 @@ def test_covariance_only_for_what_is_pinned(tmp_path: Path, capsys) -> None:
     )
     assert code == 0, err
     table = tomllib.loads(full.read_text())
-    assert "fit" not in table["tissue"], "nothing pinned down: no [tissue.fit] covariance"
+    assert "covariance_log" not in table["tissue"]["fit"], "nothing pinned down: no covariance"
     # The scale covariance feeds tissue.uncertainty.covariance_from (finite margins).
     code, text, err = _run(
         capsys,

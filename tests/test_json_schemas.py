@@ -29,6 +29,8 @@ CASES = [
     ("torque", ["torque", "--frequency", "0.5", "2", "50"]),
     ("fit", ["fit", CSV]),
     ("fit", ["fit", CSV, "--only", "scale,E1"]),
+    ("fit", ["fit", CSV, "--only", "scale"]),
+    ("fit", ["fit", CSV.replace("bench_synthetic", "paper_points"), "--only", "scale"]),
     ("sweep", ["sweep", "--over", "operation.frequency_hz=0.5:3:3", *ZERO_TORQUE]),
     ("sweep", ["sweep", "--over", "coils.x.turns=300:400:2"]),
     ("sweep", ["sweep", "--optimize", "--over", "limits.current_A=0.01:15:2"]),

@@ -9,7 +9,6 @@ CasADi on file descriptor 2). Run as a subprocess: in-process runs cannot see wh
 from __future__ import annotations
 
 import json
-import math
 import os
 import subprocess
 import sys
@@ -68,21 +67,38 @@ def test_a_lumen_just_wider_than_the_capsule_is_optimised(lumen_mm):
 
 
 def test_a_design_needing_no_torque_is_optimised_without_nan():
-    sets = (
-        *ALONE,
-        "--set",
+    """A weightless capsule in a 12 mm lumen pushing no load: nothing resists wherever the
+    spiral is off the wall. No design file reaches that (capsule.mass_g >= 0.1 g), so the model
+    is built in Python, in a subprocess that shows what CasADi writes on file descriptor 2."""
+    script = (
+        "import json, sys\n"
+        "from dataclasses import replace\n"
+        "from optimize import optimize_design, prepare\n"
+        "from spiralcap.assemble import build_model\n"
+        "from spiralcap.design import load_design\n"
+        "from spiralcap.serialize import optimization_to_dict\n"
+        "m = build_model(load_design(None, sys.argv[1:]))\n"
+        "m = prepare(replace(m, capsule=replace(m.capsule, set_mass_kg=0.0)))\n"
+        "print(json.dumps(optimization_to_dict(optimize_design(m))))\n"
+    )
+    sets = [
+        "tissue.worst_case_presets=[]",
         "tissue.lumen_diameter_mm=12",
-        "--set",
         "requirements.axial_load_mN=0",
+        "requirements.min_speed_mm_s=2",  # the grip holds the angle near 2.4 deg: a slow screw
+    ]
+    env = dict(os.environ, PYTHONPATH=str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", ""))
+    run = subprocess.run(
+        [sys.executable, "-c", script, *sets],
+        capture_output=True,
+        text=True,
+        env=env,
+        cwd=ROOT,
+        timeout=300,
     )
-    rc, out, err = _optimize(*sets)
-    assert rc == 0, f"exit 0 (issue 22: was exit 3 and 16 'NaN detected' lines); {err!r}"
-    assert "NaN" not in err and err.strip() == "", f"nothing on stderr: {err!r}"
+    assert run.returncode == 0, run.stderr
+    assert "NaN" not in run.stderr and run.stderr.strip() == "", f"stderr: {run.stderr!r}"
+    out = json.loads(run.stdout)
     assert not bad_numbers(out), bad_numbers(out)
-    assert out["evaluation"]["required_torque_Nm"] == 0.0, "nothing resists the capsule"
-    assert out["safety_factor_unbounded"] is True
-    assert math.isclose(out["margin_Nm"], out["evaluation"]["magnetic_torque_Nm"], rel_tol=1e-12), (
-        "with nothing to resist, the margin is the magnet's whole torque"
-    )
-    grid = _grid_best_margin_Nm(*sets)
-    assert out["margin_Nm"] >= grid * (1 - 1e-6), "no worse than a dense grid (1e-6)"
+    assert out["status"] == "optimal"
+    assert min(out["evaluation"]["wall_strains"]) >= 0.017 * (1 - 1e-6), "it grips"

@@ -137,6 +137,10 @@ def test_heating_shows_the_surface_limit_when_set(session_min: float | None) -> 
     assert "surface limit" not in [x.get_label() for x in _figure(plain_block).axes[0].get_lines()]
 
 
+#: The coil table's row of h_c: at the surface temperature of the row above it (issue 26 a).
+H_LABEL = "convection coefficient h_c (area-weighted, at the steady mean surface temperature)"
+
+
 def test_sizing_table_shows_the_cooling_as_built() -> None:
     """Issue 19 in the report: the coil table carries each pair's hottest surface, effective
     convection coefficient and view factor to the room, tied to the ``coils --json`` numbers."""
@@ -148,7 +152,7 @@ def test_sizing_table_shows_the_cooling_as_built() -> None:
     axes = ctx.value("coils.axes")
     for label, field in (
         ("steady hottest surface at the current limit", "surface_max_temperature_C"),
-        ("convection coefficient h (area-weighted, at the current limit)", "convection_coefficient_W_m2K"),
+        (H_LABEL, "convection_coefficient_W_m2K"),
         ("view factor to the room (radiation leaving the coil set)", "radiation_view_factor"),
     ):  # fmt: skip
         cells = rows[label][2:]
@@ -156,9 +160,7 @@ def test_sizing_table_shows_the_cooling_as_built() -> None:
         for cell, ax in zip(cells, axes, strict=True):
             assert cell.key == f"coils.axes.{ax}.{field}", f"{label}: tied to the JSON field"
             assert cell.value == axes[ax][field], f"{label}: the coils --json number"
-    h = [
-        c.value for c in rows["convection coefficient h (area-weighted, at the current limit)"][2:]
-    ]
+    h = [c.value for c in rows[H_LABEL][2:]]
     assert all(3.0 <= v <= 9.0 for v in h), f"natural convection 3-9 W/(m²·K) (issue 19): {h}"
     f = [c.value for c in rows["view factor to the room (radiation leaving the coil set)"][2:]]
     assert all(0.0 < v < 1.0 for v in f), f"nested packs see each other: view factor < 1 ({f})"

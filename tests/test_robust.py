@@ -42,7 +42,10 @@ def test_margin_p05_beats_the_deterministic_optimum_out_of_sample(capsys):
 
 
 def test_stepout_probability_constraint_holds_or_is_reported(capsys):
+    # the grip row held low: with the default 1.7 % it binds first (the angle that lowers the
+    # step-out risk is where the spiral stops gripping sample 3), which is not this test's row
     risky = ["--set", "tissue.uncertainty.scale_sigma_log=0.4", "--set", "optimize.scenarios=128"]
+    risky += ["--set", "requirements.min_wall_strain=0.005"]
     p_max = 0.02
     out = _run(capsys, *risky, "--set", f"requirements.max_stepout_probability={p_max}")
     r = out["robust"]
@@ -127,7 +130,7 @@ def test_compiled_scenario_rows_equal_numpy_margins():
 
 def test_stepout_row_multiplier_is_the_finite_difference_in_p():
     """The step-out row's multiplier (common solve path) is d margin / d p: central difference
-    of re-solves at p ± 1e-4 (inside one piece of the piecewise-smooth CVaR_p: p·S in (3, 4))."""
+    of re-solves at p ± 1e-4 (inside one piece of the piecewise-smooth CVaR_p: p·S in (5, 6))."""
     from optimize import optimize_design
     from optimize import robust as rb
     from spiralcap.assemble import build_model
@@ -141,6 +144,7 @@ def test_stepout_row_multiplier_is_the_finite_difference_in_p():
             "tissue.uncertainty.lumen_diameter_sigma_mm=0.3",
             "requirements.min_spiral_turns=0",
             "optimize.starts=1",
+            "requirements.min_wall_strain=0.005",  # the grip row elsewhere: this row binds
         ],
     )
     model, unc = build_model(design), build_uncertainty(design)
@@ -150,14 +154,14 @@ def test_stepout_row_multiplier_is_the_finite_difference_in_p():
             rb.with_scenarios(model, unc, scenarios=256, max_stepout_probability=p)
         )
 
-    mid = solve(0.0135)
+    mid = solve(0.02)
     row = next(b for b in mid.binding_limits if b.name == "stepout_probability")
-    fd = (solve(0.0136).objective_value - solve(0.0134).objective_value) / 2e-4
+    fd = (solve(0.0201).objective_value - solve(0.0199).objective_value) / 2e-4
     assert row.sensitivity > 0 and row.sensitivity == pytest.approx(fd, rel=0.01), (
         f"d margin / d max_stepout_probability: multiplier {row.sensitivity:.4g} N·m vs "
         f"central difference {fd:.4g} N·m (envelope theorem; 1 %, the O(h²) error)"
     )
-    assert row.value <= 0.0135, "the reported value is the in-sample step-out share <= p"
+    assert row.value <= 0.02, "the reported value is the in-sample step-out share <= p"
 
 
 def test_robust_sweep_chain_equals_cold_solves():
@@ -181,3 +185,49 @@ def test_robust_sweep_chain_equals_cold_solves():
         assert math.isclose(res.outputs["margin_Nm"][i], cold.margin_Nm, rel_tol=1e-7), (
             "warm-started robust sweep point equals a cold multi-start solve (1e-7)"
         )
+
+
+def test_margin_p05_is_described_as_the_cvar_it_maximises():
+    """Issue 26 (d): margin_p05 maximises CVaR at 5 % (Rockafellar & Uryasev 2000: the mean of
+    the worst 5 % of the scenario margins), not the 5th percentile. The sweep column of its
+    value says so (cvar05_Nm: the RU CVaR of the scenario margins at the optimum, 1e-6, and
+    below their 5th percentile), and so do the key's help, the objective's words and the JSON
+    schema."""
+    import json as _json
+    from pathlib import Path
+
+    from optimize import active_set as acs
+    from optimize import optimize_design
+    from optimize import robust as rb
+    from spiralcap.design import load_design
+    from spiralcap.presentation import objective_words
+    from spiralcap.robust import robust_model
+    from spiralcap.schema import KEYS
+    from spiralcap.sweep import parse_over, sweep
+
+    design = load_design(None, [s for s in ROBUST if s != "--set"]).with_values(
+        {"optimize.objective": "margin_p05", "optimize.scenarios": 64}
+    )
+    res = sweep(design, [parse_over("requirements.axial_load_mN=40:60:2")], optimize=True)
+    assert "cvar05_Nm" in res.outputs and "margin_p05_Nm" not in res.outputs, (
+        "the objective's column is named for what it holds"
+    )
+    model = robust_model(design.with_values({"requirements.axial_load_mN": 40.0}))
+    ins = rb.in_sample(model, optimize_design(model))  # cold, as the chunk's first point
+    cvar = acs.cvar(ins.margins_Nm, 0.05)
+    assert res.outputs["cvar05_Nm"][0] == pytest.approx(cvar, rel=1e-6), (
+        "the column is CVaR_0.05 of the scenario margins at the optimum (RU, 1e-6)"
+    )
+    assert cvar < ins.margin_p05_Nm, "and it is not their 5th percentile (CVaR < VaR here)"
+    assert ins.cvar_Nm == pytest.approx(cvar, rel=1e-12), (
+        "optimize --json's in_sample.cvar05_Nm is that same RU CVaR (β S = 3.2 scenarios: the "
+        "fourth weighed by 0.2, not the mean of the worst four), 1e-12"
+    )
+    words = " ".join([KEYS["optimize.objective"].help, objective_words("margin_p05")[0]]).lower()
+    assert "cvar" in words and "worst 5 %" in words and "5th-percentile margin" not in words
+    schema = _json.loads(
+        (Path(__file__).resolve().parents[1] / "docs/json/optimize.schema.json").read_text()
+    )
+    ins_schema = schema["properties"]["robust"]["properties"]["in_sample"]["properties"]
+    assert "what margin_p05 maximises" in ins_schema["cvar05_Nm"]["description"]
+    assert "not what margin_p05 maximises" in ins_schema["margin_p05_Nm"]["description"]

@@ -230,3 +230,36 @@ def test_sizing_rows_equal_fixed_rows_at_the_same_hardware(model, session):
         assert math.isclose(by_name[name], g, rel_tol=1e-9, abs_tol=1e-12), (
             f"{name}: sizing and fixed rows agree (1e-9)"
         )
+
+
+def test_min_bore_left_out_and_set_to_its_default_size_the_same_coils(capsys):
+    """Issue 26 (b): ``requirements.min_bore_m`` left out is the design's own least clear
+    bore (hw.bore_m, 2R - h of the z pair); entered at that value the sizing must be the same
+    to the last bit (least power, z pair free: 177.51 W either way; entering it used to move the
+    bore clearance check onto half the key, 315.45 W), and so must the bore clearance check."""
+    from optimize.buildcheck import build_checks
+
+    base = [
+        "--free",
+        "coils.z.turns=100:800",
+        "--free",
+        "coils.z.wire_diameter_mm=0.8:3",
+        "--set",
+        "optimize.objective=power",
+        "--set",
+        "requirements.min_safety_factor=2",
+    ]
+    default = hw.bore_m(build_model(load_design()))
+    runs = []
+    for extra in ([], ["--set", f"requirements.min_bore_m={default!r}"]):
+        assert main(["optimize", "--json", *base, *extra]) == 0
+        out = json.loads(capsys.readouterr().out)
+        out.pop("solve_time_s")
+        runs.append(out)
+    assert runs[0]["objective_value"] == pytest.approx(177.51, abs=0.01), "the known least power"
+    assert runs[1] == runs[0], "the key left out and set to its documented default: same sizing"
+    checks = [
+        {c.name: c.value for c in build_checks(prepare(build_model(load_design(None, sets))))}
+        for sets in ([], [f"requirements.min_bore_m={default!r}"])
+    ]
+    assert checks[1] == checks[0], "and the same build checks of the design as entered"

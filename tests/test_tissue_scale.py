@@ -35,7 +35,13 @@ def test_cli_resistive_torque_scales_by_tissue_scale():
         more["helical_angle_deg"],
         more["frequency_hz"],
     ), "same operating point"
-    assert more["resistive_torque_Nm"] == pytest.approx(1.5 * one["resistive_torque_Nm"], rel=1e-9)
+    weight = one["weight_friction_Nm"]
+    assert more["weight_friction_Nm"] == pytest.approx(weight, rel=1e-12), (
+        "the friction of the capsule's weight is not a tissue stiffness"
+    )
+    assert more["resistive_torque_Nm"] - weight == pytest.approx(
+        1.5 * (one["resistive_torque_Nm"] - weight), rel=1e-9
+    ), "the tissue model's part of the resistive torque scales with tissue.scale (1e-9)"
     assert more["thrust_torque_Nm"] == pytest.approx(one["thrust_torque_Nm"], rel=1e-12), (
         "the screw's thrust torque (axial load, friction) is not a tissue stiffness"
     )
@@ -60,7 +66,8 @@ def test_every_tissue_set_is_scaled_worst_case_presets_too(worst):
         for m in models
     ]
     for base, scaled, tissue in zip(torques[0], torques[1], models[1].tissues):
-        assert float(scaled) == pytest.approx(1.5 * float(base), rel=1e-9), (
+        weight = float(ph.weight_friction_Nm(models[1].constants, tissue))
+        assert float(scaled) - weight == pytest.approx(1.5 * (float(base) - weight), rel=1e-9), (
             f"{tissue.name}: resistive torque x 1.5 (linear in the moduli, Zhou 2013 eq. 2-8)"
         )
         assert "tissue.scale 1.5" in tissue.name, "the set says it is scaled"

@@ -6,6 +6,13 @@ paper's eqs. 2-8 and the calibration of its parameter sets.
 """
 
 from torque_model.data import CAPSULE_ANGLES_DEG, PAPER_CAPSULE, PAPER_POINTS, PaperPoint
+from torque_model.engagement import (
+    DEFAULT_MIN_WALL_STRAIN,
+    contact_radius_m,
+    engaged,
+    wall_strain,
+    weight_friction_torque_Nm,
+)
 from torque_model.geometry import ContactGeometry, end_contact_moment_m2, equivalent_diameter_m
 from torque_model.identification import PARAMETER_NAMES, FitResult, identify
 from torque_model.model import (
@@ -28,6 +35,7 @@ from torque_model.tissue import TissueParameters
 
 __all__ = [
     "CAPSULE_ANGLES_DEG",
+    "DEFAULT_MIN_WALL_STRAIN",
     "PAPER_CAPSULE",
     "PAPER_POINTS",
     "PARAMETER_NAMES",
@@ -39,7 +47,9 @@ __all__ = [
     "angular_frequency_rad_s",
     "contact_factor_m3",
     "contact_factors_m3",
+    "contact_radius_m",
     "end_contact_moment_m2",
+    "engaged",
     "equivalent_diameter_m",
     "friction_per_length_N_m",
     "hoop_pressure_Pa",
@@ -53,4 +63,6 @@ __all__ = [
     "strain",
     "stress_Pa",
     "torque_breakdown_Nm",
+    "wall_strain",
+    "weight_friction_torque_Nm",
 ]

@@ -24,13 +24,30 @@ __all__ = ["calibration_points", "fit_calibration_factor", "published_tissue"]
 
 
 def published_tissue(sample: int):
-    """The set exactly as published (Table I or II, factor 1), as TissueParameters."""
+    """The set exactly as published (Table I or II, factor 1), as TissueParameters.
+
+    Parameters
+    ----------
+    sample : int
+        Intestine sample of Zhou 2013, 2 or 3 (an index, not a count).
+
+    Returns
+    -------
+    TissueParameters
+        The published constants in SI (Pa, Pa·s, m), uncalibrated.
+    """
     values = {2: zhou2013.SAMPLE2, 3: zhou2013.SAMPLE3}[sample]
     return zhou2013.calibrated_tissue(values, f"zhou2013-sample{sample}-published", factor=1.0)
 
 
 def calibration_points() -> tuple[PaperPoint, ...]:
-    """The paper points the factor is fitted on (sample 2, role "calibration")."""
+    """The paper points the factor is fitted on (sample 2, role "calibration").
+
+    Returns
+    -------
+    tuple of PaperPoint
+        The calibration points of :data:`torque_model.data.PAPER_POINTS`.
+    """
     return tuple(p for p in PAPER_POINTS if p.role == "calibration" and p.sample == 2)
 
 
@@ -40,7 +57,8 @@ def fit_calibration_factor() -> float:
     Returns
     -------
     float
-        The factor; :data:`torque_model.parameters.zhou2013.CALIBRATION_FACTOR` stores it.
+        The factor, dimensionless; :data:`torque_model.parameters.zhou2013.CALIBRATION_FACTOR`
+        stores it.
     """
     tissue = published_tissue(2)
     pts = calibration_points()

@@ -35,9 +35,9 @@ class PaperPoint:
     Attributes
     ----------
     sample : int
-        Intestine sample (2 or 3).
+        Intestine sample (2 or 3), an index.
     capsule : int
-        Capsule number (1-4).
+        Capsule number (1-4), an index.
     helical_angle_deg : float
         Helical angle of that capsule, deg.
     frequency_hz : float

@@ -11,6 +11,11 @@ same family (``scipy.optimize.least_squares(method="trf")``) with three choices 
   every point alike (``relative=False`` gives the paper's absolute errors);
 - lumen, wall thickness and friction stay those of the base tissue.
 
+Four starts of 200 evaluations each; the best, when its budget ran out (parameters drifting
+along a null direction at a constant cost), is carried on and judged on its cost
+(``_converge``): ``success`` says whether the fit converged, and a fit that did not is not a
+fit (``spiralcap fit`` writes nothing and exits 3).
+
 The torque factorises exactly as G(alpha) x I(omega; E, eta) (:func:`torque_model.model.
 contact_factors_m3`), so the geometry is evaluated once per point; I and its Jacobian both come
 from the model's one :func:`~torque_model.model.relaxation_integral_Pa` (values on the numpy
@@ -68,7 +73,15 @@ REL_CI_LIMIT = 1.0
 CORRELATION_LIMIT = 0.99
 SINGULAR_RCOND = 1e-10
 _N_STARTS = 4
-_MAX_NFEV = 200
+#: Evaluation budget of each start (and of each profile re-fit).
+_START_NFEV = 200
+#: Further evaluations for the best start when its budget ran out (``_converge``).
+_MAX_NFEV = 1000
+#: A run out of budget is continued for this fraction of it more, to see if the cost still falls.
+_CHECK_NFEV_FRACTION = 0.2
+_CHECK_NFEV_MIN = 50
+#: Relative cost drop over that continuation below which the cost has converged.
+COST_RTOL = 1e-6
 
 
 @dataclass(frozen=True)
@@ -87,36 +100,47 @@ class FitResult:
         parameter, SI (Pa, Pa·s; ``scale`` dimensionless); ``inf`` where the data do not
         determine the parameter, ``nan`` with no residual degree of freedom.
     standard_errors_log : dict[str, float]
-        Standard error of the natural log of each free parameter (the fit's own coordinates).
+        Standard error of the natural log of each free parameter (the fit's own coordinates),
+        dimensionless.
     ci95 : dict[str, tuple[float, float]]
-        95 % interval ``value x/÷ exp(t se_log)``: always positive; ``(0, inf)`` for a
+        95 % interval ``value x/÷ exp(t se_log)`` in the unit of ``values`` (Pa, Pa·s;
+        ``scale`` dimensionless): always positive; ``(0, inf)`` for a
         parameter that is not identifiable (:attr:`identifiable`).
     flags : dict[str, tuple[str, ...]]
         Why a parameter is not pinned down (empty tuple: pinned down); other parameters are
         named by their :data:`FREE_NAMES` name.
     correlation : numpy.ndarray
-        k x k correlation matrix of the log free parameters (nan where undefined).
+        k x k correlation matrix of the log free parameters, dimensionless (nan where
+        undefined).
     covariance_log : numpy.ndarray or None
-        5 x 5 covariance of ln(E1, E2, E3, eta1, eta2) carried by the pinned-down free
-        parameters only (rows and columns of what the data leave loose are zero; a free
-        ``scale`` moves all constants it multiplies together); ``None`` when nothing is pinned
-        down.
+        5 x 5 covariance of ln(E1, E2, E3, eta1, eta2), dimensionless, carried by the
+        pinned-down free parameters only (rows and columns of what the data leave loose are
+        zero; a free ``scale`` moves all constants it multiplies together); ``None`` when
+        nothing is pinned down.
     frequency_hz, helical_angle_rad, torque_Nm, predicted_Nm : numpy.ndarray
-        The data points, and the fitted model at them (N·m).
+        The data points, and the fitted model at them: Hz, rad, N·m, N·m.
     residuals : numpy.ndarray
-        Fit residuals, relative ((model - data)/data) or in N·m as ``relative`` says.
+        Fit residuals, relative ((model - data)/data, dimensionless) or in N·m as
+        ``relative`` says.
     relative : bool
         Whether residuals are relative.
     residual_std : float
-        s, the residual standard deviation on ``dof`` degrees of freedom (same unit as residuals).
+        s, the residual standard deviation on ``dof`` degrees of freedom (in the unit of
+        ``residuals``: dimensionless or N·m).
     dof : int
-        Points minus free parameters.
+        Points minus free parameters, count.
+    effective_parameters : int
+        The numerical rank of J over the free parameters not at a bound (singular values above
+        :data:`SINGULAR_RCOND` of the largest), count: how many combinations the data actually
+        fit, for the lack-of-fit test (:mod:`torque_model.fit_quality`).
     condition_number : float
-        Of J^T J in log-parameters.
+        Of J^T J in log-parameters, dimensionless.
     cost : float
-        Half the sum of squared residuals.
+        Half the sum of squared residuals (dimensionless, or N·m² when not ``relative``).
     success : bool
-        The optimiser's convergence flag; ``message`` its words.
+        The optimiser's convergence flag.
+    message : str
+        The optimiser's words on how it ended.
     geometry : ContactGeometry
         Capsule geometry used, for :meth:`predict_Nm`.
     """
@@ -138,6 +162,7 @@ class FitResult:
     relative: bool
     residual_std: float
     dof: int
+    effective_parameters: int
     condition_number: float
     cost: float
     success: bool
@@ -155,12 +180,36 @@ class FitResult:
         return tuple(n for n in self.free if self.flags[n])
 
     def identifiable(self, name: str) -> bool:
-        """Whether the data bound ``name`` at all (a finite, positive 95 % interval)."""
+        """Whether the data bound ``name`` at all (a finite, positive 95 % interval).
+
+        Parameters
+        ----------
+        name : str
+            A free parameter, from :data:`FREE_NAMES`.
+
+        Returns
+        -------
+        bool
+            True when its 95 % interval is finite and positive.
+        """
         lo, hi = self.ci95[name]
         return lo > 0 and math.isfinite(hi)
 
     def predict_Nm(self, frequency_hz: Any, helical_angle_rad: Any) -> Any:
-        """The fitted model's torque at other frequencies (Hz) and angles (rad), N·m."""
+        """The fitted model's torque at other frequencies (Hz) and angles (rad), N·m.
+
+        Parameters
+        ----------
+        frequency_hz : float or array
+            Rotation frequency, Hz.
+        helical_angle_rad : float or array
+            Helical angle, rad (broadcasts against ``frequency_hz``).
+
+        Returns
+        -------
+        float or array
+            Resistive torque of the fitted tissue on :attr:`geometry`, N·m.
+        """
         from torque_model.model import resistive_torque_Nm
 
         return resistive_torque_Nm(helical_angle_rad, frequency_hz, self.tissue, self.geometry)
@@ -244,6 +293,7 @@ def identify(
     jacobian: JacobianMethod = "analytic",
     profile_bounds: bool = True,
     free: Sequence[str] | None = None,
+    max_nfev: int | None = None,
 ) -> FitResult:
     """Fit E1, E2, E3, eta1, eta2 (or the subset ``free``) to measured torque (bounded TRF).
 
@@ -264,8 +314,8 @@ def identify(
     relative : bool
         Relative residuals (default) or absolute ones in N·m.
     bounds : mapping, optional
-        ``{name: (low, high)}`` in SI for any of :data:`FREE_NAMES`; others from
-        :data:`DEFAULT_BOUNDS`.
+        ``{name: (low, high)}`` in SI (Pa, Pa·s; ``scale`` dimensionless) for any of
+        :data:`FREE_NAMES`; others from :data:`DEFAULT_BOUNDS`.
     jacobian : {"analytic", "2-point", "3-point"}
         Exact Jacobian (default) or scipy's finite differences (the benchmark's reference).
     profile_bounds : bool
@@ -275,6 +325,10 @@ def identify(
         The parameters to fit, names from :data:`FREE_NAMES` (default: the five constants).
         ``"scale"`` multiplies every constant *not* named, held in the base tissue's ratios:
         ``free=("scale",)`` fits only the calibration factor of the base set.
+    max_nfev : int, optional
+        Further evaluations (a count) for the best start when its own budget (:data:`_START_NFEV`, or
+        ``max_nfev`` if smaller) ran out (default :data:`_MAX_NFEV`); a run that uses them up
+        too is judged on its cost (``_converge``): ``success`` False when it had not converged.
 
     Returns
     -------
@@ -323,12 +377,18 @@ def identify(
         return (G * scale)[:, None] * (integral.jacobian(c + A @ q) @ A)
 
     fit_jac = jac if jacobian == "analytic" else jacobian
-    best = None
-    for q0 in _starts(names, p0, integral, torque, G, scale, lo, hi):
-        sol = _solve(residuals, fit_jac, q0, lo, hi)
-        if best is None or sol.cost < best.cost:
-            best = sol
-    assert best is not None
+    budget = _MAX_NFEV if max_nfev is None else int(max_nfev)
+    sols = [
+        _solve(residuals, fit_jac, q0, lo, hi, min(_START_NFEV, budget))
+        for q0 in _starts(names, p0, integral, torque, G, scale, lo, hi)
+    ]
+    best = min(sols, key=lambda sol: sol.cost)
+    # a converged start as good to COST_RTOL is preferred to a lower run that had not converged
+    done = [sol for sol in sols if sol.success and sol.cost <= best.cost * (1.0 + COST_RTOL)]
+    if done:
+        best = min(done, key=lambda sol: sol.cost)
+    else:
+        best = _converge(residuals, fit_jac, best, lo, hi, budget)
     order = _slow_arm_first(names, best.x, lo, hi)
     best.x, best.active_mask = best.x[order], best.active_mask[order]
     profile = _profile_to_bounds(residuals, fit_jac, best, lo, hi, n) if profile_bounds else None
@@ -389,7 +449,10 @@ def _log_map(names: tuple[str, ...], p0: np.ndarray) -> tuple[np.ndarray, np.nda
     return A, c
 
 
-def _solve(fun: Any, jac: Any, q0: np.ndarray, lo: np.ndarray, hi: np.ndarray) -> Any:
+def _solve(
+    fun: Any, jac: Any, q0: np.ndarray, lo: np.ndarray, hi: np.ndarray, max_nfev: int
+) -> Any:
+    """One bounded TRF run from ``q0`` with at most ``max_nfev`` evaluations."""
     from scipy import optimize  # ~0.25 s to import: only when fitting
 
     return optimize.least_squares(
@@ -401,8 +464,47 @@ def _solve(fun: Any, jac: Any, q0: np.ndarray, lo: np.ndarray, hi: np.ndarray) -
         xtol=1e-9,
         ftol=1e-9,
         gtol=1e-9,
-        max_nfev=_MAX_NFEV,
+        max_nfev=max_nfev,
     )
+
+
+def _converge(fun: Any, jac: Any, sol: Any, lo: np.ndarray, hi: np.ndarray, budget: int) -> Any:
+    """Carry a run stopped by its evaluation budget on to convergence, or say it did not.
+
+    scipy stops on a small step (``xtol``), a small relative drop of the cost (``ftol``) or a
+    small scaled gradient (``gtol``). Along a direction the data do not determine (a null
+    direction of J^T J, the usual case for five constants on a 0.5-3 Hz curve) none of these
+    may trigger while the parameters drift at a constant cost, and the budget runs out. Such a
+    run is continued with ``budget`` more evaluations, then :data:`_CHECK_NFEV_FRACTION` of it
+    more (at least :data:`_CHECK_NFEV_MIN`, time for the trust region to grow back): when that
+    last stretch lowers the cost by less than :data:`COST_RTOL` (relative), the cost has
+    converged and the run is accepted (``success`` True, ``message`` saying so) -- the fitted
+    curve is the minimum's to that tolerance (the residual standard deviation to half of it),
+    and the parameters that still move are the ones flagged as not pinned down. Otherwise
+    ``success`` stays False with scipy's message and the drop measured.
+    """
+    if sol.status != 0:  # converged (> 0) or refused by scipy (< 0): nothing to carry on
+        return sol
+    sol = _solve(fun, jac, np.clip(sol.x, lo, hi), lo, hi, budget)
+    if sol.status != 0:
+        return sol
+    extra = max(_CHECK_NFEV_MIN, int(budget * _CHECK_NFEV_FRACTION))
+    more = _solve(fun, jac, np.clip(sol.x, lo, hi), lo, hi, extra)
+    if more.status != 0:  # converged by scipy's own criteria on the extra evaluations
+        return more
+    drop = (sol.cost - more.cost) / sol.cost if sol.cost > 0 else 0.0
+    if drop < COST_RTOL:
+        more.success = True
+        more.message = (
+            f"cost converged: {extra} further evaluations lowered it by {drop:.1e} (relative, "
+            f"< {COST_RTOL:g}); only parameters the data do not determine still moved"
+        )
+        return more
+    more.message = (
+        f"{str(sol.message).rstrip('.')} (the last {extra} evaluations still lowered the cost "
+        f"by {drop:.1e}, relative)"
+    )
+    return more
 
 
 def _slow_arm_first(
@@ -465,7 +567,9 @@ def _profile_to_bounds(
             if free:
                 pad = 1e-9 * (hi[free] - lo[free])
                 z0 = np.clip(best.x[free], lo[free] + pad, hi[free] - pad)
-                ssr_at_bound = 2.0 * _solve(f_sub, sub_jac, z0, lo[free], hi[free]).cost
+                ssr_at_bound = (
+                    2.0 * _solve(f_sub, sub_jac, z0, lo[free], hi[free], _START_NFEV).cost
+                )
             else:  # one free parameter: nothing to re-fit
                 r = fun(q)
                 ssr_at_bound = float(r @ r)
@@ -513,6 +617,91 @@ def _starts(
     return [np.clip(q, lo + pad, hi - pad) for q in starts]
 
 
+class _Spread(NamedTuple):
+    """Uncertainty of the log free parameters at the solution (see the module notes)."""
+
+    cov_log: np.ndarray  # s^2 (J^T J)^+ (null directions left out)
+    se_log: np.ndarray  # standard error of ln p; inf along a null direction
+    corr: np.ndarray  # correlation of the ln p; nan where undefined
+    in_null: np.ndarray  # bool: the parameter has a component along a null direction
+    condition: float  # of J^T J
+
+
+def _spread(J: np.ndarray, weighted_residuals: np.ndarray, dof: int) -> _Spread:
+    """s^2 (J^T J)^-1 by the SVD of J, with null directions (singular values below
+    :data:`SINGULAR_RCOND` of the largest) left out and their parameters marked."""
+    n_par = J.shape[1]
+    s2 = float(weighted_residuals @ weighted_residuals) / dof if dof > 0 else math.nan
+    _, sv, Vt = np.linalg.svd(J, full_matrices=False)
+    sv_max = sv[0] if sv.size and sv[0] > 0 else 1.0
+    null = sv <= SINGULAR_RCOND * sv_max
+    inv_sq = np.where(null, 0.0, 1.0 / np.where(null, 1.0, sv) ** 2)
+    cov_log = (Vt.T * inv_sq) @ Vt * s2
+    in_null = np.any(np.abs(Vt[null]) > 1e-6, axis=0) if null.any() else np.zeros(n_par, bool)
+    var_log = np.diag(cov_log).copy()
+    var_log[in_null] = math.inf
+    with np.errstate(invalid="ignore", divide="ignore"):
+        corr = cov_log / np.sqrt(np.outer(np.diag(cov_log), np.diag(cov_log)))
+    corr[in_null, :] = np.nan
+    corr[:, in_null] = np.nan
+    cond = float((sv_max / sv[-1]) ** 2) if sv[-1] > 0 else math.inf
+    return _Spread(cov_log, np.sqrt(var_log), corr, in_null, cond)
+
+
+def _rank(J: np.ndarray) -> int:
+    """Numerical rank: singular values above :data:`SINGULAR_RCOND` of the largest."""
+    if J.size == 0:
+        return 0
+    sv = np.linalg.svd(J, compute_uv=False)
+    return int(np.sum(sv > SINGULAR_RCOND * sv[0])) if sv[0] > 0 else 0
+
+
+def _interval_flags(in_null: bool, se_log: float, t: float, dof: int) -> list[str]:
+    """Why one parameter's interval says it is not pinned down (empty: it is)."""
+    why = []
+    if in_null:
+        why.append("J^T J singular along it")
+    if dof <= 0:
+        why.append("no residual degree of freedom: uncertainty unknown")
+    elif not in_null and t * se_log > REL_CI_LIMIT:
+        spread = t * se_log  # ln of the factor: beyond 10⁶ a number says nothing more
+        if spread > math.log(1e6):
+            why.append("95 % interval spans more than a factor 10⁶ either way")
+        else:
+            why.append(f"95 % interval spans a factor {math.exp(spread):.3g} either way")
+    return why
+
+
+def _flags(
+    names: tuple[str, ...],
+    spread: _Spread,
+    t: float,
+    dof: int,
+    at_bound: np.ndarray,
+    profile: dict[int, list[str]] | None,
+) -> dict[str, tuple[str, ...]]:
+    """Every free parameter's reasons for not being pinned down (module notes)."""
+    flags: dict[str, tuple[str, ...]] = {}
+    for i, name in enumerate(names):
+        why = _interval_flags(bool(spread.in_null[i]), float(spread.se_log[i]), t, dof)
+        if at_bound[i]:
+            why.append("at a bound")
+        sides = (profile or {}).get(i, [])
+        if sides:
+            why.append(
+                f"profile reaches the {' and '.join(sides)} bound{'s' if len(sides) > 1 else ''}"
+            )
+        partners = [
+            names[j]
+            for j in range(len(names))
+            if j != i and abs(spread.corr[i, j]) > CORRELATION_LIMIT
+        ]
+        if partners:
+            why.append("|correlation| > 0.99 with " + ", ".join(partners))
+        flags[name] = tuple(why)
+    return flags
+
+
 def _result(
     sol: Any,
     names: tuple[str, ...],
@@ -533,90 +722,51 @@ def _result(
 ) -> FitResult:
     n, n_par = J.shape
     p = np.exp(sol.x)
-    resid = sol.fun if relative else sol.fun / scale
     dof = n - n_par
-    s2 = float(sol.fun @ sol.fun) / dof if dof > 0 else math.nan
-    _, sv, Vt = np.linalg.svd(J, full_matrices=False)
-    sv_max = sv[0] if sv.size and sv[0] > 0 else 1.0
-    null = sv <= SINGULAR_RCOND * sv_max
-    inv_sq = np.where(null, 0.0, 1.0 / np.where(null, 1.0, sv) ** 2)
-    cov_log = (Vt.T * inv_sq) @ Vt * s2
-    in_null = np.any(np.abs(Vt[null]) > 1e-6, axis=0) if null.any() else np.zeros(n_par, bool)
-    var_log = np.diag(cov_log).copy()
-    var_log[in_null] = math.inf
-    se_log = np.sqrt(var_log)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        corr = cov_log / np.sqrt(np.outer(np.diag(cov_log), np.diag(cov_log)))
-    corr[in_null, :] = np.nan
-    corr[:, in_null] = np.nan
+    spread = _spread(J, sol.fun, dof)
     from scipy import stats
 
     t = float(stats.t.ppf(0.975, dof)) if dof > 0 else math.nan
-    se = p * se_log
-    cond = float((sv_max / sv[-1]) ** 2) if sv[-1] > 0 else math.inf
     at_bound = (
         (sol.active_mask != 0) | (sol.x - lo < 1e-6 * (hi - lo)) | (hi - sol.x < 1e-6 * (hi - lo))
     )
-    flags: dict[str, tuple[str, ...]] = {}
-    for i, name in enumerate(names):
-        why = []
-        if in_null[i]:
-            why.append("J^T J singular along it")
-        if dof <= 0:
-            why.append("no residual degree of freedom: uncertainty unknown")
-        elif not in_null[i] and t * se_log[i] > REL_CI_LIMIT:
-            spread = t * se_log[i]  # ln of the factor: beyond 10⁶ a number says nothing more
-            if spread > math.log(1e6):
-                why.append("95 % interval spans more than a factor 10⁶ either way")
-            else:
-                why.append(f"95 % interval spans a factor {math.exp(spread):.3g} either way")
-        if at_bound[i]:
-            why.append("at a bound")
-        sides = (profile or {}).get(i, [])
-        if sides:
-            why.append(
-                f"profile reaches the {' and '.join(sides)} bound{'s' if len(sides) > 1 else ''}"
-            )
-        partners = [
-            names[j] for j in range(n_par) if j != i and abs(corr[i, j]) > CORRELATION_LIMIT
-        ]
-        if partners:
-            why.append("|correlation| > 0.99 with " + ", ".join(partners))
-        flags[name] = tuple(why)
+    flags = _flags(names, spread, t, dof, at_bound, profile)
     pinned = np.array([not flags[k] for k in names])
     cov5 = None
     if pinned.any():
         Ap = A[:, pinned]
-        cov5 = Ap @ cov_log[np.ix_(pinned, pinned)] @ Ap.T
+        cov5 = Ap @ spread.cov_log[np.ix_(pinned, pinned)] @ Ap.T
         cov5 = 0.5 * (cov5 + cov5.T)
     p5 = np.exp(c + A @ sol.x)
     tissue = base.replace(name="fit", **dict(zip(PARAMETER_NAMES, p5.tolist(), strict=True)))
     pred = G * np.asarray(relaxation_integral_Pa(freq, _Constants(*p5)), dtype=float)
     with np.errstate(over="ignore", invalid="ignore"):
-        half = np.exp(t * se_log)
+        half = np.exp(t * spread.se_log)
     ci95 = {
         k: ((float(v / h), float(v * h)) if math.isfinite(v * h) and v / h > 0 else (0.0, math.inf))
         for k, v, h in zip(names, p, half, strict=True)
     }
+    s2 = float(sol.fun @ sol.fun) / dof if dof > 0 else math.nan
     return FitResult(
         tissue=tissue,
         free=names,
         values=dict(zip(names, p.tolist(), strict=True)),
-        standard_errors=dict(zip(names, se.tolist(), strict=True)),
-        standard_errors_log=dict(zip(names, se_log.tolist(), strict=True)),
+        standard_errors=dict(zip(names, (p * spread.se_log).tolist(), strict=True)),
+        standard_errors_log=dict(zip(names, spread.se_log.tolist(), strict=True)),
         ci95=ci95,
         flags=flags,
-        correlation=corr,
+        correlation=spread.corr,
         covariance_log=cov5,
         frequency_hz=freq,
         helical_angle_rad=angle,
         torque_Nm=torque,
         predicted_Nm=pred,
-        residuals=resid,
+        residuals=sol.fun if relative else sol.fun / scale,
         relative=relative,
         residual_std=math.sqrt(s2) if dof > 0 else math.nan,
         dof=dof,
-        condition_number=cond,
+        effective_parameters=_rank(J[:, ~at_bound]),
+        condition_number=spread.condition,
         cost=float(sol.cost),
         success=bool(sol.success),
         message=str(sol.message),

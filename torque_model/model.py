@@ -46,7 +46,18 @@ __all__ = [
 
 
 def angular_frequency_rad_s(frequency_hz: Scalar) -> Scalar:
-    """Eq. 5: omega = 2 pi f, rad/s, from the rotation frequency f in Hz."""
+    """Eq. 5: omega = 2 pi f, rad/s, from the rotation frequency f in Hz.
+
+    Parameters
+    ----------
+    frequency_hz : float, array or CasADi
+        Rotation frequency f, Hz.
+
+    Returns
+    -------
+    float, array or CasADi
+        Angular frequency omega, rad/s.
+    """
     return 2.0 * bk.pi * frequency_hz
 
 
@@ -65,13 +76,27 @@ def strain(diameter_after_m: Scalar, lumen_diameter_m: Scalar, wall_thickness_m:
     Returns
     -------
     float, array or CasADi
-        The strain; negative where the capsule does not touch (callers clip it at zero).
+        The strain, dimensionless; negative where the capsule does not touch (callers clip
+        it at zero).
     """
     return (diameter_after_m - lumen_diameter_m) / (lumen_diameter_m + wall_thickness_m)
 
 
 def relaxation_modulus_Pa(time_s: Scalar, tissue: ViscoelasticConstants) -> Scalar:
-    """Eq. 2 bracket: E1 exp(-t E1/eta1) + E2 exp(-t E2/eta2) + E3, Pa, at time t (s)."""
+    """Eq. 2 bracket: E1 exp(-t E1/eta1) + E2 exp(-t E2/eta2) + E3, Pa, at time t (s).
+
+    Parameters
+    ----------
+    time_s : float, array or CasADi
+        Time t since the strain was applied, s.
+    tissue : ViscoelasticConstants
+        The five constants of the generalized Maxwell model (E in Pa, eta in Pa·s).
+
+    Returns
+    -------
+    float, array or CasADi
+        Relaxation modulus E(t), Pa.
+    """
     t = tissue
     return (
         t.E1_Pa * bk.exp(-time_s * t.E1_Pa / t.eta1_Pa_s)
@@ -86,6 +111,22 @@ def stress_Pa(
     """Eq. 4: hoop stress at azimuth theta (rad) behind first contact, Pa.
 
     The tissue at azimuth theta has been strained for t = theta / omega (section III-B).
+
+    Parameters
+    ----------
+    azimuth_rad : float, array or CasADi
+        Azimuth theta behind the first contact, rad.
+    frequency_hz : float, array or CasADi
+        Rotation frequency f, Hz.
+    strain_ : float, array or CasADi
+        Circumferential strain eps (eq. 6), dimensionless.
+    tissue : TissueParameters
+        Viscoelastic constants of the wall.
+
+    Returns
+    -------
+    float, array or CasADi
+        Hoop stress sigma(theta) = eps E(theta / omega), Pa.
     """
     omega = angular_frequency_rad_s(frequency_hz)
     return strain_ * relaxation_modulus_Pa(azimuth_rad / omega, tissue)
@@ -102,6 +143,18 @@ def relaxation_integral_Pa(frequency_hz: Scalar, tissue: ViscoelasticConstants) 
 
     One revolution, theta in [0, 2 pi]: a wall element is strained when the bump reaches it and
     relaxes for one turn until strained again (docs/torque-model.md, "theta range").
+
+    Parameters
+    ----------
+    frequency_hz : float, array or CasADi
+        Rotation frequency f (0 allowed), Hz.
+    tissue : ViscoelasticConstants
+        The five constants of the generalized Maxwell model (E in Pa, eta in Pa·s).
+
+    Returns
+    -------
+    float, array or CasADi
+        I(omega), Pa (Pa·rad: the integral over the azimuth).
     """
     omega = angular_frequency_rad_s(frequency_hz)
     t = tissue
@@ -129,7 +182,22 @@ def _relaxed_arm(omega: Scalar, modulus: float, viscosity: float) -> Scalar:
 
 
 def hoop_pressure_Pa(stress: Scalar, wall_thickness_m: Scalar, diameter_after_m: Scalar) -> Scalar:
-    """Eq. 3: contact pressure of a thin-walled cylinder, p = 2 sigma d / D_after, Pa."""
+    """Eq. 3: contact pressure of a thin-walled cylinder, p = 2 sigma d / D_after, Pa.
+
+    Parameters
+    ----------
+    stress : float, array or CasADi
+        Hoop stress sigma in the wall, Pa.
+    wall_thickness_m : float, array or CasADi
+        Wall thickness d, m.
+    diameter_after_m : float, array or CasADi
+        Inner diameter of the deformed intestine D_after, m.
+
+    Returns
+    -------
+    float, array or CasADi
+        Contact pressure p, Pa.
+    """
     return 2.0 * stress * wall_thickness_m / diameter_after_m
 
 
@@ -139,6 +207,20 @@ def normal_load_per_length_N_m(
     """Normal load per unit axial length of one cross-section, N/m.
 
     int_0^{2 pi} p(theta) (D_after/2) dtheta with eq. 3 = d eps I(omega): the diameter cancels.
+
+    Parameters
+    ----------
+    frequency_hz : float, array or CasADi
+        Rotation frequency f, Hz.
+    strain_ : float, array or CasADi
+        Circumferential strain eps (eq. 6, clipped at zero by the caller), dimensionless.
+    tissue : TissueParameters
+        Viscoelastic constants and wall thickness d of the intestine.
+
+    Returns
+    -------
+    float, array or CasADi
+        Normal load per unit axial length, N/m.
     """
     return tissue.wall_thickness_m * strain_ * relaxation_integral_Pa(frequency_hz, tissue)
 
@@ -146,7 +228,22 @@ def normal_load_per_length_N_m(
 def friction_per_length_N_m(
     frequency_hz: Scalar, strain_: Scalar, tissue: TissueParameters
 ) -> Scalar:
-    """Eq. 7 per unit axial length: circumferential Coulomb friction mu x normal load, N/m."""
+    """Eq. 7 per unit axial length: circumferential Coulomb friction mu x normal load, N/m.
+
+    Parameters
+    ----------
+    frequency_hz : float, array or CasADi
+        Rotation frequency f, Hz.
+    strain_ : float, array or CasADi
+        Circumferential strain eps (eq. 6, clipped at zero by the caller), dimensionless.
+    tissue : TissueParameters
+        Viscoelastic constants, wall thickness and friction coefficient mu.
+
+    Returns
+    -------
+    float, array or CasADi
+        Friction force per unit axial length, N/m.
+    """
     return tissue.friction_coefficient * normal_load_per_length_N_m(frequency_hz, strain_, tissue)
 
 
@@ -156,6 +253,20 @@ def section_torque_per_length_N(
     """Eq. 8 per unit axial length: friction x D_after/2, N·m/m, for a section of diameter D_after.
 
     The strain is clipped at zero (a section narrower than the lumen does not touch).
+
+    Parameters
+    ----------
+    frequency_hz : float, array or CasADi
+        Rotation frequency f, Hz.
+    diameter_after_m : float, array or CasADi
+        Diameter D_after of the section (the deformed lumen), m.
+    tissue : TissueParameters
+        Viscoelastic constants, lumen and wall diameters, friction coefficient.
+
+    Returns
+    -------
+    float, array or CasADi
+        Resistive torque per unit axial length, N·m/m (= N).
     """
     eps = bk.positive_part(
         strain(diameter_after_m, tissue.lumen_diameter_m, tissue.wall_thickness_m)
@@ -173,6 +284,22 @@ def torque_breakdown_Nm(
 
     Same arguments as :func:`resistive_torque_Nm`; returns a dict with ``"wound"``,
     ``"cylinder"``, ``"ends"`` and ``"total"``.
+
+    Parameters
+    ----------
+    helical_angle_rad : float, array or CasADi
+        Helical angle of the spiral to the cross-section plane, rad.
+    frequency_hz : float, array or CasADi
+        Rotation frequency f, Hz.
+    tissue : TissueParameters
+        Viscoelastic constants (calibrated scale), lumen, wall, friction.
+    geometry : ContactGeometry
+        The capsule as the tissue sees it.
+
+    Returns
+    -------
+    dict of str to float, array or CasADi
+        Torque of each part and their sum, N·m.
     """
     parts = contact_factors_m3(helical_angle_rad, tissue, geometry)
     integral = relaxation_integral_Pa(frequency_hz, tissue)
@@ -192,6 +319,20 @@ def contact_factors_m3(
     hemispheres, :func:`torque_model.geometry.end_contact_moment_m2`). Strains are clipped at 0.
     They hold everything but the five viscoelastic constants, which enter through
     :func:`relaxation_integral_Pa` only; :func:`torque_model.identify` uses this split.
+
+    Parameters
+    ----------
+    helical_angle_rad : float, array or CasADi
+        Helical angle of the spiral to the cross-section plane, rad.
+    tissue : TissueParameters
+        Lumen and wall diameters and friction coefficient (its five constants are not used).
+    geometry : ContactGeometry
+        The capsule as the tissue sees it.
+
+    Returns
+    -------
+    dict of str to float, array or CasADi
+        ``"wound"``, ``"cylinder"`` and ``"ends"`` factors G, m³.
     """
     mu_d = tissue.friction_coefficient * tissue.wall_thickness_m
     g = geometry
@@ -221,7 +362,22 @@ def contact_factors_m3(
 def contact_factor_m3(
     helical_angle_rad: Scalar, tissue: TissueParameters, geometry: ContactGeometry
 ) -> Scalar:
-    """Sum of :func:`contact_factors_m3`: torque = contact_factor_m3 x relaxation_integral_Pa."""
+    """Sum of :func:`contact_factors_m3`: torque = contact_factor_m3 x relaxation_integral_Pa.
+
+    Parameters
+    ----------
+    helical_angle_rad : float, array or CasADi
+        Helical angle of the spiral to the cross-section plane, rad.
+    tissue : TissueParameters
+        Lumen and wall diameters and friction coefficient.
+    geometry : ContactGeometry
+        The capsule as the tissue sees it.
+
+    Returns
+    -------
+    float, array or CasADi
+        The total geometric factor G, m³.
+    """
     parts = contact_factors_m3(helical_angle_rad, tissue, geometry)
     return parts["wound"] + parts["cylinder"] + parts["ends"]
 

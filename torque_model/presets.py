@@ -25,6 +25,12 @@ def preset(name: str) -> TissueParameters:
     name : str
         ``"zhou2013-sample2"`` or ``"zhou2013-sample3"``.
 
+    Returns
+    -------
+    TissueParameters
+        The published set times :data:`torque_model.parameters.zhou2013.CALIBRATION_FACTOR`,
+        SI.
+
     Raises
     ------
     InputError

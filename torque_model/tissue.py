@@ -28,15 +28,24 @@ class ViscoelasticConstants(Protocol):
     """
 
     @property
-    def E1_Pa(self) -> Any: ...
+    def E1_Pa(self) -> Any:
+        """Spring modulus of the first Maxwell arm, Pa."""
+
     @property
-    def E2_Pa(self) -> Any: ...
+    def E2_Pa(self) -> Any:
+        """Spring modulus of the second Maxwell arm, Pa."""
+
     @property
-    def E3_Pa(self) -> Any: ...
+    def E3_Pa(self) -> Any:
+        """Modulus of the parallel spring, Pa."""
+
     @property
-    def eta1_Pa_s(self) -> Any: ...
+    def eta1_Pa_s(self) -> Any:
+        """Dashpot viscosity of the first Maxwell arm, Pa·s."""
+
     @property
-    def eta2_Pa_s(self) -> Any: ...
+    def eta2_Pa_s(self) -> Any:
+        """Dashpot viscosity of the second Maxwell arm, Pa·s."""
 
 
 @dataclass(frozen=True)
@@ -82,7 +91,18 @@ class TissueParameters:
             raise InputError("name", self.name, "a string")
 
     def replace(self, **changes: Any) -> TissueParameters:
-        """A copy with some fields changed (validated again)."""
+        """A copy with some fields changed (validated again).
+
+        Parameters
+        ----------
+        **changes : float or str
+            New field values by field name, SI as the names say (``E1_Pa=...``, Pa).
+
+        Returns
+        -------
+        TissueParameters
+            The changed copy.
+        """
         return dataclasses.replace(self, **changes)
 
     def scaled(self, factor: float, name: str | None = None) -> TissueParameters:
@@ -90,6 +110,18 @@ class TissueParameters:
 
         The torque of :func:`torque_model.resistive_torque_Nm` is linear in this factor and the
         shape of torque against frequency is unchanged (the exponents hold E/eta ratios only).
+
+        Parameters
+        ----------
+        factor : float
+            Multiplier on E1, E2, E3, eta1, eta2, dimensionless, > 0.
+        name : str, optional
+            Name of the copy (default: this set's name).
+
+        Returns
+        -------
+        TissueParameters
+            The scaled copy.
         """
         factor = check_positive("factor", factor)
         return self.replace(
@@ -97,7 +129,13 @@ class TissueParameters:
         )
 
     def as_design_table(self) -> dict[str, float]:
-        """The set as ``tissue.*`` design-key values (kPa, kPa·s, mm): the keys without prefix."""
+        """The set as ``tissue.*`` design-key values (kPa, kPa·s, mm): the keys without prefix.
+
+        Returns
+        -------
+        dict of str to float
+            Design value by key, the unit in each key name (``E1_kPa``, ``lumen_diameter_mm``).
+        """
         out = {}
         for key in _DESIGN_KEYS:
             si_name, factor = _si(key)
@@ -106,7 +144,21 @@ class TissueParameters:
 
     @classmethod
     def from_design_table(cls, table: dict[str, float], name: str = "custom") -> TissueParameters:
-        """Build from ``tissue.*`` design units (the inverse of :meth:`as_design_table`)."""
+        """Build from ``tissue.*`` design units (the inverse of :meth:`as_design_table`).
+
+        Parameters
+        ----------
+        table : dict of str to float
+            Exactly the eight ``tissue.*`` keys without prefix, the unit in each key name (kPa,
+            kPa·s, mm; friction dimensionless).
+        name : str
+            Name of the set.
+
+        Returns
+        -------
+        TissueParameters
+            The set in SI.
+        """
         missing = [k for k in _DESIGN_KEYS if k not in table]
         unknown = [k for k in table if k not in _DESIGN_KEYS]
         if missing or unknown:

@@ -13,7 +13,9 @@
 - resistance at 20 °C and series inductance 2L + 2M of the winding (leads not included);
 - current, voltage amplitude and apparent power S = V I / 2 (sinusoid amplitudes) at the
   operating point (worst heading at the operating field) and at the design's limits (each pair
-  at the largest field every limit allows it, the same numbers the limit checks use).
+  at the largest field every limit allows it, the same numbers the limit checks use);
+- the amplifier channel the pair needs as the limits state it: its own
+  ``limits.<axis>.current_A`` / ``voltage_V`` / ``power_W`` where set, else the global ones.
 """
 
 from __future__ import annotations
@@ -57,6 +59,13 @@ class BomRow:
     inductance_H: float
     operating: DrivePoint
     at_limits: DrivePoint
+    #: The amplifier channel this pair needs, as the design's limits state it: current and
+    #: voltage amplitude (its own ``limits.<axis>.*`` where set, else the global limits) and
+    #: its copper power (its own ``limits.<axis>.power_W``, else the total ``limits.power_W``).
+    channel_current_A: float = math.nan
+    channel_voltage_V: float = math.nan
+    channel_power_W: float = math.nan
+    channel_limits: str = "global"  # which: "own channel" (limits.<axis>.*) or "global"
 
 
 def _wire_standard(d_mm: float) -> str:
@@ -79,9 +88,25 @@ def _enamel(limit_C: float) -> str:
 
 
 def _drive(terms: dict[str, Any], ax: str) -> DrivePoint:
-    i = float(terms[f"current_{ax}"])
-    v = float(terms[f"voltage_{ax}"])
+    def term(kind: str) -> float:  # the pair's own channel's row where it has one
+        own = f"axis_{kind}_{ax}"
+        return float(terms[own] if own in terms else terms[f"{kind}_{ax}"])
+
+    i, v = term("current"), term("voltage")
     return DrivePoint(i, v, 0.5 * v * i)
+
+
+def _channel(limits: Any, k: int) -> dict[str, Any]:
+    """The amplifier channel pair ``k`` needs, from the limits (BomRow.channel_*)."""
+    ax = "xyz"[k]
+    own = any(f"{kind}_{ax}" in limits.own for kind in ("current", "voltage", "power"))
+    power = float(limits.axis_power_W[k]) if f"power_{ax}" in limits.own else float(limits.power_W)
+    return {
+        "channel_current_A": float(limits.channel("current", k)[1]),
+        "channel_voltage_V": float(limits.channel("voltage", k)[1]),
+        "channel_power_W": power,
+        "channel_limits": "own channel" if own else "global",
+    }
 
 
 def bill_of_materials(model: Any, analysis: Any) -> tuple[BomRow, ...]:
@@ -126,6 +151,7 @@ def bill_of_materials(model: Any, analysis: Any) -> tuple[BomRow, ...]:
                 inductance_H=float(c.inductance_H[k]),
                 operating=_drive(op, ax),
                 at_limits=_drive(terms(lim.max_rotating_field_T), ax),
+                **_channel(model.limits, k),
             )
         )
     return tuple(rows)
@@ -171,7 +197,9 @@ def bom_table(rows: tuple[BomRow, ...]) -> str:
         ],
     )
     notes = [
-        f"  {r.axis}: {r.coils} coils x {r.turns} turns, {r.wire_standard}, enamel {r.enamel}"
+        f"  {r.axis}: {r.coils} coils x {r.turns} turns, {r.wire_standard}, enamel {r.enamel}; "
+        f"amplifier channel ({r.channel_limits} limits): {r.channel_current_A:.4g} A, "
+        f"{r.channel_voltage_V:.4g} V, {r.channel_power_W:.4g} W"
         for r in rows
     ]
     lead = rows[0].lead_allowance_m / rows[0].coils if rows else LEAD_ALLOWANCE_PER_COIL_m

@@ -161,4 +161,6 @@ def build_capsule(design: Mapping[str, Any]) -> Capsule:
         field, reason = problems[0]
         key = _DESIGN_KEY[field]
         raise InputError(key, d[key], reason)
-    return cap.Capsule(body=body, spiral=spiral, magnet=magnet)
+    mass = _get(design, "capsule.mass_g")
+    set_mass = None if mass is None else to_si("capsule.mass_g", mass)
+    return cap.Capsule(body=body, spiral=spiral, magnet=magnet, set_mass_kg=set_mass)

@@ -98,12 +98,14 @@ def build_model(design: Design):
         field_exposure=d["limits.field_exposure"],
         surface_temperature_C=surface,
         copper_mass_kg=d.get("limits.copper_mass_kg"),
+        **channel_limits(d),
     )
     req = Requirements(
         axial_load_N=to_si("requirements.axial_load_mN", d["requirements.axial_load_mN"]),
         slip_efficiency=d["requirements.slip_efficiency"],
         min_speed_m_s=to_si("requirements.min_speed_mm_s", d["requirements.min_speed_mm_s"]),
         min_spiral_turns=d["requirements.min_spiral_turns"],
+        min_wall_strain=d["requirements.min_wall_strain"],
         min_safety_factor=d["requirements.min_safety_factor"],
         min_clearance_m=to_si("coils.min_clearance_mm", d["coils.min_clearance_mm"]),
         bore_radius_m=bore_radius_m(d),
@@ -149,6 +151,25 @@ def build_model(design: Design):
     )
 
 
+def channel_limits(d: Design) -> dict[str, Any]:
+    """The per-pair amplifier limits (``limits.{x,y,z}.current_A`` ...) and the envelope as
+    :class:`optimize.Limits` fields (SI; NaN where a pair has no limit of its own)."""
+    out: dict[str, Any] = {}
+    own = set()
+    for kind, unit in (("current", "A"), ("voltage", "V"), ("power", "W")):
+        values = [d.get(f"limits.{ax}.{kind}_{unit}") for ax in "xyz"]
+        if any(v is not None for v in values):
+            out[f"axis_{kind}_{unit}"] = np.array(
+                [np.nan if v is None else float(v) for v in values]
+            )
+            own |= {f"{kind}_{ax}" for ax, v in zip("xyz", values) if v is not None}
+    env = d.get("limits.envelope_mm")
+    if env is not None:
+        out["envelope_m"] = np.array([to_si("limits.envelope_mm", float(v)) for v in env])
+    out["own"] = frozenset(own)
+    return out
+
+
 #: optimiser row / bound name (optimize.problem, optimize.physics) -> the design key it bounds.
 #: Per-axis and per-tissue rows (``current_x``, ``safety_factor[sample2]``) map by their stem.
 _CONSTRAINT_KEYS = {
@@ -162,6 +183,7 @@ _CONSTRAINT_KEYS = {
     "field_exposure": "limits.field_exposure",
     "speed": "requirements.min_speed_mm_s",
     "spiral_turns": "requirements.min_spiral_turns",
+    "wall_strain": "requirements.min_wall_strain",
     "safety_factor": "requirements.min_safety_factor",
     "margin": "margin_Nm",
     "self_lock": "optimize.helical_angle_max_deg",
@@ -173,6 +195,13 @@ _CONSTRAINT_KEYS = {
     "stepout_probability": "requirements.max_stepout_probability",
     "copper_mass": "limits.copper_mass_kg",
     "bore_clearance": "coils.min_clearance_mm",
+    "envelope": "limits.envelope_mm",
+}
+#: per-pair amplifier rows (``axis_voltage_y``) -> their design key, by axis
+_CHANNEL_KEYS = {
+    "axis_current": "limits.{}.current_A",
+    "axis_voltage": "limits.{}.voltage_V",
+    "axis_power": "limits.{}.power_W",
 }
 
 
@@ -195,6 +224,9 @@ def constraint_key(name: str) -> str:
     stem = name.split("[", 1)[0].split("@", 1)[0]
     if stem in _CONSTRAINT_KEYS:
         return _CONSTRAINT_KEYS[stem]
+    head, _, axis = stem.rpartition("_")
+    if head in _CHANNEL_KEYS and axis in ("x", "y", "z"):
+        return _CHANNEL_KEYS[head].format(axis)
     hardware = {hw_name: key for key, (hw_name, _) in _HARDWARE_NAMES.items()}
     if stem in hardware:  # a freed key at the edge of its box
         return "optimize.free." + hardware[stem]
@@ -336,7 +368,13 @@ def optimum_design_toml(design: Design, result: Any) -> str:
 
 
 def bore_radius_m(d: Design) -> float:
-    """Radius of the bore the packs' inner faces keep ``coils.min_clearance_mm`` from:
-    half ``requirements.min_bore_m`` if set, else the workspace sphere's radius, m."""
-    bore = d.get("requirements.min_bore_m")
-    return 0.5 * float(bore) if bore is not None else float(d["workspace.radius_m"])
+    """Radius of the sphere the packs' inner faces keep ``coils.min_clearance_mm`` from: the
+    workspace sphere's, m.
+
+    Not ``requirements.min_bore_m``: that key is the least clear diameter between the packs'
+    inner faces (2R − h) a sizing keeps, and its default is the design's own, so the key left
+    out and the key set to its default size the same coils (issue 26). Half the key here made a
+    default entered by hand ask for ``coils.min_clearance_mm`` more than the design has on each
+    side (least power 160.6 W -> 302.8 W).
+    """
+    return float(d["workspace.radius_m"])

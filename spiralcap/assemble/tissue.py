@@ -25,6 +25,10 @@ def _overrides() -> dict[str, tuple[str, float]]:
     }
 
 
+#: The patient's anatomy: keys that apply to every tissue set the design is checked against.
+ANATOMY_KEYS = ("lumen_diameter_mm", "wall_thickness_mm")
+
+
 def build_tissues(design: Mapping[str, Any]) -> list[TissueParameters]:
     """The tissue sets a design asks for, in SI.
 
@@ -38,25 +42,35 @@ def build_tissues(design: Mapping[str, Any]) -> list[TissueParameters]:
     Returns
     -------
     list of TissueParameters
-        First the preset with every explicit ``tissue.*`` override applied (named after the
-        preset, with the overridden keys listed), then one unmodified preset for each name in
-        ``tissue.worst_case_presets``; every set's moduli and viscosities times
-        ``tissue.scale`` (a deterministic multiplier on every resistive torque).
+        First the preset with every explicit material override (``E1_kPa`` ... ``eta2_kPa_s``,
+        ``friction_coefficient``) applied (named after the preset, with the overridden keys
+        listed), then one preset for each name in ``tissue.worst_case_presets`` with its own
+        material constants. The anatomy (``tissue.lumen_diameter_mm``,
+        ``tissue.wall_thickness_mm``), when given, is the patient's: it applies to every set.
+        Every set's moduli and viscosities are times ``tissue.scale`` (a deterministic
+        multiplier on every resistive torque).
     """
     base_name = design.get("tissue.preset", "zhou2013-sample2")
     base = torque_model.preset(base_name)
-    changes: dict[str, float] = {}
+    material: dict[str, float] = {}
+    anatomy: dict[str, float] = {}
     given: list[str] = []
     for key, (field, factor) in _overrides().items():
         value = design.get(f"tissue.{key}")
-        if value is not None:
-            changes[field] = float(value) * factor
+        if value is None:
+            continue
+        if key in ANATOMY_KEYS:
+            anatomy[field] = float(value) * factor
+        else:
+            material[field] = float(value) * factor
             given.append(key)
     if given:
-        base = base.replace(name=f"{base_name} + tissue.{{{', '.join(given)}}}", **changes)
+        base = base.replace(name=f"{base_name} + tissue.{{{', '.join(given)}}}", **material)
     tissues = [base]
     for name in design.get("tissue.worst_case_presets", []) or []:
         tissues.append(torque_model.preset(name))
+    if anatomy:  # the patient's lumen and wall, whichever material the set describes
+        tissues = [t.replace(**anatomy) for t in tissues]
     scale = float(design.get("tissue.scale", 1.0))
     if scale != 1.0:  # every set alike: the resistive torque is linear in the factor
         tissues = [t.scaled(scale, f"{t.name} × tissue.scale {scale:g}") for t in tissues]

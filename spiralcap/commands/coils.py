@@ -85,7 +85,10 @@ def _cooling_words(p: dict[str, Any]) -> str:
         f"{h:.3g}" if math.isfinite(h) else "undefined"
         for h in (op[ax].get("convection_coefficient_W_m2K", math.nan) for ax in "xyz")
     )
-    return f"{p['cooling']} convection h = {hs} W/(m²·K) (x, y, z)"
+    return (
+        f"{p['cooling']} convection h_c = {hs} W/(m²·K) (x, y, z; at the surface temperatures "
+        "of the table below)"
+    )
 
 
 def _hardware_table(axes: list[dict[str, Any]]) -> str:
@@ -100,7 +103,7 @@ def _hardware_table(axes: list[dict[str, Any]]) -> str:
             "pack_d_mm",
             "wire_m",
             "Cu_kg",
-            "mT_per_A",
+            "loop_mT_per_A",
             "L_mH",
             "F_room",
         ],
@@ -200,7 +203,7 @@ def _clearance_lines(p: dict[str, Any]) -> list[str]:
         f"winding packs as solids (axial width x radial depth), least clearance allowed "
         f"{need * 1e3:.4g} mm (coils.min_clearance_mm):",
         *(f"  {k}: {v * 1e3:.4g} mm  {mark(v)}" for k, v in cl.items()),
-        f"  inner faces to the bore (radius {p['bore_radius_m']:.4g} m): "
+        f"  inner faces to the workspace sphere (radius {p['bore_radius_m']:.4g} m): "
         f"{p['bore_clearance_m'] * 1e3:.4g} mm  {mark(p['bore_clearance_m'])}",
         f"copper: {p['copper_mass_kg']:.4g} kg in the three pairs",
     ]
@@ -280,7 +283,8 @@ def _text(p: dict[str, Any], bom: str = "") -> str:
         "largest current each pair may carry, worst heading (current, voltage, hot spot):",
         limits,
         "",
-        "the pairs:",
+        "the pairs (loop_mT_per_A: centre field per ampere with each coil one loop at its mean "
+        "radius, the field model):",
         _hardware_table(axes),
         "",
         *_rating_lines(p),

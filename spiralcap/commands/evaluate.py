@@ -32,11 +32,25 @@ def check_words(c, key: str) -> str:
     return f"{value} {c.sense} {with_unit(f'{c.allowed * factor:.4g}', unit)}"
 
 
+def tissue_line(ev) -> str:
+    """Each tissue set with the strain the spiral stretches its wall by, or that it does not."""
+    parts = [
+        f"{name} {100 * s:.3g} %" if s > 0 else f"{name}: NOT TOUCHED (strain {100 * s:.3g} %)"
+        for name, s in zip(ev.tissue_names, ev.wall_strains)
+    ]
+    note = (
+        " (material overrides reach the first set only)"
+        if any("+ tissue.{" in name for name in ev.tissue_names)
+        else ""
+    )
+    return "wall strain         " + ", ".join(parts) + note
+
+
 def format_evaluation(ev) -> str:
     """Readable summary of an :class:`optimize.Evaluation`."""
     from spiralcap.assemble.system import check_key
     from spiralcap.commands._common import format_table
-    from spiralcap.presentation import readable, step_out_words
+    from spiralcap.presentation import model_domain_text, readable, step_out_words
     from spiralcap.serialize import _step_out
 
     mnm = 1e3
@@ -62,7 +76,9 @@ def format_evaluation(ev) -> str:
         "currents            "
         + ", ".join(f"{ax} {i:.4g} A" for ax, i in zip("xyz", ev.current_amplitudes_A)),
         f"magnetic torque     {ev.magnetic_torque_Nm * mnm:.4g} mN·m (synchronous, worst point)",
-        f"resistive torque    {ev.resistive_torque_Nm * mnm:.4g} mN·m ({ev.worst_tissue})",
+        f"resistive torque    {ev.resistive_torque_Nm * mnm:.4g} mN·m ({ev.worst_tissue}; "
+        f"{ev.weight_friction_Nm * mnm:.3g} mN·m of it the friction of the capsule's weight)",
+        tissue_line(ev),
         f"thrust torque       {ev.thrust_torque_Nm * mnm:.4g} mN·m"
         + (
             " (the spiral self-locks: no finite torque pushes the load)"
@@ -79,7 +95,8 @@ def format_evaluation(ev) -> str:
             ev.max_frequency_limited_by,
             ev.field_limited_by == "fixed",
         ),
-        f"forward speed       {ev.speed_m_s * 1e3:.4g} mm/s, spiral turns {ev.spiral_turns:.3g}",
+        f"forward speed       {ev.speed_m_s * 1e3:.4g} mm/s, spiral turns {ev.spiral_turns:.3g}"
+        + ("" if ev.engaged else " (the spiral does not stretch every wall: no grip, no screw)"),
         f"copper              {ev.copper_mass_kg:.4g} kg ("
         + ", ".join(f"{ax} {m:.4g}" for ax, m in zip("xyz", ev.copper_masses_kg))
         + ")",
@@ -88,6 +105,7 @@ def format_evaluation(ev) -> str:
             ["check", "key", "value against allowed", "ok"],
             [check_row(c) for c in ev.checks],
         ),
+        model_domain_text(ev.extrapolations),
         "",
         "feasible: "
         + (

@@ -7,9 +7,13 @@ ratios -- the calibration factor, all a 0.5-3 Hz curve can pin down.
 The CSV has a header row with ``frequency_hz`` and ``torque_mNm`` and, optionally,
 ``helical_angle_deg`` (else every row takes the design's ``capsule.spiral.helical_angle_deg``);
 other columns are ignored, blank lines and lines starting with ``#`` are skipped. Lumen, wall
-thickness and friction come from the design's tissue. The result's ``tissue`` table holds valid
-``tissue.*`` design keys: ``--set tissue.KEY=VALUE`` for each, or ``-o FILE.toml``, reproduces
-the fitted model.
+thickness and friction of the bench come from the design's tissue.
+
+A fit writes material, not anatomy: the result's ``tissue`` table (and ``[tissue]`` of
+``-o FILE.toml``) holds the five fitted constants only, so layering the file on a design
+(``evaluate my.toml FILE.toml``) changes its material and never its lumen, wall or friction;
+the bench's geometry is a record under ``[tissue.fit]`` (``bench_*`` keys, not read by the
+model). A fit whose optimiser did not converge writes nothing and exits 3.
 """
 
 from __future__ import annotations
@@ -193,12 +197,19 @@ def _cell(raw: str, col: str, where: str) -> float:
     return value
 
 
+#: Exit status of a fit whose optimiser did not converge (as an infeasible design).
+EXIT_NOT_CONVERGED = 3
+
+
 def run(args: argparse.Namespace) -> int:
+    import sys
+
     import numpy as np
 
     import torque_model as tm
     from spiralcap.assemble.tissue import build_tissues
     from spiralcap.commands.torque import check_plot_path, geometry_from_design
+    from torque_model.fit_quality import assess_fit
 
     if args.plot:
         check_plot_path(args.plot)
@@ -226,11 +237,11 @@ def run(args: argparse.Namespace) -> int:
         geometry_from_design(design),
         free=free,
     )
-    table = result.tissue.as_design_table()
+    quality = assess_fit(result)
     outputs: dict[str, str | bytes] = {}
-    if args.output:
-        outputs[args.output] = tissue_toml(table, args.data, result)
-    if args.plot:
+    if args.output and result.success:
+        outputs[args.output] = tissue_toml(result, args.data, quality)
+    if args.plot and result.success:
         from spiralcap.figures.torque import figure_bytes, plot_fit
 
         outputs[args.plot] = figure_bytes(plot_fit, args.plot, result)[0]
@@ -238,18 +249,19 @@ def run(args: argparse.Namespace) -> int:
         from spiralcap.design import write_files_atomic
 
         write_files_atomic(outputs)  # both or neither
-    from torque_model.fit_quality import assess_fit
-
-    quality = assess_fit(result)
     if args.json:
-        payload = fit_payload(result, table, args.data, design.source)
-        payload["fit_quality"] = fit_quality_payload(quality)
-        print_json(payload)
-        return 0
-    _print_text(result, args.data, design.source, base.name, quality)
-    for path in (args.output, args.plot):
-        if path:
+        print_json(fit_payload(result, args.data, design.source, quality))
+    else:
+        _print_text(result, args.data, design.source, base.name, quality)
+        for path in outputs:
             print(f"wrote {path}")
+    if not result.success:
+        print(
+            "spiralcap fit: the optimiser did not converge "
+            f"({result.message.rstrip('.')}); nothing written",
+            file=sys.stderr,
+        )
+        return EXIT_NOT_CONVERGED
     return 0
 
 
@@ -276,13 +288,50 @@ def _notes(flags: tuple[str, ...]) -> list[str]:
     return [pattern.sub(key, f) for f in flags]
 
 
+def constants_table(result: Any) -> dict[str, float]:
+    """The five constants of the fit as ``tissue.*`` design keys (kPa, kPa·s).
+
+    All five, fitted or held (times ``scale`` when it is fitted), as the fit returns them:
+    the fitted curve needs every one, a held constant taken from whatever preset a layered design
+    names would change the curve, and ``tissue.scale`` would also multiply the worst-case
+    presets. Lumen, wall thickness and friction are the bench's (:func:`bench_record`).
+    """
+    full = result.tissue.as_design_table()
+    return {_DISPLAY[k][0]: float(full[_DISPLAY[k][0]]) for k in tm_parameter_names()}
+
+
+def bench_record(result: Any) -> dict[str, Any]:
+    """The bench the constants were fitted on (design units), for ``[tissue.fit]`` ``bench_*``.
+
+    A record only: lumen, wall thickness and friction of the bench sample, the capsule and wire
+    diameters, the helical angles and the frequency range of the data.
+    """
+    import numpy as np
+
+    full = result.tissue.as_design_table()
+    angles = sorted({float(f"{math.degrees(float(a)):.12g}") for a in result.helical_angle_rad})
+    freq = np.asarray(result.frequency_hz, dtype=float)
+    return {
+        "lumen_diameter_mm": float(full["lumen_diameter_mm"]),
+        "wall_thickness_mm": float(full["wall_thickness_mm"]),
+        "friction_coefficient": float(full["friction_coefficient"]),
+        "capsule_diameter_mm": float(f"{result.geometry.body_diameter_m * 1e3:.12g}"),
+        "wire_diameter_mm": float(f"{result.geometry.wire_diameter_m * 1e3:.12g}"),
+        "helical_angles_deg": angles,
+        "frequency_range_hz": [float(freq.min()), float(freq.max())],
+    }
+
+
 def fit_payload(
-    result: Any, table: dict[str, float], data_path: str, design_source: str
+    result: Any, data_path: str, design_source: str, quality: Any = None
 ) -> dict[str, Any]:
     """The fit as a JSON-ready mapping (design units: kPa, kPa·s, mm, mN·m).
 
     Every interval is the log-space one (positive); a parameter the data do not bound at all
-    has ``identifiable`` false and no ``ci95``.
+    has ``identifiable`` false and no ``ci95``. ``tissue`` holds the five constants only (what
+    ``-o`` writes into ``[tissue]``), ``bench`` the bench's record; ``model_follows_data`` and
+    ``pinned_down`` are the verdicts (with ``quality``, a
+    :class:`torque_model.fit_quality.FitQuality`).
     """
     params = {}
     for name in result.free:
@@ -300,10 +349,12 @@ def fit_payload(
             lo, hi = result.ci95[name]
             entry["ci95"] = [lo * factor, hi * factor]
         params[key] = entry
-    return {
-        "tissue": table,
+    out: dict[str, Any] = {
+        "tissue": constants_table(result),
+        "bench": bench_record(result),
         "fitted": [_DISPLAY[n][0] for n in result.free],
         "parameters": params,
+        "pinned_down": {_DISPLAY[n][0]: not result.flags[n] for n in result.free},
         "not_pinned_down": [_DISPLAY[n][0] for n in result.not_pinned_down],
         "data": {
             "frequency_hz": result.frequency_hz,
@@ -316,12 +367,17 @@ def fit_payload(
         "residual_std_basis": "rms" if result.dof <= 0 else "dof",
         "relative_residuals": result.relative,
         "dof": result.dof,
+        "effective_parameters": result.effective_parameters,
         "condition_number": result.condition_number,
         "success": result.success,
         "message": result.message,
         "data_file": str(data_path),
         "design": design_source,
     }
+    if quality is not None:
+        out["model_follows_data"] = bool(quality.follows_data)
+        out["fit_quality"] = fit_quality_payload(quality)
+    return out
 
 
 def residual_std(result: Any) -> float:
@@ -345,36 +401,59 @@ def _num(value: float, factor: float = 1.0) -> str:
 
 
 def fit_quality_payload(quality: Any) -> dict[str, Any]:
-    """:class:`torque_model.fit_quality.FitQuality` as JSON (``verdict`` in words)."""
+    """:class:`torque_model.fit_quality.FitQuality` as JSON (``verdict`` in words, the
+    lack-of-fit test with ``tested`` and ``passed``)."""
     from dataclasses import asdict
 
     out = asdict(quality)
     out["problems"] = list(quality.problems)
-    out["verdict"] = (
-        "the model does not follow these data"
-        if not quality.follows_data
-        else (
-            "the model follows these data"
-            + ("" if quality.plausible else ", but the values are implausible")
-        )
-    )
+    lof = quality.lack_of_fit
+    out["lack_of_fit"] = {
+        **asdict(lof),
+        "tested": lof.tested,
+        "passed": lof.passed,
+        "alpha": _lof_alpha(),
+    }
     return out
 
 
-def tissue_toml(table: dict[str, float], data_path: str, result: Any) -> str:
-    """The fitted tissue as a design-file ``[tissue]`` table, with provenance comments."""
+def _lof_alpha() -> float:
+    from torque_model.fit_quality import LACK_OF_FIT_ALPHA
+
+    return LACK_OF_FIT_ALPHA
+
+
+def tissue_toml(result: Any, data_path: str, quality: Any = None) -> str:
+    """The fit as a design-file fragment: ``[tissue]`` the five constants, ``[tissue.fit]`` the
+    bench's record (``bench_*``, not read by the model) and the covariance, with provenance."""
     loose = ", ".join(_DISPLAY[n][0] for n in result.not_pinned_down) or "none"
     fitted = ", ".join(_DISPLAY[n][0] for n in result.free)
     lines = [
         f"# spiralcap fit of {data_path}: {result.frequency_hz.size} points, "
         f"residual std {residual_std(result):.3g} (relative)",
+    ]
+    lines.append(f"# optimiser: {result.message}")
+    if quality is not None:
+        lines.append(f"# verdict: {quality.verdict}")
+    lines += [
         f"# fitted: {fitted}; the other constants are the design's tissue"
         + (" times scale" if "scale" in result.free else ""),
         f"# not pinned down by the data: {loose}",
+        "# [tissue] holds the material only: layered on a design (spiralcap evaluate my.toml",
+        "# THIS.toml) it keeps the design's lumen, wall and friction; the bench's are recorded",
+        "# under [tissue.fit] and not used by the model.",
         "",
         "[tissue]",
     ]
-    lines += [f"{k} = {float(v)!r}" for k, v in table.items()]
+    lines += [f"{k} = {float(v)!r}" for k, v in constants_table(result).items()]
+    lines += ["", "[tissue.fit]", "# the bench the constants were fitted on (a record)"]
+    for key, value in bench_record(result).items():
+        text = (
+            "[" + ", ".join(repr(float(x)) for x in value) + "]"
+            if isinstance(value, list)
+            else repr(float(value))
+        )
+        lines.append(f"bench_{key} = {text}")
     lines += covariance_toml(result)
     return "\n".join(lines) + "\n"
 
@@ -394,10 +473,11 @@ def covariance_log(result: Any) -> Any:
 
 
 def covariance_toml(result: Any) -> list[str]:
-    """``[tissue.fit]`` lines with ``covariance_log`` (tissue.uncertainty.covariance_from).
+    """``covariance_log`` lines of ``[tissue.fit]`` (tissue.uncertainty.covariance_from).
 
-    Layout: ``[tissue.fit]`` holding ``covariance_log``, a 5 x 5 list of rows over ln(E1, E2,
-    E3, eta1, eta2); the parameters it covers are named in the comment above it.
+    Layout: ``covariance_log``, a 5 x 5 list of rows over ln(E1, E2, E3, eta1, eta2), inside
+    the ``[tissue.fit]`` table :func:`tissue_toml` opens; the parameters it covers are named in
+    the comment above it.
     """
     cov = covariance_log(result)
     head = ["", "# covariance of ln(E1, E2, E3, eta1, eta2) from the fit, for"]
@@ -409,7 +489,7 @@ def covariance_toml(result: Any) -> list[str]:
     head.append(f"# carried by what the data pin down: {pinned}; rows and columns of constants")
     head.append("# held fixed or not pinned down are zero (give those a *_sigma_log if uncertain)")
     rows = ",\n".join("  [" + ", ".join(repr(float(x)) for x in r) + "]" for r in cov)
-    return [*head, "[tissue.fit]", f"covariance_log = [\n{rows},\n]"]
+    return [*head, f"covariance_log = [\n{rows},\n]"]
 
 
 def tm_parameter_names() -> tuple[str, ...]:
@@ -419,69 +499,42 @@ def tm_parameter_names() -> tuple[str, ...]:
     return tuple(PARAMETER_NAMES)
 
 
-def _print_text(
-    result: Any, data_path: str, design_source: str, base_name: str, quality: Any = None
-) -> None:
-    print(
-        f"tissue identification from {data_path} ({result.frequency_hz.size} points, "
-        f"{result.dof} residual degree{'' if result.dof == 1 else 's'} of freedom; lumen, wall "
-        "and friction from "
-        f"{base_name}, design: {design_source})"
-    )
+def _interval_text(result: Any, name: str, factor: float) -> str:
+    """A parameter's 95 % interval in the table, or why it has none."""
+    if result.identifiable(name):
+        lo, hi = result.ci95[name]
+        return f"[{lo * factor:.4g}, {hi * factor:.4g}]"
+    if result.dof <= 0:
+        return "unknown (no residual degree of freedom)"
+    return "not identifiable"
+
+
+def _parameter_rows(result: Any) -> list[list[Any]]:
     rows = []
     for name in result.free:
         key, factor, unit = _DISPLAY[name]
-        lo, hi = result.ci95[name]
         rows.append(
             [
                 key,
                 result.values[name] * factor,
                 unit,
                 math.exp(result.standard_errors_log[name]) if result.identifiable(name) else "-",
-                f"[{lo * factor:.4g}, {hi * factor:.4g}]"
-                if result.identifiable(name)
-                else "unknown (no residual degree of freedom)"
-                if result.dof <= 0
-                else "not identifiable",
+                _interval_text(result, name, factor),
                 "NOT pinned down" if result.flags[name] else "pinned down",
             ]
         )
-    print(
-        format_table(
-            ["parameter", "value", "unit", "std error ×/÷", "95 % interval", "status"], rows
-        )
+    return rows
+
+
+def _residual_rows(result: Any) -> list[list[Any]]:
+    points = zip(
+        result.frequency_hz,
+        result.helical_angle_rad,
+        result.torque_Nm,
+        result.predicted_Nm,
+        strict=True,
     )
-    held = [_DISPLAY[k][0] for k in tm_parameter_names() if k not in result.free]
-    if held:
-        times = " (times scale)" if "scale" in result.free else ""
-        print(f"held at the design's tissue{times}: {', '.join(held)}")
-    for name in result.not_pinned_down:
-        print(f"  {_DISPLAY[name][0]}: " + "; ".join(_notes(result.flags[name])))
-    fixed = result.tissue.as_design_table()
-    print(
-        f"fixed: lumen_diameter_mm = {fixed['lumen_diameter_mm']:.4g}, wall_thickness_mm = "
-        f"{fixed['wall_thickness_mm']:.4g}, friction_coefficient = "
-        f"{fixed['friction_coefficient']:.4g}"
-    )
-    loose = [_DISPLAY[n][0] for n in result.not_pinned_down]
-    follows = quality is None or quality.follows_data
-    if not follows:
-        print(
-            "THE MODEL DOES NOT FOLLOW THESE DATA -- the values above are the optimiser's last "
-            "point, not tissue properties:"
-        )
-        for why in quality.problems:
-            print(f"  - {why}")
-    elif quality is not None and not quality.plausible:
-        print("IMPLAUSIBLE: the model follows these data, but:")
-        for why in quality.problems:
-            print(f"  - {why}")
-    if loose and follows:
-        print(
-            f"NOT PINNED DOWN by these data: {', '.join(loose)} -- the values above reproduce "
-            "the measured curve but are not unique; do not read them as tissue properties."
-        )
-    res_rows = [
+    return [
         [
             i + 1,
             float(f),
@@ -490,21 +543,85 @@ def _print_text(
             float(m) * 1e3,
             100.0 * (float(m) - float(y)) / float(y),
         ]
-        for i, (f, a, y, m) in enumerate(
-            zip(
-                result.frequency_hz,
-                result.helical_angle_rad,
-                result.torque_Nm,
-                result.predicted_Nm,
-                strict=True,
-            )
-        )
+        for i, (f, a, y, m) in enumerate(points)
     ]
+
+
+def _verdict_lines(result: Any, quality: Any) -> list[str]:
+    """The verdict in plain words: whether the model follows the data (the lack-of-fit test),
+    then what is pinned down -- one story, as the JSON's ``model_follows_data`` and
+    ``pinned_down`` tell it."""
+    if quality is None:
+        return []
+    lof = quality.lack_of_fit
+    loose = [_DISPLAY[n][0] for n in result.not_pinned_down]
+    pinned = [_DISPLAY[n][0] for n in result.pinned_down]
+    problems = [f"  - {why}" for why in quality.problems]
+    if not result.success:
+        return [
+            "NOT CONVERGED -- nothing written; the values above are the optimiser's last point, "
+            "not a fit:",
+            *problems,
+        ]
+    if quality.verdict == "too few points to test whether the model follows these data":
+        return ["NOT TESTED whether the model follows these data:", *problems]
+    if not quality.follows_data:
+        narrow = (
+            f" The narrow intervals of {', '.join(pinned)} assume the model is right."
+            if pinned
+            else ""
+        )
+        return [
+            "THE MODEL DOES NOT FOLLOW THESE DATA -- the values above are the best this model's "
+            f"shape can do, not tissue properties.{narrow}",
+            *problems,
+        ]
+    lines = [
+        f"The model follows these data: lack-of-fit F test against the {lof.test} (noise "
+        f"{100 * lof.reference_residual_std:.3g} %), F = {lof.f_statistic:.3g}, "
+        f"p = {lof.p_value:.2g} >= {_lof_alpha():g}."
+    ]
+    if not quality.plausible:
+        lines += ["IMPLAUSIBLE: the model follows these data, but:", *problems]
+    if loose:
+        lines.append(
+            f"NOT PINNED DOWN by these data: {', '.join(loose)} -- the values above reproduce "
+            "the measured curve but are not unique; do not read them as tissue properties."
+        )
+    else:
+        lines.append(f"Pinned down by these data: {', '.join(pinned)}.")
+    return lines
+
+
+def _print_text(
+    result: Any, data_path: str, design_source: str, base_name: str, quality: Any = None
+) -> None:
+    print(
+        f"tissue identification from {data_path} ({result.frequency_hz.size} points, "
+        f"{result.dof} residual degree{'' if result.dof == 1 else 's'} of freedom; bench lumen, "
+        f"wall and friction from {base_name}, design: {design_source})"
+    )
+    headers = ["parameter", "value", "unit", "std error ×/÷", "95 % interval", "status"]
+    print(format_table(headers, _parameter_rows(result)))
+    held = [_DISPLAY[k][0] for k in tm_parameter_names() if k not in result.free]
+    if held:
+        times = " (times scale)" if "scale" in result.free else ""
+        print(f"held at the design's tissue{times}: {', '.join(held)}")
+    for name in result.not_pinned_down:
+        print(f"  {_DISPLAY[name][0]}: " + "; ".join(_notes(result.flags[name])))
+    bench = bench_record(result)
+    print(
+        f"bench (a record, not written into [tissue]): lumen_diameter_mm = "
+        f"{bench['lumen_diameter_mm']:.4g}, wall_thickness_mm = {bench['wall_thickness_mm']:.4g}, "
+        f"friction_coefficient = {bench['friction_coefficient']:.4g}"
+    )
+    for line in _verdict_lines(result, quality):
+        print(line)
     print()
     print(
         format_table(
             ["row", "frequency_hz", "helical_angle_deg", "torque_mNm", "fitted_mNm", "residual_%"],
-            res_rows,
+            _residual_rows(result),
         )
     )
     basis = "" if result.dof > 0 else ", root mean square: no residual degree of freedom is left"
@@ -512,4 +629,8 @@ def _print_text(
         f"residual std {100 * residual_std(result):.3g} % (relative{basis}); optimiser: "
         f"{result.message}"
     )
-    print("to use: --set tissue.KEY=VALUE for each key of the JSON 'tissue' table, or -o FILE")
+    print(
+        "to use: layer -o FILE on a design (spiralcap evaluate my.toml FILE: the material "
+        "changes, the design's lumen, wall and friction stay), or --set tissue.KEY=VALUE for "
+        "each key of the JSON 'tissue' table"
+    )

@@ -130,8 +130,8 @@ def _shared_key_lines(res) -> list[str]:
 def format_result(res) -> str:
     """Readable summary of an :class:`optimize.OptimizationResult`."""
     from spiralcap.assemble.system import constraint_key, message_in_key_units
-    from spiralcap.commands.evaluate import safety_factor_text
-    from spiralcap.presentation import step_out_words
+    from spiralcap.commands.evaluate import safety_factor_text, tissue_line
+    from spiralcap.presentation import edge_text, model_domain_text, readable, step_out_words
     from spiralcap.serialize import _step_out
 
     ev = res.evaluation
@@ -161,6 +161,10 @@ def format_result(res) -> str:
             f"copper              {res.evaluation.copper_mass_kg:.4g} kg ("
             + ", ".join(f"{ax} {m:.4g}" for ax, m in zip("xyz", res.evaluation.copper_masses_kg))
             + ")",
+            tissue_line(ev),
+            model_domain_text(ev.extrapolations)
+            + (" (the optimum rests on this extrapolation)" if ev.extrapolations else "")
+            + edge_text(ev.calibration_edges),
             "binding limits"
             + (
                 " (of the continuous relaxation: the gains are those of the continuous bound):"
@@ -179,6 +183,7 @@ def format_result(res) -> str:
             lines += _hardware_lines(res)
     else:
         lines.append(message_in_key_units(res.message))
+        lines += _grip_binds(res)
         for s in res.shortfalls:
             label, factor = _ENGINEERING.get(s.unit, (s.unit, 1.0))
             if s.name == "margin":
@@ -197,6 +202,8 @@ def format_result(res) -> str:
                 u = f" {label}" if label else ""
                 key = constraint_key(s.name) or s.name
                 if key.startswith("limits."):  # a limit the closest design still breaks
+                    if key == "limits.envelope_mm":  # one key, three axes
+                        key = f"{key} ({readable(s.name)})"
                     lines.append(
                         f"  {key}: allows {s.needed / factor:.4g}{u}, the closest design "
                         f"reaches {s.best / factor:.4g}{u} (over by {s.short_by / factor:.4g}{u})"
@@ -207,6 +214,28 @@ def format_result(res) -> str:
                     f"{s.best / factor:.4g}{u} (short by {s.short_by / factor:.4g}{u})"
                 )
     return "\n".join(lines)
+
+
+def _grip_binds(res) -> list[str]:
+    """A line naming the engagement requirement where it binds at the closest design: the
+    spiral must stretch the wall (a small helical angle), which is what keeps the rest out of
+    reach (e.g. the speed, which needs a larger angle)."""
+    ev = res.evaluation
+    if ev is None:
+        return []
+    tight = [
+        c
+        for c in ev.checks
+        if c.name.startswith("wall_strain[") and abs(c.value / c.allowed - 1.0) <= 1e-3
+    ]
+    if not tight:
+        return []
+    need = tight[0].allowed
+    return [
+        f"  requirements.min_wall_strain binds there: for the spiral to stretch every wall by "
+        f"{100 * need:.3g} % (grip) the helical angle can be at most "
+        f"{ev.helical_angle_deg:.3g} deg, which holds the rest out of reach"
+    ]
 
 
 def _hardware_lines(res) -> list[str]:
@@ -239,6 +268,13 @@ def _turns(values: dict[str, float]) -> dict[str, float]:
     return {f"coils.{k.split('.')[0]}.turns": v for k, v in values.items() if k.endswith(".turns")}
 
 
+#: What a scenario objective maximises, in the robust lines (the key's name says p05).
+_ROBUST_OBJECTIVE_WORDS = {
+    "margin_p05": " (maximises CVaR05, the mean of the worst 5 % of the scenario margins, a lower "
+    "bound on their p05)"
+}
+
+
 def format_robust(rc) -> str:
     """Text lines for the scenarios of a robust optimum (:class:`spiralcap.robust.RobustCheck`)."""
     from spiralcap.robust import format_scenario_solve, robust_to_dict
@@ -250,7 +286,7 @@ def format_robust(rc) -> str:
     return "\n".join(
         [
             f"tissue scenarios    {ins.scenarios} (Sobol', seed {ins.seed}); objective "
-            f"{rc.objective}{cons}",
+            f"{rc.objective}{_ROBUST_OBJECTIVE_WORDS.get(rc.objective, '')}{cons}",
             f"in-sample           margin p05 {ins.margin_p05_Nm * 1e3:.4g} mN·m, CVaR05 "
             f"{ins.cvar_Nm * 1e3:.4g} mN·m, P(step-out) {100 * ins.stepout_probability:.3g} %",
             f"out-of-sample       margin p05 {oos.margin_percentiles_Nm['p05'] * 1e3:.4g} mN·m"

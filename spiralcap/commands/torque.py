@@ -66,6 +66,7 @@ def run(args: argparse.Namespace) -> int:
     import numpy as np
 
     import torque_model as tm
+    from spiralcap.assemble import build_capsule
     from spiralcap.assemble.tissue import build_tissues
 
     if args.plot:
@@ -97,14 +98,14 @@ def run(args: argparse.Namespace) -> int:
             geometry.starts,
         )
     )
-    rows = []
-    for tissue in tissues:
-        tau = np.asarray(
-            tm.resistive_torque_Nm(math.radians(angle_deg), f, tissue, geometry), dtype=float
+    capsule = build_capsule(design)
+    radius = float(tm.contact_radius_m(geometry.body_diameter_m, geometry.wire_diameter_m))
+    rows = [_tissue_row(tissue, math.radians(angle_deg), f, geometry) for tissue in tissues]
+    for row, tissue in zip(rows, tissues):
+        weight = float(
+            tm.weight_friction_torque_Nm(capsule.mass_kg, tissue.friction_coefficient, radius)
         )
-        rows.append(
-            {"tissue": tissue.name, "torque_Nm": tau.tolist(), "torque_mNm": (tau * 1e3).tolist()}
-        )
+        row["weight_friction_mNm"] = weight * 1e3
     if args.plot:
         from spiralcap.figures.torque import plot_torque_vs_frequency, save_figure
 
@@ -135,9 +136,48 @@ def run(args: argparse.Namespace) -> int:
     headers = ["frequency_hz"] + [f"torque_mNm [{r['tissue']}]" for r in rows]
     table = [[float(fi)] + [r["torque_mNm"][i] for r in rows] for i, fi in enumerate(f)]
     print(format_table(headers, table))
+    for r in rows:
+        print(_contact_words(r))
+    print(
+        f"(the table is the paper's tissue model; a capsule of {capsule.mass_kg * 1e3:.3g} g "
+        "lying on the wall adds the friction of its weight, "
+        + ", ".join(f"{r['weight_friction_mNm']:.3g} mN·m in {r['tissue']}" for r in rows)
+        + ", which evaluate and optimize include)"
+    )
     if args.plot:
         print(f"wrote {args.plot}")
     return 0
+
+
+def _tissue_row(tissue: Any, alpha_rad: float, f: Any, geometry: Any) -> dict[str, Any]:
+    """One tissue set's torques (N·m and mN·m at each frequency) and its contact."""
+    import numpy as np
+
+    import torque_model as tm
+
+    tau = np.asarray(tm.resistive_torque_Nm(alpha_rad, f, tissue, geometry), dtype=float)
+    strain = float(tm.wall_strain(alpha_rad, tissue, geometry))
+    return {
+        "tissue": tissue.name,
+        "torque_Nm": tau.tolist(),
+        "torque_mNm": (tau * 1e3).tolist(),
+        "lumen_diameter_mm": tissue.lumen_diameter_m * 1e3,
+        "wall_thickness_mm": tissue.wall_thickness_m * 1e3,
+        "wall_strain": strain,
+        "engaged": strain > 0,
+    }
+
+
+def _contact_words(row: dict[str, Any]) -> str:
+    """Whether the spiral touches a tissue set's wall, in words."""
+    where = f"{row['tissue']} (lumen {row['lumen_diameter_mm']:.4g} mm)"
+    if row["engaged"]:
+        return f"{where}: the spiral stretches the wall by {100 * row['wall_strain']:.3g} %"
+    return (
+        f"{where}: NOT TOUCHED: the spiral does not reach the wall (strain "
+        f"{100 * row['wall_strain']:.3g} %), so the model gives no tissue torque and the "
+        "spiral cannot screw the capsule forward"
+    )
 
 
 def check_plot_path(path: str) -> None:

@@ -89,6 +89,8 @@ def format_study(st: Study, design_source: str = "") -> str:
         f"(magnetic torque {r.available_torque_Nm * 1e3:.4g} mN·m)",
         f"step-out prob.      {100 * r.stepout_probability:.4g} % "
         f"(95 % interval {100 * lo:.3g}-{100 * hi:.3g} %)",
+        f"no-grip prob.       {100 * r.no_grip_probability:.4g} % (a sampled lumen as wide as "
+        "the spiral: no grip, no screw; exact)",
         "margin, mN·m        " + "  ".join(f"{k} {v * 1e3:.4g}" for k, v in mp.items()),
         "speed, mm/s         "
         + "  ".join(f"{k} {v * 1e3:.4g}" for k, v in sp.items())

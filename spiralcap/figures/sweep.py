@@ -23,7 +23,7 @@ __all__ = ["MarginMapDrawn", "SweepDrawn", "draw_sweep", "plot_margin_map"]
 SHOWN_COLUMNS: dict[str, tuple[str, float]] = {
     "copper_mass_kg": ("copper (kg)", 1.0),
     "power_W": ("copper loss (W)", 1.0),
-    "margin_p05_Nm": ("p05 margin (mN·m)", 1e3),
+    "cvar05_Nm": ("CVaR₀.₀₅ (mN·m)", 1e3),  # of the margin: the mean of its worst 5 %
     "margin_Nm": ("margin (mN·m)", 1e3),
     "safety_factor": ("safety factor", 1.0),
     "field_amplitude_T": ("field (mT)", 1e3),

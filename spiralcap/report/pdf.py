@@ -98,6 +98,11 @@ _PREAMBLE = r"""
 CHAR_EM = 0.5
 #: Type size of the tables, pt (``compact``: the long reference tables).
 TABLE_PT, COMPACT_PT = 8.5, 6.5
+#: A table of at most this many rows is not split across pages (nor from its caption).
+KEEP_TOGETHER_ROWS = 16
+#: Figures print at this share of their drawn width (their text stays above 6 pt): a page
+#: holds a figure and its discussion more often.
+FIGURE_SCALE = 1.0
 #: Type size of preformatted text (the design file), pt.
 CODE_PT = 6.5
 #: A word longer than this (characters) does not widen its column: it breaks at its dots.
@@ -296,15 +301,18 @@ class _Writer:
         if not t.caption:
             return f"#{table}\n"
         label = f" <{_label(t.id)}>" if t.id else ""
-        return f"#figure({table}, caption: [{s(t.caption)}], kind: table){label}\n"
+        fig = f"#figure({table}, caption: [{s(t.caption)}], kind: table){label}\n"
+        if len(rows) <= KEEP_TOGETHER_ROWS:  # a short table stays with its caption
+            return f"#block(breakable: false)[{fig}]\n"
+        return fig
 
     def figure(self, block: FigureBlock) -> str:
         key = f"fig{len(self.figures)}"
         self.figures[key] = self.svgs[block.id]
-        width = min(block.size_in[0], TEXT_WIDTH_IN)
+        width = min(block.size_in[0], TEXT_WIDTH_IN) * FIGURE_SCALE
         return (
             f'#figure(image(bytes(sys.inputs.at("{key}")), format: "svg", width: {width:.3f}in), '
-            f"caption: [{self.t.s(block.caption)}]) <{_label(block.id)}>\n"
+            f"caption: [{self.t.s(block.caption)}], placement: auto) <{_label(block.id)}>\n"
         )
 
     def block(self, block: Any) -> str:

@@ -74,6 +74,18 @@ _VISCOELASTIC = ("E1_kPa", "E2_kPa", "E3_kPa", "eta1_kPa_s", "eta2_kPa_s")
 def check_parameter_set(values: Mapping[str, Any], source: str) -> dict[str, float]:
     """Return ``values`` as floats if it has exactly :data:`KEYS`, each a finite number > 0.
 
+    Parameters
+    ----------
+    values : mapping of str to float
+        A parameter set, the unit in each key name (kPa, kPa·s, mm; friction dimensionless).
+    source : str
+        Prefix of the key an error names (``"zhou2013"``, ``"tissue"``).
+
+    Returns
+    -------
+    dict of str to float
+        The same set as floats, the unit in each key name, in :data:`KEYS` order.
+
     Raises
     ------
     InputError
@@ -97,7 +109,20 @@ def check_parameter_set(values: Mapping[str, Any], source: str) -> dict[str, flo
 
 
 def calibrated(values: Mapping[str, Any], factor: float = CALIBRATION_FACTOR) -> dict[str, float]:
-    """A published set with every modulus and viscosity multiplied by ``factor``."""
+    """A published set with every modulus and viscosity multiplied by ``factor``.
+
+    Parameters
+    ----------
+    values : mapping of str to float
+        A set with exactly :data:`KEYS`, the unit in each key name (kPa, kPa·s, mm).
+    factor : float
+        Calibration factor on the moduli and viscosities, dimensionless.
+
+    Returns
+    -------
+    dict of str to float
+        The calibrated set, the unit in each key name (geometry and friction unchanged).
+    """
     out = check_parameter_set(values, "zhou2013")
     return {k: (v * factor if k in _VISCOELASTIC else v) for k, v in out.items()}
 
@@ -110,5 +135,20 @@ SAMPLE3_CALIBRATED = calibrated(SAMPLE3)
 def calibrated_tissue(
     values: Mapping[str, Any], name: str, factor: float = CALIBRATION_FACTOR
 ) -> TissueParameters:
-    """The calibrated set as a :class:`torque_model.TissueParameters` (SI)."""
+    """The calibrated set as a :class:`torque_model.TissueParameters` (SI).
+
+    Parameters
+    ----------
+    values : mapping of str to float
+        A set with exactly :data:`KEYS`, the unit in each key name (kPa, kPa·s, mm).
+    name : str
+        Name the tissue carries (a preset name).
+    factor : float
+        Calibration factor on the moduli and viscosities, dimensionless.
+
+    Returns
+    -------
+    TissueParameters
+        The calibrated set in SI (Pa, Pa·s, m).
+    """
     return TissueParameters.from_design_table(calibrated(values, factor), name=name)

@@ -118,9 +118,11 @@ def build(ctx: Context) -> Section:
             Strong("Coil field"),
             " — exact off-axis field of each circular filament from the "
             "complete elliptic integrals K(m), E(m) (Smythe [3], in the notation of Simpson et al. "
-            "[4]), with a series form of the radial term near the axis; each winding pack is a "
-            "Gauss–Legendre grid of filaments; the field is linear in the three currents, "
-            "B(p) = G(p)·I. magpylib [12] is the independent reference in the tests.",
+            "[4]), with a series form of the radial term near the axis; each coil is one "
+            "filament at the mean radius of its winding pack (the pack's own centre field, its "
+            "current spread over a Gauss–Legendre grid, is in coils --json as "
+            "pack_field_per_amp_T_per_A for comparison); the field is linear in the three "
+            "currents, B(p) = G(p)·I. magpylib [12] is the independent reference in the tests.",
         ],
         [
             Strong("Inductance and resistance"),

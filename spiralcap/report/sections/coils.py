@@ -19,7 +19,12 @@ SIZING_ROWS: tuple[tuple[str, str, str, float], ...] = (
     ("winding_pack_depth_m", "winding-pack depth (radial)", "mm", 1e3),
     ("wire_length_m", "wire length per pair", "m", 1.0),
     ("copper_mass_kg", "copper mass per pair", "kg", 1.0),
-    ("field_per_amp_T_per_A", "centre field per ampere", "mT/A", 1e3),
+    (
+        "field_per_amp_T_per_A",
+        "centre field per ampere (each coil one loop at its mean radius: the field model)",
+        "mT/A",
+        1e3,
+    ),
     ("resistance_ohm", "resistance of the pair (mean winding temperature)", "Ω", 1.0),
     ("self_inductance_H", "self inductance of one coil", "mH", 1e3),
     ("mutual_inductance_H", "mutual inductance of the two coils", "mH", 1e3),
@@ -33,7 +38,7 @@ SIZING_ROWS: tuple[tuple[str, str, str, float], ...] = (
     ("surface_max_temperature_C", "steady hottest surface at the current limit", "°C", 1.0),
     (
         "convection_coefficient_W_m2K",
-        "convection coefficient h (area-weighted, at the current limit)",
+        "convection coefficient h_c (area-weighted, at the steady mean surface temperature)",
         "W/(m²·K)",
         1.0,
     ),
@@ -67,6 +72,7 @@ def _sizing_table(ctx: Context) -> Table:
         caption="Coil sizing per axis (same numbers as `spiralcap coils --json`)",
         wrap=0,
         id="coil-table",
+        compact=True,  # ~35 rows of reference numbers: small type in the PDF
     )
 
 
@@ -138,7 +144,7 @@ def _build_paragraph(ctx: Context) -> Paragraph:
     parts += [
         ", and their inner faces keep ",
         ctx.num(f"{c}.bore_clearance_m", 1e3, "mm"),
-        " from the bore (radius ",
+        " from the workspace sphere (radius ",
         ctx.num(f"{c}.bore_radius_m", 1e3, "mm"),
         "); coils.min_clearance_mm asks for ",
         ctx.num(f"{c}.min_clearance_m", 1e3, "mm"),

@@ -1,0 +1,272 @@
+"""The spiral must grip the wall; the capsule's weight rubs on it; the anatomy is the patient's.
+
+A capsule whose equivalent diameter D' does not exceed the lumen gets no tissue torque from the
+Zhou 2013 model (eq. 6 clipped at zero) and cannot screw itself forward; such a design must not
+read as safe, and no optimiser may settle where the spiral only grazes the wall
+(``requirements.min_wall_strain``, an NLP row). Independent references: the strain and D' at
+their boundary on numpy and CasADi, the weight friction and the capsule mass by hand (a volume
+integral by scipy quadrature), the paper's stated torques.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import replace
+
+import casadi as ca
+import numpy as np
+import pytest
+from cli_outcome import run, run_json
+from scipy import integrate
+
+import capsule as cap
+import torque_model as tm
+from optimize import optimize_design
+from optimize import physics as ph
+from optimize.system import prepare
+from spiralcap.assemble import build_model
+from spiralcap.design import load_design
+from spiralcap.schema import KEYS
+
+#: The new user's capsule (issue report): 9 mm x 24 mm, 5 x 8 mm magnet, 0.8 mm spiral at 12
+#: deg, a 9.5 mm lumen, a 70 V / 40 A / 4.5 kW drive. D' = 9.296 mm < 9.5 mm.
+SMALL = [
+    "capsule.diameter_mm=9",
+    "capsule.length_mm=24",
+    "capsule.magnet.diameter_mm=5",
+    "capsule.magnet.length_mm=8",
+    "capsule.spiral.wire_diameter_mm=0.8",
+    "capsule.spiral.helical_angle_deg=12",
+    "tissue.lumen_diameter_mm=9.5",
+    "limits.voltage_V=70",
+    "limits.current_A=40",
+    "limits.power_W=4500",
+]
+SIX_KEYS = [
+    arg
+    for ax in "xyz"
+    for arg in (
+        "--free",
+        f"coils.{ax}.turns=100:800",
+        "--free",
+        f"coils.{ax}.wire_diameter_mm=0.8:3.0",
+    )
+]
+
+
+def _sets(values: list[str]) -> list[str]:
+    return [a for v in values for a in ("--set", v)]
+
+
+def test_strain_at_its_boundary_numpy_and_casadi_agree():
+    """D' = lumen +- eps: the strain changes sign there, numpy and CasADi agree to 1e-12, and
+    the tissue torque is zero exactly where the spiral does not touch."""
+    g = tm.PAPER_CAPSULE
+    alpha = math.radians(12.0)
+    d_prime = float(tm.equivalent_diameter_m(alpha, g.body_diameter_m, g.wire_diameter_m, 1))
+    a = ca.SX.sym("a")
+    for eps in (-1e-7, 1e-7):
+        tissue = replace(tm.preset("zhou2013-sample2"), lumen_diameter_m=d_prime + eps)
+        num = float(tm.wall_strain(alpha, tissue, g))
+        sym = float(ca.Function("s", [a], [tm.wall_strain(a, tissue, g)])(alpha))
+        assert abs(num - sym) <= 1e-12, "wall strain: numpy and CasADi paths agree to 1e-12"
+        expected = -eps / (d_prime + eps + tissue.wall_thickness_m)
+        assert num == pytest.approx(expected, rel=1e-6, abs=1e-15), (
+            "eq. 6 at D_after = D': (D' - lumen) / (lumen + wall), by hand"
+        )
+        torque = float(tm.torque_breakdown_Nm(alpha, 1.0, tissue, g)["wound"])
+        if eps > 0:
+            assert num < 0 and torque == 0.0, "lumen wider than D': no wound-section torque"
+        else:
+            assert num > 0 and torque > 0.0, "lumen narrower than D': the spiral presses in"
+
+
+def test_weight_friction_and_mass_by_hand():
+    """mu m g (D/2 + d_w) with the mass from a quadrature of the capsule's outer volume."""
+    d, length, d_mag, l_mag = 11e-3, 26e-3, 6e-3, 10e-3
+    r = d / 2
+
+    def area(z: float) -> float:  # cross-section at z along the axis, hemispherical ends
+        if z < r:
+            return math.pi * (r * r - (r - z) ** 2)
+        if z > length - r:
+            return math.pi * (r * r - (z - length + r) ** 2)
+        return math.pi * r * r
+
+    volume, _ = integrate.quad(area, 0.0, length, points=[r, length - r], epsabs=1e-16)
+    magnet = math.pi / 4 * d_mag**2 * l_mag
+    mass = 7500.0 * magnet + 1300.0 * (volume - magnet)
+    assert float(cap.mass_from_parts_kg(d, length, magnet)) == pytest.approx(mass, rel=1e-9), (
+        "capsule mass from its parts against a quadrature of its outer volume, 1e-9"
+    )
+    design = load_design()
+    model = prepare(build_model(design))
+    assert model.capsule.mass_kg == pytest.approx(mass, rel=1e-9), "the built-in capsule's mass"
+    by_hand = 0.28 * mass * 9.80665 * (r + 1e-3)
+    tissue = model.tissues[0]
+    assert float(ph.weight_friction_Nm(model.constants, tissue)) == pytest.approx(
+        by_hand, rel=1e-12
+    ), "mu m g (D/2 + d_w) for sample 2 (mu 0.28), by hand"
+    res = ph.required_torques_Nm(0.2, 1.0, model.constants, model.tissues, model.requirements)
+    stretch = tm.resistive_torque_Nm(0.2, 1.0, tissue, ph.contact_geometry(model.constants))
+    assert float(res[0][0]) == pytest.approx(float(stretch) + by_hand, rel=1e-12), (
+        "resistive torque = the paper's tissue model + the weight friction (added once)"
+    )
+
+
+def test_measured_mass_overrides_the_estimate():
+    model = prepare(build_model(load_design(None, ["capsule.mass_g=5"])))
+    assert model.constants.mass_kg == pytest.approx(5e-3, rel=1e-15), "capsule.mass_g in kg"
+
+
+def test_the_new_users_capsule_is_not_safe():
+    """evaluate: infeasible naming the engagement (both sets), no speed, tissue torque 0 but
+    resistance from the capsule's weight."""
+    ev = run_json(["evaluate", *_sets(SMALL)])
+    assert ev["feasible"] is False and ev["engaged"] is False
+    failed = {c["name"] for c in ev["checks"] if not c["ok"]}
+    assert {"wall_strain[zhou2013-sample2]", "wall_strain[zhou2013-sample3]"} <= failed, failed
+    keys = {c["key"] for c in ev["checks"] if c["name"].startswith("wall_strain")}
+    assert keys == {"requirements.min_wall_strain"}, "the checks are keyed by the requirement"
+    assert ev["speed_m_s"] == 0.0, "a spiral that does not grip does not screw forward"
+    assert ev["resistive_torque_Nm"] == pytest.approx(ev["weight_friction_Nm"], rel=1e-12)
+    assert ev["resistive_torque_Nm"] > 0, "resistance never 0 while the capsule lies on tissue"
+    rc, out, _ = run(["evaluate", *_sets(SMALL)])
+    assert rc == 0 and "NOT TOUCHED" in out and "no grip" in out
+
+
+def test_optimiser_cannot_reach_a_grazing_design():
+    """At the paper's lumen the angle that maximises the margin makes the spiral graze; the
+    row holds the strain at the requirement instead."""
+    model = build_model(load_design(None, ["requirements.min_wall_strain=0.03"]))
+    res = optimize_design(model)
+    assert res.status == "optimal"
+    strains = res.evaluation.wall_strains
+    assert min(strains) == pytest.approx(0.03, rel=1e-6), "the strain row binds at 0.03"
+    assert any(b.name.startswith("wall_strain[") for b in res.binding_limits)
+
+
+def test_infeasible_when_grip_and_speed_conflict():
+    rc, out, _ = run(["optimize", *_sets(SMALL)])
+    assert rc == 3 and "requirements.min_wall_strain binds" in out, out
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("objective", ["power", "copper_mass"])
+def test_sizing_grips_every_tissue_set(objective, tmp_path):
+    """Six-key sizing of the small capsule in a 9.1 mm lumen: the sized design stretches every
+    set's wall by at least the requirement and evaluates feasible."""
+    out = tmp_path / "sized.toml"
+    sets = [s for s in SMALL if "lumen" not in s] + [
+        "tissue.lumen_diameter_mm=9.1",
+        f"optimize.objective={objective}",
+    ]
+    rc, text, err = run(["optimize", *SIX_KEYS, *_sets(sets), "-o", str(out)])
+    assert rc == 0, text + err
+    ev = run_json(["evaluate", str(out)])
+    assert ev["feasible"] is True and ev["engaged"] is True
+    assert min(ev["wall_strains"]) >= 0.017 * (1 - 1e-6), "every set's wall stretched >= 1.7 %"
+
+
+def test_lumen_reaches_every_tissue_set():
+    one = run_json(["torque"])
+    two = run_json(["torque", "--set", "tissue.lumen_diameter_mm=10.5"])
+    for a, b in zip([one, *one["worst_case"]], [two, *two["worst_case"]]):
+        assert b["lumen_diameter_mm"] == pytest.approx(10.5, rel=1e-12)
+        assert b["torque_mNm"][0] > a["torque_mNm"][0], f"{b['tissue']}: narrower lumen, more"
+    model = build_model(load_design(None, ["tissue.lumen_diameter_mm=10.5"]))
+    assert {t.lumen_diameter_m for t in model.tissues} == {10.5e-3}
+    assert {t.friction_coefficient for t in model.tissues} == {0.28, 0.51}, (
+        "material constants stay per tissue set"
+    )
+
+
+def test_uncertainty_samples_centre_on_the_patients_lumen():
+    from optimize.uncertainty import TissueUncertainty, perturbed_tissues
+
+    model = build_model(load_design(None, ["tissue.lumen_diameter_mm=10.5"]))
+    unc = TissueUncertainty(lumen_diameter_sigma_m=0.3e-3)
+    u = np.linspace(0.001, 0.999, 4001)[:, None]
+    for arrays in perturbed_tissues(model.tissues, unc, u):
+        assert np.median(arrays.lumen_diameter_m) == pytest.approx(10.5e-3, rel=1e-9), (
+            "every set's samples centre on the design's lumen"
+        )
+
+
+def test_extrapolation_is_named():
+    inside = run_json(["evaluate"])
+    assert inside["extrapolations"] == [], "the built-in design lies in the paper's range"
+    out = run_json(["evaluate", "--set", "capsule.spiral.helical_angle_deg=25"])
+    names = {e["quantity"] for e in out["extrapolations"]}
+    assert "helical_angle_rad" in names
+    rc, text, _ = run(["evaluate", "--set", "capsule.spiral.helical_angle_deg=25"])
+    assert rc == 0
+    assert "EXTRAPOLATES" in text and "helical angle 25°" in text
+
+
+def test_validation_spread_from_the_papers_numbers():
+    """The four stated torques against the calibrated model (docs/torque-model.md section 4:
+    -4.7 %, +4.3 %, +8.3 %, +23.6 %) and the rms log error they imply."""
+    from torque_model.domain import validation_errors, validation_sigma_log
+
+    errors = [round(p.relative_error, 3) for p in validation_errors()]
+    assert errors == [-0.047, 0.043, 0.083, 0.236], "the paper's four points, 1e-3"
+    by_hand = math.sqrt(sum(math.log(1 + e) ** 2 for e in errors) / 4)
+    assert validation_sigma_log() == pytest.approx(by_hand, abs=2e-3)
+
+
+def test_default_min_strain_is_the_papers_least():
+    from torque_model.domain import CALIBRATED
+
+    least = CALIBRATED["wall_strain"][0]
+    assert least == pytest.approx(0.01685, abs=1e-5), "capsule No. 4 in sample 3: 1.69 %"
+    assert KEYS["requirements.min_wall_strain"].default == tm.DEFAULT_MIN_WALL_STRAIN
+    assert least <= tm.DEFAULT_MIN_WALL_STRAIN < least + 5e-4, "the least strain, rounded up"
+
+
+@pytest.mark.parametrize(
+    "arg", ["requirements.min_wall_strain=0", "capsule.mass_g=0", "capsule.mass_g=-3"]
+)
+def test_bad_input(arg):
+    rc, out, err = run(["evaluate", "--set", arg])
+    assert rc == 2 and len(err.strip().splitlines()) == 1 and arg.split("=")[0] in err
+    assert out == ""
+
+
+def test_evaluate_json_carries_strains():
+    ev = run_json(["evaluate"])
+    assert len(ev["wall_strains"]) == len(ev["tissue_names"]) == 2
+    assert json.dumps(ev)  # serialisable
+
+
+def test_optimum_on_a_calibrated_edge_is_flagged():
+    """The built-in optimum holds sample 3's strain at 1.7 %, the paper's least (1.69 %)."""
+    rc, out, _ = run(["optimize"])
+    assert rc == 0 and "calibrated edge of: wall strain 1.7 %" in out, out
+
+
+def test_no_grip_probability_against_sampling():
+    """P(no grip) in closed form against the share of sampled lumens as wide as D' (the same
+    truncated normal, 2e5 samples: within 4 binomial standard deviations)."""
+    from optimize.uncertainty import (
+        TissueUncertainty,
+        margin_problem,
+        no_grip_probability,
+        perturbed_tissues,
+    )
+
+    model = prepare(build_model(load_design(None, ["tissue.lumen_diameter_mm=11.1"])))
+    unc = TissueUncertainty(lumen_diameter_sigma_m=0.5e-3)
+    problem = margin_problem(model, unc)
+    exact = no_grip_probability(problem)
+    rng = np.random.default_rng(1)
+    u = rng.random((200_000, 1))
+    strains = [
+        tm.wall_strain(problem.helical_angle_rad, t, ph.contact_geometry(model.constants))
+        for t in perturbed_tissues(model.tissues, unc, u)
+    ]
+    sampled = float(np.mean(np.min(np.stack(strains), axis=0) <= 0))
+    sd = math.sqrt(exact * (1 - exact) / u.shape[0])
+    assert 0.1 < exact < 0.9, "a case where the grip is in doubt"
+    assert abs(sampled - exact) <= 4 * sd, "closed form vs sampling, 4 sigma"
