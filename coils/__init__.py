@@ -1,4 +1,4 @@
-"""Helmholtz coils: exact loop fields, three-axis systems, rotating-field allocation,
+"""Helmholtz coils, circular and square: exact loop fields, three-axis systems, rotating-field allocation,
 electrical and thermal sizing, and field uniformity. SI units throughout; imports only the
 spiralcap core (backend, constants, errors)."""
 
@@ -13,6 +13,7 @@ from coils.loop import coaxial_mutual_inductance_H, loop_field
 from coils.pair import HelmholtzPair
 from coils.rotating import heading_frame
 from coils.sizing import AxisSizing, SystemSizing, size_system
+from coils.square_pair import SQUARE_HELMHOLTZ_RATIO, SquarePair
 from coils.system import ThreeAxisHelmholtz
 from coils.uniformity import (
     UniformRegion,
@@ -24,8 +25,10 @@ from coils.uniformity import (
 )
 
 __all__ = [
+    "SQUARE_HELMHOLTZ_RATIO",
     "AxisSizing",
     "HelmholtzPair",
+    "SquarePair",
     "SystemSizing",
     "ThreeAxisHelmholtz",
     "UniformRegion",

@@ -13,6 +13,14 @@ minimises the exact signed distance of ring B over the surface of ring A (the le
 two disjoint solids is the least distance of one's surface to the other; negative: they
 overlap, by at least that depth): a 720 x 64 grid over A's surface (angle x perimeter of the
 section), then the best cells refined by zooming grids until a cell is below 1e-9 m (the distance then to ~1e-12 m).
+
+A square pair's coil is a :class:`Frame`: the square annulus ``h - d/2 <= max(|u|, |v|) <= h + d/2``
+(half side h of the mean turn, depth d) extruded over the axial width; its exact signed
+distance is the 2-D one of the annulus (the difference of two squares, exact as
+max(sdf_outer, -sdf_inner)) extruded exactly (:func:`frame_signed_distance`). A frame is also the
+union of four axis-aligned bars, so two frames are exactly as far apart as their closest pair of
+bars (box to box in closed form, :func:`frame_distance_m`); a ring and a frame go through the
+ring's surface search with the frame's signed distance.
 """
 
 from __future__ import annotations
@@ -26,14 +34,20 @@ from typing import Any
 import numpy as np
 
 __all__ = [
+    "Frame",
     "Ring",
     "bore_clearance_m",
+    "frame_bars",
+    "frame_distance_m",
+    "frame_signed_distance",
+    "nearest_point_on_frame",
     "nearest_point_on_ring",
     "outer_box_m",
     "pack_clearance_m",
     "pack_clearances_m",
     "pack_closest_points",
     "pair_extent_m",
+    "pair_packs",
     "pair_rings",
     "ring_distance_m",
     "ring_signed_distance",
@@ -100,6 +114,166 @@ def pair_rings(pair: Any) -> tuple[Ring, Ring]:
         )
         for sign in (-1.0, 1.0)
     )
+
+
+@dataclass(frozen=True)
+class Frame:
+    """One square winding pack as a solid frame (SI).
+
+    Parameters
+    ----------
+    axis : int
+        Axis index: 0, 1, 2 for a frame about x, y, z (sides along the other two axes).
+    side_m : float
+        Side a of the mean turn (the section's centre line), m.
+    centre_m : float
+        Axial position c of the section's mid-plane, m.
+    width_m : float
+        Axial width w of the section, m.
+    depth_m : float
+        Depth d of the section across each side, m (d < a).
+    """
+
+    axis: int
+    side_m: float
+    centre_m: float
+    width_m: float
+    depth_m: float
+
+    @property
+    def volume_m3(self) -> float:
+        """w ((a + d)² - (a - d)²) = 4 a w d, m³."""
+        return 4.0 * self.side_m * self.width_m * self.depth_m
+
+
+def pair_packs(pair: Any) -> tuple[Any, Any]:
+    """The two packs of a pair at ∓s/2 along its axis: :class:`Ring` for a circular pair
+    (:func:`pair_rings`), :class:`Frame` for a square one.
+
+    Parameters
+    ----------
+    pair : coils.HelmholtzPair or coils.SquarePair
+        The pair (SI lengths).
+
+    Returns
+    -------
+    tuple of Ring or tuple of Frame
+        The coil at -s/2 and the coil at +s/2 (SI).
+    """
+    if getattr(pair, "shape", "circle") != "square":
+        return pair_rings(pair)
+    half = 0.5 * pair.spacing_m
+    return tuple(  # type: ignore[return-value]
+        Frame(
+            pair.axis_index,
+            pair.side_m,
+            sign * half,
+            pair.winding_pack_width_m,
+            pair.winding_pack_depth_m,
+        )
+        for sign in (-1.0, 1.0)
+    )
+
+
+def _box_sdf_2d(qx: np.ndarray, qy: np.ndarray) -> np.ndarray:
+    """Signed distance to a box from q = |p| - half extents (2-D, exact)."""
+    outside = np.hypot(np.maximum(qx, 0.0), np.maximum(qy, 0.0))
+    return outside + np.minimum(np.maximum(qx, qy), 0.0)
+
+
+def frame_signed_distance(frame: Frame, points: np.ndarray) -> np.ndarray:
+    """Exact signed distance of ``points`` (shape (..., 3), m) to the solid frame, m.
+
+    In the frame's plane the section sweeps the square annulus between the squares of half
+    sides h ∓ d/2: max(sdf_outer, -sdf_inner) is its exact signed distance (outside the outer
+    square the nearest point is on it, inside the hole on the inner one, within the annulus
+    the nearer of the two); extruded over |z - c| <= w/2 exactly (the box formula with the
+    2-D distance as one coordinate).
+
+    Parameters
+    ----------
+    frame : Frame
+        The solid (SI lengths).
+    points : ndarray, shape (..., 3)
+        Points, m.
+
+    Returns
+    -------
+    ndarray, shape (...)
+        Signed distance, m (negative inside).
+    """
+    p = np.asarray(points, dtype=float)
+    u, v = (k for k in range(3) if k != frame.axis)
+    au, av = np.abs(p[..., u]), np.abs(p[..., v])
+    h_out = 0.5 * (frame.side_m + frame.depth_m)
+    h_in = 0.5 * (frame.side_m - frame.depth_m)
+    s2 = np.maximum(_box_sdf_2d(au - h_out, av - h_out), -_box_sdf_2d(au - h_in, av - h_in))
+    qz = np.abs(p[..., frame.axis] - frame.centre_m) - 0.5 * frame.width_m
+    return _box_sdf_2d(s2, qz)
+
+
+def frame_bars(frame: Frame) -> np.ndarray:
+    """The frame as four axis-aligned bars, shape (4, 2, 3): [bar, (low, high) corner, xyz],
+    m; two bars run the full outer side, two fit between them (no overlap).
+
+    Parameters
+    ----------
+    frame : Frame
+        The solid (SI lengths).
+
+    Returns
+    -------
+    ndarray, shape (4, 2, 3)
+        Low and high corner of each bar, m.
+    """
+    a = frame.axis
+    u, v = (k for k in range(3) if k != a)
+    h_out = 0.5 * (frame.side_m + frame.depth_m)
+    h_in = 0.5 * (frame.side_m - frame.depth_m)
+    out = np.empty((4, 2, 3))
+    out[:, 0, a], out[:, 1, a] = (
+        frame.centre_m - 0.5 * frame.width_m,
+        frame.centre_m + 0.5 * frame.width_m,
+    )
+    for i, sign in enumerate((-1.0, 1.0)):
+        # bars along v at u = ±h: the full outer length
+        out[i, :, u] = np.sort([sign * h_in, sign * h_out])
+        out[i, :, v] = (-h_out, h_out)
+        # bars along u at v = ±h, between the other two
+        out[2 + i, :, v] = np.sort([sign * h_in, sign * h_out])
+        out[2 + i, :, u] = (-h_in, h_in)
+    return out
+
+
+def frame_distance_m(a: Frame, b: Frame) -> float:
+    """Least distance between two solid frames, m (negative: they overlap, by at least that).
+
+    Exact: the least over their bars' pairs of the axis-aligned box distance
+    sqrt(Σ max(gap_i, 0)²), gap_i = max(lo_b - hi_a, lo_a - hi_b); boxes that overlap have all
+    gaps <= 0 and their overlap is max_i gap_i (the shortest move that parts them).
+
+    Parameters
+    ----------
+    a, b : Frame
+        The two solids (SI lengths).
+
+    Returns
+    -------
+    float
+        Least distance, m.
+    """
+    ba, bb = frame_bars(a)[:, None], frame_bars(b)[None, :]
+    gap = np.maximum(bb[..., 0, :] - ba[..., 1, :], ba[..., 0, :] - bb[..., 1, :])  # (4, 4, 3)
+    apart = np.sqrt(np.sum(np.maximum(gap, 0.0) ** 2, axis=-1))
+    signed = np.where(np.all(gap <= 0.0, axis=-1), np.max(gap, axis=-1), apart)
+    return float(signed.min())
+
+
+def _signed_distance(pack: Any, points: np.ndarray) -> np.ndarray:
+    """:func:`ring_signed_distance` or :func:`frame_signed_distance` by the pack's kind."""
+    if isinstance(pack, Frame):
+        return frame_signed_distance(pack, points)
+    return ring_signed_distance(pack, points)
 
 
 def _cylindrical(points: np.ndarray, axis: int) -> tuple[np.ndarray, np.ndarray]:
@@ -238,7 +412,7 @@ def pack_closest_points(pair_a: Any, pair_b: Any) -> tuple[float, np.ndarray, np
 
     Parameters
     ----------
-    pair_a, pair_b : HelmholtzPair
+    pair_a, pair_b : HelmholtzPair or SquarePair
         Two pairs on different axes.
 
     Returns
@@ -248,18 +422,65 @@ def pack_closest_points(pair_a: Any, pair_b: Any) -> tuple[float, np.ndarray, np
     point_a, point_b : ndarray, shape (3,)
         Nearest points on A's and on B's packs, m.
     """
-    d, pa, rb = _closest(pair_rings(pair_a)[1], pair_rings(pair_b)[1])  # see pack_clearance_m
-    return d, pa, nearest_point_on_ring(rb, pa)
+    ka, kb = pair_packs(pair_a)[1], pair_packs(pair_b)[1]  # see pack_clearance_m
+    if isinstance(ka, Ring) and isinstance(kb, Ring):
+        d, pa, rb = _closest(ka, kb)
+        return d, pa, nearest_point_on_ring(rb, pa)
+    if isinstance(ka, Frame) and isinstance(kb, Frame):
+        return _frames_closest(ka, kb)
+    if isinstance(ka, Ring):
+        d, pa, fb = _closest(ka, kb)
+        return d, pa, nearest_point_on_frame(fb, pa)
+    d, pb, fa = _closest(kb, ka)
+    return d, nearest_point_on_frame(fa, pb), pb
+
+
+def nearest_point_on_frame(frame: Frame, point: np.ndarray) -> np.ndarray:
+    """The point of the solid frame nearest ``point``: the nearest of the point clipped into
+    each of its bars.
+
+    Parameters
+    ----------
+    frame : Frame
+        The solid (SI lengths).
+    point : ndarray, shape (3,)
+        A point outside it, m.
+
+    Returns
+    -------
+    ndarray, shape (3,)
+        The nearest point of the frame, m.
+    """
+    bars = frame_bars(frame)
+    p = np.asarray(point, dtype=float)
+    near = np.clip(p[None, :], bars[:, 0], bars[:, 1])
+    return near[int(np.argmin(np.linalg.norm(near - p, axis=1)))]
+
+
+def _frames_closest(a: Frame, b: Frame) -> tuple[float, np.ndarray, np.ndarray]:
+    """(distance, nearest point on a, nearest point on b) of two frames apart (closest bars;
+    along an axis where they overlap, the middle of the shared interval)."""
+    ba, bb = frame_bars(a), frame_bars(b)
+    best = (math.inf, np.zeros(3), np.zeros(3))
+    for lo_a, hi_a in ba:
+        for lo_b, hi_b in bb:
+            mid = 0.5 * (np.maximum(lo_a, lo_b) + np.minimum(hi_a, hi_b))
+            pa = np.where(lo_b > hi_a, hi_a, np.where(lo_a > hi_b, lo_a, mid))
+            pb = np.where(lo_b > hi_a, lo_b, np.where(lo_a > hi_b, hi_b, mid))
+            d = float(np.linalg.norm(pa - pb))
+            if d < best[0]:
+                best = (d, pa, pb)
+    return frame_distance_m(a, b), best[1], best[2]
 
 
 @functools.lru_cache(maxsize=4096)
-def _closest(a: Ring, b: Ring) -> tuple[float, np.ndarray, Ring]:
+def _closest(a: Ring, b: Any) -> tuple[float, np.ndarray, Any]:
     per = 2.0 * (a.width_m + a.depth_m)
     n_phi, n_s = _GRID
     dphi, ds = 2.0 * math.pi / n_phi, per / n_s
     phi = np.arange(n_phi) * dphi
     s = (np.arange(n_s) + 0.5) * ds
-    d = ring_signed_distance(b, ring_surface_points(a, phi[:, None], s[None, :]))
+    d = _signed_distance(b, ring_surface_points(a, phi[:, None], s[None, :]))
     best = float(d.min())
     # the signed distance is 1-Lipschitz in space: a cell whose grid value exceeds the best by
     # more than the cell's spatial size cannot hold the minimum
@@ -275,7 +496,7 @@ def _closest(a: Ring, b: Ring) -> tuple[float, np.ndarray, Ring]:
     for _ in range(_REFINE_STEPS):
         gp = c_phi[:, None] + h_phi * step  # (K, 9)
         gs = c_s[:, None] + h_s * step
-        dd = ring_signed_distance(b, ring_surface_points(a, gp[:, :, None], gs[:, None, :]))
+        dd = _signed_distance(b, ring_surface_points(a, gp[:, :, None], gs[:, None, :]))
         k = np.argmin(dd.reshape(len(flat), -1), axis=1)
         km, mm = np.unravel_index(k, (9, 9))
         c_phi, c_s = gp[rows, km], gs[rows, mm]
@@ -293,7 +514,9 @@ def _closest(a: Ring, b: Ring) -> tuple[float, np.ndarray, Ring]:
 def pack_clearance_m(pair_a: Any, pair_b: Any) -> float:
     """Least distance between the winding packs of two pairs on different axes, m.
 
-    The packs are solids (:func:`pair_rings`): :func:`ring_distance_m` of one coil of each.
+    The packs are solids (:func:`pair_packs`): :func:`ring_distance_m` of one coil of each
+    (two frames: :func:`frame_distance_m`; a ring and a frame: the ring's surface search with
+    the frame's exact signed distance).
     The four coil combinations are congruent (the mirror x_a -> -x_a swaps A's coils and maps
     B's, whose axis is perpendicular, onto themselves; likewise for B), so one is computed.
     Negative: the packs overlap (by at least that depth).
@@ -308,7 +531,13 @@ def pack_clearance_m(pair_a: Any, pair_b: Any) -> float:
     float
         Least distance between their packs, m.
     """
-    return ring_distance_m(pair_rings(pair_a)[1], pair_rings(pair_b)[1])
+    pa, pb = pair_packs(pair_a)[1], pair_packs(pair_b)[1]
+    if isinstance(pa, Ring) and isinstance(pb, Ring):
+        return ring_distance_m(pa, pb)
+    if isinstance(pa, Frame) and isinstance(pb, Frame):
+        return frame_distance_m(pa, pb)
+    ring, frame = (pa, pb) if isinstance(pa, Ring) else (pb, pa)
+    return _closest(ring, frame)[0]
 
 
 def pack_clearances_m(pairs: Any) -> dict[str, float]:
@@ -334,7 +563,9 @@ def bore_clearance_m(pairs: Any, bore_radius_m: float) -> float:
 
     min over pairs of (R - h/2) - bore radius: the inner face of every pack is a cylinder of
     radius R - h/2 about its axis, the bore a coaxial cylinder (or the workspace sphere, which
-    touches that cylinder's radius first at its equator).
+    touches that cylinder's radius first at its equator). A square pair's ``radius_m`` is half
+    its side: the inner face's sides are a/2 - h/2 from the axis, where a coaxial cylinder
+    meets them first (at the middle of each side).
 
     Parameters
     ----------

@@ -20,6 +20,12 @@ z pair's coils are horizontal rings and the x and y pairs' are vertical rings.
   combined with the natural value as Nu = (Nu_F³ + Nu_N³)^(1/3) (Churchill 1977, mixed
   convection), which is the natural value at zero speed.
 
+* Square frames (``coils.{x,y,z}.shape = "square"``): the z frame's bars are horizontal with
+  the ring's faces (the same correlations); an x or y frame stands in a vertical plane, half
+  its length horizontal bars (the horizontal cylinder above) and half vertical bars of height
+  the side, every face a vertical plate over that height
+  (:func:`vertical_bar_convection_W_m2K`); the pack's coefficient is the mean of the two.
+
 Air (dry, 1 atm): viscosity and conductivity by Sutherland's law (White, *Viscous Fluid Flow*,
 3rd ed., Table 1-2 and 1-3: μ0 = 1.716e-5 Pa·s, S = 110.4 K; k0 = 0.0241 W/(m·K), S = 194 K),
 ideal-gas density, c_p = 1007 J/(kg·K); within 3 % of Incropera Table A.4 over 250-400 K
@@ -41,6 +47,7 @@ __all__ = [
     "lower_plate_nusselt",
     "pack_convection_W_m2K",
     "upper_plate_nusselt",
+    "vertical_bar_convection_W_m2K",
     "vertical_plate_nusselt",
 ]
 
@@ -276,3 +283,56 @@ def _pack_convection_W_m2K(
 
 #: the correlation traced once per orientation and cooling for the NLPs (an SX function)
 _pack_convection = bk.symbolic_once(_pack_convection_W_m2K, 5)
+
+
+def vertical_bar_convection_W_m2K(
+    width_m: Any,
+    depth_m: Any,
+    height_m: Any,
+    surface_C: Any,
+    ambient_C: Any,
+    air_speed_m_s: Any = 0.0,
+    forced: bool = False,
+) -> Any:
+    """Convective coefficient of a vertical bar of section w x d and height H, W/(m²·K).
+
+    A square frame in a vertical plane (the x and y pairs of a square set) is two horizontal
+    bars, which the ring's horizontal-cylinder correlation describes, and two vertical bars,
+    whose four faces are vertical plates of height H: Churchill & Chu (1975a) over L = H
+    (Incropera eq. 9.26; air properties, film temperature and ΔT floor as
+    :func:`pack_convection_W_m2K`). Forced air crosses the bar as it crosses the ring's
+    section: the same cylinder of the section's perimeter, combined as Nu = (Nu_F³ + Nu_N³)^(1/3).
+    Backend-generic.
+
+    Parameters
+    ----------
+    width_m, depth_m : float, array or CasADi
+        Section of the bar, m.
+    height_m : float, array or CasADi
+        Height H of the bar (the frame's side), m.
+    surface_C, ambient_C : float, array or CasADi
+        Mean surface and air temperatures, °C.
+    air_speed_m_s : float, array or CasADi
+        Forced-air speed, m/s (``forced`` only).
+    forced : bool
+        Add forced air.
+
+    Returns
+    -------
+    float, array or CasADi
+        Convective heat-transfer coefficient h of the bar's faces, W/(m²·K).
+    """
+    if isinstance(surface_C, float) and isinstance(ambient_C, (float, int)):
+        surface_C = max(float(surface_C), float(ambient_C))
+    else:
+        surface_C = bk.fmax(surface_C, ambient_C)
+    k, nu, diffusivity, pr = _air(0.5 * (surface_C + ambient_C))
+    dt = surface_C - ambient_C
+    dt = (dt * dt + _DT_FLOOR_K * _DT_FLOOR_K) ** 0.5
+    buoy = _G / (0.5 * (surface_C + ambient_C) + _KELVIN) * dt / (nu * diffusivity)
+    h_nat = vertical_plate_nusselt(buoy * height_m * height_m * height_m, pr) * k / height_m
+    if not forced:
+        return h_nat
+    diam = 2.0 * (width_m + depth_m) / bk.pi
+    h_forced = forced_cylinder_nusselt(air_speed_m_s * diam / nu, pr) * k / diam
+    return (h_forced**3 + h_nat**3) ** (1.0 / 3.0)

@@ -12,7 +12,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from functools import cached_property
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 
@@ -210,6 +210,15 @@ class HelmholtzPair:
     def spacing_m(self) -> float:
         """Distance between the two coil planes, m (``separation_m``, R when not given)."""
         return self.radius_m if self.separation_m is None else self.separation_m
+
+    #: The shape of the coils (:class:`coils.SquarePair` is a ``"square"``).
+    shape: ClassVar[str] = "circle"
+
+    @property
+    def turn_radius_m(self) -> float:
+        """Radius of the circle as long as the mean turn, m: R itself (the square pair's is
+        2a/π; the thermal model's rings use it)."""
+        return self.radius_m
 
     @property
     def wire_area_m2(self) -> float:

@@ -40,6 +40,9 @@ class AxisSizing:
     radius, as a design builds it; ``field_amplitude_T`` is it times the current),
     ``pack_field_per_amp_T_per_A`` the same with the current spread over the winding pack.
 
+    A square pair (``shape`` "square") has its mean turn's side in ``side_m`` and half of it in
+    ``radius_m`` (:attr:`coils.SquarePair.radius_m`); a circle has ``side_m`` None.
+
     Attributes
     ----------
     axis : str
@@ -93,6 +96,10 @@ class AxisSizing:
         Convective part of the face coefficient, W/(m²·K).
     radiation_view_factor : float
         Fraction of the pack's radiation that reaches the room, dimensionless (1: alone).
+    shape : str
+        ``"circle"`` or ``"square"``.
+    side_m : float or None
+        Mean turn's side of a square pair, m (None: a circle).
     """
 
     axis: str
@@ -127,6 +134,8 @@ class AxisSizing:
     convection_coefficient_W_m2K: float = math.nan
     radiation_view_factor: float = 1.0
     pack_field_per_amp_T_per_A: float = math.nan
+    shape: str = "circle"
+    side_m: float | None = None
 
 
 @dataclass(frozen=True)
@@ -200,7 +209,8 @@ class SystemSizing:
 def winding_pack(
     pair, conductivity_W_mK: float, heat_transfer_coefficient_W_m2K: float, emissivity: float
 ) -> WindingPack:
-    """The :class:`coils.thermal.WindingPack` of a :class:`coils.HelmholtzPair`.
+    """The :class:`coils.thermal.WindingPack` of a :class:`coils.HelmholtzPair` (or a
+    :class:`coils.SquarePair`: a ring of its mean turn's length, the same volume and faces).
 
     Parameters
     ----------
@@ -221,7 +231,7 @@ def winding_pack(
     return WindingPack(
         pack_width_m=pair.winding_pack_width_m,
         pack_depth_m=pair.winding_pack_depth_m,
-        mean_radius_m=pair.radius_m,
+        mean_radius_m=pair.turn_radius_m,
         packing_factor=pair.packing_factor,
         conductivity_W_mK=conductivity_W_mK,
         heat_transfer_coefficient_W_m2K=heat_transfer_coefficient_W_m2K,
@@ -304,6 +314,8 @@ def size_system(
         axes.append(
             AxisSizing(
                 axis=pair.axis,
+                shape=pair.shape,
+                side_m=pair.side_m if pair.shape == "square" else None,
                 radius_m=pair.radius_m,
                 separation_m=pair.spacing_m,
                 turns=pair.turns,

@@ -11,9 +11,14 @@ import numpy as np
 from coils.filaments import AXES, FilamentSet
 from coils.pair import HelmholtzPair
 from coils.rotating import allocation, ellipse_semi_axes
+from coils.square import MixedFilamentSet, SquareFilamentSet
+from coils.square_pair import SquarePair
 from spiralcap.errors import InputError
 
-__all__ = ["PointEvaluator", "ThreeAxisHelmholtz"]
+__all__ = ["PAIR_TYPES", "PointEvaluator", "ThreeAxisHelmholtz"]
+
+#: The pair classes a three-axis set is made of (circular and square coils, mixed freely).
+PAIR_TYPES = (HelmholtzPair, SquarePair)
 
 
 def _points(points_m: Any) -> np.ndarray:
@@ -28,6 +33,11 @@ def _currents(currents_A: Any) -> np.ndarray:
     if i.shape != (3,):
         raise InputError("currents_A", np.shape(currents_A), "three currents (x, y, z), A")
     return i
+
+
+def _others(ks: list[int]) -> list[int]:
+    """The pair indices 0..2 not in ``ks``, in order."""
+    return [k for k in range(3) if k not in ks]
 
 
 class PointEvaluator:
@@ -79,8 +89,9 @@ class ThreeAxisHelmholtz:
 
     Parameters
     ----------
-    x, y, z : HelmholtzPair
-        The pairs along each axis; each pair's ``axis`` must match its slot.
+    x, y, z : HelmholtzPair or SquarePair
+        The pairs along each axis (circles and squares mixed freely); each pair's ``axis``
+        must match its slot.
 
     Raises
     ------
@@ -88,32 +99,59 @@ class ThreeAxisHelmholtz:
         A pair missing or on the wrong axis (named ``x``, ``y`` or ``z``).
     """
 
-    x: HelmholtzPair
-    y: HelmholtzPair
-    z: HelmholtzPair
+    x: HelmholtzPair | SquarePair
+    y: HelmholtzPair | SquarePair
+    z: HelmholtzPair | SquarePair
 
     def __post_init__(self) -> None:
         for name in AXES:
             pair = getattr(self, name)
-            if not isinstance(pair, HelmholtzPair) or pair.axis != name:
-                raise InputError(name, pair, f"a HelmholtzPair with axis={name!r}")
+            if not isinstance(pair, PAIR_TYPES) or pair.axis != name:
+                raise InputError(name, pair, f"a HelmholtzPair or SquarePair with axis={name!r}")
 
     @property
-    def pairs(self) -> tuple[HelmholtzPair, HelmholtzPair, HelmholtzPair]:
+    def pairs(self) -> tuple[Any, Any, Any]:
         """The (x, y, z) pairs."""
         return (self.x, self.y, self.z)
 
     @cached_property
-    def filament_set(self) -> FilamentSet:
-        """All filaments of the three pairs; drive column k is pair k."""
-        sets = [p.filament_set for p in self.pairs]
+    def filament_set(self) -> FilamentSet | MixedFilamentSet:
+        """All filaments of the three pairs; drive column k is pair k.
+
+        All circles: one :class:`coils.filaments.FilamentSet`. With square pairs: the circular
+        and the square filaments as two sets whose fields add (:class:`MixedFilamentSet`).
+        """
+        if all(isinstance(p, HelmholtzPair) for p in self.pairs):
+            return self._circle_set()
+        parts: list[Any] = []
+        circles = [k for k, p in enumerate(self.pairs) if isinstance(p, HelmholtzPair)]
+        if circles:
+            parts.append(self._circle_set(circles))
+        squares = [self.pairs[k].filament_set for k in range(3) if k not in circles]
+        cat = np.concatenate
+        parts.append(
+            SquareFilamentSet(
+                axes=cat([s.axes for s in squares]),
+                half_sides_m=cat([s.half_sides_m for s in squares]),
+                centres_m=cat([s.centres_m for s in squares]),
+                turns=cat([s.turns for s in squares]),
+                columns=cat([np.full(len(s.turns), k) for k, s in zip(_others(circles), squares)]),
+                column_axes=(0, 1, 2),
+            )
+        )
+        return MixedFilamentSet(tuple(parts))
+
+    def _circle_set(self, which: list[int] | None = None) -> FilamentSet:
+        """The filaments of the circular pairs ``which`` (default all), columns by pair."""
+        keep = [0, 1, 2] if which is None else which
+        sets = [self.pairs[k].filament_set for k in keep]
         cat = np.concatenate
         return FilamentSet(
             axes=cat([s.axes for s in sets]),
             radii_m=cat([s.radii_m for s in sets]),
             centres_m=cat([s.centres_m for s in sets]),
             turns=cat([s.turns for s in sets]),
-            columns=cat([np.full(len(s.turns), k) for k, s in enumerate(sets)]),
+            columns=cat([np.full(len(s.turns), k) for k, s in zip(keep, sets)]),
             column_axes=(0, 1, 2),
         )
 

@@ -36,7 +36,11 @@ from typing import Any
 import numpy as np
 
 from coils.conduction import robin_statics, robin_transient
-from coils.convection import _pack_convection_W_m2K, pack_convection_W_m2K
+from coils.convection import (
+    _pack_convection_W_m2K,
+    pack_convection_W_m2K,
+    vertical_bar_convection_W_m2K,
+)
 from spiralcap import backend as bk
 from spiralcap.constants import (
     COPPER_DENSITY_kg_m3,
@@ -193,6 +197,12 @@ class WindingPack:
         One of :data:`CONVECTION_MODES`.
     coils : int
         Number of identical coils (2 for a pair).
+    vertical_bar_height_m : float, array or CasADi
+        A square frame in a vertical plane (an x or y square pair): the height of its vertical
+        bars, m, half its length (the convection is then the mean of the horizontal and the
+        vertical bars'); 0 (default): a ring, or a horizontal frame. A square pack is otherwise
+        a ring of its mean turn's length (``mean_radius_m`` = 4a/(2π)): the same volume and
+        faces.
     """
 
     pack_width_m: Any
@@ -206,6 +216,7 @@ class WindingPack:
     vertical_axis: bool = False
     convection: str = "fixed"
     coils: int = 2
+    vertical_bar_height_m: Any = 0.0
 
     @property
     def surface_area_m2(self) -> Any:
@@ -364,7 +375,7 @@ def convection_coefficient_W_m2K(pack: WindingPack, surface_C: Any, ambient_C: A
     """
     if pack.convection == "fixed":
         return pack.heat_transfer_coefficient_W_m2K + 0.0 * surface_C
-    return pack_convection_W_m2K(
+    h = pack_convection_W_m2K(
         pack.pack_width_m,
         pack.pack_depth_m,
         pack.vertical_axis,
@@ -373,6 +384,28 @@ def convection_coefficient_W_m2K(pack: WindingPack, surface_C: Any, ambient_C: A
         pack.air_speed_m_s,
         forced=pack.convection == "forced",
     )
+    return _with_vertical_bars(pack, h, surface_C, ambient_C)
+
+
+def _with_vertical_bars(pack: WindingPack, h_ring: Any, surface_C: Any, ambient_C: Any) -> Any:
+    """The ring's coefficient, or for a square frame in a vertical plane the mean of it (its
+    horizontal bars) and the vertical bars' (:func:`coils.convection.
+    vertical_bar_convection_W_m2K`). A height of 0 (a number) is a ring: returned as it is;
+    a symbolic height blends by a 0/0.5 weight, h + f (h_bar - h), the same value at f = 0."""
+    height = pack.vertical_bar_height_m
+    if isinstance(height, (int, float)) and height == 0.0:
+        return h_ring
+    share = _where(height > 0.0, 0.5, 0.0)
+    h_bar = vertical_bar_convection_W_m2K(
+        pack.pack_width_m,
+        pack.pack_depth_m,
+        bk.fmax(height, pack.pack_width_m),
+        surface_C,
+        ambient_C,
+        pack.air_speed_m_s,
+        forced=pack.convection == "forced",
+    )
+    return h_ring + share * (h_bar - h_ring)
 
 
 def _surroundings(env: Surroundings | None, ambient_C: Any) -> Surroundings:
@@ -438,7 +471,7 @@ class _Faces:
     def convection(self, surface_C: Any) -> Any:
         if self._floats and type(surface_C) is float:
             p = self.pack
-            return _pack_convection_W_m2K(
+            h = _pack_convection_W_m2K(
                 p.pack_width_m,
                 p.pack_depth_m,
                 surface_C,
@@ -447,6 +480,7 @@ class _Faces:
                 bool(p.vertical_axis),
                 p.convection == "forced",
             )
+            return _with_vertical_bars(p, h, surface_C, self.ambient_C)
         return convection_coefficient_W_m2K(self.pack, surface_C, self.ambient_C)
 
     def radiation(self, surface_C: Any) -> Any:

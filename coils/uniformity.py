@@ -19,7 +19,7 @@ from typing import Any
 import numpy as np
 
 from coils.pair import HelmholtzPair
-from coils.system import ThreeAxisHelmholtz
+from coils.system import PAIR_TYPES, ThreeAxisHelmholtz
 from spiralcap.errors import InputError, check_positive
 
 __all__ = [
@@ -72,7 +72,7 @@ def _rays() -> np.ndarray:
 
 
 def _field_function(coils: Any, currents_A: Any) -> Callable[[np.ndarray], np.ndarray]:
-    if isinstance(coils, HelmholtzPair):
+    if isinstance(coils, PAIR_TYPES):
         current = 1.0 if currents_A is None else float(currents_A)
         return lambda p: coils.field(p, current)
     if isinstance(coils, ThreeAxisHelmholtz):
@@ -80,7 +80,9 @@ def _field_function(coils: Any, currents_A: Any) -> Callable[[np.ndarray], np.nd
         if currents.shape != (3,) or not np.all(np.isfinite(currents)) or not np.any(currents):
             raise InputError("currents_A", currents_A, "three finite currents, not all zero")
         return lambda p: coils.field(p, currents)
-    raise InputError("system", type(coils).__name__, "a HelmholtzPair or ThreeAxisHelmholtz")
+    raise InputError(
+        "system", type(coils).__name__, "a HelmholtzPair, SquarePair or ThreeAxisHelmholtz"
+    )
 
 
 def _deviation(
@@ -428,16 +430,25 @@ def _rank_directions(
     return out
 
 
-def _pair_similarity_key(pair: HelmholtzPair) -> tuple[bytes, bytes, bytes]:
-    """The pair's filaments in units of its radius, and their relative turns.
+def _pair_similarity_key(pair: Any) -> tuple[bytes, ...]:
+    """The pair's filaments in units of its radius, and their relative turns (and its shape,
+    for a square pair: its half sides in units of ``radius_m``, the half side).
 
     |B|/|B(0)| of a pair at p is a function of p / R and of this key alone (Biot-Savart is
-    scale-free and the current cancels), up to the rotation taking its axis to another.
+    scale-free and the current cancels), up to the rotation taking its axis to another (a
+    cyclic permutation of the axes, which maps a square's local frame onto another's).
     """
     fs = pair.filament_set
     r = pair.radius_m
+    if isinstance(pair, HelmholtzPair):
+        return (
+            (fs.radii_m / r).tobytes(),
+            (fs.centres_m / r).tobytes(),
+            (fs.turns / fs.turns[0]).tobytes(),
+        )
     return (
-        (fs.radii_m / r).tobytes(),
+        b"square",
+        (fs.half_sides_m / r).tobytes(),
         (fs.centres_m / r).tobytes(),
         (fs.turns / fs.turns[0]).tobytes(),
     )
@@ -464,11 +475,11 @@ def pair_uniform_regions(pairs: Any, tolerances: Any) -> tuple[tuple[UniformRegi
         ``[pair][tolerance]``, radii in m.
     """
     tols = tuple(check_positive("tolerance", t) for t in tolerances)
-    done: dict[tuple[bytes, bytes, bytes], tuple[HelmholtzPair, tuple[UniformRegion, ...]]] = {}
+    done: dict[tuple[bytes, ...], tuple[Any, tuple[UniformRegion, ...]]] = {}
     out = []
     for pair in pairs:
-        if not isinstance(pair, HelmholtzPair):
-            raise InputError("pairs", type(pair).__name__, "HelmholtzPair instances")
+        if not isinstance(pair, PAIR_TYPES):
+            raise InputError("pairs", type(pair).__name__, "HelmholtzPair or SquarePair instances")
         key = _pair_similarity_key(pair)
         axis = pair.axis_index
         if key in done:
@@ -485,7 +496,11 @@ def pair_uniform_regions(pairs: Any, tolerances: Any) -> tuple[tuple[UniformRegi
                 for r in regions
             )
         else:
-            found = _radius_axisymmetric(_field_function(pair, None), tols, pair.radius_m, axis)
+            field = _field_function(pair, None)
+            if isinstance(pair, HelmholtzPair):
+                found = _radius_axisymmetric(field, tols, pair.radius_m, axis)
+            else:  # a square pair is not axisymmetric: the full ray lattice
+                found = _radius(field, tols, pair.radius_m)
             mine = tuple(UniformRegion(r, t, u, np.eye(3)[axis]) for (r, u), t in zip(found, tols))
             done[key] = (pair, mine)
         out.append(mine)
@@ -533,7 +548,7 @@ def uniform_regions(
         One per tolerance, radii in m.
     """
     tols = tuple(check_positive("tolerance", t) for t in tolerances)
-    if isinstance(system_or_pair, HelmholtzPair):
+    if isinstance(system_or_pair, PAIR_TYPES):
         return pair_uniform_regions([system_or_pair], tols)[0]
     if not isinstance(system_or_pair, ThreeAxisHelmholtz):
         raise InputError(

@@ -12,6 +12,10 @@ re-drawn sample. Against a 2-million-ray random trace of the built-in packs the 
 rays are within 0.0026 (20 000 random rays: 0.0044; tests/test_coils_cooling.py checks 0.03
 against an independent tracer).
 
+A square pair's coil is a frame of four bars (:class:`PackFrame`): the same trace with the
+slab test on axis-aligned boxes and points on its four kinds of faces (inner, outer, lower and
+upper, by area).
+
 Both coils of a pair are mirror images in the pair's mid-plane, and every pack is symmetric in
 the other two mid-planes, so the coil at +s/2 stands for its pair. Row k of the result holds
 pair k's area-weighted fractions ``[room, x, y, z]`` (the own-pair entry: its own faces and
@@ -26,7 +30,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["RAYS_PER_PAIR", "PackRing", "view_factors"]
+__all__ = ["RAYS_PER_PAIR", "PackFrame", "PackRing", "view_factors"]
 
 #: Rays traced per pair (Halton points 1..n).
 RAYS_PER_PAIR = 8192
@@ -58,12 +62,83 @@ class PackRing:
     depth_m: float
 
 
+@dataclass(frozen=True)
+class PackFrame:
+    """One square pair's pack geometry (SI): axis index, side of the mean turn, coil spacing,
+    width, depth (a frame of four bars about the axis, sides along the other two axes).
+
+    Attributes
+    ----------
+    axis_index : int
+        Axis index of the pair: 0, 1, 2 for x, y, z.
+    side_m : float
+        Side of each coil's mean turn (the centre line of the pack), m.
+    separation_m : float
+        Distance between the coil planes (the packs' mid-planes, at ±s/2), m.
+    width_m, depth_m : float
+        Axial width of each pack and its depth across each side, m.
+    """
+
+    axis_index: int
+    side_m: float
+    separation_m: float
+    width_m: float
+    depth_m: float
+
+    @property
+    def radius_m(self) -> float:
+        """Half the side (the length scale of the tracer's tolerances), m."""
+        return 0.5 * self.side_m
+
+
+def _bars(frame: PackFrame, centre: float) -> list[tuple[np.ndarray, np.ndarray]]:
+    """The frame's coil at axial ``centre`` as four non-overlapping axis-aligned boxes
+    (low corner, high corner)."""
+    a = frame.axis_index
+    u, w = (a + 1) % 3, (a + 2) % 3
+    h_out, h_in = 0.5 * (frame.side_m + frame.depth_m), 0.5 * (frame.side_m - frame.depth_m)
+    out = []
+    for sign in (-1.0, 1.0):
+        for along, across, half in ((w, u, h_out), (u, w, h_in)):
+            lo, hi = np.empty(3), np.empty(3)
+            lo[a], hi[a] = centre - 0.5 * frame.width_m, centre + 0.5 * frame.width_m
+            lo[across], hi[across] = sorted((sign * h_in, sign * h_out))
+            lo[along], hi[along] = -half, half
+            out.append((lo, hi))
+    return out
+
+
+def _frame_hit(
+    frame: PackFrame, p: Sequence[np.ndarray], v: Sequence[np.ndarray], tiny: float
+) -> np.ndarray:
+    """Distance along each ray to where it first enters either coil of the frame (inf: never):
+    the slab test on each of the eight bars, an entry counted when it lies ahead (> tiny)."""
+    n = p[0].shape[0]
+    t_best = np.full(n, np.inf)
+    inv = [1.0 / vi for vi in v]
+    for centre in (-0.5 * frame.separation_m, 0.5 * frame.separation_m):
+        for lo, hi in _bars(frame, centre):
+            t_near = np.full(n, -np.inf)
+            t_far = np.full(n, np.inf)
+            for i in range(3):
+                t1 = (lo[i] - p[i]) * inv[i]
+                t2 = (hi[i] - p[i]) * inv[i]
+                # a ray parallel to the slab: inside it for all t or never (nan from 0 * inf)
+                t1 = np.where(np.isnan(t1), -np.inf, t1)
+                t2 = np.where(np.isnan(t2), np.inf, t2)
+                np.maximum(t_near, np.minimum(t1, t2), out=t_near)
+                np.minimum(t_far, np.maximum(t1, t2), out=t_far)
+            ok = (t_near <= t_far) & (t_near > tiny)
+            np.minimum(t_best, t_near, out=t_best, where=ok)
+    return t_best
+
+
 def _perp(axis: int) -> tuple[int, int]:
     return tuple(i for i in range(3) if i != axis)  # type: ignore[return-value]
 
 
 def _first_hit(
-    p: Sequence[np.ndarray], v: Sequence[np.ndarray], rings: Sequence[PackRing]
+    p: Sequence[np.ndarray], v: Sequence[np.ndarray], rings: Sequence[PackRing | PackFrame]
 ) -> np.ndarray:
     """Index of the pair whose pack each ray (origin p, direction v) enters first; -1: none.
 
@@ -79,6 +154,12 @@ def _first_hit(
     tiny = 1e-9 * max(r.radius_m for r in rings)
     with np.errstate(divide="ignore", invalid="ignore"):
         for j, ring in enumerate(rings):
+            if isinstance(ring, PackFrame):
+                t_frame = _frame_hit(ring, p, v, tiny)
+                closer = t_frame < best
+                np.copyto(best, t_frame, where=closer)
+                who[closer] = j
+                continue
             a = ring.axis_index
             u, w = _perp(a)
             pa, pu, pw = p[a], p[u], p[w]
@@ -213,6 +294,51 @@ def _emitters(ring: PackRing, u: np.ndarray) -> tuple:
     return tuple(p), tuple(nv)
 
 
+def _frame_emitters(frame: PackFrame, u: np.ndarray) -> tuple:
+    """As :func:`_emitters` on the +s/2 coil of a square frame: inner and outer faces
+    (4 (a ∓ d) w each), lower and upper faces (4 a d each), a point uniform on the chosen face
+    (position along the face's perimeter, then across it)."""
+    a = frame.axis_index
+    ua, wa = (a + 1) % 3, (a + 2) % 3
+    side, d, wd = frame.side_m, frame.depth_m, frame.width_m
+    h_out, h_in = 0.5 * (side + d), 0.5 * (side - d)
+    c = 0.5 * frame.separation_m
+    areas = np.array([4.0 * (side - d) * wd, 4.0 * (side + d) * wd, 4.0 * side * d, 4.0 * side * d])
+    # 0 inner faces, 1 outer faces, 2 lower face, 3 upper face
+    face = np.minimum(np.searchsorted(np.cumsum(areas) / areas.sum(), u[:, 0], side="right"), 3)
+    flat = face >= 2
+    # the side (0..3: u = +h, v = +h, u = -h, v = -h) and the position t along it, in [-1, 1]:
+    # the walls' four sides are equally long; the flat faces' bars are a + d, a - d, a + d,
+    # a - d long (sides 0 and 2 run the full outer length, 1 and 3 fit between them)
+    along4 = 4.0 * u[:, 1]
+    wall_side = np.minimum(along4.astype(int), 3)
+    lengths = np.array([side + d, side - d, side + d, side - d])
+    ends = np.cumsum(lengths)
+    s_flat = u[:, 1] * ends[-1]
+    flat_side = np.minimum(np.searchsorted(ends, s_flat, side="right"), 3)
+    t_flat = 2.0 * (s_flat - (ends - lengths)[flat_side]) / lengths[flat_side] - 1.0
+    which = np.where(flat, flat_side, wall_side)
+    t = np.where(flat, t_flat, 2.0 * (along4 - wall_side) - 1.0)
+    half = np.where(face == 0, h_in, h_out)
+    # on a flat face: across the side's bar from its inner to its outer edge
+    offset = np.where(flat, h_in + d * u[:, 2], half)
+    reach = np.where(flat, np.where(which % 2 == 0, h_out, h_in), half)
+    sign_n = np.where(which < 2, 1.0, -1.0)
+    normal_u = np.where(which % 2 == 0, sign_n, 0.0)
+    normal_w = np.where(which % 2 == 1, sign_n, 0.0)
+    pu = normal_u * offset + (1.0 - np.abs(normal_u)) * (-sign_n * t * reach)
+    pw = normal_w * offset + (1.0 - np.abs(normal_w)) * (sign_n * t * reach)
+    p: list[np.ndarray] = [np.empty(0)] * 3
+    nv: list[np.ndarray] = [np.empty(0)] * 3
+    p[ua], p[wa] = pu, pw
+    p[a] = np.where(flat, c + np.where(face == 3, 0.5, -0.5) * wd, c + wd * (u[:, 2] - 0.5))
+    inward = np.where(face == 0, -1.0, 1.0)
+    nv[ua] = np.where(flat, 0.0, inward * normal_u)
+    nv[wa] = np.where(flat, 0.0, inward * normal_w)
+    nv[a] = np.where(flat, np.where(face == 3, 1.0, -1.0), 0.0)
+    return tuple(p), tuple(nv)
+
+
 def _cosine_directions(normal: Sequence[np.ndarray], u: np.ndarray) -> tuple:
     """Lambert (cosine-weighted) directions about each unit normal (coordinate columns), from
     ``u`` (n x 2 in [0, 1): cos² of the polar angle, azimuth about the normal)."""
@@ -224,11 +350,12 @@ def _cosine_directions(normal: Sequence[np.ndarray], u: np.ndarray) -> tuple:
 
 
 @functools.lru_cache(maxsize=64)
-def _traced(rings: tuple[PackRing, ...], rays: int) -> np.ndarray:
+def _traced(rings: tuple[PackRing | PackFrame, ...], rays: int) -> np.ndarray:
     u = halton_points(rays)
     out = np.zeros((len(rings), 1 + len(rings)))
     for k, ring in enumerate(rings):
-        p, nv = _emitters(ring, u[:, :3])
+        emit = _frame_emitters if isinstance(ring, PackFrame) else _emitters
+        p, nv = emit(ring, u[:, :3])  # type: ignore[arg-type]
         who = _first_hit(p, _cosine_directions(nv, u[:, 3:]), rings)
         out[k, 0] = np.count_nonzero(who < 0) / rays
         for j in range(len(rings)):
@@ -237,7 +364,7 @@ def _traced(rings: tuple[PackRing, ...], rays: int) -> np.ndarray:
     return out
 
 
-def view_factors(rings: Sequence[PackRing], rays: int = RAYS_PER_PAIR) -> np.ndarray:
+def view_factors(rings: Sequence[PackRing | PackFrame], rays: int = RAYS_PER_PAIR) -> np.ndarray:
     """Fractions of each pair's diffuse emission reaching ``[room, pair 0, pair 1, pair 2]``.
 
     Rows sum to 1; ``[:, 0]`` is the ``radiation_view_factor`` (what leaves the coil set).
@@ -256,9 +383,9 @@ def view_factors(rings: Sequence[PackRing], rays: int = RAYS_PER_PAIR) -> np.nda
         View factors, dimensionless; row k is pair k's ``[room, pair 0, pair 1, pair 2]``.
     """
     key = tuple(
-        PackRing(
+        type(r)(
             int(r.axis_index),
-            round(float(r.radius_m), 12),
+            round(float(r.side_m if isinstance(r, PackFrame) else r.radius_m), 12),
             round(float(r.separation_m), 12),
             round(float(r.width_m), 12),
             round(float(r.depth_m), 12),

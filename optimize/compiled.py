@@ -360,6 +360,7 @@ PACK_FIELDS = (
     "heat_transfer_coefficient_W_m2K",
     "emissivity",
     "air_speed_m_s",
+    "vertical_bar_height_m",  # a square frame in a vertical plane (0: a ring), coils.thermal
 )
 
 

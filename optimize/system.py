@@ -382,7 +382,7 @@ def packs_of(model: DesignModel) -> tuple:
         WindingPack(
             pack_width_m=p.winding_pack_width_m,
             pack_depth_m=p.winding_pack_depth_m,
-            mean_radius_m=p.radius_m,
+            mean_radius_m=p.turn_radius_m,
             packing_factor=p.packing_factor,
             conductivity_W_mK=model.winding_conductivity_W_mK,
             heat_transfer_coefficient_W_m2K=0.0 if h is None else float(h),
@@ -390,14 +390,15 @@ def packs_of(model: DesignModel) -> tuple:
             vertical_axis=p.axis == "z",
             air_speed_m_s=float(model.air_speed_m_s),
             convection="fixed" if h is not None else model.cooling,
+            vertical_bar_height_m=float(p.side_m) if p.shape == "square" and p.axis != "z" else 0.0,
         )
         for p in model.coils.pairs
     )
 
 
 def pack_rings(coils: Any) -> list[Any]:
-    """The three pairs' winding packs as :class:`coils.viewfactors.PackRing` (the geometry the
-    view factors are traced on).
+    """The three pairs' winding packs as :class:`coils.viewfactors.PackRing` (a square pair:
+    :class:`coils.viewfactors.PackFrame`), the geometry the view factors are traced on.
 
     Parameters
     ----------
@@ -406,14 +407,18 @@ def pack_rings(coils: Any) -> list[Any]:
 
     Returns
     -------
-    list of coils.viewfactors.PackRing
+    list of coils.viewfactors.PackRing or PackFrame
         One per pair, SI.
     """
-    from coils.viewfactors import PackRing
+    from coils.viewfactors import PackFrame, PackRing
 
     return [
-        PackRing(
-            p.axis_index, p.radius_m, p.spacing_m, p.winding_pack_width_m, p.winding_pack_depth_m
+        (PackFrame if p.shape == "square" else PackRing)(
+            p.axis_index,
+            p.side_m if p.shape == "square" else p.radius_m,
+            p.spacing_m,
+            p.winding_pack_width_m,
+            p.winding_pack_depth_m,
         )
         for p in coils.pairs
     ]

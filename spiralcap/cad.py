@@ -2,7 +2,7 @@
 
 Through build123d (OpenCASCADE), the optional ``cad`` extra (``pip install "spiralcap[cad]"``).
 Each pack is the solid ring of :mod:`coils.clearance` (mean radius R, axial width w, radial depth
-h, mid-plane at ±s/2 on its pair's axis), built on its own so every solid keeps its own name in
+h, mid-plane at ±s/2 on its pair's axis; a square pair's the frame of side a ± h, sharp corners), built on its own so every solid keeps its own name in
 the STEP file (``coil_x-``, ``coil_x+``, …, ``workspace``). Millimetres, the usual CAD unit
 (STEP carries it); the coil centre is the origin and x, y, z are the coil axes.
 """
@@ -36,13 +36,14 @@ def require_cad(flag: str, path: str) -> None:
 
 
 def cad_bodies(pairs: Any, workspace_radius_m: float | None = None) -> list[tuple[str, Any]]:
-    """(name, body) of every solid: each pack a :class:`coils.clearance.Ring`, the workspace a
-    radius in m (only when ``workspace_radius_m`` is given and positive)."""
-    from coils.clearance import pair_rings
+    """(name, body) of every solid: each pack a :class:`coils.clearance.Ring` (a square pair's a
+    :class:`coils.clearance.Frame`), the workspace a radius in m (only when
+    ``workspace_radius_m`` is given and positive)."""
+    from coils.clearance import pair_packs
 
     out: list[tuple[str, Any]] = []
     for pair in pairs:
-        for sign, ring in zip("-+", pair_rings(pair)):
+        for sign, ring in zip("-+", pair_packs(pair)):
             out.append((f"coil_{pair.axis}{sign}", ring))
     if workspace_radius_m:
         out.append(("workspace", float(workspace_radius_m)))
@@ -50,10 +51,17 @@ def cad_bodies(pairs: Any, workspace_radius_m: float | None = None) -> list[tupl
 
 
 def _solid(ring: Any) -> Any:
-    from build123d import Cylinder, Pos, Rot
+    from build123d import Box, Cylinder, Pos, Rot
 
-    r, w, h = ring.radius_m * _MM, ring.width_m * _MM, ring.depth_m * _MM
-    body = Cylinder(r + 0.5 * h, w) - Cylinder(r - 0.5 * h, w)  # about z, centred
+    from coils.clearance import Frame
+
+    w, h = ring.width_m * _MM, ring.depth_m * _MM
+    if isinstance(ring, Frame):  # square frame, sides along the other axes, sharp corners
+        a = ring.side_m * _MM
+        body = Box(a + h, a + h, w) - Box(a - h, a - h, w)
+    else:
+        r = ring.radius_m * _MM
+        body = Cylinder(r + 0.5 * h, w) - Cylinder(r - 0.5 * h, w)  # about z, centred
     turn = (Rot(0, 90, 0), Rot(-90, 0, 0), Rot(0, 0, 0))[ring.axis]  # z onto x, y, z
     offset = [0.0, 0.0, 0.0]
     offset[ring.axis] = ring.centre_m * _MM

@@ -38,6 +38,112 @@ def one_line(text: str) -> str:
     return "".join(ch if ch.isprintable() or ch == " " else repr(ch)[1:-1] for ch in text)
 
 
+#: ASCII spellings of the characters the text output uses, for a stream that cannot encode them
+#: (``PYTHONIOENCODING=ascii``, an old terminal): ``mN·m`` -> ``mN m``, ``°C`` -> ``deg C``.
+ASCII_SPELLINGS = {
+    "\u00b7": " ",  # middle dot between units
+    "\u00b0": "deg",
+    "\u00d7": "x",
+    "\u00b1": "+/-",
+    "\u00b5": "u",  # micro sign
+    "\u00b2": "^2",
+    "\u00b3": "^3",
+    "\u2212": "-",
+    "\u2013": "-",
+    "\u2014": "-",
+    "\u2264": "<=",
+    "\u2265": ">=",
+    "\u2248": "~",
+    "\u2192": "->",
+    "\u2026": "...",
+    "\u2018": "'",
+    "\u2019": "'",
+    "\u201c": '"',
+    "\u201d": '"',
+    "\u221e": "inf",
+    "\u221a": "sqrt",
+    "\u03a9": "Ohm",
+    "\u0394": "Delta",
+    "\u03b1": "alpha",
+    "\u03b2": "beta",
+    "\u03b7": "eta",
+    "\u03bc": "mu",
+    "\u03c0": "pi",
+    "\u03c1": "rho",
+    "\u03c3": "sigma",
+    "\u03c4": "tau",
+    "\u03c9": "omega",
+    "\u03b8": "theta",
+    "\u03c6": "phi",
+}
+ASCII_ERRORS = "spiralcap-ascii"
+
+
+def _ascii_spelling(char: str, before: str, after: str) -> str:
+    """The ASCII spelling of ``char`` between ``before`` and ``after`` (one character each, or
+    empty): a word is set apart from letters and digits (``37°`` -> ``37 deg``, ``°C`` ->
+    ``deg C``); a Greek mu before a unit letter is the micro prefix (``μm`` -> ``um``)."""
+    import unicodedata
+
+    if char == "\u03bc" and after.isalpha():
+        return "u"
+    text = ASCII_SPELLINGS.get(char)
+    if text is None:
+        text = unicodedata.normalize("NFKD", char).encode("ascii", "ignore").decode() or "?"
+    if len(text) > 1 and text[0].isalpha():
+        text = (" " if before.isalnum() else "") + text + (" " if after.isalnum() else "")
+    return text
+
+
+def _ascii_errors(exc: UnicodeError) -> tuple[str, int]:
+    """A codec error handler: every character the stream cannot encode in its ASCII spelling."""
+    if not isinstance(exc, UnicodeEncodeError):
+        raise exc
+    text, start, end = exc.object, exc.start, exc.end
+    out = [
+        _ascii_spelling(text[i], text[i - 1 : i], text[i + 1 : i + 2]) for i in range(start, end)
+    ]
+    return "".join(out), end
+
+
+def ascii_fallback(stream: object, defaults: tuple[str, ...] = ("strict",)) -> None:
+    """Make ``stream`` write ASCII spellings of the units (``mN m``, ``deg C``) when its encoding
+    cannot encode them and its error handler is the default (``PYTHONIOENCODING=ascii``); a
+    stream that can, or one the user gave another handler (``ascii:replace``), is left as it is.
+
+    Parameters
+    ----------
+    stream : text stream
+        ``sys.stdout`` or ``sys.stderr`` (anything with ``encoding``, ``errors`` and
+        ``reconfigure``; other objects are left alone).
+    defaults : tuple of str
+        The error handlers taken as Python's default for this stream (``strict`` for stdout;
+        ``backslashreplace`` too for stderr, which Python gives it unasked).
+    """
+    import codecs
+
+    encoding = getattr(stream, "encoding", None)
+    if not encoding or getattr(stream, "errors", "strict") not in defaults:
+        return
+    try:
+        "".join(ASCII_SPELLINGS).encode(encoding)
+        return
+    except UnicodeEncodeError:
+        pass
+    except LookupError:  # an encoding Python does not know: nothing to adapt
+        return
+    try:
+        codecs.lookup_error(ASCII_ERRORS)
+    except LookupError:
+        codecs.register_error(ASCII_ERRORS, _ascii_errors)
+    reconfigure = getattr(stream, "reconfigure", None)
+    if reconfigure is not None:
+        try:
+            reconfigure(errors=ASCII_ERRORS)
+        except (ValueError, OSError):  # a closed or detached stream
+            pass
+
+
 class _Parser(argparse.ArgumentParser):
     """argparse with usage errors on one line (``spiralcap evaluate: error: ...``), exit 2."""
 
@@ -70,6 +176,8 @@ def build_parser(only: str | None = None) -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     """Entry point: parse, run, and turn every expected error into one line and an exit status."""
+    ascii_fallback(sys.stdout)
+    ascii_fallback(sys.stderr, ("strict", "backslashreplace"))
     words = sys.argv[1:] if argv is None else argv
     # The top-level parser has only options, so its first other word names the subcommand.
     command = next((w for w in words if not w.startswith("-")), None)

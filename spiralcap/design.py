@@ -6,14 +6,12 @@ values, in the units the key names. The built-in example design is the schema's 
 
 from __future__ import annotations
 
-import errno
 import hashlib
 import json
 import math
 import os
 import stat
 import sys
-import tempfile
 from collections.abc import Iterable, Iterator, Mapping, Sequence
 from pathlib import Path
 from typing import Any
@@ -23,7 +21,13 @@ if sys.version_info >= (3, 11):
 else:  # Python 3.10
     import tomli as tomllib
 
-from spiralcap.errors import DataError, InputError
+from spiralcap.errors import DataError, InputError, short_text
+from spiralcap.outputs import (  # noqa: F401 -- where commands have always imported them
+    WRITE_THROUGH,
+    special_file,
+    write_files_atomic,
+    write_text_atomic,
+)
 from spiralcap.schema import KEYS, defaults, validate_value
 
 
@@ -81,12 +85,22 @@ class Design(Mapping[str, Any]):
         return hashlib.sha256(blob.encode()).hexdigest()
 
 
-def _flatten(table: Mapping[str, Any], prefix: str = "") -> dict[str, Any]:
+def _flatten(
+    table: Mapping[str, Any], where: str, prefix: str = "", depth: int = 1
+) -> dict[str, Any]:
+    """Dotted key -> value of a parsed TOML table; a key of more than :data:`MAX_NESTING` parts
+    (``a.b.c...`` written with dots builds nested tables the bracket scan does not see) is a
+    one-line DataError before any deeper recursion."""
     flat: dict[str, Any] = {}
     for key, value in table.items():
         dotted = f"{prefix}{key}"
         if isinstance(value, dict):
-            flat.update(_flatten(value, dotted + "."))
+            if depth >= MAX_NESTING:
+                raise DataError(
+                    f"{where}: a key nested more than {MAX_NESTING} levels deep "
+                    f"({short_text(dotted, 80)}...); design keys have at most {KEY_DEPTH}"
+                )
+            flat.update(_flatten(value, where, dotted + ".", depth + 1))
         else:
             flat[dotted] = value
     return flat
@@ -117,6 +131,11 @@ def parse_set(expr: str) -> tuple[str, Any]:
 MAX_FILE_BYTES = 4_000_000
 #: Deepest nesting of arrays and tables a design file may have (the schema needs 3).
 MAX_NESTING = 32
+#: Most dots between the parts of keys on one line of a design file (a dotted key
+#: ``a.b.c...`` of many parts makes the TOML parser build a table per part, in quadratic time).
+MAX_KEY_DOTS = 4 * MAX_NESTING
+#: Most dot-separated parts of a declared design key.
+KEY_DEPTH = max(k.count(".") + 1 for k in KEYS)
 #: Most digits of an integer in a design file (the largest count the schema allows has 6).
 MAX_INT_DIGITS = 30
 
@@ -191,34 +210,49 @@ def read_text_file(path: str | os.PathLike[str], what: str = "design file") -> s
 
 
 def _check_limits(text: str, where: str) -> None:
-    """Refuse nesting deeper than :data:`MAX_NESTING` and integers longer than
-    :data:`MAX_INT_DIGITS` before the parser meets them (it would recurse or convert without
-    bound). A light scan: brackets and digits outside strings and comments."""
-    depth = run = 0
+    """Refuse nesting deeper than :data:`MAX_NESTING`, integers longer than
+    :data:`MAX_INT_DIGITS` and lines of more than :data:`MAX_KEY_DOTS` key dots before the
+    parser meets them (it would recurse, convert or build nested tables without bound). A light
+    scan: brackets, digits and dots outside strings and comments (the dot of a float such as
+    ``1.5`` is not a key dot)."""
+    depth = run = dots = 0
     quote: str | None = None
-    comment = False
+    comment = number_dot = False
     line = 1
-    for ch in text:
+    for i, ch in enumerate(text):
         if ch == "\n":
             line += 1
-            comment = False
+            comment = number_dot = False
             quote = None if quote in ('"', "'") else quote
-            run = 0
+            run = dots = 0
             continue
-        if comment:
+        if comment or (quote and ch != quote):
             continue
         if quote:
-            if ch == quote:
-                quote = None
+            quote = None
             continue
         if ch.isdigit():
             run += 1
-            if run > MAX_INT_DIGITS:
-                raise DataError(
-                    f"{where} line {line}: a number of more than {MAX_INT_DIGITS} digits; no "
-                    "design value needs that many"
-                )
+            _check_count(
+                run,
+                MAX_INT_DIGITS,
+                f"{where} line {line}: a number of more than",
+                "digits; no design value needs that many",
+            )
             continue
+        if ch == ".":
+            if run and not number_dot and text[i + 1 : i + 2].isdigit():
+                number_dot = True  # the dot of a float
+            else:
+                dots += 1
+                _check_count(
+                    dots,
+                    MAX_KEY_DOTS,
+                    f"{where} line {line}: keys with more than",
+                    f"dots (design keys have at most {KEY_DEPTH} parts)",
+                )
+        elif ch != "_":
+            number_dot = False
         if ch != "_":
             run = 0
         if ch in "\"'":
@@ -227,12 +261,19 @@ def _check_limits(text: str, where: str) -> None:
             comment = True
         elif ch in "[{":
             depth += 1
-            if depth > MAX_NESTING:
-                raise DataError(
-                    f"{where} line {line}: arrays or tables nested more than {MAX_NESTING} deep"
-                )
+            _check_count(
+                depth,
+                MAX_NESTING,
+                f"{where} line {line}: arrays or tables nested more than",
+                "deep",
+            )
         elif ch in "]}":
             depth = max(depth - 1, 0)
+
+
+def _check_count(count: int, limit: int, before: str, after: str) -> None:
+    if count > limit:
+        raise DataError(f"{before} {limit} {after}")
 
 
 def _parse_toml(text: str, where: str) -> dict[str, Any]:
@@ -294,7 +335,7 @@ def load_design(
     origins: dict[str, str] = {}
     for p in paths:
         text = read_text_file(p)
-        layer = _flatten(_parse_toml(text, str(p)))
+        layer = _flatten(_parse_toml(text, str(p)), str(p))
         for key, value in layer.items():
             try:
                 values[key] = validate_value(key, value)
@@ -367,157 +408,3 @@ def example_toml() -> str:
         "# tissue.\n\n"
     )
     return head + _to_toml(defaults(), comments=True)
-
-
-def _target(path: str | os.PathLike[str]) -> Path:
-    """Where writing ``path`` lands: through a symlink to the file it points at."""
-    return Path(os.path.realpath(path))
-
-
-def _stage(p: Path, data: bytes) -> str:
-    """Write ``data`` to a new temporary file beside ``p`` and return its name.
-
-    On Linux the bytes go to an anonymous ``O_TMPFILE`` first and get a name only once they are
-    all written, so a process killed mid-write leaves nothing behind; elsewhere ``mkstemp``.
-    """
-    p.parent.mkdir(parents=True, exist_ok=True)
-    # the temporary name must fit the file system's 255-byte limit however long the target's is
-    stem = os.fsencode(p.name)[:200].decode("utf-8", "ignore") or "out"
-    umask = os.umask(0)
-    os.umask(umask)
-    flag = getattr(os, "O_TMPFILE", 0)
-    if flag and os.path.isdir("/proc/self/fd"):
-        try:
-            fd = os.open(p.parent, flag | os.O_WRONLY, 0o666 & ~umask)
-        except OSError:
-            fd = -1
-        if fd >= 0:
-            try:
-                _write_all(fd, data)
-                for _ in range(100):
-                    tmp = os.path.join(p.parent, f".{stem}.{os.urandom(4).hex()}.part")
-                    try:
-                        os.link(f"/proc/self/fd/{fd}", tmp, follow_symlinks=True)
-                        return tmp
-                    except FileExistsError:
-                        continue
-            except OSError:
-                pass
-            finally:
-                os.close(fd)
-    fd, tmp = tempfile.mkstemp(dir=p.parent, prefix=f".{stem}.", suffix=".part")
-    try:
-        with os.fdopen(fd, "wb") as fh:
-            fh.write(data)
-        os.chmod(tmp, 0o666 & ~umask)  # mkstemp makes 0600; give the file ordinary permissions
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
-    return tmp
-
-
-def _write_all(fd: int, data: bytes) -> None:
-    view = memoryview(data)
-    while view:
-        view = view[os.write(fd, view) :]
-
-
-def special_file(path: str | os.PathLike[str]) -> str | None:
-    """What an existing output that is not a regular file is ('character device', 'FIFO', ...);
-    None for a regular file or a path that does not exist yet (a symlink counts as its target)."""
-    try:
-        mode = os.stat(path).st_mode
-    except OSError:
-        return None
-    if stat.S_ISREG(mode):
-        return None
-    if stat.S_ISCHR(mode):
-        return "character device"
-    if stat.S_ISFIFO(mode):
-        return "FIFO"
-    if stat.S_ISBLK(mode):
-        return "block device"
-    if stat.S_ISSOCK(mode):
-        return "socket"
-    return "folder" if stat.S_ISDIR(mode) else "special file"
-
-
-#: Outputs that are written through (opened and written in place, never replaced by a file).
-WRITE_THROUGH = ("character device", "FIFO")
-
-
-def _write_through(path: str | os.PathLike[str], data: bytes) -> None:
-    """Write ``data`` into an existing character device or FIFO (``/dev/null``, a pipe a reader
-    holds open). A FIFO nobody reads is an error, not a hang; a full device (``/dev/full``) too."""
-    fd = os.open(path, os.O_WRONLY | os.O_NONBLOCK | getattr(os, "O_NOCTTY", 0))
-    try:
-        os.set_blocking(fd, True)
-        _write_all(fd, data)
-    finally:
-        os.close(fd)
-
-
-def write_files_atomic(files: Mapping[Any, str | bytes]) -> list[Path]:
-    """Write several files all or nothing: each staged beside its target, then all renamed.
-
-    A symlink given as a target is written through (the file it points at is replaced, the link
-    stays). An existing character device or FIFO (``-o /dev/null``) is written into, never
-    replaced by a file; a block device or socket is refused. Parent folders are created as
-    needed. If any file cannot be staged or any device written, no file is written and every
-    temporary file is removed (the devices are written after every file is staged, and before
-    any is renamed into place).
-
-    Raises
-    ------
-    DataError
-        A folder cannot be created, a file or device cannot be written (a full disk, a FIFO with
-        no reader), or a target is neither a regular file nor a device one can write into (one
-        line, exit 2).
-    """
-    staged: list[tuple[str, Path, Path]] = []
-    devices: list[tuple[Any, bytes]] = []
-    try:
-        for given, text in files.items():
-            # a file name of bytes that are not UTF-8 (held as surrogates) is written as "?"
-            data = text.encode("utf-8", "replace") if isinstance(text, str) else text
-            kind = special_file(given)
-            if kind in WRITE_THROUGH:
-                devices.append((given, data))
-                continue
-            if kind is not None:
-                raise DataError(f"{given}: cannot write into a {kind} (a regular file is needed)")
-            p = _target(given)
-            try:
-                staged.append((_stage(p, data), p, Path(given)))
-            except OSError as exc:
-                raise DataError(f"{given}: cannot write here ({exc.strerror or exc})") from None
-        for given, data in devices:
-            try:
-                _write_through(given, data)
-            except OSError as exc:
-                why = exc.strerror or str(exc)
-                if exc.errno == errno.ENXIO:
-                    why = "a FIFO that nobody reads"
-                raise DataError(f"{given}: cannot write ({why})") from None
-        for tmp, p, given in staged:
-            try:
-                os.replace(tmp, p)
-            except OSError as exc:
-                raise DataError(f"{given}: cannot write ({exc.strerror or exc})") from None
-    finally:
-        for tmp, _, _ in staged:
-            Path(tmp).unlink(missing_ok=True)
-    return [Path(g) for g in files]
-
-
-def write_text_atomic(path: str | os.PathLike[str], text: str | bytes) -> Path:
-    """Write a file all at once: to a temporary file beside it, then rename (no half files).
-
-    Parent folders are created as needed; a symlink is written through.
-
-    Raises
-    ------
-    DataError
-        The folder cannot be created or the file cannot be written (one line, exit 2).
-    """
-    return write_files_atomic({path: text})[0]

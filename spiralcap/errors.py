@@ -29,7 +29,8 @@ class InputError(SpiralcapError, ValueError):
     def __init__(self, key: str, value: Any, allowed: str, where: str | None = None) -> None:
         self.key, self.value, self.allowed, self.where = key, value, allowed, where
         shown = _short_repr(value)
-        super().__init__(f"{where + ': ' if where else ''}{key} = {shown}: {allowed}")
+        named = short_text(str(key), 120)
+        super().__init__(f"{where + ': ' if where else ''}{named} = {shown}: {allowed}")
 
     def __reduce__(self) -> tuple[Any, ...]:
         # rebuilt from its fields, so it crosses to and from worker processes whole
@@ -44,6 +45,23 @@ def _short_repr(value: Any, limit: int = 240) -> str:
         return "<a number too long to show>"
     text = text.replace("\n", " ")
     return text if len(text) <= limit else text[: limit - 3] + "..."
+
+
+def short_text(text: str, limit: int = 120) -> str:
+    """``text`` cut in the middle to at most ``limit`` characters (``coils.x.aaa...zzz.turns``),
+    so a long key stays recognisable by both ends and an error stays one short line.
+
+    Parameters
+    ----------
+    text : str
+        A key or name as given.
+    limit : int
+        Most characters kept, the ``...`` included.
+    """
+    if len(text) <= limit:
+        return text
+    head = (limit - 3) * 2 // 3
+    return text[:head] + "..." + text[len(text) - (limit - 3 - head) :]
 
 
 class DataError(SpiralcapError, ValueError):

@@ -64,6 +64,23 @@ def _rotation(axis: str) -> Any:
     return None
 
 
+def _filament(
+    magpylib: Any, square: bool, size_m: float, position_m: Any, ampere_turns: float, rotation: Any
+) -> Any:
+    """One filament: a ``Circle`` of radius ``size_m``, or a closed ``Polyline`` square of half
+    side ``size_m`` (sides along the other two axes), counter-clockwise about its local z so a
+    positive current makes a field along the pair's axis, as spiralcap's sign."""
+    if not square:
+        return magpylib.current.Circle(
+            current=ampere_turns, diameter=2.0 * size_m, position=position_m, orientation=rotation
+        )
+    h = size_m
+    corners = [(h, -h, 0.0), (h, h, 0.0), (-h, h, 0.0), (-h, -h, 0.0), (h, -h, 0.0)]
+    return magpylib.current.Polyline(
+        current=ampere_turns, vertices=corners, position=position_m, orientation=rotation
+    )
+
+
 def to_magpylib(model: Any, currents_A: Sequence[float] = (1.0, 1.0, 1.0)) -> Any:
     """The six coils as a ``magpylib.Collection``, each coil its winding pack's filaments.
 
@@ -78,8 +95,9 @@ def to_magpylib(model: Any, currents_A: Sequence[float] = (1.0, 1.0, 1.0)) -> An
     -------
     magpylib.Collection
         Six child collections named ``"x pair, coil at -0.215 m"`` and so on, each holding the
-        coil's filaments as ``magpylib.current.Circle`` objects (SI: m, A; the Circle's current
-        is the filament's ampere-turns, its weight times N times the pair current). Its
+        coil's filaments as ``magpylib.current.Circle`` objects, or closed square
+        ``magpylib.current.Polyline`` objects for a square pair (SI: m, A; a filament's current
+        is its ampere-turns, its weight times N times the pair current). Its
         ``getB(points_m)`` is spiralcap's field of the three pairs (magpylib uses scipy's
         CODATA 2022 mu_0, spiralcap CODATA 2018: they differ by about 1e-9 relative).
 
@@ -100,17 +118,16 @@ def to_magpylib(model: Any, currents_A: Sequence[float] = (1.0, 1.0, 1.0)) -> An
         e = np.eye(3)[pair.axis_index]
         rotation = _rotation(pair.axis)
         n = len(fs.turns) // 2  # filaments of one coil: the first half at -s/2, then +s/2
+        square = hasattr(fs, "half_sides_m")  # coils.square_pair.SquarePair
+        sizes = fs.half_sides_m if square else fs.radii_m
         for side in (slice(0, n), slice(n, 2 * n)):
             centre = float(np.mean(fs.centres_m[side]))
             loops = [
-                magpylib.current.Circle(
-                    current=float(turns * current),
-                    diameter=2.0 * float(radius),
-                    position=float(z) * e,
-                    orientation=rotation,
+                _filament(
+                    magpylib, square, float(size), float(z) * e, float(turns * current), rotation
                 )
-                for radius, z, turns in zip(
-                    fs.radii_m[side], fs.centres_m[side], fs.turns[side], strict=True
+                for size, z, turns in zip(
+                    sizes[side], fs.centres_m[side], fs.turns[side], strict=True
                 )
             ]
             coil = magpylib.Collection(*loops)

@@ -221,8 +221,9 @@ for _ax, _r, _n, _d in (("x", 0.43, 400, 3.0), ("y", 0.35, 350, 2.5), ("z", 0.28
         open_=False,
     )
     KEYS[f"coils.{_ax}.radius_m"] = _between(
-        f"mean radius of each coil of the {_ax} pair; range: a 1 cm bench coil to a 2 m "
-        "whole-body system",
+        f"mean radius of each coil of the {_ax} pair (a circular pair; a square pair, "
+        f"coils.{_ax}.shape = 'square', does not use it: its size is coils.{_ax}.side_m); "
+        "range: a 1 cm bench coil to a 2 m whole-body system",
         _r,
         0.01,
         2.0,
@@ -253,10 +254,29 @@ for _ax, _r, _n, _d in (("x", 0.43, 400, 3.0), ("y", 0.35, 350, 2.5), ("z", 0.28
         open_=False,
     )
     KEYS[f"coils.{_ax}.separation_m"] = _between(
-        f"distance between the two {_ax} coils (default: the radius, Helmholtz spacing); "
-        "range: 5 mm to 4 m (twice the largest radius)",
+        f"distance between the two {_ax} coils (default: the radius, Helmholtz spacing; for "
+        "a square pair 0.5445 x the side, square Helmholtz spacing); range: 5 mm to 4 m "
+        "(twice the largest radius)",
         None,
         0.005,
+        4.0,
+        open_=False,
+    )
+# square coil pairs (issue 30): the shape of each pair and the side of a square one
+for _ax in "xyz":
+    KEYS[f"coils.{_ax}.shape"] = _choice(
+        f"shape of the {_ax} pair's coils: 'circle' (size coils.{_ax}.radius_m) or 'square' "
+        f"(size coils.{_ax}.side_m, sides parallel to the other two axes, sharp corners, so "
+        "square pairs nest into a cube; docs/coils-square.md)",
+        "circle",
+        ("circle", "square"),
+    )
+    KEYS[f"coils.{_ax}.side_m"] = _between(
+        f"side of each coil of a square {_ax} pair, on the winding's centre line (needed with "
+        f"coils.{_ax}.shape = 'square', not allowed with a circle); range: a 2 cm bench coil "
+        "to a 4 m room-size frame (the circles' radius range, doubled)",
+        None,
+        0.02,
         4.0,
         open_=False,
     )
@@ -683,14 +703,17 @@ def _free_range(key: str) -> Key:
         if not (isinstance(v, list) and len(v) == 2 and all(_num(x) for x in v)):
             return False
         lo, hi = v
-        if spec.kind is int:
-            lo, hi = math.ceil(lo), math.floor(hi)
+        if spec.kind is int:  # a count: whole-number bounds, never rounded behind the user
+            if not all(math.isfinite(x) and float(x).is_integer() for x in v):
+                return False
+            lo, hi = int(lo), int(hi)
         return lo < hi and spec.check(lo) and spec.check(hi)
 
+    whole = "whole numbers " if spec.kind is int else ""
     return Key(
         list,
         None,
-        f"a pair [min, max] with min < max, each {spec.allowed}",
+        f"a pair [min, max] of {whole}with min < max, each {spec.allowed}",
         ok,
         f"let the optimiser choose {key} between min and max",
     )
@@ -974,9 +997,29 @@ def validate_value(key: str, value: Any) -> Any:
             value = float(value)
         except OverflowError:
             raise InputError(key, value, spec.allowed) from None
+    if isinstance(value, str) and _control_character(value):
+        raise InputError(
+            key, value, f"text without control characters ({_control_character(value)})"
+        )
     if not spec.check(value):
         raise InputError(key, value, spec.allowed)
     return value
+
+
+#: Characters that are not text: line and paragraph separators, and the bidirectional
+#: embeddings, overrides and isolates that make text read other than it is stored.
+_NOT_TEXT = "\u2028\u2029\u202a\u202b\u202c\u202d\u202e\u2066\u2067\u2068\u2069"
+
+
+def _control_character(text: str) -> str | None:
+    """The first control character of ``text`` (NUL, escape, a line break, a bidirectional
+    override) by its code point, ``"U+0000"``; None if there is none."""
+    import unicodedata
+
+    for ch in text:
+        if ch in _NOT_TEXT or unicodedata.category(ch) == "Cc":
+            return f"U+{ord(ch):04X}"
+    return None
 
 
 def defaults() -> dict[str, Any]:

@@ -47,6 +47,10 @@ EVALUATE_COLUMNS = (
     "wall_strain",  # the least over the tissue sets (the spiral grips where > 0)
     "feasible",
 )
+#: Most points of a vectorised evaluation per array call: a larger grid is cut into equal calls,
+#: each a progress step (a call costs about 1.5 s besides its points, the field-capacity
+#: bisection; at most 4 calls for the largest grid, MAX_POINTS["vectorised"]).
+VECTOR_CHUNK = 65_536
 #: Consecutive grid points re-optimised as one warm-started chain (one task).
 OPTIMIZE_CHUNK = 16
 OPTIMIZE_COLUMNS = (
@@ -104,7 +108,8 @@ class SweepResult:
 
 
 def parse_over(expr: str) -> Axis:
-    """Parse ``KEY=START:STOP:N`` (N >= 1; integer keys are rounded and must stay distinct)."""
+    """Parse ``KEY=START:STOP:N`` (N >= 1; a whole-number key takes whole START and STOP, the
+    points between are rounded and must stay distinct)."""
     key, sep, rng = expr.partition("=")
     parts = rng.split(":")
     allowed = "the form KEY=START:STOP:N, e.g. operation.frequency_hz=0.5:5:10"
@@ -125,7 +130,9 @@ def parse_over(expr: str) -> Axis:
         )
     values = np.linspace(start, stop, n)
     for v in (start, stop):
-        if not KEYS[key].check(round(v) if KEYS[key].kind is int else v):
+        if KEYS[key].kind is int and not v.is_integer():  # a count: whole-number bounds
+            raise InputError("--over", expr, f"whole numbers START and STOP: {key} is a count")
+        if not KEYS[key].check(int(v) if KEYS[key].kind is int else v):
             raise InputError(key, v, KEYS[key].allowed)
     if KEYS[key].kind is int:
         values = np.unique(np.round(values).astype(int))
@@ -180,7 +187,7 @@ def sweep(
         outputs = _optimize_points(design, inputs, workers, progress, dask, model)
         mode = "optimize"
     elif all(a.key in _VECTOR_KEYS for a in axes):
-        outputs = _evaluate_vectorised(design, inputs)
+        outputs = _evaluate_vectorised(design, inputs, progress)
         mode = "evaluate (vectorised)"
     else:
         outputs = _evaluate_points(design, inputs, progress)
@@ -188,13 +195,15 @@ def sweep(
     return SweepResult(tuple(axes), inputs, outputs, mode)
 
 
-def _vector_model(design: Design, inputs: dict[str, np.ndarray]) -> tuple[Any, Any, Any]:
+def _vector_model(
+    design: Design, inputs: dict[str, np.ndarray], base: Any = None
+) -> tuple[Any, Any, Any]:
     """The model with the swept limits and requirements as arrays, and the angle and frequency
-    at every point (rad, Hz)."""
+    at every point (rad, Hz); ``base`` is the prepared model of ``design`` when already built."""
     from optimize import prepare
     from spiralcap.assemble import build_model
 
-    model = prepare(build_model(design))
+    model = base if base is not None else prepare(build_model(design))
     alpha: Any = model.capsule.spiral.helical_angle_rad
     f: Any = model.frequency_hz
     groups: dict[str, dict[str, Any]] = {"limits": {}, "requirements": {}}
@@ -215,12 +224,31 @@ def _vector_model(design: Design, inputs: dict[str, np.ndarray]) -> tuple[Any, A
     return model, np.broadcast_to(alpha, (n,)), np.broadcast_to(f, (n,))
 
 
-def _evaluate_vectorised(design: Design, inputs: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
-    from optimize import margin_grid
+def _evaluate_vectorised(
+    design: Design,
+    inputs: dict[str, np.ndarray],
+    progress: Callable[[int, int], None] | None = None,
+) -> dict[str, np.ndarray]:
+    """Every point in equal array calls of at most :data:`VECTOR_CHUNK` points (the same
+    numbers as one call: each point is computed on its own), ``progress(done, total)`` after
+    each."""
+    from optimize import margin_grid, prepare
+    from spiralcap.assemble import build_model
 
-    model, alpha, f = _vector_model(design, inputs)
-    out = margin_grid(model, alpha, f)
-    return {k: np.asarray(out[k]) for k in EVALUATE_COLUMNS}
+    base = prepare(build_model(design))
+    n = len(next(iter(inputs.values())))
+    parts: dict[str, list[np.ndarray]] = {k: [] for k in EVALUATE_COLUMNS}
+    calls = -(-n // VECTOR_CHUNK)
+    step = -(-n // calls)
+    for lo in range(0, n, step):
+        chunk = {k: v[lo : lo + step] for k, v in inputs.items()}
+        model, alpha, f = _vector_model(design, chunk, base)
+        out = margin_grid(model, alpha, f)
+        for k in EVALUATE_COLUMNS:
+            parts[k].append(np.broadcast_to(np.asarray(out[k]), alpha.shape))
+        if progress:
+            progress(min(lo + step, n), n)
+    return {k: np.concatenate(v) for k, v in parts.items()}
 
 
 def failing_requirements(design: Design, result: SweepResult) -> np.ndarray | None:

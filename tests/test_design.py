@@ -74,6 +74,7 @@ def test_every_default_passes_its_own_check():
 
 
 def test_atomic_write_leaves_nothing_on_failure(tmp_path):
+    (tmp_path / "sub").mkdir()
     target = tmp_path / "sub" / "out.txt"
     write_text_atomic(target, "ok")
     assert target.read_text() == "ok", "atomic write writes the whole file"

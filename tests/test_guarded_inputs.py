@@ -331,6 +331,7 @@ def test_optimum_written_elsewhere_keeps_its_covariance(tmp_path, monkeypatch):
     so the written design reads the same covariance."""
     d, out = tmp_path / "d", tmp_path / "out"
     d.mkdir()
+    out.mkdir()  # outputs go into existing folders only
     (d / "design.toml").write_text("[tissue.uncertainty]\ncovariance_from = 'cov.toml'\n")
     _cov_file(d / "cov.toml", np.eye(5) * 0.09)
     monkeypatch.chdir(tmp_path)

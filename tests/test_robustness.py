@@ -424,14 +424,16 @@ def test_output_that_is_the_input_is_refused(tmp_path):
     sound(["report", str(design), "-o", str(tmp_path / "r.html"), "--pdf", str(design)], (2,))
 
 
-def test_symlink_output_writes_through_the_link(tmp_path):
+def test_symlink_output_is_refused_and_the_file_it_points_at_kept(tmp_path):
     target = tmp_path / "real.csv"
     target.write_text("old")
     link = tmp_path / "link.csv"
     link.symlink_to(target)
-    write_text_atomic(link, "new")
-    assert link.is_symlink(), "-o on a symlink keeps the link"
-    assert target.read_text() == "new", "and writes the file it points at"
+    with pytest.raises(DataError, match="symbolic link"):
+        write_text_atomic(link, "new")
+    assert link.is_symlink(), "the link stays"
+    assert target.read_text() == "old", "and the file it points at is not written through it"
+    assert sorted(os.listdir(tmp_path)) == ["link.csv", "real.csv"], "no temporary file left"
 
 
 def test_no_part_files_left_after_a_failed_write(tmp_path):
@@ -453,7 +455,7 @@ def test_kill_9_during_a_write_leaves_no_file(tmp_path):
     import sys
 
     child = (
-        "import sys, time, spiralcap.design as d\n"
+        "import sys, time, spiralcap.outputs as d\n"
         "orig = d._write_all\n"
         "def slow(fd, data):\n"
         "    orig(fd, data); print('written', flush=True); time.sleep(30)\n"

@@ -28,6 +28,10 @@ def test_vectorised_equals_point_by_point():
 
 def test_sweep_csv_and_json(tmp_path, capsys):
     out = tmp_path / "deep" / "grid.csv"
+    assert main(["sweep", "--over", "operation.frequency_hz=0.5:3:6", "--csv", str(out)]) == 2
+    assert "deep does not exist" in capsys.readouterr().err, "no folder is made"
+    assert not out.parent.exists()
+    out.parent.mkdir()
     assert main(["sweep", "--over", "operation.frequency_hz=0.5:3:6", "--csv", str(out)]) == 0
     with out.open() as fh:
         rows = list(csv.DictReader(fh))

@@ -67,6 +67,8 @@ def test_optimize_text_has_no_unitless_numbers():
             "coils.x.turns=100:800",
             "--free",
             "coils.x.wire_diameter_mm=0.8:3.0",
+            "--set",  # the grip held low, so the spiral-turns row binds at 1 turn
+            "requirements.min_wall_strain=0.005",
         ]
     )
     assert rc == 0
@@ -107,13 +109,18 @@ def _report_text(tmp_path, *sets: str) -> str:
 
 
 def test_power_report_names_power_in_watts_never_a_safety_factor_objective(tmp_path):
-    text = _report_text(tmp_path, "optimize.objective=power", "requirements.min_safety_factor=2")
+    text = _report_text(
+        tmp_path,
+        "optimize.objective=power",
+        "requirements.min_safety_factor=2",
+        "requirements.min_wall_strain=0.005",  # the grip held low: the spiral turns bind
+    )
     assert "IPOPT minimised the worst-heading copper power" in text
     assert re.search(r"Objective: the worst-heading copper power, minimised: [\d.]+ W", text)
     assert "safety factor per" not in text, "no gain in safety factor for a power design"
     assert "maximised the worst-case safety factor" not in text
     assert re.search(r"gains [\d.]+ W less", text), "gains in watts"
-    # the optimum binds the spiral-turns requirement at 1 (built-in): a count of one is singular
+    # the optimum binds the spiral-turns requirement at 1: a count of one is singular
     assert re.search(r"spiral turns requirements\.min_spiral_turns 1 turn 1 turn ", text), text
     assert not re.search(r"(?<![\d.])1 turns\b", text), "no '1 turns' in the report"
 

@@ -7,8 +7,9 @@
 - wire: bare diameter, its standard (IEC 60317-0-1 R40 nominal size or AWG, ASTM B258) and
   enamel: grade 2 (IEC 60317-0-1, the usual grade for wound coils) of the lowest thermal class
   (IEC 60317 series: 155, 180, 200, 220, 240) at or above the hot-spot limit;
-- wire length of both coils (N turns of 2π R each) plus :data:`LEAD_ALLOWANCE_PER_COIL_m` per
-  coil for the two tails to the terminal block and the winding-machine start;
+- wire length of both coils (N turns of 2π R each, of 4a for a square pair) plus
+  :data:`LEAD_ALLOWANCE_PER_COIL_m` per coil for the two tails to the terminal block and the
+  winding-machine start;
 - copper mass of that length (density x length x bare section: the wire to order);
 - resistance at 20 °C and series inductance 2L + 2M of the winding (leads not included);
 - current, voltage amplitude and apparent power S = V I / 2 (sinusoid amplitudes) at the

@@ -297,6 +297,16 @@ def build_sizing(design: Design) -> Any:
     free = free_keys(design)
     if not free:
         return None
+    squares = [ax for ax in "xyz" if design.get(f"coils.{ax}.shape") == "square"]
+    if squares:  # the sizing NLP (optimize.hardware) models circular pairs only
+        key = next(iter(free))
+        raise InputError(
+            _FREE_PREFIX + key,
+            list(free[key]),
+            f"no free range while a pair is square (coils.{squares[0]}.shape = 'square'): "
+            "sizing hardware with square pairs is not supported yet; optimise at fixed "
+            "hardware (drop the free ranges) or make the pairs circles",
+        )
     variables = tuple(
         hw.FreeVariable(
             _HARDWARE_NAMES[k][0], lo * _HARDWARE_NAMES[k][1], hi * _HARDWARE_NAMES[k][1]

@@ -10,8 +10,9 @@ import sys
 from collections.abc import Mapping, Sequence
 from typing import Any
 
-from spiralcap.design import WRITE_THROUGH, Design, load_design, special_file
+from spiralcap.design import Design, load_design
 from spiralcap.errors import InputError
+from spiralcap.outputs import check_output
 
 
 def add_design_arguments(
@@ -89,10 +90,10 @@ def check_outputs(outputs: Mapping[str, str | None], inputs: Sequence[str] = ())
     """Refuse output paths that cannot be written, before any computation.
 
     Call first in a command's ``run``. Each output (``{"-o": path, "--pdf": None, ...}``) must
-    be a file path (not a folder) whose nearest existing parent folder is a writable folder,
-    and not already a read-only file; outputs must be distinct files and none may be an input
-    file. A symlink counts as the file it points at. An existing character device or FIFO
-    (``/dev/null``) is accepted and written into; a block device or socket is refused.
+    pass :func:`spiralcap.outputs.check_output` (not a symbolic link, in an existing writable
+    folder, not a folder, block device or socket, not a read-only file; a character device or
+    FIFO such as ``/dev/null`` is written into); outputs must be distinct files and none may
+    be an input file.
 
     Raises
     ------
@@ -104,69 +105,14 @@ def check_outputs(outputs: Mapping[str, str | None], inputs: Sequence[str] = ())
     for flag, path in outputs.items():
         if path is None:
             continue
-        if not str(path).strip():
-            raise InputError(flag, path, "a file path")
-        _check_path_form(flag, str(path))
+        if check_output(flag, str(path)) is not None:
+            continue  # a device or FIFO: written into, nothing is created beside it
         real = os.path.realpath(path)
-        if os.path.isdir(real):
-            raise InputError(flag, path, "a file path, not an existing folder")
-        if os.path.exists(real) and not os.access(real, os.W_OK):
-            raise InputError(flag, path, "a writable file (cannot write: this one is read-only)")
-        kind = special_file(path)
-        if kind is not None and kind not in WRITE_THROUGH:
-            raise InputError(flag, path, f"a file path or a character device (this is a {kind})")
-        if kind is not None:  # /dev/null, a FIFO: written into, nothing is created beside it
-            continue
-        parent = os.path.dirname(real) or "."
-        while not os.path.exists(parent):
-            parent = os.path.dirname(parent)
-        if not os.path.isdir(parent):
-            raise InputError(flag, path, f"a writable path (cannot write inside {parent}: a file)")
-        if not os.access(parent, os.W_OK | os.X_OK):
-            raise InputError(flag, path, f"a writable path (cannot write in the folder {parent})")
-        _probe_folder(flag, str(path), parent)
         if real in sources:
             raise InputError(flag, path, f"a file other than the input {sources[real]}")
         if real in seen:
             raise InputError(flag, path, f"a different file from {seen[real]}")
         seen[real] = flag
-
-
-#: Longest file name (one path component) in bytes, where the system does not say (Linux,
-#: macOS and Windows file systems all allow 255).
-NAME_MAX = 255
-
-
-def _check_path_form(flag: str, path: str) -> None:
-    """A path that names a file: no trailing separator, every component a name the file
-    system can hold (at most NAME_MAX bytes), no NUL."""
-    if "\x00" in path:
-        raise InputError(flag, path, "a file path without NUL characters")
-    seps = (os.sep, os.altsep) if os.altsep else (os.sep,)
-    if path.endswith(seps):
-        raise InputError(flag, path, "a file path, not a folder (it ends in a path separator)")
-    for part in path.replace(os.altsep or os.sep, os.sep).split(os.sep):
-        size = len(os.fsencode(part))
-        if size > NAME_MAX:
-            raise InputError(
-                flag,
-                path,
-                f"file and folder names of at most {NAME_MAX} bytes (one has {size})",
-            )
-
-
-def _probe_folder(flag: str, path: str, folder: str) -> None:
-    """Create and remove a nameless file in ``folder``: what a write will need (read-only file
-    systems, /proc, a full quota answer here, not after the computation)."""
-    import tempfile
-
-    try:
-        with tempfile.TemporaryFile(dir=folder):
-            pass
-    except OSError as exc:
-        raise InputError(
-            flag, path, f"a writable path (creating a file in {folder} fails: {exc.strerror})"
-        ) from None
 
 
 def _plain(value: Any) -> Any:

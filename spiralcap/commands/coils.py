@@ -93,10 +93,11 @@ def _cooling_words(p: dict[str, Any]) -> str:
 
 def _hardware_table(axes: list[dict[str, Any]]) -> str:
     """What does not depend on the current: geometry, copper, field per ampere, inductance."""
+    squares = any(a.get("shape") == "square" for a in axes)
     return format_table(
         [
             "axis",
-            "radius_m",
+            "radius_or_side_m" if squares else "radius_m",
             "turns",
             "wire_mm",
             "pack_w_mm",
@@ -109,8 +110,8 @@ def _hardware_table(axes: list[dict[str, Any]]) -> str:
         ],
         [
             [
-                a["axis"],
-                a["radius_m"],
+                a["axis"] + (" (square)" if a.get("shape") == "square" else ""),
+                a["side_m"] if "side_m" in a else a["radius_m"],
                 a["turns"],
                 a["wire_diameter_m"] * 1e3,
                 a["winding_pack_width_m"] * 1e3,

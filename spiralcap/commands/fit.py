@@ -139,9 +139,12 @@ def read_bench_csv(path: str | Path) -> dict[str, list[float]]:
         if col not in header:
             raise DataError(
                 f"{p} line {header_line}: missing column {col!r} "
-                f"(header has {', '.join(repr(h) for h in header)})"
+                f"(header has {_short(', '.join(repr(_short(h, 40)) for h in header), 300)})"
             )
     wanted = [c for c in REQUIRED + OPTIONAL if c in header]
+    for col in wanted:
+        if header.count(col) > 1:  # which of two torque columns is meant cannot be guessed
+            raise DataError(f"{p} line {header_line}: column {col!r} appears more than once")
     out: dict[str, list[float]] = {c: [] for c in wanted}
     for row_no, (line_no, line) in enumerate(lines[1:], start=1):
         where = f"{p} line {line_no} (data row {row_no})"

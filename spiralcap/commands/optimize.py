@@ -63,6 +63,13 @@ def parse_free(expr: str) -> str:
     parts = rng.split(":")
     if not sep or len(parts) != 2:
         raise InputError("--free", expr, "the form KEY=MIN:MAX, e.g. coils.x.turns=100:800")
+    if key.startswith("coils.") and key.endswith(".side_m"):
+        raise InputError(
+            "--free",
+            expr,
+            "a key that can be freed (sizing a square pair's side is not supported yet: set "
+            f"{key} to the side to rate, or free a circular pair's radius_m)",
+        )
     if key not in FREEABLE_KEYS:
         raise InputError("--free", expr, "a key that can be freed: " + ", ".join(FREEABLE_KEYS))
     try:
@@ -71,6 +78,10 @@ def parse_free(expr: str) -> str:
         raise InputError(
             "--free", expr, "numbers MIN and MAX, e.g. coils.x.turns=100:800"
         ) from None
+    from spiralcap.schema import KEYS
+
+    if KEYS[key].kind is int and not (lo.is_integer() and hi.is_integer()):
+        raise InputError("--free", expr, f"whole numbers MIN and MAX: {key} is a count")
     return f"optimize.free.{key}=[{lo!r}, {hi!r}]"
 
 

@@ -14,7 +14,6 @@ the limits -- the report then says so in its first lines; 2 for bad input, with 
 from __future__ import annotations
 
 import argparse
-import os
 import shlex
 import sys
 import time
@@ -148,9 +147,7 @@ def run(args: argparse.Namespace) -> int:
     outputs: dict[str, str | bytes] = {args.output: report.html}
     if args.pdf is not None and report.pdf is not None:
         outputs[args.pdf] = report.pdf
-    written = write_files_atomic(outputs)  # both or neither
-    for path in written:
-        _shareable(path)
+    write_files_atomic(outputs)  # both or neither; a new file gets the umask's mode
     elapsed = time.perf_counter() - t0
     if not args.quiet:
         print(
@@ -167,17 +164,6 @@ def run(args: argparse.Namespace) -> int:
         )
         return EXIT_INFEASIBLE
     return 0
-
-
-def _shareable(path: Path) -> None:  # path as given: chmod follows a symlink
-    """Give a written report the permissions of a normally created file (umask applied).
-
-    ``write_text_atomic`` goes through ``tempfile.mkstemp``, which creates files readable by
-    the owner only; a report is meant to be handed on.
-    """
-    umask = os.umask(0)
-    os.umask(umask)
-    os.chmod(path, 0o666 & ~umask)
 
 
 def _command_line(args: argparse.Namespace) -> str:

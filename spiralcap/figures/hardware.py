@@ -2,8 +2,9 @@
 
 :func:`plot_geometry` draws a section through the coil centre in the x–z plane, in mm: the x
 and z pairs cut through their winding packs (rectangles of axial width x radial depth at the
-mean radius, the coil itself edge-on), the y pair face-on (its two coils are parallel to the
-section plane, so they show as the outline of their winding annulus), the workspace sphere and,
+mean radius, the coil itself edge-on; a square pair's at half its side, where the section
+cuts its frame), the y pair face-on (its two coils are parallel to the section plane, so they
+show as the outline of their winding annulus, or of the square frame), the workspace sphere and,
 when a least clearance is given, where the packs of two pairs come closest (the 3-D segment
 between the solids, :func:`coils.clearance.pack_closest_points`, projected onto the section)
 with its length. An inset shows
@@ -113,7 +114,11 @@ def plot_geometry(
         width, depth = pair.winding_pack_width_m * _MM, pair.winding_pack_depth_m * _MM
         extent = max(extent, r + depth, h + width)
         arts: list[Any] = []
-        if name == "y":
+        square = getattr(pair, "shape", "circle") == "square"
+        if name == "y" and square:
+            # a square frame face-on: the band between the squares of half side r ± depth/2
+            arts.append(ax.add_patch(_square_band(r, depth, colour, ls)))
+        elif name == "y":
             # parallel to the section plane: the winding annulus seen face-on
             arts.append(
                 ax.add_patch(
@@ -146,7 +151,9 @@ def plot_geometry(
                 linestyle=ls,
                 marker="s",
                 markerfacecolor=colour if name != "y" else "none",
-                label=f"{name} pair: R = {r:.0f} mm, spacing {2 * h:.0f} mm, "
+                label=f"{name} pair: "
+                + (f"square, side {2 * r:.0f} mm" if square else f"R = {r:.0f} mm")
+                + f", spacing {2 * h:.0f} mm, "
                 f"pack {width:.0f} x {depth:.0f} mm" + (" (face-on)" if name == "y" else ""),
             )
         )
@@ -183,6 +190,27 @@ def plot_geometry(
         cap_ax = capsule_ax
         plot_capsule(cap_ax, capsule)
     return GeometryDrawn(drawn, ws, cap_ax)
+
+
+def _square_band(half_mm: float, depth_mm: float, colour: Any, ls: Any) -> Any:
+    """The face-on band of a square frame (outer square less the inner one), a PathPatch."""
+    from matplotlib.patches import PathPatch
+    from matplotlib.path import Path
+
+    def square(h: float, reverse: bool) -> list[tuple[float, float]]:
+        corners = [(h, -h), (h, h), (-h, h), (-h, -h)]
+        return (corners[::-1] if reverse else corners) + [corners[-1] if reverse else corners[0]]
+
+    outer = square(half_mm + depth_mm / 2, False)
+    inner = square(half_mm - depth_mm / 2, True)
+    codes = [Path.MOVETO, *[Path.LINETO] * 3, Path.CLOSEPOLY] * 2
+    return PathPatch(
+        Path(outer + inner, codes),
+        facecolor=(0.0, 0.62, 0.45, 0.22),
+        edgecolor=colour,
+        linewidth=1.0,
+        linestyle=ls,
+    )
 
 
 def _clearances(ax: Axes, coils: Any, need_m: float) -> list[Any]:

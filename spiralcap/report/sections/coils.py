@@ -50,9 +50,24 @@ SIZING_ROWS: tuple[tuple[str, str, str, float], ...] = (
 )
 
 
+def _shape_rows(ctx: Context, axes: list[str]) -> list[list[Cell]]:
+    """With a square pair in the set: each pair's shape and a square's side (issue 30)."""
+    shapes = [ctx.value(f"coils.axes.{ax}").get("shape", "circle") for ax in axes]
+    if "square" not in shapes:
+        return []
+    sides: list[Cell] = [
+        ctx.num(f"coils.axes.{ax}.side_m") if shape == "square" else "–"
+        for ax, shape in zip(axes, shapes, strict=True)
+    ]
+    return [
+        ["coil shape (a square pair's radius row: half its side)", "", *shapes],
+        ["side of a square coil a (mean turn)", "m", *sides],
+    ]
+
+
 def _sizing_table(ctx: Context) -> Table:
     axes = list(ctx.value("coils.axes"))
-    rows: list[list[Cell]] = []
+    rows: list[list[Cell]] = _shape_rows(ctx, axes)
     for field, label, unit, factor in SIZING_ROWS:
         row: list[Cell] = [label, unit]
         for ax in axes:
@@ -131,9 +146,14 @@ def _bom_table(ctx: Context) -> Table:
 def _build_paragraph(ctx: Context) -> Paragraph:
     c = "coils"
     cl = ctx.value(f"{c}.pack_clearances_m")
+    shapes = {ctx.value(f"{c}.axes.{ax}").get("shape", "circle") for ax in ctx.value(f"{c}.axes")}
+    solids = {
+        frozenset({"circle"}): "solid rings",
+        frozenset({"square"}): "solid square frames",
+    }.get(frozenset(shapes), "solid rings and square frames")
     parts: list[Any] = [
         Strong("Can it be built. "),
-        "The winding packs are solid rings of rectangular section; as solids the packs of two "
+        f"The winding packs are {solids} of rectangular section; as solids the packs of two "
         "pairs come no closer than ",
     ]
     for i, key in enumerate(cl):
@@ -383,8 +403,9 @@ def build(ctx: Context) -> Section:
         "fig-geometry",
         "The hardware to scale. Left: section through the coil centre in the x–z plane, in mm: "
         "the x and z pairs cut through their winding packs (rectangles of axial width x radial "
-        "depth at the mean radius; solid and dash-dot lines the coils edge-on), the y pair "
-        "face-on (its winding annulus, dashed outline, light fill), the workspace sphere "
+        "depth at the mean radius, or at half the side of a square pair; solid and dash-dot "
+        "lines the coils edge-on), the y pair face-on (its winding annulus or square frame, "
+        "dashed outline, light fill), the workspace sphere "
         "dash-dotted; black segments: where the packs of two pairs come closest (the 3-D "
         "segment between the solids projected onto the section; its length in the legend). "
         "Right: the capsule "
