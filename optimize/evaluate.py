@@ -9,13 +9,14 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any, NamedTuple
+from typing import Any, ClassVar, NamedTuple
 
 import numpy as np
 
 from optimize import physics as ph
 from optimize._roots import brentq
 from optimize.system import DesignModel, prepare
+from optimize.views import Viewable
 from torque_model.domain import calibration_edges, extrapolations
 
 #: Relative tolerance with which requirements are judged met (an optimum sits on its bounds).
@@ -71,7 +72,7 @@ def _build_utilisation(value: float, allowed: float, sense: str) -> float:
 
 
 @dataclass(frozen=True)
-class Evaluation:
+class Evaluation(Viewable):
     """Immutable result of :func:`evaluate` (SI units; names say the unit).
 
     Attributes
@@ -131,6 +132,8 @@ class Evaluation:
     calibration_edges : tuple
         Model inputs inside that range but on its edge (torque_model.domain.calibration_edges).
     """
+
+    _view_kind: ClassVar[str] = "evaluation"
 
     helical_angle_rad: float
     frequency_hz: float

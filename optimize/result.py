@@ -8,11 +8,12 @@ design-file keys.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 
 from optimize.evaluate import Evaluation
+from optimize.views import Viewable
 
 
 @dataclass(frozen=True)
@@ -89,7 +90,7 @@ class Shortfall:
 
 
 @dataclass(frozen=True)
-class OptimizationResult:
+class OptimizationResult(Viewable):
     """Result of :func:`optimize.optimize_design` (SI inside; names carry units).
 
     ``status`` is 'optimal' or 'infeasible'. ``evaluation`` is :func:`optimize.evaluate` at the
@@ -154,6 +155,8 @@ class OptimizationResult:
     scenario_solve : ScenarioSolve or None
         How the tissue scenarios were solved and checked.
     """
+
+    _view_kind: ClassVar[str] = "optimization"
 
     status: str
     objective: str

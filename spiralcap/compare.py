@@ -53,6 +53,27 @@ class Row:
 
 
 @dataclass(frozen=True)
+class Above:
+    """A value a search stopped short of: only known to be above ``bound`` (the step-out
+    search's ceiling), shown as ``above 200`` and never differenced as if it were a value."""
+
+    bound: float
+
+    def __str__(self) -> str:
+        return f"above {shown_value(self.bound, exact=False)}"
+
+
+def _searched(hz: float, beyond: bool) -> float | Above:
+    """A frequency from a bounded search: the value, or :class:`Above` its ceiling."""
+    from optimize.evaluate import STEP_OUT_SEARCH_HZ
+
+    top = STEP_OUT_SEARCH_HZ[1]
+    if beyond or not math.isfinite(hz) or hz >= top:
+        return Above(float(hz) if math.isfinite(hz) and hz < top else float(top))
+    return hz
+
+
+@dataclass(frozen=True)
 class Comparison:
     """Designs side by side: labels, changed keys, rows at the operating point and optimum."""
 
@@ -95,8 +116,11 @@ _EVALUATION_ROWS = (
     ("magnetic torque", "N·m", "magnetic_torque_Nm"),
     ("required torque", "N·m", "required_torque_Nm"),
     ("forward speed", "m/s", "speed_m_s"),
-    ("step-out frequency", "Hz", "step_out_frequency_hz"),
-    ("drive's maximum frequency", "Hz", "max_frequency_hz"),
+)
+#: Frequencies from a bounded search: (quantity, attribute, its beyond-the-search flag).
+_SEARCHED_ROWS = (
+    ("step-out frequency", "step_out_frequency_hz", "step_out_beyond_search"),
+    ("drive's maximum frequency", "max_frequency_hz", "max_frequency_beyond_search"),
 )
 
 
@@ -105,6 +129,9 @@ def evaluation_rows(evaluations: Sequence[Any]) -> tuple[Row, ...]:
     rows = [
         _row(quantity, unit, [getattr(e, name) for e in evaluations])
         for quantity, unit, name in _EVALUATION_ROWS
+    ] + [
+        _row(quantity, "Hz", [_searched(getattr(e, hz), getattr(e, beyond)) for e in evaluations])
+        for quantity, hz, beyond in _SEARCHED_ROWS
     ]
     for k, axis in enumerate("xyz"):
         rows.append(
@@ -149,6 +176,8 @@ def objective_text(result: Any) -> str:
 def optimisation_rows(results: Sequence[Any]) -> tuple[Row, ...]:
     """Status, the objective (its value in its own unit), the chosen variables, margin,
     speed, copper and the binding limits of each optimum."""
+    from spiralcap.presentation import binding
+
     return (
         _row("status", "", [r.status for r in results]),
         _row("objective", "", [objective_text(r) for r in results]),
@@ -158,7 +187,11 @@ def optimisation_rows(results: Sequence[Any]) -> tuple[Row, ...]:
         _row("torque margin", "N·m", [r.margin_Nm for r in results]),
         _row("safety factor", "", [r.safety_factor for r in results]),
         _row("forward speed", "m/s", [r.speed_m_s for r in results]),
-        _row("step-out frequency", "Hz", [r.step_out_frequency_hz for r in results]),
+        _row(
+            "step-out frequency",
+            "Hz",
+            [_searched(r.step_out_frequency_hz, False) for r in results],
+        ),
         *[
             _row(f"current, {axis} pair", "A", [r.current_amplitudes_A[k] for r in results])
             for k, axis in enumerate("xyz")
@@ -167,7 +200,7 @@ def optimisation_rows(results: Sequence[Any]) -> tuple[Row, ...]:
         _row(
             "binding limits",
             "",
-            [", ".join(b.name for b in r.binding_limits) or "none" for r in results],
+            [", ".join(b.name for b in binding(r.binding_limits)) or "none" for r in results],
         ),
     )
 

@@ -242,6 +242,32 @@ def gain_per_key_unit(objective: str, unit: str, key: str, gain_si: float) -> tu
     return gain_si * obj_factor / key_factor, f"{obj} per {key_unit}".strip()
 
 
+#: A limit binds only where the solution sits on it: its value within this relative distance of
+#: the bound (IPOPT meets an active row to about 1e-8; a value 5 % inside its bound, such as a
+#: relaxed hardware value past a bound its multiplier still names, does not bind).
+ON_BOUND_RTOL = 1e-3
+
+
+def on_bound(value: float, allowed: float) -> bool:
+    """Whether ``value`` sits on its bound ``allowed`` (a bound of 0 is taken as sat on: its
+    distance has no scale here)."""
+    if allowed == 0 or not (math.isfinite(value) and math.isfinite(allowed)):
+        return True
+    return abs(value - allowed) <= ON_BOUND_RTOL * abs(allowed)
+
+
+def binding(limits: Any) -> tuple[Any, ...]:
+    """The binding limits (``optimize.BindingLimit`` or their JSON dicts) whose value sits on
+    the bound: what the CLI, the JSON, the comparison, the sweep and the report call binding."""
+
+    def parts(b: Any) -> tuple[float, float]:
+        if isinstance(b, dict):
+            return float(b["value"]), float(b["allowed"])
+        return float(b.value), float(b.allowed)
+
+    return tuple(b for b in limits if on_bound(*parts(b)))
+
+
 #: How each model input of torque_model.domain.CALIBRATED is named and shown: quantity ->
 #: (words, design key, shown unit, factor from SI).
 _DOMAIN_WORDS: dict[str, tuple[str, str, str, float]] = {

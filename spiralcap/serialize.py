@@ -164,7 +164,7 @@ def optimization_to_dict(res: Any) -> dict[str, Any]:
         }
         for h, (a, ph) in zip(res.headings, res.current_phases_rad)
     ]
-    from spiralcap.presentation import gain_per_key_unit, in_key_units, objective_words
+    from spiralcap.presentation import binding, gain_per_key_unit, in_key_units, objective_words
 
     unit = _OBJECTIVE_UNITS.get(res.objective, "1")
     what, shown_unit, factor, sense = objective_words(res.objective)
@@ -173,6 +173,7 @@ def optimization_to_dict(res: Any) -> dict[str, Any]:
     out["objective_direction"] = sense
     if math.isfinite(res.objective_value):
         out["objective_value_shown"] = res.objective_value * factor
+    out["binding_limits"] = list(binding(out["binding_limits"]))
     for b in out["binding_limits"]:
         b["key"] = constraint_key(b["name"])
         b["gain_unit"] = unit + "/" + b["unit"]

@@ -298,6 +298,7 @@ def _row(r, columns: tuple[str, ...] = OPTIMIZE_COLUMNS) -> tuple:
     """``columns`` (:func:`optimize_columns`) of the result ``r``; NaN where it has none (the
     sized hardware of an infeasible sizing)."""
     from spiralcap.assemble.system import hardware_design_values
+    from spiralcap.presentation import binding
 
     values: dict[str, Any] = dict(
         zip(
@@ -309,7 +310,7 @@ def _row(r, columns: tuple[str, ...] = OPTIMIZE_COLUMNS) -> tuple:
                 r.margin_Nm,
                 r.safety_factor,
                 r.field_amplitude_T,
-                ";".join(b.name for b in r.binding_limits),
+                ";".join(b.name for b in binding(r.binding_limits)),
             ),
         )
     )

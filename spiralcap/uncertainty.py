@@ -11,8 +11,9 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, ClassVar
 
+from optimize.views import Viewable
 from spiralcap.errors import InputError
 
 DEFAULT_SAMPLES = 1 << 16
@@ -20,8 +21,12 @@ DEFAULT_SOBOL_BASE = 1 << 12
 
 
 @dataclass(frozen=True)
-class Study:
-    """An uncertainty study and where/how long it ran."""
+class Study(Viewable):
+    """An uncertainty study and where/how long it ran; in a notebook a table of the step-out
+    probability and the margin's percentiles, ``.plot()`` its distribution
+    (:mod:`spiralcap.notebook`)."""
+
+    _view_kind: ClassVar[str] = "uncertainty_study"
 
     result: Any  # optimize.uncertainty.UncertaintyResult
     uncertainty: Any  # optimize.uncertainty.TissueUncertainty

@@ -90,8 +90,12 @@ def test_conclusion_follows_the_design() -> None:
 def test_summary_leads_with_the_design_as_entered() -> None:
     ctx, _ = _context()
     section = summary.build(ctx)
-    first, second = section.blocks[0], section.blocks[1]
+    first = section.blocks[0]
     assert isinstance(first, Paragraph) and "As entered" in str(first.parts[0])
+    rest = [b for b in section.blocks[1:] if not (isinstance(b, Paragraph) and b.kind == "alert")]
+    warned = [b for b in section.blocks[1:3] if isinstance(b, Paragraph) and b.kind == "alert"]
+    assert all("Warning" in str(b.parts[0]) for b in warned), "only warnings sit between"
+    second = rest[0]
     assert isinstance(second, Paragraph) and "Proposed change" in str(second.parts[0])
 
 

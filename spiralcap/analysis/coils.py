@@ -12,9 +12,11 @@ from __future__ import annotations
 
 import math
 from dataclasses import asdict, dataclass, replace
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
+
+from optimize.views import Viewable
 
 _TOLERANCES = (("1pct", 0.01), ("5pct", 0.05))
 _AXES = ("x", "y", "z")
@@ -89,8 +91,11 @@ class UniformRegions:
 
 
 @dataclass(frozen=True)
-class CoilAnalysis:
-    """Everything ``spiralcap coils`` reports (SI; names carry units)."""
+class CoilAnalysis(Viewable):
+    """Everything ``spiralcap coils`` reports (SI; names carry units); in a notebook a table of
+    the operating point, ``.plot()`` the heating curves (:mod:`spiralcap.notebook`)."""
+
+    _view_kind: ClassVar[str] = "coil_analysis"
 
     design: str
     sizing: Any  # coils.SystemSizing at the current limit
@@ -108,6 +113,7 @@ class CoilAnalysis:
     bore_clearance_m: float = math.nan
     bore_radius_m: float = 0.0
     bill_of_materials: tuple = ()  # spiralcap.analysis.bom.BomRow per pair
+    warnings: tuple[str, ...] = ()  # spiralcap.analysis.touch: a pack surface too hot to hold
 
 
 def _uniform(system: Any) -> UniformRegions:
@@ -270,7 +276,14 @@ def analyse_coils(design: Any, model: Any = None) -> CoilAnalysis:
         bore_clearance_m=bore_clearance_m(model.coils.pairs, req.bore_radius_m),
         bore_radius_m=float(req.bore_radius_m),
     )
-    return replace(analysis, bill_of_materials=bill_of_materials(model, analysis))
+    from spiralcap.analysis.touch import touch_warning
+
+    touch = touch_warning(model, field)
+    return replace(
+        analysis,
+        bill_of_materials=bill_of_materials(model, analysis),
+        warnings=() if touch is None else (touch.words(),),
+    )
 
 
 def coils_payload(a: CoilAnalysis) -> dict[str, Any]:
@@ -337,4 +350,5 @@ def coils_payload(a: CoilAnalysis) -> dict[str, Any]:
         "bore_clearance_m": a.bore_clearance_m,
         "bore_radius_m": a.bore_radius_m,
         "bill_of_materials": [asdict(r) for r in a.bill_of_materials],
+        "warnings": list(a.warnings),
     }

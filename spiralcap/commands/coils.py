@@ -34,6 +34,19 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         help="also write the same solids as an STL mesh (needs the cad extra)",
     )
     parser.add_argument(
+        "--field-grid",
+        metavar="FILE.csv|FILE.npz",
+        help="also write the field per ampere of each pair on a grid over the workspace cube: "
+        "columns x_m, y_m, z_m and B{x,y,z}_per_A_{x,y,z}_T_per_A (component, then pair), as "
+        "CSV or NumPy .npz arrays of those names",
+    )
+    parser.add_argument(
+        "--grid-step-mm",
+        type=float,
+        metavar="S",
+        help="grid spacing of --field-grid, mm (default: the workspace diameter / 20)",
+    )
+    parser.add_argument(
         "--cad-workspace",
         action="store_true",
         help="add the workspace sphere to the CAD model as a seventh body",
@@ -63,17 +76,121 @@ def _watts(v: float) -> str:
 
 
 def _cooling_words(p: dict[str, Any]) -> str:
+    """The surface heat transfer at the operating point (fixed h, or the correlation's h)."""
     h = p.get("heat_transfer_coefficient_W_m2K")
     if h is not None:
         return f"h = {h:g} W/(m²·K)"
+    op = p["operating_point"]["axes"]
     hs = ", ".join(
-        f"{h:.3g}" if math.isfinite(h) else "undefined (runaway)"
-        for h in (p["axes"][ax]["convection_coefficient_W_m2K"] for ax in "xyz")
+        f"{h:.3g}" if math.isfinite(h) else "undefined"
+        for h in (op[ax].get("convection_coefficient_W_m2K", math.nan) for ax in "xyz")
     )
     return (
         f"{p['cooling']} convection h_c = {hs} W/(m²·K) (x, y, z; at the surface temperatures "
         "of the table below)"
     )
+
+
+def _hardware_table(axes: list[dict[str, Any]]) -> str:
+    """What does not depend on the current: geometry, copper, field per ampere, inductance."""
+    squares = any(a.get("shape") == "square" for a in axes)
+    return format_table(
+        [
+            "axis",
+            "radius_or_side_m" if squares else "radius_m",
+            "turns",
+            "wire_mm",
+            "pack_w_mm",
+            "pack_d_mm",
+            "wire_m",
+            "Cu_kg",
+            "loop_mT_per_A",
+            "L_mH",
+            "F_room",
+        ],
+        [
+            [
+                a["axis"] + (" (square)" if a.get("shape") == "square" else ""),
+                a["side_m"] if "side_m" in a else a["radius_m"],
+                a["turns"],
+                a["wire_diameter_m"] * 1e3,
+                a["winding_pack_width_m"] * 1e3,
+                a["winding_pack_depth_m"] * 1e3,
+                a["wire_length_m"],
+                a["copper_mass_kg"],
+                a["field_per_amp_T_per_A"] * 1e3,
+                a["inductance_H"] * 1e3,
+                a["radiation_view_factor"],
+            ]
+            for a in axes
+        ],
+    )
+
+
+def _rating_lines(p: dict[str, Any]) -> list[str]:
+    """The three pairs at the amplifier rating (limits.current_A), in words: a pair that runs
+    away thermally is said so with the current to hold it below, never with temperatures."""
+    axes = [p["axes"][ax] for ax in "xyz"]
+    rating = p["current_amplitude_A"]
+    steady = [a for a in axes if not a.get("thermal_runaway")]
+    lines = [
+        f"at the amplifier rating, {rating:g} A per pair (limits.current_A), all three pairs "
+        "together, steady:"
+    ]
+    limit_C = p["operating_point"]["limit_temperature_C"]
+    for a in axes:
+        if not a.get("thermal_runaway") and a["hot_spot_temperature_C"] > limit_C:
+            lines.append(
+                f"  at {rating:g} A the {a['axis']} pair's hot spot passes its {limit_C:g} °C "
+                f"limit: hold it below {a['max_current_A']:.4g} A "
+                f"({_limited_words(a['max_current_limited_by'])})"
+            )
+        if a.get("thermal_runaway"):
+            lines.append(
+                f"  at {rating:g} A the {a['axis']} pair runs away thermally (it has no steady "
+                f"temperature): hold it below {a['max_current_A']:.4g} A "
+                f"({_limited_words(a['max_current_limited_by'])})"
+            )
+    if len(steady) < len(axes):  # radiating to each other: no common steady state, no numbers
+        lines.append(
+            "  the three pairs have no common steady state at this current (they heat each "
+            "other), so no temperature, resistance or loss is given for any of them"
+        )
+    else:
+        lines.append(
+            format_table(
+                ["axis", "R_ohm", "Z_ohm", "V_amp_V", "P_W", "surf_C", "hot_C", "B_mT"],
+                [
+                    [
+                        a["axis"],
+                        a["resistance_ohm"],
+                        a["impedance_ohm"],
+                        a["voltage_amplitude_V"],
+                        a["power_W"],
+                        a["surface_temperature_C"],
+                        a["hot_spot_temperature_C"],
+                        a["field_amplitude_T"] * 1e3,
+                    ]
+                    for a in axes
+                ],
+            )
+        )
+    wh = p["worst_heading"]
+    lines.append(
+        f"total copper loss at {rating:g} A, worst heading "
+        f"({', '.join(f'{x:.3g}' for x in wh['heading'])}): {_watts(p['total_power_W'])} "
+        f"at {wh['field_amplitude_T'] * 1e3:.4g} mT"
+    )
+    return lines
+
+
+def _limited_words(limited_by: str) -> str:
+    return {
+        "hot_spot": "its winding hot-spot limit",
+        "voltage": "its drive-voltage limit",
+        "current": "the current limit",
+        "surface": "its surface-temperature limit",
+    }.get(limited_by, f"limited by {limited_by}")
 
 
 def _clearance_lines(p: dict[str, Any]) -> list[str]:
@@ -93,78 +210,9 @@ def _clearance_lines(p: dict[str, Any]) -> list[str]:
     ]
 
 
-def _text(p: dict[str, Any], bom: str = "") -> str:
-    axes = [p["axes"][ax] for ax in "xyz"]
-    squares = any(a.get("shape") == "square" for a in axes)
-    rows = [
-        [
-            _run(v)
-            for v in (
-                a["axis"] + (" (square)" if a.get("shape") == "square" else ""),
-                a["side_m"] if "side_m" in a else a["radius_m"],
-                a["turns"],
-                a["wire_diameter_m"] * 1e3,
-                a["winding_pack_width_m"] * 1e3,
-                a["winding_pack_depth_m"] * 1e3,
-                a["wire_length_m"],
-                a["copper_mass_kg"],
-                a["field_per_amp_T_per_A"] * 1e3,
-                a["resistance_ohm"],
-                a["inductance_H"] * 1e3,
-                a["impedance_ohm"],
-                a["voltage_amplitude_V"],
-                a["power_W"],
-                a["surface_temperature_C"],
-                a["hot_spot_temperature_C"],
-                a["radiation_view_factor"],
-                a["field_amplitude_T"] * 1e3,
-            )
-        ]
-        for a in axes
-    ]
-    table = format_table(
-        [
-            "axis",
-            "radius_or_side_m" if squares else "radius_m",
-            "turns",
-            "wire_mm",
-            "pack_w_mm",
-            "pack_d_mm",
-            "wire_m",
-            "Cu_kg",
-            "loop_mT_per_A",
-            "R_ohm",
-            "L_mH",
-            "Z_ohm",
-            "V_amp_V",
-            "P_W",
-            "surf_C",
-            "hot_C",
-            "F_room",
-            "B_mT",
-        ],
-        rows,
-    )
-    uniform = p["uniform_region"]
-    limits = format_table(
-        ["axis", "I_max_A", "limited_by", "B_rot_max_mT", "uniform_1pct_m", "uniform_5pct_m"],
-        [
-            [
-                a["axis"],
-                a["max_current_A"],
-                a["max_current_limited_by"],
-                a["max_rotating_field_T"] * 1e3,
-                uniform["per_axis"][a["axis"]]["radius_1pct_m"],
-                uniform["per_axis"][a["axis"]]["radius_5pct_m"],
-            ]
-            for a in axes
-        ],
-    )
-    w = p["rotating_field_within_limits"]
-    wh = p["worst_heading"]
-    op = p["operating_point"]
+def _operating_table(op: dict[str, Any]) -> str:
     session = op.get("session_s")
-    therm = format_table(
+    return format_table(
         [
             "axis",
             "I_A",
@@ -193,6 +241,30 @@ def _text(p: dict[str, Any], bom: str = "") -> str:
             for t in (op["axes"][ax] for ax in "xyz")
         ],
     )
+
+
+def _text(p: dict[str, Any], bom: str = "") -> str:
+    """The operating point first (where the design runs), then what each pair may carry, the
+    hardware, the amplifier rating in words, uniformity, clearances and the bill of materials."""
+    axes = [p["axes"][ax] for ax in "xyz"]
+    uniform = p["uniform_region"]
+    limits = format_table(
+        ["axis", "I_max_A", "limited_by", "B_rot_max_mT", "uniform_1pct_m", "uniform_5pct_m"],
+        [
+            [
+                a["axis"],
+                a["max_current_A"],
+                a["max_current_limited_by"],
+                a["max_rotating_field_T"] * 1e3,
+                uniform["per_axis"][a["axis"]]["radius_1pct_m"],
+                uniform["per_axis"][a["axis"]]["radius_5pct_m"],
+            ]
+            for a in axes
+        ],
+    )
+    w = p["rotating_field_within_limits"]
+    op = p["operating_point"]
+    session = op.get("session_s")
     run_words = (
         "steady state"
         if session is None
@@ -200,26 +272,23 @@ def _text(p: dict[str, Any], bom: str = "") -> str:
     )
     lines = [
         f"design: {p['design']}",
-        f"current amplitude {p['current_amplitude_A']:g} A per pair at {p['frequency_hz']:g} Hz; "
-        f"ambient {p['ambient_temperature_C']:g} °C, {_cooling_words(p)}, "
-        f"emissivity {p['surface_emissivity']:g}, winding k = "
+        f"operating point: rotating field {op['field_amplitude_T'] * 1e3:.4g} mT"
+        f"{' (fixed)' if op['field_fixed'] else ''} at {p['frequency_hz']:g} Hz, each pair at "
+        f"its worst-heading current, {run_words}; hot-spot limit "
+        f"{op['limit_temperature_C']:g} °C; ambient {p['ambient_temperature_C']:g} °C, "
+        f"{_cooling_words(p)}, emissivity {p['surface_emissivity']:g}, winding k = "
         f"{p['winding_conductivity_W_mK']:g} W/(m·K); R at the self-consistent mean temperature",
-        "",
-        "the three pairs together at the current limit (steady, radiating to each other; "
-        "'runaway': there is no steady state, the pair heats without bound; loop_mT_per_A: "
-        "centre field per ampere with each coil one loop at its mean radius, the field model):",
-        table,
-        f"total copper loss at the current limit, worst heading "
-        f"({', '.join(f'{x:.3g}' for x in wh['heading'])}): {_watts(p['total_power_W'])} "
-        f"at {wh['field_amplitude_T'] * 1e3:.4g} mT",
+        _operating_table(op),
+        *p.get("warnings", []),
         "",
         "largest current each pair may carry, worst heading (current, voltage, hot spot):",
         limits,
         "",
-        f"at the operating field {op['field_amplitude_T'] * 1e3:.4g} mT"
-        f"{' (fixed)' if op['field_fixed'] else ''}, worst-heading currents, {run_words}; "
-        f"limit {op['limit_temperature_C']:g} °C at the hot spot:",
-        therm,
+        "the pairs (loop_mT_per_A: centre field per ampere with each coil one loop at its mean "
+        "radius, the field model):",
+        _hardware_table(axes),
+        "",
+        *_rating_lines(p),
         "",
         "uniform region of the three-axis system (worst of 13 static field directions):",
         f"  ±1 %: radius {uniform['radius_1pct_m']:.4g} m;  "
@@ -243,11 +312,21 @@ def run(args: argparse.Namespace) -> int:
     """Print the sizing table (or JSON); with --plot also draw the geometry view."""
     from spiralcap.commands._plot import check_figure_path, write_geometry
 
-    check_outputs({"--plot": args.plot, "--step": args.step, "--stl": args.stl}, design_paths(args))
+    check_outputs(
+        {
+            "--plot": args.plot,
+            "--step": args.step,
+            "--stl": args.stl,
+            "--field-grid": args.field_grid,
+        },
+        design_paths(args),
+    )
     if args.plot:
         check_figure_path("--plot", args.plot)
     _check_cad_paths(args)
+    _check_grid_arguments(args)
     design = design_from_args(args)
+    grid = _field_grid(args, design)  # before any output: a bad step leaves nothing printed
     from spiralcap.analysis.bom import bom_table
     from spiralcap.analysis.coils import analyse_coils, coils_payload
 
@@ -261,7 +340,45 @@ def run(args: argparse.Namespace) -> int:
         write_geometry(args.plot, design, quiet=args.json)
     if args.step or args.stl:
         _write_cad(args, design)
+    if grid is not None:
+        _write_grid(args, grid)
     return 0
+
+
+def _check_grid_arguments(args: argparse.Namespace) -> None:
+    """--field-grid: a .csv or .npz name; --grid-step-mm: a spacing > 0, only with it."""
+    from spiralcap.errors import InputError
+
+    if args.field_grid is not None and not args.field_grid.lower().endswith((".csv", ".npz")):
+        raise InputError("--field-grid", args.field_grid, "a file name ending in .csv or .npz")
+    if args.grid_step_mm is not None:
+        if args.field_grid is None:
+            raise InputError("--grid-step-mm", args.grid_step_mm, "used with --field-grid")
+        if not (math.isfinite(args.grid_step_mm) and args.grid_step_mm > 0):
+            raise InputError("--grid-step-mm", args.grid_step_mm, "a grid spacing > 0 mm")
+
+
+def _field_grid(args: argparse.Namespace, design: Any) -> Any:
+    """The --field-grid samples over the workspace cube (None without --field-grid)."""
+    if args.field_grid is None:
+        return None
+    from spiralcap.export import field_grid
+
+    step = None if args.grid_step_mm is None else args.grid_step_mm * 1e-3
+    return field_grid(design, float(design["workspace.radius_m"]), step)
+
+
+def _write_grid(args: argparse.Namespace, grid: Any) -> None:
+    import sys
+
+    from spiralcap.export import write_field_grid
+
+    write_field_grid(args.field_grid, grid)
+    print(
+        f"wrote the field per ampere of each pair at {len(grid.points_m)} points "
+        f"(step {grid.step_m * 1e3:.4g} mm) to {args.field_grid}",
+        file=sys.stderr if args.json else sys.stdout,
+    )
 
 
 def _check_cad_paths(args: argparse.Namespace) -> None:

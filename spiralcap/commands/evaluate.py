@@ -117,13 +117,16 @@ def format_evaluation(ev) -> str:
 
 def run(args: argparse.Namespace) -> int:
     from optimize import evaluate
+    from spiralcap.analysis.touch import evaluation_warnings
     from spiralcap.assemble import build_model
     from spiralcap.serialize import evaluation_to_dict
 
     design = design_from_args(args)
-    ev = evaluate(build_model(design))
+    model = build_model(design)
+    ev = evaluate(model)
+    warnings = evaluation_warnings(model, ev)
     if args.json:
-        print_json({"design": design.source, **evaluation_to_dict(ev)})
+        print_json({"design": design.source, **evaluation_to_dict(ev), "warnings": warnings})
     else:
-        print(format_evaluation(ev))
+        print("\n".join([format_evaluation(ev), *warnings]))
     return 0

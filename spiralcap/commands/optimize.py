@@ -183,9 +183,11 @@ def format_result(res) -> str:
                 else ":"
             ),
         ]
-        for b in res.binding_limits:
+        from spiralcap.presentation import binding
+
+        for b in binding(res.binding_limits):
             lines.append(binding_line(res, b))
-        if not res.binding_limits:
+        if not binding(res.binding_limits):
             lines.append("  none")
         lines += _shared_key_lines(res)
         if res.hardware is not None:

@@ -136,6 +136,7 @@ def _core_stage(
     """Evaluation, optimisation and the margin curves and map around both (and the tissue
     uncertainty study when the design has one)."""
     from optimize import evaluate, optimize_design
+    from spiralcap.analysis.touch import evaluation_warnings
     from spiralcap.presentation import jsonable as _jsonable
     from spiralcap.robust import optimization_model
     from spiralcap.serialize import evaluation_to_dict, optimization_to_dict
@@ -155,7 +156,13 @@ def _core_stage(
     out: dict[str, Any] = {
         "evaluation": ev,
         "optimization": res,
-        "evaluate_json": _jsonable({"design": design.source, **evaluation_to_dict(ev)}),
+        "evaluate_json": _jsonable(
+            {
+                "design": design.source,
+                **evaluation_to_dict(ev),
+                "warnings": evaluation_warnings(model, ev),
+            }
+        ),
         "optimize_json": _jsonable({"design": design.source, **optimization_to_dict(res)}),
         "freq_design": freq_design,
         "freq_optimum": freq_opt,

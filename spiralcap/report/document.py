@@ -59,7 +59,8 @@ class Bullets:
 class Table:
     """A table: header row, body rows, an optional caption; cells are text or numbers.
 
-    ``wrap`` names the column (index) whose text may wrap in the PDF (the longest text column).
+    ``wrap`` names the column (index) of the longest text; a hint only: the PDF now sizes every
+    column from its content (:func:`spiralcap.report.pdf.column_layout`).
     ``compact``: typeset small and tight in the PDF (long reference tables; HTML unchanged).
     ``pdf_rows``: the rows the PDF shows instead of ``rows`` (a shorter printed table; the HTML
     shows ``rows``).

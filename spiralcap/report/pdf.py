@@ -18,7 +18,9 @@ be read as markup or code. Figures are the SVG texts drawn once for both outputs
 
 from __future__ import annotations
 
+import itertools
 import json
+import math
 import re
 from collections.abc import Mapping, Sequence
 from typing import Any, cast
@@ -45,9 +47,6 @@ from spiralcap.report.numbers import Num, unit_gap
 
 #: Text width of the page (A4, 2 cm side margins), inches.
 TEXT_WIDTH_IN = (210.0 - 40.0) / 25.4
-LONG_CELL_CHARS = 40
-"""A text cell longer than this (a report title, a list of headings, a covariance matrix in
-the appendix) would widen an ``auto`` column until the wrapping column has one word a line."""
 _CALLOUT = {"alert": "rgb(164, 22, 26)", "ok": "rgb(27, 110, 58)", "note": "rgb(35, 78, 128)"}
 
 _LOAD_TEXT = '#let T = json(bytes(sys.inputs.at("text")))'
@@ -81,7 +80,7 @@ _PREAMBLE = r"""
   stroke: (x, y) => if y == 0 { (bottom: 0.8pt) } else { (bottom: 0.3pt + luma(200)) },
   inset: (x: 4pt, y: 3pt),
 )
-#show table: set text(size: 8.5pt)
+#show table: set text(size: @table_pt@pt)
 #show table: set par(justify: false)
 #show figure.where(kind: table): set figure.caption(position: top)
 #show figure.where(kind: table): set block(breakable: true)
@@ -94,22 +93,103 @@ _PREAMBLE = r"""
 """
 
 
-def _column_widths(t: Table, numeric: Sequence[bool]) -> list[str]:
-    """Typst column widths: the wrapping column ``1fr``, the rest ``auto``; a text column with
-    a cell longer than :data:`LONG_CELL_CHARS` wraps too (``1fr``, the wrapping column ``2fr``),
-    so one long value cannot squeeze the others to a word a line."""
-    long = [
-        i != t.wrap
-        and not numeric[i]
-        and any(
-            len(cell_text(r[i])) > LONG_CELL_CHARS
-            for r in (t.rows if t.pdf_rows is None else t.pdf_rows)
-            if i < len(r) and not isinstance(r[i], Num)
-        )
-        for i in range(len(t.headers))
+#: Average width of a character of the table font (Libertinus Serif), in em: an estimate on
+#: the wide side, so a column estimated to fit does fit.
+CHAR_EM = 0.5
+#: Type size of the tables, pt (``compact``: the long reference tables).
+TABLE_PT, COMPACT_PT = 8.5, 6.5
+#: A table of at most this many rows is not split across pages (nor from its caption).
+KEEP_TOGETHER_ROWS = 16
+#: Figures print at this share of their drawn width (their text stays above 6 pt): a page
+#: holds a figure and its discussion more often.
+FIGURE_SCALE = 1.0
+#: Type size of preformatted text (the design file), pt.
+CODE_PT = 6.5
+#: A word longer than this (characters) does not widen its column: it breaks at its dots.
+WORD_CAP = 24
+#: Break opportunity in a long identifier (a design key), PDF only.
+_BREAK = "\u200b"
+_BREAK_AFTER = re.compile(r"([._/])(?=\w)")
+
+
+def _line_chars(t: Table) -> float:
+    """About how many characters of the table's type fill the text width."""
+    return TEXT_WIDTH_IN * 72.0 / (CHAR_EM * (COMPACT_PT if t.compact else TABLE_PT))
+
+
+def _natural(header: str, texts: Sequence[str]) -> int:
+    """A column's width on one line, characters: its longest cell (the header may wrap)."""
+    return max([len(w) for w in header.split()] + [len(x) for x in texts] + [1])
+
+
+def _longest_word(header: str, texts: Sequence[str]) -> int:
+    """The longest word of a column (header included), capped at :data:`WORD_CAP` characters: a
+    longer one is a design key, broken at its dots by :func:`breakable`."""
+    return min(max([len(w) for x in [header, *texts] for w in x.split()] + [1]), WORD_CAP)
+
+
+def _weight(header: str, texts: Sequence[str], natural: int) -> float:
+    """A wide column's claim on what is left of the line: between its typical cell (the upper
+    quartile of the lengths) and its longest (their geometric mean), so one long outlier (a
+    tissue set's name among numbers, a covariance matrix) wraps in its own column without
+    squeezing the others, nor being squeezed to a word a line."""
+    lengths = sorted(len(x) for x in texts) or [1]
+    typical = max(lengths[(3 * (len(lengths) - 1)) // 4], 1)
+    return math.sqrt(typical * natural)
+
+
+def _wide_columns(natural: Sequence[int], budget: float) -> set[int]:
+    """The columns that share what is left once every column narrower than a fair share of it
+    keeps its natural width (the fair share grows as narrow columns drop out)."""
+    wide = set(range(len(natural)))
+    while True:
+        left = budget - sum(n for i, n in enumerate(natural) if i not in wide)
+        narrow = {i for i in wide if natural[i] <= left / max(len(wide), 1)}
+        if not narrow or narrow == wide:
+            return wide
+        wide -= narrow
+
+
+def column_layout(
+    t: Table, rows: Sequence[Sequence[Cell]], units: Sequence[str]
+) -> tuple[list[str], list[float]]:
+    """Typst column widths from the content, as a browser lays out a table, and the width of
+    each column in characters (estimated).
+
+    Every column keeps its natural width (``auto``) when the table fits on the line. Otherwise
+    the columns narrower than a fair share of what is left keep theirs (again as the share grows)
+    and the wide ones share the rest in proportion to their typical cell (``Nfr``), so a long
+    text never squeezes a column of short ones to a word a line.
+    """
+    ncol = len(t.headers)
+    headers = [header_with_unit(t.headers[i], units[i]) for i in range(ncol)]
+    texts = [[cell_text(r[i]) for r in rows if i < len(r)] for i in range(ncol)]
+    natural = [_natural(headers[i], texts[i]) for i in range(ncol)]
+    budget = _line_chars(t) - 2.0 * ncol  # the cells' insets
+    if sum(natural) <= budget:
+        return ["auto"] * ncol, [float(n) for n in natural]
+    wide = _wide_columns(natural, budget)
+    left = budget - sum(natural[i] for i in range(ncol) if i not in wide)
+    # every wide column gets its longest word, then a share of the rest by its weight
+    least = {i: _longest_word(headers[i], texts[i]) for i in wide}
+    weight = {i: _weight(headers[i], texts[i], natural[i]) for i in wide}
+    spare = max(left - sum(least.values()), 0.0)
+    total = sum(weight.values())
+    chars = [
+        least[i] + spare * weight[i] / total if i in wide else float(natural[i])
+        for i in range(ncol)
     ]
-    wrap_width = "2fr" if any(long) else "1fr"
-    return [wrap_width if i == t.wrap else "1fr" if long[i] else "auto" for i in range(len(long))]
+    widths = [f"{chars[i]:.2f}fr" if i in wide else "auto" for i in range(ncol)]
+    return widths, chars
+
+
+def breakable(text: str, chars: float) -> str:
+    """``text`` with a break opportunity after each ``.``, ``_`` and ``/`` of every word longer
+    than ``chars`` (a design key in a narrow column wraps at its dots instead of overprinting
+    the next column); shorter words unchanged, so most keys still copy from the PDF as typed."""
+    return " ".join(
+        _BREAK_AFTER.sub(r"\1" + _BREAK, w) if len(w) > chars else w for w in text.split(" ")
+    )
 
 
 class _Text:
@@ -179,12 +259,12 @@ class _Writer:
                 out.append(s(str(p)))
         return "".join(out)
 
-    def cell(self, cell: Cell, shared_unit: str) -> str:
+    def cell(self, cell: Cell, shared_unit: str, chars: float = math.inf) -> str:
         if isinstance(cell, Num):
             if shared_unit or not cell.unit:
                 return "[" + self.t.s(cell.text) + "]"
             return "[" + self.num(cell) + "]"
-        return "[" + self.t.s(cell_text(cell)) + "]"
+        return "[" + self.t.s(breakable(cell_text(cell), chars)) + "]"
 
     def table(self, t: Table) -> str:
         s = self.t.s
@@ -193,35 +273,46 @@ class _Writer:
         for i in range(ncol):
             cells = [r[i] for r in t.rows if i < len(r) and r[i] not in (None, "")]
             numeric.append(bool(cells) and sum(map(_is_numeric, cells)) >= 0.5 * len(cells))
-        cols = ", ".join(_column_widths(t, numeric))
-        align = ", ".join("right" if n else "left" for n in numeric)
         units = column_units(t)
+        rows = t.rows if t.pdf_rows is None else t.pdf_rows
+        widths, chars = column_layout(t, rows, units)
+        cols = ", ".join(widths)
+        align = ", ".join("right" if n else "left" for n in numeric)
         head = ", ".join(
-            f"[*{s(header_with_unit(h, u))}*]" for h, u in zip(t.headers, units, strict=True)
+            f"[*{s(breakable(header_with_unit(h, u), c))}*]"
+            for h, u, c in zip(t.headers, units, chars, strict=True)
         )
         body = []
-        for row in t.rows if t.pdf_rows is None else t.pdf_rows:
-            body.append(", ".join(self.cell(c, u) for c, u in zip(row, units, strict=False)))
-        inset = "inset: (x: 3pt, y: 2pt), " if t.compact else ""
+        for row in rows:
+            body.append(
+                ", ".join(self.cell(c, u, w) for c, u, w in zip(row, units, chars, strict=False))
+            )
+        inset = "inset: (x: 3pt, y: 1.3pt), " if t.compact else ""
         table = (
             f"table(columns: ({cols},), {inset}align: ({align},), table.header({head}),\n"
             + ",\n".join(body)
             + ")"
         )
         if t.compact:  # small type and tight cells; the caption keeps the document's size
-            table = f"[#set text(size: 6.5pt); #set par(leading: 0.4em); #{table}]"
+            # a show-set rule: the document's ``show table: set text(...)`` would win over a set
+            table = (
+                f"[#show table: set text(size: {COMPACT_PT}pt); #set par(leading: 0.4em); #{table}]"
+            )
         if not t.caption:
             return f"#{table}\n"
         label = f" <{_label(t.id)}>" if t.id else ""
-        return f"#figure({table}, caption: [{s(t.caption)}], kind: table){label}\n"
+        fig = f"#figure({table}, caption: [{s(t.caption)}], kind: table){label}\n"
+        if len(rows) <= KEEP_TOGETHER_ROWS:  # a short table stays with its caption
+            return f"#block(breakable: false)[{fig}]\n"
+        return fig
 
     def figure(self, block: FigureBlock) -> str:
         key = f"fig{len(self.figures)}"
         self.figures[key] = self.svgs[block.id]
-        width = min(block.size_in[0], TEXT_WIDTH_IN)
+        width = min(block.size_in[0], TEXT_WIDTH_IN) * FIGURE_SCALE
         return (
             f'#figure(image(bytes(sys.inputs.at("{key}")), format: "svg", width: {width:.3f}in), '
-            f"caption: [{self.t.s(block.caption)}]) <{_label(block.id)}>\n"
+            f"caption: [{self.t.s(block.caption)}], placement: auto) <{_label(block.id)}>\n"
         )
 
     def block(self, block: Any) -> str:
@@ -242,8 +333,15 @@ class _Writer:
             return self.table(block)
         if isinstance(block, Code):
             cap = f"\n#text(size: 9pt)[{s(block.caption)}]" if block.caption else ""
-            code = self.t.lit(block.text)
-            return f'#columns(2, gutter: 12pt, raw({code}, block: true, lang: "toml")){cap}\n'
+            # three balanced columns of small type: a design file is about 90 short lines
+            parts = ", ".join(
+                f'raw({self.t.lit(chunk)}, block: true, lang: "toml")'
+                for chunk in _balanced_columns(block.text, 3)
+            )
+            return (
+                f"#[#show raw: set text(size: {CODE_PT}pt); "
+                f"#grid(columns: (1fr, 1fr, 1fr), column-gutter: 10pt, {parts})]{cap}\n"
+            )
         if isinstance(block, Equation):  # the program's own mathematics (assumptions.py)
             label = (
                 f"#h(1fr) #text(size: 8.5pt, fill: luma(90))[{s(block.label)}]"
@@ -254,6 +352,24 @@ class _Writer:
         if isinstance(block, FigureBlock):
             return self.figure(block)
         raise TypeError(f"unknown report block {type(block).__name__}")
+
+
+def _balanced_columns(text: str, n: int) -> list[str]:
+    """``text`` in ``n`` runs of whole lines of about equal length, each run starting at a blank
+    line or a ``[table]`` header where one is near (a TOML table is not split if it can stay
+    whole)."""
+    lines = text.rstrip("\n").split("\n")
+    cuts = [0]
+    for k in range(1, n):
+        target = round(k * len(lines) / n)
+        near = [
+            i
+            for i in range(max(cuts[-1] + 1, target - 6), min(len(lines), target + 7))
+            if lines[i].startswith("[")
+        ]
+        cuts.append(min(near, key=lambda i: abs(i - target)) if near else target)
+    cuts.append(len(lines))
+    return ["\n".join(lines[a:b]) for a, b in itertools.pairwise(cuts) if b > a]
 
 
 def _is_numeric(cell: Cell) -> bool:
@@ -278,6 +394,7 @@ def typst_source(
         "author": lit(front.author or "spiralcap"),
         "header_right": s(front.design_source),
         "footer": s(footer),
+        "table_pt": str(TABLE_PT),
     }
     pre = re.sub(r"@(\w+)@", lambda m: fill[m.group(1)], _PREAMBLE)  # one pass: never re-read
     out = [_LOAD_TEXT, pre]
@@ -294,12 +411,19 @@ def typst_source(
     out.append(
         '#block(below: 1.2em)[#text(size: 20pt, weight: "bold", hyphenate: false)'
         f"[{s(front.title)}]]\n"
-        f"#grid(columns: (auto, 1fr), column-gutter: 1.2em, row-gutter: 0.5em, {grid})\n"
-        "#v(0.8em)\n#outline(title: [Contents], depth: 1, indent: auto)\n"
+        f"#grid(columns: (auto, 1fr), column-gutter: 1.2em, row-gutter: 0.4em, {grid})\n"
+        "#v(0.4em)\n"
     )
+    outline = "#outline(title: [Contents], depth: 1, indent: auto)\n"
+    # the summary is the first page; the contents open the second
+    lead = 1 if sections and sections[0].id == "summary" else 0
+    if not lead:
+        out.append(outline)
     known = frozenset(numbering(sections)) | {sec.id for sec in sections}
     writer = _Writer(text, svgs, known)
-    for sec in sections:
+    for i, sec in enumerate(sections):
+        if lead and i == lead:
+            out.append("#pagebreak(weak: true)\n" + outline)
         out.append(f"\n= {s(sec.title)} <{_label(sec.id)}>\n")
         for block in sec.blocks:
             out.append(writer.block(block))

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 from spiralcap.report.document import Cell, FigureBlock, Paragraph, Ref, Section, Strong, Table
@@ -86,6 +87,7 @@ def _sizing_table(ctx: Context) -> Table:
         caption="Coil sizing per axis (same numbers as `spiralcap coils --json`)",
         wrap=0,
         id="coil-table",
+        compact=True,  # ~35 rows of reference numbers: small type in the PDF
     )
 
 
@@ -351,6 +353,24 @@ def heating_blocks(ctx: Context) -> list[Any]:
     ]
 
 
+def _total_power_parts(ctx: Context) -> list[Any]:
+    """The copper loss at the current limit, or, where a pair runs away thermally there, that
+    it has none (never a dash for a number that does not exist)."""
+    total = ctx.value("coils.total_power_W")
+    if isinstance(total, (int, float)) and math.isfinite(total):
+        return [
+            ". The heading that draws the most at that current dissipates ",
+            ctx.num("coils.total_power_W", unit="W"),
+        ]
+    runaway = [a["axis"] for a in ctx.value("coils.axes").values() if a.get("thermal_runaway")]
+    return [
+        ". At that current the "
+        + (", ".join(runaway) + (" pair runs" if len(runaway) == 1 else " pairs run"))
+        + " away thermally (no steady temperature, so no steady copper loss): the operating "
+        "point and the largest current each pair may carry are what count"
+    ]
+
+
 def build(ctx: Context) -> Section:
     """The coil-sizing section."""
     c = "coils"
@@ -364,8 +384,7 @@ def build(ctx: Context) -> Section:
             ctx.num(f"{c}.frequency_hz", unit="Hz"),
             ", copper resistance at the self-consistent mean winding temperature, ambient ",
             ctx.num(f"{c}.ambient_temperature_C", unit="°C"),
-            ". The heading that draws the most at that current dissipates ",
-            ctx.num(f"{c}.total_power_W", unit="W"),
+            *_total_power_parts(ctx),
             ". Inside every limit the largest rotating field (worst heading) is ",
             ctx.num(f"{c}.rotating_field_within_limits.max_rotating_field_T", 1e3, "mT"),
             ", set by ",

@@ -14,7 +14,7 @@ from typing import Any
 
 from spiralcap.report.document import Inline, Link, Paragraph, Section, Strong
 from spiralcap.report.sections._util import Context, readable
-from spiralcap.report.sections.summary import sized_hardware_changes
+from spiralcap.report.sections.summary import change_first
 
 #: Above this step-out probability the uncertainty section raises an alert; the conclusion
 #: calls the design unsafe under tissue uncertainty at the same level.
@@ -195,54 +195,6 @@ def _what_binds(ctx: Context) -> Paragraph:
     return Paragraph(parts)
 
 
-def _change_first(ctx: Context) -> Paragraph:
-    c, e, o = "conclusion", "evaluate", "optimize"
-    parts: list[Inline] = [Strong("What to change first. ")]
-    failing = [r for r in ctx.value(f"{c}.checks_by_headroom") if not r["ok"]]
-    optimal = ctx.value(f"{o}.status") == "optimal"
-    if failing:
-        parts.append(
-            "Fix what fails as entered: "
-            + ", ".join(f"{readable(r['name'])} ({r['key']})" for r in failing)
-            + ". "
-        )
-    if optimal:
-        gain = ctx.value(f"{o}.margin_Nm") - ctx.value(f"{e}.margin_Nm")
-        parts += [
-            "Adopt the proposed operating point and hardware ("
-            if sized_hardware_changes(ctx)
-            else "Adopt the proposed operating point (",
-            Link("section Optimum", "optimum"),
-            "): helical angle ",
-            ctx.num(f"{e}.helical_angle_deg", unit="°"),
-            " → ",
-            ctx.num(f"{o}.helical_angle_deg", unit="°"),
-            ", rotation ",
-            ctx.num(f"{e}.frequency_hz", unit="Hz"),
-            " → ",
-            ctx.num(f"{o}.frequency_hz", unit="Hz"),
-            "".join(f", {change}" for change in sized_hardware_changes(ctx)),
-            "; the worst-case margin goes from ",
-            ctx.num(f"{e}.margin_Nm", 1e3, "mN·m"),
-            " to ",
-            ctx.num(f"{o}.margin_Nm", 1e3, "mN·m"),
-            "." if gain >= 0 else " (the optimum trades margin for its objective).",
-        ]
-    else:
-        parts.append("Relax a limit or a requirement listed as out of reach in section Optimum.")
-    gains = ctx.value(f"{c}.limit_gains")
-    if gains:
-        g = gains[0]
-        parts += [
-            " Beyond that, the binding limit worth most is ",
-            f"{readable(g['name'])} ({g['key']}): {g['relaxing_means']} it by 1 % of its "
-            "bound gains ",
-            ctx.num(f"{c}.limit_gains.0.objective_percent_per_percent", unit="%"),
-            " of the objective.",
-        ]
-    return Paragraph(parts)
-
-
 def _fails_first(ctx: Context) -> Paragraph:
     c = "conclusion"
     parts: list[Inline] = [Strong("What would fail first under uncertainty. ")]
@@ -352,7 +304,7 @@ def build(ctx: Context) -> Section:
         [
             _is_safe(ctx),
             _what_binds(ctx),
-            _change_first(ctx),
+            change_first(ctx),
             _fails_first(ctx),
             _exposure(ctx),
         ],

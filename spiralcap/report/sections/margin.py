@@ -74,7 +74,11 @@ def checks_table(ctx: Context, prefix: str, caption: str, ident: str) -> Table:
             ]
         )
     return Table(
-        ["check", "design key", "value", "", "allowed", "ok"], rows, caption=caption, id=ident
+        ["check", "design key", "value", "", "allowed", "ok"],
+        rows,
+        caption=caption,
+        id=ident,
+        compact=True,  # a reference table of ~20 rows: small type in the PDF
     )
 
 

@@ -152,14 +152,25 @@ def _allocation_table(ctx: Context) -> Table:
         caption="Coil current amplitudes and phases at the optimum field, per heading "
         "(centre allocation)",
         id="allocation",
+        compact=True,  # one row per heading (up to 64): small type in the PDF
     )
+
+
+#: Longest bar label of the utilisation figure, characters (a fitted tissue set's name in a
+#: check's name would squeeze the bars to nothing).
+LABEL_CHARS = 40
+
+
+def _short_label(text: str) -> str:
+    """``text`` cut to :data:`LABEL_CHARS` characters with an ellipsis."""
+    return text if len(text) <= LABEL_CHARS else text[: LABEL_CHARS - 1].rstrip() + "…"
 
 
 def _draw_utilisation(checks: Any) -> Any:
     def draw(fig: Any) -> None:
         from spiralcap.figures.design import plot_limit_utilisation
 
-        names = {c["name"]: readable(c["name"]) for c in checks}
+        names = {c["name"]: _short_label(readable(c["name"])) for c in checks}
         plot_limit_utilisation(fig.subplots(), checks, labels=names)
 
     return draw

@@ -1,12 +1,17 @@
-"""Section 1: the answer in three lines -- margin, speed, binding limit -- and the verdict."""
+"""Section 1, one page: the verdict, what binds, what to change, the bill of materials in brief.
+
+The summary is the report's first page: a reviewer reads the verdict on the design as entered,
+the optimum the optimiser proposes (margin, speed, the limits that bind it), what to change
+first and what the workshop and the amplifiers must supply, then turns the page for the rest.
+"""
 
 from __future__ import annotations
 
 from typing import Any
 
 from spiralcap.assemble.system import message_in_key_units
-from spiralcap.report.document import Inline, Link, Paragraph, Section, Strong
-from spiralcap.report.numbers import Num
+from spiralcap.report.document import Block, Cell, Inline, Link, Paragraph, Section, Strong, Table
+from spiralcap.report.numbers import Num, fmt
 from spiralcap.report.sections._util import Context, readable
 
 
@@ -60,6 +65,19 @@ def binding_parts(ctx: Context, limit_index: int) -> list[Inline]:
     verb, gain = binding_gain(ctx, limit_index)
     unit = gain.unit.split(" per ", 1)[-1]
     better = "less" if b["objective_sense"] < 0 else "more"
+    if fmt(float(gain.value)) == "0":  # say what a zero gain means, not "gains 0"
+        fixed = ctx.value("optimize.objective") == "copper_mass" and not ctx.value("optimize").get(
+            "hardware"
+        )
+        return [
+            Strong(readable(b["name"])),
+            f" ({b['key']}): on its bound, "
+            + (
+                "but the copper is fixed (free hardware keys to size it)"
+                if fixed
+                else "relaxing it does not change the objective to four figures"
+            ),
+        ]
     return [
         Strong(readable(b["name"])),
         f" ({b['key']}): {verb} it by 1 {unit} gains ",
@@ -196,13 +214,154 @@ def build(ctx: Context) -> Section:
                 else " The optimiser re-chose the operating point inside the same hardware "
                 "and limits; "
             )
-            + "adopting it is a change to the design (what to change first, and whether it is "
-            "safe: ",
+            + "adopting it is a change to the design (whether it is safe under uncertainty, and "
+            "who the exposure levels protect: ",
             Link("section Conclusion", "conclusion"),
             ").",
         ]
     )
-    return Section("summary", "Summary", [_as_entered(ctx), proposed, *lines, verdict])
+    blocks: list[Block] = [
+        _as_entered(ctx),
+        *_warnings(ctx),
+        proposed,
+        *lines,
+        change_first(ctx),
+        verdict,
+    ]
+    if (ctx.payload.get("coils") or {}).get("bill_of_materials"):
+        blocks.append(bom_brief(ctx))
+    return Section("summary", "Summary", blocks)
+
+
+def _warnings(ctx: Context) -> list[Paragraph]:
+    """The evaluation's warnings (a pack surface above IEC 60601-1's touch limit) as callouts."""
+    out = []
+    for w in (ctx.payload.get("evaluate") or {}).get("warnings", []):
+        text = w.removeprefix("warning: ")
+        out.append(Paragraph([Strong("Warning. "), text[:1].upper() + text[1:] + "."], "alert"))
+    return out
+
+
+def _same(ctx: Context, a: str, b: str, scale: float = 1.0) -> bool:
+    """Whether two results print alike (4 significant figures, as the report shows them)."""
+    return fmt(float(ctx.value(a)) * scale) == fmt(float(ctx.value(b)) * scale)
+
+
+def _operating_point_change(ctx: Context) -> list[Inline]:
+    """``helical angle 10° → 21.7°, rotation 2 Hz → 0.6667 Hz``: only what changes."""
+    e, o = "evaluate", "optimize"
+    out: list[Inline] = []
+    for name, key, unit in (
+        ("helical angle", "helical_angle_deg", "°"),
+        ("rotation", "frequency_hz", "Hz"),
+    ):
+        if _same(ctx, f"{e}.{key}", f"{o}.{key}"):
+            continue
+        out += [
+            ", " if out else "",
+            f"{name} ",
+            ctx.num(f"{e}.{key}", unit=unit),
+            " → ",
+            ctx.num(f"{o}.{key}", unit=unit),
+        ]
+    return out
+
+
+def change_first(ctx: Context) -> Paragraph:
+    """What to change first: what fails, the proposed operating point and hardware (only what
+    differs), and the binding limit worth most; one sentence when the design is already at its
+    optimum."""
+    c, e, o = "conclusion", "evaluate", "optimize"
+    parts: list[Inline] = [Strong("What to change first. ")]
+    failing = [r for r in ctx.value(f"{e}.checks") if not r["ok"]]
+    if failing:
+        parts.append(
+            "Fix what fails as entered: "
+            + ", ".join(f"{readable(r['name'])} ({r['key']})" for r in failing)
+            + ". "
+        )
+    if ctx.value(f"{o}.status") != "optimal":
+        parts.append("Relax a limit or a requirement listed as out of reach in section Optimum.")
+        return Paragraph(parts)
+    point = _operating_point_change(ctx)
+    sized = sized_hardware_changes(ctx)
+    if not point and not sized:
+        parts.append(
+            "Nothing: the design as entered is already at its optimum (the optimiser's "
+            "operating point is the one entered, the worst-case margin "
+        )
+        parts += [ctx.num(f"{o}.margin_Nm", 1e3, "mN·m"), ")."]
+    else:
+        gain = ctx.value(f"{o}.margin_Nm") - ctx.value(f"{e}.margin_Nm")
+        parts += [
+            "Adopt the proposed operating point and hardware ("
+            if sized
+            else "Adopt the proposed operating point ("
+            if point
+            else "Adopt the proposed hardware (",
+            Link("section Optimum", "optimum"),
+            "): ",
+            *point,
+            "".join(f"{', ' if point or i else ''}{change}" for i, change in enumerate(sized)),
+        ]
+        if _same(ctx, f"{e}.margin_Nm", f"{o}.margin_Nm", 1e3):
+            parts += ["; the worst-case margin stays ", ctx.num(f"{o}.margin_Nm", 1e3, "mN·m")]
+        else:
+            parts += [
+                "; the worst-case margin goes from ",
+                ctx.num(f"{e}.margin_Nm", 1e3, "mN·m"),
+                " to ",
+                ctx.num(f"{o}.margin_Nm", 1e3, "mN·m"),
+            ]
+        parts.append("." if gain >= 0 else " (the optimum trades margin for its objective).")
+    gains = (ctx.payload.get(c) or {}).get("limit_gains")
+    if gains and fmt(float(gains[0]["objective_percent_per_percent"])) != "0":
+        g = gains[0]
+        parts += [
+            " Beyond that, the binding limit worth most is ",
+            f"{readable(g['name'])} ({g['key']}): {g['relaxing_means']} it by 1 % of its "
+            "bound gains ",
+            ctx.num(f"{c}.limit_gains.0.objective_percent_per_percent", unit="%"),
+            " of the objective.",
+        ]
+    return Paragraph(parts)
+
+
+def bom_brief(ctx: Context) -> Table:
+    """The bill of materials in brief: per pair, what the workshop winds and what its amplifier
+    delivers at the operating point (the full table is in the coil section)."""
+    b = "coils.bill_of_materials"
+    rows: list[list[Cell]] = []
+    for i, row in enumerate(ctx.value(b)):
+        p = f"{b}.{i}"
+        rows.append(
+            [
+                f"{row['axis']} pair",
+                ctx.num(f"{p}.turns"),
+                ctx.num(f"{p}.wire_diameter_mm"),
+                ctx.num(f"{p}.copper_mass_kg"),
+                ctx.num(f"{p}.operating.current_amplitude_A"),
+                ctx.num(f"{p}.operating.voltage_amplitude_V"),
+                ctx.num(f"{p}.operating.apparent_power_VA"),
+            ]
+        )
+    return Table(
+        [
+            "pair",
+            "turns per coil",
+            "wire (mm)",
+            "copper (kg)",
+            "current (A)",
+            "voltage (V)",
+            "apparent power (VA)",
+        ],
+        rows,
+        caption="Bill of materials in brief, the design as entered: two coils in series per "
+        "pair; current and voltage amplitudes and the apparent power each pair's amplifier "
+        "delivers at the operating point (the full bill of materials is in section Coil "
+        "sizing)",
+        id="bom-brief",
+    )
 
 
 def sized_hardware_changes(ctx: Context) -> list[str]:
@@ -215,6 +374,8 @@ def sized_hardware_changes(ctx: Context) -> list[str]:
     for key, new in hardware["discrete"].items():
         old = ctx.data.design.get(key)
         was = f"{old:.6g}" if isinstance(old, (int, float)) else "unset"
+        if was == f"{new:.6g}":  # sized to what it was: not a change
+            continue
         out.append(f"{key} {was} → {new:.6g}")
     return out
 
@@ -240,7 +401,7 @@ def _as_entered(ctx: Context) -> Paragraph:
         parts.append("it does NOT meet: " + ", ".join(readable(n) for n in failed) + ".")
     else:
         parts.append("it meets every requirement and limit.")
-    return Paragraph(parts, kind="note")
+    return Paragraph(parts, kind="alert" if failed else "ok")
 
 
 def _without_status(message: str) -> str:

@@ -72,6 +72,7 @@ def build(ctx: Context) -> Section:
         rows,
         wrap=6,
         id="power-sweep",
+        compact=True,  # every budget's row: small type in the PDF
         caption="Re-optimisation at each power budget (spiralcap sweep --optimize "
         "--over limits.power_W=...)",
     )

@@ -1,0 +1,51 @@
+"""`spiralcap coils` in the order an engineer reads, and the touch-temperature warning."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from spiralcap.analysis.touch import IEC60601_HELD_PART_C
+from spiralcap.cli import main
+
+
+def _out(capsys: pytest.CaptureFixture[str], argv: list[str]) -> str:
+    assert main(argv) == 0
+    return capsys.readouterr().out
+
+
+def test_coils_leads_with_the_operating_point_and_says_runaway_in_words(capsys) -> None:
+    text = _out(capsys, ["coils", "--set", "limits.current_A=40"])
+    lines = text.splitlines()
+    assert lines[0].startswith("design:") and lines[1].startswith("operating point:"), lines[:2]
+    assert "undefined" not in lines[1], "the cooling at the operating point is defined"
+    assert text.index("operating point:") < text.index("at the amplifier rating, 40 A")
+    rating = text[text.index("at the amplifier rating") : text.index("uniform region")]
+    for ax in "xyz":
+        assert f"at 40 A the {ax} pair runs away thermally" in rating, rating
+    assert "hold it below 14.36 A" in rating, "the x pair's largest current inside the limits"
+    assert "°C" not in rating and "runaway " not in rating, "no temperature of a runaway branch"
+
+
+def test_coils_at_a_rating_that_holds_shows_its_temperatures(capsys) -> None:
+    text = _out(capsys, ["coils"])
+    rating = text[text.index("at the amplifier rating, 15 A") : text.index("uniform region")]
+    assert "runs away" not in rating and "hot_C" in rating, rating
+    assert (
+        "at 15 A the y pair's hot spot passes its 90 °C limit: hold it below 11.82 A" in rating
+    ), "the rating above what the limits allow is said in words, with the current to keep below"
+
+
+def test_surface_above_iec_60601_is_a_warning_only_without_a_surface_limit(capsys) -> None:
+    warned = _out(capsys, ["evaluate"])
+    assert f"above the {IEC60601_HELD_PART_C:g} °C IEC 60601-1" in warned, warned[-400:]
+    assert "limits.surface_temperature_C" in warned
+    coils_text = _out(capsys, ["coils"])
+    assert "IEC 60601-1 allows" in coils_text
+    payload = json.loads(_out(capsys, ["evaluate", "--json"]))
+    assert len(payload["warnings"]) == 1 and "x, y and z pairs" in payload["warnings"][0]
+    quiet = _out(capsys, ["evaluate", "--set", "limits.surface_temperature_C=80"])
+    assert "IEC 60601-1" not in quiet, "with the limit set, the check speaks instead"
+    cool = json.loads(_out(capsys, ["evaluate", "--json", "--set", "limits.current_A=2"]))
+    assert cool["warnings"] == [], "a cool design has no warning"
