@@ -10,7 +10,7 @@
 3. :func:`rank`: every neighbour built exactly (coils, capsule), checked (exact pack
    clearances, bore, copper mass, magnet fit) and re-optimised at its fixed hardware; the best
    wins. The solves are independent: they go through the caller's ``executor`` (anything with
-   ``submit`` and ``map``), the same results wherever they run.
+   ``submit``: a process pool, a Dask client), the same results wherever they run.
 4. :func:`finish`: the winner's full result, with the binding limits of the relaxation.
 
 A copper-mass limit far below the starting hardware restarts the relaxation from the least
@@ -24,7 +24,7 @@ import functools
 import itertools
 import math
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable
 from dataclasses import dataclass, replace
 from typing import Any, NamedTuple
 
@@ -81,7 +81,7 @@ class SizingOptions:
 
 class Executor:
     """What sizing needs of an executor (``concurrent.futures.Executor``, a Dask client, ...):
-    ``submit(fn, *args)`` returning an object with ``result()``, and ``map(fn, items)``."""
+    ``submit(fn, *args)`` returning a future whose ``result()`` is ``fn(*args)``."""
 
     def submit(self, fn: Callable[..., Any], /, *args: Any) -> Any:  # pragma: no cover
         """``fn(*args)`` to run.
@@ -89,7 +89,7 @@ class Executor:
         Parameters
         ----------
         fn : callable
-            A module-level function (it may be pickled to another process).
+            A module-level function (it may be pickled to another process or machine).
         *args
             Its arguments.
 
@@ -97,23 +97,6 @@ class Executor:
         -------
         future
             An object whose ``result()`` is ``fn(*args)``.
-        """
-        raise NotImplementedError
-
-    def map(self, fn: Callable[[Any], Any], items: Sequence[Any]) -> Any:  # pragma: no cover
-        """``fn(x)`` for every item.
-
-        Parameters
-        ----------
-        fn : callable
-            A module-level function (or a ``functools.partial`` of one).
-        items : sequence
-            Its arguments, one call each.
-
-        Returns
-        -------
-        iterable
-            The results, in ``items`` order.
         """
         raise NotImplementedError
 
@@ -130,9 +113,12 @@ def _submit(executor: Executor | None, fn: Callable[..., Any], *args: Any) -> An
 
 
 def _map(executor: Executor | None, fn: Callable[[Any], Any], items: list[Any]) -> list[Any]:
+    """``[fn(x) for x in items]``, each call submitted (``map`` differs between executors: a
+    Dask client's gives futures, a standard one's results)."""
     if executor is None or len(items) < 2:
         return [fn(x) for x in items]
-    return list(executor.map(fn, items))
+    futures = [executor.submit(fn, x) for x in items]
+    return [f.result() for f in futures]
 
 
 class _Setup(NamedTuple):
