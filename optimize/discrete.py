@@ -10,7 +10,7 @@
 3. :func:`rank`: every neighbour built exactly (coils, capsule), checked (exact pack
    clearances, bore, copper mass, magnet fit) and re-optimised at its fixed hardware; the best
    wins. The solves are independent: they go through the caller's ``executor`` (anything with
-   ``submit`` and ``map``), the same results wherever they run.
+   ``submit``: a process pool, a Dask client), the same results wherever they run.
 4. :func:`finish`: the winner's full result, with the binding limits of the relaxation.
 
 A copper-mass limit far below the starting hardware restarts the relaxation from the least
@@ -24,7 +24,7 @@ import functools
 import itertools
 import math
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable
 from dataclasses import dataclass, replace
 from typing import Any, NamedTuple
 
@@ -81,7 +81,7 @@ class SizingOptions:
 
 class Executor:
     """What sizing needs of an executor (``concurrent.futures.Executor``, a Dask client, ...):
-    ``submit(fn, *args)`` returning an object with ``result()``, and ``map(fn, items)``."""
+    ``submit(fn, *args)`` returning a future whose ``result()`` is ``fn(*args)``."""
 
     def submit(self, fn: Callable[..., Any], /, *args: Any) -> Any:  # pragma: no cover
         """``fn(*args)`` to run.
@@ -89,7 +89,7 @@ class Executor:
         Parameters
         ----------
         fn : callable
-            A module-level function (it may be pickled to another process).
+            A module-level function (it may be pickled to another process or machine).
         *args
             Its arguments.
 
@@ -97,23 +97,6 @@ class Executor:
         -------
         future
             An object whose ``result()`` is ``fn(*args)``.
-        """
-        raise NotImplementedError
-
-    def map(self, fn: Callable[[Any], Any], items: Sequence[Any]) -> Any:  # pragma: no cover
-        """``fn(x)`` for every item.
-
-        Parameters
-        ----------
-        fn : callable
-            A module-level function (or a ``functools.partial`` of one).
-        items : sequence
-            Its arguments, one call each.
-
-        Returns
-        -------
-        iterable
-            The results, in ``items`` order.
         """
         raise NotImplementedError
 
@@ -130,9 +113,12 @@ def _submit(executor: Executor | None, fn: Callable[..., Any], *args: Any) -> An
 
 
 def _map(executor: Executor | None, fn: Callable[[Any], Any], items: list[Any]) -> list[Any]:
+    """``[fn(x) for x in items]``, each call submitted (``map`` differs between executors: a
+    Dask client's gives futures, a standard one's results)."""
     if executor is None or len(items) < 2:
         return [fn(x) for x in items]
-    return list(executor.map(fn, items))
+    futures = [executor.submit(fn, x) for x in items]
+    return [f.result() for f in futures]
 
 
 class _Setup(NamedTuple):
@@ -547,29 +533,31 @@ def size_design(
     t0 = time.perf_counter()
     # the screen's least required torque, found once; early, so that an executor finds it
     # while the relaxation runs here
-    least = None
+    least_torque = None
     if options.screen and screen.screens(model):
-        least = _submit(executor, screen.least_required_torque_Nm, replace(model, sizing=None))
+        fixed = replace(model, sizing=None)
+        least_torque = _submit(executor, screen.least_required_torque_Nm, fixed)
     s = _setup(model)
     r = relax(s, options, say)
     spent = 0
     if r.best is None and _mass_limited(model):
         # the copper limit may lie far below the starting hardware's copper: start again from
         # the least copper the requirements need, or say that it is more than the limit
-        least = least_copper(model, options)
+        lightest = least_copper(model, options)
         limit = float(model.limits.copper_mass_kg or 0.0)
-        if least is not None and least.objective > limit * (1 + 1e-9):
-            lightest = buildable(s.fixed_model, least.hardware, 0.0, checks=False) or r.exact
+        if lightest is not None and lightest.objective > limit * (1 + 1e-9):
+            closest = buildable(s.fixed_model, lightest.hardware, 0.0, checks=False) or r.exact
             why = (
-                f"the requirements need at least {least.objective:.4g} kg of copper (continuous "
-                f"relaxation), more than limits.copper_mass_kg = {limit:.4g} kg allows; "
-                "closest with the hardware at " + _hardware_text(least.hardware)
+                f"the requirements need at least {lightest.objective:.4g} kg of copper "
+                f"(continuous relaxation), more than limits.copper_mass_kg = {limit:.4g} kg "
+                "allows; "
+                "closest with the hardware at " + _hardware_text(lightest.hardware)
             )
-            spent = r.iterations + least.iterations
-            return _timed(_no_design(lightest, why), t0, spent)
-        if least is not None:
-            spent = r.iterations + least.iterations
-            s = _setup(model, least.hardware)
+            spent = r.iterations + lightest.iterations
+            return _timed(_no_design(closest, why), t0, spent)
+        if lightest is not None:
+            spent = r.iterations + lightest.iterations
+            s = _setup(model, lightest.hardware)
             r = relax(s, options, say)
     if r.best is None:  # what is out of reach with the hardware at its box (the first start)
         why = "the relaxed sizing problem has no solution; closest with the hardware at "
@@ -577,7 +565,7 @@ def size_design(
             _no_design(r.exact, why + _hardware_text(r.hardware)), t0, spent + r.iterations
         )
     candidates, its = neighbours(s, r)
-    ctx = _attempt_of(s, r, least.result() if least is not None else None)
+    ctx = _attempt_of(s, r, least_torque.result() if least_torque is not None else None)
     first_wins = model.bounds.objective == "copper_mass"  # the mass is known before a solve
     sense = pb.OBJECTIVES[model.bounds.objective].sense
     ranking = rank(

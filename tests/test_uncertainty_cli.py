@@ -176,12 +176,22 @@ def test_dask_local_cluster_gives_the_local_results(capsys):
     )
     robust_axes = [parse_over("requirements.axial_load_mN=20:80:18")]  # two chunks
     robust_local = sweep(robust, robust_axes, optimize=True)
+    from dataclasses import replace
+
+    from optimize import FreeVariable, Sizing, optimize_design
+    from spiralcap.assemble import build_model
+
+    free = (FreeVariable("x.turns", 100, 800), FreeVariable("x.wire_diameter_m", 0.8e-3, 3e-3))
+    sizing = replace(build_model(design), sizing=Sizing(free))
+    sized_local = optimize_design(sizing)
     with distributed.LocalCluster(
         n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0"
     ) as cluster:
         on_dask = _json(capsys, [*argv, "--dask", cluster.scheduler_address])
         sweep_dask = sweep(design, axes, optimize=True, dask=cluster.scheduler_address)
         robust_dask = sweep(robust, robust_axes, optimize=True, dask=cluster.scheduler_address)
+        with distributed.Client(cluster) as client:  # a sizing's neighbours on the cluster
+            sized_dask = optimize_design(sizing, executor=client)
         import math
 
         from spiralcap.errors import InputError
@@ -198,3 +208,7 @@ def test_dask_local_cluster_gives_the_local_results(capsys):
         assert np.array_equal(
             values, robust_dask.outputs[col], equal_nan=values.dtype.kind == "f"
         ), f"robust sweep --optimize (margin_p05, working-set loop) {col} on Dask"
+    assert replace(sized_dask, solve_time_s=0.0) == replace(sized_local, solve_time_s=0.0), (
+        "a sizing with its neighbours on Dask (optimize_design(..., executor=client)) is the "
+        "sizing here, bit for bit"
+    )
