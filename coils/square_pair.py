@@ -22,18 +22,17 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from coils.electrical import copper_resistivity_ohm_m
-from coils.filaments import AXES, Axis, gauss_legendre_pack
-from coils.pair import MAX_PACKING_FACTOR, PACK_ASPECT_RANGE, _check_count, _stefan_y1
+from coils.filaments import Axis, gauss_legendre_pack
+from coils.pair import _stefan_y1
 from coils.square import (
     SquareFilamentSet,
     parallel_filaments_mutual_H,
     square_field_local,
     square_mutual_inductance_H,
 )
+from coils.winding import WoundPair
 from spiralcap import backend as bk
 from spiralcap.constants import MU0_T_m_per_A
-from spiralcap.errors import InputError, check_positive
 
 __all__ = [
     "SQUARE_HELMHOLTZ_RATIO",
@@ -46,8 +45,6 @@ __all__ = [
 #: Coil spacing / side of a square Helmholtz pair (Firester 1966): the field's second axial
 #: derivative vanishes at the centre.
 SQUARE_HELMHOLTZ_RATIO = 0.5445
-# Gauss-Legendre nodes across each pack for the mutual inductance (as coils.pair).
-_MUTUAL_NODES = 4
 
 
 def rectangle_gmd_m(width_m: Any, depth_m: Any) -> Any:
@@ -162,20 +159,15 @@ def square_pack_self_inductance_H(side_m: float, width_m: float, depth_m: float)
     return float(4.0 * (like - np.sum(pair_weight * opposite)))
 
 
-def _check_aspect(aspect: Any) -> float:
-    lo, hi = PACK_ASPECT_RANGE
-    ok = not isinstance(aspect, bool) and isinstance(aspect, (int, float, np.floating))
-    if not ok or not lo <= aspect <= hi:
-        raise InputError("pack_aspect", aspect, f"a number in [{lo:g}, {hi:g}]")
-    return float(aspect)
-
-
 @dataclass(frozen=True)
-class SquarePair:
+class SquarePair(WoundPair):
     """Two coaxial, series-connected square coils of N turns each; all quantities SI.
 
     The same interface as :class:`coils.HelmholtzPair` (field, gains, resistance,
-    inductances, pack geometry), with the side of the mean turn in place of its radius.
+    inductances, pack geometry), with the side of the mean turn in place of its radius: the
+    winding, field, resistance, series inductance and cooling are
+    :class:`coils.winding.WoundPair`'s (mean turn 4a); the filament set, centre field and
+    inductances are the square's.
 
     Parameters
     ----------
@@ -217,53 +209,12 @@ class SquarePair:
 
     #: The shape of the coils (``coils.HelmholtzPair`` is a ``"circle"``).
     shape: ClassVar[str] = "square"
-
-    def __post_init__(self) -> None:
-        set_ = object.__setattr__
-        set_(self, "side_m", check_positive("side_m", self.side_m))
-        set_(self, "turns", _check_count("turns", self.turns))
-        if self.axis not in AXES:
-            raise InputError("axis", self.axis, "one of 'x', 'y', 'z'")
-        sep = (
-            SQUARE_HELMHOLTZ_RATIO * self.side_m if self.separation_m is None else self.separation_m
-        )
-        set_(self, "separation_m", check_positive("separation_m", sep))
-        set_(self, "wire_diameter_m", check_positive("wire_diameter_m", self.wire_diameter_m))
-        pf = check_positive("packing_factor", self.packing_factor)
-        if pf >= MAX_PACKING_FACTOR:
-            raise InputError("packing_factor", pf, f"a number in (0, {MAX_PACKING_FACTOR:.4f})")
-        set_(self, "packing_factor", pf)
-        if not (isinstance(self.filaments, tuple) and len(self.filaments) == 2):
-            raise InputError("filaments", self.filaments, "a pair (depth, axial) of counts >= 1")
-        set_(self, "filaments", tuple(_check_count("filaments", n) for n in self.filaments))
-        set_(self, "pack_aspect", _check_aspect(self.pack_aspect))
-        depth, width = self.winding_pack_depth_m, self.winding_pack_width_m
-        if depth >= self.side_m:
-            raise InputError(
-                "wire_diameter_m",
-                self.wire_diameter_m,
-                f"a wire thin enough that the winding pack depth (now {depth:.4g} m "
-                f"for {self.turns} turns) is below side_m = {self.side_m:.4g} m",
-            )
-        if width >= sep:
-            raise InputError(
-                "separation_m",
-                self.separation_m,
-                f"a separation larger than the winding pack width {width:.4g} m "
-                "(else the two coils overlap)",
-            )
+    _SIZE_KEY: ClassVar[str] = "side_m"
+    _TURN_LENGTH_PER_SIZE: ClassVar[float] = 4.0
+    _DEFAULT_SPACING_PER_SIZE: ClassVar[float] = SQUARE_HELMHOLTZ_RATIO
+    _FILAMENT_PAIR: ClassVar[str] = "(depth, axial) of counts"
 
     # --- geometry ------------------------------------------------------------------------------
-    @property
-    def axis_index(self) -> int:
-        """Axis index: 0, 1 or 2 for x, y or z."""
-        return AXES.index(self.axis)
-
-    @property
-    def spacing_m(self) -> float:
-        """Distance between the two coil planes, m."""
-        return float(self.separation_m)  # type: ignore[arg-type]
-
     @property
     def half_side_m(self) -> float:
         """Half side a/2 of the mean turn, m."""
@@ -287,76 +238,30 @@ class SquarePair:
         return self.mean_turn_length_m / (2.0 * math.pi)
 
     @property
-    def wire_area_m2(self) -> float:
-        """Bare copper cross-section of the wire, π d² / 4, m²."""
-        return math.pi * self.wire_diameter_m**2 / 4.0
-
-    @property
-    def winding_pack_area_m2(self) -> float:
-        """Cross-section of one coil's winding pack, N π d² / 4 / packing_factor, m²."""
-        return self.turns * self.wire_area_m2 / self.packing_factor
-
-    @property
-    def winding_pack_side_m(self) -> float:
-        """Side of the square of the pack's area, sqrt(w h), m."""
-        return math.sqrt(self.winding_pack_area_m2)
-
-    @property
-    def winding_pack_width_m(self) -> float:
-        """Axial width w = sqrt(A · aspect) of each winding pack, m."""
-        return math.sqrt(self.winding_pack_area_m2 * self.pack_aspect)
-
-    @property
-    def winding_pack_depth_m(self) -> float:
-        """Depth h = sqrt(A / aspect) of each winding pack across its side, m."""
-        return math.sqrt(self.winding_pack_area_m2 / self.pack_aspect)
-
-    @property
     def mean_turn_length_m(self) -> float:
         """Length of the mean turn, 4 a, m (exact for the square frame: module notes)."""
-        return 4.0 * self.side_m
+        return self._TURN_LENGTH_PER_SIZE * self.side_m
 
     @property
-    def wire_length_m(self) -> float:
-        """Copper length of both coils, 2 N · 4 a, m."""
-        return 2.0 * self.turns * self.mean_turn_length_m
+    def _filament_size_m(self) -> float:
+        """Half side of the filament at the pack centre, a/2, m."""
+        return self.half_side_m
 
     @cached_property
     def filament_set(self) -> SquareFilamentSet:
         """The field model: both coils as Gauss-Legendre grids of square filaments."""
-        dr, dz, w = gauss_legendre_pack(
-            self.winding_pack_depth_m, self.filaments, self.winding_pack_width_m
-        )
-        half = 0.5 * self.spacing_m
-        n = len(w)
-        return SquareFilamentSet(
-            axes=np.full(2 * n, self.axis_index),
-            half_sides_m=np.tile(self.half_side_m + dr, 2),
-            centres_m=np.concatenate([-half + dz, half + dz]),
-            turns=np.tile(self.turns * w, 2),
-            columns=np.zeros(2 * n, dtype=int),
-            column_axes=(self.axis_index,),
-        )
+        half_sides, common = self._filament_set_fields()
+        return SquareFilamentSet(half_sides_m=half_sides, **common)
 
     # --- field ---------------------------------------------------------------------------------
-    def field(self, points_m: np.ndarray, current_A: float) -> np.ndarray:
-        """Field of the pair, T.
-
-        Parameters
-        ----------
-        points_m : array_like, shape (n, 3) or (3,)
-            Field points in the coil frame (pair centre at the origin), m.
-        current_A : float
-            Current in the series pair, A.
-
-        Returns
-        -------
-        ndarray, shape (n, 3) (or (3,) for one point)
-            Magnetic flux density, T.
-        """
-        p = np.asarray(points_m, dtype=float)
-        b = self.filament_set.field(np.atleast_2d(p), np.array([[float(current_A)]]))
-        return b[0] if p.ndim == 1 else b
+    @staticmethod
+    def _centre_field_T_per_A(
+        half_sides_m: np.ndarray, centres_m: np.ndarray, turns: np.ndarray
+    ) -> float:
+        """Field at the centre per ampere of coaxial squares, T/A (:func:`square_field_local`)."""
+        zero = np.zeros_like(half_sides_m)
+        b_w = square_field_local(half_sides_m, zero, zero, -centres_m)[2]
+        return float(np.sum(turns * b_w))
 
     @cached_property
     def centre_field_per_amp_T_per_A(self) -> float:
@@ -365,50 +270,9 @@ class SquarePair:
         For one filament per coil, 4 μ0 N a² / (π (a² + s²) sqrt(a²/2 + s²/4)) (each side a
         finite straight wire at distance sqrt(a² + s²)/2; tested).
         """
-        fs = self.filament_set
-        zero = np.zeros_like(fs.half_sides_m)
-        b_w = square_field_local(fs.half_sides_m, zero, zero, -fs.centres_m)[2]
-        return float(np.sum(fs.turns * b_w))
-
-    @cached_property
-    def pack_centre_field_per_amp_T_per_A(self) -> float:
-        """Field at the centre per ampere with each coil's current spread uniformly over its
-        rectangular winding pack, T/A.
-
-        8 x 8 Gauss-Legendre square filaments per coil (whatever ``filaments`` the field model
-        uses), each the exact centre field of a square loop (:func:`square_field_local`).
-        """
-        from coils.pair import _PACK_FIELD_NODES
-
-        dr, dz, w = gauss_legendre_pack(
-            self.winding_pack_depth_m, (_PACK_FIELD_NODES,) * 2, self.winding_pack_width_m
-        )
-        half = 0.5 * self.spacing_m
-        half_sides = np.tile(self.half_side_m + dr, 2)
-        centres = np.concatenate([-half + dz, half + dz])
-        zero = np.zeros_like(half_sides)
-        b_w = square_field_local(half_sides, zero, zero, -centres)[2]
-        return float(np.sum(np.tile(self.turns * w, 2) * b_w))
+        return self._centre_field_T_per_A(*self._coil_grids(self.filaments))
 
     # --- electrical ----------------------------------------------------------------------------
-    def resistance_ohm(self, temperature_C: float = 20.0) -> float:
-        """Resistance of both coils in series at a copper temperature, Ω (DC, as the circle's:
-        ρ(T) · 2 N · 4a / (π d²/4), IEC 60028).
-
-        Parameters
-        ----------
-        temperature_C : float
-            Copper temperature, °C.
-
-        Returns
-        -------
-        float
-            DC resistance of the series pair, Ω.
-        """
-        return float(
-            copper_resistivity_ohm_m(temperature_C) * self.wire_length_m / self.wire_area_m2
-        )
-
     @cached_property
     def self_inductance_H(self) -> float:
         """Self inductance of one coil, H: N² times the section average of the exact
@@ -427,38 +291,4 @@ class SquarePair:
         """Mutual inductance between the two coils of the pair, H: N² times the exact
         square-to-square formula (:func:`coils.square.square_mutual_inductance_H`) averaged over
         both packs with a 4 x 4 Gauss-Legendre rule each (the packs do not touch)."""
-        dr, dz, w = gauss_legendre_pack(
-            self.winding_pack_depth_m, (_MUTUAL_NODES,) * 2, self.winding_pack_width_m
-        )
-        h1, h2 = self.half_side_m + dr[:, None], self.half_side_m + dr[None, :]
-        dist = self.spacing_m + dz[:, None] - dz[None, :]
-        m = square_mutual_inductance_H(h1, h2, dist)
-        return float(self.turns**2 * np.sum(w[:, None] * w[None, :] * m))
-
-    @property
-    def series_inductance_H(self) -> float:
-        """Inductance of the two coils in series aiding, 2 L + 2 M, H."""
-        return 2.0 * self.self_inductance_H + 2.0 * self.mutual_inductance_H
-
-    # --- thermal -------------------------------------------------------------------------------
-    @property
-    def surface_area_m2(self) -> float:
-        """Outer surface of both winding packs, 2 x 2 (w + h) x 4a, m²."""
-        perimeter = 2.0 * (self.winding_pack_width_m + self.winding_pack_depth_m)
-        return 2.0 * perimeter * self.mean_turn_length_m
-
-    def thermal_conductance_W_per_K(self, heat_transfer_coefficient_W_m2K: float) -> float:
-        """Thermal conductance from both coils to ambient air, h A, W/K (as the circle's).
-
-        Parameters
-        ----------
-        heat_transfer_coefficient_W_m2K : float
-            Convective coefficient h, W/(m²·K).
-
-        Returns
-        -------
-        float
-            Thermal conductance h A of both coils' outer surface, W/K.
-        """
-        h = check_positive("heat_transfer_coefficient_W_m2K", heat_transfer_coefficient_W_m2K)
-        return h * self.surface_area_m2
+        return self._mutual_average_H(square_mutual_inductance_H)

@@ -1,0 +1,307 @@
+"""What a pair of series coils with rectangular winding packs has whatever shape its turns are.
+
+:class:`coils.HelmholtzPair` (circular turns, size the mean radius R) and
+:class:`coils.SquarePair` (square turns, size the side a of the mean turn) share the winding:
+N turns of round copper wire of bare diameter d in a section of area
+A = N π d² / 4 / packing_factor, axial width w = sqrt(A · aspect), depth h = sqrt(A / aspect)
+across the turn; two coils at ±s/2 on the pair's axis carrying the same current in the same
+sense. :class:`WoundPair` holds what follows from that alone: the input checks, the pack
+geometry, the Gauss-Legendre grids of both packs, the field, the DC resistance, the series
+inductance and the convective conductance. Each pair supplies its size, the length of its mean
+turn per unit of size (2π for a circle, 4 for a square), the filament set of its shape, the
+centre field of a set of its filaments and its inductances.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from functools import cached_property
+from typing import TYPE_CHECKING, Any, ClassVar
+
+import numpy as np
+
+from coils.electrical import copper_resistivity_ohm_m
+from coils.filaments import AXES, Axis, gauss_legendre_pack
+from spiralcap.errors import InputError, check_positive
+
+__all__ = ["MAX_PACKING_FACTOR", "PACK_ASPECT_RANGE", "WoundPair"]
+
+#: Densest packing of equal round wires (hexagonal), π / (2 sqrt 3).
+MAX_PACKING_FACTOR = math.pi / (2.0 * math.sqrt(3.0))
+#: Range of the winding pack aspect (axial width / radial depth) the models are made for.
+PACK_ASPECT_RANGE = (0.25, 4.0)
+# Gauss-Legendre nodes across each pack for the mutual inductance (converged to < 1e-10).
+_MUTUAL_NODES = 4
+# Gauss-Legendre nodes across each pack for the pack's own centre field (the on-axis integrand is
+# smooth over the pack: 8 x 8 meets the closed form to 1e-15 for the built-in pairs and a pack
+# 0.4 R wide at aspect 3, where 4 x 4 is 7e-9 off).
+_PACK_FIELD_NODES = 8
+
+
+def _check_count(key: str, value: Any) -> int:
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
+        raise InputError(key, value, "a whole number >= 1")
+    return int(value)
+
+
+def _check_aspect(aspect: Any) -> float:
+    lo, hi = PACK_ASPECT_RANGE
+    ok = not isinstance(aspect, bool) and isinstance(aspect, (int, float, np.floating))
+    if not ok or not lo <= aspect <= hi:
+        raise InputError("pack_aspect", aspect, f"a number in [{lo:g}, {hi:g}]")
+    return float(aspect)
+
+
+class WoundPair:
+    """Base of the coil pairs: the winding, field, resistance and cooling they share; SI.
+
+    Not made on its own: a frozen dataclass (:class:`coils.HelmholtzPair`,
+    :class:`coils.SquarePair`) with the fields ``turns``, ``axis``, ``separation_m``,
+    ``wire_diameter_m``, ``packing_factor``, ``filaments`` and ``pack_aspect`` and a size field
+    named by ``_SIZE_KEY`` derives from it and sets the class constants: ``_SIZE_KEY``,
+    ``_TURN_LENGTH_PER_SIZE`` (mean turn length / size), ``_DEFAULT_SPACING_PER_SIZE``
+    (separation / size when ``separation_m`` is not given) and ``_FILAMENT_PAIR`` (how the
+    error names the two filament counts). It supplies ``filament_set``,
+    ``_filament_size_m`` (the size coordinate of a filament at the pack centre),
+    ``_centre_field_T_per_A`` and the inductances ``self_inductance_H`` and
+    ``mutual_inductance_H``.
+    """
+
+    _SIZE_KEY: ClassVar[str]
+    _TURN_LENGTH_PER_SIZE: ClassVar[float]
+    _DEFAULT_SPACING_PER_SIZE: ClassVar[float]
+    _FILAMENT_PAIR: ClassVar[str]
+
+    if TYPE_CHECKING:  # the fields and shape parts of the dataclasses deriving from this
+        turns: int
+        axis: Axis
+        separation_m: float | None
+        wire_diameter_m: float
+        packing_factor: float
+        filaments: tuple[int, int]
+        pack_aspect: float
+
+        @property
+        def filament_set(self) -> Any: ...
+        @property
+        def _filament_size_m(self) -> float: ...
+        @property
+        def self_inductance_H(self) -> float: ...
+        @property
+        def mutual_inductance_H(self) -> float: ...
+        @staticmethod
+        def _centre_field_T_per_A(
+            sizes_m: np.ndarray, centres_m: np.ndarray, turns: np.ndarray
+        ) -> float: ...
+
+    def __post_init__(self) -> None:
+        """Check every field (InputError named by the field), store the checked values."""
+        set_ = object.__setattr__
+        key = self._SIZE_KEY
+        size = check_positive(key, getattr(self, key))
+        set_(self, key, size)
+        set_(self, "turns", _check_count("turns", self.turns))
+        if self.axis not in AXES:
+            raise InputError("axis", self.axis, "one of 'x', 'y', 'z'")
+        default = self._DEFAULT_SPACING_PER_SIZE * size
+        sep = default if self.separation_m is None else self.separation_m
+        set_(self, "separation_m", check_positive("separation_m", sep))
+        set_(self, "wire_diameter_m", check_positive("wire_diameter_m", self.wire_diameter_m))
+        pf = check_positive("packing_factor", self.packing_factor)
+        if pf >= MAX_PACKING_FACTOR:
+            raise InputError("packing_factor", pf, f"a number in (0, {MAX_PACKING_FACTOR:.4f})")
+        set_(self, "packing_factor", pf)
+        if not (isinstance(self.filaments, tuple) and len(self.filaments) == 2):
+            raise InputError("filaments", self.filaments, f"a pair {self._FILAMENT_PAIR} >= 1")
+        set_(self, "filaments", tuple(_check_count("filaments", n) for n in self.filaments))
+        set_(self, "pack_aspect", _check_aspect(self.pack_aspect))
+        self._check_fits(key, size, sep)
+
+    def _check_fits(self, key: str, size: float, sep: float) -> None:
+        """The pack fits: its depth below the size ``key`` = ``size``, m, and its width below
+        the spacing ``sep``, m (else InputError naming the wire or the separation)."""
+        depth, width = self.winding_pack_depth_m, self.winding_pack_width_m
+        if depth >= size:
+            raise InputError(
+                "wire_diameter_m",
+                self.wire_diameter_m,
+                f"a wire thin enough that the winding pack depth (now {depth:.4g} m "
+                f"for {self.turns} turns) is below {key} = {size:.4g} m",
+            )
+        if width >= sep:
+            raise InputError(
+                "separation_m",
+                self.separation_m,
+                f"a separation larger than the winding pack width {width:.4g} m "
+                "(else the two coils overlap)",
+            )
+
+    # --- geometry ------------------------------------------------------------------------------
+    @property
+    def axis_index(self) -> int:
+        """Axis index: 0, 1 or 2 for x, y or z."""
+        return AXES.index(self.axis)
+
+    @property
+    def spacing_m(self) -> float:
+        """Distance between the two coil planes, m (``separation_m``; when not given, the
+        pair's default spacing, set at construction)."""
+        return float(self.separation_m)  # type: ignore[arg-type]
+
+    @property
+    def _size_m(self) -> float:
+        """The pair's size (R of a circle, a of a square), m."""
+        return float(getattr(self, self._SIZE_KEY))
+
+    @property
+    def wire_area_m2(self) -> float:
+        """Bare copper cross-section of the wire, π d² / 4, m²."""
+        return math.pi * self.wire_diameter_m**2 / 4.0
+
+    @property
+    def winding_pack_area_m2(self) -> float:
+        """Cross-section of one coil's winding pack, N π d² / 4 / packing_factor, m²."""
+        return self.turns * self.wire_area_m2 / self.packing_factor
+
+    @property
+    def winding_pack_side_m(self) -> float:
+        """Side of the square of the pack's area, sqrt(w h), m (the side itself at aspect 1)."""
+        return math.sqrt(self.winding_pack_area_m2)
+
+    @property
+    def winding_pack_width_m(self) -> float:
+        """Axial width w = sqrt(A · aspect) of each winding pack, m."""
+        return math.sqrt(self.winding_pack_area_m2 * self.pack_aspect)
+
+    @property
+    def winding_pack_depth_m(self) -> float:
+        """Depth h = sqrt(A / aspect) of each winding pack across the turn (radial for a
+        circle, across the side for a square), m."""
+        return math.sqrt(self.winding_pack_area_m2 / self.pack_aspect)
+
+    @property
+    def wire_length_m(self) -> float:
+        """Copper length of both coils, 2 N times the mean turn (2π R, or 4 a for a square), m."""
+        return 2.0 * self.turns * self._TURN_LENGTH_PER_SIZE * self._size_m
+
+    def _coil_grids(self, nodes: tuple[int, int]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Both coils as Gauss-Legendre filament grids over their packs: the filaments' size
+        coordinates (radius or half side), m, axial centres, m, and turns, a count each."""
+        dr, dz, w = gauss_legendre_pack(self.winding_pack_depth_m, nodes, self.winding_pack_width_m)
+        half = 0.5 * self.spacing_m
+        sizes = np.tile(self._filament_size_m + dr, 2)
+        return sizes, np.concatenate([-half + dz, half + dz]), np.tile(self.turns * w, 2)
+
+    def _filament_set_fields(self) -> tuple[np.ndarray, dict[str, Any]]:
+        """The field model's filaments, ``self.filaments`` per pack, one drive column: their
+        size coordinates, m, and the other fields of a filament set by name."""
+        sizes, centres, turns = self._coil_grids(self.filaments)
+        common = {
+            "axes": np.full(len(turns), self.axis_index),
+            "centres_m": centres,
+            "turns": turns,
+            "columns": np.zeros(len(turns), dtype=int),
+            "column_axes": (self.axis_index,),
+        }
+        return sizes, common
+
+    # --- field ---------------------------------------------------------------------------------
+    def field(self, points_m: np.ndarray, current_A: float) -> np.ndarray:
+        """Field of the pair, T.
+
+        Parameters
+        ----------
+        points_m : array_like, shape (n, 3) or (3,)
+            Field points in the coil frame (pair centre at the origin), m.
+        current_A : float
+            Current in the series pair, A.
+
+        Returns
+        -------
+        ndarray, shape (n, 3) (or (3,) for one point)
+            Magnetic flux density, T.
+        """
+        p = np.asarray(points_m, dtype=float)
+        b = self.filament_set.field(np.atleast_2d(p), np.array([[float(current_A)]]))
+        return b[0] if p.ndim == 1 else b
+
+    @cached_property
+    def pack_centre_field_per_amp_T_per_A(self) -> float:
+        """Field at the centre per ampere with each coil's current spread uniformly over its
+        rectangular winding pack, T/A.
+
+        8 x 8 Gauss-Legendre filaments of the pair's shape per coil (whatever ``filaments``
+        the field model uses), each the exact centre field of its loop; checked in the tests
+        against the closed form of a thick solenoid's axial field (circle) and the filament sum
+        (square).
+        """
+        return self._centre_field_T_per_A(*self._coil_grids((_PACK_FIELD_NODES,) * 2))
+
+    # --- electrical ----------------------------------------------------------------------------
+    def resistance_ohm(self, temperature_C: float = 20.0) -> float:
+        """Resistance of both coils in series at a copper temperature, Ω.
+
+        R = ρ(T) ℓ / (π d²/4), ℓ = :attr:`wire_length_m`, ρ(T) from
+        :func:`coils.electrical.copper_resistivity_ohm_m` (IEC 60028). DC value: at the drive
+        frequencies here (< 100 Hz) the copper skin depth (> 6 mm) exceeds the wire radius.
+
+        Parameters
+        ----------
+        temperature_C : float
+            Copper temperature, °C.
+
+        Returns
+        -------
+        float
+            DC resistance of the series pair, Ω.
+        """
+        return float(
+            copper_resistivity_ohm_m(temperature_C) * self.wire_length_m / self.wire_area_m2
+        )
+
+    def _mutual_average_H(self, kernel: Callable[..., Any]) -> float:
+        """N² times ``kernel(size 1, size 2, distance)`` (the mutual inductance of two coaxial
+        filaments of the pair's shape, H) averaged over both packs with a 4 x 4 Gauss-Legendre
+        rule each (uniform current density; smooth because the packs do not touch), H."""
+        dr, dz, w = gauss_legendre_pack(
+            self.winding_pack_depth_m, (_MUTUAL_NODES,) * 2, self.winding_pack_width_m
+        )
+        size = self._filament_size_m
+        dist = self.spacing_m + dz[:, None] - dz[None, :]
+        m = kernel(size + dr[:, None], size + dr[None, :], dist)
+        return float(self.turns**2 * np.sum(w[:, None] * w[None, :] * m))
+
+    @property
+    def series_inductance_H(self) -> float:
+        """Inductance of the two coils in series aiding, 2 L + 2 M, H."""
+        return 2.0 * self.self_inductance_H + 2.0 * self.mutual_inductance_H
+
+    # --- thermal -------------------------------------------------------------------------------
+    @property
+    def surface_area_m2(self) -> float:
+        """Outer surface of both winding packs, 2 x 2(w + h) x the mean turn (2πR by Pappus,
+        or 4a for a square frame), m²."""
+        perimeter = 2.0 * (self.winding_pack_width_m + self.winding_pack_depth_m)
+        return 2.0 * perimeter * self._TURN_LENGTH_PER_SIZE * self._size_m
+
+    def thermal_conductance_W_per_K(self, heat_transfer_coefficient_W_m2K: float) -> float:
+        """Thermal conductance from both coils to ambient air, h A, W/K.
+
+        Assumes each winding pack is isothermal (no internal gradient) and loses heat by
+        convection from all four faces of its section (inner, outer and both side faces, total
+        2(w + h) times the mean turn per coil) with one coefficient h that also absorbs
+        radiation; no conduction into the frame. Pair it with the copper loss of both coils.
+
+        Parameters
+        ----------
+        heat_transfer_coefficient_W_m2K : float
+            Convective coefficient h, W/(m²·K).
+
+        Returns
+        -------
+        float
+            Conductance h A of both coils, W/K.
+        """
+        h = check_positive("heat_transfer_coefficient_W_m2K", heat_transfer_coefficient_W_m2K)
+        return h * self.surface_area_m2
