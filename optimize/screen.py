@@ -6,7 +6,8 @@ f, centre field B0) meets every row. Two facts bound B0 from below without the c
 1. every tissue's safety-factor row asks ``m · w · B0 >= SF · need_i(α, f)`` (m the magnet's
    moment, w the workspace field factor), so ``B0 >= SF · R_min / (m · w)`` with ``R_min`` the
    least worst-tissue required torque over the (α, f) the requirements allow (the search box,
-   speed, spiral turns; the self-lock rows only shrink that set, so they are left out);
+   speed, spiral turns, the grip on every wall; the self-lock rows only shrink that set, so
+   they are left out);
 2. ``R_min`` depends on the capsule, the tissues and the requirements only: the same for every
    neighbour whose free hardware is coils alone, so it is found once per sizing
    (:func:`least_required_torque_Nm`: the best point of a dense grid, polished by SLSQP).
@@ -51,13 +52,13 @@ def least_required_torque_Nm(model: DesignModel) -> float:
 
     A dense grid over the search box (angle x log frequency) and SLSQP from its best point in
     each angle band (the problem need not be convex in the angle), with the speed and
-    spiral-turn requirements relaxed by :data:`RTOL`; the smallest value found, minus
+    spiral-turn requirements and the grip (the least wall strain) relaxed by :data:`RTOL`; the smallest value found, minus
     :data:`RTOL` of it (a lower bound to the polish's tolerance). ``inf`` where no point of the
     grid meets the speed and turn requirements (nothing is then ruled out by it).
     """
     from scipy.optimize import minimize
 
-    from optimize.evaluate import worst_required
+    from optimize.evaluate import least_wall_strain, worst_required
 
     model = prepare(model)
     b, c, req = model.bounds, model.constants, model.requirements
@@ -76,7 +77,12 @@ def least_required_torque_Nm(model: DesignModel) -> float:
     def need(a, lf):
         return np.asarray(worst_required(model, a, np.exp(lf)).total_Nm, dtype=float)
 
-    ok = (speed(A, LF) >= v_min) & (turns(A) >= n_min)
+    s_min = req.min_wall_strain * (1.0 - RTOL)
+
+    def grip(a):  # the least wall strain over the tissue sets (the spiral grips every wall)
+        return np.asarray(least_wall_strain(model, a), dtype=float)
+
+    ok = (speed(A, LF) >= v_min) & (turns(A) >= n_min) & (grip(A) >= s_min)
     grid = np.where(ok, need(A, LF), np.inf)
     best = float(grid.min())
     if not np.isfinite(best):
@@ -86,6 +92,7 @@ def least_required_torque_Nm(model: DesignModel) -> float:
     constraints = [
         {"type": "ineq", "fun": lambda z: (float(speed(z[0], z[1])) - v_min) / speed_ref},
         {"type": "ineq", "fun": lambda z: float(turns(z[0])) - n_min},
+        {"type": "ineq", "fun": lambda z: (float(grip(z[0])) - s_min) / req.min_wall_strain},
     ]
     box = [(b.helical_angle_min_rad, b.helical_angle_max_rad), (lo_f, hi_f)]
     for band in np.array_split(np.arange(_GRID), max(b.starts, 1)):
@@ -102,7 +109,11 @@ def least_required_torque_Nm(model: DesignModel) -> float:
             options={"ftol": 1e-14, "maxiter": 200},
         )
         z = np.clip(res.x, [lo for lo, _ in box], [hi for _, hi in box])
-        if speed(z[0], z[1]) >= v_min * (1.0 - 1e-9) and turns(z[0]) >= n_min * (1.0 - 1e-9):
+        if (
+            speed(z[0], z[1]) >= v_min * (1.0 - 1e-9)
+            and turns(z[0]) >= n_min * (1.0 - 1e-9)
+            and grip(z[0]) >= s_min * (1.0 - 1e-9)
+        ):
             best = min(best, float(need(z[0], z[1])))
     return best - RTOL * abs(best)
 

@@ -43,8 +43,10 @@ def _cli_json(argv: list[str]) -> dict[str, Any]:
 
 @pytest.fixture(scope="module")
 def report(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Any]:
-    """The one report run of this module: the built-in design, HTML and PDF, in a new folder."""
+    """The one report run of this module: the built-in design, HTML and PDF, in a folder the
+    user made (spiralcap makes no folder: spiralcap.outputs)."""
     out = tmp_path_factory.mktemp("report") / "nested" / "folder"
+    out.mkdir(parents=True)
     html_path, pdf_path = out / "report.html", out / "report.pdf"
     buf = io.StringIO()
     with contextlib.redirect_stdout(buf):

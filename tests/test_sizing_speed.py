@@ -138,7 +138,8 @@ def copper():
 
 def test_least_required_torque_bounds_a_dense_grid(copper):
     """optimize.screen.least_required_torque_Nm against a brute-force 500 x 500 grid of the
-    search box (speed and spiral turns met): a lower bound, within 1e-3 of the grid's least."""
+    search box (speed, spiral turns and the grip met): a lower bound, within 1e-3 of the grid's
+    least."""
     import numpy as np
 
     from optimize import physics as ph
@@ -151,13 +152,19 @@ def test_least_required_torque_bounds_a_dense_grid(copper):
         np.geomspace(b.frequency_min_hz, b.frequency_max_hz, 500),
         indexing="ij",
     )
-    ok = (np.asarray(ph.speed_m_s(A, F, c, req)) >= req.min_speed_m_s) & (
-        np.asarray(ph.spiral_turns(A, c)) >= req.min_spiral_turns
+    from optimize.evaluate import least_wall_strain
+
+    ok = (
+        (np.asarray(ph.speed_m_s(A, F, c, req)) >= req.min_speed_m_s)
+        & (np.asarray(ph.spiral_turns(A, c)) >= req.min_spiral_turns)
+        & (least_wall_strain(copper, A) >= req.min_wall_strain)
     )
     brute = float(np.where(ok, worst_required(copper, A, F).total_Nm, np.inf).min())
     least = least_required_torque_Nm(copper)
     assert least <= brute, "a lower bound of every allowed grid point's required torque"
-    assert least >= brute * (1 - 1e-3), "and the least of them to 1e-3 (grid spacing)"
+    # the least sits on the grip's boundary (the largest angle that still stretches sample 3's
+    # wall by 1.7 %), where one grid step (0.086 deg) moves the need by up to 2e-3
+    assert least >= brute * (1 - 3e-3), "and the least of them to 3e-3 (grid spacing)"
 
 
 @pytest.mark.parametrize(

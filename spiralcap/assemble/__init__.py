@@ -10,7 +10,6 @@ from spiralcap.assemble.coils import build_coils
 from spiralcap.assemble.system import build_model
 from spiralcap.assemble.tissue import build_tissues
 
-
 #: The notebook views of the results (optimize.views): kind -> where the view lives. By import
 #: path, resolved on first use: the views draw through spiralcap.figures, which imports this
 #: package, so neither side imports the other here.
