@@ -17,7 +17,7 @@ import scipy.constants
 from scipy.spatial.transform import Rotation
 
 import coils
-from spiralcap.constants import MU0_T_m_per_A
+from spiralcap.core.constants import MU0_T_m_per_A
 
 _TURN_TO = {
     "x": Rotation.from_euler("y", 90, degrees=True),

@@ -1,7 +1,7 @@
 """Capsule domain: body, spiral, magnet, magnetic torque and propulsion kinematics (SI).
 
 Functions of the optimisation variables (helical angle, frequency, field amplitude) are written
-once against :mod:`spiralcap.backend` and run on floats, numpy arrays and CasADi SX/MX alike:
+once against :mod:`spiralcap.core.backend` and run on floats, numpy arrays and CasADi SX/MX alike:
 :func:`helix_diameter_m`, :func:`lead_m`, :func:`spiral_turns`, :func:`footprint_width_m`,
 :func:`max_helical_angle_for_turns_rad`, :func:`min_helical_angle_for_clearance_rad`,
 :func:`max_synchronous_torque_Nm`, :func:`synchronous_torque_Nm`, :func:`lag_angle_rad`,

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from spiralcap.errors import InputError, check_positive
+from spiralcap.core.errors import InputError, check_positive
 
 #: Relative tolerance on geometric comparisons, so that 26 mm - 11 mm = 15 mm in binary floating
 #: point does not fail a "wound length <= cylinder length" test by one unit in the last place.
@@ -35,7 +35,7 @@ class Body:
 
     Raises
     ------
-    spiralcap.errors.InputError
+    spiralcap.core.errors.InputError
         Naming ``diameter_m``, ``length_m`` or ``shell_thickness_m``.
     """
 

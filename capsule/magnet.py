@@ -11,8 +11,8 @@ import math
 from dataclasses import dataclass
 
 from capsule.body import GEOMETRY_RTOL, Body
-from spiralcap.constants import MU0_T_m_per_A
-from spiralcap.errors import InputError, check_positive
+from spiralcap.core.constants import MU0_T_m_per_A
+from spiralcap.core.errors import InputError, check_positive
 
 #: Nominal remanence B_r (T) of sintered NdFeB grades at 20 °C: the middle of the range each
 #: grade allows. Ranges (T) as tabulated by Shanghai Magnet (NdFeB performance parameter table,
@@ -49,7 +49,7 @@ def remanence_for_grade(grade: str) -> float:
 
     Raises
     ------
-    spiralcap.errors.InputError
+    spiralcap.core.errors.InputError
         Naming ``grade`` for an unknown grade.
     """
     key = grade.upper() if isinstance(grade, str) else grade
@@ -75,7 +75,7 @@ class Magnet:
 
     Raises
     ------
-    spiralcap.errors.InputError
+    spiralcap.core.errors.InputError
         Naming the parameter at fault.
     """
 

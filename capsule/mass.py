@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import math
 
-from spiralcap.backend import Scalar
+from spiralcap.core.backend import Scalar
 
 __all__ = [
     "CONTENTS_DENSITY_kg_m3",

@@ -17,7 +17,7 @@ from capsule.spiral import (
     min_helical_angle_for_clearance_rad,
 )
 from capsule.torque import max_synchronous_torque_Nm
-from spiralcap.errors import InputError
+from spiralcap.core.errors import InputError
 
 
 def geometry_problems(body: Body, spiral: Spiral, magnet: Magnet) -> list[tuple[str, str]]:
@@ -184,7 +184,7 @@ class Capsule:
 
     Raises
     ------
-    spiralcap.errors.InputError
+    spiralcap.core.errors.InputError
         For the first problem :func:`geometry_problems` finds, naming e.g. ``magnet.diameter_m``.
     """
 

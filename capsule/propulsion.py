@@ -17,7 +17,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from spiralcap import backend as bk
+from spiralcap.core import backend as bk
 
 
 def forward_speed_m_s(frequency_hz: Any, lead_m: Any, slip_efficiency: Any) -> Any:

@@ -15,7 +15,7 @@ diameter ``D``), unrolling one revolution of the helix gives a right triangle wi
   major axis ``d_w / sin(alpha)``).
 
 With ``n`` starts the axial distance between neighbouring wires is ``lead / n``. The functions of
-the helical angle are written once against :mod:`spiralcap.backend` and accept floats, numpy
+the helical angle are written once against :mod:`spiralcap.core.backend` and accept floats, numpy
 arrays and CasADi SX/MX values.
 """
 
@@ -26,8 +26,8 @@ from dataclasses import dataclass
 from typing import Any
 
 from capsule.body import Body
-from spiralcap import backend as bk
-from spiralcap.errors import InputError, check_positive
+from spiralcap.core import backend as bk
+from spiralcap.core.errors import InputError, check_positive
 
 #: Largest spiral wire diameter accepted, as a fraction of the body diameter. An engineering
 #: plausibility bound chosen for this tool (not from a source): beyond it the "spiral" is a
@@ -189,7 +189,7 @@ class Spiral:
 
     Raises
     ------
-    spiralcap.errors.InputError
+    spiralcap.core.errors.InputError
         Naming the parameter at fault.
     """
 

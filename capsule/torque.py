@@ -14,7 +14,7 @@ from typing import Any
 
 import numpy as np
 
-from spiralcap import backend as bk
+from spiralcap.core import backend as bk
 
 
 def magnetic_torque_Nm(moment_Am2_vec: Any, field_T_vec: Any) -> np.ndarray:

@@ -2,7 +2,7 @@
 
 The section |x| <= a, |y| <= b (a the smaller half-side) with conductivity k, uniform
 volumetric heat q(t) and Robin faces -k ∂θ/∂n = h (θ - θ_sink). Every function is written once
-against :mod:`spiralcap.backend` with a fixed number of operations (no branch on values), so the
+against :mod:`spiralcap.core.backend` with a fixed number of operations (no branch on values), so the
 NLP differentiates it and numpy and CasADi agree to rounding.
 
 Eigenvalues. β_m tan β_m = Bi = h a / k, β_m in (mπ, mπ + π/2), by Newton's method on
@@ -31,7 +31,7 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
-from spiralcap import backend as bk
+from spiralcap.core import backend as bk
 
 __all__ = ["RobinStatics", "RobinTransient", "eigenvalues", "robin_statics", "robin_transient"]
 

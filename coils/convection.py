@@ -1,7 +1,7 @@
 """Convection from a winding pack: dry-air properties and standard correlations (backend-generic).
 
 Everything is a smooth function of the surface and air temperatures written against
-:mod:`spiralcap.backend`, so the NLP differentiates it. Orientation: gravity along -z, so the
+:mod:`spiralcap.core.backend`, so the NLP differentiates it. Orientation: gravity along -z, so the
 z pair's coils are horizontal rings and the x and y pairs' are vertical rings.
 
 * z pair (axis vertical): the inner and outer cylindrical faces are vertical plates of height w,
@@ -37,7 +37,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-from spiralcap import backend as bk
+from spiralcap.core import backend as bk
 
 __all__ = [
     "AirProperties",

@@ -1,7 +1,7 @@
 """Electrical and thermal relations of a coil drive, backend-generic.
 
 Each function takes floats, numpy arrays or CasADi values (the optimiser passes a CasADi
-frequency and current amplitude) and is written once against :mod:`spiralcap.backend`. Currents
+frequency and current amplitude) and is written once against :mod:`spiralcap.core.backend`. Currents
 and voltages are sinusoidal *amplitudes* (peak, not RMS).
 """
 
@@ -9,8 +9,8 @@ from __future__ import annotations
 
 from typing import Any
 
-from spiralcap import backend as bk
-from spiralcap.constants import (
+from spiralcap.core import backend as bk
+from spiralcap.core.constants import (
     COPPER_RESISTIVITY_20C_ohm_m,
     COPPER_TEMPERATURE_COEFFICIENT_per_K,
 )

@@ -24,8 +24,8 @@ from typing import Any, Literal
 import numpy as np
 
 from coils.loop import ROW_SCRATCH, loop_terms, loop_terms_rows
-from spiralcap import backend as bk
-from spiralcap.backend import Scalar
+from spiralcap.core import backend as bk
+from spiralcap.core.backend import Scalar
 
 __all__ = ["AXES", "FilamentSet", "gauss_legendre_pack"]
 

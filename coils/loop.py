@@ -1,6 +1,6 @@
 """Exact field of one circular current filament, and Maxwell's mutual inductance of two.
 
-Both are written once against :mod:`spiralcap.backend`, so they run on floats, numpy arrays and
+Both are written once against :mod:`spiralcap.core.backend`, so they run on floats, numpy arrays and
 CasADi ``SX``/``MX`` values alike (complete elliptic integrals from ``bk.ellipke``).
 
 Field of a filament (Smythe, *Static and Dynamic Electricity*, 3rd ed. 1968, §7.10; in the
@@ -29,9 +29,9 @@ from fractions import Fraction
 
 import numpy as np
 
-from spiralcap import backend as bk
-from spiralcap.backend import Scalar
-from spiralcap.constants import MU0_T_m_per_A
+from spiralcap.core import backend as bk
+from spiralcap.core.backend import Scalar
+from spiralcap.core.constants import MU0_T_m_per_A
 
 __all__ = [
     "ROW_SCRATCH",
@@ -122,7 +122,7 @@ def _g_series(m: np.ndarray) -> np.ndarray:
 
 
 #: Scratch rows :func:`loop_terms_rows` needs, as the first axis of its ``scratch`` array.
-ROW_SCRATCH = 12
+ROW_SCRATCH = 8
 
 
 def loop_terms_rows(
@@ -174,7 +174,7 @@ def loop_terms_rows(
     np.multiply(u, inv_beta_sq, out=m)
     m *= 2.0  # 4Rρ/β²
     np.multiply(alpha_sq, inv_beta_sq, out=x)  # 1 - m = α²/β², exact next to the wire
-    bk.ellipke(m, out=(K, E), complement=x, scratch=scratch[8:])
+    bk.ellipke(m, out=(K, E), complement=x)
     np.sqrt(inv_beta_sq, out=common)
     common /= alpha_sq
     common *= MU0_T_m_per_A / (2.0 * math.pi)

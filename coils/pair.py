@@ -19,7 +19,7 @@ import numpy as np
 from coils.filaments import Axis, FilamentSet
 from coils.loop import coaxial_mutual_inductance_H, loop_field
 from coils.winding import MAX_PACKING_FACTOR, PACK_ASPECT_RANGE, WoundPair
-from spiralcap.constants import MU0_T_m_per_A
+from spiralcap.core.constants import MU0_T_m_per_A
 
 __all__ = ["MAX_PACKING_FACTOR", "PACK_ASPECT_RANGE", "HelmholtzPair", "stefan_bracket"]
 
@@ -46,7 +46,7 @@ _Y2_FIT = (
 def _stefan_y1(x: Any) -> Any:
     """y1 of Stefan's formula from Maxwell's geometric mean distance g of a b x c rectangle,
     y1 = 2 - ln(d/g), x = b/c (exact; 0.84834 at x = 1, 1/2 as x -> 0), backend-generic."""
-    from spiralcap import backend as bk
+    from spiralcap.core import backend as bk
 
     return (
         -1.0 / 12.0
@@ -60,7 +60,7 @@ _Y1_AT_1 = float(_stefan_y1(1.0))
 
 
 def _stefan_y2(x: Any) -> Any:
-    from spiralcap import backend as bk
+    from spiralcap.core import backend as bk
 
     u = bk.log(x)
     p = 0.0 * u
@@ -90,7 +90,7 @@ def stefan_bracket(radius: Any, width: Any, depth: Any) -> Any:
     float or CasADi
         L / (μ0 a N²), dimensionless.
     """
-    from spiralcap import backend as bk
+    from spiralcap.core import backend as bk
 
     a, b, c = radius, width, depth
     x = b / c

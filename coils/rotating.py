@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from spiralcap.errors import InputError
+from spiralcap.core.errors import InputError
 
 __all__ = ["allocation", "ellipse_semi_axes", "heading_frame"]
 

@@ -25,7 +25,7 @@ from coils.electrical import impedance_ohm
 from coils.system import ThreeAxisHelmholtz
 from coils.thermal import WindingPack
 from coils.thermal_system import mean_rise_at_K, pair_temperatures
-from spiralcap.constants import COPPER_DENSITY_kg_m3, COPPER_TEMPERATURE_COEFFICIENT_per_K
+from spiralcap.core.constants import COPPER_DENSITY_kg_m3, COPPER_TEMPERATURE_COEFFICIENT_per_K
 
 __all__ = ["AxisSizing", "SystemSizing", "WorstHeading", "size_system", "winding_pack"]
 

@@ -44,9 +44,9 @@ from typing import Any
 
 import numpy as np
 
-from spiralcap import backend as bk
-from spiralcap.backend import Scalar
-from spiralcap.constants import MU0_T_m_per_A
+from spiralcap.core import backend as bk
+from spiralcap.core.backend import Scalar
+from spiralcap.core.constants import MU0_T_m_per_A
 
 __all__ = [
     "MixedFilamentSet",

@@ -31,8 +31,8 @@ from coils.square import (
     square_mutual_inductance_H,
 )
 from coils.winding import WoundPair
-from spiralcap import backend as bk
-from spiralcap.constants import MU0_T_m_per_A
+from spiralcap.core import backend as bk
+from spiralcap.core.constants import MU0_T_m_per_A
 
 __all__ = [
     "SQUARE_HELMHOLTZ_RATIO",

@@ -13,7 +13,7 @@ from coils.pair import HelmholtzPair
 from coils.rotating import allocation, ellipse_semi_axes
 from coils.square import MixedFilamentSet, SquareFilamentSet
 from coils.square_pair import SquarePair
-from spiralcap.errors import InputError
+from spiralcap.core.errors import InputError
 
 __all__ = ["PAIR_TYPES", "PointEvaluator", "ThreeAxisHelmholtz"]
 

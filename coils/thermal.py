@@ -6,7 +6,7 @@ effective transverse conductivity k. Its four faces (A = 2 (w + d) · 2π R_m pe
 by convection, h_c (T - T_a), and by grey-body radiation to the room and to the other packs,
 ε σ [(1 - F_self) T⁴ - F_room T_a⁴ - Σ_j F_j T_j⁴] (:mod:`coils.viewfactors`: F from a ray
 trace of the nested set; reflections between packs neglected, second order in 1 - ε). Nothing
-is conducted to the frame. Every function is written once against :mod:`spiralcap.backend`
+is conducted to the frame. Every function is written once against :mod:`spiralcap.core.backend`
 (floats, numpy arrays, CasADi) with no branch on data values; the two coils of a pair are
 identical, so a pair is handled with its total area, volume, heat capacity and loss.
 
@@ -41,8 +41,8 @@ from coils.convection import (
     pack_convection_W_m2K,
     vertical_bar_convection_W_m2K,
 )
-from spiralcap import backend as bk
-from spiralcap.constants import (
+from spiralcap.core import backend as bk
+from spiralcap.core.constants import (
     COPPER_DENSITY_kg_m3,
     COPPER_RESISTIVITY_20C_ohm_m,
     COPPER_SPECIFIC_HEAT_J_kgK,
@@ -438,7 +438,7 @@ def surface_loss_W(
 
 
 def _where(condition: Any, if_true: Any, if_false: Any) -> Any:
-    """:func:`spiralcap.backend.where`, a Python float where numpy gives a 0-d array."""
+    """:func:`spiralcap.core.backend.where`, a Python float where numpy gives a 0-d array."""
     if type(condition) in (bool, float) and type(if_true) is float and type(if_false) is float:
         return if_true if condition else if_false  # the same float, without numpy
     return _plain(bk.where(condition, if_true, if_false))

@@ -39,7 +39,7 @@ from coils.thermal import (
     surface_estimate_C,
     transient,
 )
-from spiralcap import backend as bk
+from spiralcap.core import backend as bk
 
 __all__ = ["PairTemperatures", "end_state", "mean_rise_at_K", "pair_temperatures"]
 

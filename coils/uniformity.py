@@ -20,7 +20,7 @@ import numpy as np
 
 from coils.pair import HelmholtzPair
 from coils.system import PAIR_TYPES, ThreeAxisHelmholtz
-from spiralcap.errors import InputError, check_positive
+from spiralcap.core.errors import InputError, check_positive
 
 __all__ = [
     "UniformRegion",

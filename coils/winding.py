@@ -23,7 +23,7 @@ import numpy as np
 
 from coils.electrical import copper_resistivity_ohm_m
 from coils.filaments import AXES, Axis, gauss_legendre_pack
-from spiralcap.errors import InputError, check_positive
+from spiralcap.core.errors import InputError, check_positive
 
 __all__ = ["MAX_PACKING_FACTOR", "PACK_ASPECT_RANGE", "WoundPair"]
 

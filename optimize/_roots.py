@@ -10,7 +10,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 
-from spiralcap.errors import InputError
+from spiralcap.core.errors import InputError
 
 __all__ = ["brentq"]
 

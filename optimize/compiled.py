@@ -21,7 +21,7 @@ from optimize import problem as pb
 from optimize.headings import heading_pattern, shared_heading_table
 from optimize.nlp import CompiledNLP, NLPBuilder
 from optimize.system import DesignModel
-from spiralcap import backend as bk
+from spiralcap.core import backend as bk
 
 IPOPT_OPTIONS = {
     "ipopt.print_level": 0,

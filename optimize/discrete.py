@@ -724,7 +724,7 @@ def buildable(
     are exact only once the frozen factors settle)."""
     import capsule as cap
     from optimize.buildcheck import buildable_ok
-    from spiralcap.errors import InputError
+    from spiralcap.core.errors import InputError
 
     try:
         m = hw.with_hardware(model, values)
@@ -811,7 +811,7 @@ def unbuildable(model: DesignModel, values: dict[str, float], min_bore_m: float)
     """The geometric rules hardware ``values`` breaks, as shortfalls with their numbers
     (nesting gap against the half pack sides, bore against the minimum, magnet fit)."""
     import capsule as cap
-    from spiralcap.errors import InputError
+    from spiralcap.core.errors import InputError
 
     try:
         m = hw.with_hardware(model, values)

@@ -41,8 +41,8 @@ from typing import Any
 
 import numpy as np
 
-from spiralcap import backend as bk
-from spiralcap.constants import COPPER_DENSITY_kg_m3, MU0_T_m_per_A
+from spiralcap.core import backend as bk
+from spiralcap.core.constants import COPPER_DENSITY_kg_m3, MU0_T_m_per_A
 
 AXES = ("x", "y", "z")
 COIL_QUANTITIES = ("radius_m", "turns", "wire_diameter_m", "pack_aspect")
@@ -175,7 +175,7 @@ def helmholtz_flags(model: Any) -> tuple[bool, bool, bool]:
 def with_hardware(model: Any, values: Mapping[str, float]) -> Any:
     """The model rebuilt with hardware ``values`` (turns rounded; exact domain objects).
 
-    Raises ``spiralcap.errors.InputError`` when the coils or the magnet cannot be built.
+    Raises ``spiralcap.core.errors.InputError`` when the coils or the magnet cannot be built.
 
     Parameters
     ----------
@@ -819,7 +819,7 @@ def sizing_parameters(model: Any, frozen: Frozen, min_bore_m: float) -> dict[str
     dict of str to float or ndarray
         Value by parameter name, in the unit each name carries.
     """
-    from spiralcap.constants import COPPER_RESISTIVITY_20C_ohm_m
+    from spiralcap.core.constants import COPPER_RESISTIVITY_20C_ohm_m
 
     hw = hardware_of(model)
     pairs = model.coils.pairs

@@ -1,6 +1,6 @@
 """The one definition of the margin, the requirements and the limits.
 
-Every function here is written once against :mod:`spiralcap.backend` and takes the operating
+Every function here is written once against :mod:`spiralcap.core.backend` and takes the operating
 variables — helical angle ``alpha`` (rad), rotation frequency ``f`` (Hz), rotating-field
 amplitude at the centre ``B0`` (T) — as floats, numpy arrays (vectorised sweeps) or CasADi
 symbols (the optimiser). :mod:`optimize.evaluate` and :mod:`optimize.problem` both build on it,
@@ -22,7 +22,7 @@ import numpy as np
 import capsule as cap
 import torque_model as tm
 from optimize.system import Constants, Limits, Requirements
-from spiralcap import backend as bk
+from spiralcap.core import backend as bk
 
 #: ICNIRP (2010) "Guidelines for limiting exposure to time-varying electric and magnetic fields
 #: (1 Hz to 100 kHz)", Health Phys. 99(6):818-836, Tables 3 and 4: reference levels for the
@@ -247,7 +247,7 @@ def winding_resistance_ohm(
 def _resistance_at(mean_C: Any, k: int, c: Constants) -> Any:
     """R of pair k at the mean winding temperature ``mean_C`` (or the design's fixed one)."""
     from coils.electrical import copper_resistivity_ohm_m
-    from spiralcap.constants import COPPER_RESISTIVITY_20C_ohm_m
+    from spiralcap.core.constants import COPPER_RESISTIVITY_20C_ohm_m
 
     temp = mean_C if c.winding_temperature_C is None else c.winding_temperature_C
     return c.resistance_20C_ohm[k] * copper_resistivity_ohm_m(temp) / COPPER_RESISTIVITY_20C_ohm_m

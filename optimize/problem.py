@@ -37,7 +37,7 @@ import capsule as cap
 from optimize import physics as ph
 from optimize.nlp import Row
 from optimize.system import DesignModel
-from spiralcap import backend as bk
+from spiralcap.core import backend as bk
 
 ALPHA_REF_rad = 0.1745329251994330  # 10 degrees
 F_REF_hz = 1.0

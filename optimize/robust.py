@@ -51,7 +51,7 @@ from optimize import physics as ph
 from optimize import problem as pb
 from optimize.nlp import Row
 from optimize.system import DesignModel, prepare
-from spiralcap.errors import InputError
+from spiralcap.core.errors import InputError
 
 BETA = 0.05
 DEFAULT_SCENARIOS = 1024

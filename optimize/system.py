@@ -13,7 +13,7 @@ from typing import Any
 
 import numpy as np
 
-from spiralcap.constants import COPPER_DENSITY_kg_m3
+from spiralcap.core.constants import COPPER_DENSITY_kg_m3
 from torque_model.engagement import DEFAULT_MIN_WALL_STRAIN
 
 

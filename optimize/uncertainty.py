@@ -38,7 +38,7 @@ from scipy import special
 
 from optimize import physics as ph
 from optimize.system import DesignModel, prepare
-from spiralcap.errors import InputError
+from spiralcap.core.errors import InputError
 
 #: Samples per chunk: a power of two (balanced Sobol' blocks); fixed, so results do not depend
 #: on how many workers share the chunks.

@@ -14,7 +14,7 @@ import tempfile
 from collections.abc import Mapping
 from typing import Any
 
-from spiralcap.errors import InputError
+from spiralcap.core.errors import InputError
 
 __all__ = ["INSTALL_HINT", "cad_bodies", "cad_kernel_available", "require_cad", "write_cad"]
 

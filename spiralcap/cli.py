@@ -14,7 +14,7 @@ import sys
 from typing import NoReturn
 
 from spiralcap import __version__
-from spiralcap.errors import SpiralcapError
+from spiralcap.core.errors import SpiralcapError
 
 #: name -> (module under spiralcap.commands, one-line help)
 COMMANDS: dict[str, tuple[str, str]] = {

@@ -236,7 +236,7 @@ def compare_designs(designs: Sequence[Design], labels: Sequence[str] | None = No
 
     Raises
     ------
-    spiralcap.errors.InputError
+    spiralcap.core.errors.InputError
         A design is inconsistent (:func:`spiralcap.assemble.build_model`).
     """
     from optimize import evaluate, optimize_design, prepare

@@ -21,7 +21,7 @@ if sys.version_info >= (3, 11):
 else:  # Python 3.10
     import tomli as tomllib
 
-from spiralcap.errors import DataError, InputError, short_text
+from spiralcap.core.errors import DataError, InputError, short_text
 from spiralcap.outputs import (  # noqa: F401 -- where commands have always imported them
     WRITE_THROUGH,
     special_file,

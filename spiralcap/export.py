@@ -22,7 +22,7 @@ from typing import Any
 
 import numpy as np
 
-from spiralcap.errors import InputError
+from spiralcap.core.errors import InputError
 
 __all__ = ["FieldGrid", "field_grid", "grid_columns", "to_magpylib", "write_field_grid"]
 
@@ -103,7 +103,7 @@ def to_magpylib(model: Any, currents_A: Sequence[float] = (1.0, 1.0, 1.0)) -> An
 
     Raises
     ------
-    spiralcap.errors.InputError
+    spiralcap.core.errors.InputError
         ``currents_A`` is not three finite numbers, or ``model`` has no coils.
     """
     import magpylib
@@ -170,7 +170,7 @@ def field_grid(model: Any, half_width_m: float, step_m: float | None = None) -> 
 
     Raises
     ------
-    spiralcap.errors.InputError
+    spiralcap.core.errors.InputError
         ``--grid-step-mm`` not positive, or so small the grid exceeds :data:`MAX_GRID_POINTS`.
     """
     system = _system(model)

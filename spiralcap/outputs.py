@@ -27,7 +27,7 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-from spiralcap.errors import DataError, InputError
+from spiralcap.core.errors import DataError, InputError
 
 #: Longest file name (one path component) in bytes, where the system does not say (Linux,
 #: macOS and Windows file systems all allow 255).

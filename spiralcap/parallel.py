@@ -24,7 +24,7 @@ from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import Executor, Future
 from typing import Any
 
-from spiralcap.errors import InputError, SpiralcapError
+from spiralcap.core.errors import InputError, SpiralcapError
 from spiralcap.stopping import worker_setup
 
 #: Most local worker processes: more than the machine's cores only wait their turn.

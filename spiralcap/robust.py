@@ -14,7 +14,7 @@ import math
 from dataclasses import dataclass, replace
 from typing import Any
 
-from spiralcap.errors import InputError
+from spiralcap.core.errors import InputError
 
 #: Fresh samples of the out-of-sample check: 2^16 keep the p05's sampling error ~0.1 % of it.
 OUT_OF_SAMPLE = 1 << 16

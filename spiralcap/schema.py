@@ -5,7 +5,7 @@ Keys carry their unit in the name (``radius_m``, ``helical_angle_deg``). A key w
 This table is the single source for validation, for ``spiralcap init`` comments and for the
 report's input table. Every number has the range a real design can have, with the reason in its
 help text; every key knows its SI conversion from the unit suffix of its name
-(``Key.si_name``, ``Key.si_factor``, :func:`to_si`; table in ``spiralcap.constants``).
+(``Key.si_name``, ``Key.si_factor``, :func:`to_si`; table in ``spiralcap.core.constants``).
 """
 
 from __future__ import annotations
@@ -15,7 +15,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, replace
 from typing import Any
 
-from spiralcap.errors import InputError
+from spiralcap.core.errors import InputError
 
 
 @dataclass(frozen=True)
@@ -25,7 +25,7 @@ class Key:
     ``lo``/``hi`` are the numeric bounds of a number or count (``None``: unbounded on that
     side; ``open_`` says whether the bounds themselves are excluded). ``name``, ``unit``,
     ``si_unit`` and ``si_factor`` are filled in from the key's name by the unit table
-    (:data:`spiralcap.constants.UNIT_SUFFIXES`) once every key is declared: ``value_in_design
+    (:data:`spiralcap.core.constants.UNIT_SUFFIXES`) once every key is declared: ``value_in_design
     * si_factor`` is the value in SI, under the leaf name :attr:`si_name`.
     """
 
@@ -923,7 +923,7 @@ KEYS.update(
 
 
 def _with_units(name: str, spec: Key) -> Key:
-    from spiralcap.constants import design_unit
+    from spiralcap.core.constants import design_unit
 
     unit, si_unit, factor = design_unit(name)
     return replace(spec, name=name, unit=unit, si_unit=si_unit, si_factor=factor)
@@ -946,14 +946,14 @@ def to_si(key: str, value: Any) -> Any:
 
     From the key's name alone (the unit table), so it holds for keys added anywhere.
     """
-    from spiralcap.constants import design_unit
+    from spiralcap.core.constants import design_unit
 
     return value * design_unit(key)[2]
 
 
 def si_name(key: str) -> str:
     """The leaf of ``key`` with its unit in SI: ``requirements.axial_load_mN`` -> ``axial_load_N``."""
-    from spiralcap.constants import design_unit
+    from spiralcap.core.constants import design_unit
 
     unit, si_unit, _ = design_unit(key)
     leaf = key.rpartition(".")[2]

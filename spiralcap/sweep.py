@@ -16,8 +16,8 @@ from typing import Any
 
 import numpy as np
 
+from spiralcap.core.errors import InputError
 from spiralcap.design import Design
-from spiralcap.errors import InputError
 from spiralcap.schema import KEYS, si_name, to_si
 
 #: design key -> where it lives in the model ("alpha", "f", or the model field holding the SI

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 from typing import Any, ClassVar
 
 from optimize.views import Viewable
-from spiralcap.errors import InputError
+from spiralcap.core.errors import InputError
 
 DEFAULT_SAMPLES = 1 << 16
 DEFAULT_SOBOL_BASE = 1 << 12

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from scipy import special
 
-from spiralcap import backend as bk
+from spiralcap.core import backend as bk
 
 
 @pytest.mark.parametrize("m", [0.0, 1e-10, 0.1, 0.5, 0.9, 0.999, 0.99999, 1 - 1e-8])
@@ -71,30 +71,25 @@ def test_sqrt_guarded_has_finite_derivative_at_zero():
     assert bk.sqrt_guarded(np.array([0.0, 4.0])).tolist() == [0.0, 2.0], "numpy path"
 
 
-def test_ellipke_one_pass_matches_cephes_everywhere() -> None:
-    """bk.ellipke's own log-plus-polynomials pair against scipy's Cephes ellipk/ellipe."""
-    m = np.concatenate(
-        [
-            np.linspace(0.0, 1.0, 20001),
-            1.0 - np.geomspace(1e-16, 1e-2, 600),
-            np.geomspace(1e-12, 0.1, 50),
-        ]
-    )
-    m = m[m < 1.0]
-    K, E = bk.ellipke(m)
-    assert np.max(np.abs(K / special.ellipk(m) - 1.0)) < 5e-16, "K vs Cephes ellpk, rel 5e-16"
-    assert np.max(np.abs(E / special.ellipe(m) - 1.0)) < 5e-16, "E vs Cephes ellpe, rel 5e-16"
-    x = 1.0 - m
-    K2, E2 = bk.ellipke(m, complement=x)
-    assert np.array_equal(K2, K) and np.array_equal(E2, E), "complement = 1 - m gives the same"
-    edge = np.concatenate([np.full(600, 0.5), [1.0, -0.5]])
-    Ke, Ee = bk.ellipke(edge)
-    assert Ke[-2] == np.inf and Ee[-2] == 1.0, "K(1) = inf, E(1) = 1 (A&S 17.3.11-12 limits)"
-    assert Ke[-1] == pytest.approx(special.ellipk(-0.5), rel=1e-15), "m < 0 falls back to scipy"
+def test_ellipke_near_m_1_through_the_complement() -> None:
+    """Next to m = 1 the field passes 1 - m exactly: K from it follows the logarithmic
+    expansion K = ln(4/sqrt(x)) + (x/4)(ln(4/sqrt(x)) - 1) + O(x²) (Abramowitz & Stegun 17.3.26)
+    to 1e-15, where 1 - m formed by subtraction would have lost every digit of x."""
+    x = np.geomspace(1e-300, 1e-9, 200)
+    K, E = bk.ellipke(1.0 - x, complement=x)
+    lead = np.log(4.0 / np.sqrt(x))
+    assert np.allclose(K, lead + 0.25 * x * (lead - 1.0), rtol=1e-15, atol=0), "A&S 17.3.26"
+    assert np.allclose(E, 1.0, rtol=1e-8, atol=0), "E(1) = 1 (A&S 17.3.12)"
+    m = np.linspace(0.0, 0.99, 1000)
+    K2, E2 = bk.ellipke(m, complement=1.0 - m)
+    assert np.allclose(K2, special.ellipk(m), rtol=1e-15) and np.array_equal(E2, special.ellipe(m))
+    Ke, Ee = bk.ellipke(np.array([1.0, -0.5]))
+    assert Ke[0] == np.inf and Ee[0] == 1.0, "K(1) = inf, E(1) = 1 (A&S 17.3.11-12 limits)"
+    assert Ke[1] == pytest.approx(special.ellipk(-0.5), rel=1e-15), "m < 0 as scipy"
 
 
 def test_ellipke_numpy_path_matches_casadi_agm() -> None:
-    m = np.linspace(0.0, 0.999, 1000)  # >= 512 values: the polynomial path
+    m = np.linspace(0.0, 0.999, 1000)
     sym = ca.SX.sym("m")
     agm = ca.Function("ke", [sym], list(bk.ellipke(sym)))
     k_ca, e_ca = (np.array(v).ravel() for v in agm.map(m.size)(m))

@@ -11,8 +11,8 @@ from pathlib import Path
 import pytest
 
 import spiralcap
+from spiralcap.core.errors import InputError
 from spiralcap.design import load_design
-from spiralcap.errors import InputError
 
 _PKG = Path(spiralcap.__file__).parent
 #: Zhou et al. 2013 II.C: friction coefficient of intestine sample 2 (the default preset).

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import capsule
-from spiralcap.errors import InputError
+from spiralcap.core.errors import InputError
 
 D_H = 12e-3  # 11 mm PillCam SB2 + 1 mm wire (Zhou et al. 2013, section II.A)
 L_W = 15e-3  # wound length of the paper's capsules

@@ -10,8 +10,8 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 import capsule
-from spiralcap.constants import MU0_T_m_per_A
-from spiralcap.errors import InputError
+from spiralcap.core.constants import MU0_T_m_per_A
+from spiralcap.core.errors import InputError
 
 
 def test_moment_is_remanence_times_volume_over_mu0() -> None:

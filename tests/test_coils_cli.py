@@ -9,9 +9,9 @@ from pathlib import Path
 import pytest
 
 import spiralcap
-from spiralcap.constants import MU0_T_m_per_A
+from spiralcap.core.constants import MU0_T_m_per_A
+from spiralcap.core.errors import InputError
 from spiralcap.design import load_design
-from spiralcap.errors import InputError
 
 _PKG = Path(spiralcap.__file__).parent
 
@@ -134,7 +134,7 @@ def test_limits_by_hand_and_shared_with_evaluate(run_cli, capsys) -> None:
     z = out["axes"]["z"]
     from optimize import physics, prepare
     from spiralcap.assemble import build_model
-    from spiralcap.constants import COPPER_TEMPERATURE_COEFFICIENT_per_K as alpha
+    from spiralcap.core.constants import COPPER_TEMPERATURE_COEFFICIENT_per_K as alpha
     from spiralcap.design import load_design
 
     model = prepare(build_model(load_design(None, ["limits.voltage_V=20", "coils.z.turns=200"])))

@@ -11,12 +11,12 @@ from scipy import integrate
 
 import coils
 from coils.filaments import gauss_legendre_pack
-from spiralcap.constants import (
+from spiralcap.core.constants import (
     COPPER_RESISTIVITY_20C_ohm_m,
     COPPER_TEMPERATURE_COEFFICIENT_per_K,
     MU0_T_m_per_A,
 )
-from spiralcap.errors import InputError
+from spiralcap.core.errors import InputError
 
 
 def neumann_mutual_H(a: float, b: float, d: float) -> float:

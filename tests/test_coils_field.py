@@ -10,8 +10,8 @@ import scipy.constants
 from scipy.spatial.transform import Rotation
 
 import coils
-from spiralcap import backend as bk
-from spiralcap.constants import MU0_T_m_per_A
+from spiralcap.core import backend as bk
+from spiralcap.core.constants import MU0_T_m_per_A
 
 #: magpylib uses scipy's mu_0 (CODATA 2022); we use CODATA 2018. Rescale to compare geometry.
 MU0_RATIO = MU0_T_m_per_A / scipy.constants.mu_0

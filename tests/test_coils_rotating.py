@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import coils
-from spiralcap.errors import InputError
+from spiralcap.core.errors import InputError
 
 HEADINGS = [[1, 0, 0], [0, 1, 0], [0, 0, 1], [1, 1, 1], [0.3, -0.8, 0.2], [-1, 2, 0.5]]
 B0_T = 8e-3

@@ -17,8 +17,8 @@ from coils.square import (
     square_mutual_inductance_H,
 )
 from coils.square_pair import grover_square_inductance_H, rectangle_gmd_m
-from spiralcap.constants import MU0_T_m_per_A
-from spiralcap.errors import InputError
+from spiralcap.core.constants import MU0_T_m_per_A
+from spiralcap.core.errors import InputError
 
 #: magpylib uses scipy's mu_0 (CODATA 2022); we use CODATA 2018. Rescale to compare geometry.
 MU0_RATIO = MU0_T_m_per_A / scipy.constants.mu_0
@@ -293,7 +293,7 @@ def test_grover_square_exact_form_and_numpy_casadi() -> None:
 
 
 def test_resistance_length_and_copper_mass_by_hand() -> None:
-    from spiralcap.constants import COPPER_DENSITY_kg_m3, COPPER_RESISTIVITY_20C_ohm_m
+    from spiralcap.core.constants import COPPER_DENSITY_kg_m3, COPPER_RESISTIVITY_20C_ohm_m
 
     pair = coils.SquarePair(0.95, 321, "x", wire_diameter_m=1.8e-3)
     section = math.pi * 1.8e-3**2 / 4

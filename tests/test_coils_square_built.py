@@ -24,7 +24,7 @@ from coils.clearance import (
 from coils.convection import vertical_bar_convection_W_m2K, vertical_plate_nusselt
 from coils.thermal import WindingPack, convection_coefficient_W_m2K
 from coils.viewfactors import PackFrame, view_factors
-from spiralcap.constants import COPPER_DENSITY_kg_m3
+from spiralcap.core.constants import COPPER_DENSITY_kg_m3
 
 SQUARE_X = ["--set", "coils.x.shape=square", "--set", "coils.x.side_m=0.95"]
 

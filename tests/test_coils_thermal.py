@@ -12,7 +12,7 @@ from coils import thermal as th
 from optimize import evaluate, prepare
 from spiralcap.analysis.coils import operating_thermal
 from spiralcap.assemble import build_model
-from spiralcap.constants import COPPER_TEMPERATURE_COEFFICIENT_per_K as ALPHA
+from spiralcap.core.constants import COPPER_TEMPERATURE_COEFFICIENT_per_K as ALPHA
 from spiralcap.design import load_design
 
 

@@ -7,7 +7,7 @@ import pytest
 from scipy.optimize import brentq
 
 import coils
-from spiralcap.errors import InputError
+from spiralcap.core.errors import InputError
 
 
 def on_axis_deviation(z_over_r: float) -> float:

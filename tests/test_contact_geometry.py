@@ -10,8 +10,8 @@ import pytest
 
 import capsule
 import torque_model as tm
+from spiralcap.core.errors import InputError
 from spiralcap.design import load_design
-from spiralcap.errors import InputError
 from torque_model import geometry, identification, model
 
 #: Parameters that describe the capsule: none may have a default value in a physics signature.

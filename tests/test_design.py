@@ -5,8 +5,8 @@ import math
 import pytest
 
 from spiralcap.cli import main
+from spiralcap.core.errors import DataError, InputError
 from spiralcap.design import Design, example_toml, load_design, parse_set, write_text_atomic
-from spiralcap.errors import DataError, InputError
 from spiralcap.schema import KEYS, defaults
 
 

@@ -16,7 +16,13 @@ ROOT = Path(__file__).resolve().parents[1]
 PACKAGES = ("spiralcap", "coils", "capsule", "torque_model", "optimize")
 DOMAIN = ("coils", "capsule", "torque_model", "optimize")
 #: What a domain package may import from the application package (CONTRIBUTING.md, Layout).
-CORE = {"spiralcap", "spiralcap.backend", "spiralcap.constants", "spiralcap.errors"}
+CORE = {
+    "spiralcap",
+    "spiralcap.core",
+    "spiralcap.core.backend",
+    "spiralcap.core.constants",
+    "spiralcap.core.errors",
+}
 
 
 def _modules() -> dict[str, Path]:

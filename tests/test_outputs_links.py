@@ -23,7 +23,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from proc_util import SPIRALCAP
 
-from spiralcap.errors import DataError, InputError
+from spiralcap.core.errors import DataError, InputError
 from spiralcap.outputs import check_output, write_files_atomic, write_text_atomic
 
 ROOT = Path(__file__).resolve().parents[1]

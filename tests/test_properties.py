@@ -19,8 +19,8 @@ from cli_outcome import sound
 from hypothesis import HealthCheck, assume, event, given, settings
 from hypothesis import strategies as st
 
+from spiralcap.core.errors import SpiralcapError
 from spiralcap.design import example_toml, load_design
-from spiralcap.errors import SpiralcapError
 from spiralcap.schema import KEYS
 
 settings.register_profile(

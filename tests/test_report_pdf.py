@@ -62,8 +62,8 @@ def test_text_with_markup_characters_is_typeset_literally(tmp_path: Path) -> Non
 
 
 def test_front_matter_keys_reach_the_title_page() -> None:
+    from spiralcap.core.errors import InputError
     from spiralcap.design import load_design
-    from spiralcap.errors import InputError
     from spiralcap.report.builder import TITLE, front_matter
 
     d = load_design(None, ["report.author=A. Engineer", "report.revision='C'"])

@@ -14,8 +14,8 @@ import numpy as np
 import pytest
 from cli_outcome import ZERO_TORQUE, bad_numbers, sound, weightless
 
+from spiralcap.core.errors import DataError, InputError
 from spiralcap.design import load_design, write_text_atomic
-from spiralcap.errors import DataError, InputError
 
 # --- files ------------------------------------------------------------------------------------
 

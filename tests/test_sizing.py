@@ -16,7 +16,7 @@ from optimize.discrete import buildable
 from optimize.solve import SolveOptions, solve_fixed
 from spiralcap.assemble import build_model
 from spiralcap.cli import main
-from spiralcap.constants import COPPER_DENSITY_kg_m3, MU0_T_m_per_A
+from spiralcap.core.constants import COPPER_DENSITY_kg_m3, MU0_T_m_per_A
 from spiralcap.design import load_design
 
 

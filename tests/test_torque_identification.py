@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import torque_model as tm
-from spiralcap.errors import DataError
+from spiralcap.core.errors import DataError
 from torque_model.identification import _RelaxationIntegral
 
 BASE = tm.preset("zhou2013-sample2")

@@ -5,8 +5,8 @@ from __future__ import annotations
 import pytest
 
 import torque_model as tm
+from spiralcap.core.errors import InputError
 from spiralcap.design import load_design
-from spiralcap.errors import InputError
 from torque_model.parameters import zhou2013
 
 

@@ -138,7 +138,7 @@ def test_geometry_offsets_are_truncated_and_correlations_honoured():
     ],
 )
 def test_bad_uncertainty_is_an_input_error(kwargs):
-    from spiralcap.errors import InputError
+    from spiralcap.core.errors import InputError
 
     with pytest.raises(InputError):
         uq.TissueUncertainty(**kwargs)

@@ -194,7 +194,7 @@ def test_dask_local_cluster_gives_the_local_results(capsys):
             sized_dask = optimize_design(sizing, executor=client)
         import math
 
-        from spiralcap.errors import InputError
+        from spiralcap.core.errors import InputError
         from spiralcap.parallel import map_tasks
 
         with pytest.raises(InputError, match="--dask"):  # a failing task: one line, not a trace

@@ -6,7 +6,7 @@ import math
 
 import pytest
 
-from spiralcap.constants import design_unit, from_si
+from spiralcap.core.constants import design_unit, from_si
 from spiralcap.design import load_design
 from spiralcap.schema import KEYS, si_values, to_si
 

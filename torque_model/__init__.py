@@ -1,7 +1,7 @@
 """Tissue resistive torque of a spiral capsule: the Zhou et al. 2013 model, parameter sets, fit.
 
 Everything physical is SI. The model functions run on floats, numpy arrays and CasADi values
-(``from spiralcap import backend as bk``); see ``docs/torque-model.md`` for the reading of the
+(``from spiralcap.core import backend as bk``); see ``docs/torque-model.md`` for the reading of the
 paper's eqs. 2-8 and the calibration of its parameter sets.
 """
 

@@ -35,9 +35,9 @@ conservative side). With it the resistance is never zero while the capsule lies 
 
 from __future__ import annotations
 
-from spiralcap import backend as bk
-from spiralcap.backend import Scalar
-from spiralcap.constants import STANDARD_GRAVITY_m_s2
+from spiralcap.core import backend as bk
+from spiralcap.core.backend import Scalar
+from spiralcap.core.constants import STANDARD_GRAVITY_m_s2
 from torque_model.geometry import ContactGeometry, equivalent_diameter_m
 from torque_model.model import strain
 from torque_model.tissue import TissueParameters

@@ -53,9 +53,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from spiralcap import backend as bk
-from spiralcap.backend import Scalar
-from spiralcap.errors import InputError, check_positive
+from spiralcap.core import backend as bk
+from spiralcap.core.backend import Scalar
+from spiralcap.core.errors import InputError, check_positive
 
 __all__ = [
     "NEWTON_STEPS",

@@ -42,7 +42,7 @@ from typing import Any, Literal, NamedTuple
 
 import numpy as np
 
-from spiralcap.errors import DataError, InputError
+from spiralcap.core.errors import DataError, InputError
 from torque_model.geometry import ContactGeometry
 from torque_model.model import contact_factor_m3, relaxation_integral_Pa
 from torque_model.tissue import VISCOELASTIC_FIELDS, TissueParameters

@@ -1,6 +1,6 @@
 """Resistive torque of a rotating spiral capsule in the small intestine (Zhou et al. 2013, III).
 
-Each piece is one equation of the paper, written once against :mod:`spiralcap.backend` so it
+Each piece is one equation of the paper, written once against :mod:`spiralcap.core.backend` so it
 runs on floats, numpy arrays and CasADi SX/MX (differentiable in the helical angle and the
 frequency). The reading of eqs. 7-8 and the calibration are in ``docs/torque-model.md``:
 
@@ -23,8 +23,8 @@ frequency). The reading of eqs. 7-8 and the calibration are in ``docs/torque-mod
 
 from __future__ import annotations
 
-from spiralcap import backend as bk
-from spiralcap.backend import Scalar
+from spiralcap.core import backend as bk
+from spiralcap.core.backend import Scalar
 from torque_model.geometry import ContactGeometry, end_contact_moment_m2, equivalent_diameter_m
 from torque_model.tissue import TissueParameters, ViscoelasticConstants
 

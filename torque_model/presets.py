@@ -6,7 +6,7 @@ Kept apart from :mod:`torque_model.tissue` so that the parameter modules may imp
 
 from __future__ import annotations
 
-from spiralcap.errors import InputError
+from spiralcap.core.errors import InputError
 from torque_model.parameters import zhou2013
 from torque_model.tissue import TissueParameters
 

@@ -11,8 +11,8 @@ import dataclasses
 from dataclasses import dataclass
 from typing import Any, Protocol
 
-from spiralcap.constants import design_unit, from_si
-from spiralcap.errors import InputError, check_positive
+from spiralcap.core.constants import design_unit, from_si
+from spiralcap.core.errors import InputError, check_positive
 
 __all__ = ["VISCOELASTIC_FIELDS", "TissueParameters", "ViscoelasticConstants"]
 

@@ -121,7 +121,7 @@ def bill_of_materials(model: Any, analysis: Any) -> tuple[BomRow, ...]:
         Its coil analysis (operating field, each pair's largest field inside the limits).
     """
     from optimize import physics, prepare
-    from spiralcap.constants import COPPER_DENSITY_kg_m3
+    from spiralcap.core.constants import COPPER_DENSITY_kg_m3
 
     model = prepare(model)
     c, f, amb = model.constants, model.frequency_hz, model.ambient_temperature_C

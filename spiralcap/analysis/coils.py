@@ -150,7 +150,7 @@ def operating_thermal(
     session's end and starts at ambient)."""
     from coils.thermal_system import pair_temperatures
     from optimize import physics
-    from spiralcap.constants import COPPER_TEMPERATURE_COEFFICIENT_per_K as ALPHA
+    from spiralcap.core.constants import COPPER_TEMPERATURE_COEFFICIENT_per_K as ALPHA
 
     c, amb = model.constants, model.ambient_temperature_C
     per = np.asarray(c.current_per_tesla_A_per_T, dtype=float)

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from spiralcap.errors import InputError
+from spiralcap.core.errors import InputError
 
 #: Most samples one sequence may have (200 per rotation period and per ramp).
 MAX_SAMPLES = 2_000_000
@@ -27,7 +27,7 @@ def waveforms_for_design(design: Any, headings: Any, dwell_s: float, ramp_s: flo
     from optimize import physics, prepare
     from optimize.evaluate import operating_field_T
     from spiralcap.assemble import build_model
-    from spiralcap.constants import COPPER_TEMPERATURE_COEFFICIENT_per_K as alpha
+    from spiralcap.core.constants import COPPER_TEMPERATURE_COEFFICIENT_per_K as alpha
 
     model = prepare(build_model(design))
     c, f = model.constants, model.frequency_hz

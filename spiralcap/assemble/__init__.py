@@ -2,7 +2,7 @@
 
 Every builder takes a validated :class:`spiralcap.design.Design` and returns SI domain objects;
 cross-key checks (a magnet that does not fit, a separation that makes no sense) raise
-:class:`spiralcap.errors.InputError` naming the design key.
+:class:`spiralcap.core.errors.InputError` naming the design key.
 """
 
 from spiralcap.assemble.capsule import build_capsule

@@ -2,7 +2,7 @@
 
 Each key is validated on its own by :mod:`spiralcap.schema`; this module checks the keys against
 each other (a magnet that does not fit the shell, a ring without a bore, a spiral longer than the
-cylinder) and names the design key at fault in the :class:`~spiralcap.errors.InputError`.
+cylinder) and names the design key at fault in the :class:`~spiralcap.core.errors.InputError`.
 """
 
 from __future__ import annotations
@@ -11,7 +11,7 @@ from collections.abc import Iterator, Mapping
 from contextlib import contextmanager
 from typing import TYPE_CHECKING, Any
 
-from spiralcap.errors import InputError
+from spiralcap.core.errors import InputError
 from spiralcap.schema import KEYS, to_si, validate_value
 
 if TYPE_CHECKING:
@@ -75,7 +75,7 @@ def build_capsule(design: Mapping[str, Any]) -> Capsule:
 
     Raises
     ------
-    spiralcap.errors.InputError
+    spiralcap.core.errors.InputError
         Naming the design key at fault: ``capsule.length_mm`` not above the diameter,
         ``capsule.shell_thickness_mm`` not below the radius, ``capsule.magnet.inner_diameter_mm``
         inconsistent with the shape or not below the outer diameter, ``capsule.magnet.diameter_mm``

@@ -7,7 +7,7 @@ import math
 from collections.abc import Mapping
 from typing import Any
 
-from spiralcap.errors import InputError
+from spiralcap.core.errors import InputError
 
 __all__ = ["build_coils", "pack_clearance_m"]
 

@@ -8,8 +8,8 @@ from typing import Any
 
 import numpy as np
 
+from spiralcap.core.errors import InputError
 from spiralcap.design import Design
-from spiralcap.errors import InputError
 from spiralcap.schema import to_si, winding_temperature_C
 
 #: Below this helical angle the D' conversion of torque_model.geometry no longer holds for the

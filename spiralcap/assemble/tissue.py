@@ -135,8 +135,8 @@ def _read_covariance(design: Mapping[str, Any], path: str) -> tuple[tuple[float,
 
     import numpy as np
 
+    from spiralcap.core.errors import DataError, InputError
     from spiralcap.design import read_toml_file
-    from spiralcap.errors import DataError, InputError
 
     key = _UNC + "covariance_from"
     p = Path(path)

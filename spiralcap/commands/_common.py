@@ -10,8 +10,8 @@ import sys
 from collections.abc import Mapping, Sequence
 from typing import Any
 
+from spiralcap.core.errors import InputError
 from spiralcap.design import Design, load_design
-from spiralcap.errors import InputError
 from spiralcap.outputs import check_output
 
 

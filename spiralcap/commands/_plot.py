@@ -6,7 +6,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any, cast
 
-from spiralcap.errors import InputError
+from spiralcap.core.errors import InputError
 
 #: Figure formats the CLI writes.
 FIGURE_SUFFIXES = ("png", "svg", "pdf")

@@ -347,7 +347,7 @@ def run(args: argparse.Namespace) -> int:
 
 def _check_grid_arguments(args: argparse.Namespace) -> None:
     """--field-grid: a .csv or .npz name; --grid-step-mm: a spacing > 0, only with it."""
-    from spiralcap.errors import InputError
+    from spiralcap.core.errors import InputError
 
     if args.field_grid is not None and not args.field_grid.lower().endswith((".csv", ".npz")):
         raise InputError("--field-grid", args.field_grid, "a file name ending in .csv or .npz")
@@ -384,7 +384,7 @@ def _write_grid(args: argparse.Namespace, grid: Any) -> None:
 def _check_cad_paths(args: argparse.Namespace) -> None:
     """--step / --stl: the suffix, and the CAD kernel installed (exit 2 before any work)."""
     from spiralcap.cad import require_cad
-    from spiralcap.errors import InputError
+    from spiralcap.core.errors import InputError
 
     for flag, path, suffixes in (
         ("--step", args.step, (".step", ".stp")),

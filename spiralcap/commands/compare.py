@@ -10,7 +10,7 @@ from __future__ import annotations
 import argparse
 import math
 
-from spiralcap.errors import InputError
+from spiralcap.core.errors import InputError
 
 #: Most designs one comparison sets side by side.
 MAX_DESIGNS = 16

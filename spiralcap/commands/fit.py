@@ -32,7 +32,7 @@ from spiralcap.commands._common import (
     format_table,
     print_json,
 )
-from spiralcap.errors import DataError
+from spiralcap.core.errors import DataError
 
 REQUIRED = ("frequency_hz", "torque_mNm")
 #: Torques a bench can measure on a capsule, mN·m: 1 nN·m to 100 N·m (beyond: a unit mistake).
@@ -89,7 +89,7 @@ def parse_only(text: str | None) -> tuple[str, ...] | None:
     InputError
         An unknown or repeated name, or ``scale`` with all five constants.
     """
-    from spiralcap.errors import InputError
+    from spiralcap.core.errors import InputError
     from torque_model.identification import FREE_NAMES
 
     if text is None:
@@ -271,7 +271,7 @@ def run(args: argparse.Namespace) -> int:
 def _check_angles(design: Any, angle_deg: Any, data_path: str) -> None:
     """Each helical angle of the data must make a capsule ``evaluate`` would accept."""
     from spiralcap.assemble import build_capsule
-    from spiralcap.errors import InputError
+    from spiralcap.core.errors import InputError
 
     for a in sorted({float(x) for x in angle_deg}):
         try:

@@ -5,8 +5,8 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from spiralcap.core.errors import InputError
 from spiralcap.design import example_toml, write_text_atomic
-from spiralcap.errors import InputError
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:

@@ -55,7 +55,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def parse_free(expr: str) -> str:
     """``KEY=MIN:MAX`` -> the ``--set`` override ``optimize.free.KEY=[MIN, MAX]``."""
-    from spiralcap.errors import InputError
+    from spiralcap.core.errors import InputError
     from spiralcap.schema import FREEABLE_KEYS
 
     key, sep, rng = expr.partition("=")

@@ -26,7 +26,7 @@ from spiralcap.commands._common import (
     design_paths,
     whole_number,
 )
-from spiralcap.errors import InputError
+from spiralcap.core.errors import InputError
 
 #: Exit status when the report is written but the design is infeasible (as ``optimize``).
 EXIT_INFEASIBLE = 3

@@ -14,7 +14,7 @@ from spiralcap.commands._common import (
     design_paths,
     print_json,
 )
-from spiralcap.errors import InputError
+from spiralcap.core.errors import InputError
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:

@@ -15,7 +15,7 @@ from spiralcap.commands._common import (
     format_table,
     print_json,
 )
-from spiralcap.errors import InputError
+from spiralcap.core.errors import InputError
 
 DEFAULT_FREQUENCIES_HZ = (0.5, 1.0, 1.5, 2.0, 2.5, 3.0)
 #: Frequencies --frequency accepts, Hz: the range of operation.frequency_hz.

@@ -22,7 +22,7 @@ from spiralcap.commands._common import (
     design_paths,
     print_json,
 )
-from spiralcap.errors import InputError
+from spiralcap.core.errors import InputError
 
 EXIT_LIMIT = 3
 CSV_COLUMNS = (

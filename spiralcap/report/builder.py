@@ -113,7 +113,7 @@ def build_report(
 
     Raises
     ------
-    spiralcap.errors.InputError
+    spiralcap.core.errors.InputError
         The design is inconsistent (cross-key checks of :func:`spiralcap.assemble.build_model`).
     """
     say = progress or (lambda _stage: None)

@@ -300,7 +300,7 @@ def collect(
 
     Raises
     ------
-    spiralcap.errors.InputError
+    spiralcap.core.errors.InputError
         The design is inconsistent (raised by :func:`spiralcap.assemble.build_model`).
     """
     from spiralcap.parallel import can_fork, inherited, process_pool

@@ -23,7 +23,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
-from spiralcap.errors import InputError
+from spiralcap.core.errors import InputError
 from torque_model.tissue import TissueParameters
 
 #: The keys a parameter set must have, exactly (units in the names).

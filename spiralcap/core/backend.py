@@ -240,123 +240,32 @@ def ellipe(m: Scalar) -> Scalar:
     return _agm_K_E(m)[1] if isinstance(m, _CASADI_TYPES) else _special.ellipe(m)
 
 
-#: Coefficients (x^0 ... x^10, one row per polynomial) of K(m) = P_K(x) - ln(x) Q_K(x) and
-#: E(m) = P_E(x) - ln(x) Q_E(x), x = 1 - m, on 0 <= m <= 1: the form of the expansions about
-#: m = 1 (Abramowitz & Stegun 17.3.34/36; Cephes ``ellpk``/``ellpe`` use it too), with our own
-#: coefficients, a relative-error least-squares fit in 40-digit arithmetic (``tools/
-#: fit_ellipke.py``, mpmath). Relative error <= 2.3e-16 against mpmath on 2,200 points from
-#: m = 0 to 1 - 1e-16 (tests/test_backend.py checks 4e-16 against scipy's Cephes).
-_KE_COEFFS = _np.array(
-    [
-        [
-            1.3862943611198906,
-            0.09657359028339574,
-            0.03088514866704197,
-            0.014938341391327138,
-            0.008800946341121427,
-            0.006295061747330977,
-            0.007211708411105031,
-            0.010017680900421789,
-            0.007613806800602813,
-            0.002048371276222913,
-            0.00011730985643616801,
-        ],  # P_K
-        [
-            0.5,
-            0.12499999999961321,
-            0.07031249934374759,
-            0.04882796861335351,
-            0.03737431629242193,
-            0.030072667332963827,
-            0.02363916636430464,
-            0.014905105870498193,
-            0.005487427384318165,
-            0.0008060815747325662,
-            2.4766040145881333e-05,
-        ],  # Q_K
-        [
-            1.0,
-            0.4431471805613614,
-            0.05680519508848504,
-            0.021831887911897205,
-            0.011572275009707351,
-            0.007623301997594746,
-            0.007909852349963558,
-            0.010811920060157292,
-            0.00854266283662147,
-            0.0024079038677878232,
-            0.00014414711132077333,
-        ],  # P_E
-        [
-            0.0,
-            0.2499999999998488,
-            0.09374999963670062,
-            0.0585936444016772,
-            0.04271707397485297,
-            0.03346626390908247,
-            0.026073293996005754,
-            0.016650445104191672,
-            0.006313095646944063,
-            0.0009617406689909334,
-            3.0668600961265836e-05,
-        ],  # Q_E
-    ]
-)
-
-#: Below this many values ``ellipke`` calls scipy's two ufuncs (less per-call overhead).
-_POLY_MIN_SIZE = 512
-
-
 def _ellipke_numpy(
     m: Any,
     out: tuple[_np.ndarray, _np.ndarray] | None = None,
     complement: Any = None,
-    scratch: _np.ndarray | None = None,
 ) -> tuple[Any, Any]:
-    """K and E from one logarithm and one stacked Horner pass over the four polynomials."""
+    """K and E by scipy's Cephes ``ellipk``/``ellipe``; with ``complement`` (1 - m, given more
+    accurately than by subtraction) K by ``ellipkm1``, exact next to m = 1."""
     mm = _np.asarray(m, dtype=float)
-    if mm.size >= _POLY_MIN_SIZE:
-        x = (1.0 - mm) if complement is None else _np.asarray(complement, dtype=float)
-        lo, hi = float(x.min()), float(x.max())
-    if mm.size < _POLY_MIN_SIZE or hi > 1.0:  # a few values only, or m < 0 (outside the fit)
-        if out is None:
-            return _special.ellipk(mm), _special.ellipe(mm)
-        return _special.ellipk(mm, out=out[0]), _special.ellipe(mm, out=out[1])
-    acc = _np.empty((4, *x.shape)) if scratch is None else scratch
-    shape = (4,) + (1,) * x.ndim
-    acc[...] = _KE_COEFFS[:, -1].reshape(shape)
-    for k in range(_KE_COEFFS.shape[1] - 2, -1, -1):
-        acc *= x
-        acc += _KE_COEFFS[:, k].reshape(shape)
-    K, E = (_np.empty(x.shape), _np.empty(x.shape)) if out is None else out
-    p_k, q_k, p_e, q_e = acc[0, ...], acc[1, ...], acc[2, ...], acc[3, ...]
-    with _np.errstate(divide="ignore", invalid="ignore"):  # x = 0 (m = 1) and x < 0 (m > 1)
-        _np.log(x, out=E)
-        _np.multiply(E, q_k, out=K)
-        _np.subtract(p_k, K, out=K)
-        _np.multiply(E, q_e, out=q_e)
-        _np.subtract(p_e, q_e, out=E)
-    if lo <= 0.0:  # K(1) = inf, E(1) = 1; m > 1: nan (as scipy)
-        K[...] = _np.where(x == 0.0, _np.inf, _np.where(x < 0.0, _np.nan, K))
-        E[...] = _np.where(x == 0.0, 1.0, _np.where(x < 0.0, _np.nan, E))
-    if out is None and K.ndim == 0:
-        return K[()], E[()]
-    return K, E
+    k_out, e_out = (None, None) if out is None else out
+    if complement is not None and _np.all(_np.asarray(complement) <= 1.0):
+        K = _special.ellipkm1(_np.asarray(complement, dtype=float), out=k_out)
+    else:  # m < 0 lies outside ellipkm1's range
+        K = _special.ellipk(mm, out=k_out)
+    return K, _special.ellipe(mm, out=e_out)
 
 
 def ellipke(
     m: Scalar,
     out: tuple[_np.ndarray, _np.ndarray] | None = None,
     complement: Any = None,
-    scratch: _np.ndarray | None = None,
 ) -> tuple[Scalar, Scalar]:
-    """Both K(m) and E(m) in one pass; on the CasADi path they share one AGM iteration.
+    """Both K(m) and E(m); on the CasADi path they share one AGM iteration.
 
-    On the numpy path: x = 1 - m, one logarithm and one Horner pass over the four
-    polynomials of :data:`_KE_COEFFS` (K = P_K - ln(x) Q_K, E = P_E - ln(x) Q_E), relative
-    error <= 4e-16 on 0 <= m <= 1 (m < 0, and arrays of fewer than 512 values, go to scipy's
-    ``ellipk``/``ellipe``). About 1.3x faster than the two Cephes calls on large arrays (each
-    has its own logarithm and polynomial pair).
+    On the numpy path scipy's Cephes ``ellipk``/``ellipe`` (``ellipkm1`` when the caller gives
+    1 - m). An own log-plus-polynomials pass was 1.3x faster on large arrays but saved 4 % of
+    any command (docs/architecture.md): retired.
 
     Parameters
     ----------
@@ -367,12 +276,10 @@ def ellipke(
     complement : array, optional
         1 - m when the caller has it more accurately than by subtraction (numpy path; the
         loop field passes alpha²/beta², exact near the wire where m -> 1).
-    scratch : ndarray, shape (4, *m.shape), optional
-        Work space for the four polynomials (numpy path; allocated when omitted).
     """
     if isinstance(m, _CASADI_TYPES):
         return _agm_K_E(m)
-    return _ellipke_numpy(m, out, complement, scratch)
+    return _ellipke_numpy(m, out, complement)
 
 
 __all__.append("ellipke")
