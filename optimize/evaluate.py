@@ -609,13 +609,7 @@ def evaluate(
         else float(helical_angle_rad)
     )
     f = model.frequency_hz if frequency_hz is None else float(frequency_hz)
-    if field_amplitude_T is None:
-        field_amplitude_T = model.field_amplitude_T
-    if field_amplitude_T is None:
-        cap = ph.field_capacity(f, c, model.limits, model.ambient_temperature_C)
-        field, binding = cap.field_T, cap.limited_by
-    else:
-        field, binding = float(field_amplitude_T), "fixed"
+    field, binding = _operating_field(model, f, field_amplitude_T)
     avail = float(ph.available_torque_Nm(field, c))
     res, thr, required, worst = (float(np.asarray(v)) for v in worst_required(model, alpha, f))
     margin = avail - required
@@ -638,12 +632,7 @@ def evaluate(
     # the lag behind the field at which the magnet's torque m B sin(lag) meets the load; 90 deg
     # (the most it can give) when the load exceeds it: the magnet then cannot stay synchronous
     lag = float(np.arcsin(min(max(required / avail, 0.0), 1.0))) if avail > 0 else np.pi / 2
-    if frequency_bounds:
-        step_out = step_out_frequency_hz(model, alpha, field)
-        fmax, fmax_by = max_frequency_hz(model, alpha)
-    else:
-        step_out = fmax = FrequencyBound(float("nan"), False)
-        fmax_by = ""
+    step_out, fmax, fmax_by = _frequency_bounds(model, alpha, field, frequency_bounds)
     return Evaluation(
         helical_angle_rad=alpha,
         frequency_hz=f,
@@ -675,6 +664,29 @@ def evaluate(
         extrapolations=extrapolations(alpha, f, ph.contact_geometry(c), model.tissues),
         calibration_edges=calibration_edges(alpha, f, ph.contact_geometry(c), model.tissues),
     )
+
+
+def _operating_field(model: DesignModel, f: float, field_T: float | None) -> tuple[float, str]:
+    """(field, what sets it): the given or the model's set field ("fixed"), else the largest
+    every limit allows at ``f`` and the limit that sets it."""
+    if field_T is None:
+        field_T = model.field_amplitude_T
+    if field_T is not None:
+        return float(field_T), "fixed"
+    cap = ph.field_capacity(f, model.constants, model.limits, model.ambient_temperature_C)
+    return cap.field_T, cap.limited_by
+
+
+def _frequency_bounds(
+    model: DesignModel, alpha: float, field: float, search: bool
+) -> tuple[FrequencyBound, FrequencyBound, str]:
+    """(step-out at the field, the drive's highest frequency, what limits it); NaN and ""
+    without the searches."""
+    if not search:
+        nan = FrequencyBound(float("nan"), False)
+        return nan, nan, ""
+    fmax, fmax_by = max_frequency_hz(model, alpha)
+    return step_out_frequency_hz(model, alpha, field), fmax, fmax_by
 
 
 def strain_checks(model: DesignModel, strains: tuple[float, ...]) -> list[Check]:

@@ -688,9 +688,8 @@ def geometry_terms(b: Any, hs: HardwareStructure, hw: dict, q: list, ctx: Any) -
     list of Term
         The geometry, clearance, copper-mass and heading-loss rows.
     """
-    import capsule as cap
     from optimize.nlp import Row
-    from optimize.problem import ALPHA_REF_rad, Term
+    from optimize.problem import Term
 
     free = set(hs.free)
     out: list = []
@@ -705,61 +704,91 @@ def geometry_terms(b: Any, hs: HardwareStructure, hw: dict, q: list, ctx: Any) -
         out.append(Term(Row(f"heading_loss[{h}]", "epigraph", "W"), loss, q[3]["power_W"], upper))
 
     if free & {f"{ax}.{qq}" for ax in AXES for qq in COIL_QUANTITIES}:
-        sep = b.parameter("hw.separation_m", (3,))
-        bore = b.parameter("hw.min_bore_m")
-        gap0, dga, dgb, delta = (
-            b.parameter(f"frozen.{n}", (3,))
-            for n in ("gap0_m", "dgap_dra", "dgap_drb", "clearance_delta_m")
+        out += _coil_terms(b, hs, hw, q, ctx)
+    out += _capsule_terms(b, free, hw, ctx)
+    return out
+
+
+def _coil_terms(b: Any, hs: HardwareStructure, hw: dict, q: list, ctx: Any) -> list:
+    """The freed pairs' rows of :func:`geometry_terms`: pack inside its radius and spacing, a
+    clear bore and room to it, clearances between pairs, the envelope, the copper mass."""
+    from optimize.nlp import Row
+    from optimize.problem import Term
+
+    free = set(hs.free)
+    out: list = []
+
+    def upper(v: Any, a: Any) -> Any:
+        return v / a - 1.0
+
+    sep = b.parameter("hw.separation_m", (3,))
+    bore = b.parameter("hw.min_bore_m")
+    gap0, dga, dgb, delta = (
+        b.parameter(f"frozen.{n}", (3,))
+        for n in ("gap0_m", "dgap_dra", "dgap_drb", "clearance_delta_m")
+    )
+    need = b.parameter("requirement.min_clearance_m")
+    bore_r = b.parameter("requirement.bore_radius_m")
+    r0 = b.parameter("frozen.radii0_m", (3,))
+    freed = [bool(free & {f"{ax}.{qq}" for qq in COIL_QUANTITIES}) for ax in AXES]
+    for k, ax in enumerate(AXES):
+        if not freed[k]:  # a fixed pair's rows would be constants
+            continue
+        r, width, depth = hw[f"{ax}.radius_m"], q[k]["width_m"], q[k]["depth_m"]
+        out.append(Term(Row(f"pack_side_{ax}", "geometry", "m"), depth, r, upper))
+        if not hs.helmholtz[k]:
+            out.append(Term(Row(f"pack_separation_{ax}", "geometry", "m"), width, sep[k], upper))
+        out.append(
+            Term(
+                Row(f"bore_{ax}", "geometry", "m", -1.0),
+                2.0 * r - depth,
+                bore,
+                lambda v, a: (a - v) / bk.fmax(a, 1e-3),
+            )
         )
-        need = b.parameter("requirement.min_clearance_m")
-        bore_r = b.parameter("requirement.bore_radius_m")
-        r0 = b.parameter("frozen.radii0_m", (3,))
-        freed = [bool(free & {f"{ax}.{qq}" for qq in COIL_QUANTITIES}) for ax in AXES]
-        for k, ax in enumerate(AXES):
-            if not freed[k]:  # a fixed pair's rows would be constants
-                continue
-            r, width, depth = hw[f"{ax}.radius_m"], q[k]["width_m"], q[k]["depth_m"]
-            out.append(Term(Row(f"pack_side_{ax}", "geometry", "m"), depth, r, upper))
-            if not hs.helmholtz[k]:
-                out.append(
-                    Term(Row(f"pack_separation_{ax}", "geometry", "m"), width, sep[k], upper)
-                )
-            out.append(
-                Term(
-                    Row(f"bore_{ax}", "geometry", "m", -1.0),
-                    2.0 * r - depth,
-                    bore,
-                    lambda v, a: (a - v) / bk.fmax(a, 1e-3),
-                )
+        out.append(
+            Term(
+                Row(f"bore_clearance_{ax}", "geometry", "m", -1.0),
+                r - 0.5 * depth - bore_r,
+                need,
+                lambda v, a: (a + CLEARANCE_MARGIN_m - v) / CLEARANCE_REF_m,
             )
-            out.append(
-                Term(
-                    Row(f"bore_clearance_{ax}", "geometry", "m", -1.0),
-                    r - 0.5 * depth - bore_r,
-                    need,
-                    lambda v, a: (a + CLEARANCE_MARGIN_m - v) / CLEARANCE_REF_m,
-                )
+        )
+    for n, (i, j) in enumerate(PAIRS_OF_PAIRS):
+        if not (freed[i] or freed[j]):
+            continue
+        ri, rj = hw[f"{AXES[i]}.radius_m"], hw[f"{AXES[j]}.radius_m"]
+        gap = gap0[n] + dga[n] * (ri - r0[i]) + dgb[n] * (rj - r0[j])
+        diag = [bk.sqrt(q[k]["width_m"] ** 2 + q[k]["depth_m"] ** 2) for k in (i, j)]
+        clearance = gap - 0.5 * (diag[0] + diag[1]) + delta[n]
+        out.append(
+            Term(
+                Row(f"clearance_{AXES[i]}{AXES[j]}", "geometry", "m", -1.0),
+                clearance,
+                need,
+                lambda v, a: (a + CLEARANCE_MARGIN_m - v) / CLEARANCE_REF_m,
             )
-        for n, (i, j) in enumerate(PAIRS_OF_PAIRS):
-            if not (freed[i] or freed[j]):
-                continue
-            ri, rj = hw[f"{AXES[i]}.radius_m"], hw[f"{AXES[j]}.radius_m"]
-            gap = gap0[n] + dga[n] * (ri - r0[i]) + dgb[n] * (rj - r0[j])
-            diag = [bk.sqrt(q[k]["width_m"] ** 2 + q[k]["depth_m"] ** 2) for k in (i, j)]
-            clearance = gap - 0.5 * (diag[0] + diag[1]) + delta[n]
-            out.append(
-                Term(
-                    Row(f"clearance_{AXES[i]}{AXES[j]}", "geometry", "m", -1.0),
-                    clearance,
-                    need,
-                    lambda v, a: (a + CLEARANCE_MARGIN_m - v) / CLEARANCE_REF_m,
-                )
-            )
-        out += _envelope_terms(hw, q, ctx, freed, sep, hs.helmholtz)
-        if hs.copper_mass_limit:
-            mass = q[0]["copper_mass_kg"] + q[1]["copper_mass_kg"] + q[2]["copper_mass_kg"]
-            limit = b.parameter("limit.copper_mass_kg")
-            out.append(Term(Row("copper_mass", "limit", "kg"), mass, limit, upper))
+        )
+    out += _envelope_terms(hw, q, ctx, freed, sep, hs.helmholtz)
+    if hs.copper_mass_limit:
+        mass = q[0]["copper_mass_kg"] + q[1]["copper_mass_kg"] + q[2]["copper_mass_kg"]
+        limit = b.parameter("limit.copper_mass_kg")
+        out.append(Term(Row("copper_mass", "limit", "kg"), mass, limit, upper))
+    return out
+
+
+def _capsule_terms(b: Any, free: set, hw: dict, ctx: Any) -> list:
+    """The magnet and spiral rows of :func:`geometry_terms`: the magnet inside the shell, the
+    spiral's turns apart."""
+    import capsule as cap
+    from optimize.nlp import Row
+    from optimize.problem import ALPHA_REF_rad, Term
+
+    out: list = []
+
+    def upper(v: Any, a: Any) -> Any:
+        return v / a - 1.0
+
     if free & {"magnet.diameter_m", "magnet.length_m"}:
         r_in, l_cyl = b.parameter("body.inner_radius_m"), b.parameter("body.cylinder_length_m")
         half_d = 0.5 * hw["magnet.diameter_m"]

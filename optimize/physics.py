@@ -449,64 +449,13 @@ def limit_terms(
     list of LimitTerm
         One term per limit and axis, each in its own unit.
     """
-    import coils
-
     terms: list[LimitTerm] = []
     fixed_r = c.winding_temperature_C is not None  # then every term but the hot spot is a power law
     amb = ambient_temperature_C
     memo: dict = {}
     states = pair_states(field_T, c, amb)  # the three pairs together, one thermal solve
-    for k, ax in enumerate(_AXES):
-        per_amp = c.current_per_tesla_A_per_T[k]
-        current = field_T * per_amp
-        state = states[k]
-        mean_C, hot_C = state.mean_C, state.hot_spot_C
-        r = _resistance_at(mean_C, k, c)
-        ind = c.inductance_H[k]
-        key = _memo_key(k, per_amp)
-        if key is not None:
-            memo[key] = (current, r)
-        name, allowed = limits.channel("current", k)
-        terms.append(LimitTerm(name, "A", current, allowed, 1))
-        name, allowed = limits.channel("voltage", k)
-        terms.append(
-            LimitTerm(
-                name,
-                "V",
-                coils.voltage_amplitude_V(r, ind, frequency_hz, current),
-                allowed,
-                1 if fixed_r else None,
-            )
-        )
-        if f"power_{ax}" in limits.own:  # the pair's own amplifier channel: its copper loss
-            terms.append(
-                LimitTerm(
-                    f"axis_power_{ax}",
-                    "W",
-                    0.5 * r * current * current,
-                    limits.axis_power_W[k],
-                    2 if fixed_r else None,
-                )
-            )
-        terms.append(
-            LimitTerm(
-                f"hot_spot_{ax}",
-                "K",
-                hot_C - ambient_temperature_C,  # hot_spot_rise_K, from the same solve
-                limits.coil_temperature_C - ambient_temperature_C,
-                None,
-            )
-        )
-        if limits.surface_temperature_C is not None:
-            terms.append(
-                LimitTerm(
-                    f"surface_temperature_{ax}",
-                    "K",
-                    state.surface_max_C - ambient_temperature_C,
-                    limits.surface_temperature_C - ambient_temperature_C,
-                    None,
-                )
-            )
+    for k in range(3):
+        terms += _pair_terms(k, frequency_hz, field_T, c, limits, amb, states[k], memo)
     terms.append(
         LimitTerm(
             "power",
@@ -527,6 +476,49 @@ def limit_terms(
             )
         )
     return terms
+
+
+def _pair_terms(
+    k: int,
+    frequency_hz: Any,
+    field_T: Any,
+    c: Constants,
+    limits: Limits,
+    ambient_temperature_C: Any,
+    state: Any,
+    memo: dict,
+) -> list[LimitTerm]:
+    """Pair k's rows of :func:`limit_terms`: current and drive voltage (its own amplifier
+    channel's where set), its channel's copper loss (where set), hot spot and surface; its
+    (current, resistance) noted in ``memo`` for the total loss."""
+    import coils
+
+    ax = _AXES[k]
+    fixed_r = c.winding_temperature_C is not None
+    per_amp = c.current_per_tesla_A_per_T[k]
+    current = field_T * per_amp
+    r = _resistance_at(state.mean_C, k, c)
+    key = _memo_key(k, per_amp)
+    if key is not None:
+        memo[key] = (current, r)
+    name, allowed = limits.channel("current", k)
+    out = [LimitTerm(name, "A", current, allowed, 1)]
+    name, allowed = limits.channel("voltage", k)
+    volts = coils.voltage_amplitude_V(r, c.inductance_H[k], frequency_hz, current)
+    out.append(LimitTerm(name, "V", volts, allowed, 1 if fixed_r else None))
+    if f"power_{ax}" in limits.own:  # the pair's own amplifier channel: its copper loss
+        loss = 0.5 * r * current * current
+        out.append(
+            LimitTerm(f"axis_power_{ax}", "W", loss, limits.axis_power_W[k], 2 if fixed_r else None)
+        )
+    amb = ambient_temperature_C
+    rise = state.hot_spot_C - amb  # hot_spot_rise_K, from the same solve
+    out.append(LimitTerm(f"hot_spot_{ax}", "K", rise, limits.coil_temperature_C - amb, None))
+    if limits.surface_temperature_C is not None:
+        surface = state.surface_max_C - amb
+        allowed = limits.surface_temperature_C - amb
+        out.append(LimitTerm(f"surface_temperature_{ax}", "K", surface, allowed, None))
+    return out
 
 
 def _bisect_field_T(
