@@ -63,10 +63,11 @@ class SizingOptions:
     Parameters
     ----------
     outer_max : int
-        Outer rounds of the relaxation (frozen factors recomputed) before it stops unsettled.
+        Outer rounds of the relaxation (frozen factors recomputed) before it stops unsettled,
+        count.
     batch : int
         Neighbours ranked at once when the first feasible one wins (objective
-        ``copper_mass``, neighbours in copper order); the result does not depend on it.
+        ``copper_mass``, neighbours in copper order), count; the result does not depend on it.
     screen : bool
         Rule out neighbours a field-only limit already breaks at the least field the
         requirements need, without their NLP (:mod:`optimize.screen`; the least required
@@ -190,13 +191,34 @@ def _setup(
 
 
 class Relaxation(NamedTuple):
-    """The continuous relaxation's outcome (``best`` None: no start converged)."""
+    """The continuous relaxation's outcome (``best`` None: no start converged).
+
+    Attributes
+    ----------
+    best : Solution or None
+        The last round's best converged solve; None if no start converged.
+    hardware : dict of str to float
+        The free hardware at that optimum (else at the start) by name, each in the unit its
+        name carries (``*_m`` in m, turns a count).
+    exact : DesignModel
+        The fixed model prepared at the last hardware that could be built (``hardware``
+        itself unless the last optimum could not be built), SI.
+    problem : CompiledProblem
+        The last round's compiled NLP (recompiled as the scenario working set grows).
+    p : ndarray
+        Parameter vector of the last round's solve, each entry in the unit its parameter's
+        name carries (None if no round ran).
+    outer : int
+        Outer rounds run, count.
+    iterations : int
+        IPOPT iterations spent over all rounds and starts, count.
+    """
 
     best: Solution | None
-    hardware: dict[str, float]  # the free hardware at the optimum (else at the start)
-    exact: DesignModel  # prepared at that hardware
+    hardware: dict[str, float]
+    exact: DesignModel
     problem: Any
-    p: Any  # the parameters of the last round's solve
+    p: Any
     outer: int
     iterations: int
 
@@ -300,7 +322,7 @@ def neighbours(s: _Setup, r: Relaxation) -> tuple[list[dict[str, float]], int]:
         Free hardware of each candidate by name (SI: turns, m), in copper order when the
         copper mass is the objective.
     iterations : int
-        IPOPT iterations of the re-balancing solves.
+        IPOPT iterations of the re-balancing solves, count.
     """
     candidates, iterations = _neighbours(r.problem, r.p, s.bounds, r.best, s.free, s.model.sizing)
     if s.model.bounds.objective == "copper_mass":
@@ -373,7 +395,23 @@ def _full_result(ctx: _Attempt, values: dict[str, float]) -> OptimizationResult:
 
 
 class Ranking(NamedTuple):
-    """Step 3's outcome: the best feasible neighbour (hardware, result) or None."""
+    """Step 3's outcome: the best feasible neighbour (hardware, result) or None.
+
+    Attributes
+    ----------
+    winner : tuple of (dict of str to float, OptimizationResult) or None
+        The best feasible neighbour: its free hardware by name, each in the unit its name
+        carries (``*_m`` in m, turns a count), and its result; None if none is feasible.
+    tried : int
+        Neighbours tried (buildable or not), count.
+    feasible : int
+        Neighbours whose solve ended optimal, count.
+    first_built : DesignModel or None
+        The first buildable neighbour's model (exact geometric checks), SI; None if none could
+        be built.
+    iterations : int
+        IPOPT iterations of the neighbours' solves, count.
+    """
 
     winner: tuple[dict[str, float], OptimizationResult] | None
     tried: int
@@ -402,7 +440,7 @@ def rank(
     candidates : list of dict
         The neighbours' free hardware by name (SI: turns, m).
     sense : float
-        +1 where a larger objective is better, -1 where a smaller one is.
+        +1 where a larger objective is better, -1 where a smaller one is (dimensionless).
     first_wins : bool
         Candidates in objective order: the first feasible one ends the search (they are
         solved ``options.batch`` at a time).
@@ -720,8 +758,28 @@ def buildable(
     model: DesignModel, values: dict[str, float], min_bore_m: float, *, checks: bool = True
 ) -> DesignModel | None:
     """The model with hardware ``values`` if it can be built and meets the geometric rules
-    (``checks=False``: constructible only, for the relaxation's iterates, whose clearance rows
-    are exact only once the frozen factors settle)."""
+    (``checks=False``: no clearance or mass check, for the relaxation's iterates, whose
+    clearance rows are exact only once the frozen factors settle).
+
+    Parameters
+    ----------
+    model : DesignModel
+        The fixed model (``sizing`` None) whose hardware ``values`` replace, SI.
+    values : dict of str to float
+        Hardware by name, each in the unit its name carries (``*_m`` in m, turns a count).
+    min_bore_m : float
+        Least bore the coils must leave, m (0: any bore).
+    checks : bool
+        Also the exact pack clearances and the copper mass
+        (:func:`optimize.buildcheck.buildable_ok`); the bore and the magnet fit are checked
+        either way.
+
+    Returns
+    -------
+    DesignModel or None
+        The model with that hardware (not prepared), SI; None if it cannot be constructed or
+        breaks a rule.
+    """
     import capsule as cap
     from optimize.buildcheck import buildable_ok
     from spiralcap.core.errors import InputError
@@ -809,7 +867,24 @@ def _settled(a: hw.Frozen, b: hw.Frozen) -> bool:
 
 def unbuildable(model: DesignModel, values: dict[str, float], min_bore_m: float) -> tuple:
     """The geometric rules hardware ``values`` breaks, as shortfalls with their numbers
-    (nesting gap against the half pack sides, bore against the minimum, magnet fit)."""
+    (nesting gap against the half pack sides, bore against the minimum, magnet fit).
+
+    Parameters
+    ----------
+    model : DesignModel
+        The fixed model (``sizing`` None) whose hardware ``values`` replace, SI.
+    values : dict of str to float
+        Hardware by name, each in the unit its name carries (``*_m`` in m, turns a count).
+    min_bore_m : float
+        Least bore the coils must leave, m.
+
+    Returns
+    -------
+    tuple of Shortfall
+        Each broken rule with what it needs and what the hardware gives, in m (nesting gap
+        against the half pack sides, bore, magnet diameter or length); the input's key alone
+        (no unit, zeros) where the hardware cannot be constructed; empty if none is broken.
+    """
     import capsule as cap
     from spiralcap.core.errors import InputError
 

@@ -40,7 +40,18 @@ _FIELD_ONLY = ("current_", "hot_spot_", "surface_temperature_", "power")
 
 def screens(model: DesignModel) -> bool:
     """Whether neighbours of ``model``'s sizing share one least required torque: the free
-    hardware is coils only (no magnet or spiral key) and no tissue scenarios set the need."""
+    hardware is coils only (no magnet or spiral key) and no tissue scenarios set the need.
+
+    Parameters
+    ----------
+    model : DesignModel
+        A design model, SI (its ``sizing`` and ``scenarios`` are read).
+
+    Returns
+    -------
+    bool
+        Flag: the screen applies (False without free hardware).
+    """
     sizing = model.sizing
     if sizing is None or (model.scenarios is not None and model.scenarios.whole):
         return False
@@ -55,6 +66,18 @@ def least_required_torque_Nm(model: DesignModel) -> float:
     spiral-turn requirements and the grip (the least wall strain) relaxed by :data:`RTOL`; the smallest value found, minus
     :data:`RTOL` of it (a lower bound to the polish's tolerance). ``inf`` where no point of the
     grid meets the speed and turn requirements (nothing is then ruled out by it).
+
+    Parameters
+    ----------
+    model : DesignModel
+        A fixed-hardware design (``sizing`` None), SI: its capsule, tissues, requirements and
+        search box are read (prepared here).
+
+    Returns
+    -------
+    float
+        The least worst-tissue required torque less :data:`RTOL` of it, N·m; ``inf`` if no
+        grid point meets the speed, spiral-turn and grip requirements.
     """
     from scipy.optimize import minimize
 
@@ -121,7 +144,22 @@ def least_required_torque_Nm(model: DesignModel) -> float:
 def out_of_reach(model: DesignModel, least_required_Nm: float) -> str | None:
     """The limit row the fixed-hardware ``model`` already breaks at the least field its
     requirements need, ``SF · R_min / (m · w)`` (then no operating point is feasible); None if
-    none does (the NLP decides)."""
+    none does (the NLP decides).
+
+    Parameters
+    ----------
+    model : DesignModel
+        A fixed-hardware design (``sizing`` None), SI (prepared here).
+    least_required_Nm : float
+        The least required torque ``R_min`` (:func:`least_required_torque_Nm` of the sizing),
+        N·m; ``inf`` or <= 0 rules nothing out.
+
+    Returns
+    -------
+    str or None
+        The name of the first field-only limit row (current, hot spot, surface temperature,
+        copper loss) broken beyond :data:`RTOL` (or not finite) at that field; None if none is.
+    """
     if not np.isfinite(least_required_Nm) or least_required_Nm <= 0.0:
         return None
     model = prepare(model)

@@ -386,8 +386,8 @@ def binding(
     sol : Solution
         A converged solve.
     extra_bounds : dict, optional
-        Boxes of further variables (free hardware, SI: m, turns), reported as
-        ``<name>@max``/``@min``.
+        Boxes ``(lo, hi)`` of further variables (free hardware) by name, each in the unit its
+        name carries (``*_m`` in m, turns a count), reported as ``<name>@max``/``@min``.
 
     Returns
     -------

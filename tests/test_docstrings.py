@@ -33,8 +33,10 @@ Booleans, text, callables and objects (a type naming a class, a mapping of names
 need no unit; a mapping or sequence of floats is numeric. A numeric property's docstring summary
 must pass the same rule.
 
-The modules issue 27 is rewriting (:data:`PENDING`) are reported as expected failures
-with the reason until their new versions are documented; then the set empties.
+A module or object named in :data:`PENDING` is reported as an expected failure with the
+reason given there, while it is being rewritten; the set is empty since issue 27's rewrite
+(``optimize.solve``, ``optimize.discrete``, ``optimize.screen``, ``optimize.active_set``) landed
+documented, so every public object is held to the rule.
 
 The sections are read by :func:`sections`, a small parser of the numpydoc subset used here
 (headings underlined with dashes, ``name : type`` entries at the section's indent, indented
@@ -57,14 +59,10 @@ import pytest
 
 DOMAIN = ("coils", "capsule", "torque_model", "optimize")
 
-#: Modules being rewritten for issue 27 (sizing as named steps): a missing section there is an
-#: expected failure (xfail, not strict) until the rewrite lands documented.
-PENDING = {
-    "optimize.solve": "issue 27 rewrite pending",
-    "optimize.discrete": "issue 27 rewrite pending",
-    "optimize.screen": "issue 27 rewrite pending",
-    "optimize.active_set.solve_over_scenarios": "issue 27 rewrite pending (optimize_scenarios)",
-}
+#: Modules (or objects) being rewritten, by dotted name, with the reason: a missing section
+#: there is an expected failure (xfail, not strict) until the rewrite lands documented. Empty:
+#: issue 27's rewrite is documented.
+PENDING: dict[str, str] = {}
 
 #: Unit symbols a numeric entry may state (SI, the prefixed forms the code uses, and the design
 #: file's units). "A" is the ampere, "H" the henry, "T" the tesla, "K" the kelvin.
