@@ -130,8 +130,23 @@ def test_compare_files_with_fit_and_margin_p05_tables(tmp_path, which):
 
 
 def _check(argv: list[str]) -> dict:
-    _, out, _ = sound([*argv, "--json"], allowed=(0,))
-    doc = json.loads(out)
+    """The JSON (against the schema, no null or non-finite number) and the text of one
+    comparison, computed once: ``compare``'s own printers on the same Comparison."""
+    import contextlib
+    import io
+
+    from cli_outcome import bad_numbers
+
+    from spiralcap.commands._common import print_json
+    from spiralcap.commands.compare import format_comparison
+    from spiralcap.compare import comparison_to_dict
+
+    c = _compared(tuple(argv))
+    buf = io.StringIO()
+    with contextlib.redirect_stdout(buf):
+        print_json(comparison_to_dict(c))
+    doc = json.loads(buf.getvalue())
+    assert not bad_numbers(doc), bad_numbers(doc)
     errors = list(jsonschema.Draft202012Validator(SCHEMA).iter_errors(doc))
     assert not errors, f"{argv}: " + "; ".join(
         f"{'/'.join(map(str, e.path))}: {e.message[:150]}" for e in errors[:5]
@@ -141,9 +156,18 @@ def _check(argv: list[str]) -> dict:
             assert None not in row.get("values", []) and None not in row["shown"]
             if "values" in row:
                 assert all(isinstance(v, float) for v in row["values"]), row
-    _rc, out, _err = sound(argv, allowed=(0,))
-    assert " nan" not in out.lower() and "None" not in out, out
+    text = format_comparison(c)
+    assert " nan" not in text.lower() and "None" not in text, text
     return doc
+
+
+def _compared(argv: tuple[str, ...]):
+    from spiralcap.cli import build_parser
+    from spiralcap.commands.compare import load_designs
+    from spiralcap.compare import compare_designs
+
+    args = build_parser().parse_args(list(argv))
+    return compare_designs(load_designs(args.designs, args.overrides))
 
 
 def test_zero_torque_rows_are_typed():
