@@ -261,12 +261,15 @@ class SquareFilamentSet:
         points = np.asarray(points, dtype=float)
         currents = np.asarray(currents, dtype=float)
         out = np.empty((len(points), 3))
-        step = max(64, _CHUNK_ELEMENTS // max(len(self.half_sides_m), 1))
-        for start in range(0, len(points), step):
-            out[start : start + step] = self._field_rows(
-                points[start : start + step], currents, mats
-            )
+        for chunk in self._chunks(len(points)):
+            out[chunk] = self._field_rows(points[chunk], currents, mats)
         return out
+
+    def _chunks(self, n: int) -> list[slice]:
+        """Slices of ``n`` points whose (points x filaments) blocks stay near
+        :data:`_CHUNK_ELEMENTS` (at least 64 points each)."""
+        step = max(64, _CHUNK_ELEMENTS // max(len(self.half_sides_m), 1))
+        return [slice(start, start + step) for start in range(0, n, step)]
 
     def _field_rows(self, points: Scalar, currents: Scalar, mats: dict[str, Any]) -> Scalar:
         b_u, b_v, b_w = self._local(points, mats)
@@ -293,11 +296,10 @@ class SquareFilamentSet:
         points = np.asarray(points, dtype=float)
         mats = self._matrices(False)
         out = np.empty((len(points), 3, self.n_currents))
-        step = max(64, _CHUNK_ELEMENTS // max(len(self.half_sides_m), 1))
         weights = mats["weights"]
-        for start in range(0, len(points), step):
-            b_u, b_v, b_w = self._local(points[start : start + step], mats)
-            out[start : start + step] = (
+        for chunk in self._chunks(len(points)):
+            b_u, b_v, b_w = self._local(points[chunk], mats)
+            out[chunk] = (
                 np.einsum("nl,li,lk->nik", b_u, mats["put_u"], weights)
                 + np.einsum("nl,li,lk->nik", b_v, mats["put_v"], weights)
                 + np.einsum("nl,li,lk->nik", b_w, mats["put_w"], weights)

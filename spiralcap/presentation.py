@@ -73,7 +73,7 @@ _NAMES = {
     "frequency_min": "lower frequency bound",
     "frequency_max": "upper frequency bound",
     "solver": "solver did not converge",
-    "wall_strain": "spiral stretches the wall by",
+    "wall_strain": "wall strain (grip)",
     "envelope_x": "coil set along x (envelope)",
     "envelope_y": "coil set along y (envelope)",
     "envelope_z": "coil set along z (envelope)",
@@ -138,7 +138,7 @@ def readable(name: str) -> str:
         return _NAMES[name]
     if name.endswith("]") and "[" in name:  # a per-tissue row: ``wall_strain[sample3]``
         stem, _, inner = name[:-1].partition("[")
-        return f"{readable(stem)} ({inner})"
+        return f"{readable(stem)}, {inner}"
     stem, _, axis = name.rpartition("_")
     if stem in _PER_AXIS and axis in ("x", "y", "z"):
         return f"{_PER_AXIS[stem]}, {axis} pair"

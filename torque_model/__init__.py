@@ -9,7 +9,6 @@ from torque_model.data import CAPSULE_ANGLES_DEG, PAPER_CAPSULE, PAPER_POINTS, P
 from torque_model.engagement import (
     DEFAULT_MIN_WALL_STRAIN,
     contact_radius_m,
-    engaged,
     wall_strain,
     weight_friction_torque_Nm,
 )
@@ -49,7 +48,6 @@ __all__ = [
     "contact_factors_m3",
     "contact_radius_m",
     "end_contact_moment_m2",
-    "engaged",
     "equivalent_diameter_m",
     "friction_per_length_N_m",
     "hoop_pressure_Pa",

@@ -35,7 +35,6 @@ conservative side). With it the resistance is never zero while the capsule lies 
 
 from __future__ import annotations
 
-from spiralcap.core import backend as bk
 from spiralcap.core.backend import Scalar
 from spiralcap.core.constants import STANDARD_GRAVITY_m_s2
 from torque_model.geometry import ContactGeometry, equivalent_diameter_m
@@ -45,7 +44,6 @@ from torque_model.tissue import TissueParameters
 __all__ = [
     "DEFAULT_MIN_WALL_STRAIN",
     "contact_radius_m",
-    "engaged",
     "wall_strain",
     "weight_friction_torque_Nm",
 ]
@@ -121,19 +119,3 @@ def weight_friction_torque_Nm(
         The friction torque, N·m (>= 0).
     """
     return friction_coefficient * mass_kg * STANDARD_GRAVITY_m_s2 * contact_radius_m_
-
-
-def engaged(strain_: Scalar) -> Scalar:
-    """1 where the spiral stretches the wall (strain > 0), else 0 (backend-generic).
-
-    Parameters
-    ----------
-    strain_ : float, array or CasADi
-        Wound-section strain, dimensionless (:func:`wall_strain`).
-
-    Returns
-    -------
-    float, array or CasADi
-        The indicator, dimensionless.
-    """
-    return bk.where(strain_ > 0.0, 1.0, 0.0)
