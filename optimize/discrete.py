@@ -165,6 +165,7 @@ def _setup(
         hw.helmholtz_flags(model),
         len(model.headings),
         model.limits.copper_mass_kg is not None,
+        hw.square_flags(model),
     )
     bounds = {**variable_bounds(exact), **{v.name: (v.lo, v.hi) for v in free}}
     scales = scales_for(exact)
@@ -830,19 +831,21 @@ def _loss_scaled(model: DesignModel, x: dict[str, float], scales: Any) -> float:
 
 def _copper_mass_kg(values: dict[str, float], model: DesignModel) -> float:
     pf = model.coils.pairs[0].packing_factor
+    square = hw.square_flags(model)
     return float(
         sum(
             hw.coil_quantities(
-                values[f"{ax}.radius_m"],
+                values[hw.size_name(ax, sq)],
                 values[f"{ax}.turns"],
                 values[f"{ax}.wire_diameter_m"],
-                values[f"{ax}.radius_m"],
+                values[hw.size_name(ax, sq)],
                 packing=pf,
                 resistivity=1.0,
                 h=1.0,
                 aspect=values[f"{ax}.pack_aspect"],
+                square=sq,
             )["copper_mass_kg"]
-            for ax in hw.AXES
+            for ax, sq in zip(hw.AXES, square)
         )
     )
 
@@ -867,7 +870,8 @@ def _settled(a: hw.Frozen, b: hw.Frozen) -> bool:
 
 def unbuildable(model: DesignModel, values: dict[str, float], min_bore_m: float) -> tuple:
     """The geometric rules hardware ``values`` breaks, as shortfalls with their numbers
-    (nesting gap against the half pack sides, bore against the minimum, magnet fit).
+    (the exact build checks: pack clearances, bore room, copper mass, envelope; the bore
+    against the minimum, the magnet fit).
 
     Parameters
     ----------
@@ -881,8 +885,8 @@ def unbuildable(model: DesignModel, values: dict[str, float], min_bore_m: float)
     Returns
     -------
     tuple of Shortfall
-        Each broken rule with what it needs and what the hardware gives, in m (nesting gap
-        against the half pack sides, bore, magnet diameter or length); the input's key alone
+        Each broken rule with what it needs and what the hardware gives, in m or kg (build
+        checks, bore, magnet diameter or length); the input's key alone
         (no unit, zeros) where the hardware cannot be constructed; empty if none is broken.
     """
     import capsule as cap
@@ -892,13 +896,10 @@ def unbuildable(model: DesignModel, values: dict[str, float], min_bore_m: float)
         m = hw.with_hardware(model, values)
     except InputError as exc:
         return (Shortfall(str(exc.key), "", 0.0, 0.0),)
-    out = []
-    pairs = m.coils.pairs
-    for i, j in hw.PAIRS_OF_PAIRS:
-        half = 0.5 * (pairs[i].winding_pack_side_m + pairs[j].winding_pack_side_m)
-        gap = hw.mean_turn_gap_m(pairs[i], pairs[j])
-        if gap < half:
-            out.append(Shortfall(f"nesting_{hw.AXES[i]}{hw.AXES[j]}", "m", half, gap))
+    from optimize.buildcheck import build_checks
+
+    # the exact build checks: pack clearances (solids), bore room, copper mass, envelope
+    out = [Shortfall(c.name, c.unit, c.allowed, c.value) for c in build_checks(m) if not c.ok]
     if hw.bore_m(m) < min_bore_m * (1 - 1e-9):
         out.append(Shortfall("bore", "m", min_bore_m, hw.bore_m(m)))
     body, magnet = m.capsule.body, m.capsule.magnet

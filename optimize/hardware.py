@@ -46,15 +46,19 @@ from spiralcap.core.constants import COPPER_DENSITY_kg_m3, MU0_T_m_per_A
 
 AXES = ("x", "y", "z")
 COIL_QUANTITIES = ("radius_m", "turns", "wire_diameter_m", "pack_aspect")
+#: The size of a square pair in place of ``radius_m``: the side of its mean turn (issue 30).
+SIDE = "side_m"
 NAMES = (
     *(f"{ax}.{q}" for ax in AXES for q in COIL_QUANTITIES),
     "magnet.diameter_m",
     "magnet.length_m",
     "spiral.wire_diameter_m",
+    *(f"{ax}.{SIDE}" for ax in AXES),
 )
 #: Typical magnitudes: the NLP's variable scaling.
 REFERENCE = {
     "radius_m": 0.1,
+    "side_m": 0.2,
     "turns": 100.0,
     "wire_diameter_m": 1e-3,
     "pack_aspect": 1.0,
@@ -128,8 +132,43 @@ class Sizing:
     min_bore_m: float | None = None
 
 
+def size_name(ax: str, square: bool) -> str:
+    """The name of pair ``ax``'s size: ``"x.radius_m"``, or ``"x.side_m"`` for a square pair.
+
+    Parameters
+    ----------
+    ax : {"x", "y", "z"}
+        The pair's axis.
+    square : bool
+        Flag: the pair is square.
+
+    Returns
+    -------
+    str
+        A name of :data:`NAMES`.
+    """
+    return f"{ax}.{SIDE if square else 'radius_m'}"
+
+
+def square_flags(model: Any) -> tuple[bool, bool, bool]:
+    """Per pair (x, y, z), flag: the pair is square (its size is ``side_m``).
+
+    Parameters
+    ----------
+    model : DesignModel
+        The design.
+
+    Returns
+    -------
+    tuple of bool
+        Per pair, flag: square.
+    """
+    x, y, z = (p.shape == "square" for p in model.coils.pairs)
+    return (x, y, z)
+
+
 def hardware_of(model: Any) -> dict[str, float]:
-    """The hardware values of a model, by name.
+    """The hardware values of a model, by name (a square pair's size as ``<ax>.side_m``).
 
     Parameters
     ----------
@@ -144,7 +183,7 @@ def hardware_of(model: Any) -> dict[str, float]:
     """
     out: dict[str, float] = {}
     for ax, p in zip(AXES, model.coils.pairs):
-        out[f"{ax}.radius_m"] = float(p.radius_m)
+        out[size_name(ax, p.shape == "square")] = float(getattr(p, p._SIZE_KEY))
         out[f"{ax}.turns"] = float(p.turns)
         out[f"{ax}.wire_diameter_m"] = float(p.wire_diameter_m)
         out[f"{ax}.pack_aspect"] = float(p.pack_aspect)
@@ -155,8 +194,18 @@ def hardware_of(model: Any) -> dict[str, float]:
     return out
 
 
+def _default_spacing(p: Any, size: float) -> float:
+    """The separation a pair of size ``size`` has by default (R; 0.5445 a for a square), m."""
+    return size if p.shape != "square" else p._DEFAULT_SPACING_PER_SIZE * size
+
+
+def _helmholtz(p: Any) -> bool:
+    size = float(getattr(p, p._SIZE_KEY))
+    return abs(p.separation_m - _default_spacing(p, size)) <= 1e-12 * size
+
+
 def helmholtz_flags(model: Any) -> tuple[bool, bool, bool]:
-    """Per pair: does the separation follow the radius (Helmholtz spacing)?
+    """Per pair: does the separation follow the size (Helmholtz spacing: R, or 0.5445 a)?
 
     Parameters
     ----------
@@ -166,9 +215,9 @@ def helmholtz_flags(model: Any) -> tuple[bool, bool, bool]:
     Returns
     -------
     tuple of bool
-        Per pair (x, y, z), flag: the separation equals the radius.
+        Per pair (x, y, z), flag: the separation is the default spacing of its size.
     """
-    x, y, z = (abs(p.separation_m - p.radius_m) <= 1e-12 * p.radius_m for p in model.coils.pairs)
+    x, y, z = (_helmholtz(p) for p in model.coils.pairs)
     return (x, y, z)
 
 
@@ -195,15 +244,15 @@ def with_hardware(model: Any, values: Mapping[str, float]) -> Any:
     flags = helmholtz_flags(model)
     pairs = []
     for ax, p, helm in zip(AXES, model.coils.pairs, flags):
-        r = hw[f"{ax}.radius_m"]
+        size = hw[size_name(ax, p.shape == "square")]
         pairs.append(
             replace(
                 p,
-                radius_m=r,
+                **{p._SIZE_KEY: size},
                 turns=max(1, round(hw[f"{ax}.turns"])),
                 wire_diameter_m=hw[f"{ax}.wire_diameter_m"],
                 pack_aspect=hw[f"{ax}.pack_aspect"],
-                separation_m=r if helm else p.separation_m,
+                separation_m=_default_spacing(p, size) if helm else p.separation_m,
             )
         )
     cap = model.capsule
@@ -230,12 +279,23 @@ def _gain_formula(radius: Any, turns: Any, separation: Any) -> Any:
     )
 
 
+def _square_gain_formula(side: Any, turns: Any, separation: Any) -> Any:
+    """Centre field per ampere of two coaxial square loops of N turns, side a, at ±s/2:
+    4 μ0 N a² / (π (a² + s²) sqrt(a²/2 + s²/4)) (each side a finite straight wire), T/A."""
+    a2, s2 = side * side, separation * separation
+    return 4.0 * MU0_T_m_per_A * turns * a2 / (bk.pi * (a2 + s2) * bk.sqrt(0.5 * a2 + 0.25 * s2))
+
+
 def mean_turn_gap_m(pa: Any, pb: Any) -> float:
-    """Least distance between the mean-turn circles of two orthogonal pairs, m (sampled).
+    """Least distance between the mean turns of two orthogonal pairs, m (sampled).
+
+    The mean turns are circles of radius R, or squares of side a for a square pair (sides
+    parallel to the other two axes); GAP_SAMPLES points along the first pair's mean turns,
+    the exact distance to the second's.
 
     Parameters
     ----------
-    pa, pb : HelmholtzPair
+    pa, pb : HelmholtzPair or SquarePair
         Two pairs on different axes.
 
     Returns
@@ -243,9 +303,82 @@ def mean_turn_gap_m(pa: Any, pb: Any) -> float:
     float
         Least distance between their mean turns, m.
     """
-    return _gap(
-        pa.axis_index, pa.radius_m, pa.separation_m, pb.axis_index, pb.radius_m, pb.separation_m
+    if pa.shape != "square" and pb.shape != "square":
+        return _gap(
+            pa.axis_index, pa.radius_m, pa.separation_m, pb.axis_index, pb.radius_m, pb.separation_m
+        )
+    return _shape_gap(
+        (pa.axis_index, pa.shape == "square", pa._size_m, pa.separation_m),
+        (pb.axis_index, pb.shape == "square", pb._size_m, pb.separation_m),
     )
+
+
+def _mean_turn_points(axis: int, square: bool, size: float, offset: float) -> np.ndarray:
+    """GAP_SAMPLES points along a mean turn (circle of radius ``size``, or square of side
+    ``size``) in the plane ``x[axis] = offset``, (n, 3), m."""
+    u, v = [k for k in range(3) if k != axis]
+    t = np.arange(GAP_SAMPLES) / GAP_SAMPLES
+    pts = np.zeros((GAP_SAMPLES, 3))
+    pts[:, axis] = offset
+    if not square:
+        phi = 2.0 * np.pi * t
+        pts[:, u], pts[:, v] = size * np.cos(phi), size * np.sin(phi)
+        return pts
+    side, along = np.divmod(4.0 * t, 1.0)  # which side, and how far along it (0..1)
+    h, w = 0.5 * size, size * (along - 0.5)
+    cu = np.choose(side.astype(int), [h, -w, -h, w])
+    cv = np.choose(side.astype(int), [w, h, -w, -h])
+    pts[:, u], pts[:, v] = cu, cv
+    return pts
+
+
+def _distance_to_mean_turn(
+    pts: np.ndarray, axis: int, square: bool, size: float, offset: float
+) -> np.ndarray:
+    """Exact distance of points (n, 3) to a mean turn (circle of radius ``size`` or square of
+    side ``size`` in the plane ``x[axis] = offset``), m."""
+    u, v = [k for k in range(3) if k != axis]
+    normal = pts[:, axis] - offset
+    if not square:
+        return np.hypot(np.hypot(pts[:, u], pts[:, v]) - size, normal)
+    du, dv = np.abs(pts[:, u]) - 0.5 * size, np.abs(pts[:, v]) - 0.5 * size
+    outside = np.hypot(np.maximum(du, 0.0), np.maximum(dv, 0.0))
+    in_plane = np.where(np.maximum(du, dv) > 0.0, outside, -np.maximum(du, dv))
+    return np.hypot(in_plane, normal)
+
+
+@functools.lru_cache(maxsize=256)
+def _shape_gap(a: tuple, b: tuple) -> float:
+    """:func:`mean_turn_gap_m` with a square pair: (axis, square, size, separation) each."""
+    best = np.inf
+    for sa, sb in itertools.product((-0.5, 0.5), repeat=2):
+        pts = _mean_turn_points(a[0], a[1], a[2], sa * a[3])
+        d = _distance_to_mean_turn(pts, b[0], b[1], b[2], sb * b[3])
+        best = min(best, float(d.min()))
+    return best
+
+
+def tube_radius_m(width_m: Any, depth_m: Any, square: bool) -> Any:
+    """Radius of the tube about the mean turn that holds the whole pack, m (backend-generic).
+
+    A ring's section lies within half its diagonal of the mean turn; a square frame's sharp
+    outer corner, (h/2, h/2, w/2) from the mean turn's corner, within sqrt(h²/2 + w²/4).
+
+    Parameters
+    ----------
+    width_m, depth_m : float or CasADi
+        Axial width w and depth h of the pack, m.
+    square : bool
+        Flag: a square frame (sharp corners).
+
+    Returns
+    -------
+    float or CasADi
+        Tube radius, m.
+    """
+    if square:
+        return bk.sqrt(0.5 * depth_m * depth_m + 0.25 * width_m * width_m)
+    return 0.5 * bk.sqrt(width_m * width_m + depth_m * depth_m)
 
 
 #: Points on the first mean turn at which :func:`mean_turn_gap_m` takes the distance.
@@ -325,28 +458,21 @@ def frozen_factors(model: Any) -> Frozen:
     Frozen
         The frozen numbers (dimensionless factors, m).
     """
-    from coils.clearance import pack_clearance_m, torus_clearance_bound_m
-    from coils.loop import coaxial_mutual_inductance_H
+    from coils.clearance import pack_clearance_m
     from optimize.system import prepare
 
     m = prepare(model)
     pairs = m.coils.pairs
-    gain_corr, mut_corr = [], []
-    for p in pairs:
-        gain_corr.append(
-            p.centre_field_per_amp_T_per_A / _gain_formula(p.radius_m, p.turns, p.separation_m)
-        )
-        fil = p.turns**2 * coaxial_mutual_inductance_H(p.radius_m, p.radius_m, p.separation_m)
-        mut_corr.append(p.mutual_inductance_H / float(fil))
+    gain_corr, mut_corr = zip(*(_pair_corrections(p) for p in pairs))
     gaps, da, db, delta = [], [], [], []
     h = 1e-6
     for i, j in PAIRS_OF_PAIRS:
         a, b = pairs[i], pairs[j]
         g0 = mean_turn_gap_m(a, b)
         gaps.append(g0)
-        delta.append(max(pack_clearance_m(a, b) - torus_clearance_bound_m(g0, a, b), 0.0))
-        da.append((mean_turn_gap_m(_scaled(a, h), b) - g0) / (h * a.radius_m))
-        db.append((mean_turn_gap_m(a, _scaled(b, h)) - g0) / (h * b.radius_m))
+        delta.append(_clearance_delta_m(pack_clearance_m(a, b), g0, a, b))
+        da.append((mean_turn_gap_m(_scaled(a, h), b) - g0) / (h * a._size_m))
+        db.append((mean_turn_gap_m(a, _scaled(b, h)) - g0) / (h * b._size_m))
     return Frozen(
         np.array(gain_corr),
         np.array(mut_corr),
@@ -354,16 +480,60 @@ def frozen_factors(model: Any) -> Frozen:
         np.array(gaps),
         np.array(da),
         np.array(db),
-        np.array([p.radius_m for p in pairs]),
+        np.array([p._size_m for p in pairs]),
         np.asarray(m.constants.view_factors, dtype=float),
         np.array(delta),
     )
 
 
+def _pair_corrections(p: Any) -> tuple[float, float]:
+    """(gain, mutual) corrections of one built pair: its exact centre field over the formula's,
+    and its exact mutual inductance over N² times the filament formula. A square pair's mutual
+    correction also carries its self inductance's pack average over Grover's square with the
+    section's GMD, so the series inductance 2 L + 2 M is exact at the frozen hardware."""
+    from coils.loop import coaxial_mutual_inductance_H
+
+    if p.shape != "square":
+        gain = p.centre_field_per_amp_T_per_A / _gain_formula(p.radius_m, p.turns, p.separation_m)
+        fil = p.turns**2 * coaxial_mutual_inductance_H(p.radius_m, p.radius_m, p.separation_m)
+        return gain, p.mutual_inductance_H / float(fil)
+    q = coil_quantities(
+        p.side_m,
+        p.turns,
+        p.wire_diameter_m,
+        p.separation_m,
+        packing=p.packing_factor,
+        resistivity=1.0,
+        h=0.0,
+        aspect=p.pack_aspect,
+        square=True,
+    )
+    gain = p.centre_field_per_amp_T_per_A / float(q["gain_T_per_A"])
+    excess = p.mutual_inductance_H + p.self_inductance_H - float(q["self_inductance_H"])
+    return gain, excess / float(q["mutual_filament_H"])
+
+
+def _clearance_delta_m(exact_m: float, gap_m: float, a: Any, b: Any) -> float:
+    """Exact pack clearance minus the tube bound at the mean-turn gap, m: clipped at 0 for two
+    rings (as before squares); not clipped with a square frame, so the row is the exact
+    clearance at the frozen hardware even where the sampled gap overstates the true one."""
+    from coils.clearance import torus_clearance_bound_m
+
+    if a.shape != "square" and b.shape != "square":
+        return max(exact_m - torus_clearance_bound_m(gap_m, a, b), 0.0)
+    tubes = sum(
+        tube_radius_m(p.winding_pack_width_m, p.winding_pack_depth_m, p.shape == "square")
+        for p in (a, b)
+    )
+    return exact_m - (gap_m - tubes)
+
+
 def _scaled(p: Any, h: float) -> Any:
-    r = p.radius_m * (1 + h)
-    helm = abs(p.separation_m - p.radius_m) <= 1e-12 * p.radius_m
-    return replace(p, radius_m=r, separation_m=r if helm else p.separation_m)
+    size = p._size_m * (1 + h)
+    helm = _helmholtz(p)
+    return replace(
+        p, **{p._SIZE_KEY: size}, separation_m=_default_spacing(p, size) if helm else p.separation_m
+    )
 
 
 # --- expressions ------------------------------------------------------------------------------
@@ -379,15 +549,16 @@ def coil_quantities(
     resistivity: Any,
     h: Any,
     aspect: Any = 1.0,
+    square: bool = False,
 ) -> dict[str, Any]:
     """Pack side (of the equal-area square), width (axial) and depth (radial), uncorrected
-    gain, resistance, self inductance, filament mutual inductance (times N²), thermal
-    conductance and copper mass of one pair (backend-generic).
+    gain, resistance, self inductance, filament mutual inductance (times N²), convective
+    conductance of the faces and copper mass of one pair (backend-generic).
 
     Parameters
     ----------
     radius : float or CasADi
-        Mean coil radius R, m.
+        Mean coil radius R, m; for a square pair (``square``) the side a of the mean turn, m.
     turns : float or CasADi
         Turns N of each coil, count (continuous in the relaxation).
     wire : float or CasADi
@@ -402,35 +573,71 @@ def coil_quantities(
         Face heat transfer coefficient, W/(m²·K).
     aspect : float or CasADi
         Axial width / radial depth of the pack, dimensionless.
+    square : bool
+        Flag: square turns (mean turn 4a; gain of two square loops; Grover's square with the
+        section's geometric mean distance; the coaxial squares' mutual inductance).
 
     Returns
     -------
     dict of str to float or CasADi
         Each quantity by name, the unit in each name (``side_m``, ``gain_T_per_A``,
-        ``resistance_ohm``, ``self_inductance_H``, ``conductance_W_per_K``, ``copper_mass_kg``).
+        ``resistance_ohm``, ``self_inductance_H``, ``mutual_filament_H``,
+        ``conductance_W_per_K``, ``copper_mass_kg``).
     """
-    from coils.loop import coaxial_mutual_inductance_H
-    from coils.pair import stefan_bracket
-
     area = bk.pi * wire * wire / 4.0
     pack_area = turns * area / packing
     side = bk.sqrt(pack_area)
     width, depth = bk.sqrt(pack_area * aspect), bk.sqrt(pack_area / aspect)
-    length = 2.0 * turns * 2.0 * bk.pi * radius
-    a = radius
-    bracket = stefan_bracket(a, width, depth)
+    shape = _square_terms if square else _circle_terms
+    terms = shape(radius, turns, separation, width, depth)
+    length = terms.pop("length_m")
     return {
         "side_m": side,
         "width_m": width,
         "depth_m": depth,
-        "gain_T_per_A": _gain_formula(radius, turns, separation),
+        **terms,
         "resistance_ohm": resistivity * length / area,
-        "self_inductance_H": MU0_T_m_per_A * a * turns * turns * bracket,
-        "mutual_filament_H": turns
-        * turns
-        * coaxial_mutual_inductance_H(radius, radius, separation),
-        "conductance_W_per_K": h * 2.0 * 2.0 * (width + depth) * 2.0 * bk.pi * radius,
+        "conductance_W_per_K": h * 2.0 * 2.0 * (width + depth) * 4.0 * radius
+        if square
+        else h * 2.0 * 2.0 * (width + depth) * 2.0 * bk.pi * radius,
         "copper_mass_kg": COPPER_DENSITY_kg_m3 * length * area,
+    }
+
+
+def _circle_terms(radius: Any, turns: Any, sep: Any, width: Any, depth: Any) -> dict:
+    """One circular pair's two-loop gain, wire length (2N · 2πR), Stefan's self inductance
+    (Rosa & Grover 1912, eq. 91) and Maxwell's coaxial mutual inductance (times N²), SI."""
+    from coils.loop import coaxial_mutual_inductance_H
+    from coils.pair import stefan_bracket
+
+    length = 2.0 * turns * 2.0 * bk.pi * radius
+    return {
+        "gain_T_per_A": _gain_formula(radius, turns, sep),
+        "length_m": length,
+        "self_inductance_H": MU0_T_m_per_A
+        * radius
+        * turns
+        * turns
+        * stefan_bracket(radius, width, depth),
+        "mutual_filament_H": turns * turns * coaxial_mutual_inductance_H(radius, radius, sep),
+    }
+
+
+def _square_terms(side: Any, turns: Any, sep: Any, width: Any, depth: Any) -> dict:
+    """:func:`_circle_terms` of a square pair of side a (mean turn 4a): two square loops' gain,
+    Grover's square with the section's geometric mean distance (coils.square_pair) and the
+    coaxial squares' mutual inductance (coils.square), SI."""
+    from coils.square import square_mutual_inductance_H
+    from coils.square_pair import grover_square_inductance_H, rectangle_gmd_m
+
+    half = 0.5 * side
+    return {
+        "gain_T_per_A": _square_gain_formula(side, turns, sep),
+        "length_m": 2.0 * turns * 4.0 * side,
+        "self_inductance_H": turns
+        * turns
+        * grover_square_inductance_H(side, rectangle_gmd_m(width, depth)),
+        "mutual_filament_H": turns * turns * square_mutual_inductance_H(half, half, sep),
     }
 
 
@@ -464,18 +671,44 @@ class HardwareStructure:
         Number of headings.
     copper_mass_limit : bool
         Flag: the copper-mass row is part of the problem.
+    square : tuple of bool
+        Per pair, flag: a square pair (its size is ``<ax>.side_m``, :func:`size_name`).
     """
 
     free: tuple[str, ...]
     helmholtz: tuple[bool, bool, bool]
     headings: int
     copper_mass_limit: bool = False
+    square: tuple[bool, bool, bool] = (False, False, False)
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        """The hardware names of this problem: :data:`NAMES` with each pair's own size."""
+        sizes = {size_name(ax, not sq) for ax, sq in zip(AXES, self.square)}
+        return tuple(n for n in NAMES if n not in sizes)
+
+    def size(self, hw: dict[str, Any], k: int) -> Any:
+        """Pair k's size expression (R, or the side a of a square pair), m."""
+        return hw[size_name(AXES[k], self.square[k])]
+
+    def reach(self, hw: dict[str, Any], k: int) -> Any:
+        """Distance from pair k's axis to the middle of its mean turn (R; a/2 for a square), m."""
+        return 0.5 * self.size(hw, k) if self.square[k] else self.size(hw, k)
+
+    def spacing(self, hw: dict[str, Any], k: int, separation: Any) -> Any:
+        """Pair k's separation: its size's Helmholtz spacing (R; 0.5445 a) or ``separation``."""
+        if not self.helmholtz[k]:
+            return separation
+        from coils.square_pair import SQUARE_HELMHOLTZ_RATIO
+
+        size = self.size(hw, k)
+        return SQUARE_HELMHOLTZ_RATIO * size if self.square[k] else size
 
 
 def _hardware_symbols(b: Any, hs: HardwareStructure) -> dict[str, Any]:
     """Every hardware quantity by name: an NLP variable where free, else a parameter."""
     hw: dict[str, Any] = {}
-    for name in NAMES:
+    for name in hs.names:
         if name in hs.free:
             hw[name] = b.variable(name, REFERENCE[name.split(".", 1)[1]], 0.0, np.inf)
         else:
@@ -494,34 +727,49 @@ def _coil_symbols(b: Any, hs: HardwareStructure, hw: dict[str, Any]) -> tuple[li
     sep = b.parameter("hw.separation_m", (3,))
     q = []
     for k, ax in enumerate(AXES):
-        r = hw[f"{ax}.radius_m"]
         q.append(
             coil_quantities(
-                r,
+                hs.size(hw, k),
                 hw[f"{ax}.turns"],
                 hw[f"{ax}.wire_diameter_m"],
-                r if hs.helmholtz[k] else sep[k],
+                hs.spacing(hw, k, sep[k]),
                 packing=packing,
                 resistivity=rho,
                 h=hcoef,
                 aspect=hw[f"{ax}.pack_aspect"],
+                square=hs.square[k],
             )
         )
     return q, packing, hcoef
 
 
 def _pack_symbols(
-    b: Any, hw: dict[str, Any], q: list, packing: Any, hcoef: Any, convection: str
+    b: Any,
+    hs: HardwareStructure,
+    hw: dict[str, Any],
+    q: list,
+    packing: Any,
+    hcoef: Any,
+    convection: str,
 ) -> tuple:
-    """The three winding packs (:class:`coils.thermal.WindingPack`) as expressions."""
+    """The three winding packs (:class:`coils.thermal.WindingPack`) as expressions: a square
+    pack by the radius of the ring as long as its mean turn (2a/π), with its vertical bars
+    where its plane is vertical (coils.thermal)."""
     from coils.thermal import WindingPack
 
     conductivity, emissivity = b.parameter("hw.conductivity"), b.parameter("hw.emissivity")
+
+    def square_parts(k: int) -> dict[str, Any]:
+        if not hs.square[k]:
+            return {"mean_radius_m": hw[f"{AXES[k]}.radius_m"]}
+        side = hs.size(hw, k)
+        bars = {"vertical_bar_height_m": side} if AXES[k] != "z" else {}
+        return {"mean_radius_m": 4.0 * side / (2.0 * bk.pi), **bars}
+
     return tuple(
         WindingPack(
             pack_width_m=q[k]["width_m"],
             pack_depth_m=q[k]["depth_m"],
-            mean_radius_m=hw[f"{AXES[k]}.radius_m"],
             packing_factor=packing,
             conductivity_W_mK=conductivity,
             heat_transfer_coefficient_W_m2K=hcoef,
@@ -529,6 +777,7 @@ def _pack_symbols(
             vertical_axis=AXES[k] == "z",
             air_speed_m_s=b.parameter("hw.air_speed_m_s"),
             convection=convection,
+            **square_parts(k),
         )
         for k in range(3)
     )
@@ -595,7 +844,7 @@ def symbolic_constants(
         per_tesla, worst = shared_heading_table(
             lambda h, k: s_all[h, k] / g[k], pattern, hs.headings
         )
-    packs = _pack_symbols(b, hw, q, packing, hcoef, convection)
+    packs = _pack_symbols(b, hs, hw, q, packing, hcoef, convection)
     body_d, body_l = b.parameter("body.diameter_m"), b.parameter("body.length_m")
     wire_sp = hw["spiral.wire_diameter_m"]
     d_mag, l_mag = hw["magnet.diameter_m"], hw["magnet.length_m"]
@@ -635,10 +884,11 @@ def symbolic_constants(
 
 
 def _envelope_terms(
-    hw: dict, q: list, ctx: Any, freed: list[bool], sep: Any, helmholtz: Any
+    hs: HardwareStructure, hw: dict, q: list, ctx: Any, freed: list[bool], sep: Any
 ) -> list:
     """Rows ``envelope_<i>[<pair>]``: each freed pair's packs inside half the envelope along
-    every axis (coils.clearance.pair_extent_m); none without ``limits.envelope_mm``."""
+    every axis (coils.clearance.pair_extent_m; a square frame reaches a/2 + h/2 across its
+    axis, its sides' outer faces); none without ``limits.envelope_mm``."""
     from coils.clearance import pair_extent_m
     from optimize.nlp import Row
     from optimize.problem import Term
@@ -650,9 +900,8 @@ def _envelope_terms(
     for k, ax in enumerate(AXES):
         if not freed[k]:
             continue
-        r = hw[f"{ax}.radius_m"]
-        s = r if helmholtz[k] else sep[k]
-        halves = pair_extent_m(k, r, s, q[k]["width_m"], q[k]["depth_m"])
+        s = hs.spacing(hw, k, sep[k])
+        halves = pair_extent_m(k, hs.reach(hw, k), s, q[k]["width_m"], q[k]["depth_m"])
         for i, half in enumerate(halves):
             out.append(
                 Term(
@@ -703,7 +952,7 @@ def geometry_terms(b: Any, hs: HardwareStructure, hw: dict, q: list, ctx: Any) -
     for h, loss in enumerate(losses):
         out.append(Term(Row(f"heading_loss[{h}]", "epigraph", "W"), loss, q[3]["power_W"], upper))
 
-    if free & {f"{ax}.{qq}" for ax in AXES for qq in COIL_QUANTITIES}:
+    if free & {f"{ax}.{qq}" for ax in AXES for qq in (*COIL_QUANTITIES, SIDE)}:
         out += _coil_terms(b, hs, hw, q, ctx)
     out += _capsule_terms(b, free, hw, ctx)
     return out
@@ -730,11 +979,11 @@ def _coil_terms(b: Any, hs: HardwareStructure, hw: dict, q: list, ctx: Any) -> l
     need = b.parameter("requirement.min_clearance_m")
     bore_r = b.parameter("requirement.bore_radius_m")
     r0 = b.parameter("frozen.radii0_m", (3,))
-    freed = [bool(free & {f"{ax}.{qq}" for qq in COIL_QUANTITIES}) for ax in AXES]
+    freed = [bool(free & {f"{ax}.{qq}" for qq in (*COIL_QUANTITIES, SIDE)}) for ax in AXES]
     for k, ax in enumerate(AXES):
         if not freed[k]:  # a fixed pair's rows would be constants
             continue
-        r, width, depth = hw[f"{ax}.radius_m"], q[k]["width_m"], q[k]["depth_m"]
+        r, width, depth = hs.reach(hw, k), q[k]["width_m"], q[k]["depth_m"]
         out.append(Term(Row(f"pack_side_{ax}", "geometry", "m"), depth, r, upper))
         if not hs.helmholtz[k]:
             out.append(Term(Row(f"pack_separation_{ax}", "geometry", "m"), width, sep[k], upper))
@@ -757,24 +1006,30 @@ def _coil_terms(b: Any, hs: HardwareStructure, hw: dict, q: list, ctx: Any) -> l
     for n, (i, j) in enumerate(PAIRS_OF_PAIRS):
         if not (freed[i] or freed[j]):
             continue
-        ri, rj = hw[f"{AXES[i]}.radius_m"], hw[f"{AXES[j]}.radius_m"]
+        ri, rj = hs.size(hw, i), hs.size(hw, j)
         gap = gap0[n] + dga[n] * (ri - r0[i]) + dgb[n] * (rj - r0[j])
-        diag = [bk.sqrt(q[k]["width_m"] ** 2 + q[k]["depth_m"] ** 2) for k in (i, j)]
-        clearance = gap - 0.5 * (diag[0] + diag[1]) + delta[n]
         out.append(
             Term(
                 Row(f"clearance_{AXES[i]}{AXES[j]}", "geometry", "m", -1.0),
-                clearance,
+                gap - _tubes(hs, q, i, j) + delta[n],
                 need,
                 lambda v, a: (a + CLEARANCE_MARGIN_m - v) / CLEARANCE_REF_m,
             )
         )
-    out += _envelope_terms(hw, q, ctx, freed, sep, hs.helmholtz)
+    out += _envelope_terms(hs, hw, q, ctx, freed, sep)
     if hs.copper_mass_limit:
         mass = q[0]["copper_mass_kg"] + q[1]["copper_mass_kg"] + q[2]["copper_mass_kg"]
         limit = b.parameter("limit.copper_mass_kg")
         out.append(Term(Row("copper_mass", "limit", "kg"), mass, limit, upper))
     return out
+
+
+def _tubes(hs: HardwareStructure, q: list, i: int, j: int) -> Any:
+    """The two packs' tube radii about their mean turns (:func:`tube_radius_m`), summed, m."""
+    if not (hs.square[i] or hs.square[j]):  # two rings: as before square pairs, bit for bit
+        diag = [bk.sqrt(q[k]["width_m"] ** 2 + q[k]["depth_m"] ** 2) for k in (i, j)]
+        return 0.5 * (diag[0] + diag[1])
+    return sum(tube_radius_m(q[k]["width_m"], q[k]["depth_m"], hs.square[k]) for k in (i, j))
 
 
 def _capsule_terms(b: Any, free: set, hw: dict, ctx: Any) -> list:

@@ -688,7 +688,7 @@ FREEABLE_KEYS = (
     *(
         f"coils.{ax}.{q}"
         for ax in "xyz"
-        for q in ("turns", "wire_diameter_mm", "radius_m", "pack_aspect")
+        for q in ("turns", "wire_diameter_mm", "radius_m", "pack_aspect", "side_m")
     ),
     "capsule.magnet.diameter_mm",
     "capsule.magnet.length_mm",

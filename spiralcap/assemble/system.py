@@ -257,6 +257,7 @@ _HARDWARE_NAMES: dict[str, tuple[str, float]] = {
     **{f"coils.{ax}.turns": (f"{ax}.turns", 1.0) for ax in "xyz"},
     **{f"coils.{ax}.wire_diameter_mm": (f"{ax}.wire_diameter_m", 1e-3) for ax in "xyz"},
     **{f"coils.{ax}.radius_m": (f"{ax}.radius_m", 1.0) for ax in "xyz"},
+    **{f"coils.{ax}.side_m": (f"{ax}.side_m", 1.0) for ax in "xyz"},
     **{f"coils.{ax}.pack_aspect": (f"{ax}.pack_aspect", 1.0) for ax in "xyz"},
     "capsule.magnet.diameter_mm": ("magnet.diameter_m", 1e-3),
     "capsule.magnet.length_mm": ("magnet.length_m", 1e-3),
@@ -290,6 +291,25 @@ def free_keys(design: Design) -> dict[str, tuple[float, float]]:
     }
 
 
+def _check_free_sizes(design: Design, free: dict[str, tuple[float, float]]) -> None:
+    """A freed pair size must be the pair's own: ``radius_m`` of a circle, ``side_m`` of a
+    square (InputError naming the freed key otherwise)."""
+    for key, rng in free.items():
+        head, _, quantity = key.rpartition(".")
+        if quantity not in ("radius_m", "side_m") or not head.startswith("coils."):
+            continue
+        square = design.get(head + ".shape", "circle") == "square"
+        own = "side_m" if square else "radius_m"
+        if quantity != own:
+            shape = "square" if square else "circular"
+            raise InputError(
+                _FREE_PREFIX + key,
+                list(rng),
+                f"the size of a {shape} pair: free {head}.{own} ({head}.shape = "
+                f"'{'square' if square else 'circle'}')",
+            )
+
+
 def build_sizing(design: Design) -> Any:
     """The :class:`optimize.hardware.Sizing` of the freed keys (None when nothing is free)."""
     from optimize import hardware as hw
@@ -297,16 +317,7 @@ def build_sizing(design: Design) -> Any:
     free = free_keys(design)
     if not free:
         return None
-    squares = [ax for ax in "xyz" if design.get(f"coils.{ax}.shape") == "square"]
-    if squares:  # the sizing NLP (optimize.hardware) models circular pairs only
-        key = next(iter(free))
-        raise InputError(
-            _FREE_PREFIX + key,
-            list(free[key]),
-            f"no free range while a pair is square (coils.{squares[0]}.shape = 'square'): "
-            "sizing hardware with square pairs is not supported yet; optimise at fixed "
-            "hardware (drop the free ranges) or make the pairs circles",
-        )
+    _check_free_sizes(design, free)
     variables = tuple(
         hw.FreeVariable(
             _HARDWARE_NAMES[k][0], lo * _HARDWARE_NAMES[k][1], hi * _HARDWARE_NAMES[k][1]

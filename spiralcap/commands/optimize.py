@@ -63,13 +63,6 @@ def parse_free(expr: str) -> str:
     parts = rng.split(":")
     if not sep or len(parts) != 2:
         raise InputError("--free", expr, "the form KEY=MIN:MAX, e.g. coils.x.turns=100:800")
-    if key.startswith("coils.") and key.endswith(".side_m"):
-        raise InputError(
-            "--free",
-            expr,
-            "a key that can be freed (sizing a square pair's side is not supported yet: set "
-            f"{key} to the side to rate, or free a circular pair's radius_m)",
-        )
     if key not in FREEABLE_KEYS:
         raise InputError("--free", expr, "a key that can be freed: " + ", ".join(FREEABLE_KEYS))
     try:
