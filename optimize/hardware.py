@@ -688,15 +688,56 @@ class HardwareStructure:
         return tuple(n for n in NAMES if n not in sizes)
 
     def size(self, hw: dict[str, Any], k: int) -> Any:
-        """Pair k's size expression (R, or the side a of a square pair), m."""
+        """Pair k's size expression: R, or the side a of a square pair.
+
+        Parameters
+        ----------
+        hw : dict of str to casadi.SX
+            The hardware expressions by name, in the unit each name carries.
+        k : int
+            The pair (0, 1, 2 for x, y, z), an index.
+
+        Returns
+        -------
+        casadi.SX
+            The size, m.
+        """
         return hw[size_name(AXES[k], self.square[k])]
 
     def reach(self, hw: dict[str, Any], k: int) -> Any:
-        """Distance from pair k's axis to the middle of its mean turn (R; a/2 for a square), m."""
+        """Distance from pair k's axis to the middle of its mean turn: R, or a/2 for a square.
+
+        Parameters
+        ----------
+        hw : dict of str to casadi.SX
+            The hardware expressions by name, in the unit each name carries.
+        k : int
+            The pair (0, 1, 2 for x, y, z), an index.
+
+        Returns
+        -------
+        casadi.SX
+            The distance, m.
+        """
         return 0.5 * self.size(hw, k) if self.square[k] else self.size(hw, k)
 
     def spacing(self, hw: dict[str, Any], k: int, separation: Any) -> Any:
-        """Pair k's separation: its size's Helmholtz spacing (R; 0.5445 a) or ``separation``."""
+        """Pair k's separation: its size's Helmholtz spacing (R; 0.5445 a) or ``separation``.
+
+        Parameters
+        ----------
+        hw : dict of str to casadi.SX
+            The hardware expressions by name, in the unit each name carries.
+        k : int
+            The pair (0, 1, 2 for x, y, z), an index.
+        separation : casadi.SX
+            The pair's fixed separation parameter, m (used without Helmholtz spacing).
+
+        Returns
+        -------
+        casadi.SX
+            The separation, m.
+        """
         if not self.helmholtz[k]:
             return separation
         from coils.square_pair import SQUARE_HELMHOLTZ_RATIO

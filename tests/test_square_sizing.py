@@ -267,16 +267,24 @@ def test_square_sizing_that_cannot_fit_exits_3_naming_the_rule() -> None:
     assert "coils.min_clearance_mm" in out or "limits.envelope_mm" in out, out
 
 
-def test_mixed_set_sizes_its_square_side(tmp_path) -> None:
+def test_mixed_set_sizes_its_square_side_under_a_copper_limit(tmp_path) -> None:
     out = tmp_path / "mixed.toml"
     argv = ["optimize", "--set", "coils.x.shape=square", "--set", "coils.x.side_m=0.95"]
-    res = run_json(
-        [*argv, *SIX_KEYS[:4], "--free", "coils.x.side_m=0.7:1.2", *LEAST_POWER, "-o", str(out)]
-    )
+    free = [*SIX_KEYS[:8], "--free", "coils.x.side_m=0.7:1.2"]
+    limit = ["--set", "limits.copper_mass_kg=150", "-o", str(out)]
+    res = run_json([*argv, *free, *LEAST_POWER, *limit])
     assert res["status"] == "optimal", res["message"]
+    assert "copper_mass" in {b["name"] for b in res["binding_limits"]}, "150 kg binds"
     design = load_design(out)
     assert design["coils.x.shape"] == "square" and 0.7 <= design["coils.x.side_m"] <= 1.2
     assert run_json(["evaluate", str(out)])["feasible"] is True
+    pairs = build_model(design).coils.pairs
+    turn = [4 * p.side_m if p.shape == "square" else 2 * math.pi * p.radius_m for p in pairs]
+    copper = sum(
+        COPPER_DENSITY_kg_m3 * 2 * p.turns * t * math.pi * p.wire_diameter_m**2 / 4
+        for p, t in zip(pairs, turn)
+    )
+    assert copper <= 150 * (1 + 1e-9), f"copper by hand {copper:.6f} kg within the 150 kg limit"
 
 
 @pytest.mark.parametrize(
