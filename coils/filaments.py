@@ -179,8 +179,7 @@ class AxisFilaments:
         """
         if bk.is_casadi(points, currents):
             return self._field_rows(points, currents, self._matrices(True))
-        currents = np.asarray(currents, dtype=float)
-        return self._by_chunk(points, (3,), lambda chunk: self._field_chunk(chunk, currents))
+        return self._by_chunk(points, (3,), self._field_chunk, np.asarray(currents, dtype=float))
 
     def field_matrix(self, points: np.ndarray) -> np.ndarray:
         """G(p), shape (n, 3, n_currents), T/A, with B(p) = G(p) @ I (numpy path).
@@ -198,15 +197,16 @@ class AxisFilaments:
         return self._by_chunk(points, (3, self.n_currents), self._matrix_chunk)
 
     def _by_chunk(
-        self, points: Any, shape: tuple[int, ...], one: Callable[[np.ndarray], np.ndarray]
+        self, points: Any, shape: tuple[int, ...], one: Callable[..., np.ndarray], *args: Any
     ) -> np.ndarray:
-        """``one(chunk)``, each of shape (len(chunk), *shape), over chunks of the (n, 3) points
-        of about ``_CHUNK_ELEMENTS`` point-filament pairs (at least 64 points), in one array."""
+        """``one(chunk, *args)``, each of shape (len(chunk), *shape), over chunks of the (n, 3)
+        points of about ``_CHUNK_ELEMENTS`` point-filament pairs (at least 64 points), in one
+        array."""
         points = np.asarray(points, dtype=float)
         out = np.empty((len(points), *shape))
         step = max(64, self._CHUNK_ELEMENTS // max(len(self.turns), 1))
         for start in range(0, len(points), step):
-            out[start : start + step] = one(points[start : start + step])
+            out[start : start + step] = one(points[start : start + step], *args)
         return out
 
     def _field_rows(self, points: Scalar, currents: Scalar, mats: dict[str, Any]) -> Scalar:
@@ -263,8 +263,7 @@ class FilamentSet(AxisFilaments):
             S in T/(A·m), T in T/A.
         """
         if not bk.is_casadi(points):
-            P = np.ascontiguousarray(np.asarray(points, dtype=float).T)
-            S, T = self._terms_rows(P)
+            S, T, _ = self._terms_rows(np.asarray(points, dtype=float))
             return S.T.copy(), T.T.copy()
         mats = self._matrices(True)
         zeta = points @ mats["sel_w"]
@@ -280,9 +279,8 @@ class FilamentSet(AxisFilaments):
 
     def _field_chunk(self, points: np.ndarray, currents: np.ndarray) -> np.ndarray:
         """B (n, 3), T, from the S and T rows of :meth:`_terms_rows` (in its scratch)."""
-        P, work = self._load(points)
-        S, T = self._terms_rows(P, work)
-        B = work["B"]
+        S, T, work = self._terms_rows(points)
+        P, B = work["P"], work["B"]
         np.multiply(P, currents.T @ S, out=B)
         T *= currents
         B += self._rows()["direction"] @ T
@@ -290,31 +288,27 @@ class FilamentSet(AxisFilaments):
 
     def _matrix_chunk(self, points: np.ndarray) -> np.ndarray:
         """G = p S^T + e_a T^T, shape (n, 3, n_currents), T/A."""
-        P, work = self._load(points)
-        S, T = self._terms_rows(P, work)
-        direction = self._rows()["direction"]
+        S, T, work = self._terms_rows(points)
+        P, direction = work["P"], self._rows()["direction"]
         G = P[:, None, :] * S[None, :, :] + direction[:, :, None] * T[None, :, :]
         return G.transpose(2, 0, 1)
 
-    def _load(self, points: np.ndarray) -> tuple[np.ndarray, dict[str, np.ndarray]]:
-        """The (n, 3) points as (3, n) rows in the scratch of :meth:`_workspace`, and it."""
-        work = self._workspace(len(points))
-        np.copyto(work["P"], points.T)
-        return work["P"], work
-
     def _terms_rows(
-        self, P: np.ndarray, work: dict[str, np.ndarray] | None = None
-    ) -> tuple[np.ndarray, np.ndarray]:
-        """S and T as (n_currents, n) rows for points given as (3, n) rows (numpy path).
+        self, points: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray, dict[str, np.ndarray]]:
+        """S and T as (n_currents, n) rows at (n, 3) points (numpy path), and the scratch.
 
         ρ² and ρ are computed once per axis (3 rows) and shared by every filament on that axis
         (both coils of a pair and all their quadrature nodes); the filament terms come from
         :func:`coils.loop.loop_terms_rows` with one row per filament. All filaments of a drive
-        column share its axis a_k, so T_k = Σ N_l b_z,l - p_{a_k} S_k. ``work`` holds the
-        buffers of :meth:`_workspace` for this n (results are views into it).
+        column share its axis a_k, so T_k = Σ N_l b_z,l - p_{a_k} S_k. S and T are views into
+        the buffers of :meth:`_workspace` for this n, returned with them (the points, as (3, n)
+        rows, in ``P``).
         """
         rows = self._rows()
-        w = self._workspace(P.shape[1]) if work is None else work
+        w = self._workspace(len(points))
+        P = w["P"]
+        np.copyto(P, points.T)
         P_sq, rho_sq3, rho3 = w["P_sq"], w["rho_sq3"], w["rho3"]
         np.multiply(P, P, out=P_sq)
         np.subtract(P_sq.sum(axis=0), P_sq, out=rho_sq3)  # distance² from the x, y, z axes
@@ -346,7 +340,7 @@ class FilamentSet(AxisFilaments):
         np.take(P, rows["column_axes"], axis=0, out=tmp)
         tmp *= S
         T -= tmp
-        return S, T
+        return S, T, w
 
     def _workspace(self, n: int) -> dict[str, np.ndarray]:
         """Buffers for :meth:`_terms_rows` on n points, reused chunk after chunk.
