@@ -1,11 +1,12 @@
-"""A set of coaxial-loop filaments along the x, y or z axis, and the field they make.
+"""Sets of filaments on the x, y and z axes, of any shape, and the field they make.
 
-Every coil in this package is a list of circular filaments, each with an axis (x, y or z), a
-radius, an axial centre, a number of turns and the drive current (column) it belongs to. The
-field of all of them at once is assembled here, once, for numpy point arrays and for CasADi
-row vectors alike.
+Every coil in this package is a list of filaments, each with an axis (x, y or z), a size, an
+axial centre, a number of turns and the drive current (column) it belongs to. What does not
+depend on the shape is written here once (:class:`AxisFilaments`: the constant matrices, the
+chunking of numpy points, the numpy or CasADi path); a shape adds its size and its closed-form
+field: circular loops here (:class:`FilamentSet`, radii), squares in :mod:`coils.square`.
 
-For a filament along axis a, a point p has axial coordinate ζ = p_a and the field per ampere is
+For a circular filament along axis a, a point p has axial coordinate ζ = p_a and the field per ampere is
 B = s (p - ζ e_a) + b_z e_a = s p + (b_z - s ζ) e_a with s = B_ρ/ρ (see :mod:`coils.loop`). Summed
 over the filaments of drive column k, with turns N_l,
 
@@ -19,7 +20,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any, Literal
+from typing import Any, ClassVar, Literal
 
 import numpy as np
 
@@ -27,7 +28,7 @@ from coils.loop import ROW_SCRATCH, loop_terms, loop_terms_rows
 from spiralcap.core import backend as bk
 from spiralcap.core.backend import Scalar
 
-__all__ = ["AXES", "FilamentSet", "gauss_legendre_pack"]
+__all__ = ["AXES", "AxisFilaments", "FilamentSet", "gauss_legendre_pack"]
 
 #: A coil axis, as the option strings the pairs and the design use.
 Axis = Literal["x", "y", "z"]
@@ -41,12 +42,6 @@ _WORK: dict[str, Any] = {}
 CHUNK_ELEMENTS = 49152
 
 
-def _each_chunk(n_points: int, step: int, fn: Callable[[int], None]) -> None:
-    """``fn(start)`` for every chunk start, in order."""
-    for start in range(0, n_points, step):
-        fn(start)
-
-
 def _groups(axes: np.ndarray) -> tuple[list[int], int] | None:
     """(axis of each group, filaments per group) if the filaments come in contiguous runs of
     equal length, one run per axis (every pair and system here); else None."""
@@ -57,11 +52,6 @@ def _groups(axes: np.ndarray) -> tuple[list[int], int] | None:
     if len(set(order)) != len(order) or np.any(counts != counts[0]):
         return None
     return order, int(counts[0])
-
-
-def _chunk(n_filaments: int) -> int:
-    """Points per chunk: about CHUNK_ELEMENTS point-filament pairs (8192 points for six loops)."""
-    return max(64, CHUNK_ELEMENTS // max(n_filaments, 1))
 
 
 def gauss_legendre_pack(
@@ -91,20 +81,27 @@ def gauss_legendre_pack(
     return dr.ravel(), dz.ravel(), w.ravel()
 
 
-@dataclass(frozen=True)
-class FilamentSet:
-    """Filaments l = 0..L-1 with axis, radius, axial centre, turns and drive column.
+@dataclass(frozen=True, kw_only=True)
+class AxisFilaments:
+    """Filaments l = 0..L-1 of one shape on the x, y and z axes, and the field they make.
+
+    What a set of filaments has whatever their shape: each lies in the plane p_a = centre of its
+    axis a, carries ``turns`` ampere-turns per ampere of the drive current ``columns`` picks,
+    and every filament of a drive column shares that column's axis. This class holds them, the
+    constant matrices built from them, the chunking of numpy points and the choice between the
+    numpy and the CasADi path; a subclass adds the filaments' size (a field named by
+    ``_SIZE_KEY``) and the shape's closed-form field: :class:`FilamentSet` (circles) and
+    :class:`coils.square.SquareFilamentSet` (squares). Keyword arguments only.
 
     Parameters
     ----------
     axes : ndarray of int, shape (L,)
         Axis index of each filament (0, 1, 2 for x, y, z).
-    radii_m : ndarray, shape (L,)
-        Filament radii, m.
     centres_m : ndarray, shape (L,)
         Axial coordinate of each filament's plane, m.
     turns : ndarray, shape (L,)
-        Ampere-turns per ampere of drive current (may be fractional for a quadrature node).
+        Ampere-turns per ampere of drive current, a count of turns (fractional for a
+        quadrature node).
     columns : ndarray of int, shape (L,)
         Drive current each filament carries (index into the current vector).
     column_axes : tuple of int
@@ -112,41 +109,145 @@ class FilamentSet:
     """
 
     axes: np.ndarray
-    radii_m: np.ndarray
     centres_m: np.ndarray
     turns: np.ndarray
     columns: np.ndarray
     column_axes: tuple[int, ...]
     _mats: dict = field(default_factory=dict, init=False, repr=False, compare=False)
 
+    #: The name of the subclass's field of filament sizes (a radius, a half side), m.
+    _SIZE_KEY: ClassVar[str]
+    #: Point-filament pairs per chunk of the numpy path (bounds the temporaries).
+    _CHUNK_ELEMENTS: ClassVar[int]
+
     @property
     def n_currents(self) -> int:
         """Number of drive currents, count."""
         return len(self.column_axes)
 
-    def _matrices(self, casadi: bool) -> dict[str, Scalar]:
+    def _matrices(self, casadi: bool) -> dict[str, Any]:
+        """Constant matrices of the field, numpy or CasADi ``DM`` (built once each).
+
+        ``sel_u``, ``sel_v``, ``sel_w`` (3, L) pick each filament's local coordinates
+        u = p_{a+1}, v = p_{a+2}, w = p_a from a point row; ``weights`` (L, k) holds the turns by
+        drive column, ``sizes`` and ``centres`` (1, L) the filaments' sizes and planes, m, and
+        ``direction`` (k, 3) each column's axis; :meth:`_shape_matrices` adds the shape's own.
+        """
         if casadi not in self._mats:
-            L, ncol = len(self.radii_m), self.n_currents
-            along = np.zeros((3, L))
-            along[self.axes, np.arange(L)] = 1.0
-            weights = np.zeros((L, ncol))
-            weights[np.arange(L), self.columns] = self.turns
-            direction = np.zeros((ncol, 3))
-            direction[np.arange(ncol), self.column_axes] = 1.0
+            L, idx = len(self.turns), np.arange(len(self.turns))
+            axes = np.asarray(self.axes, dtype=int)
+            weights = np.zeros((L, self.n_currents))
+            weights[idx, self.columns] = self.turns
+            direction = np.zeros((self.n_currents, 3))
+            direction[np.arange(self.n_currents), self.column_axes] = 1.0
             mats: dict[str, Any] = {
-                "along": along,
-                "across": 1.0 - along,
                 "weights": weights,
-                "radii": self.radii_m[None, :],
-                "centres": self.centres_m[None, :],
+                "sizes": np.asarray(getattr(self, self._SIZE_KEY), dtype=float)[None, :],
+                "centres": np.asarray(self.centres_m, dtype=float)[None, :],
                 "direction": direction,
             }
+            for name, shift in (("u", 1), ("v", 2), ("w", 0)):
+                select = np.zeros((3, L))
+                select[(axes + shift) % 3, idx] = 1.0
+                mats["sel_" + name] = select
+            mats.update(self._shape_matrices(mats))
             if casadi:
                 import casadi as ca
 
                 mats = {k: ca.DM(v) for k, v in mats.items()}
             self._mats[casadi] = mats
         return self._mats[casadi]
+
+    def _shape_matrices(self, mats: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+        """The shape's own constant matrices, from the common ones ``mats`` (none here)."""
+        return {}
+
+    def field(self, points: Scalar, currents: Scalar) -> Scalar:
+        """Field B = G(p) I, T, for numpy (n, 3) points or a CasADi (1, 3) row.
+
+        Parameters
+        ----------
+        points : ndarray (n, 3) or CasADi (1, 3)
+            Field points, m.
+        currents : ndarray or CasADi, shape (n_currents, 1)
+            Drive currents as a column, A.
+
+        Returns
+        -------
+        ndarray (n, 3) or CasADi (1, 3)
+            Magnetic flux density, T.
+        """
+        if bk.is_casadi(points, currents):
+            return self._field_rows(points, currents, self._matrices(True))
+        return self._by_chunk(points, (3,), self._field_chunk, np.asarray(currents, dtype=float))
+
+    def field_matrix(self, points: np.ndarray) -> np.ndarray:
+        """G(p), shape (n, 3, n_currents), T/A, with B(p) = G(p) @ I (numpy path).
+
+        Parameters
+        ----------
+        points : ndarray, shape (n, 3)
+            Field points, m.
+
+        Returns
+        -------
+        ndarray, shape (n, 3, n_currents)
+            Field per ampere of each drive current, T/A.
+        """
+        return self._by_chunk(points, (3, self.n_currents), self._matrix_chunk)
+
+    def _by_chunk(
+        self, points: Any, shape: tuple[int, ...], one: Callable[..., np.ndarray], *args: Any
+    ) -> np.ndarray:
+        """``one(chunk, *args)``, each of shape (len(chunk), *shape), over chunks of the (n, 3)
+        points of about ``_CHUNK_ELEMENTS`` point-filament pairs (at least 64 points), in one
+        array."""
+        points = np.asarray(points, dtype=float)
+        out = np.empty((len(points), *shape))
+        step = max(64, self._CHUNK_ELEMENTS // max(len(self.turns), 1))
+        for start in range(0, len(points), step):
+            out[start : start + step] = one(points[start : start + step], *args)
+        return out
+
+    def _field_rows(self, points: Scalar, currents: Scalar, mats: dict[str, Any]) -> Scalar:
+        """B, T, at rows of points, m, from the matrices ``mats`` of the same backend
+        (the shape's closed form, written once for numpy and CasADi)."""
+        raise NotImplementedError
+
+    def _field_chunk(self, points: np.ndarray, currents: np.ndarray) -> np.ndarray:
+        """B (n, 3), T, at a chunk of (n, 3) numpy points, m (:meth:`_field_rows` unless the
+        shape has a faster numpy path)."""
+        return self._field_rows(points, currents, self._matrices(False))
+
+    def _matrix_chunk(self, points: np.ndarray) -> np.ndarray:
+        """G (n, 3, n_currents), T/A, at a chunk of (n, 3) numpy points, m."""
+        raise NotImplementedError
+
+
+@dataclass(frozen=True, kw_only=True)
+class FilamentSet(AxisFilaments):
+    """Circular filaments: the loops of :class:`AxisFilaments` with a radius each.
+
+    The field is the module docstring's S/T form: the numpy path shares ρ per axis and keeps
+    its scratch from call to call (:meth:`_terms_rows`); the CasADi path is :meth:`terms`.
+
+    Parameters
+    ----------
+    radii_m : ndarray, shape (L,)
+        Filament radii, m.
+    axes, centres_m, turns, columns, column_axes : ndarray or tuple
+        As in :class:`AxisFilaments`: axis indices, axial centres (m), turns (a count) and drive
+        columns of the filaments, and the axis of each column.
+    """
+
+    radii_m: np.ndarray
+
+    _SIZE_KEY: ClassVar[str] = "radii_m"
+    _CHUNK_ELEMENTS: ClassVar[int] = CHUNK_ELEMENTS
+
+    def _shape_matrices(self, mats: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+        """``across`` (3, L): 1 on the two coordinates off each filament's axis."""
+        return {"across": 1.0 - mats["sel_w"]}
 
     def terms(self, points: Scalar) -> tuple[Scalar, Scalar]:
         """S and T of the module docstring at each point.
@@ -162,29 +263,52 @@ class FilamentSet:
             S in T/(A·m), T in T/A.
         """
         if not bk.is_casadi(points):
-            P = np.ascontiguousarray(np.asarray(points, dtype=float).T)
-            S, T = self._terms_rows(P)
+            S, T, _ = self._terms_rows(np.asarray(points, dtype=float))
             return S.T.copy(), T.T.copy()
         mats = self._matrices(True)
-        zeta = points @ mats["along"]
+        zeta = points @ mats["sel_w"]
         rho_sq = (points * points) @ mats["across"]
         rho = bk.sqrt_guarded(rho_sq)  # finite derivatives on the axis
-        s, b_z = loop_terms(mats["radii"], zeta - mats["centres"], rho, rho_sq)
+        s, b_z = loop_terms(mats["sizes"], zeta - mats["centres"], rho, rho_sq)
         return s @ mats["weights"], (b_z - s * zeta) @ mats["weights"]
 
+    def _field_rows(self, points: Scalar, currents: Scalar, mats: dict[str, Any]) -> Scalar:
+        """B = p (S I) + (T I) e_a, T (the CasADi path: :meth:`terms`)."""
+        S, T = self.terms(points)
+        return points * (S @ currents) + (T * currents.T) @ mats["direction"]
+
+    def _field_chunk(self, points: np.ndarray, currents: np.ndarray) -> np.ndarray:
+        """B (n, 3), T, from the S and T rows of :meth:`_terms_rows` (in its scratch)."""
+        S, T, work = self._terms_rows(points)
+        P, B = work["P"], work["B"]
+        np.multiply(P, currents.T @ S, out=B)
+        T *= currents
+        B += self._rows()["direction"] @ T
+        return B.T
+
+    def _matrix_chunk(self, points: np.ndarray) -> np.ndarray:
+        """G = p S^T + e_a T^T, shape (n, 3, n_currents), T/A."""
+        S, T, work = self._terms_rows(points)
+        P, direction = work["P"], self._rows()["direction"]
+        G = P[:, None, :] * S[None, :, :] + direction[:, :, None] * T[None, :, :]
+        return G.transpose(2, 0, 1)
+
     def _terms_rows(
-        self, P: np.ndarray, work: dict[str, np.ndarray] | None = None
-    ) -> tuple[np.ndarray, np.ndarray]:
-        """S and T as (n_currents, n) rows for points given as (3, n) rows (numpy path).
+        self, points: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray, dict[str, np.ndarray]]:
+        """S and T as (n_currents, n) rows at (n, 3) points (numpy path), and the scratch.
 
         ρ² and ρ are computed once per axis (3 rows) and shared by every filament on that axis
         (both coils of a pair and all their quadrature nodes); the filament terms come from
         :func:`coils.loop.loop_terms_rows` with one row per filament. All filaments of a drive
-        column share its axis a_k, so T_k = Σ N_l b_z,l - p_{a_k} S_k. ``work`` holds the
-        buffers of :meth:`_workspace` for this n (results are views into it).
+        column share its axis a_k, so T_k = Σ N_l b_z,l - p_{a_k} S_k. S and T are views into
+        the buffers of :meth:`_workspace` for this n, returned with them (the points, as (3, n)
+        rows, in ``P``).
         """
         rows = self._rows()
-        w = self._workspace(P.shape[1]) if work is None else work
+        w = self._workspace(len(points))
+        P = w["P"]
+        np.copyto(P, points.T)
         P_sq, rho_sq3, rho3 = w["P_sq"], w["rho_sq3"], w["rho3"]
         np.multiply(P, P, out=P_sq)
         np.subtract(P_sq.sum(axis=0), P_sq, out=rho_sq3)  # distance² from the x, y, z axes
@@ -216,7 +340,7 @@ class FilamentSet:
         np.take(P, rows["column_axes"], axis=0, out=tmp)
         tmp *= S
         T -= tmp
-        return S, T
+        return S, T, w
 
     def _workspace(self, n: int) -> dict[str, np.ndarray]:
         """Buffers for :meth:`_terms_rows` on n points, reused chunk after chunk.
@@ -255,83 +379,15 @@ class FilamentSet:
         return work
 
     def _rows(self) -> dict[str, np.ndarray]:
+        """The constant matrices of the numpy path, laid out for (3, n) point rows."""
         if "rows" not in self._mats:
-            weights = np.zeros((self.n_currents, len(self.radii_m)))
-            weights[self.columns, np.arange(len(self.radii_m))] = self.turns
+            mats = self._matrices(False)
             self._mats["rows"] = {
-                "radii": np.asarray(self.radii_m, dtype=float)[:, None],
-                "centres": np.asarray(self.centres_m, dtype=float)[:, None],
-                "weights": weights,
+                "radii": mats["sizes"].T.copy(),
+                "centres": mats["centres"].T.copy(),
+                "weights": mats["weights"].T.copy(),
                 "column_axes": np.asarray(self.column_axes, dtype=np.intp),
                 "groups": _groups(self.axes),
-                "direction": self._matrices(False)["direction"].T.copy(),
+                "direction": mats["direction"].T.copy(),
             }
         return self._mats["rows"]
-
-    def field(self, points: Scalar, currents: Scalar) -> Scalar:
-        """Field B = G(p) I, T, for numpy (n, 3) points or a CasADi (1, 3) row.
-
-        Parameters
-        ----------
-        points : ndarray (n, 3) or CasADi (1, 3)
-            Field points, m.
-        currents : ndarray or CasADi, shape (n_currents, 1)
-            Drive currents as a column, A.
-
-        Returns
-        -------
-        ndarray (n, 3) or CasADi (1, 3)
-            Magnetic flux density, T.
-        """
-        if bk.is_casadi(points):
-            S, T = self.terms(points)
-            direction = self._matrices(True)["direction"]
-            return points * (S @ currents) + (T * currents.T) @ direction
-        points = np.asarray(points, dtype=float)
-        currents = np.asarray(currents, dtype=float)
-        direction = self._rows()["direction"]
-        out = np.empty((len(points), 3))
-        step = _chunk(len(self.radii_m))
-
-        def one(start: int) -> None:
-            chunk = points[start : start + step]
-            work = self._workspace(len(chunk))
-            P, B = work["P"], work["B"]
-            np.copyto(P, chunk.T)
-            S, T = self._terms_rows(P, work)
-            np.multiply(P, currents.T @ S, out=B)
-            T *= currents
-            B += direction @ T
-            out[start : start + step] = B.T
-
-        _each_chunk(len(points), step, one)
-        return out
-
-    def field_matrix(self, points: np.ndarray) -> np.ndarray:
-        """G(p), shape (n, 3, n_currents), T/A, with B(p) = G(p) @ I (numpy path).
-
-        Parameters
-        ----------
-        points : ndarray, shape (n, 3)
-            Field points, m.
-
-        Returns
-        -------
-        ndarray, shape (n, 3, n_currents)
-            Field per ampere of each drive current, T/A.
-        """
-        out = np.empty((len(points), 3, self.n_currents))
-        direction = self._rows()["direction"]
-        step = _chunk(len(self.radii_m))
-
-        def one(start: int) -> None:
-            chunk = points[start : start + step]
-            work = self._workspace(len(chunk))
-            P = work["P"]
-            np.copyto(P, chunk.T)
-            S, T = self._terms_rows(P, work)
-            G = P[:, None, :] * S[None, :, :] + direction[:, :, None] * T[None, :, :]
-            out[start : start + step] = G.transpose(2, 0, 1)
-
-        _each_chunk(len(points), step, one)
-        return out

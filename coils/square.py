@@ -39,11 +39,14 @@ same sense) and four pairs of opposite sides (distance sqrt((h1+h2)² + z²), op
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-from typing import Any
+import operator
+from dataclasses import dataclass
+from functools import reduce
+from typing import Any, ClassVar
 
 import numpy as np
 
+from coils.filaments import AxisFilaments
 from spiralcap.core import backend as bk
 from spiralcap.core.backend import Scalar
 from spiralcap.core.constants import MU0_T_m_per_A
@@ -55,9 +58,6 @@ __all__ = [
     "square_field_local",
     "square_mutual_inductance_H",
 ]
-
-#: Points per chunk of the numpy field (times the filaments: bounds the temporaries).
-_CHUNK_ELEMENTS = 65536
 
 
 def _segment_factor(a: Scalar, b: Scalar, length: Scalar) -> Scalar:
@@ -170,108 +170,41 @@ def square_mutual_inductance_H(
     )
 
 
-@dataclass(frozen=True)
-class SquareFilamentSet:
-    """Square filaments l = 0..L-1 with axis, half side, axial centre, turns and drive column.
+@dataclass(frozen=True, kw_only=True)
+class SquareFilamentSet(AxisFilaments):
+    """Square filaments: the filaments of :class:`coils.filaments.AxisFilaments` with a half
+    side each, in their local frames (u, v, w) (see the module notes).
 
-    The square counterpart of :class:`coils.filaments.FilamentSet` (same fields with half
-    sides for radii, same ``field``/``field_matrix``): one code path for numpy (n, 3) points
-    and CasADi (1, 3) rows, the local coordinates picked by constant selection matrices.
+    One code path for numpy (n, 3) points and CasADi (1, 3) rows (:meth:`_field_rows`), the
+    local coordinates picked by the constant selection matrices.
 
     Parameters
     ----------
-    axes : ndarray of int, shape (L,)
-        Axis index of each filament (0, 1, 2 for x, y, z).
     half_sides_m : ndarray, shape (L,)
         Half side of each square, m.
-    centres_m : ndarray, shape (L,)
-        Axial coordinate of each filament's plane, m.
-    turns : ndarray, shape (L,)
-        Ampere-turns per ampere of drive current, a count of turns (fractional for a
-        quadrature node).
-    columns : ndarray of int, shape (L,)
-        Column index of the drive current each filament carries.
-    column_axes : tuple of int
-        Axis index of each drive column (0, 1, 2 for x, y, z).
+    axes, centres_m, turns, columns, column_axes : ndarray or tuple
+        As in :class:`coils.filaments.AxisFilaments`: axis indices, axial centres (m), turns
+        (a count) and drive columns of the filaments, and the axis of each column.
     """
 
-    axes: np.ndarray
     half_sides_m: np.ndarray
-    centres_m: np.ndarray
-    turns: np.ndarray
-    columns: np.ndarray
-    column_axes: tuple[int, ...]
-    _mats: dict = field(default_factory=dict, init=False, repr=False, compare=False)
 
-    @property
-    def n_currents(self) -> int:
-        """Number of drive currents."""
-        return len(self.column_axes)
+    _SIZE_KEY: ClassVar[str] = "half_sides_m"
+    _CHUNK_ELEMENTS: ClassVar[int] = 65536
 
-    def _matrices(self, casadi: bool) -> dict[str, Any]:
-        """Selection (3, L) of u, v, w; placement (L, 3) of B_u, B_v, B_w; turns (L, k)."""
-        if casadi not in self._mats:
-            L = len(self.half_sides_m)
-            idx = np.arange(L)
-            axes = np.asarray(self.axes, dtype=int)
-            mats: dict[str, Any] = {}
-            for name, comp in (("u", (axes + 1) % 3), ("v", (axes + 2) % 3), ("w", axes)):
-                select = np.zeros((3, L))
-                select[comp, idx] = 1.0
-                mats["sel_" + name] = select
-                mats["put_" + name] = select.T.copy()
-            weights = np.zeros((L, self.n_currents))
-            weights[idx, self.columns] = self.turns
-            mats["weights"] = weights
-            mats["half"] = np.asarray(self.half_sides_m, dtype=float)[None, :]
-            mats["centres"] = np.asarray(self.centres_m, dtype=float)[None, :]
-            if casadi:
-                import casadi as ca
-
-                mats = {k: ca.DM(v) for k, v in mats.items()}
-            self._mats[casadi] = mats
-        return self._mats[casadi]
+    def _shape_matrices(self, mats: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+        """``put_u``, ``put_v``, ``put_w`` (L, 3): where B_u, B_v, B_w of each filament go."""
+        return {"put_" + c: mats["sel_" + c].T.copy() for c in "uvw"}
 
     def _local(self, points: Scalar, mats: dict[str, Any]) -> tuple[Scalar, Scalar, Scalar]:
         """(B_u, B_v, B_w) per ampere of every filament at every point, shape (n, L)."""
         u = points @ mats["sel_u"]
         v = points @ mats["sel_v"]
         w = points @ mats["sel_w"] - mats["centres"]
-        return square_field_local(mats["half"], u, v, w)
-
-    def field(self, points: Scalar, currents: Scalar) -> Scalar:
-        """Field B, T, for numpy (n, 3) points or a CasADi (1, 3) row.
-
-        Parameters
-        ----------
-        points : ndarray (n, 3) or CasADi (1, 3)
-            Field points, m.
-        currents : ndarray or CasADi, shape (n_currents, 1)
-            Drive currents as a column, A.
-
-        Returns
-        -------
-        ndarray (n, 3) or CasADi (1, 3)
-            Magnetic flux density, T.
-        """
-        casadi = bk.is_casadi(points, currents)
-        mats = self._matrices(casadi)
-        if casadi:
-            return self._field_rows(points, currents, mats)
-        points = np.asarray(points, dtype=float)
-        currents = np.asarray(currents, dtype=float)
-        out = np.empty((len(points), 3))
-        for chunk in self._chunks(len(points)):
-            out[chunk] = self._field_rows(points[chunk], currents, mats)
-        return out
-
-    def _chunks(self, n: int) -> list[slice]:
-        """Slices of ``n`` points whose (points x filaments) blocks stay near
-        :data:`_CHUNK_ELEMENTS` (at least 64 points each)."""
-        step = max(64, _CHUNK_ELEMENTS // max(len(self.half_sides_m), 1))
-        return [slice(start, start + step) for start in range(0, n, step)]
+        return square_field_local(mats["sizes"], u, v, w)
 
     def _field_rows(self, points: Scalar, currents: Scalar, mats: dict[str, Any]) -> Scalar:
+        """B, T: the local fields times each filament's ampere-turns, put in place."""
         b_u, b_v, b_w = self._local(points, mats)
         amp_turns = (mats["weights"] @ currents).T  # (1, L)
         return (
@@ -280,31 +213,16 @@ class SquareFilamentSet:
             + (b_w * amp_turns) @ mats["put_w"]
         )
 
-    def field_matrix(self, points: np.ndarray) -> np.ndarray:
-        """G(p), shape (n, 3, n_currents), T/A, with B(p) = G(p) @ I (numpy path).
-
-        Parameters
-        ----------
-        points : ndarray, shape (n, 3)
-            Field points, m.
-
-        Returns
-        -------
-        ndarray, shape (n, 3, n_currents)
-            Field per ampere of each drive current, T/A.
-        """
-        points = np.asarray(points, dtype=float)
+    def _matrix_chunk(self, points: np.ndarray) -> np.ndarray:
+        """G, shape (n, 3, n_currents), T/A: the local fields put in place, by drive column."""
         mats = self._matrices(False)
-        out = np.empty((len(points), 3, self.n_currents))
         weights = mats["weights"]
-        for chunk in self._chunks(len(points)):
-            b_u, b_v, b_w = self._local(points[chunk], mats)
-            out[chunk] = (
-                np.einsum("nl,li,lk->nik", b_u, mats["put_u"], weights)
-                + np.einsum("nl,li,lk->nik", b_v, mats["put_v"], weights)
-                + np.einsum("nl,li,lk->nik", b_w, mats["put_w"], weights)
-            )
-        return out
+        b_u, b_v, b_w = self._local(points, mats)
+        return (
+            np.einsum("nl,li,lk->nik", b_u, mats["put_u"], weights)
+            + np.einsum("nl,li,lk->nik", b_v, mats["put_v"], weights)
+            + np.einsum("nl,li,lk->nik", b_w, mats["put_w"], weights)
+        )
 
 
 @dataclass(frozen=True)
@@ -331,39 +249,11 @@ class MixedFilamentSet:
         return len(self.column_axes)
 
     def field(self, points: Scalar, currents: Scalar) -> Scalar:
-        """Sum of the parts' fields, T (numpy (n, 3) points or a CasADi (1, 3) row).
-
-        Parameters
-        ----------
-        points : ndarray (n, 3) or CasADi (1, 3)
-            Field points, m.
-        currents : ndarray or CasADi, shape (n_currents, 1)
-            Drive currents as a column, A.
-
-        Returns
-        -------
-        ndarray (n, 3) or CasADi (1, 3)
-            Magnetic flux density, T.
-        """
-        total = self.parts[0].field(points, currents)
-        for part in self.parts[1:]:
-            total = total + part.field(points, currents)
-        return total
+        return reduce(operator.add, (part.field(points, currents) for part in self.parts))
 
     def field_matrix(self, points: np.ndarray) -> np.ndarray:
-        """Sum of the parts' G(p), shape (n, 3, n_currents), T/A.
+        return reduce(operator.add, (part.field_matrix(points) for part in self.parts))
 
-        Parameters
-        ----------
-        points : ndarray, shape (n, 3)
-            Field points, m.
-
-        Returns
-        -------
-        ndarray, shape (n, 3, n_currents)
-            Field per ampere of each drive current, T/A.
-        """
-        total = self.parts[0].field_matrix(points)
-        for part in self.parts[1:]:
-            total = total + part.field_matrix(points)
-        return total
+    # the parts' sum, documented as theirs
+    field.__doc__ = AxisFilaments.field.__doc__
+    field_matrix.__doc__ = AxisFilaments.field_matrix.__doc__

@@ -259,6 +259,15 @@ def test_filament_order_does_not_matter(nested_system) -> None:
     assert np.allclose(fs.field_matrix(pts), shuffled.field_matrix(pts), rtol=1e-13, atol=1e-18)
 
 
+def test_filament_sets_take_keywords_only(nested_system) -> None:
+    """The size field comes last in a filament set (after the shared ones of
+    coils.filaments.AxisFilaments): a positional call would put it in the wrong place, so none
+    is taken."""
+    fs = nested_system.filament_set
+    with pytest.raises(TypeError):
+        type(fs)(fs.axes, fs.radii_m, fs.centres_m, fs.turns, fs.columns, fs.column_axes)
+
+
 def _thick_solenoid_centre_field(pair: coils.HelmholtzPair) -> float:
     """Centre field per ampere of the two packs with uniform current density, closed form.
 
