@@ -87,12 +87,6 @@ class LimitTerm:
 _AXES = ("x", "y", "z")
 
 
-#: pair_states already built, per Constants object: key -> (the Constants, the states). Within
-#: one NLP build the same field node asks twice (the limits and the loss rows); with numbers
-#: the same scalar field recurs across the caps.
-_STATES: dict[tuple, tuple[Any, list[Any]]] = {}
-
-
 def _field_key(x: Any) -> Any:
     if bk.is_casadi(x):
         return ("node", x.element_hash()) if x.numel() == 1 else None
@@ -126,16 +120,20 @@ def pair_states(
     """
     from coils.thermal_system import pair_temperatures
 
+    # kept in the constants' own memo (Constants.memo.states): within one NLP build the same
+    # field node asks twice (the limits and the loss rows); with numbers the same scalar field
+    # recurs across the caps
+    memo: dict = getattr(getattr(c, "memo", None), "states", {})
     fk, ak = _field_key(field_T), _field_key(ambient_temperature_C)
-    key = None if fk is None or ak is None else (id(c), fk, ak)
+    key = None if fk is None or ak is None else (fk, ak)
     if key is not None:
-        hit = _STATES.get(key)
-        if hit is not None and hit[0] is c:
-            return hit[1]
+        hit = memo.get(key)
+        if hit is not None:
+            return hit
         if only is not None:
-            hit = _STATES.get((*key, only))
-            if hit is not None and hit[0] is c:
-                return hit[1]
+            hit = memo.get((*key, only))
+            if hit is not None:
+                return hit
     per = c.current_per_tesla_A_per_T
     states = pair_temperatures(
         c.packs,
@@ -147,9 +145,9 @@ def pair_states(
         only,
     )
     if key is not None:
-        if len(_STATES) > 512:
-            _STATES.clear()
-        _STATES[key if only is None else (*key, only)] = (c, states)
+        if len(memo) > 512:
+            memo.clear()
+        memo[key if only is None else (*key, only)] = states
     return states
 
 
@@ -565,11 +563,6 @@ def _brent_below(value: Any, allowed: float, lo: float, hi: float) -> float:
     return root
 
 
-#: Field caps already solved, per Constants object: key -> (the Constants, the cap). The key
-#: holds ``id(c)`` and the stored object is compared with ``is``, so a recycled id never hits.
-_HOT_SPOT_CAPS: dict[tuple, tuple[Any, np.ndarray]] = {}
-
-
 #: Largest frequency grid whose voltage caps are kept (the curves' and searches' grids are
 #: a few hundred points).
 _CACHED_SIZE = 4096
@@ -579,27 +572,36 @@ def _array_key(x: np.ndarray) -> tuple:
     return (x.tobytes(), x.shape)
 
 
-def _cached_cap(c: Constants, key: tuple, solve: Any) -> Any:
-    """``solve()`` memoised under ``key`` for the Constants object ``c`` (the same numbers:
-    the caps are deterministic functions of ``c`` and the key)."""
-    key = (id(c), *key)
-    hit = _HOT_SPOT_CAPS.get(key)
-    if hit is not None and hit[0] is c:
-        return hit[1]
+def _memoised(memo: dict | None, key: tuple, solve: Any) -> Any:
+    """``solve()``, kept in the caller's ``memo`` under ``key`` (None: solved, not kept).
+
+    The caps are deterministic functions of the constants the memo belongs to and the key
+    (``Constants.memo.caps``), so a hit is the same numbers.
+    """
+    if memo is None:
+        return solve()
+    hit = memo.get(key)
+    if hit is not None:
+        return hit
     cap = solve()
     if isinstance(cap, np.ndarray):
-        cap.setflags(write=False)  # shared by every caller: read-only
-    if len(_HOT_SPOT_CAPS) > 256:
-        _HOT_SPOT_CAPS.clear()
-    _HOT_SPOT_CAPS[key] = (c, cap)
+        cap.setflags(write=False)  # shared by every later caller: read-only
+    if len(memo) > 256:
+        memo.clear()
+    memo[key] = cap
     return cap
 
 
 def _hot_spot_cap_T(
-    k: int, c: Constants, allowed_K: Any, ambient_temperature_C: float, surface: bool = False
+    k: int,
+    c: Constants,
+    allowed_K: Any,
+    ambient_temperature_C: float,
+    surface: bool = False,
+    memo: dict | None = None,
 ) -> Any:
     """Largest centre field the hot-spot (``surface``: the hottest face point) limit of axis k
-    allows (bisection; cached per model)."""
+    allows (bisection; kept in the caller's ``memo``)."""
     allowed = np.asarray(allowed_K, dtype=float)
     per_amp = float(c.current_per_tesla_A_per_T[k])
     if per_amp <= 0:  # an axis no heading uses carries no current: no cap
@@ -612,19 +614,21 @@ def _hot_spot_cap_T(
         return hot_spot_rise_K(b * per_amp, k, c, ambient_temperature_C)
 
     key = (k, surface, *_array_key(allowed), float(ambient_temperature_C))
-    return _cached_cap(c, key, lambda: _bisect_field_T(value, allowed, allowed.shape))
+    return _memoised(memo, key, lambda: _bisect_field_T(value, allowed, allowed.shape))
 
 
-def _power_cap_T(c: Constants, allowed_W: Any, ambient_temperature_C: float) -> Any:
+def _power_cap_T(
+    c: Constants, allowed_W: Any, ambient_temperature_C: float, memo: dict | None = None
+) -> Any:
     """Largest centre field the copper-power limit allows (bisection; depends on B0 only).
 
-    The loss at each scalar field tried is memoised per Constants object and ambient: every
+    The loss at each scalar field tried is kept in the caller's ``memo`` per ambient: every
     budget's search brackets its root from the same fields (1, 2, 4, ... mT), so a sweep over
     the power limit solves those once.
     """
     allowed = np.asarray(allowed_W, dtype=float)
     amb = float(ambient_temperature_C)
-    losses: dict[float, float] = _cached_cap(c, ("losses", amb), dict)
+    losses: dict[float, float] = _memoised(memo, ("losses", amb), dict)
 
     def loss(b: Any) -> Any:
         if np.ndim(b) != 0:
@@ -637,12 +641,15 @@ def _power_cap_T(c: Constants, allowed_W: Any, ambient_temperature_C: float) -> 
         return losses[key]
 
     key = ("power", *_array_key(allowed), amb)
-    return _cached_cap(c, key, lambda: _bisect_field_T(loss, allowed, allowed.shape))
+    return _memoised(memo, key, lambda: _bisect_field_T(loss, allowed, allowed.shape))
 
 
-def _channel_power_cap_T(k: int, c: Constants, allowed_W: Any, ambient_temperature_C: float) -> Any:
+def _channel_power_cap_T(
+    k: int, c: Constants, allowed_W: Any, ambient_temperature_C: float, memo: dict | None = None
+) -> Any:
     """Largest centre field pair k's own channel power limit allows, R(I) I² / 2 <= P
-    (bisection; the resistance at the pair's self-consistent mean temperature; cached)."""
+    (bisection; the resistance at the pair's self-consistent mean temperature; kept in
+    ``memo``)."""
     allowed = np.asarray(allowed_W, dtype=float)
     per_amp = float(c.current_per_tesla_A_per_T[k])
     if per_amp <= 0:
@@ -653,15 +660,20 @@ def _channel_power_cap_T(k: int, c: Constants, allowed_W: Any, ambient_temperatu
         return 0.5 * winding_resistance_ohm(current, k, c, ambient_temperature_C) * current**2
 
     key = ("channel_power", k, *_array_key(allowed), float(ambient_temperature_C))
-    return _cached_cap(c, key, lambda: _bisect_field_T(value, allowed, allowed.shape))
+    return _memoised(memo, key, lambda: _bisect_field_T(value, allowed, allowed.shape))
 
 
 def _voltage_cap_T(
-    k: int, frequency_hz: Any, c: Constants, allowed_V: Any, ambient_temperature_C: float
+    k: int,
+    frequency_hz: Any,
+    c: Constants,
+    allowed_V: Any,
+    ambient_temperature_C: float,
+    memo: dict | None = None,
 ) -> Any:
     """Largest centre field the drive voltage of axis k allows, |Z(R(I))| I = V (numpy).
 
-    Cached per Constants object, frequencies, voltage and ambient (:func:`_voltage_cap_solve`):
+    Kept in the caller's ``memo`` per frequencies, voltage and ambient (:func:`_voltage_cap_solve`):
     the sweeps, curves and searches ask for the same frequencies again and again (large
     one-off grids, such as a vectorised sweep's, are solved without keeping them).
     """
@@ -670,7 +682,7 @@ def _voltage_cap_T(
     if max(f.size, volt.size) > _CACHED_SIZE:
         return _voltage_cap_solve(k, f, c, volt, ambient_temperature_C)
     key = ("voltage", k, *_array_key(f), *_array_key(volt), float(ambient_temperature_C))
-    return _cached_cap(c, key, lambda: _voltage_cap_solve(k, f, c, volt, ambient_temperature_C))
+    return _memoised(memo, key, lambda: _voltage_cap_solve(k, f, c, volt, ambient_temperature_C))
 
 
 def _voltage_cap_solve(
@@ -731,12 +743,18 @@ def _voltage_cap_solve(
 
 
 def field_capacity_T(
-    frequency_hz: Any, c: Constants, limits: Limits, ambient_temperature_C: float
+    frequency_hz: Any,
+    c: Constants,
+    limits: Limits,
+    ambient_temperature_C: float,
+    memo: dict | None = None,
 ) -> tuple[Any, list[Any], list[LimitTerm]]:
     """Largest centre field each limit allows at ``f`` (numpy only): (min, caps, unit terms).
 
     Power-law terms invert in closed form; the session hot-spot term (``power`` None) by a
-    vectorised bisection on the same expression (:func:`_bisect_field_T`).
+    vectorised bisection on the same expression (:func:`_bisect_field_T`). The searched caps
+    are kept in ``memo`` when the caller gives one (the constants' own,
+    ``Constants.memo.caps``): the same numbers, solved once per constants.
 
     Parameters
     ----------
@@ -748,6 +766,9 @@ def field_capacity_T(
         The limits, SI.
     ambient_temperature_C : float
         Ambient air, °C.
+    memo : dict or None
+        The caller's memo of searched caps for ``c`` (T, keyed by limit and inputs), or None
+        (solved, not kept).
 
     Returns
     -------
@@ -769,20 +790,26 @@ def field_capacity_T(
                     t.allowed,
                     ambient_temperature_C,
                     surface=t.name.startswith("surface_"),
+                    memo=memo,
                 )
             )
             continue
         if t.power is None and t.name == "power":
-            caps.append(_power_cap_T(c, t.allowed, ambient_temperature_C))
+            caps.append(_power_cap_T(c, t.allowed, ambient_temperature_C, memo))
             continue
         if t.power is None and t.name.startswith("axis_power_"):
             k = _AXES.index(t.name[-1])
-            caps.append(_channel_power_cap_T(k, c, t.allowed, ambient_temperature_C))
+            caps.append(_channel_power_cap_T(k, c, t.allowed, ambient_temperature_C, memo))
             continue
         if t.power is None:  # voltage with the self-consistent resistance
             caps.append(
                 _voltage_cap_T(
-                    _AXES.index(t.name[-1]), frequency_hz, c, t.allowed, ambient_temperature_C
+                    _AXES.index(t.name[-1]),
+                    frequency_hz,
+                    c,
+                    t.allowed,
+                    ambient_temperature_C,
+                    memo,
                 )
             )
             continue
@@ -811,7 +838,11 @@ class FieldCapacity:
 
 
 def field_capacity(
-    frequency_hz: float, c: Constants, limits: Limits, ambient_temperature_C: float
+    frequency_hz: float,
+    c: Constants,
+    limits: Limits,
+    ambient_temperature_C: float,
+    memo: dict | None = None,
 ) -> FieldCapacity:
     """:func:`field_capacity_T` at one frequency with the binding limit named (computed once).
 
@@ -825,13 +856,15 @@ def field_capacity(
         The limits, SI.
     ambient_temperature_C : float
         Ambient air, °C.
+    memo : dict or None
+        The caller's memo of searched caps for ``c`` (T), or None (:func:`field_capacity_T`).
 
     Returns
     -------
     FieldCapacity
         The field (T) and the binding limit.
     """
-    best, caps, terms = field_capacity_T(frequency_hz, c, limits, ambient_temperature_C)
+    best, caps, terms = field_capacity_T(frequency_hz, c, limits, ambient_temperature_C, memo)
     values = [float(x) for x in caps]
     i = int(np.argmin(values))
     return FieldCapacity(
