@@ -95,6 +95,44 @@ CASES: list = [
 ]
 
 
+@pytest.fixture(scope="module", autouse=True)
+def _each_design_solved_once():
+    """Most cases compare the built-in design with a variant of it: each design's model,
+    evaluation and optimum (``compare_designs``' own steps) are computed once per module, by
+    the design's hash and source, so a case pays for its variant only."""
+    import optimize
+    import spiralcap.assemble as assemble
+
+    real = (assemble.build_model, optimize.evaluate, optimize.optimize_design)
+    models: dict = {}
+    solved: dict = {}  # (step, id(model)) -> (model, its result): the model kept, its id unique
+
+    def build_model(design, *args, **kw):
+        if args or kw:
+            return real[0](design, *args, **kw)
+        key = (design.sha256(), str(design.source))
+        if key not in models:
+            models[key] = optimize.prepare(real[0](design))
+        return models[key]
+
+    def once(step: int):
+        def solve(model, *args, **kw):
+            if args or kw:
+                return real[step](model, *args, **kw)
+            key = (step, id(model))
+            if key not in solved:
+                solved[key] = (model, real[step](model))
+            return solved[key][1]
+
+        return solve
+
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(assemble, "build_model", build_model)
+        mp.setattr(optimize, "evaluate", once(1))
+        mp.setattr(optimize, "optimize_design", once(2))
+        yield
+
+
 def _ids() -> list[str]:
     return [" ".join(getattr(c, "values", [c])[0])[:70] for c in CASES]
 
