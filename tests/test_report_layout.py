@@ -46,7 +46,14 @@ def builtin(tmp_path_factory: pytest.TempPathFactory) -> Path:
 
 @pytest.fixture(scope="module")
 def sizing(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    return _report(tmp_path_factory.mktemp("sizing"), None, SIZING)
+    """The sizing report with its power sweep at the five first budgets only (no adaptive
+    refinement: each point is a six-key sizing). Its own pages are the sizing tables; a power
+    table of refined rows is laid out in the built-in and robust reports."""
+    from spiralcap.curves import adaptive_power_sweep
+
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setitem(adaptive_power_sweep.__kwdefaults__, "refinements", 0)
+        return _report(tmp_path_factory.mktemp("sizing"), None, SIZING)
 
 
 @pytest.fixture(scope="module")
