@@ -95,17 +95,23 @@ CASES: list = [
 ]
 
 
-@pytest.fixture(scope="module", autouse=True)
-def _each_design_solved_once():
+@pytest.fixture(scope="module")
+def _solved() -> tuple[dict, dict]:
+    """The designs' models by (hash, source), and each step's result by (step, id(model))."""
+    return {}, {}
+
+
+@pytest.fixture
+def each_design_solved_once(_solved, monkeypatch):
     """Most cases compare the built-in design with a variant of it: each design's model,
     evaluation and optimum (``compare_designs``' own steps) are computed once per module, by
-    the design's hash and source, so a case pays for its variant only."""
+    the design's hash and source, so a case pays for its variant only. (``build_model`` then
+    returns a prepared model: right for ``compare_designs`` only, which prepares it at once.)"""
     import optimize
     import spiralcap.assemble as assemble
 
     real = (assemble.build_model, optimize.evaluate, optimize.optimize_design)
-    models: dict = {}
-    solved: dict = {}  # (step, id(model)) -> (model, its result): the model kept, its id unique
+    models, solved = _solved  # solved: (step, id(model)) -> (model kept: its id unique, result)
 
     def build_model(design, *args, **kw):
         if args or kw:
@@ -126,11 +132,9 @@ def _each_design_solved_once():
 
         return solve
 
-    with pytest.MonkeyPatch.context() as mp:
-        mp.setattr(assemble, "build_model", build_model)
-        mp.setattr(optimize, "evaluate", once(1))
-        mp.setattr(optimize, "optimize_design", once(2))
-        yield
+    monkeypatch.setattr(assemble, "build_model", build_model)
+    monkeypatch.setattr(optimize, "evaluate", once(1))
+    monkeypatch.setattr(optimize, "optimize_design", once(2))
 
 
 def _ids() -> list[str]:
@@ -138,12 +142,14 @@ def _ids() -> list[str]:
 
 
 @pytest.mark.slow
+@pytest.mark.usefixtures("each_design_solved_once")
 @pytest.mark.parametrize("extra", CASES, ids=_ids())
 def test_compare_json_is_schema_valid(extra):
     _check(["compare", "builtin", "builtin", *extra])
 
 
 @pytest.mark.slow
+@pytest.mark.usefixtures("each_design_solved_once")
 @pytest.mark.parametrize("which", ["fitted", "p05", "both"])
 def test_compare_files_with_fit_and_margin_p05_tables(tmp_path, which):
     """`compare base.toml fitted_layered.toml` exits 0 (#20 item 5); a margin_p05 design that
