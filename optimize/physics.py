@@ -620,25 +620,13 @@ def _hot_spot_cap_T(
 def _power_cap_T(
     c: Constants, allowed_W: Any, ambient_temperature_C: float, memo: dict | None = None
 ) -> Any:
-    """Largest centre field the copper-power limit allows (bisection; depends on B0 only).
-
-    The loss at each scalar field tried is kept in the caller's ``memo`` per ambient: every
-    budget's search brackets its root from the same fields (1, 2, 4, ... mT), so a sweep over
-    the power limit solves those once.
-    """
+    """Largest centre field the copper-power limit allows (bisection; depends on B0 only;
+    kept in the caller's ``memo``)."""
     allowed = np.asarray(allowed_W, dtype=float)
     amb = float(ambient_temperature_C)
-    losses: dict[float, float] = _memoised(memo, ("losses", amb), dict)
 
-    def loss(b: Any) -> Any:
-        if np.ndim(b) != 0:
-            return total_loss_W(b, c, amb)
-        key = float(b)
-        if key not in losses:
-            if len(losses) > 4096:
-                losses.clear()
-            losses[key] = float(total_loss_W(key, c, amb))
-        return losses[key]
+    def loss(b: Any) -> Any:  # a single field as a float (the scalar path of the thermal model)
+        return total_loss_W(b if np.ndim(b) != 0 else float(b), c, amb)
 
     key = ("power", *_array_key(allowed), amb)
     return _memoised(memo, key, lambda: _bisect_field_T(loss, allowed, allowed.shape))
