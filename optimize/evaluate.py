@@ -304,10 +304,7 @@ def margin_grid(
     model = prepare(model)
     c = model.constants
     alpha, f = np.broadcast_arrays(np.asarray(alpha_rad, float), np.asarray(frequency_hz, float))
-    field = np.asarray(
-        ph.field_capacity_T(f, c, model.limits, model.ambient_temperature_C, c.memo.caps)[0],
-        dtype=float,
-    )
+    field = _capacity_T(model, f)
     within = np.ones(field.shape, dtype=bool)
     if model.field_amplitude_T is not None and not capacity:
         within = model.field_amplitude_T <= field * (1 + FEASIBILITY_RTOL)
@@ -359,6 +356,22 @@ def least_wall_strain(model: DesignModel, alpha_rad: Any) -> np.ndarray:
     model = prepare(model)
     strains = ph.wall_strains(np.asarray(alpha_rad, dtype=float), model.constants, model.tissues)
     return np.min(np.stack([np.asarray(s, dtype=float) for s in strains]), axis=0)
+
+
+def _capacity_T(model: DesignModel, f: np.ndarray) -> np.ndarray:
+    """:func:`optimize.physics.field_capacity_T` at every frequency of ``f``, solved once per
+    distinct frequency (an angle x frequency grid repeats each one per angle). Bit for bit the
+    same: every cap is solved element by element, and the voltage cap's shared stopping test
+    sees the same set of distinct elements."""
+    c, limits, amb = model.constants, model.limits, model.ambient_temperature_C
+    numbers = (limits.current_A, limits.voltage_V, limits.power_W, limits.coil_temperature_C, amb)
+    if f.ndim == 0 or any(np.ndim(x) != 0 for x in numbers):  # limits swept alongside f
+        return np.asarray(ph.field_capacity_T(f, c, limits, amb, c.memo.caps)[0], dtype=float)
+    distinct, inverse = np.unique(f, return_inverse=True)
+    if distinct.size == f.size:
+        return np.asarray(ph.field_capacity_T(f, c, limits, amb, c.memo.caps)[0], dtype=float)
+    field = np.asarray(ph.field_capacity_T(distinct, c, limits, amb, c.memo.caps)[0], dtype=float)
+    return np.broadcast_to(field, distinct.shape)[inverse.ravel()].reshape(f.shape)
 
 
 def self_lock_margin(model: DesignModel, alpha_rad):

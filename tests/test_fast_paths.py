@@ -5,8 +5,9 @@
 - evaluate / optimize_design with ``frequency_bounds=False`` (sweep rows, the discrete search's
   neighbours) equal the full call in everything but the skipped step-out and highest-frequency
   searches.
-- the field caps kept in the caller's memo (``Constants.memo``): the same bits as solving
-  every grid point afresh.
+- margin_grid on an angle x frequency grid solves the field capacity once per distinct
+  frequency, and the field caps kept in the caller's memo (``Constants.memo``): the same bits
+  as solving every grid point afresh.
 - a Constants' memo is its own: a copy (``replace``), a pickled model start empty.
 """
 
@@ -78,7 +79,7 @@ def test_optimize_without_frequency_bounds_same_optimum(model):
     assert [b.name for b in quick.binding_limits] == [b.name for b in full.binding_limits]
 
 
-def test_memoised_caps_same_bits(model):
+def test_capacity_per_distinct_frequency_and_memoised_caps_same_bits(model):
     from optimize import margin_grid
     from optimize import physics as ph
 
@@ -88,12 +89,12 @@ def test_memoised_caps_same_bits(model):
     aa, ff = np.meshgrid(a, f)
     c, limits, amb = model.constants, model.limits, model.ambient_temperature_C
     c.memo.caps.clear()
-    grid = margin_grid(model, aa, ff, capacity=True).field_amplitude_T  # kept in c.memo
+    grid = margin_grid(model, aa, ff, capacity=True).field_amplitude_T  # 11 solves, memoised
     memo = ph.field_capacity_T(ff, c, limits, amb, c.memo.caps)
     assert c.memo.caps, "the caller's memo (the constants' own) holds the searched caps"
     fresh = ph.field_capacity_T(ff, c, limits, amb)  # no memo: every cap solved afresh
     assert np.array_equal(grid, fresh[0]) and np.array_equal(memo[0], fresh[0]), (
-        "the grid's capacity and the memoised one == every cap solved afresh, bit for bit"
+        "capacity per distinct frequency == every grid point solved afresh, bit for bit"
     )
     for cached, new in zip(memo[1], fresh[1]):
         assert np.array_equal(cached, new), "memoised caps == caps solved afresh"
