@@ -67,7 +67,7 @@ PIECES: dict[str, tuple[list[str], str, list[str], str]] = {
         ["report", "-o", OUT],
         "",
         ["report", "-o", OUT],
-        "import optimize.physics as ph; ph._memoised = lambda memo, key, solve: solve()",
+        "import optimize.physics as ph; ph._memoised = lambda c, key, solve: solve()",
     ),
     "pair states kept in Constants.memo (optimize)": (
         ["optimize", "--json"],

@@ -366,11 +366,11 @@ def _capacity_T(model: DesignModel, f: np.ndarray) -> np.ndarray:
     c, limits, amb = model.constants, model.limits, model.ambient_temperature_C
     numbers = (limits.current_A, limits.voltage_V, limits.power_W, limits.coil_temperature_C, amb)
     if f.ndim == 0 or any(np.ndim(x) != 0 for x in numbers):  # limits swept alongside f
-        return np.asarray(ph.field_capacity_T(f, c, limits, amb, c.memo.caps)[0], dtype=float)
+        return np.asarray(ph.field_capacity_T(f, c, limits, amb)[0], dtype=float)
     distinct, inverse = np.unique(f, return_inverse=True)
     if distinct.size == f.size:
-        return np.asarray(ph.field_capacity_T(f, c, limits, amb, c.memo.caps)[0], dtype=float)
-    field = np.asarray(ph.field_capacity_T(distinct, c, limits, amb, c.memo.caps)[0], dtype=float)
+        return np.asarray(ph.field_capacity_T(f, c, limits, amb)[0], dtype=float)
+    field = np.asarray(ph.field_capacity_T(distinct, c, limits, amb)[0], dtype=float)
     return np.broadcast_to(field, distinct.shape)[inverse.ravel()].reshape(f.shape)
 
 
@@ -442,9 +442,8 @@ def operating_field_T(model: DesignModel, frequency_hz):
     model = prepare(model)
     if model.field_amplitude_T is not None:
         return np.broadcast_to(float(model.field_amplitude_T), np.shape(frequency_hz)).astype(float)
-    c = model.constants
     field, _, _ = ph.field_capacity_T(
-        frequency_hz, c, model.limits, model.ambient_temperature_C, c.memo.caps
+        frequency_hz, model.constants, model.limits, model.ambient_temperature_C
     )
     return field
 
@@ -556,9 +555,7 @@ def max_frequency_hz(
     c = model.constants
 
     def margin(f):
-        field, _, _ = ph.field_capacity_T(
-            f, c, model.limits, model.ambient_temperature_C, c.memo.caps
-        )
+        field, _, _ = ph.field_capacity_T(f, c, model.limits, model.ambient_temperature_C)
         return (
             np.asarray(ph.available_torque_Nm(field, c))
             - worst_required(model, alpha_rad, f).total_Nm
@@ -566,7 +563,7 @@ def max_frequency_hz(
 
     bound = _first_zero(margin, f_lo, f_hi)
     at = bound.frequency_hz if bound.frequency_hz > 0 else f_lo
-    cap = ph.field_capacity(at, c, model.limits, model.ambient_temperature_C, c.memo.caps)
+    cap = ph.field_capacity(at, c, model.limits, model.ambient_temperature_C)
     return bound, cap.limited_by
 
 
@@ -676,8 +673,7 @@ def _operating_field(model: DesignModel, f: float, field_T: float | None) -> tup
         field_T = model.field_amplitude_T
     if field_T is not None:
         return float(field_T), "fixed"
-    c = model.constants
-    cap = ph.field_capacity(f, c, model.limits, model.ambient_temperature_C, c.memo.caps)
+    cap = ph.field_capacity(f, model.constants, model.limits, model.ambient_temperature_C)
     return cap.field_T, cap.limited_by
 
 

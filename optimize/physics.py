@@ -572,12 +572,11 @@ def _array_key(x: np.ndarray) -> tuple:
     return (x.tobytes(), x.shape)
 
 
-def _memoised(memo: dict | None, key: tuple, solve: Any) -> Any:
-    """``solve()``, kept in the caller's ``memo`` under ``key`` (None: solved, not kept).
-
-    The caps are deterministic functions of the constants the memo belongs to and the key
-    (``Constants.memo.caps``), so a hit is the same numbers.
-    """
+def _memoised(c: Constants, key: tuple, solve: Any) -> Any:
+    """``solve()``, kept under ``key`` in the memo of ``c`` (``c.memo.caps``: owned by the
+    caller's constants, not by this module; the caps are deterministic functions of ``c`` and
+    the key, so a hit is the same numbers)."""
+    memo = getattr(getattr(c, "memo", None), "caps", None)
     if memo is None:
         return solve()
     hit = memo.get(key)
@@ -593,15 +592,10 @@ def _memoised(memo: dict | None, key: tuple, solve: Any) -> Any:
 
 
 def _hot_spot_cap_T(
-    k: int,
-    c: Constants,
-    allowed_K: Any,
-    ambient_temperature_C: float,
-    surface: bool = False,
-    memo: dict | None = None,
+    k: int, c: Constants, allowed_K: Any, ambient_temperature_C: float, surface: bool = False
 ) -> Any:
     """Largest centre field the hot-spot (``surface``: the hottest face point) limit of axis k
-    allows (bisection; kept in the caller's ``memo``)."""
+    allows (bisection; kept in ``c.memo``)."""
     allowed = np.asarray(allowed_K, dtype=float)
     per_amp = float(c.current_per_tesla_A_per_T[k])
     if per_amp <= 0:  # an axis no heading uses carries no current: no cap
@@ -614,14 +608,12 @@ def _hot_spot_cap_T(
         return hot_spot_rise_K(b * per_amp, k, c, ambient_temperature_C)
 
     key = (k, surface, *_array_key(allowed), float(ambient_temperature_C))
-    return _memoised(memo, key, lambda: _bisect_field_T(value, allowed, allowed.shape))
+    return _memoised(c, key, lambda: _bisect_field_T(value, allowed, allowed.shape))
 
 
-def _power_cap_T(
-    c: Constants, allowed_W: Any, ambient_temperature_C: float, memo: dict | None = None
-) -> Any:
+def _power_cap_T(c: Constants, allowed_W: Any, ambient_temperature_C: float) -> Any:
     """Largest centre field the copper-power limit allows (bisection; depends on B0 only;
-    kept in the caller's ``memo``)."""
+    kept in ``c.memo``)."""
     allowed = np.asarray(allowed_W, dtype=float)
     amb = float(ambient_temperature_C)
 
@@ -629,15 +621,13 @@ def _power_cap_T(
         return total_loss_W(b if np.ndim(b) != 0 else float(b), c, amb)
 
     key = ("power", *_array_key(allowed), amb)
-    return _memoised(memo, key, lambda: _bisect_field_T(loss, allowed, allowed.shape))
+    return _memoised(c, key, lambda: _bisect_field_T(loss, allowed, allowed.shape))
 
 
-def _channel_power_cap_T(
-    k: int, c: Constants, allowed_W: Any, ambient_temperature_C: float, memo: dict | None = None
-) -> Any:
+def _channel_power_cap_T(k: int, c: Constants, allowed_W: Any, ambient_temperature_C: float) -> Any:
     """Largest centre field pair k's own channel power limit allows, R(I) I² / 2 <= P
     (bisection; the resistance at the pair's self-consistent mean temperature; kept in
-    ``memo``)."""
+    ``c.memo``)."""
     allowed = np.asarray(allowed_W, dtype=float)
     per_amp = float(c.current_per_tesla_A_per_T[k])
     if per_amp <= 0:
@@ -648,20 +638,15 @@ def _channel_power_cap_T(
         return 0.5 * winding_resistance_ohm(current, k, c, ambient_temperature_C) * current**2
 
     key = ("channel_power", k, *_array_key(allowed), float(ambient_temperature_C))
-    return _memoised(memo, key, lambda: _bisect_field_T(value, allowed, allowed.shape))
+    return _memoised(c, key, lambda: _bisect_field_T(value, allowed, allowed.shape))
 
 
 def _voltage_cap_T(
-    k: int,
-    frequency_hz: Any,
-    c: Constants,
-    allowed_V: Any,
-    ambient_temperature_C: float,
-    memo: dict | None = None,
+    k: int, frequency_hz: Any, c: Constants, allowed_V: Any, ambient_temperature_C: float
 ) -> Any:
     """Largest centre field the drive voltage of axis k allows, |Z(R(I))| I = V (numpy).
 
-    Kept in the caller's ``memo`` per frequencies, voltage and ambient (:func:`_voltage_cap_solve`):
+    Kept in ``c.memo`` per frequencies, voltage and ambient (:func:`_voltage_cap_solve`):
     the sweeps, curves and searches ask for the same frequencies again and again (large
     one-off grids, such as a vectorised sweep's, are solved without keeping them).
     """
@@ -670,7 +655,7 @@ def _voltage_cap_T(
     if max(f.size, volt.size) > _CACHED_SIZE:
         return _voltage_cap_solve(k, f, c, volt, ambient_temperature_C)
     key = ("voltage", k, *_array_key(f), *_array_key(volt), float(ambient_temperature_C))
-    return _memoised(memo, key, lambda: _voltage_cap_solve(k, f, c, volt, ambient_temperature_C))
+    return _memoised(c, key, lambda: _voltage_cap_solve(k, f, c, volt, ambient_temperature_C))
 
 
 def _voltage_cap_solve(
@@ -731,18 +716,14 @@ def _voltage_cap_solve(
 
 
 def field_capacity_T(
-    frequency_hz: Any,
-    c: Constants,
-    limits: Limits,
-    ambient_temperature_C: float,
-    memo: dict | None = None,
+    frequency_hz: Any, c: Constants, limits: Limits, ambient_temperature_C: float
 ) -> tuple[Any, list[Any], list[LimitTerm]]:
     """Largest centre field each limit allows at ``f`` (numpy only): (min, caps, unit terms).
 
     Power-law terms invert in closed form; the session hot-spot term (``power`` None) by a
     vectorised bisection on the same expression (:func:`_bisect_field_T`). The searched caps
-    are kept in ``memo`` when the caller gives one (the constants' own,
-    ``Constants.memo.caps``): the same numbers, solved once per constants.
+    are kept in the memo of ``c`` (``Constants.memo``, owned by the caller's prepared
+    constants): the same numbers, solved once per constants.
 
     Parameters
     ----------
@@ -754,9 +735,6 @@ def field_capacity_T(
         The limits, SI.
     ambient_temperature_C : float
         Ambient air, °C.
-    memo : dict or None
-        The caller's memo of searched caps for ``c`` (T, keyed by limit and inputs), or None
-        (solved, not kept).
 
     Returns
     -------
@@ -778,26 +756,20 @@ def field_capacity_T(
                     t.allowed,
                     ambient_temperature_C,
                     surface=t.name.startswith("surface_"),
-                    memo=memo,
                 )
             )
             continue
         if t.power is None and t.name == "power":
-            caps.append(_power_cap_T(c, t.allowed, ambient_temperature_C, memo))
+            caps.append(_power_cap_T(c, t.allowed, ambient_temperature_C))
             continue
         if t.power is None and t.name.startswith("axis_power_"):
             k = _AXES.index(t.name[-1])
-            caps.append(_channel_power_cap_T(k, c, t.allowed, ambient_temperature_C, memo))
+            caps.append(_channel_power_cap_T(k, c, t.allowed, ambient_temperature_C))
             continue
         if t.power is None:  # voltage with the self-consistent resistance
             caps.append(
                 _voltage_cap_T(
-                    _AXES.index(t.name[-1]),
-                    frequency_hz,
-                    c,
-                    t.allowed,
-                    ambient_temperature_C,
-                    memo,
+                    _AXES.index(t.name[-1]), frequency_hz, c, t.allowed, ambient_temperature_C
                 )
             )
             continue
@@ -826,11 +798,7 @@ class FieldCapacity:
 
 
 def field_capacity(
-    frequency_hz: float,
-    c: Constants,
-    limits: Limits,
-    ambient_temperature_C: float,
-    memo: dict | None = None,
+    frequency_hz: float, c: Constants, limits: Limits, ambient_temperature_C: float
 ) -> FieldCapacity:
     """:func:`field_capacity_T` at one frequency with the binding limit named (computed once).
 
@@ -844,15 +812,13 @@ def field_capacity(
         The limits, SI.
     ambient_temperature_C : float
         Ambient air, °C.
-    memo : dict or None
-        The caller's memo of searched caps for ``c`` (T), or None (:func:`field_capacity_T`).
 
     Returns
     -------
     FieldCapacity
         The field (T) and the binding limit.
     """
-    best, caps, terms = field_capacity_T(frequency_hz, c, limits, ambient_temperature_C, memo)
+    best, caps, terms = field_capacity_T(frequency_hz, c, limits, ambient_temperature_C)
     values = [float(x) for x in caps]
     i = int(np.argmin(values))
     return FieldCapacity(

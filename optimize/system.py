@@ -287,8 +287,7 @@ class PhysicsMemo:
     Attributes
     ----------
     caps : dict
-        Field caps searched by :func:`optimize.physics.field_capacity_T`, T by key (the callers
-        pass it in).
+        Field caps searched by :func:`optimize.physics.field_capacity_T`, T by key.
     states : dict
         :func:`optimize.physics.pair_states` by field and ambient (°C, W, s; a field node of an
         NLP being built included).

@@ -394,9 +394,7 @@ def margin_problem(
     )
     f = model.frequency_hz if frequency_hz is None else frequency_hz
     if field_T is None:
-        field_T, _, _ = ph.field_capacity_T(
-            f, c, model.limits, model.ambient_temperature_C, c.memo.caps
-        )
+        field_T, _, _ = ph.field_capacity_T(f, c, model.limits, model.ambient_temperature_C)
         if model.field_amplitude_T is not None:  # a set field, capped as evaluate caps it
             field_T = min(float(model.field_amplitude_T), float(field_T))
     return MarginProblem(

@@ -6,7 +6,7 @@
   neighbours) equal the full call in everything but the skipped step-out and highest-frequency
   searches.
 - margin_grid on an angle x frequency grid solves the field capacity once per distinct
-  frequency, and the field caps kept in the caller's memo (``Constants.memo``): the same bits
+  frequency, and the field caps kept in the constants' own memo (``Constants.memo``): the same bits
   as solving every grid point afresh.
 - a Constants' memo is its own: a copy (``replace``), a pickled model start empty.
 """
@@ -90,9 +90,10 @@ def test_capacity_per_distinct_frequency_and_memoised_caps_same_bits(model):
     c, limits, amb = model.constants, model.limits, model.ambient_temperature_C
     c.memo.caps.clear()
     grid = margin_grid(model, aa, ff, capacity=True).field_amplitude_T  # 11 solves, memoised
-    memo = ph.field_capacity_T(ff, c, limits, amb, c.memo.caps)
-    assert c.memo.caps, "the caller's memo (the constants' own) holds the searched caps"
-    fresh = ph.field_capacity_T(ff, c, limits, amb)  # no memo: every cap solved afresh
+    memo = ph.field_capacity_T(ff, c, limits, amb)
+    assert c.memo.caps, "the constants' own memo holds the searched caps"
+    c.memo.caps.clear()
+    fresh = ph.field_capacity_T(ff, c, limits, amb)  # every cap solved afresh
     assert np.array_equal(grid, fresh[0]) and np.array_equal(memo[0], fresh[0]), (
         "capacity per distinct frequency == every grid point solved afresh, bit for bit"
     )
@@ -102,14 +103,13 @@ def test_capacity_per_distinct_frequency_and_memoised_caps_same_bits(model):
 
 
 def test_power_cap_is_the_plain_search_on_the_allowed_side(model):
-    """Each budget's power cap, kept in a memo shared by the budgets, equals a search without
-    it, bit for bit, and its loss is within the budget."""
+    """Each budget's power cap, kept in the constants' memo, equals a plain search, bit for
+    bit, and its loss is within the budget."""
     from optimize import physics as ph
 
     c, amb = model.constants, model.ambient_temperature_C
-    memo_of_caps: dict = {}
     for budget in (250.0, 700.0, 1000.0, 1414.2, 4000.0):
-        memo = float(ph._power_cap_T(c, budget, amb, memo_of_caps))
+        memo = float(ph._power_cap_T(c, budget, amb))
         plain = float(
             ph._bisect_field_T(lambda b: ph.total_loss_W(b, c, amb), np.asarray(budget), ())
         )
@@ -153,7 +153,7 @@ def test_physics_memo_belongs_to_its_constants(model):
 
     c = model.constants
     before = sizes()
-    ph.field_capacity_T(0.5, c, model.limits, model.ambient_temperature_C, c.memo.caps)
+    ph.field_capacity_T(0.5, c, model.limits, model.ambient_temperature_C)
     ph.pair_states(0.01, c, model.ambient_temperature_C)
     assert c.memo.caps and c.memo.states, "filled in the constants' own memo"
     assert sizes() == before, "optimize.physics keeps nothing in module-level containers"

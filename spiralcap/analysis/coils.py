@@ -235,9 +235,7 @@ def analyse_coils(design: Any, model: Any = None) -> CoilAnalysis:
         packs=c.packs,
         view_factors=c.view_factors,
     )
-    cap = physics.field_capacity(
-        model.frequency_hz, c, model.limits, model.ambient_temperature_C, c.memo.caps
-    )
+    cap = physics.field_capacity(model.frequency_hz, c, model.limits, model.ambient_temperature_C)
     per = np.asarray(c.current_per_tesla_A_per_T, dtype=float)
     limits = []
     for k, ax in enumerate(_AXES):
