@@ -18,7 +18,6 @@ import numpy as np
 
 from optimize import hardware as hw
 from optimize import problem as pb
-from optimize.headings import heading_pattern, shared_heading_table
 from optimize.nlp import CompiledNLP, NLPBuilder
 from optimize.system import DesignModel
 from spiralcap.core import backend as bk
@@ -72,8 +71,6 @@ class Structure:
         Flag: the design fixes the copper temperature.
     session : bool
         Flag: a finite session instead of the steady state.
-    heading_pattern : tuple
-        :func:`optimize.headings.heading_pattern` of the headings (indices), or ().
     scenarios : object
         The structure of the tissue scenarios, or None.
     convection : str
@@ -97,7 +94,6 @@ class Structure:
     headings: int = 13
     fixed_winding_temperature: bool = False
     session: bool = False
-    heading_pattern: tuple = ()  # see heading_pattern(); () builds every entry on its own
     scenarios: Any = None  # DesignModel.scenarios.structure (counts, which rows)
     convection: str = "fixed"  # coils.thermal.CONVECTION_MODES
     surface_limit: bool = False  # limits.surface_temperature_C set
@@ -142,7 +138,6 @@ def structure_of(
         len(model.headings),
         model.winding_temperature_C is not None,
         model.session_s is not None,
-        heading_pattern(model.headings),
         model.scenarios.structure if model.scenarios is not None else None,
         "fixed" if model.heat_transfer_coefficient_W_m2K is not None else model.cooling,
         model.limits.surface_temperature_C is not None,
@@ -259,7 +254,7 @@ def _build_rows(b: NLPBuilder, structure: Structure) -> NLPBuilder:
         c = _symbolic_constants(b, structure)
     else:
         c, hw_expr, quantities = hw.symbolic_constants(
-            b, hs, structure.spiral_starts, structure.heading_pattern, structure.convection
+            b, hs, structure.spiral_starts, structure.convection
         )
         c = _with_thermal_parameters(b, structure, c)
         loss = quantities[3]["power_W"]
@@ -421,10 +416,6 @@ def _symbolic_constants(b: NLPBuilder, structure: Structure) -> Any:
     kw.update({n: b.parameter(f"constant.{n}") for n in _SCALAR_FIELDS})
     pack = {n: b.parameter(f"constant.pack.{n}", (3,)) for n in PACK_FIELDS}
     table = _heading_table(b, "constant.heading_current_per_tesla_A_per_T", structure.headings)
-    if structure.heading_pattern:  # one node per distinct current (shared thermal solves)
-        table, kw["current_per_tesla_A_per_T"] = shared_heading_table(
-            lambda h, k: table[h, k], structure.heading_pattern, structure.headings
-        )
     c = Constants(
         **kw,
         packs=tuple(

@@ -828,13 +828,10 @@ def symbolic_constants(
     b: Any,
     hs: HardwareStructure,
     spiral_starts: int,
-    pattern: tuple = (),
     convection: str = "fixed",
 ) -> tuple[Any, Any, list]:
     """Constants as expressions of the hardware (free: variables, fixed: parameters).
 
-    ``pattern``: :func:`optimize.headings.heading_pattern` of the headings (headings with the
-    same current share one node, hence one thermal solve); () builds every entry on its own.
     Returns (constants, hardware expressions by name, geometry terms builder args).
 
     Parameters
@@ -845,8 +842,6 @@ def symbolic_constants(
         Which hardware is free.
     spiral_starts : int
         Number of spiral starts.
-    pattern : tuple
-        :func:`optimize.headings.heading_pattern` of the headings (indices), or ().
     convection : str
         Cooling mode (one of :data:`coils.thermal.CONVECTION_MODES`).
 
@@ -879,12 +874,6 @@ def symbolic_constants(
     power = b.variable("power_W_scaled", 1.0, 0.0, np.inf) * b.parameter("scale.power_W")
     per_tesla = ca.horzcat(*(s_all[:, k] / g[k] for k in range(3)))
     worst = ca.vertcat(*(s_max[k] / g[k] for k in range(3)))
-    if pattern:
-        from optimize.headings import shared_heading_table
-
-        per_tesla, worst = shared_heading_table(
-            lambda h, k: s_all[h, k] / g[k], pattern, hs.headings
-        )
     packs = _pack_symbols(b, hs, hw, q, packing, hcoef, convection)
     body_d, body_l = b.parameter("body.diameter_m"), b.parameter("body.length_m")
     wire_sp = hw["spiral.wire_diameter_m"]

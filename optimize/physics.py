@@ -87,12 +87,6 @@ class LimitTerm:
 _AXES = ("x", "y", "z")
 
 
-#: pair_states already built, per Constants object: key -> (the Constants, the states). Within
-#: one NLP build the same field node asks twice (the limits and the loss rows); with numbers
-#: the same scalar field recurs across the caps.
-_STATES: dict[tuple, tuple[Any, list[Any]]] = {}
-
-
 def _field_key(x: Any) -> Any:
     if bk.is_casadi(x):
         return ("node", x.element_hash()) if x.numel() == 1 else None
@@ -126,16 +120,20 @@ def pair_states(
     """
     from coils.thermal_system import pair_temperatures
 
+    # kept in the constants' own memo (Constants.memo.states): within one NLP build the same
+    # field node asks twice (the limits and the loss rows); with numbers the same scalar field
+    # recurs across the caps
+    memo: dict = getattr(getattr(c, "memo", None), "states", {})
     fk, ak = _field_key(field_T), _field_key(ambient_temperature_C)
-    key = None if fk is None or ak is None else (id(c), fk, ak)
+    key = None if fk is None or ak is None else (fk, ak)
     if key is not None:
-        hit = _STATES.get(key)
-        if hit is not None and hit[0] is c:
-            return hit[1]
+        hit = memo.get(key)
+        if hit is not None:
+            return hit
         if only is not None:
-            hit = _STATES.get((*key, only))
-            if hit is not None and hit[0] is c:
-                return hit[1]
+            hit = memo.get((*key, only))
+            if hit is not None:
+                return hit
     per = c.current_per_tesla_A_per_T
     states = pair_temperatures(
         c.packs,
@@ -147,9 +145,9 @@ def pair_states(
         only,
     )
     if key is not None:
-        if len(_STATES) > 512:
-            _STATES.clear()
-        _STATES[key if only is None else (*key, only)] = (c, states)
+        if len(memo) > 512:
+            memo.clear()
+        memo[key if only is None else (*key, only)] = states
     return states
 
 
@@ -565,11 +563,6 @@ def _brent_below(value: Any, allowed: float, lo: float, hi: float) -> float:
     return root
 
 
-#: Field caps already solved, per Constants object: key -> (the Constants, the cap). The key
-#: holds ``id(c)`` and the stored object is compared with ``is``, so a recycled id never hits.
-_HOT_SPOT_CAPS: dict[tuple, tuple[Any, np.ndarray]] = {}
-
-
 #: Largest frequency grid whose voltage caps are kept (the curves' and searches' grids are
 #: a few hundred points).
 _CACHED_SIZE = 4096
@@ -579,19 +572,22 @@ def _array_key(x: np.ndarray) -> tuple:
     return (x.tobytes(), x.shape)
 
 
-def _cached_cap(c: Constants, key: tuple, solve: Any) -> Any:
-    """``solve()`` memoised under ``key`` for the Constants object ``c`` (the same numbers:
-    the caps are deterministic functions of ``c`` and the key)."""
-    key = (id(c), *key)
-    hit = _HOT_SPOT_CAPS.get(key)
-    if hit is not None and hit[0] is c:
-        return hit[1]
+def _memoised(c: Constants, key: tuple, solve: Any) -> Any:
+    """``solve()``, kept under ``key`` in the memo of ``c`` (``c.memo.caps``: owned by the
+    caller's constants, not by this module; the caps are deterministic functions of ``c`` and
+    the key, so a hit is the same numbers)."""
+    memo = getattr(getattr(c, "memo", None), "caps", None)
+    if memo is None:
+        return solve()
+    hit = memo.get(key)
+    if hit is not None:
+        return hit
     cap = solve()
     if isinstance(cap, np.ndarray):
-        cap.setflags(write=False)  # shared by every caller: read-only
-    if len(_HOT_SPOT_CAPS) > 256:
-        _HOT_SPOT_CAPS.clear()
-    _HOT_SPOT_CAPS[key] = (c, cap)
+        cap.setflags(write=False)  # shared by every later caller: read-only
+    if len(memo) > 256:
+        memo.clear()
+    memo[key] = cap
     return cap
 
 
@@ -599,7 +595,7 @@ def _hot_spot_cap_T(
     k: int, c: Constants, allowed_K: Any, ambient_temperature_C: float, surface: bool = False
 ) -> Any:
     """Largest centre field the hot-spot (``surface``: the hottest face point) limit of axis k
-    allows (bisection; cached per model)."""
+    allows (bisection; kept in ``c.memo``)."""
     allowed = np.asarray(allowed_K, dtype=float)
     per_amp = float(c.current_per_tesla_A_per_T[k])
     if per_amp <= 0:  # an axis no heading uses carries no current: no cap
@@ -612,37 +608,26 @@ def _hot_spot_cap_T(
         return hot_spot_rise_K(b * per_amp, k, c, ambient_temperature_C)
 
     key = (k, surface, *_array_key(allowed), float(ambient_temperature_C))
-    return _cached_cap(c, key, lambda: _bisect_field_T(value, allowed, allowed.shape))
+    return _memoised(c, key, lambda: _bisect_field_T(value, allowed, allowed.shape))
 
 
 def _power_cap_T(c: Constants, allowed_W: Any, ambient_temperature_C: float) -> Any:
-    """Largest centre field the copper-power limit allows (bisection; depends on B0 only).
-
-    The loss at each scalar field tried is memoised per Constants object and ambient: every
-    budget's search brackets its root from the same fields (1, 2, 4, ... mT), so a sweep over
-    the power limit solves those once.
-    """
+    """Largest centre field the copper-power limit allows (bisection; depends on B0 only;
+    kept in ``c.memo``)."""
     allowed = np.asarray(allowed_W, dtype=float)
     amb = float(ambient_temperature_C)
-    losses: dict[float, float] = _cached_cap(c, ("losses", amb), dict)
 
-    def loss(b: Any) -> Any:
-        if np.ndim(b) != 0:
-            return total_loss_W(b, c, amb)
-        key = float(b)
-        if key not in losses:
-            if len(losses) > 4096:
-                losses.clear()
-            losses[key] = float(total_loss_W(key, c, amb))
-        return losses[key]
+    def loss(b: Any) -> Any:  # a single field as a float (the scalar path of the thermal model)
+        return total_loss_W(b if np.ndim(b) != 0 else float(b), c, amb)
 
     key = ("power", *_array_key(allowed), amb)
-    return _cached_cap(c, key, lambda: _bisect_field_T(loss, allowed, allowed.shape))
+    return _memoised(c, key, lambda: _bisect_field_T(loss, allowed, allowed.shape))
 
 
 def _channel_power_cap_T(k: int, c: Constants, allowed_W: Any, ambient_temperature_C: float) -> Any:
     """Largest centre field pair k's own channel power limit allows, R(I) I² / 2 <= P
-    (bisection; the resistance at the pair's self-consistent mean temperature; cached)."""
+    (bisection; the resistance at the pair's self-consistent mean temperature; kept in
+    ``c.memo``)."""
     allowed = np.asarray(allowed_W, dtype=float)
     per_amp = float(c.current_per_tesla_A_per_T[k])
     if per_amp <= 0:
@@ -653,7 +638,7 @@ def _channel_power_cap_T(k: int, c: Constants, allowed_W: Any, ambient_temperatu
         return 0.5 * winding_resistance_ohm(current, k, c, ambient_temperature_C) * current**2
 
     key = ("channel_power", k, *_array_key(allowed), float(ambient_temperature_C))
-    return _cached_cap(c, key, lambda: _bisect_field_T(value, allowed, allowed.shape))
+    return _memoised(c, key, lambda: _bisect_field_T(value, allowed, allowed.shape))
 
 
 def _voltage_cap_T(
@@ -661,7 +646,7 @@ def _voltage_cap_T(
 ) -> Any:
     """Largest centre field the drive voltage of axis k allows, |Z(R(I))| I = V (numpy).
 
-    Cached per Constants object, frequencies, voltage and ambient (:func:`_voltage_cap_solve`):
+    Kept in ``c.memo`` per frequencies, voltage and ambient (:func:`_voltage_cap_solve`):
     the sweeps, curves and searches ask for the same frequencies again and again (large
     one-off grids, such as a vectorised sweep's, are solved without keeping them).
     """
@@ -670,7 +655,7 @@ def _voltage_cap_T(
     if max(f.size, volt.size) > _CACHED_SIZE:
         return _voltage_cap_solve(k, f, c, volt, ambient_temperature_C)
     key = ("voltage", k, *_array_key(f), *_array_key(volt), float(ambient_temperature_C))
-    return _cached_cap(c, key, lambda: _voltage_cap_solve(k, f, c, volt, ambient_temperature_C))
+    return _memoised(c, key, lambda: _voltage_cap_solve(k, f, c, volt, ambient_temperature_C))
 
 
 def _voltage_cap_solve(
@@ -736,7 +721,9 @@ def field_capacity_T(
     """Largest centre field each limit allows at ``f`` (numpy only): (min, caps, unit terms).
 
     Power-law terms invert in closed form; the session hot-spot term (``power`` None) by a
-    vectorised bisection on the same expression (:func:`_bisect_field_T`).
+    vectorised bisection on the same expression (:func:`_bisect_field_T`). The searched caps
+    are kept in the memo of ``c`` (``Constants.memo``, owned by the caller's prepared
+    constants): the same numbers, solved once per constants.
 
     Parameters
     ----------

@@ -277,6 +277,30 @@ class DesignModel:
     constants: Any = field(default=None, compare=False, repr=False)
 
 
+class PhysicsMemo:
+    """What :mod:`optimize.physics` already solved for one :class:`Constants` (its ``memo``).
+
+    Owned by the constants it belongs to (a new :class:`Constants`, ``replace`` included,
+    starts empty), never shared between two, so the physics module keeps no state of its own.
+    It pickles empty: a model sent to a worker carries no memo.
+
+    Attributes
+    ----------
+    caps : dict
+        Field caps searched by :func:`optimize.physics.field_capacity_T`, T by key.
+    states : dict
+        :func:`optimize.physics.pair_states` by field and ambient (°C, W, s; a field node of an
+        NLP being built included).
+    """
+
+    def __init__(self) -> None:
+        self.caps: dict = {}
+        self.states: dict = {}
+
+    def __reduce__(self) -> tuple:
+        return (PhysicsMemo, ())
+
+
 @dataclass(frozen=True)
 class Constants:
     """Numbers the margin and limits need, reduced from a :class:`DesignModel`.
@@ -338,6 +362,9 @@ class Constants:
         Diffuse view factors of each pair, dimensionless (None: each alone in the room).
     mass_kg : float
         The capsule's mass, whose weight rests on the wall, kg.
+    memo : PhysicsMemo
+        What the physics already solved for these constants (field caps, T; pair states): the
+        callers' memo, not an argument, not compared.
     """
 
     gains_T_per_A: np.ndarray
@@ -360,6 +387,7 @@ class Constants:
     session_s: Any = None
     view_factors: Any = None
     mass_kg: Any = 0.0
+    memo: PhysicsMemo = field(default_factory=PhysicsMemo, init=False, compare=False, repr=False)
 
 
 def packs_of(model: DesignModel) -> tuple:

@@ -95,17 +95,66 @@ CASES: list = [
 ]
 
 
+@pytest.fixture(scope="module")
+def _solved() -> tuple[dict, dict]:
+    """The prepared models by content, and each step's result by (step, id(model))."""
+    return {}, {}
+
+
+@pytest.fixture
+def each_design_solved_once(_solved, monkeypatch):
+    """Most cases compare the built-in design with a variant of it, many with the same physics
+    (a title, an author, a key compare does not read): each model's evaluation and optimum
+    (``compare_designs``' own steps, deterministic) are computed once per module, by the
+    model's content (its pickle), so a case pays for a new model only. (``build_model`` then
+    returns a prepared model: right for ``compare_designs`` only, which prepares it at once.)"""
+    import hashlib
+    import pickle
+
+    import optimize
+    import spiralcap.assemble as assemble
+
+    real = (assemble.build_model, optimize.evaluate, optimize.optimize_design)
+    models, solved = _solved  # solved: (step, id(model)) -> (model kept: its id unique, result)
+
+    def build_model(design, *args, **kw):
+        if args or kw:
+            return real[0](design, *args, **kw)
+        model = real[0](design)
+        key = hashlib.sha256(pickle.dumps(model)).hexdigest()
+        if key not in models:
+            models[key] = optimize.prepare(model)
+        return models[key]
+
+    def once(step: int):
+        def solve(model, *args, **kw):
+            if args or kw:
+                return real[step](model, *args, **kw)
+            key = (step, id(model))
+            if key not in solved:
+                solved[key] = (model, real[step](model))
+            return solved[key][1]
+
+        return solve
+
+    monkeypatch.setattr(assemble, "build_model", build_model)
+    monkeypatch.setattr(optimize, "evaluate", once(1))
+    monkeypatch.setattr(optimize, "optimize_design", once(2))
+
+
 def _ids() -> list[str]:
     return [" ".join(getattr(c, "values", [c])[0])[:70] for c in CASES]
 
 
 @pytest.mark.slow
+@pytest.mark.usefixtures("each_design_solved_once")
 @pytest.mark.parametrize("extra", CASES, ids=_ids())
 def test_compare_json_is_schema_valid(extra):
     _check(["compare", "builtin", "builtin", *extra])
 
 
 @pytest.mark.slow
+@pytest.mark.usefixtures("each_design_solved_once")
 @pytest.mark.parametrize("which", ["fitted", "p05", "both"])
 def test_compare_files_with_fit_and_margin_p05_tables(tmp_path, which):
     """`compare base.toml fitted_layered.toml` exits 0 (#20 item 5); a margin_p05 design that

@@ -6,8 +6,9 @@
   neighbours) equal the full call in everything but the skipped step-out and highest-frequency
   searches.
 - margin_grid on an angle x frequency grid solves the field capacity once per distinct
-  frequency, and the field caps are memoised per Constants object: the same bits as solving
-  every grid point afresh.
+  frequency, and the field caps kept in the constants' own memo (``Constants.memo``): the same bits
+  as solving every grid point afresh.
+- a Constants' memo is its own: a copy (``replace``), a pickled model start empty.
 """
 
 import dataclasses
@@ -86,11 +87,13 @@ def test_capacity_per_distinct_frequency_and_memoised_caps_same_bits(model):
     a = np.linspace(b.helical_angle_min_rad, b.helical_angle_max_rad, 7)
     f = np.geomspace(0.05, 40.0, 11)
     aa, ff = np.meshgrid(a, f)
-    ph._HOT_SPOT_CAPS.clear()
+    c, limits, amb = model.constants, model.limits, model.ambient_temperature_C
+    c.memo.caps.clear()
     grid = margin_grid(model, aa, ff, capacity=True).field_amplitude_T  # 11 solves, memoised
-    memo = ph.field_capacity_T(ff, model.constants, model.limits, model.ambient_temperature_C)
-    ph._HOT_SPOT_CAPS.clear()
-    fresh = ph.field_capacity_T(ff, model.constants, model.limits, model.ambient_temperature_C)
+    memo = ph.field_capacity_T(ff, c, limits, amb)
+    assert c.memo.caps, "the constants' own memo holds the searched caps"
+    c.memo.caps.clear()
+    fresh = ph.field_capacity_T(ff, c, limits, amb)  # every cap solved afresh
     assert np.array_equal(grid, fresh[0]) and np.array_equal(memo[0], fresh[0]), (
         "capacity per distinct frequency == every grid point solved afresh, bit for bit"
     )
@@ -99,13 +102,12 @@ def test_capacity_per_distinct_frequency_and_memoised_caps_same_bits(model):
     assert fresh[0].shape == aa.shape
 
 
-def test_power_cap_with_memoised_losses_same_bits(model):
-    """The power cap memoises the loss at each scalar field its search tries (shared by every
-    budget of a sweep); each budget's cap equals a search without the memo, bit for bit."""
+def test_power_cap_is_the_plain_search_on_the_allowed_side(model):
+    """Each budget's power cap, kept in the constants' memo, equals a plain search, bit for
+    bit, and its loss is within the budget."""
     from optimize import physics as ph
 
     c, amb = model.constants, model.ambient_temperature_C
-    ph._HOT_SPOT_CAPS.clear()
     for budget in (250.0, 700.0, 1000.0, 1414.2, 4000.0):
         memo = float(ph._power_cap_T(c, budget, amb))
         plain = float(
@@ -137,3 +139,25 @@ def test_voltage_cap_of_a_frequency_does_not_depend_on_the_others(model):
             f"axis {k}: vector == scalar caps (to rounding: SIMD vs libm transcendentals in the "
             "cooling model, issue 19)"
         )
+
+
+def test_physics_memo_belongs_to_its_constants(model):
+    """The memo lives with the constants it was solved for (no module-level cache): a replaced
+    Constants starts empty, a pickled one arrives empty."""
+    import pickle
+
+    from optimize import physics as ph
+
+    def sizes() -> dict:
+        return {n: len(v) for n, v in vars(ph).items() if isinstance(v, dict | list | set)}
+
+    c = model.constants
+    before = sizes()
+    ph.field_capacity_T(0.5, c, model.limits, model.ambient_temperature_C)
+    ph.pair_states(0.01, c, model.ambient_temperature_C)
+    assert c.memo.caps and c.memo.states, "filled in the constants' own memo"
+    assert sizes() == before, "optimize.physics keeps nothing in module-level containers"
+    other = dataclasses.replace(c, mass_kg=c.mass_kg)
+    assert other.memo is not c.memo and not other.memo.caps, "a replaced Constants: its own memo"
+    again = pickle.loads(pickle.dumps(c)).memo
+    assert not again.caps and not again.states, "a pickled Constants carries no memo"

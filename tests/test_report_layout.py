@@ -46,7 +46,16 @@ def builtin(tmp_path_factory: pytest.TempPathFactory) -> Path:
 
 @pytest.fixture(scope="module")
 def sizing(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    return _report(tmp_path_factory.mktemp("sizing"), None, SIZING)
+    """The sizing report with its power sweep at three budgets (half, once and twice the
+    design's) and no adaptive refinement: each point is a six-key sizing. Its own pages are the
+    sizing tables; the full power table is laid out in the built-in and robust reports."""
+    from spiralcap.curves import adaptive_power_sweep
+    from spiralcap.report.data import collect
+
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setitem(adaptive_power_sweep.__kwdefaults__, "refinements", 0)
+        mp.setitem(collect.__kwdefaults__, "power_factors", (0.5, 1.0, 2.0))
+        return _report(tmp_path_factory.mktemp("sizing"), None, SIZING)
 
 
 @pytest.fixture(scope="module")

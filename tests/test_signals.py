@@ -75,39 +75,59 @@ def _start(argv: list[str], cwd: Path) -> subprocess.Popen[str]:
 def _stop_and_check(proc: subprocess.Popen[str], sig: int, workers: int, after_s: float) -> str:
     """Once ``workers`` children run and ``after_s`` seconds have passed since the start, send
     ``sig`` to the parent; the group must be empty within 20 s."""
+    return _stop_all_and_check([(proc, sig, workers, after_s)])[0]
+
+
+def _stop_all_and_check(jobs: list[tuple[subprocess.Popen[str], int, int, float]]) -> list[str]:
+    """:func:`_stop_and_check` for several commands running at once, each job ``(proc, sig,
+    workers, after_s)``: each is signalled once its workers run and ``after_s`` seconds have
+    passed since this call; every group must be empty within 20 s of its signal. The stderr of
+    each, in order."""
     t0 = time.monotonic()
-    started = _poll(lambda: len(_group(proc.pid)) >= 1 + workers or proc.poll() is not None, 120)
-    assert started and proc.poll() is None, "the workers started and the command still runs"
-    time.sleep(max(0.0, after_s - (time.monotonic() - t0)))  # the workers are in their tasks
-    assert proc.poll() is None, "the command still runs when signalled"
-    os.kill(proc.pid, sig)
     try:
-        emptied = _poll(lambda: proc.poll() is not None and not _group(proc.pid), 20)
-        assert emptied, f"processes of the group still alive 20 s later: {_group(proc.pid)}"
+        for proc, sig, workers, after_s in sorted(jobs, key=lambda j: j[3]):
+            started = _poll(
+                lambda p=proc, w=workers: len(_group(p.pid)) >= 1 + w or p.poll() is not None, 120
+            )
+            assert started and proc.poll() is None, "the workers started and the command still runs"
+            time.sleep(
+                max(0.0, after_s - (time.monotonic() - t0))
+            )  # the workers are in their tasks
+            assert proc.poll() is None, "the command still runs when signalled"
+            os.kill(proc.pid, sig)
+        for proc, sig, _, _ in jobs:
+            emptied = _poll(lambda p=proc: p.poll() is not None and not _group(p.pid), 20)
+            assert emptied, (
+                f"{signal.Signals(sig).name}: processes of the group still alive 20 s later"
+            )
     finally:
-        for pid in _group(proc.pid):  # do not leave them to the next test
-            os.kill(pid, signal.SIGKILL)
-        _, err = proc.communicate(timeout=30)  # reaps it and closes the pipe
-    return err
+        for proc, _, _, _ in jobs:
+            for pid in _group(proc.pid):  # do not leave them to the next test
+                os.kill(pid, signal.SIGKILL)
+    return [proc.communicate(timeout=30)[1] for proc, _, _, _ in jobs]  # reaps, closes the pipe
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGHUP, signal.SIGINT])
-def test_a_signalled_sweep_stops_its_workers(tmp_path: Path, sig: int) -> None:
-    proc = _start([*SPIRALCAP, *SWEEP], tmp_path)
-    err = _stop_and_check(proc, sig, workers=2, after_s=4.0)
-    assert proc.returncode == 128 + sig, f"exit 128 + signal number ({err})"
-    what = "interrupted" if sig == signal.SIGINT else f"stopped by {signal.Signals(sig).name}"
-    assert err.strip().splitlines() == [f"spiralcap sweep: {what}"], err
-    assert list(tmp_path.iterdir()) == [], "no output, not even a partial one"
-
-
-@pytest.mark.slow
-def test_workers_of_a_killed_parent_die_too(tmp_path: Path) -> None:
-    """SIGKILL cannot be handled: the workers end through PR_SET_PDEATHSIG."""
-    proc = _start([*SPIRALCAP, *SWEEP], tmp_path)
-    _stop_and_check(proc, signal.SIGKILL, workers=2, after_s=4.0)
-    assert proc.returncode == -signal.SIGKILL
+def test_a_signalled_sweep_stops_its_workers(tmp_path: Path) -> None:
+    """SIGTERM, SIGHUP, SIGINT to a sweep on two workers, and SIGKILL (which cannot be handled:
+    the workers end through PR_SET_PDEATHSIG), four sweeps running at once, each in its own
+    folder: no process left, exit 128 + signal number with one line saying so, no output."""
+    sigs = [signal.SIGTERM, signal.SIGHUP, signal.SIGINT, signal.SIGKILL]
+    folders = [tmp_path / signal.Signals(sig).name for sig in sigs]
+    jobs = []
+    for sig, folder in zip(sigs, folders):
+        folder.mkdir()
+        jobs.append((_start([*SPIRALCAP, *SWEEP], folder), sig, 2, 4.0))
+    errs = _stop_all_and_check(jobs)
+    for (proc, sig, _, _), err, folder in zip(jobs, errs, folders):
+        name = signal.Signals(sig).name
+        assert list(folder.iterdir()) == [], f"{name}: no output, not even a partial one"
+        if sig == signal.SIGKILL:
+            assert proc.returncode == -signal.SIGKILL
+            continue
+        assert proc.returncode == 128 + sig, f"{name}: exit 128 + signal number ({err})"
+        what = "interrupted" if sig == signal.SIGINT else f"stopped by {name}"
+        assert err.strip().splitlines() == [f"spiralcap sweep: {what}"], err
 
 
 @pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGKILL])
@@ -150,29 +170,45 @@ LONG_SWEEP = [
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("after_s", [3.0, 6.0, 9.0])
-def test_sigterm_inside_ipopt_ends_the_sweep_within_5_s(tmp_path: Path, after_s: float) -> None:
-    """SIGTERM reaches a solve in IPOPT (CasADi turns it into a status the NLP layer raises as
-    :class:`optimize.nlp.SolveInterrupted`): the command ends within 5 s, exit 128 + 15, says
+def test_sigterm_inside_ipopt_ends_the_sweep_within_5_s(tmp_path: Path) -> None:
+    """SIGTERM at 3, 6 and 9 s (three sweeps running at once, each in its own folder) reaches a
+    solve in IPOPT (CasADi turns it into a status the NLP layer raises as
+    :class:`optimize.nlp.SolveInterrupted`): each command ends within 5 s, exit 128 + 15, says
     so on its last stderr line, writes nothing and leaves no process."""
-    proc = _start([*SPIRALCAP, *LONG_SWEEP], tmp_path)
+    afters = [3.0, 6.0, 9.0]
+    folders = [tmp_path / f"at_{int(a)}s" for a in afters]
+    for folder in folders:
+        folder.mkdir()
+    procs = [_start([*SPIRALCAP, *LONG_SWEEP], folder) for folder in folders]
     t0 = time.monotonic()
-    time.sleep(after_s)
-    assert proc.poll() is None, f"the sweep still runs {after_s} s in"
-    os.kill(proc.pid, signal.SIGTERM)
-    t_sent = time.monotonic()
+    sent: dict[int, float] = {}  # job -> when its SIGTERM went
+    ended: dict[int, float] = {}  # job -> when its group was first seen empty
     try:
-        ended = _poll(lambda: proc.poll() is not None and not _group(proc.pid), 5.0)
-        took = time.monotonic() - t_sent
-        assert ended, f"still running 5 s after SIGTERM at {after_s} s: {_group(proc.pid)}"
+        while len(ended) < len(procs) and time.monotonic() - t0 < afters[-1] + 10.0:
+            now = time.monotonic()
+            for i, (proc, after_s) in enumerate(zip(procs, afters)):
+                if i not in sent and now - t0 >= after_s:
+                    assert proc.poll() is None, f"the sweep still runs {after_s} s in"
+                    os.kill(proc.pid, signal.SIGTERM)
+                    sent[i] = time.monotonic()
+                elif i in sent and i not in ended and proc.poll() is not None:
+                    if not _group(proc.pid):
+                        ended[i] = time.monotonic()
+            time.sleep(0.05)
     finally:
-        for pid in _group(proc.pid):
-            os.kill(pid, signal.SIGKILL)
+        for proc in procs:
+            if proc.poll() is None:
+                os.kill(proc.pid, signal.SIGKILL)
+            for pid in _group(proc.pid):
+                os.kill(pid, signal.SIGKILL)
+    for i, (proc, after_s, folder) in enumerate(zip(procs, afters, folders)):
         _, err = proc.communicate(timeout=30)
-    assert proc.returncode == 128 + signal.SIGTERM, f"exit 143 ({err})"
-    assert err.strip().splitlines()[-1] == "spiralcap sweep: stopped by SIGTERM", err
-    assert list(tmp_path.iterdir()) == [], f"nothing written ({took:.1f} s after the signal)"
-    assert t_sent - t0 >= after_s
+        assert i in sent and sent[i] - t0 >= after_s, f"SIGTERM sent {after_s} s in"
+        took = ended.get(i, float("inf")) - sent[i]
+        assert took <= 5.0, f"still running 5 s after SIGTERM at {after_s} s ({took:.1f} s)"
+        assert proc.returncode == 128 + signal.SIGTERM, f"{after_s} s: exit 143 ({err})"
+        assert err.strip().splitlines()[-1] == "spiralcap sweep: stopped by SIGTERM", err
+        assert list(folder.iterdir()) == [], f"{after_s} s: nothing written ({took:.1f} s after)"
 
 
 def _first_child(pid: int, timeout_s: float) -> int | None:

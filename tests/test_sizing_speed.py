@@ -36,6 +36,23 @@ def model():
     return prepare(build_model(load_design(None, sets)))
 
 
+@pytest.fixture(scope="module")
+def power_six(model):
+    """The six-key least-power sizing, solved once for the module, and every neighbour attempt
+    it made (``discrete._attempt``'s context and hardware)."""
+    seen = []
+    real = discrete._attempt
+
+    def keep(ctx, combo):
+        seen.append((ctx, combo))
+        return real(ctx, combo)
+
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(discrete, "_attempt", keep)
+        sized = optimize_design(replace(model, sizing=hw.Sizing(SIX)))
+    return sized, seen
+
+
 def test_bound_first_buildability_equals_every_exact_check(model):
     base = hw.hardware_of(model)
     verdicts, exact_needed = [], 0
@@ -58,9 +75,9 @@ def test_bound_first_buildability_equals_every_exact_check(model):
     assert exact_needed, "some clearances lie within 5 mm of the requirement (bound not decisive)"
 
 
-def test_settled_sizing_is_the_strict_rules_design(model, monkeypatch):
+def test_settled_sizing_is_the_strict_rules_design(model, power_six, monkeypatch):
     sized = replace(model, sizing=hw.Sizing(SIX))
-    fast = optimize_design(sized)
+    fast = power_six[0]
     monkeypatch.setattr(discrete, "_OUTER_RTOL", 1e-9)
     monkeypatch.setattr(discrete, "_DELTA_ATOL_m", 0.0)  # the rule before: never settled
     strict = optimize_design(sized)
@@ -80,9 +97,11 @@ def test_settled_sizing_is_the_strict_rules_design(model, monkeypatch):
 @pytest.mark.parametrize(
     # every neighbour ranked, and the first feasible one in copper order ending the search
     ("objective", "free"),
-    [("margin", SIX), ("copper_mass", SIX[:2])],
+    [("power", SIX), ("copper_mass", SIX[:2])],
 )
-def test_neighbours_on_a_process_pool_give_this_process_result_bit_for_bit(model, objective, free):
+def test_neighbours_on_a_process_pool_give_this_process_result_bit_for_bit(
+    model, power_six, objective, free
+):
     from spiralcap.parallel import can_fork, process_pool
 
     if not can_fork():
@@ -90,7 +109,8 @@ def test_neighbours_on_a_process_pool_give_this_process_result_bit_for_bit(model
     m = replace(model, bounds=replace(model.bounds, objective=objective), sizing=hw.Sizing(free))
     with process_pool(2) as pool:
         spread = optimize_design(m, executor=pool)
-    here = optimize_design(m)
+    # this process's result: the module's six-key least-power sizing for that case
+    here = power_six[0] if objective == "power" else optimize_design(m)
     assert spread.status == "optimal", f"{objective}: sized"
     assert replace(spread, solve_time_s=0.0) == replace(here, solve_time_s=0.0), (
         f"{objective}: the same sized result with the neighbours on two forked workers as in "
@@ -98,20 +118,11 @@ def test_neighbours_on_a_process_pool_give_this_process_result_bit_for_bit(model
     )
 
 
-def test_candidate_neighbours_rank_as_their_full_solves(model, monkeypatch):
+def test_candidate_neighbours_rank_as_their_full_solves(power_six):
     """Each buildable neighbour's candidate result (evaluated at the solver's field) has the
     status of its full solve and its objective to 1e-9 relative (IPOPT's tolerance 1e-10)."""
-    seen = []
-    real = discrete._attempt
-
-    def keep(ctx, combo):
-        seen.append((ctx, combo))
-        return real(ctx, combo)
-
-    monkeypatch.setattr(discrete, "_attempt", keep)
-    optimize_design(replace(model, sizing=hw.Sizing(SIX)))
     compared = 0
-    for ctx, combo in seen:
+    for ctx, combo in power_six[1]:
         m = discrete.buildable(ctx.fixed_model, {**ctx.relaxed, **combo}, ctx.min_bore_m)
         if m is None:
             continue
@@ -167,27 +178,44 @@ def test_least_required_torque_bounds_a_dense_grid(copper):
     assert least >= brute * (1 - 3e-3), "and the least of them to 3e-3 (grid spacing)"
 
 
+@pytest.fixture(scope="module")
+def unscreened(copper):
+    """``unscreened(sf, free)``: the least-copper sizing at safety factor ``sf`` with every
+    buildable neighbour solved in full (screen off, one batch: not only up to the winner), its
+    result and each attempt (context, hardware, outcome); solved once per module."""
+    done: dict = {}
+
+    def run(sf: float, free: tuple):
+        if (sf, free) in done:
+            return done[(sf, free)]
+        seen = []
+        real = discrete._attempt
+
+        def keep(ctx, combo):
+            res = real(ctx, combo)
+            seen.append((ctx, combo, res))
+            return res
+
+        m = replace(copper, requirements=replace(copper.requirements, min_safety_factor=sf))
+        options = discrete.SizingOptions(batch=1000, screen=False)
+        with pytest.MonkeyPatch.context() as mp:
+            mp.setattr(discrete, "_attempt", keep)
+            res = discrete.size_design(replace(m, sizing=hw.Sizing(free)), options=options)
+        done[(sf, free)] = (m, res, seen)
+        return done[(sf, free)]
+
+    return run
+
+
 @pytest.mark.parametrize(
     ("sf", "free"), [(2.5, SIX), (1.5, SIX[:4]), (3.2, SIX)], ids=["six", "four", "six-high"]
 )
-def test_screen_rules_out_only_neighbours_the_nlp_cannot_solve(copper, monkeypatch, sf, free):
+def test_screen_rules_out_only_neighbours_the_nlp_cannot_solve(unscreened, sf, free):
     """Every buildable neighbour of a least-copper sizing solved in full (screen off): none the
     screen rules out is feasible, and the screen rules out most of the infeasible ones."""
     from optimize.screen import least_required_torque_Nm, out_of_reach
 
-    seen = []
-    real = discrete._attempt
-
-    def keep(ctx, combo):
-        res = real(ctx, combo)
-        seen.append((ctx, combo, res))
-        return res
-
-    monkeypatch.setattr(discrete, "_attempt", keep)
-    m = replace(copper, requirements=replace(copper.requirements, min_safety_factor=sf))
-    # every neighbour, not only up to the winner, each solved in full
-    options = discrete.SizingOptions(batch=1000, screen=False)
-    discrete.size_design(replace(m, sizing=hw.Sizing(free)), options=options)
+    m, _, seen = unscreened(sf, free)
     least = least_required_torque_Nm(m)
     screened = infeasible = 0
     for ctx, combo, res in seen:
@@ -203,12 +231,14 @@ def test_screen_rules_out_only_neighbours_the_nlp_cannot_solve(copper, monkeypat
     assert screened >= 0.8 * infeasible, f"most ruled out ({screened} of {infeasible})"
 
 
-def test_screened_sizing_is_the_unscreened_one(copper):
+def test_screened_sizing_is_the_unscreened_one(copper, unscreened):
     """The screen changes what is solved, not the answer: the same sized hardware, objective
-    and evaluation bit for bit (only the iterations spent differ)."""
+    and evaluation bit for bit (only the iterations spent differ). The unscreened sizing is the
+    module's one-batch run (``batch`` decides only how many neighbours past the winner are
+    solved, none of which is counted: the result does not depend on it)."""
     m = replace(copper, sizing=hw.Sizing(SIX))
     fast = optimize_design(m)
-    slow = discrete.size_design(m, options=discrete.SizingOptions(screen=False))
+    slow = unscreened(2.5, SIX)[1]
     assert fast.status == "optimal" and fast.hardware.candidates > fast.hardware.feasible
     assert replace(fast, solve_time_s=0.0, iterations=0) == replace(
         slow, solve_time_s=0.0, iterations=0
