@@ -98,3 +98,19 @@ def weightless(sets: list[str]) -> Any:
 
     model = build_model(load_design(None, [s for s in sets if s != "--set"]))
     return prepare(replace(model, capsule=replace(model.capsule, set_mass_kg=0.0)))
+
+
+#: ``--free`` arguments of the six-key sizing the tests share: every pair's turns (100 to 800)
+#: and wire (0.8 to 3 mm).
+SIX_KEYS = [
+    arg
+    for ax in "xyz"
+    for arg in (
+        "--free",
+        f"coils.{ax}.turns=100:800",
+        "--free",
+        f"coils.{ax}.wire_diameter_mm=0.8:3.0",
+    )
+]
+#: ``--set`` arguments of a least-power sizing at safety factor 2.
+LEAST_POWER = ["--set", "optimize.objective=power", "--set", "requirements.min_safety_factor=2"]

@@ -15,6 +15,7 @@ import math
 
 import numpy as np
 import pytest
+from cli_outcome import LEAST_POWER, SIX_KEYS
 
 from coils.clearance import (
     Ring,
@@ -26,23 +27,6 @@ from optimize.hardware import mean_turn_gap_m
 from spiralcap import cli
 from spiralcap.assemble import build_model
 from spiralcap.design import load_design
-
-SIX_KEYS = [
-    arg
-    for ax in "xyz"
-    for arg in (
-        "--free",
-        f"coils.{ax}.turns=100:800",
-        "--free",
-        f"coils.{ax}.wire_diameter_mm=0.8:3.0",
-    )
-]
-LEAST_POWER = [
-    "--set",
-    "optimize.objective=power",
-    "--set",
-    "requirements.min_safety_factor=2",
-]
 
 
 def _sdf(points: np.ndarray, axis: int, radius: float, centre: float, w: float, h: float):

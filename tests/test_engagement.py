@@ -17,7 +17,7 @@ from dataclasses import replace
 import casadi as ca
 import numpy as np
 import pytest
-from cli_outcome import run, run_json
+from cli_outcome import SIX_KEYS, run, run_json
 from scipy import integrate
 
 import capsule as cap
@@ -42,16 +42,6 @@ SMALL = [
     "limits.voltage_V=70",
     "limits.current_A=40",
     "limits.power_W=4500",
-]
-SIX_KEYS = [
-    arg
-    for ax in "xyz"
-    for arg in (
-        "--free",
-        f"coils.{ax}.turns=100:800",
-        "--free",
-        f"coils.{ax}.wire_diameter_mm=0.8:3.0",
-    )
 ]
 
 

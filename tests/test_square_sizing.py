@@ -11,7 +11,7 @@ from pathlib import Path
 import casadi as ca
 import numpy as np
 import pytest
-from cli_outcome import run, run_json
+from cli_outcome import LEAST_POWER, SIX_KEYS, run, run_json
 from scipy.spatial import cKDTree
 
 import coils
@@ -22,17 +22,6 @@ from spiralcap.core.constants import COPPER_DENSITY_kg_m3, MU0_T_m_per_A
 from spiralcap.design import load_design
 
 EXAMPLE = str(Path(__file__).resolve().parents[1] / "examples" / "square_coils.toml")
-SIX_KEYS = [
-    arg
-    for ax in "xyz"
-    for arg in (
-        "--free",
-        f"coils.{ax}.turns=100:800",
-        "--free",
-        f"coils.{ax}.wire_diameter_mm=0.8:3.0",
-    )
-]
-LEAST_POWER = ["--set", "optimize.objective=power", "--set", "requirements.min_safety_factor=2"]
 PAIR = coils.SquarePair(0.78, 350, "y", wire_diameter_m=2.5e-3, pack_aspect=1.5)
 
 
