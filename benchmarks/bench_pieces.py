@@ -63,12 +63,6 @@ PIECES: dict[str, tuple[list[str], str, list[str], str]] = {
         ["report", "-o", OUT, "--workers", "1"],
         "",
     ),
-    "field caps kept in Constants.memo (report)": (
-        ["report", "-o", OUT],
-        "",
-        ["report", "-o", OUT],
-        "import optimize.physics as ph; ph._memoised = lambda c, key, solve: solve()",
-    ),
     "pair states kept in Constants.memo (optimize)": (
         ["optimize", "--json"],
         "",

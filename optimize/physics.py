@@ -563,39 +563,11 @@ def _brent_below(value: Any, allowed: float, lo: float, hi: float) -> float:
     return root
 
 
-#: Largest frequency grid whose voltage caps are kept (the curves' and searches' grids are
-#: a few hundred points).
-_CACHED_SIZE = 4096
-
-
-def _array_key(x: np.ndarray) -> tuple:
-    return (x.tobytes(), x.shape)
-
-
-def _memoised(c: Constants, key: tuple, solve: Any) -> Any:
-    """``solve()``, kept under ``key`` in the memo of ``c`` (``c.memo.caps``: owned by the
-    caller's constants, not by this module; the caps are deterministic functions of ``c`` and
-    the key, so a hit is the same numbers)."""
-    memo = getattr(getattr(c, "memo", None), "caps", None)
-    if memo is None:
-        return solve()
-    hit = memo.get(key)
-    if hit is not None:
-        return hit
-    cap = solve()
-    if isinstance(cap, np.ndarray):
-        cap.setflags(write=False)  # shared by every later caller: read-only
-    if len(memo) > 256:
-        memo.clear()
-    memo[key] = cap
-    return cap
-
-
 def _hot_spot_cap_T(
     k: int, c: Constants, allowed_K: Any, ambient_temperature_C: float, surface: bool = False
 ) -> Any:
     """Largest centre field the hot-spot (``surface``: the hottest face point) limit of axis k
-    allows (bisection; kept in ``c.memo``)."""
+    allows (bisection)."""
     allowed = np.asarray(allowed_K, dtype=float)
     per_amp = float(c.current_per_tesla_A_per_T[k])
     if per_amp <= 0:  # an axis no heading uses carries no current: no cap
@@ -607,27 +579,23 @@ def _hot_spot_cap_T(
             return s.surface_max_C - ambient_temperature_C
         return hot_spot_rise_K(b * per_amp, k, c, ambient_temperature_C)
 
-    key = (k, surface, *_array_key(allowed), float(ambient_temperature_C))
-    return _memoised(c, key, lambda: _bisect_field_T(value, allowed, allowed.shape))
+    return _bisect_field_T(value, allowed, allowed.shape)
 
 
 def _power_cap_T(c: Constants, allowed_W: Any, ambient_temperature_C: float) -> Any:
-    """Largest centre field the copper-power limit allows (bisection; depends on B0 only;
-    kept in ``c.memo``)."""
+    """Largest centre field the copper-power limit allows (bisection; depends on B0 only)."""
     allowed = np.asarray(allowed_W, dtype=float)
     amb = float(ambient_temperature_C)
 
     def loss(b: Any) -> Any:  # a single field as a float (the scalar path of the thermal model)
         return total_loss_W(b if np.ndim(b) != 0 else float(b), c, amb)
 
-    key = ("power", *_array_key(allowed), amb)
-    return _memoised(c, key, lambda: _bisect_field_T(loss, allowed, allowed.shape))
+    return _bisect_field_T(loss, allowed, allowed.shape)
 
 
 def _channel_power_cap_T(k: int, c: Constants, allowed_W: Any, ambient_temperature_C: float) -> Any:
     """Largest centre field pair k's own channel power limit allows, R(I) I² / 2 <= P
-    (bisection; the resistance at the pair's self-consistent mean temperature; kept in
-    ``c.memo``)."""
+    (bisection; the resistance at the pair's self-consistent mean temperature)."""
     allowed = np.asarray(allowed_W, dtype=float)
     per_amp = float(c.current_per_tesla_A_per_T[k])
     if per_amp <= 0:
@@ -637,25 +605,17 @@ def _channel_power_cap_T(k: int, c: Constants, allowed_W: Any, ambient_temperatu
         current = b * per_amp
         return 0.5 * winding_resistance_ohm(current, k, c, ambient_temperature_C) * current**2
 
-    key = ("channel_power", k, *_array_key(allowed), float(ambient_temperature_C))
-    return _memoised(c, key, lambda: _bisect_field_T(value, allowed, allowed.shape))
+    return _bisect_field_T(value, allowed, allowed.shape)
 
 
 def _voltage_cap_T(
     k: int, frequency_hz: Any, c: Constants, allowed_V: Any, ambient_temperature_C: float
 ) -> Any:
-    """Largest centre field the drive voltage of axis k allows, |Z(R(I))| I = V (numpy).
-
-    Kept in ``c.memo`` per frequencies, voltage and ambient (:func:`_voltage_cap_solve`):
-    the sweeps, curves and searches ask for the same frequencies again and again (large
-    one-off grids, such as a vectorised sweep's, are solved without keeping them).
-    """
+    """Largest centre field the drive voltage of axis k allows, |Z(R(I))| I = V (numpy;
+    :func:`_voltage_cap_solve`)."""
     f = np.asarray(frequency_hz, dtype=float)
     volt = np.asarray(allowed_V, dtype=float)
-    if max(f.size, volt.size) > _CACHED_SIZE:
-        return _voltage_cap_solve(k, f, c, volt, ambient_temperature_C)
-    key = ("voltage", k, *_array_key(f), *_array_key(volt), float(ambient_temperature_C))
-    return _memoised(c, key, lambda: _voltage_cap_solve(k, f, c, volt, ambient_temperature_C))
+    return _voltage_cap_solve(k, f, c, volt, ambient_temperature_C)
 
 
 def _voltage_cap_solve(
@@ -721,9 +681,7 @@ def field_capacity_T(
     """Largest centre field each limit allows at ``f`` (numpy only): (min, caps, unit terms).
 
     Power-law terms invert in closed form; the session hot-spot term (``power`` None) by a
-    vectorised bisection on the same expression (:func:`_bisect_field_T`). The searched caps
-    are kept in the memo of ``c`` (``Constants.memo``, owned by the caller's prepared
-    constants): the same numbers, solved once per constants.
+    vectorised bisection on the same expression (:func:`_bisect_field_T`).
 
     Parameters
     ----------

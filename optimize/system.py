@@ -286,15 +286,12 @@ class PhysicsMemo:
 
     Attributes
     ----------
-    caps : dict
-        Field caps searched by :func:`optimize.physics.field_capacity_T`, T by key.
     states : dict
         :func:`optimize.physics.pair_states` by field and ambient (°C, W, s; a field node of an
         NLP being built included).
     """
 
     def __init__(self) -> None:
-        self.caps: dict = {}
         self.states: dict = {}
 
     def __reduce__(self) -> tuple:

@@ -79,7 +79,7 @@ def test_optimize_without_frequency_bounds_same_optimum(model):
     assert [b.name for b in quick.binding_limits] == [b.name for b in full.binding_limits]
 
 
-def test_capacity_per_distinct_frequency_and_memoised_caps_same_bits(model):
+def test_capacity_per_distinct_frequency_same_bits(model):
     from optimize import margin_grid
     from optimize import physics as ph
 
@@ -88,23 +88,17 @@ def test_capacity_per_distinct_frequency_and_memoised_caps_same_bits(model):
     f = np.geomspace(0.05, 40.0, 11)
     aa, ff = np.meshgrid(a, f)
     c, limits, amb = model.constants, model.limits, model.ambient_temperature_C
-    c.memo.caps.clear()
-    grid = margin_grid(model, aa, ff, capacity=True).field_amplitude_T  # 11 solves, memoised
-    memo = ph.field_capacity_T(ff, c, limits, amb)
-    assert c.memo.caps, "the constants' own memo holds the searched caps"
-    c.memo.caps.clear()
-    fresh = ph.field_capacity_T(ff, c, limits, amb)  # every cap solved afresh
-    assert np.array_equal(grid, fresh[0]) and np.array_equal(memo[0], fresh[0]), (
-        "capacity per distinct frequency == every grid point solved afresh, bit for bit"
+    grid = margin_grid(model, aa, ff, capacity=True).field_amplitude_T  # 11 solves
+    fresh = ph.field_capacity_T(ff, c, limits, amb)  # every grid point's caps solved
+    assert np.array_equal(grid, fresh[0]), (
+        "capacity per distinct frequency == every grid point solved, bit for bit"
     )
-    for cached, new in zip(memo[1], fresh[1]):
-        assert np.array_equal(cached, new), "memoised caps == caps solved afresh"
     assert fresh[0].shape == aa.shape
 
 
 def test_power_cap_is_the_plain_search_on_the_allowed_side(model):
-    """Each budget's power cap, kept in the constants' memo, equals a plain search, bit for
-    bit, and its loss is within the budget."""
+    """Each budget's power cap equals a plain search on the total loss, bit for bit, and its
+    loss is within the budget."""
     from optimize import physics as ph
 
     c, amb = model.constants, model.ambient_temperature_C
@@ -113,7 +107,7 @@ def test_power_cap_is_the_plain_search_on_the_allowed_side(model):
         plain = float(
             ph._bisect_field_T(lambda b: ph.total_loss_W(b, c, amb), np.asarray(budget), ())
         )
-        assert memo == plain, f"{budget} W: memoised power cap == plain search, bit for bit"
+        assert memo == plain, f"{budget} W: power cap == plain search, bit for bit"
         assert ph.total_loss_W(memo, c, amb) <= budget, "the cap is on the allowed side"
 
 
@@ -155,9 +149,9 @@ def test_physics_memo_belongs_to_its_constants(model):
     before = sizes()
     ph.field_capacity_T(0.5, c, model.limits, model.ambient_temperature_C)
     ph.pair_states(0.01, c, model.ambient_temperature_C)
-    assert c.memo.caps and c.memo.states, "filled in the constants' own memo"
+    assert c.memo.states, "filled in the constants' own memo"
     assert sizes() == before, "optimize.physics keeps nothing in module-level containers"
     other = dataclasses.replace(c, mass_kg=c.mass_kg)
-    assert other.memo is not c.memo and not other.memo.caps, "a replaced Constants: its own memo"
+    assert other.memo is not c.memo and not other.memo.states, "a replaced Constants: its own memo"
     again = pickle.loads(pickle.dumps(c)).memo
-    assert not again.caps and not again.states, "a pickled Constants carries no memo"
+    assert not again.states, "a pickled Constants carries no memo"
