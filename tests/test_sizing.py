@@ -209,37 +209,12 @@ def test_sizing_rows_equal_fixed_rows_at_the_same_hardware(model, session):
     variables) equal the fixed-hardware rows (precomputed Constants) at the same point: the
     expressions of optimize.hardware are the coil objects' numbers, to 1e-9 — the thermal packs
     (hot spot, self-consistent resistance), steady or at the end of a 20 min session, included."""
-    from optimize.solve import compile_problem, scales_for, structure_of
+    from rows_check import assert_sizing_rows_equal_fixed_rows
 
     if session:
         model = prepare(build_model(load_design(None, ["operation.session_min=20"])))
-
     names = ("x.turns", "y.wire_diameter_m", "z.radius_m")
-    hs = hw.HardwareStructure(names, hw.helmholtz_flags(model), len(model.headings))
-    sized = compile_problem(structure_of(model, hardware=hs))
-    fixed = compile_problem(structure_of(model))
-    scales = scales_for(model)
-    extra = hw.sizing_parameters(model, hw.frozen_factors(model), hw.bore_m(model))
-    point = {"helical_angle": 0.3, "frequency": 1.2, "field_scaled": 0.8, "t": 0.1}
-    here = hw.hardware_of(model)
-    from optimize.physics import total_loss_W
-
-    loss = total_loss_W(
-        point["field_scaled"] * scales.field_T, model.constants, model.ambient_temperature_C
-    )
-    p_ref = float(loss) / scales.power_W
-    p_sized = sized.parameters(model, scales, extra)
-    xs = sized.nlp.scaled_start(
-        {**point, **{n: here[n] for n in names}, "power_W_scaled": p_ref}, p_sized
-    )
-    _, g_sized = sized.nlp.evaluate(xs, p_sized)
-    p_fixed = fixed.parameters(model, scales)
-    _, g_fixed = fixed.nlp.evaluate(fixed.nlp.scaled_start(point, p_fixed), p_fixed)
-    by_name = dict(zip(sized.nlp.row_names, g_sized))
-    for name, g in zip(fixed.nlp.row_names, g_fixed):
-        assert math.isclose(by_name[name], g, rel_tol=1e-9, abs_tol=1e-12), (
-            f"{name}: sizing and fixed rows agree (1e-9)"
-        )
+    assert_sizing_rows_equal_fixed_rows(model, names, "circular pairs")
 
 
 def test_min_bore_left_out_and_set_to_its_default_size_the_same_coils(capsys):

@@ -307,31 +307,9 @@ def test_square_sizing_rows_equal_fixed_rows_at_the_same_hardware(sets, names) -
     """The sizing NLP with square pairs (hardware as variables, frozen factors at the design)
     gives every row the fixed-hardware NLP gives at the same point, to 1e-9: gains, inductances,
     the thermal frames (bars included), voltage, power, hot spot and the rest."""
-    from optimize.physics import total_loss_W
-    from optimize.solve import compile_problem, scales_for, structure_of
+    from rows_check import assert_sizing_rows_equal_fixed_rows
+
     from optimize.system import prepare
 
     design = load_design(None, sets) if sets else load_design(EXAMPLE)
-    model = prepare(build_model(design))
-    hs = hw.HardwareStructure(
-        names, hw.helmholtz_flags(model), len(model.headings), square=hw.square_flags(model)
-    )
-    sized = compile_problem(structure_of(model, hardware=hs))
-    fixed = compile_problem(structure_of(model))
-    scales = scales_for(model)
-    extra = hw.sizing_parameters(model, hw.frozen_factors(model), hw.bore_m(model))
-    point = {"helical_angle": 0.3, "frequency": 1.2, "field_scaled": 0.8, "t": 0.1}
-    here = hw.hardware_of(model)
-    loss = total_loss_W(
-        point["field_scaled"] * scales.field_T, model.constants, model.ambient_temperature_C
-    )
-    p_sized = sized.parameters(model, scales, extra)
-    start = {**point, **{n: here[n] for n in names}, "power_W_scaled": loss / scales.power_W}
-    _, g_sized = sized.nlp.evaluate(sized.nlp.scaled_start(start, p_sized), p_sized)
-    p_fixed = fixed.parameters(model, scales)
-    _, g_fixed = fixed.nlp.evaluate(fixed.nlp.scaled_start(point, p_fixed), p_fixed)
-    by_name = dict(zip(sized.nlp.row_names, g_sized))
-    for name, g in zip(fixed.nlp.row_names, g_fixed):
-        assert math.isclose(by_name[name], g, rel_tol=1e-9, abs_tol=1e-12), (
-            f"{name}: sizing and fixed rows agree with square pairs (1e-9)"
-        )
+    assert_sizing_rows_equal_fixed_rows(prepare(build_model(design)), names, "square pairs")
