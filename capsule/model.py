@@ -17,7 +17,7 @@ from capsule.spiral import (
     min_helical_angle_for_clearance_rad,
 )
 from capsule.torque import max_synchronous_torque_Nm
-from spiralcap.core.errors import InputError
+from spiralcap.core.errors import InputError, check_positive
 
 
 def geometry_problems(body: Body, spiral: Spiral, magnet: Magnet) -> list[tuple[str, str]]:
@@ -194,6 +194,8 @@ class Capsule:
     set_mass_kg: float | None = None
 
     def __post_init__(self) -> None:
+        if self.set_mass_kg is not None:  # a weight of 0 or less would lower the friction torque
+            check_positive("set_mass_kg", self.set_mass_kg)
         problems = geometry_problems(self.body, self.spiral, self.magnet)
         if problems:
             field, reason = problems[0]

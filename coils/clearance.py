@@ -46,6 +46,7 @@ __all__ = [
     "pack_clearance_m",
     "pack_clearances_m",
     "pack_closest_points",
+    "pack_distance_m",
     "pair_extent_m",
     "pair_packs",
     "pair_rings",
@@ -531,7 +532,24 @@ def pack_clearance_m(pair_a: Any, pair_b: Any) -> float:
     float
         Least distance between their packs, m.
     """
-    pa, pb = pair_packs(pair_a)[1], pair_packs(pair_b)[1]
+    return pack_distance_m(pair_packs(pair_a)[1], pair_packs(pair_b)[1])
+
+
+def pack_distance_m(pa: Any, pb: Any) -> float:
+    """Least distance between two packs as solids (:class:`Ring` or :class:`Frame`), m:
+    :func:`ring_distance_m`, :func:`frame_distance_m`, or for a ring and a frame the ring's
+    surface search with the frame's exact signed distance. Negative: they overlap.
+
+    Parameters
+    ----------
+    pa, pb : Ring or Frame
+        The two packs.
+
+    Returns
+    -------
+    float
+        Least distance, m.
+    """
     if isinstance(pa, Ring) and isinstance(pb, Ring):
         return ring_distance_m(pa, pb)
     if isinstance(pa, Frame) and isinstance(pb, Frame):

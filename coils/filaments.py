@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
+from contextvars import ContextVar
 from dataclasses import dataclass, field
 from typing import Any, ClassVar, Literal
 
@@ -34,8 +35,9 @@ __all__ = ["AXES", "AxisFilaments", "FilamentSet", "gauss_legendre_pack"]
 Axis = Literal["x", "y", "z"]
 AXES: tuple[Axis, Axis, Axis] = ("x", "y", "z")
 
-#: The last scratch of the numpy path (see FilamentSet._workspace): (sizes, buffers).
-_WORK: dict[str, Any] = {}
+#: The last scratch of the numpy path (see FilamentSet._workspace): (sizes, buffers). A context
+#: variable, so every thread (a Dask worker's, a caller's own) has its own buffers.
+_WORK: ContextVar[tuple | None] = ContextVar("spiralcap_filament_scratch", default=None)
 
 #: Point-filament pairs per chunk on the numpy path: bounds the scratch (about 7 MB) and keeps
 #: it reused, whatever the number of filaments.
@@ -351,7 +353,7 @@ class FilamentSet(AxisFilaments):
         """
         L, k = len(self.radii_m), self.n_currents
         key = (L, k, n)
-        cached = _WORK.get("last")
+        cached = _WORK.get()
         if cached is not None and cached[0] == key:
             return cached[1]
         shapes = {
@@ -375,7 +377,7 @@ class FilamentSet(AxisFilaments):
             name: flat[end - size : end].reshape(shape)
             for (name, shape), size, end in zip(shapes.items(), sizes, ends, strict=True)
         }
-        _WORK["last"] = (key, work)
+        _WORK.set((key, work))
         return work
 
     def _rows(self) -> dict[str, np.ndarray]:

@@ -25,7 +25,7 @@ from coils.electrical import impedance_ohm
 from coils.system import ThreeAxisHelmholtz
 from coils.thermal import WindingPack
 from coils.thermal_system import mean_rise_at_K, pair_temperatures
-from spiralcap.core.constants import COPPER_DENSITY_kg_m3, COPPER_TEMPERATURE_COEFFICIENT_per_K
+from spiralcap.core.constants import COPPER_TEMPERATURE_COEFFICIENT_per_K
 
 __all__ = ["AxisSizing", "SystemSizing", "WorstHeading", "size_system", "winding_pack"]
 
@@ -325,7 +325,7 @@ def size_system(
                 winding_pack_depth_m=pair.winding_pack_depth_m,
                 pack_aspect=pair.pack_aspect,
                 wire_length_m=pair.wire_length_m,
-                copper_mass_kg=COPPER_DENSITY_kg_m3 * pair.wire_length_m * pair.wire_area_m2,
+                copper_mass_kg=pair.copper_mass_kg,
                 field_per_amp_T_per_A=g,
                 resistance_20C_ohm=r20,
                 resistance_ohm=r,

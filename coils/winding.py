@@ -23,6 +23,7 @@ import numpy as np
 
 from coils.electrical import copper_resistivity_ohm_m
 from coils.filaments import AXES, Axis, gauss_legendre_pack
+from spiralcap.core.constants import COPPER_DENSITY_kg_m3
 from spiralcap.core.errors import InputError, check_positive
 
 __all__ = ["MAX_PACKING_FACTOR", "PACK_ASPECT_RANGE", "WoundPair"]
@@ -184,6 +185,11 @@ class WoundPair:
     def wire_length_m(self) -> float:
         """Copper length of both coils, 2 N times the mean turn (2π R, or 4 a for a square), m."""
         return 2.0 * self.turns * self._TURN_LENGTH_PER_SIZE * self._size_m
+
+    @property
+    def copper_mass_kg(self) -> float:
+        """Copper of both coils, density (IEC 60028) x wire length x bare section, kg."""
+        return COPPER_DENSITY_kg_m3 * self.wire_length_m * self.wire_area_m2
 
     def _coil_grids(self, nodes: tuple[int, int]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Both coils as Gauss-Legendre filament grids over their packs: the filaments' size

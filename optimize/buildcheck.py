@@ -72,10 +72,8 @@ def copper_masses_kg(model: Any) -> tuple[float, float, float]:
     tuple of float
         Copper of the x, y and z pairs, kg.
     """
-    from spiralcap.core.constants import COPPER_DENSITY_kg_m3
-
     return tuple(  # type: ignore[return-value]
-        float(COPPER_DENSITY_kg_m3 * p.wire_length_m * p.wire_area_m2) for p in model.coils.pairs
+        float(p.copper_mass_kg) for p in model.coils.pairs
     )
 
 

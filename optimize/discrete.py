@@ -213,6 +213,8 @@ class Relaxation(NamedTuple):
         Outer rounds run, count.
     iterations : int
         IPOPT iterations spent over all rounds and starts, count.
+    settled : bool
+        Flag: the frozen factors settled (else the rounds ran out, or a round failed).
     """
 
     best: Solution | None
@@ -222,6 +224,7 @@ class Relaxation(NamedTuple):
     p: Any
     outer: int
     iterations: int
+    settled: bool = False
 
 
 def _best_of(problem: Any, starts: list[dict[str, float]], p: Any, bounds: dict) -> tuple:
@@ -268,6 +271,7 @@ def relax(
     hw_now = dict(s.hw_start)
     iterations, outer, outer_max = 0, 0, options.outer_max
     best, frozen_prev, next_start, p = None, None, None, None
+    settled = False
     while outer < outer_max:
         outer += 1
         say(f"continuous relaxation, outer iteration {outer}")
@@ -292,9 +296,10 @@ def relax(
             problem = compile_problem(structure_of(ws.model(exact), hardware=s.structure))
             next_start = {k: v for k, v in best.values().items() if not _slot_variable(k, changed)}
         elif frozen_prev is not None and _settled(frozen_prev, frozen):
+            settled = True
             break
         frozen_prev = frozen
-    return Relaxation(best, hw_now, exact, problem, p, outer, iterations)
+    return Relaxation(best, hw_now, exact, problem, p, outer, iterations, settled)
 
 
 def _relaxed_objective(s: _Setup, r: Relaxation) -> float:
@@ -529,6 +534,7 @@ def finish(
         candidates=ranking.tried,
         feasible=ranking.feasible,
         outer_iterations=r.outer,
+        settled=r.settled,
     )
     n, tried, feasible = len(s.free), ranking.tried, ranking.feasible
     return replace(

@@ -36,7 +36,7 @@ from __future__ import annotations
 import functools
 import itertools
 from collections.abc import Mapping
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -421,7 +421,13 @@ class Frozen:
     view_factors : ndarray, shape (3, 4)
         The packs' view factors ``[room, x, y, z]``, dimensionless.
     clearance_delta_m : ndarray, shape (3,)
-        Exact clearance minus the torus bound, m (>= 0).
+        Exact clearance minus the torus bound, m (>= 0 for two rings).
+    delta_slopes : ndarray, shape (3, 4)
+        For two pairs with a square frame: the correction's derivatives with the first and
+        second pair's pack width and depth ``(w_a, h_a, w_b, h_b)``, dimensionless (m/m); zero
+        for two rings (not used).
+    packs0_m : ndarray, shape (3, 2)
+        Each pair's pack (width, depth) the slopes were taken at, m.
     """
 
     gain_correction: np.ndarray  # (3,)
@@ -433,6 +439,8 @@ class Frozen:
     radii0_m: np.ndarray  # (3,) radii the gaps were linearised at
     view_factors: np.ndarray  # (3, 4) packs' view factors [room, x, y, z] at this hardware
     clearance_delta_m: np.ndarray  # (3,) exact clearance - torus bound, >= 0
+    delta_slopes: np.ndarray = field(default_factory=lambda: np.zeros((3, 4)))
+    packs0_m: np.ndarray = field(default_factory=lambda: np.zeros((3, 2)))
 
 
 PAIRS_OF_PAIRS = ((0, 1), (0, 2), (1, 2))
@@ -483,6 +491,8 @@ def frozen_factors(model: Any) -> Frozen:
         np.array([p._size_m for p in pairs]),
         np.asarray(m.constants.view_factors, dtype=float),
         np.array(delta),
+        np.array([_delta_slopes(pairs[i], pairs[j]) for i, j in PAIRS_OF_PAIRS]),
+        np.array([(p.winding_pack_width_m, p.winding_pack_depth_m) for p in pairs]),
     )
 
 
@@ -526,6 +536,33 @@ def _clearance_delta_m(exact_m: float, gap_m: float, a: Any, b: Any) -> float:
         for p in (a, b)
     )
     return exact_m - (gap_m - tubes)
+
+
+def _delta_slopes(a: Any, b: Any) -> np.ndarray:
+    """d(clearance correction)/d(w_a, h_a, w_b, h_b) by central differences on the exact
+    solid distance, for two pairs with a square frame (zeros for two rings, whose correction
+    row is as before). The frame-to-frame distance is piecewise linear in the pack sides, so
+    with these slopes the row tracks the exact clearance to first order as the packs grow and
+    the outer iterations settle."""
+    from coils.clearance import pack_distance_m, pair_packs
+
+    if a.shape != "square" and b.shape != "square":
+        return np.zeros(4)
+    packs = [pair_packs(a)[1], pair_packs(b)[1]]
+    squares = [a.shape == "square", b.shape == "square"]
+
+    def delta(k: int, name: str, step: float) -> float:
+        moved = list(packs)
+        moved[k] = replace(packs[k], **{name: getattr(packs[k], name) + step})
+        tubes = sum(tube_radius_m(q.width_m, q.depth_m, sq) for q, sq in zip(moved, squares))
+        return pack_distance_m(*moved) + tubes  # the gap term does not move with the packs
+
+    out = []
+    for k in range(2):
+        for name in ("width_m", "depth_m"):
+            step = 1e-4 * getattr(packs[k], name)
+            out.append((delta(k, name, step) - delta(k, name, -step)) / (2.0 * step))
+    return np.array(out)
 
 
 def _scaled(p: Any, h: float) -> Any:
@@ -1014,7 +1051,9 @@ def _coil_terms(b: Any, hs: HardwareStructure, hw: dict, q: list, ctx: Any) -> l
         if not freed[k]:  # a fixed pair's rows would be constants
             continue
         r, width, depth = hs.reach(hw, k), q[k]["width_m"], q[k]["depth_m"]
-        out.append(Term(Row(f"pack_side_{ax}", "geometry", "m"), depth, r, upper))
+        # the pack inside its turn: h <= R, or h <= a for a square frame (coils.winding)
+        inside = hs.size(hw, k) if hs.square[k] else r
+        out.append(Term(Row(f"pack_side_{ax}", "geometry", "m"), depth, inside, upper))
         if not hs.helmholtz[k]:
             out.append(Term(Row(f"pack_separation_{ax}", "geometry", "m"), width, sep[k], upper))
         out.append(
@@ -1038,10 +1077,13 @@ def _coil_terms(b: Any, hs: HardwareStructure, hw: dict, q: list, ctx: Any) -> l
             continue
         ri, rj = hs.size(hw, i), hs.size(hw, j)
         gap = gap0[n] + dga[n] * (ri - r0[i]) + dgb[n] * (rj - r0[j])
+        clearance = gap - _tubes(hs, q, i, j) + delta[n]
+        if hs.square[i] or hs.square[j]:  # the correction to first order in the packs
+            clearance = clearance + _delta_moves(b, q, n, i, j)
         out.append(
             Term(
                 Row(f"clearance_{AXES[i]}{AXES[j]}", "geometry", "m", -1.0),
-                gap - _tubes(hs, q, i, j) + delta[n],
+                clearance,
                 need,
                 lambda v, a: (a + CLEARANCE_MARGIN_m - v) / CLEARANCE_REF_m,
             )
@@ -1052,6 +1094,16 @@ def _coil_terms(b: Any, hs: HardwareStructure, hw: dict, q: list, ctx: Any) -> l
         limit = b.parameter("limit.copper_mass_kg")
         out.append(Term(Row("copper_mass", "limit", "kg"), mass, limit, upper))
     return out
+
+
+def _delta_moves(b: Any, q: list, n: int, i: int, j: int) -> Any:
+    """How the clearance correction of pairs (i, j) moves with their packs since the frozen
+    hardware (:func:`_delta_slopes`), m."""
+    slopes = b.parameter("frozen.delta_slopes", (12,))
+    packs0 = b.parameter("frozen.packs0_m", (6,))
+    now = [q[i]["width_m"], q[i]["depth_m"], q[j]["width_m"], q[j]["depth_m"]]
+    then = [packs0[2 * i], packs0[2 * i + 1], packs0[2 * j], packs0[2 * j + 1]]
+    return sum(slopes[4 * n + m] * (now[m] - then[m]) for m in range(4))
 
 
 def _tubes(hs: HardwareStructure, q: list, i: int, j: int) -> Any:
@@ -1170,6 +1222,8 @@ def sizing_parameters(model: Any, frozen: Frozen, min_bore_m: float) -> dict[str
             "frozen.radii0_m": frozen.radii0_m,
             "frozen.view_factors": frozen.view_factors.ravel(),
             "frozen.clearance_delta_m": frozen.clearance_delta_m,
+            "frozen.delta_slopes": frozen.delta_slopes.ravel(),
+            "frozen.packs0_m": frozen.packs0_m.ravel(),
         }
     )
     return values

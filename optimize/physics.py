@@ -855,12 +855,11 @@ def required_torques_Nm(
         (resistive, thrust) torque per tissue set, N·m (floats, arrays or CasADi).
     """
     geometry = contact_geometry(c)
-    radius = tm.contact_radius_m(c.body_diameter_m, c.wire_diameter_m)
     out = []
     for tissue in tissues:
         res = tm.resistive_torque_Nm(
             helical_angle_rad, frequency_hz, tissue, geometry
-        ) + tm.weight_friction_torque_Nm(c.mass_kg, tissue.friction_coefficient, radius)
+        ) + weight_friction_Nm(c, tissue)
         thr = cap.thrust_torque_Nm(
             req.axial_load_N, c.helix_diameter_m, helical_angle_rad, tissue.friction_coefficient
         )

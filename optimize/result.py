@@ -226,6 +226,10 @@ class HardwareResult:
         Number of those that were feasible.
     outer_iterations : int
         Number of outer iterations of the frozen factors.
+    settled : bool
+        Flag: the frozen factors settled within their tolerances (else the relaxed numbers are
+        those of the last round, its rows a little off their fixed point; every neighbour is
+        still checked exactly).
     """
 
     relaxed: dict[str, float]
@@ -235,6 +239,7 @@ class HardwareResult:
     candidates: int
     feasible: int
     outer_iterations: int
+    settled: bool = True
 
     @property
     def rounding_cost(self) -> float:

@@ -13,7 +13,6 @@ from typing import Any
 
 import numpy as np
 
-from spiralcap.core.constants import COPPER_DENSITY_kg_m3
 from torque_model.engagement import DEFAULT_MIN_WALL_STRAIN
 
 
@@ -509,9 +508,7 @@ def precompute(model: DesignModel) -> Constants:
         wire_diameter_m=spiral.wire_diameter_m,
         wound_length_m=spiral.wound_length_m,
         helix_diameter_m=float(cap.helix_diameter_m(body.diameter_m, spiral.wire_diameter_m)),
-        copper_mass_kg=np.array(
-            [COPPER_DENSITY_kg_m3 * p.wire_length_m * p.wire_area_m2 for p in pairs]
-        ),
+        copper_mass_kg=np.array([p.copper_mass_kg for p in pairs]),
         heading_current_per_tesla_A_per_T=s / g,
         starts=int(spiral.starts),
         winding_temperature_C=model.winding_temperature_C,

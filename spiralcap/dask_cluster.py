@@ -9,7 +9,7 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 from typing import Any
 
-from spiralcap.core.errors import InputError
+from spiralcap.core.errors import InputError, SpiralcapError
 
 #: Seconds to wait for a Dask scheduler before giving up with a one-line error.
 CONNECT_TIMEOUT_S = 3
@@ -119,6 +119,8 @@ def on_dask(
             time.sleep(0.02)
         try:
             return list(client.gather(futures))
+        except SpiralcapError:  # the task's own error (bad input, bad data): as run locally
+            raise
         except Exception as exc:  # a worker or the scheduler could not run the task
             why = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
             raise InputError(

@@ -179,7 +179,8 @@ def field_grid(model: Any, half_width_m: float, step_m: float | None = None) -> 
         step_m = 2.0 * h / DEFAULT_STEPS_PER_DIAMETER if h > 0 else 1.0
     if not (math.isfinite(step_m) and step_m > 0):
         raise InputError("--grid-step-mm", step_m * 1e3, "a grid spacing > 0 mm")
-    n = math.floor(2.0 * h / step_m + 1e-9) + 1
+    span = 2.0 * h / step_m + 1e-9  # points per side less one (inf for a subnormal step)
+    n = math.floor(span) + 1 if span < MAX_GRID_POINTS else MAX_GRID_POINTS + 1
     if n**3 > MAX_GRID_POINTS:
         raise InputError(
             "--grid-step-mm",
@@ -209,7 +210,7 @@ def write_field_grid(path: str | os.PathLike[str], grid: FieldGrid) -> None:
     if str(path).lower().endswith(".npz"):
         buf = io.BytesIO()
         arrays: dict[str, Any] = {name: table[:, i] for i, name in enumerate(names)}
-        np.savez(buf, allow_pickle=False, **arrays)
+        np.savez(buf, **arrays)  # plain float arrays
         write_text_atomic(path, buf.getvalue())
         return
     buf_text = io.StringIO()

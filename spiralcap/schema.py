@@ -861,7 +861,8 @@ KEYS.update(
             lambda v: (
                 isinstance(v, list) and 0 < len(v) <= 64 and all(_num(x) and 0 < x < 90 for x in v)
             ),
-            "helical angles of the bench capsules: record of the bench the constants were fitted "
+            "helical angles of the bench capsules (at most 64, spread over the range with both "
+            "ends, when the bench had more): record of the bench the constants were fitted "
             "on; not used by the model",
         ),
         "tissue.fit.bench_frequency_range_hz": Key(

@@ -244,4 +244,5 @@ def _hardware(h) -> dict[str, Any] | None:
         "candidates": h.candidates,
         "feasible_candidates": h.feasible,
         "outer_iterations": h.outer_iterations,
+        "settled": h.settled,
     }

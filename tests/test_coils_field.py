@@ -338,3 +338,21 @@ def test_coils_json_labels_the_loop_gain_and_gives_the_pack_gain(run_cli, capsys
         assert 1e-4 < 1.0 - a["pack_field_per_amp_T_per_A"] / a["field_per_amp_T_per_A"] < 1e-3, (
             "the pack's gain is a few 1e-4 below the loop's for the built-in pairs"
         )
+
+
+def test_fields_computed_on_several_threads_are_the_serial_ones() -> None:
+    """The numpy path reuses scratch buffers; a Dask worker runs tasks on threads, so each thread
+    must have its own (a shared dict gave wrong fields, up to 1.6e20 relative, and errors)."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    pairs = [coils.HelmholtzPair(0.3 + 0.01 * i, 300, filaments=(4, 4)) for i in range(4)]
+    pts = np.random.default_rng(0).uniform(-0.1, 0.1, (2000, 3))
+    ref = [p.filament_set.field(pts, np.array([[1.0]])) for p in pairs]
+
+    def field(i: int) -> np.ndarray:
+        return pairs[i % 4].filament_set.field(pts, np.array([[1.0]]))
+
+    with ThreadPoolExecutor(4) as pool:
+        out = list(pool.map(field, range(80)))
+    for i, b in enumerate(out):
+        assert np.array_equal(b, ref[i % 4]), "a field on a thread == the same field serially"

@@ -260,3 +260,13 @@ def test_no_grip_probability_against_sampling():
     sd = math.sqrt(exact * (1 - exact) / u.shape[0])
     assert 0.1 < exact < 0.9, "a case where the grip is in doubt"
     assert abs(sampled - exact) <= 4 * sd, "closed form vs sampling, 4 sigma"
+
+
+def test_infeasible_text_names_each_tissue_row() -> None:
+    """Two tissue sets short of the same key: one line each, the set named (not twice the same
+    line)."""
+    rc, out, _ = run(["optimize", "--set", "tissue.lumen_diameter_mm=100"])
+    assert rc == 3
+    lines = [ln for ln in out.splitlines() if "requirements.min_wall_strain" in ln]
+    assert len(lines) == 2 and len(set(lines)) == 2, lines
+    assert any("zhou2013-sample2" in ln for ln in lines) and any("sample3" in ln for ln in lines)

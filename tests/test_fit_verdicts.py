@@ -260,3 +260,29 @@ def test_too_few_points_are_not_tested(tmp_path: Path) -> None:
     code, text, _ = run(["fit", str(csv), "--only", "scale"])
     assert code == 0 and "NOT TESTED whether the model follows" in text
     assert "DOES NOT FOLLOW" not in text and "The model follows" not in text
+
+
+def test_noiseless_model_data_on_many_angles_fit_and_layer(tmp_path: Path) -> None:
+    """70 points from the model itself over 70 helical angles, 8 digits (a review's case): the fit
+    reproduces them (relative rms residual far below any bench noise) and is accepted although
+    its cost still creeps down; the file it writes records at most 64 angles and loads."""
+    angles = np.linspace(5.0, 15.0, 70)
+    freq = 0.5 + (np.arange(70) % 10) * 17.5 / 69  # written to 6 decimals: a 1e-7 floor
+    torque = [
+        float(tm.resistive_torque_Nm(math.radians(a), f, SAMPLE2, tm.PAPER_CAPSULE)) * 1e3
+        for a, f in zip(angles, freq, strict=True)
+    ]
+    rows = "".join(
+        f"{f:.6f},{t:.8g},{a:.6f}\n" for f, t, a in zip(freq, torque, angles, strict=True)
+    )
+    csv = tmp_path / "bench.csv"
+    csv.write_text("frequency_hz,torque_mNm,helical_angle_deg\n" + rows, encoding="utf-8")
+    out = tmp_path / "fit.toml"
+    code, _, err = run(["fit", str(csv), "-o", str(out)])
+    assert code == 0 and out.exists(), err
+    recorded = tomllib.loads(out.read_text())["tissue"]["fit"]["bench_helical_angles_deg"]
+    assert len(recorded) == 64 and recorded[0] == 5.0 and recorded[-1] == 15.0, (
+        "at most 64 angles recorded, both ends kept"
+    )
+    ev = run_json(["evaluate", str(out)])
+    assert ev["margin_Nm"] is not None, "the written file loads as a design"

@@ -344,3 +344,31 @@ class TestFuzz:
             path = Path(tmp) / "bench.csv"
             path.write_text(text)
             sound(["fit", str(path), "--json"])
+
+
+def test_a_subnormal_grid_step_is_one_line_not_a_traceback(tmp_path: Path) -> None:
+    """2h/step overflows to inf for a step of 1e-320 mm: exit 2 naming the key."""
+    rc, out, err = run(
+        ["coils", "--field-grid", str(tmp_path / "g.csv"), "--grid-step-mm", "1e-320"]
+    )
+    assert rc == 2 and "--grid-step-mm" in err and err.count("\n") <= 1 and not out, err
+    assert not (tmp_path / "g.csv").exists()
+
+
+def test_pdf_code_columns_never_repeat_a_line() -> None:
+    """The design-file columns of the PDF: every line once, in order, whatever the layout (a
+    review found ten ``a=N`` lines, a table and a key printed with two lines twice)."""
+    import random
+
+    from spiralcap.report.pdf import _balanced_columns
+
+    cases = [[f"a={i}" for i in range(10)] + ["[b]", "c=1"]]
+    rng = random.Random(0)
+    for _ in range(500):
+        pool = ["a=1", "[t]", "", "c=2", "key = 'x'"]
+        cases.append([rng.choice(pool) for _ in range(rng.randint(1, 40))])
+    for lines in cases:
+        text = "\n".join(lines)
+        for n in (2, 3):
+            cols = _balanced_columns(text, n)
+            assert "\n".join(cols).split("\n") == text.rstrip("\n").split("\n"), (lines, n)

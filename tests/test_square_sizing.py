@@ -279,6 +279,10 @@ def test_mixed_set_sizes_its_square_side_under_a_copper_limit(tmp_path) -> None:
             "optimize.free.coils.x.radius_m",
         ),
         (["optimize", "--free", "coils.y.side_m=0.3:0.5"], "optimize.free.coils.y.side_m"),
+        (
+            ["optimize", "--free", "coils.z.wire_diameter_mm=2.01:2.05"],
+            "optimize.free.coils.z.wire_diameter_mm",
+        ),
     ],
 )
 def test_a_freed_size_must_be_the_pairs_own(argv, key) -> None:
@@ -313,3 +317,15 @@ def test_square_sizing_rows_equal_fixed_rows_at_the_same_hardware(sets, names) -
 
     design = load_design(None, sets) if sets else load_design(EXAMPLE)
     assert_sizing_rows_equal_fixed_rows(prepare(build_model(design)), names, "square pairs")
+
+
+def test_square_side_sizing_settles_its_frozen_factors() -> None:
+    """A free y side with its turns and wire, the clearances binding: the clearance correction
+    follows the packs to first order (coils.clearance.pack_distance_m slopes), so the outer
+    rounds settle (the correction used to creep by a factor 0.4 a round and run all 8), and
+    the result says whether they did."""
+    free = ["coils.y.side_m=0.5:0.95", "coils.y.turns=100:800", "coils.y.wire_diameter_mm=1:4"]
+    res = run_json(["optimize", EXAMPLE, *(a for f in free for a in ("--free", f))])
+    h = res["hardware"]
+    assert res["status"] == "optimal" and h["settled"] is True, h
+    assert h["outer_iterations"] < 8, f"settled before the last round: {h['outer_iterations']}"

@@ -82,6 +82,9 @@ _CHECK_NFEV_FRACTION = 0.2
 _CHECK_NFEV_MIN = 50
 #: Relative cost drop over that continuation below which the cost has converged.
 COST_RTOL = 1e-6
+#: Root-mean-square residual (relative to the torque) at or below which a fit has reproduced
+#: its data: far below any bench's noise, where the cost's relative drop only chases digits.
+RESIDUAL_FLOOR = 1e-6
 
 
 @dataclass(frozen=True)
@@ -481,7 +484,9 @@ def _converge(fun: Any, jac: Any, sol: Any, lo: np.ndarray, hi: np.ndarray, budg
     converged and the run is accepted (``success`` True, ``message`` saying so) -- the fitted
     curve is the minimum's to that tolerance (the residual standard deviation to half of it),
     and the parameters that still move are the ones flagged as not pinned down. Otherwise
-    ``success`` stays False with scipy's message and the drop measured.
+    ``success`` stays False with scipy's message and the drop measured -- unless the fit
+    reproduces its data to :data:`RESIDUAL_FLOOR` (relative rms), where the relative drop of
+    a cost near zero says nothing: accepted, the message saying so.
     """
     if sol.status != 0:  # converged (> 0) or refused by scipy (< 0): nothing to carry on
         return sol
@@ -493,6 +498,14 @@ def _converge(fun: Any, jac: Any, sol: Any, lo: np.ndarray, hi: np.ndarray, budg
     if more.status != 0:  # converged by scipy's own criteria on the extra evaluations
         return more
     drop = (sol.cost - more.cost) / sol.cost if sol.cost > 0 else 0.0
+    rms = float(np.sqrt(np.mean(np.square(more.fun))))
+    if rms <= RESIDUAL_FLOOR:
+        more.success = True
+        more.message = (
+            f"the data reproduced: relative rms residual {rms:.1e} (<= {RESIDUAL_FLOOR:g}); "
+            "only parameters the data do not determine still moved"
+        )
+        return more
     if drop < COST_RTOL:
         more.success = True
         more.message = (

@@ -327,6 +327,15 @@ def build_sizing(design: Design) -> Any:
     wires_mm = (
         hw.IEC_R40_mm if design["coils.wire_standard"] == "iec-r40" else hw.awg_diameters_mm()
     )
+    for key, (lo, hi) in free.items():  # a coil's wire is a standard diameter: one must fit
+        if key.startswith("coils.") and key.endswith(".wire_diameter_mm"):
+            if not any(lo <= d <= hi for d in wires_mm):
+                raise InputError(
+                    _FREE_PREFIX + key,
+                    [lo, hi],
+                    f"a range holding at least one standard wire diameter "
+                    f"(coils.wire_standard = {design['coils.wire_standard']!r})",
+                )
     return hw.Sizing(
         variables,
         tuple(d * 1e-3 for d in wires_mm),

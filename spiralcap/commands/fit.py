@@ -303,16 +303,24 @@ def constants_table(result: Any) -> dict[str, float]:
     return {_DISPLAY[k][0]: float(full[_DISPLAY[k][0]]) for k in tm_parameter_names()}
 
 
+#: Most helical angles ``tissue.fit.bench_helical_angles_deg`` records (the schema's bound).
+MAX_RECORDED_ANGLES = 64
+
+
 def bench_record(result: Any) -> dict[str, Any]:
     """The bench the constants were fitted on (design units), for ``[tissue.fit]`` ``bench_*``.
 
     A record only: lumen, wall thickness and friction of the bench sample, the capsule and wire
-    diameters, the helical angles and the frequency range of the data.
+    diameters, the helical angles (at most 64, spread over the data's range with both ends,
+    when the bench had more) and the frequency range of the data.
     """
     import numpy as np
 
     full = result.tissue.as_design_table()
     angles = sorted({float(f"{math.degrees(float(a)):.12g}") for a in result.helical_angle_rad})
+    if len(angles) > MAX_RECORDED_ANGLES:  # the key holds 64: spread over the range, ends kept
+        pick = np.linspace(0, len(angles) - 1, MAX_RECORDED_ANGLES).round().astype(int)
+        angles = [angles[i] for i in pick]
     freq = np.asarray(result.frequency_hz, dtype=float)
     return {
         "lumen_diameter_mm": float(full["lumen_diameter_mm"]),

@@ -205,9 +205,9 @@ def format_result(res) -> str:
             else:
                 u = f" {label}" if label else ""
                 key = constraint_key(s.name) or s.name
+                if key == "limits.envelope_mm" or ("[" in s.name and key != s.name):
+                    key = f"{key} ({readable(s.name)})"  # one key, several rows: name the row
                 if key.startswith("limits."):  # a limit the closest design still breaks
-                    if key == "limits.envelope_mm":  # one key, three axes
-                        key = f"{key} ({readable(s.name)})"
                     lines.append(
                         f"  {key}: allows {s.needed / factor:.4g}{u}, the closest design "
                         f"reaches {s.best / factor:.4g}{u} (over by {s.short_by / factor:.4g}{u})"
@@ -257,7 +257,13 @@ def _hardware_lines(res) -> list[str]:
     rel = h.rounding_cost / abs(h.relaxed_objective) if h.relaxed_objective else 0.0
     lines = [
         f"hardware            {len(chosen)} keys sized; {h.feasible} of {h.candidates} "
-        f"buildable neighbours feasible, {h.outer_iterations} outer iterations",
+        f"buildable neighbours feasible, {h.outer_iterations} outer iterations"
+        + (
+            ""
+            if h.settled
+            else " (the frozen factors had not settled: the relaxed values are "
+            "the last round's; the neighbours were checked exactly)"
+        ),
         f"  continuous bound  {h.relaxed_objective * factor:.5g} {label}; "
         f"discrete {h.discrete_objective * factor:.5g} {label} "
         f"(whole turns and standard wire cost {h.rounding_cost * factor:.3g} {label}, "

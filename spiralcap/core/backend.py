@@ -5,9 +5,9 @@ CasADi function, otherwise the numpy one. Nothing here relies on numpy forwardin
 CasADi objects (CasADi 3.8 warns about that), and nothing branches in Python on *data values*:
 use :func:`where` (``casadi.if_else``) or a smooth form instead.
 
-Elliptic integrals follow scipy's parameter convention ``m = k**2``. On the numpy path ``ellipk``
-and ``ellipe`` are scipy's and ``ellipke`` (both at once, what the field uses) is our own
-logarithm-plus-polynomials pair to 4e-16; on the CasADi path a fixed-count arithmetic-geometric-mean (AGM)
+Elliptic integrals follow scipy's parameter convention ``m = k**2``. On the numpy path ``ellipk``,
+``ellipe`` and ``ellipke`` (both at once, what the field uses) are scipy's Cephes functions
+(``ellipkm1`` where the caller has 1 - m exactly); on the CasADi path a fixed-count arithmetic-geometric-mean (AGM)
 iteration, which gives exact values and exact derivatives (7 steps reach machine precision for
 ``m < 1 - 1e-6``, i.e. anywhere not on the wire itself).
 """
@@ -44,6 +44,7 @@ __all__ = [
     "cos",
     "ellipe",
     "ellipk",
+    "ellipke",
     "exp",
     "expm1",
     "fmax",
@@ -58,6 +59,7 @@ __all__ = [
     "sin",
     "softplus",
     "sqrt",
+    "sqrt_guarded",
     "square",
     "symbolic_once",
     "tan",
@@ -280,6 +282,3 @@ def ellipke(
     if isinstance(m, _CASADI_TYPES):
         return _agm_K_E(m)
     return _ellipke_numpy(m, out, complement)
-
-
-__all__.append("ellipke")

@@ -69,14 +69,19 @@ class DataError(SpiralcapError, ValueError):
 
 
 def check_positive(key: str, value: Any, *, allow_zero: bool = False) -> float:
-    """Return ``value`` as a float if it is a finite number > 0 (or >= 0), else raise InputError."""
+    """Return ``value`` as a float if it is a finite real number > 0 (or >= 0), else raise
+    InputError (numpy scalars included; an integer too large for a float is not finite)."""
     import math
+    import numbers
 
-    ok = isinstance(value, (int, float)) and not isinstance(value, bool)
+    ok = isinstance(value, numbers.Real) and not isinstance(value, bool)
     if ok:
-        value = float(value)
-        ok = math.isfinite(value) and (value >= 0 if allow_zero else value > 0)
+        try:
+            number = float(value)
+        except OverflowError:
+            number = math.inf
+        ok = math.isfinite(number) and (number >= 0 if allow_zero else number > 0)
     if not ok:
         allowed = "a finite number >= 0" if allow_zero else "a finite number > 0"
         raise InputError(key, value, allowed)
-    return value
+    return number

@@ -367,7 +367,8 @@ def _balanced_columns(text: str, n: int) -> list[str]:
             for i in range(max(cuts[-1] + 1, target - 6), min(len(lines), target + 7))
             if lines[i].startswith("[")
         ]
-        cuts.append(min(near, key=lambda i: abs(i - target)) if near else target)
+        cut = min(near, key=lambda i: abs(i - target)) if near else target
+        cuts.append(min(max(cut, cuts[-1] + 1), len(lines)))  # never back over a column
     cuts.append(len(lines))
     return ["\n".join(lines[a:b]) for a, b in itertools.pairwise(cuts) if b > a]
 
