@@ -194,8 +194,8 @@ class Capsule:
     set_mass_kg: float | None = None
 
     def __post_init__(self) -> None:
-        if self.set_mass_kg is not None:  # a weight of 0 or less would lower the friction torque
-            check_positive("set_mass_kg", self.set_mass_kg)
+        if self.set_mass_kg is not None:  # 0: weightless (the paper's bench); < 0, NaN: no
+            check_positive("set_mass_kg", self.set_mass_kg, allow_zero=True)
         problems = geometry_problems(self.body, self.spiral, self.magnet)
         if problems:
             field, reason = problems[0]
