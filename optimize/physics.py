@@ -118,7 +118,7 @@ def pair_states(
     list of coils.thermal_system.PairTemperatures or None
         One per pair (x, y, z); °C, W, s.
     """
-    from coils.thermal_system import pair_temperatures
+    from optimize import thermal_states
 
     # kept in the constants' own memo (Constants.memo.states): within one NLP build the same
     # field node asks twice (the limits and the loss rows); with numbers the same scalar field
@@ -134,12 +134,12 @@ def pair_states(
             hit = memo.get((*key, only))
             if hit is not None:
                 return hit
-    per = c.current_per_tesla_A_per_T
-    states = pair_temperatures(
-        c.packs,
-        c.resistance_20C_ohm,
-        [field_T * per[j] for j in range(3)],
+    states = thermal_states.states(
+        field_T,
         ambient_temperature_C,
+        c.current_per_tesla_A_per_T,
+        c.resistance_20C_ohm,
+        c.packs,
         c.view_factors,
         c.session_s,
         only,

@@ -117,3 +117,52 @@ def test_failing_requirement_is_reported(capsys):
         "speed_m_s",
     ):
         assert isinstance(out[key], float), f"evaluate --json has {key} (README)"
+
+
+@pytest.mark.parametrize(
+    "overrides",
+    [
+        (),  # the drive voltage of the x pair sets it
+        ("limits.voltage_V=400", "limits.field_exposure='public'"),  # exposure sets it
+        (
+            "coils.cooling='forced'",
+            "coils.air_speed_m_s=2",
+            "operation.session_min=20",
+        ),  # session, forced air
+        ("limits.power_W=150",),  # the power cap, flat in f
+        ("tissue.scale=3",),  # stiff tissue: the margin crosses low
+    ],
+)
+def test_frequency_bounds_are_the_whole_grids_first_cell(overrides):
+    """The bisection over the grid's indices (optimize.evaluate._first_zero) lands in the same
+    cell as scanning the whole 400-point grid, and the margin on that grid does not rise with f
+    (the premise of the bisection: the field caps stay or fall, the tissue torque rises)."""
+    import importlib
+
+    from optimize import physics as ph
+
+    ev_mod = importlib.import_module("optimize.evaluate")
+
+    m = _model(*overrides)
+    ev = evaluate(m)
+    c, amb = m.constants, m.ambient_temperature_C
+    lo, hi = ev_mod.SEARCH_RANGE_HZ
+    grid = np.geomspace(lo, hi, ev_mod.FREQUENCY_GRID_POINTS)
+    field = ph.field_capacity_T(grid, c, m.limits, amb)[0]
+    drive = (
+        np.asarray(ph.available_torque_Nm(field, c))
+        - ev_mod.worst_required(m, ev.helical_angle_rad, grid).total_Nm
+    )
+    assert np.all(np.diff(drive) <= 1e-12 * np.max(np.abs(drive))), (
+        f"{overrides}: the drive margin does not rise with frequency (to 1e-12 of its scale)"
+    )
+    below = np.nonzero(drive <= 0)[0]
+    if below.size == 0:
+        assert ev.max_frequency_beyond_search and ev.max_frequency_hz == hi, overrides
+        return
+    i = below[0]
+    assert i > 0, f"{overrides}: the margin is positive at the low end"
+    assert grid[i - 1] <= ev.max_frequency_hz <= grid[i], (
+        f"{overrides}: max frequency {ev.max_frequency_hz} Hz in the whole grid's first cell "
+        f"[{grid[i - 1]}, {grid[i]}] Hz"
+    )
