@@ -10,12 +10,15 @@ coil count and whether it has vertical bars; whether view factors and a session 
 into a ``Function`` of one flat vector (field, ambient, currents per tesla, resistances, the
 packs' numbers, view factors, session). Then:
 
-- numbers (Python or numpy scalars) call its common-subexpression-eliminated form: the same
-  operations evaluated in C++, equal to the Python evaluation to rounding (~1e-13 relative;
-  ``tests/test_thermal_states.py``);
+- numbers, and arrays of at most :data:`MAP_MAX` elements, call its
+  common-subexpression-eliminated form (mapped over the elements; only pair ``only``'s
+  outputs where the caller asks for one): the same operations evaluated in C++, equal to the
+  Python evaluation to rounding (~1e-13 relative; ``tests/test_thermal_states.py``), and an
+  element of an array the same bits as that number alone;
 - CasADi expressions call the traced form, which CasADi inlines: the same expression graph as
   tracing ``pair_temperatures`` on them;
-- arrays go to ``pair_temperatures`` itself (numpy is already vectorised).
+- longer arrays go to ``pair_temperatures`` itself (numpy's vectorised model costs about the
+  same per call whatever the length).
 
 The memo is :func:`functools.lru_cache` on the structure, like ``compile_problem``'s: the
 physics modules keep no state.
@@ -100,9 +103,15 @@ def _flat_inputs(
     return items
 
 
+#: Arrays up to this many elements go through the compiled Function (``map``: ~25 µs per
+#: element against ~2.5 ms per call for numpy's vectorised model, whatever the length);
+#: longer ones through numpy.
+MAP_MAX = 64
+
+
 @functools.lru_cache(maxsize=32)
-def _traced(structure: tuple) -> tuple[ca.Function, ca.Function]:
-    """(traced, cse) Functions of the flat input for ``structure``."""
+def _traced(structure: tuple) -> ca.Function:
+    """The model traced on the flat input of ``structure``: one output column (three pairs)."""
     from coils.thermal import WindingPack
     from coils.thermal_system import pair_temperatures
 
@@ -137,25 +146,34 @@ def _traced(structure: tuple) -> tuple[ca.Function, ca.Function]:
         out += [ca.SX(getattr(s, name)) for name in _OUT_FIELDS]
         out += [ca.SX(getattr(s.internal, name)) for name in _INTERNAL]
         out.append(ca.SX(s.tangent_h_W_m2K))
-    flat = ca.vertcat(*out)
-    return (
-        ca.Function("pair_temperatures", [x], [flat]),
-        ca.Function("pair_temperatures_cse", [x], [ca.cse(flat)]),
-    )
+    return ca.Function("pair_temperatures", [x], [ca.vertcat(*out)])
 
 
-def _unflat(values: Any) -> list[Any]:
-    """Three PairTemperatures from the flat output (a list of floats or an SX column)."""
+@functools.lru_cache(maxsize=128)
+def _numeric(structure: tuple, only: int | None) -> ca.Function:
+    """The outputs of pair ``only`` (None: all three) of :func:`_traced`, each common
+    subexpression once (``casadi.cse``): what numbers are evaluated with."""
+    f = _traced(structure)
+    x = f.sx_in(0)
+    flat = f(x)
+    if only is not None:
+        flat = flat[only * _PER_PAIR : (only + 1) * _PER_PAIR]
+    return ca.Function("pair_temperatures_cse", [x], [ca.cse(flat)])
+
+
+def _unflat(values: Any, pairs: Any = range(3)) -> list[Any]:
+    """Three PairTemperatures (None where ``pairs`` leaves one out) from the flat output of
+    ``pairs`` (a sequence of numbers or arrays, or an SX column)."""
     from coils.thermal import _Internal
     from coils.thermal_system import PairTemperatures
 
     n = len(_OUT_FIELDS)
-    out = []
-    for k in range(3):
-        v = [values[i] for i in range(k * _PER_PAIR, (k + 1) * _PER_PAIR)]
+    out: list[Any] = [None, None, None]
+    for j, k in enumerate(pairs):
+        v = [values[i] for i in range(j * _PER_PAIR, (j + 1) * _PER_PAIR)]
         named = dict(zip(_OUT_FIELDS, v))
-        out.append(
-            PairTemperatures(**named, internal=_Internal(*v[n : n + 3]), tangent_h_W_m2K=v[n + 3])
+        out[k] = PairTemperatures(
+            **named, internal=_Internal(*v[n : n + 3]), tangent_h_W_m2K=v[n + 3]
         )
     return out
 
@@ -172,12 +190,12 @@ def states(
 ) -> list[Any]:
     """:func:`coils.thermal_system.pair_temperatures` of the three pairs at centre field
     ``field_T`` (pair k carries ``field_T * per_A_per_T[k]``), through the compiled Function
-    of its structure for numbers and CasADi expressions (all three pairs whatever ``only``).
+    of its structure for numbers, short arrays and CasADi expressions.
 
     Parameters
     ----------
-    field_T : float or CasADi
-        Centre field amplitude, T (an array: ``pair_temperatures`` itself).
+    field_T : float, array or CasADi
+        Centre field amplitude, T.
     ambient_C : float or CasADi
         Ambient air, °C.
     per_A_per_T : sequence of float or CasADi
@@ -191,38 +209,43 @@ def states(
     session_s : float, CasADi or None
         Session length, s (None: steady state).
     only : int, optional
-        For arrays: index of the one pair to solve (0, 1, 2; the others None), or None for all
-        three.
+        Index of the one pair to solve (0, 1, 2; the others None; CasADi expressions: all
+        three), or None for all three.
 
     Returns
     -------
-    list of coils.thermal_system.PairTemperatures
-        One per pair (x, y, z); °C, W, W/(m²·K), s, K/W.
+    list of coils.thermal_system.PairTemperatures or None
+        One per pair (x, y, z); °C, W, W/(m²·K), s, K/W; floats for numbers, arrays of the
+        inputs' broadcast shape for arrays.
     """
     items = _flat_inputs(
         field_T, ambient_C, per_A_per_T, resistances_20C_ohm, packs, view_factors, session_s
     )
+    structure = _structure(packs, view_factors, session_s)
     if bk.is_casadi(*items):
-        traced = _traced(_structure(packs, view_factors, session_s))[0]
-        return _unflat(traced(ca.vertcat(*items)))
+        return _unflat(_traced(structure)(ca.vertcat(*items)))
+    pairs = range(3) if only is None else (only,)
     try:
         x = np.array(items, dtype=float)
-    except (TypeError, ValueError):  # arrays of several lengths
-        x = None
-    if x is None or x.shape != (len(items),):  # arrays: numpy is already vectorised
-        from coils.thermal_system import pair_temperatures
+    except (TypeError, ValueError):  # arrays of several shapes: broadcast them
+        x = np.array(np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in items)))
+    if x.ndim == 1:  # numbers: Python floats out
+        return _unflat(_numeric(structure, only)(x).full().ravel().tolist(), pairs)
+    shape = x.shape[1:]
+    if x[0].size <= MAP_MAX:
+        columns = _numeric(structure, only).map(x[0].size)(x.reshape(len(items), -1)).full()
+        return _unflat([row.reshape(shape) for row in columns], pairs)
+    from coils.thermal_system import pair_temperatures
 
-        return pair_temperatures(
-            packs,
-            resistances_20C_ohm,
-            [field_T * per_A_per_T[k] for k in range(3)],
-            ambient_C,
-            view_factors,
-            session_s,
-            only,
-        )
-    fast = _traced(_structure(packs, view_factors, session_s))[1]
-    return _unflat(fast(x).full().ravel().tolist())
+    return pair_temperatures(
+        packs,
+        resistances_20C_ohm,
+        [field_T * per_A_per_T[k] for k in range(3)],
+        ambient_C,
+        view_factors,
+        session_s,
+        only,
+    )
 
 
-__all__ = ["states"]
+__all__ = ["MAP_MAX", "states"]

@@ -102,14 +102,47 @@ def test_casadi_expressions_are_the_traced_model() -> None:
         )
 
 
-def test_arrays_are_the_python_model_bit_for_bit() -> None:
+def test_long_arrays_are_the_python_model_bit_for_bit() -> None:
     c = _constants("built-in (natural air, view factors)")
-    fields = np.array(FIELDS_T)
+    fields = np.linspace(0.0, 0.2, thermal_states.MAP_MAX + 1)
     got = thermal_states.states(
         fields, 20.0, c.current_per_tesla_A_per_T, c.resistance_20C_ohm, c.packs,
         c.view_factors, c.session_s,
     )  # fmt: skip
     for a, b in zip(got, _python(c, fields)):
         assert np.array_equal(np.asarray(a.mean_C), np.asarray(b.mean_C)), (
-            "arrays go to pair_temperatures itself"
+            "arrays longer than MAP_MAX go to pair_temperatures itself"
         )
+
+
+@pytest.mark.parametrize("only", [None, 1])
+def test_short_arrays_are_their_numbers_alone_bit_for_bit(only) -> None:
+    """An element of a short array (a (2, 3) grid of fields, the ambient varying along it) is
+    that number solved alone, bit for bit; pair ``only`` alone is its pair of the full call."""
+    c = _constants("square frames (vertical bars)")
+    fields = np.array([[0.0, 0.004, 0.0106], [0.02, 0.05, 0.2]])
+    ambient = np.array([15.0, 20.0, 30.0])
+    args = (c.current_per_tesla_A_per_T, c.resistance_20C_ohm, c.packs, c.view_factors)
+    grid = thermal_states.states(fields, ambient, *args, c.session_s, only)
+    full = thermal_states.states(fields, ambient, *args, c.session_s)
+    for k in range(3):
+        if only is not None and k != only:
+            assert grid[k] is None, "only: the other pairs are None"
+            continue
+        assert np.array_equal(grid[k].hot_spot_C, full[k].hot_spot_C), "only == the full call"
+        assert grid[k].hot_spot_C.shape == fields.shape
+        for (i, j), field in np.ndenumerate(fields):
+            alone = thermal_states.states(field, ambient[j], *args, c.session_s)[k]
+            for name, want in _numbers(alone).items():
+                got = _numbers(
+                    dataclasses.replace(
+                        grid[k],
+                        **{f.name: np.asarray(getattr(grid[k], f.name))[i, j]
+                           for f in dataclasses.fields(grid[k]) if f.name != "internal"},
+                        internal=type(grid[k].internal)(
+                            *(np.asarray(getattr(grid[k].internal, g.name))[i, j]
+                              for g in dataclasses.fields(grid[k].internal))
+                        ),
+                    )
+                )[name]  # fmt: skip
+                assert got == want, f"pair {k}, {field} T, {ambient[j]} °C: {name} bit for bit"
