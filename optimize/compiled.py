@@ -205,7 +205,7 @@ def _limit_values(limits: Any) -> dict[str, Any]:
     }
 
 
-@functools.lru_cache(maxsize=16)
+@functools.lru_cache(maxsize=64)
 def compile_problem(structure: Structure) -> CompiledProblem:
     """Build and compile the NLP of ``structure`` (memoised by value).
 
