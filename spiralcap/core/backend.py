@@ -21,7 +21,6 @@ from typing import Any, TypeAlias
 
 import casadi as _ca
 import numpy as _np
-from scipy import special as _special
 
 #: A value a physics function of the optimisation variables accepts and returns: a float, a
 #: numpy array (broadcast elementwise) or a CasADi SX/MX/DM. Meant as
@@ -232,14 +231,22 @@ def _agm_K_E(m: Scalar) -> tuple[Scalar, Scalar]:
     return k, k * (1.0 - c_sq_sum)
 
 
+def _scipy_special() -> Any:
+    """``scipy.special``, imported on first use: about 0.1 s that a command stopped by an input
+    error, or one that never takes an elliptic integral, does not pay."""
+    from scipy import special
+
+    return special
+
+
 def ellipk(m: Scalar) -> Scalar:
     """Complete elliptic integral of the first kind K(m), parameter ``m = k**2`` (scipy's)."""
-    return _agm_K_E(m)[0] if isinstance(m, _CASADI_TYPES) else _special.ellipk(m)
+    return _agm_K_E(m)[0] if isinstance(m, _CASADI_TYPES) else _scipy_special().ellipk(m)
 
 
 def ellipe(m: Scalar) -> Scalar:
     """Complete elliptic integral of the second kind E(m), parameter ``m = k**2`` (scipy's)."""
-    return _agm_K_E(m)[1] if isinstance(m, _CASADI_TYPES) else _special.ellipe(m)
+    return _agm_K_E(m)[1] if isinstance(m, _CASADI_TYPES) else _scipy_special().ellipe(m)
 
 
 def _ellipke_numpy(
@@ -249,6 +256,7 @@ def _ellipke_numpy(
 ) -> tuple[Any, Any]:
     """K and E by scipy's Cephes ``ellipk``/``ellipe``; with ``complement`` (1 - m, given more
     accurately than by subtraction) K by ``ellipkm1``, exact next to m = 1."""
+    _special = _scipy_special()
     mm = _np.asarray(m, dtype=float)
     k_out, e_out = (None, None) if out is None else out
     if complement is not None and _np.all(_np.asarray(complement) <= 1.0):
