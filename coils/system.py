@@ -346,7 +346,11 @@ class ThreeAxisHelmholtz:
         return amps * np.cos(2.0 * np.pi * frequency_hz * t[:, None] + phases)
 
     def rotating_field_semi_axes_T(
-        self, points_m: Any, heading: Any, amplitude_T: float
+        self,
+        points_m: Any,
+        heading: Any,
+        amplitude_T: float,
+        field_matrix_T_per_A: Any = None,
     ) -> tuple[np.ndarray, np.ndarray]:
         """Field ellipse ⟂ heading at each point under the *centre* allocation, T.
 
@@ -358,6 +362,9 @@ class ThreeAxisHelmholtz:
             Rotation axis n, dimensionless (normalised here).
         amplitude_T : float
             Field amplitude B0 at the centre, T.
+        field_matrix_T_per_A : ndarray, shape (n, 3, 3), optional
+            :meth:`field_matrix` at ``points_m``, T/A, if the caller has it (one per set of
+            points for every heading).
 
         Returns
         -------
@@ -366,5 +373,5 @@ class ThreeAxisHelmholtz:
             magnet is sure to see; minor/B0 is the workspace derating).
         """
         amps, phases = self.rotating_allocation(heading, amplitude_T)
-        G = self.field_matrix(points_m)
+        G = self.field_matrix(points_m) if field_matrix_T_per_A is None else field_matrix_T_per_A
         return ellipse_semi_axes(G @ (amps * np.cos(phases)), G @ (-amps * np.sin(phases)), heading)

@@ -489,8 +489,9 @@ def precompute(model: DesignModel) -> Constants:
     n2 = np.asarray(model.headings, dtype=float) ** 2  # (h, 3)
     s = np.sqrt(np.clip(1.0 - n2, 0.0, 1.0))  # (h, 3)
     current_per_T = np.max(s / g, axis=0)
+    field = model.coils.field_matrix(model.points_m)  # the same points for every heading
     factor = min(
-        float(np.min(model.coils.rotating_field_semi_axes_T(model.points_m, h, 1.0)[0]))
+        float(np.min(model.coils.rotating_field_semi_axes_T(model.points_m, h, 1.0, field)[0]))
         for h in model.headings
     )
     body, spiral = model.capsule.body, model.capsule.spiral
