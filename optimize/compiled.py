@@ -81,6 +81,9 @@ class Structure:
         The per-pair amplifier limits set (``Limits.own``: ``"voltage_y"``, ...).
     envelope : bool
         Flag: the coil set must fit an envelope (``limits.envelope_mm``).
+    vertical_bars : tuple of bool
+        Per pair (x, y, z), flag: a square frame in a vertical plane (its vertical bars'
+        cooling, ``WindingPack.vertical_bar_height_m``, is in the rows; a ring has none).
     """
 
     objective: str
@@ -99,6 +102,7 @@ class Structure:
     surface_limit: bool = False  # limits.surface_temperature_C set
     own_limits: frozenset = frozenset()  # per-pair amplifier limits set
     envelope: bool = False  # limits.envelope_mm set
+    vertical_bars: tuple = (False, False, False)  # pairs with vertical bars (square frames)
 
 
 def structure_of(
@@ -143,6 +147,7 @@ def structure_of(
         model.limits.surface_temperature_C is not None,
         model.limits.own,
         model.limits.envelope_m is not None,
+        tuple(bool(p.vertical_bar_height_m) for p in model.constants.packs),
     )
 
 
@@ -420,7 +425,10 @@ def _symbolic_constants(b: NLPBuilder, structure: Structure) -> Any:
         **kw,
         packs=tuple(
             WindingPack(
-                **{n: pack[n][k] for n in PACK_FIELDS},
+                **{n: pack[n][k] for n in PACK_FIELDS if n != "vertical_bar_height_m"},
+                vertical_bar_height_m=(
+                    pack["vertical_bar_height_m"][k] if structure.vertical_bars[k] else 0.0
+                ),
                 convection=structure.convection,
                 vertical_axis=k == 2,
             )
