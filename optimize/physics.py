@@ -337,6 +337,9 @@ def heading_losses_W(
         states = pair_states(field_T, c, ambient_temperature_C)
     if states is None:
         states = [None, None, None]
+    if isinstance(a, np.ndarray) and _number(field_T) is not None:
+        if _number(ambient_temperature_C) is not None:
+            return _heading_losses_of_numbers(field_T, c, ambient_temperature_C, states)
     out: list[Any] = []
     rows = a.tolist() if isinstance(a, np.ndarray) else None  # numbers: plain floats, same values
     for h in range(a.shape[0]):
@@ -364,6 +367,23 @@ def heading_losses_W(
             loss = loss + 0.5 * r * cur * cur
         out.append(loss)
     return out
+
+
+def _heading_losses_of_numbers(
+    field_T: Any, c: Constants, ambient_temperature_C: Any, states: list
+) -> list[float]:
+    """:func:`heading_losses_W` with numbers: every heading at once, pair by pair (the same
+    operations on each heading's current, elementwise: the same bits, without the memo)."""
+    a = np.asarray(c.heading_current_per_tesla_A_per_T, dtype=float)
+    field = float(field_T)
+    total = np.zeros(a.shape[0])
+    for k in range(3):
+        cur = field * a[:, k]
+        r = np.asarray(
+            winding_resistance_ohm(cur, k, c, ambient_temperature_C, states[k]), dtype=float
+        )
+        total = total + np.where(a[:, k] > 0, 0.5 * r * cur * cur, 0.0)
+    return total.tolist()
 
 
 def total_loss_W(

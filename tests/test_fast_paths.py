@@ -155,3 +155,26 @@ def test_physics_memo_belongs_to_its_constants(model):
     assert other.memo is not c.memo and not other.memo.states, "a replaced Constants: its own memo"
     again = pickle.loads(pickle.dumps(c)).memo
     assert not again.states, "a pickled Constants carries no memo"
+
+
+@pytest.mark.parametrize(
+    "overrides", [(), ("operation.session_min=20",), ("coils.winding_temperature_C=60",)]
+)
+def test_heading_losses_of_numbers_are_each_heading_alone_bit_for_bit(overrides):
+    """Numbers take every heading at once (optimize.physics._heading_losses_of_numbers): each
+    heading's loss is Σ_k R_k(I_hk) I_hk² / 2 with the resistance of that current alone."""
+    from optimize import physics as ph
+
+    m = prepare(build_model(load_design(None, list(overrides))))
+    c, amb = m.constants, m.ambient_temperature_C
+    a = np.asarray(c.heading_current_per_tesla_A_per_T)
+    for field in (0.0, 0.003, 0.0106, 0.05):
+        states = ph.pair_states(field, c, amb) if c.winding_temperature_C is None else [None] * 3
+        for h, got in enumerate(ph.heading_losses_W(field, c, amb)):
+            want = 0.0
+            for k in range(3):
+                if a[h, k] > 0:
+                    cur = field * float(a[h, k])
+                    r = ph.winding_resistance_ohm(cur, k, c, amb, states[k])
+                    want = want + 0.5 * r * cur * cur
+            assert got == want, f"{overrides}, {field} T, heading {h}: {got!r} == {want!r}"
