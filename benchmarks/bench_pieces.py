@@ -31,6 +31,15 @@ ROBUST = [
     "optimize.objective=margin_p05",
 ]
 COPPER = ["--set", "optimize.objective=copper_mass", "--set", "requirements.min_safety_factor=2.5"]
+#: A two-limit re-optimising sweep of 200 points (about 9 s)
+SWEEP_200 = [
+    "sweep",
+    "--optimize",
+    "--over",
+    "limits.power_W=300:3000:10",
+    "--over",
+    "limits.current_A=5:30:20",
+]
 OUT = str(Path(tempfile.gettempdir()) / "spiralcap-bench-pieces.html")
 
 POOLED = (
@@ -40,6 +49,14 @@ POOLED = (
     "    with p.process_pool(2) as pool:\n"
     "        return real(model, executor=pool, **kw)\n"
     "optimize.optimize_design = pooled"
+)
+
+#: The thermal states by the Python model, operation by operation (optimize.thermal_states off).
+THERMAL_OFF = (
+    "import optimize.thermal_states as t\n"
+    "from coils.thermal_system import pair_temperatures as pt\n"
+    "t.states = lambda f, a, per, r, packs, vf, s=None, only=None: pt(\n"
+    "    packs, r, [f * per[k] for k in range(3)], a, vf, s, only)"
 )
 
 #: name -> (command on, code run before it; command off, code run before it)
@@ -62,6 +79,42 @@ PIECES: dict[str, tuple[list[str], str, list[str], str]] = {
         "",
         ["report", "-o", OUT, "--workers", "1"],
         "",
+    ),
+    "thermal states through one compiled CasADi Function (optimize)": (
+        ["optimize", "--json"],
+        "",
+        ["optimize", "--json"],
+        THERMAL_OFF,
+    ),
+    "thermal states through one compiled CasADi Function (report)": (
+        ["report", "-o", OUT],
+        "",
+        ["report", "-o", OUT],
+        THERMAL_OFF,
+    ),
+    "thermal states through one compiled CasADi Function (six-key sizing)": (
+        ["optimize", "--json", *SIX],
+        "",
+        ["optimize", "--json", *SIX],
+        THERMAL_OFF,
+    ),
+    "thermal states through one compiled CasADi Function (40-point re-optimising sweep)": (
+        ["sweep", "--optimize", "--over", "limits.power_W=300:3000:40"],
+        "",
+        ["sweep", "--optimize", "--over", "limits.power_W=300:3000:40"],
+        THERMAL_OFF,
+    ),
+    "thermal states through one compiled CasADi Function (10 x 20 re-optimising sweep)": (
+        SWEEP_200,
+        "",
+        SWEEP_200,
+        THERMAL_OFF,
+    ),
+    "thermal states through one compiled CasADi Function (robust optimum)": (
+        ["optimize", "--json", *ROBUST],
+        "",
+        ["optimize", "--json", *ROBUST],
+        THERMAL_OFF,
     ),
     "pair states kept in Constants.memo (optimize)": (
         ["optimize", "--json"],

@@ -8,6 +8,7 @@ test imports nothing it checks.
 from __future__ import annotations
 
 import ast
+import functools
 from pathlib import Path
 
 import pytest
@@ -70,7 +71,10 @@ def _imports(name: str) -> set[str]:
     return found
 
 
-GRAPH = {name: _imports(name) for name in MODULES}
+@functools.cache
+def _graph() -> dict[str, set[str]]:
+    """Module -> the project modules it imports (parsed when a test first asks)."""
+    return {name: _imports(name) for name in MODULES}
 
 
 def _cycles() -> list[list[str]]:
@@ -85,7 +89,7 @@ def _cycles() -> list[list[str]]:
         index[v] = low[v] = len(index)
         stack.append(v)
         on_stack.add(v)
-        for w in sorted(GRAPH[v]):
+        for w in sorted(_graph()[v]):
             if w not in index:
                 visit(w)
                 low[v] = min(low[v], low[w])
@@ -102,17 +106,17 @@ def _cycles() -> list[list[str]]:
             if len(comp) > 1:
                 out.append(sorted(comp))
 
-    for v in sorted(GRAPH):
+    for v in sorted(_graph()):
         if v not in index:
             visit(v)
     return out
 
 
 def test_graph_is_read() -> None:
-    assert "optimize.physics" in GRAPH and "torque_model" in GRAPH["optimize.physics"], (
+    assert "optimize.physics" in _graph() and "torque_model" in _graph()["optimize.physics"], (
         "the parser sees 'import torque_model as tm' in optimize/physics.py"
     )
-    assert "torque_model.presets" in GRAPH["torque_model"], "package __init__ re-exports count"
+    assert "torque_model.presets" in _graph()["torque_model"], "package __init__ re-exports count"
 
 
 def test_no_import_cycles() -> None:
@@ -124,7 +128,7 @@ def test_no_import_cycles() -> None:
 def test_domain_packages_import_only_the_core_of_spiralcap(package: str) -> None:
     leaks = {
         f"{name} -> {target}"
-        for name, targets in GRAPH.items()
+        for name, targets in _graph().items()
         if name == package or name.startswith(package + ".")
         for target in targets
         if target.split(".")[0] == "spiralcap" and target not in CORE
@@ -135,7 +139,7 @@ def test_domain_packages_import_only_the_core_of_spiralcap(package: str) -> None
 def test_report_imports_nothing_from_commands() -> None:
     leaks = {
         f"{name} -> {target}"
-        for name, targets in GRAPH.items()
+        for name, targets in _graph().items()
         if name.startswith("spiralcap.report")
         for target in targets
         if target.startswith("spiralcap.commands")
