@@ -574,9 +574,10 @@ def max_frequency_hz(
     """
     model = prepare(model)
     c = model.constants
+    known = ph.frequency_free_caps_T(c, model.limits, model.ambient_temperature_C)
 
     def margin(f):
-        field, _, _ = ph.field_capacity_T(f, c, model.limits, model.ambient_temperature_C)
+        field, _, _ = ph.field_capacity_T(f, c, model.limits, model.ambient_temperature_C, known)
         return (
             np.asarray(ph.available_torque_Nm(field, c))
             - worst_required(model, alpha_rad, f).total_Nm

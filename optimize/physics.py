@@ -696,7 +696,11 @@ def _voltage_cap_solve(
 
 
 def field_capacity_T(
-    frequency_hz: Any, c: Constants, limits: Limits, ambient_temperature_C: float
+    frequency_hz: Any,
+    c: Constants,
+    limits: Limits,
+    ambient_temperature_C: float,
+    known: dict[str, Any] | None = None,
 ) -> tuple[Any, list[Any], list[LimitTerm]]:
     """Largest centre field each limit allows at ``f`` (numpy only): (min, caps, unit terms).
 
@@ -713,6 +717,9 @@ def field_capacity_T(
         The limits, SI.
     ambient_temperature_C : float
         Ambient air, °C.
+    known : dict of str to ndarray, optional
+        Caps already solved by limit name, T (:func:`frequency_free_caps_T` of the same
+        design, limits and ambient, for a search over frequency).
 
     Returns
     -------
@@ -726,34 +733,65 @@ def field_capacity_T(
     unit = limit_terms(frequency_hz, 1.0, c, limits, ambient_temperature_C)
     caps = []
     for t in unit:
-        if t.power is None and t.name.startswith(("hot_spot_", "surface_temperature_")):
-            caps.append(  # depends on B0 only, not on f
-                _hot_spot_cap_T(
-                    _AXES.index(t.name[-1]),
-                    c,
-                    t.allowed,
-                    ambient_temperature_C,
-                    surface=t.name.startswith("surface_"),
-                )
-            )
-            continue
-        if t.power is None and t.name == "power":
-            caps.append(_power_cap_T(c, t.allowed, ambient_temperature_C))
-            continue
-        if t.power is None and t.name.startswith("axis_power_"):
-            k = _AXES.index(t.name[-1])
-            caps.append(_channel_power_cap_T(k, c, t.allowed, ambient_temperature_C))
-            continue
-        if t.power is None:  # voltage with the self-consistent resistance
-            caps.append(
-                _voltage_cap_T(
-                    _AXES.index(t.name[-1]), frequency_hz, c, t.allowed, ambient_temperature_C
-                )
-            )
-            continue
-        with np.errstate(divide="ignore"):  # an axis no heading uses carries no current: no cap
-            caps.append(np.divide(t.allowed, np.asarray(t.value, dtype=float)) ** (1.0 / t.power))
+        cap = None if known is None else known.get(t.name)
+        caps.append(cap if cap is not None else _cap_T(t, frequency_hz, c, ambient_temperature_C))
     return np.minimum.reduce(np.broadcast_arrays(*caps)), caps, unit
+
+
+def _searched_without_f(t: LimitTerm) -> bool:
+    """A limit whose cap needs a search and depends on B0 alone, not on f: the hot spot and
+    the hottest face point, the copper power, a channel's power."""
+    return t.power is None and (
+        t.name == "power" or t.name.startswith(("hot_spot_", "surface_temperature_", "axis_power_"))
+    )
+
+
+def frequency_free_caps_T(
+    c: Constants, limits: Limits, ambient_temperature_C: float
+) -> dict[str, Any]:
+    """The caps :func:`field_capacity_T` finds by a search that does not depend on the
+    frequency, by limit name: solved once for a search over frequency (``known``).
+
+    Parameters
+    ----------
+    c : Constants
+        The design's constants.
+    limits : Limits
+        The limits, SI.
+    ambient_temperature_C : float
+        Ambient air, °C.
+
+    Returns
+    -------
+    dict of str to ndarray
+        The largest centre field each of those limits allows, T.
+    """
+    unit = limit_terms(1.0, 1.0, c, limits, ambient_temperature_C)  # these terms do not read f
+    return {
+        t.name: _cap_T(t, 1.0, c, ambient_temperature_C) for t in unit if _searched_without_f(t)
+    }
+
+
+def _cap_T(t: LimitTerm, frequency_hz: Any, c: Constants, ambient_temperature_C: float) -> Any:
+    """The largest centre field limit term ``t`` (at B0 = 1 T) allows, T."""
+    if t.power is None and t.name.startswith(("hot_spot_", "surface_temperature_")):
+        return _hot_spot_cap_T(  # depends on B0 only, not on f
+            _AXES.index(t.name[-1]),
+            c,
+            t.allowed,
+            ambient_temperature_C,
+            surface=t.name.startswith("surface_"),
+        )
+    if t.power is None and t.name == "power":
+        return _power_cap_T(c, t.allowed, ambient_temperature_C)
+    if t.power is None and t.name.startswith("axis_power_"):
+        return _channel_power_cap_T(_AXES.index(t.name[-1]), c, t.allowed, ambient_temperature_C)
+    if t.power is None:  # voltage with the self-consistent resistance
+        return _voltage_cap_T(
+            _AXES.index(t.name[-1]), frequency_hz, c, t.allowed, ambient_temperature_C
+        )
+    with np.errstate(divide="ignore"):  # an axis no heading uses carries no current: no cap
+        return np.divide(t.allowed, np.asarray(t.value, dtype=float)) ** (1.0 / t.power)
 
 
 @dataclass(frozen=True)

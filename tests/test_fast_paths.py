@@ -178,3 +178,25 @@ def test_heading_losses_of_numbers_are_each_heading_alone_bit_for_bit(overrides)
                     r = ph.winding_resistance_ohm(cur, k, c, amb, states[k])
                     want = want + 0.5 * r * cur * cur
             assert got == want, f"{overrides}, {field} T, heading {h}: {got!r} == {want!r}"
+
+
+@pytest.mark.parametrize(
+    "overrides", [(), ("limits.power_W=300", "limits.surface_temperature_C=60")]
+)
+def test_frequency_free_caps_solved_once_are_the_same_bits(overrides):
+    """A search over frequency solves the caps that do not depend on f once
+    (optimize.physics.frequency_free_caps_T): the capacity is the same bits at every f."""
+    from optimize import physics as ph
+
+    m = prepare(build_model(load_design(None, list(overrides))))
+    c, limits, amb = m.constants, m.limits, m.ambient_temperature_C
+    known = ph.frequency_free_caps_T(c, limits, amb)
+    assert any(k.startswith("hot_spot_") for k in known) and ("power" in known or not overrides), (
+        f"the searched caps are there: {sorted(known)}"
+    )
+    for f in (0.05, 1.0, 3.7, np.geomspace(0.1, 40.0, 9)):
+        plain = ph.field_capacity_T(f, c, limits, amb)
+        fast = ph.field_capacity_T(f, c, limits, amb, known)
+        assert np.array_equal(plain[0], fast[0]), f"{overrides} at {f} Hz: the same bits"
+        for a, b, t in zip(plain[1], fast[1], plain[2]):
+            assert np.array_equal(np.broadcast_to(a, np.shape(b)), b), f"{t.name} at {f} Hz"
