@@ -53,6 +53,7 @@ __all__ = [
     "CONVECTION_MODES",
     "KAPPA_CENTRE",
     "KAPPA_MEAN",
+    "PACK_NUMBER_FIELDS",
     "COPPER_VOLUMETRIC_HEAT_CAPACITY_J_m3K",
     "IMPREGNATION_VOLUMETRIC_HEAT_CAPACITY_J_m3K",
     "STEFAN_BOLTZMANN_W_m2K4",
@@ -164,6 +165,21 @@ def rectangle_pack_coefficients(width: Any, depth: Any) -> tuple[Any, Any]:
         centre = centre - 2.0 * (-1) ** n / (a * lam**3) * sech
         mean = mean + 2.0 / (a * a * b * lam**5) * (2.0 * e / (1.0 + e))
     return centre / (4.0 * a * b), mean / (4.0 * a * b)
+
+
+#: :class:`WindingPack`'s number fields, in order (its others, ``vertical_axis``,
+#: ``convection`` and ``coils``, are its structure); the height last (0 for a ring).
+PACK_NUMBER_FIELDS = (
+    "pack_width_m",
+    "pack_depth_m",
+    "mean_radius_m",
+    "packing_factor",
+    "conductivity_W_mK",
+    "heat_transfer_coefficient_W_m2K",
+    "emissivity",
+    "air_speed_m_s",
+    "vertical_bar_height_m",
+)
 
 
 @dataclass(frozen=True)

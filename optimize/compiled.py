@@ -16,6 +16,7 @@ from typing import Any
 import casadi as ca
 import numpy as np
 
+from coils.thermal import PACK_NUMBER_FIELDS
 from optimize import hardware as hw
 from optimize import problem as pb
 from optimize.nlp import CompiledNLP, NLPBuilder
@@ -351,17 +352,7 @@ _SCALAR_FIELDS = (
     "mass_kg",
 )
 #: WindingPack fields that are parameters, one value per pair (coils.thermal.WindingPack).
-PACK_FIELDS = (
-    "pack_width_m",
-    "pack_depth_m",
-    "mean_radius_m",
-    "packing_factor",
-    "conductivity_W_mK",
-    "heat_transfer_coefficient_W_m2K",
-    "emissivity",
-    "air_speed_m_s",
-    "vertical_bar_height_m",  # a square frame in a vertical plane (0: a ring), coils.thermal
-)
+PACK_FIELDS = PACK_NUMBER_FIELDS
 
 
 def constant_values(c: Any) -> dict[str, Any]:

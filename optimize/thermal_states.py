@@ -32,9 +32,11 @@ from typing import Any
 import casadi as ca
 import numpy as np
 
+from coils.thermal import PACK_NUMBER_FIELDS
 from spiralcap.core import backend as bk
 
 #: WindingPack fields that are numbers of the flat input, per pack (the height only with bars)
+_PACK_NUMBERS = PACK_NUMBER_FIELDS[:-1]
 _PACK_NUMBERS = (
     "pack_width_m",
     "pack_depth_m",
