@@ -37,16 +37,6 @@ from spiralcap.core import backend as bk
 
 #: WindingPack fields that are numbers of the flat input, per pack (the height only with bars)
 _PACK_NUMBERS = PACK_NUMBER_FIELDS[:-1]
-_PACK_NUMBERS = (
-    "pack_width_m",
-    "pack_depth_m",
-    "mean_radius_m",
-    "packing_factor",
-    "conductivity_W_mK",
-    "heat_transfer_coefficient_W_m2K",
-    "emissivity",
-    "air_speed_m_s",
-)
 #: PairTemperatures fields in the flat output, per pair, in the class's order: these twelve,
 #: then ``internal`` as its three offsets (``_INTERNAL``), then ``tangent_h_W_m2K``
 _OUT_FIELDS = (
