@@ -224,7 +224,7 @@ def states(
     if x.ndim == 1:  # numbers: Python floats out
         return _unflat(_numeric(structure, only)(x).full().ravel().tolist(), pairs)
     shape = x.shape[1:]
-    if x[0].size <= MAP_MAX:
+    if 0 < x[0].size <= MAP_MAX:  # (an empty array: numpy, whose shapes hold)
         columns = _numeric(structure, only).map(x[0].size)(x.reshape(len(items), -1)).full()
         return _unflat([row.reshape(shape) for row in columns], pairs)
     from coils.thermal_system import pair_temperatures
