@@ -28,30 +28,6 @@ def pytest_configure(config: pytest.Config) -> None:
         compileall.compile_dir(root / package, quiet=2)
 
 
-#: Modules whose tests take longest or wait the longest (full reports, signals sent seconds in,
-#: Dask clusters): collected first, so that the two workers end on short tests, not one of
-#: them on a 10-second test while the other idles.
-_LONG_FIRST = (
-    "test_signals.py",
-    "test_uncertainty_cli.py",
-    "test_report_runaway.py",
-    "test_report_injection.py",
-    "test_report_layout.py",
-    "test_dask_no_workers.py",
-    "test_sizing_speed.py",
-)
-
-
-def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
-    """The tests of :data:`_LONG_FIRST` first, in their order; the rest as collected."""
-
-    def rank(item: pytest.Item) -> int:
-        name = item.path.name
-        return _LONG_FIRST.index(name) if name in _LONG_FIRST else len(_LONG_FIRST)
-
-    items.sort(key=rank)  # stable: the order within a module is kept
-
-
 @pytest.fixture
 def run_cli() -> Callable[[list[str] | None], int]:
     """``spiralcap.cli.main``: ``run_cli(["coils", "--json"])`` returns the exit status."""
