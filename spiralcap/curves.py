@@ -347,10 +347,23 @@ def frequency_curves(model: Any, evaluation: Any, result: Any = None) -> tuple[C
     """
     f_grid = frequency_range_hz(model, *_marks_hz(evaluation))
     feasible = result is not None and result.status == "optimal"
-    if feasible:
-        f_grid = np.union1d(f_grid, frequency_range_hz(model, *_marks_hz(result.evaluation)))
-    design = curve(model, evaluation.helical_angle_rad, f_grid, f_grid)
-    optimum = curve(model, result.helical_angle_rad, f_grid, f_grid) if feasible else None
+    if not feasible:
+        return curve(model, evaluation.helical_angle_rad, f_grid, f_grid), None
+    f_grid = np.union1d(f_grid, frequency_range_hz(model, *_marks_hz(result.evaluation)))
+    # both angles in one grid: the field capacity (the costly part, the same at either angle)
+    # is solved once per frequency; each row is the curve of its angle alone, bit for bit
+    alphas = np.array([[evaluation.helical_angle_rad], [result.helical_angle_rad]])
+    both = curve(model, alphas, f_grid[np.newaxis, :], f_grid)
+    design, optimum = (
+        Curve(
+            f_grid,
+            both.margin_Nm[i],
+            both.feasible[i],
+            both.speed_slack_m_s[i],
+            both.turns_slack[i],
+        )
+        for i in (0, 1)
+    )
     return design, optimum
 
 

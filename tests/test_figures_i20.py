@@ -195,3 +195,25 @@ def test_tissue_torque_legend_of_a_design_layered_with_a_fit() -> None:
     one = Figure().subplots()
     plot_torque_vs_frequency(one, model.tissues[0], (10.0,), paper_points=())
     assert one.get_title() == "tissue zhou2013-sample2 + 6 tissue keys", one.get_title()
+
+
+def test_both_frequency_curves_are_each_angles_curve_alone() -> None:
+    """``frequency_curves`` solves the design's and the optimum's curves as one grid (the field
+    capacity once per frequency): each equals :func:`spiralcap.curves.curve` at its own angle
+    alone, bit for bit, and the optimum's angle differs from the design's."""
+    import optimize
+    from spiralcap.assemble import build_model
+    from spiralcap.curves import curve, frequency_curves
+    from spiralcap.design import load_design
+
+    model = optimize.prepare(build_model(load_design()))
+    ev, res = optimize.evaluate(model), optimize.optimize_design(model)
+    assert res.helical_angle_rad != ev.helical_angle_rad, "two different angles"
+    pair = frequency_curves(model, ev, res)
+    assert pair[1] is not None
+    for got, alpha in zip(pair, (ev.helical_angle_rad, res.helical_angle_rad), strict=True):
+        alone = curve(model, alpha, got.x, got.x)
+        for name in ("margin_Nm", "feasible", "speed_slack_m_s", "turns_slack"):
+            assert np.array_equal(getattr(got, name), getattr(alone, name)), (
+                f"{name} at {math.degrees(alpha):.3f} deg: the curve solved alone, bit for bit"
+            )
