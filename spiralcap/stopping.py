@@ -30,6 +30,17 @@ class Terminated(KeyboardInterrupt):
         self.signum = signum
 
 
+def raise_if_requested() -> None:
+    """Raise :class:`Terminated` again if a stop signal came before.
+
+    For a loop of many solves in the command's own process, after each: a :class:`Terminated`
+    raised where nothing can pass it on (a finaliser, a callback from compiled code) is printed
+    as ignored and lost, and the command would run on.
+    """
+    if _REQUESTED[0]:
+        raise Terminated(_REQUESTED[0])
+
+
 #: Signals the command turns into :class:`Terminated`.
 STOP_SIGNALS = ("SIGTERM", "SIGHUP")
 

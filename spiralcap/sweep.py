@@ -370,6 +370,7 @@ def _optimize_chunk(
     (variables and multipliers; the first from the grid starts). The problem's numbers are
     parameters, so the chunk re-solves one compiled solver."""
     from optimize import optimize_design
+    from spiralcap.stopping import raise_if_requested
 
     rows: list[tuple] = []
     previous: Any = None
@@ -377,6 +378,7 @@ def _optimize_chunk(
         warm = previous if previous is not None and previous.feasible else None
         # the rows need no step-out or highest frequency: those searches are skipped
         previous = optimize_design(model, warm_start=warm, frequency_bounds=False)
+        raise_if_requested()  # a stop request whose exception was lost ends the chunk here
         rows.append(_row(previous, columns))
         if progress:
             progress(i + 1)

@@ -104,7 +104,8 @@ def _stop_all_and_check(jobs: list[tuple[subprocess.Popen[str], int, int, float]
         for proc, _, _, _ in jobs:
             for pid in _group(proc.pid):  # do not leave them to the next test
                 os.kill(pid, signal.SIGKILL)
-    return [proc.communicate(timeout=30)[1] for proc, _, _, _ in jobs]  # reaps, closes the pipe
+        errs = [proc.communicate(timeout=30)[1] for proc, _, _, _ in jobs]  # reaps, closes pipes
+    return errs
 
 
 @pytest.mark.slow
@@ -201,8 +202,8 @@ def test_sigterm_inside_ipopt_ends_the_sweep_within_5_s(tmp_path: Path) -> None:
                 os.kill(proc.pid, signal.SIGKILL)
             for pid in _group(proc.pid):
                 os.kill(pid, signal.SIGKILL)
-    for i, (proc, after_s, folder) in enumerate(zip(procs, afters, folders)):
-        _, err = proc.communicate(timeout=30)
+        errs = [proc.communicate(timeout=30)[1] for proc in procs]  # reaps, closes the pipes
+    for i, (proc, after_s, folder, err) in enumerate(zip(procs, afters, folders, errs)):
         assert i in sent and sent[i] - t0 >= after_s, f"SIGTERM sent {after_s} s in"
         took = ended.get(i, float("inf")) - sent[i]
         assert took <= 5.0, f"still running 5 s after SIGTERM at {after_s} s ({took:.1f} s)"
@@ -287,3 +288,19 @@ def test_a_worker_killed_from_outside_is_one_line(tmp_path: Path, argv: list[str
     assert "Traceback" not in err and out == "", "no traceback, no output"
     assert list(tmp_path.iterdir()) == [], "nothing written"
     assert _poll(lambda: not _group(proc.pid), 10), "no process left"
+
+
+def test_a_lost_stop_request_still_ends_a_sweep_after_its_point(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """A :class:`spiralcap.stopping.Terminated` raised where nothing passes it on (a finaliser,
+    a callback from compiled code: printed as ignored) still ends a re-optimising sweep: each
+    point re-raises a stop request once its solve is done (``stopping.raise_if_requested``)."""
+    from spiralcap import stopping
+    from spiralcap.design import load_design
+    from spiralcap.sweep import parse_over, sweep
+
+    monkeypatch.setattr(stopping, "_REQUESTED", [int(signal.SIGTERM)])  # the lost request
+    with pytest.raises(stopping.Terminated) as stopped:
+        sweep(load_design(), [parse_over("limits.power_W=300:3000:3")], optimize=True)
+    assert stopped.value.signum == signal.SIGTERM, "the request's own signal"
