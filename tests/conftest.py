@@ -2,9 +2,12 @@
 
 from __future__ import annotations
 
+import contextlib
 import importlib
+import io
 import types
 from collections.abc import Callable
+from dataclasses import dataclass
 from pathlib import Path
 
 import pytest
@@ -26,6 +29,62 @@ def pytest_configure(config: pytest.Config) -> None:
     root = Path(__file__).resolve().parents[1]
     for package in ("spiralcap", "optimize", "coils", "capsule", "torque_model", "examples"):
         compileall.compile_dir(root / package, quiet=2)
+
+
+#: Modules whose tests take longest or wait longest (full reports, Dask clusters, signals sent
+#: seconds in), collected first in this order. pytest-xdist's worksteal gives each worker a
+#: contiguous half of the collection and lets an idle worker take tests from the end of the
+#: other's: with the long tests first, both workers end on short ones instead of one finishing a
+#: 10-second test while the other idles. The signal tests come after the other long modules,
+#: never in a run's first seconds while the other worker is still starting up: they time how
+#: fast a command answers SIGTERM, and the start-up is the busiest moment of the run.
+_LONG_FIRST = (
+    "test_uncertainty_cli.py",
+    "test_report_runaway.py",
+    "test_report_injection.py",
+    "test_report_layout.py",
+    "test_report.py",  # after the layout check: the built-in report shared, on one worker
+    "test_dask_no_workers.py",
+    "test_sizing_speed.py",
+    "test_signals.py",
+)
+
+
+def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
+    """The tests of :data:`_LONG_FIRST` first, in its order; the rest as collected."""
+
+    def rank(item: pytest.Item) -> int:
+        name = item.path.name
+        return _LONG_FIRST.index(name) if name in _LONG_FIRST else len(_LONG_FIRST)
+
+    items.sort(key=rank)  # stable: the order within a module is kept
+
+
+@dataclass(frozen=True)
+class BuiltinReport:
+    """One ``spiralcap report`` run of the built-in design, HTML and PDF."""
+
+    status: int
+    stdout: str
+    html_path: Path
+    pdf_path: Path
+
+
+@pytest.fixture(scope="session")
+def builtin_report(tmp_path_factory: pytest.TempPathFactory) -> BuiltinReport:
+    """The built-in design's report, written once per test process and read by the report's
+    tests and its layout check (nothing writes beside it): ``spiralcap report -o ... --pdf ...
+    --workers 2`` (analyses and figures forked) into a folder the user made (spiralcap makes no
+    folder: spiralcap.outputs)."""
+    out = tmp_path_factory.mktemp("report") / "nested" / "folder"
+    out.mkdir(parents=True)
+    html_path, pdf_path = out / "report.html", out / "report.pdf"
+    buf = io.StringIO()
+    with contextlib.redirect_stdout(buf):
+        status = cli.main(
+            ["report", "-o", str(html_path), "--pdf", str(pdf_path), "--workers", "2"]
+        )
+    return BuiltinReport(status, buf.getvalue(), html_path, pdf_path)
 
 
 @pytest.fixture

@@ -42,16 +42,11 @@ def _cli_json(argv: list[str]) -> dict[str, Any]:
 
 
 @pytest.fixture(scope="module")
-def report(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Any]:
+def report(builtin_report: Any) -> dict[str, Any]:
     """The one report run of this module: the built-in design, HTML and PDF, in a folder the
-    user made (spiralcap makes no folder: spiralcap.outputs)."""
-    out = tmp_path_factory.mktemp("report") / "nested" / "folder"
-    out.mkdir(parents=True)
-    html_path, pdf_path = out / "report.html", out / "report.pdf"
-    buf = io.StringIO()
-    with contextlib.redirect_stdout(buf):
-        # two processes (analyses and figures shared out); the serial run is compared below
-        status = main(["report", "-o", str(html_path), "--pdf", str(pdf_path), "--workers", "2"])
+    user made (conftest's ``builtin_report``: two processes, analyses and figures shared out;
+    the serial run is compared below)."""
+    html_path, pdf_path = builtin_report.html_path, builtin_report.pdf_path
     text = html_path.read_text(encoding="utf-8")
     match = re.search(
         r'<script type="application/json" id="spiralcap-data">\s*(.*?)\s*'
@@ -61,8 +56,8 @@ def report(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Any]:
     )
     assert match, "the HTML embeds its numbers as JSON in <script id='spiralcap-data'>"
     return {
-        "status": status,
-        "stdout": buf.getvalue(),
+        "status": builtin_report.status,
+        "stdout": builtin_report.stdout,
         "html_path": html_path,
         "pdf_path": pdf_path,
         "html": text,

@@ -152,7 +152,7 @@ def _report(tmp: Path, design_name: str, title: str) -> tuple[subprocess.Complet
         encoding="utf-8",
     )
     proc = subprocess.run(
-        [*SPIRALCAP, "report", design.name, "-o", "r.html", "--pdf", "r.pdf"],
+        [*SPIRALCAP, "report", design.name, "-o", "r.html", "--pdf", "r.pdf", "--workers", "1"],
         cwd=tmp,
         capture_output=True,
         text=True,
@@ -161,17 +161,14 @@ def _report(tmp: Path, design_name: str, title: str) -> tuple[subprocess.Complet
     return proc, design
 
 
+#: The issue's two cases (a Typst ``#read`` breaking out of a string, and an HTML comment opening
+#: a script), in one title: one report run checks both.
+ISSUE_TITLE = 'TITLE #read("/etc/hostname") ")#read("marker.txt")#(" <!--<script>'
+
+
 @needs_pdftotext
-@pytest.mark.parametrize(
-    ("design_name", "title"),
-    [
-        ("TITLE AUTHOR.toml", 'TITLE #read("/etc/hostname") ")#read("marker.txt")#("'),
-        ("design.toml", "<!--<script>"),
-    ],
-)
-def test_report_command_takes_the_issue_cases_as_text(
-    tmp_path: Path, design_name: str, title: str
-) -> None:
+def test_report_command_takes_the_issue_cases_as_text(tmp_path: Path) -> None:
+    design_name, title = "TITLE AUTHOR.toml", ISSUE_TITLE
     proc, _ = _report(tmp_path, design_name, title)
     assert proc.returncode == 0, proc.stderr
     assert "Traceback" not in proc.stderr
@@ -193,7 +190,7 @@ def test_bytes_that_are_not_utf8_never_crash_the_report(tmp_path: Path) -> None:
     name = os.fsdecode(b"n\xffm.toml")
     (tmp_path / name).write_text('[report]\ntitle = "T"\n', encoding="utf-8")
     ok = subprocess.run(
-        [*SPIRALCAP, "report", name, "-o", "r.html", "--pdf", "r.pdf"],
+        [*SPIRALCAP, "report", name, "-o", "r.html", "--pdf", "r.pdf", "--workers", "1"],
         cwd=tmp_path,
         capture_output=True,
         timeout=600,

@@ -11,6 +11,7 @@ optimum of a design with fitted tissue parameters.
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 import pytest
 from pdf_layout import OVERLAP_SHARE, collisions, have_pdftotext, pages_words
@@ -40,21 +41,22 @@ def _report(tmp: Path, paths: list[Path] | None, overrides: list[str]) -> Path:
 
 
 @pytest.fixture(scope="module")
-def builtin(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    return _report(tmp_path_factory.mktemp("builtin"), None, [])
+def builtin(builtin_report: Any) -> Path:
+    """The built-in report's PDF (conftest's ``builtin_report``, shared with test_report.py)."""
+    return builtin_report.pdf_path
 
 
 @pytest.fixture(scope="module")
 def sizing(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    """The sizing report with its power sweep at three budgets (half, once and twice the
-    design's) and no adaptive refinement: each point is a six-key sizing. Its own pages are the
+    """The sizing report with its power sweep at two budgets (half and once the design's) and
+    no adaptive refinement: each point is a six-key sizing. Its own pages are the
     sizing tables; the full power table is laid out in the built-in and robust reports."""
     from spiralcap.curves import adaptive_power_sweep
     from spiralcap.report.data import collect
 
     with pytest.MonkeyPatch.context() as mp:
         mp.setitem(adaptive_power_sweep.__kwdefaults__, "refinements", 0)
-        mp.setitem(collect.__kwdefaults__, "power_factors", (0.5, 1.0, 2.0))
+        mp.setitem(collect.__kwdefaults__, "power_factors", (0.5, 1.0))
         return _report(tmp_path_factory.mktemp("sizing"), None, SIZING)
 
 

@@ -24,7 +24,7 @@ def test_report_says_a_pair_runs_away(
     tmp_path: Path, setting: str, pairs: str, statuses: tuple[int, ...]
 ) -> None:
     proc = subprocess.run(
-        [*SPIRALCAP, "report", "--set", setting, "-o", "r.html"],
+        [*SPIRALCAP, "report", "--set", setting, "-o", "r.html", "--workers", "1"],
         cwd=tmp_path,
         capture_output=True,
         text=True,

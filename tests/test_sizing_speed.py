@@ -208,7 +208,7 @@ def unscreened(copper):
 
 
 @pytest.mark.parametrize(
-    ("sf", "free"), [(2.5, SIX), (1.5, SIX[:4]), (3.2, SIX)], ids=["six", "four", "six-high"]
+    ("sf", "free"), [(2.5, SIX), (1.5, SIX[:4]), (3.2, SIX[:4])], ids=["six", "four", "four-high"]
 )
 def test_screen_rules_out_only_neighbours_the_nlp_cannot_solve(unscreened, sf, free):
     """Every buildable neighbour of a least-copper sizing solved in full (screen off): none the

@@ -98,7 +98,7 @@ def test_singular_counts_in_evaluate_and_with_unit():
 
 
 def _report_text(tmp_path, *sets: str) -> str:
-    argv = ["report", "--quiet", "-o", str(tmp_path / "r.html")]
+    argv = ["report", "--quiet", "--workers", "1", "-o", str(tmp_path / "r.html")]
     for s in sets:
         argv += ["--set", s]
     rc, _, err = run(argv)
