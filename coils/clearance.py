@@ -486,7 +486,11 @@ def _closest(a: Ring, b: Any) -> tuple[float, np.ndarray, Any]:
     # the signed distance is 1-Lipschitz in space: a cell whose grid value exceeds the best by
     # more than the cell's spatial size cannot hold the minimum
     cell = math.hypot(dphi * (a.radius_m + 0.5 * a.depth_m), ds)
-    flat = [i for i in np.argsort(d, axis=None)[:_REFINE_BEST] if d.flat[i] <= best + cell]
+    # the _REFINE_BEST least cells (a partition, not a sort of the whole grid), least first;
+    # cells at the same distance (a symmetric pair of rings) in the order of their index
+    part = np.argpartition(d, _REFINE_BEST - 1, axis=None)[:_REFINE_BEST]
+    least = part[np.lexsort((part, d.flat[part]))]
+    flat = [i for i in least if d.flat[i] <= best + cell]
     cells = np.array([np.unravel_index(i, d.shape) for i in flat])
     c_phi, c_s = phi[cells[:, 0]], s[cells[:, 1]]  # every candidate cell zoomed at once
     i0, j0 = np.unravel_index(int(np.argmin(d)), d.shape)
