@@ -121,6 +121,38 @@ def test_fit_round_trip_through_set(tmp_path: Path, capsys) -> None:
     )
 
 
+@pytest.mark.parametrize("only", [None, "E1", "scale"], ids=["all five", "E1", "scale"])
+def test_fit_on_a_scaled_design_gives_the_fitted_curve_on_that_design(
+    tmp_path: Path, capsys, only: str | None
+) -> None:
+    """A design's tissue constants are before its ``tissue.scale`` (which multiplies every
+    tissue set): a fit on a design with scale 1.3 writes the fitted material divided by 1.3, so
+    the -o file layered on that design, and the JSON 'tissue' keys set on it, give the fitted
+    curve to 1e-12 (the torque model run independently of the fit). Written undivided, the
+    held constants came back 1.3 x too stiff."""
+    csv_path = _synthetic_csv(tmp_path)
+    out = tmp_path / "fit.toml"
+    only_args = ["--only", only] if only else []
+    fit = _json(
+        capsys, "fit", str(csv_path), "--set", "tissue.scale=1.3", *only_args, "-o", str(out)
+    )
+    freq = np.asarray(fit["data"]["frequency_hz"])
+    angle = np.radians(fit["data"]["helical_angle_deg"])
+    scaled = tmp_path / "scaled.toml"
+    scaled.write_text("[tissue]\nscale = 1.3\n", encoding="utf-8")
+    sets = [f"tissue.{k}={float(v)!r}" for k, v in fit["tissue"].items()]
+    for how, design in (
+        ("-o layered on the design", load_design([scaled, out])),
+        ("the JSON keys set on the design", load_design(overrides=["tissue.scale=1.3", *sets])),
+    ):
+        tissue = build_tissues(design)[0]
+        again = np.asarray(tm.resistive_torque_Nm(angle, freq, tissue, tm.PAPER_CAPSULE)) * 1e3
+        assert np.allclose(again, fit["data"]["fitted_torque_mNm"], rtol=1e-12), (
+            f"{how} gives the fitted curve (1e-12)"
+        )
+    assert "tissue.scale (1.3)" in out.read_text(encoding="utf-8"), "the file says why"
+
+
 def test_fit_output_toml_and_plot(tmp_path: Path, capsys) -> None:
     csv_path = _synthetic_csv(tmp_path)
     out_toml, png = tmp_path / "fitted.toml", tmp_path / "fit.png"

@@ -232,6 +232,7 @@ def run(args: argparse.Namespace) -> int:
     )
     _check_angles(design, angle_deg, args.data)
     base = build_tissues(design)[0]
+    scale = design_tissue_scale(design)
     result = tm.identify(
         np.asarray(data["frequency_hz"]),
         np.asarray(data["torque_mNm"]) * 1e-3,
@@ -239,11 +240,12 @@ def run(args: argparse.Namespace) -> int:
         base,
         geometry_from_design(design),
         free=free,
+        bounds=scaled_bounds(scale),
     )
     quality = assess_fit(result)
     outputs: dict[str, str | bytes] = {}
     if args.output and result.success:
-        outputs[args.output] = tissue_toml(result, args.data, quality)
+        outputs[args.output] = tissue_toml(result, args.data, quality, scale)
     if args.plot and result.success:
         from spiralcap.figures.torque import figure_bytes, plot_fit
 
@@ -253,9 +255,9 @@ def run(args: argparse.Namespace) -> int:
 
         write_files_atomic(outputs)  # both or neither
     if args.json:
-        print_json(fit_payload(result, args.data, design.source, quality))
+        print_json(fit_payload(result, args.data, design.source, quality, scale))
     else:
-        _print_text(result, args.data, design.source, base.name, quality)
+        _print_text(result, args.data, design.source, base.name, quality, scale)
         for path in outputs:
             print(f"wrote {path}")
     if not result.success:
@@ -291,16 +293,43 @@ def _notes(flags: tuple[str, ...]) -> list[str]:
     return [pattern.sub(key, f) for f in flags]
 
 
-def constants_table(result: Any) -> dict[str, float]:
+def constants_table(result: Any, design_scale: float = 1.0) -> dict[str, float]:
     """The five constants of the fit as ``tissue.*`` design keys (kPa, kPa·s).
 
     All five, fitted or held (times ``scale`` when it is fitted), as the fit returns them:
     the fitted curve needs every one, a held constant taken from whatever preset a layered design
     names would change the curve, and ``tissue.scale`` would also multiply the worst-case
     presets. Lumen, wall thickness and friction are the bench's (:func:`bench_record`).
+
+    A design's ``tissue.*`` constants are before its ``tissue.scale``, which multiplies every
+    tissue set: the fitted material is divided by the fitting design's ``design_scale``, so the
+    keys set on that design give the fitted curve (written as the fit returns them, a design
+    with ``tissue.scale = 2`` would double them again).
     """
     full = result.tissue.as_design_table()
-    return {_DISPLAY[k][0]: float(full[_DISPLAY[k][0]]) for k in tm_parameter_names()}
+    return {
+        _DISPLAY[k][0]: float(full[_DISPLAY[k][0]]) / design_scale for k in tm_parameter_names()
+    }
+
+
+def design_tissue_scale(design: Any) -> float:
+    """The design's ``tissue.scale`` (1 when not set)."""
+    return float(design.get("tissue.scale", 1.0))
+
+
+def scaled_bounds(design_scale: float) -> dict[str, tuple[float, float]] | None:
+    """The fit's bounds on the five constants times the design's ``tissue.scale`` (None at 1:
+    the defaults). The fit works on the scaled material and :func:`constants_table` divides it
+    by the scale again, so what ``-o`` writes stays inside the bounds the design keys accept."""
+    if design_scale == 1.0:
+        return None
+    from torque_model.identification import DEFAULT_BOUNDS
+
+    return {
+        k: (lo * design_scale, hi * design_scale)
+        for k, (lo, hi) in DEFAULT_BOUNDS.items()
+        if k != "scale"
+    }
 
 
 #: Most helical angles ``tissue.fit.bench_helical_angles_deg`` records (the schema's bound).
@@ -334,13 +363,18 @@ def bench_record(result: Any) -> dict[str, Any]:
 
 
 def fit_payload(
-    result: Any, data_path: str, design_source: str, quality: Any = None
+    result: Any,
+    data_path: str,
+    design_source: str,
+    quality: Any = None,
+    design_scale: float = 1.0,
 ) -> dict[str, Any]:
     """The fit as a JSON-ready mapping (design units: kPa, kPa·s, mm, mN·m).
 
     Every interval is the log-space one (positive); a parameter the data do not bound at all
     has ``identifiable`` false and no ``ci95``. ``tissue`` holds the five constants only (what
-    ``-o`` writes into ``[tissue]``), ``bench`` the bench's record; ``model_follows_data`` and
+    ``-o`` writes into ``[tissue]``: before the fitting design's ``design_scale``,
+    :func:`constants_table`), ``bench`` the bench's record; ``model_follows_data`` and
     ``pinned_down`` are the verdicts (with ``quality``, a
     :class:`torque_model.fit_quality.FitQuality`).
     """
@@ -361,7 +395,7 @@ def fit_payload(
             entry["ci95"] = [lo * factor, hi * factor]
         params[key] = entry
     out: dict[str, Any] = {
-        "tissue": constants_table(result),
+        "tissue": constants_table(result, design_scale),
         "bench": bench_record(result),
         "fitted": [_DISPLAY[n][0] for n in result.free],
         "parameters": params,
@@ -434,9 +468,10 @@ def _lof_alpha() -> float:
     return LACK_OF_FIT_ALPHA
 
 
-def tissue_toml(result: Any, data_path: str, quality: Any = None) -> str:
-    """The fit as a design-file fragment: ``[tissue]`` the five constants, ``[tissue.fit]`` the
-    bench's record (``bench_*``, not read by the model) and the covariance, with provenance."""
+def tissue_toml(result: Any, data_path: str, quality: Any = None, design_scale: float = 1.0) -> str:
+    """The fit as a design-file fragment: ``[tissue]`` the five constants (before the fitting
+    design's ``tissue.scale``, :func:`constants_table`), ``[tissue.fit]`` the bench's record
+    (``bench_*``, not read by the model) and the covariance, with provenance."""
     loose = ", ".join(_DISPLAY[n][0] for n in result.not_pinned_down) or "none"
     fitted = ", ".join(_DISPLAY[n][0] for n in result.free)
     lines = [
@@ -453,10 +488,15 @@ def tissue_toml(result: Any, data_path: str, quality: Any = None) -> str:
         "# [tissue] holds the material only: layered on a design (spiralcap evaluate my.toml",
         "# THIS.toml) it keeps the design's lumen, wall and friction; the bench's are recorded",
         "# under [tissue.fit] and not used by the model.",
-        "",
-        "[tissue]",
     ]
-    lines += [f"{k} = {float(v)!r}" for k, v in constants_table(result).items()]
+    if design_scale != 1.0:
+        lines += [
+            f"# The fitting design's tissue.scale ({design_scale:g}) multiplies every tissue set:",
+            "# the constants below are the fitted material divided by it, so that on a design",
+            "# with that scale they give the fitted curve (on one without it, set scale too).",
+        ]
+    lines += ["", "[tissue]"]
+    lines += [f"{k} = {float(v)!r}" for k, v in constants_table(result, design_scale).items()]
     lines += ["", "[tissue.fit]", "# the bench the constants were fitted on (a record)"]
     for key, value in bench_record(result).items():
         text = (
@@ -605,7 +645,12 @@ def _verdict_lines(result: Any, quality: Any) -> list[str]:
 
 
 def _print_text(
-    result: Any, data_path: str, design_source: str, base_name: str, quality: Any = None
+    result: Any,
+    data_path: str,
+    design_source: str,
+    base_name: str,
+    quality: Any = None,
+    design_scale: float = 1.0,
 ) -> None:
     print(
         f"tissue identification from {data_path} ({result.frequency_hz.size} points, "
@@ -620,6 +665,12 @@ def _print_text(
         print(f"held at the design's tissue{times}: {', '.join(held)}")
     for name in result.not_pinned_down:
         print(f"  {_DISPLAY[name][0]}: " + "; ".join(_notes(result.flags[name])))
+    if design_scale != 1.0:
+        print(
+            f"the values above are the fitted material; the design's tissue.scale "
+            f"({design_scale:g}) multiplies every tissue set, so -o and the JSON 'tissue' table "
+            "hold them divided by it (on this design they give the fitted curve)"
+        )
     bench = bench_record(result)
     print(
         f"bench (a record, not written into [tissue]): lumen_diameter_mm = "
