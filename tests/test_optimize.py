@@ -239,3 +239,23 @@ def test_impossible_margin_is_named(capsys):
     assert main(["optimize", "--set", "limits.power_W=1"]) == 3
     out = capsys.readouterr().out
     assert "falls short of the required torque" in out, "a 1 W budget cannot turn the capsule"
+
+
+@pytest.mark.parametrize(
+    ("setting", "key"),
+    [("limits.x.power_W=5", "limits.x.power_W"), ("limits.power_W=1", "limits.power_W")],
+)
+def test_a_torque_shortfall_names_the_limit_that_caps_the_field(capsys, setting, key):
+    """Infeasible for want of torque: the line names the design key whose limit sets the field
+    at the best design found, and that field (the JSON evaluation's, in mT), not only "more
+    field would help"."""
+    import re
+
+    assert main(["optimize", "--json", "--set", setting]) == 3
+    field_mT = json.loads(capsys.readouterr().out)["evaluation"]["field_amplitude_T"] * 1e3
+    assert main(["optimize", "--set", setting]) == 3
+    out = capsys.readouterr().out
+    line = next(ln for ln in out.splitlines() if "falls short of the required torque" in ln)
+    found = re.search(r"there (\S+) \(.*?\) caps the field at ([\d.]+) mT", line)
+    assert found and found.group(1) == key, f"{setting}: names {key}: {line}"
+    assert float(found.group(2)) == pytest.approx(field_mT, rel=1e-3), "the field, 4 digits"

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import argparse
 import math
+from typing import Any
 
 from spiralcap.commands._common import (
     add_design_arguments,
@@ -194,7 +195,8 @@ def format_result(res) -> str:
                 lines.append(
                     f"  the magnet's torque falls short of the required torque by "
                     f"{s.short_by / factor:.4g} {label} at the best design inside the "
-                    "limits (more field, a stronger magnet or a lighter load would help)"
+                    f"limits{_field_cap_words(res)} (more field, a stronger magnet or a lighter "
+                    "load would help)"
                 )
             elif s.name == "solver":
                 lines.append(
@@ -218,6 +220,21 @@ def format_result(res) -> str:
                     f"{s.best / factor:.4g}{u} (short by {s.short_by / factor:.4g}{u})"
                 )
     return "\n".join(lines)
+
+
+def _field_cap_words(res: Any) -> str:
+    """``; there limits.x.power_W (...) caps the field at 1.139 mT``: the limit that sets the
+    field at the best design found, as a design key ("" when no evaluation names one)."""
+    from spiralcap.assemble.system import constraint_key
+    from spiralcap.presentation import readable
+
+    ev = getattr(res, "evaluation", None)
+    name = str(getattr(ev, "field_limited_by", "") or "")
+    field_T = float(getattr(ev, "field_amplitude_T", math.nan))
+    if not name or not math.isfinite(field_T):
+        return ""
+    key = constraint_key(name) or name
+    return f"; there {key} ({readable(name)}) caps the field at {field_T * 1e3:.4g} mT"
 
 
 def _grip_binds(res) -> list[str]:
