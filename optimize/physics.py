@@ -913,10 +913,11 @@ def required_torques_Nm(
         (resistive, thrust) torque per tissue set, N·m (floats, arrays or CasADi).
     """
     geometry = contact_geometry(c)
+    d_prime = tm.capsule_d_prime_m(helical_angle_rad, geometry)  # the same for every set
     out = []
     for tissue in tissues:
         res = tm.resistive_torque_Nm(
-            helical_angle_rad, frequency_hz, tissue, geometry
+            helical_angle_rad, frequency_hz, tissue, geometry, d_prime
         ) + weight_friction_Nm(c, tissue)
         thr = cap.thrust_torque_Nm(
             req.axial_load_N, c.helix_diameter_m, helical_angle_rad, tissue.friction_coefficient
@@ -962,7 +963,8 @@ def wall_strains(helical_angle_rad: bk.Scalar, c: Constants, tissues: tuple) -> 
         One strain per tissue set, dimensionless (torque_model.wall_strain).
     """
     geometry = contact_geometry(c)
-    return [tm.wall_strain(helical_angle_rad, t, geometry) for t in tissues]
+    d_prime = tm.capsule_d_prime_m(helical_angle_rad, geometry)  # the same for every set
+    return [tm.wall_strain(helical_angle_rad, t, geometry, d_prime) for t in tissues]
 
 
 def speed_m_s(helical_angle_rad: Any, frequency_hz: Any, c: Constants, req: Requirements) -> Any:

@@ -195,3 +195,33 @@ def test_no_contact_no_torque() -> None:
     assert float(tm.resistive_torque_Nm(math.radians(10), 1.0, wide, tm.PAPER_CAPSULE)) == 0.0, (
         "a lumen wider than D' is not strained (eq. 6 clipped at zero)"
     )
+
+
+def test_a_given_d_prime_is_the_one_computed_inside() -> None:
+    """Callers with several tissue sets compute D' once (it depends on the capsule only) and
+    pass it: the torque, its parts and the wall strain equal those computed without it, bit
+    for bit on numbers, and the same expression values on CasADi SX."""
+    angles = np.radians([3.0, 10.0, 25.0])
+    d_prime = tm.capsule_d_prime_m(angles, tm.PAPER_CAPSULE)
+    assert np.array_equal(
+        d_prime,
+        tm.equivalent_diameter_m(angles, 11e-3, 1e-3, 1),
+    ), "capsule_d_prime_m is equivalent_diameter_m of the capsule's diameters and starts"
+    for tissue in (SAMPLE2, SAMPLE3):
+        given = tm.torque_breakdown_Nm(angles, 1.7, tissue, tm.PAPER_CAPSULE, d_prime)
+        inside = tm.torque_breakdown_Nm(angles, 1.7, tissue, tm.PAPER_CAPSULE)
+        for part in ("wound", "cylinder", "ends", "total"):
+            assert np.array_equal(given[part], inside[part]), f"{part}: bit for bit"
+        assert np.array_equal(
+            tm.wall_strain(angles, tissue, tm.PAPER_CAPSULE, d_prime),
+            tm.wall_strain(angles, tissue, tm.PAPER_CAPSULE),
+        ), "wall strain: bit for bit"
+    a = ca.SX.sym("alpha")
+    shared = tm.resistive_torque_Nm(
+        a, 1.7, SAMPLE2, tm.PAPER_CAPSULE, tm.capsule_d_prime_m(a, tm.PAPER_CAPSULE)
+    )
+    own = tm.resistive_torque_Nm(a, 1.7, SAMPLE2, tm.PAPER_CAPSULE)
+    fn = ca.Function("both", [a], [shared, own])
+    for x in angles:
+        one, two = (float(v) for v in fn(x))
+        assert one == two, "SX: the same value at every angle"

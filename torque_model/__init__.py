@@ -12,7 +12,12 @@ from torque_model.engagement import (
     wall_strain,
     weight_friction_torque_Nm,
 )
-from torque_model.geometry import ContactGeometry, end_contact_moment_m2, equivalent_diameter_m
+from torque_model.geometry import (
+    ContactGeometry,
+    capsule_d_prime_m,
+    end_contact_moment_m2,
+    equivalent_diameter_m,
+)
 from torque_model.identification import PARAMETER_NAMES, FitResult, identify
 from torque_model.model import (
     angular_frequency_rad_s,
@@ -44,6 +49,7 @@ __all__ = [
     "PaperPoint",
     "TissueParameters",
     "angular_frequency_rad_s",
+    "capsule_d_prime_m",
     "contact_factor_m3",
     "contact_factors_m3",
     "contact_radius_m",

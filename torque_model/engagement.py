@@ -37,7 +37,7 @@ from __future__ import annotations
 
 from spiralcap.core.backend import Scalar
 from spiralcap.core.constants import STANDARD_GRAVITY_m_s2
-from torque_model.geometry import ContactGeometry, equivalent_diameter_m
+from torque_model.geometry import ContactGeometry, capsule_d_prime_m
 from torque_model.model import strain
 from torque_model.tissue import TissueParameters
 
@@ -54,7 +54,10 @@ DEFAULT_MIN_WALL_STRAIN = 0.017
 
 
 def wall_strain(
-    helical_angle_rad: Scalar, tissue: TissueParameters, geometry: ContactGeometry
+    helical_angle_rad: Scalar,
+    tissue: TissueParameters,
+    geometry: ContactGeometry,
+    d_prime_m: Scalar | None = None,
 ) -> Scalar:
     """Strain the wound section imposes on the wall, eq. 6 at D_after = D' (not clipped).
 
@@ -66,6 +69,10 @@ def wall_strain(
         The tissue set (its lumen D_before, m, and wall thickness d, m, are read).
     geometry : ContactGeometry
         The capsule as the tissue touches it (body and spiral wire diameters, m; starts).
+    d_prime_m : float, array or CasADi, optional
+        D' of this angle and capsule (:func:`torque_model.equivalent_diameter_m`), m, when the
+        caller has it (one for every tissue set: it depends on the capsule only); computed here
+        otherwise.
 
     Returns
     -------
@@ -73,10 +80,7 @@ def wall_strain(
         (D' - D_before) / (D_before + d), dimensionless; <= 0 where the spiral does not touch
         the wall (no engagement).
     """
-    g = geometry
-    d_prime = equivalent_diameter_m(
-        helical_angle_rad, g.body_diameter_m, g.wire_diameter_m, g.starts
-    )
+    d_prime = d_prime_m if d_prime_m is not None else capsule_d_prime_m(helical_angle_rad, geometry)
     return strain(d_prime, tissue.lumen_diameter_m, tissue.wall_thickness_m)
 
 

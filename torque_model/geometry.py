@@ -61,6 +61,7 @@ __all__ = [
     "NEWTON_STEPS",
     "QUADRATURE_NODES",
     "ContactGeometry",
+    "capsule_d_prime_m",
     "end_contact_moment_m2",
     "equivalent_diameter_m",
 ]
@@ -187,6 +188,25 @@ def equivalent_diameter_m(
         arc = arc + float(w) * bk.sqrt(r_w * r_w * st * st + rho * rho * psi_m * psi_m * ct * ct)
     arc = 0.5 * t_star * arc
     return 2.0 * R + (2.0 * starts / bk.pi) * (tangent + arc - R * phi_t)
+
+
+def capsule_d_prime_m(helical_angle_rad: Scalar, geometry: ContactGeometry) -> Scalar:
+    """:func:`equivalent_diameter_m` of ``geometry``'s capsule at ``helical_angle_rad``.
+
+    Parameters
+    ----------
+    helical_angle_rad : float, array or CasADi
+        Helical angle of the spiral to the cross-section plane, rad.
+    geometry : ContactGeometry
+        The capsule (body and wire diameters, m; starts).
+
+    Returns
+    -------
+    float, array or CasADi
+        D', m.
+    """
+    g = geometry
+    return equivalent_diameter_m(helical_angle_rad, g.body_diameter_m, g.wire_diameter_m, g.starts)
 
 
 def end_contact_moment_m2(

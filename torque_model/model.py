@@ -25,7 +25,7 @@ from __future__ import annotations
 
 from spiralcap.core import backend as bk
 from spiralcap.core.backend import Scalar
-from torque_model.geometry import ContactGeometry, end_contact_moment_m2, equivalent_diameter_m
+from torque_model.geometry import ContactGeometry, capsule_d_prime_m, end_contact_moment_m2
 from torque_model.tissue import TissueParameters, ViscoelasticConstants
 
 __all__ = [
@@ -279,6 +279,7 @@ def torque_breakdown_Nm(
     frequency_hz: Scalar,
     tissue: TissueParameters,
     geometry: ContactGeometry,
+    d_prime_m: Scalar | None = None,
 ) -> dict[str, Scalar]:
     """The resistive torque split into wound section, unwound cylinder and both ends, N·m.
 
@@ -295,13 +296,17 @@ def torque_breakdown_Nm(
         Viscoelastic constants (calibrated scale), lumen, wall, friction.
     geometry : ContactGeometry
         The capsule as the tissue sees it.
+    d_prime_m : float, array or CasADi, optional
+        D' of this angle and capsule (:func:`torque_model.equivalent_diameter_m`), m, when the
+        caller has it (one for every tissue set: it depends on the capsule only); computed here
+        otherwise.
 
     Returns
     -------
     dict of str to float, array or CasADi
         Torque of each part and their sum, N·m.
     """
-    parts = contact_factors_m3(helical_angle_rad, tissue, geometry)
+    parts = contact_factors_m3(helical_angle_rad, tissue, geometry, d_prime_m)
     integral = relaxation_integral_Pa(frequency_hz, tissue)
     out = {k: v * integral for k, v in parts.items()}
     out["total"] = out["wound"] + out["cylinder"] + out["ends"]
@@ -309,7 +314,10 @@ def torque_breakdown_Nm(
 
 
 def contact_factors_m3(
-    helical_angle_rad: Scalar, tissue: TissueParameters, geometry: ContactGeometry
+    helical_angle_rad: Scalar,
+    tissue: TissueParameters,
+    geometry: ContactGeometry,
+    d_prime_m: Scalar | None = None,
 ) -> dict[str, Scalar]:
     """Geometric factors G with torque = G x I(omega), m^3, for each part of the contact.
 
@@ -328,6 +336,10 @@ def contact_factors_m3(
         Lumen and wall diameters and friction coefficient (its five constants are not used).
     geometry : ContactGeometry
         The capsule as the tissue sees it.
+    d_prime_m : float, array or CasADi, optional
+        D' of this angle and capsule (:func:`torque_model.equivalent_diameter_m`), m, when the
+        caller has it (one for every tissue set: it depends on the capsule only); computed here
+        otherwise.
 
     Returns
     -------
@@ -343,9 +355,7 @@ def contact_factors_m3(
         )
         return mu_d * eps * 0.5 * diameter_after
 
-    d_prime = equivalent_diameter_m(
-        helical_angle_rad, g.body_diameter_m, g.wire_diameter_m, g.starts
-    )
+    d_prime = d_prime_m if d_prime_m is not None else capsule_d_prime_m(helical_angle_rad, g)
     cylinder_length = bk.fmax(g.body_length_m - g.body_diameter_m - g.wound_length_m, 0.0)
     ends = (
         2.0
@@ -387,6 +397,7 @@ def resistive_torque_Nm(
     frequency_hz: Scalar,
     tissue: TissueParameters,
     geometry: ContactGeometry,
+    d_prime_m: Scalar | None = None,
 ) -> Scalar:
     """Torque the intestine resists a spiral capsule's rotation with (Zhou 2013 eqs. 2-8), N·m.
 
@@ -403,6 +414,10 @@ def resistive_torque_Nm(
         (the rest of the cylinder, if any, touches at diameter D) and number of starts
         (:func:`torque_model.equivalent_diameter_m`). The paper's capsule is
         :data:`torque_model.PAPER_CAPSULE`.
+    d_prime_m : float, array or CasADi, optional
+        D' of this angle and capsule (:func:`torque_model.equivalent_diameter_m`), m, when the
+        caller has it (one for every tissue set: it depends on the capsule only); computed here
+        otherwise.
 
     Returns
     -------
@@ -410,4 +425,6 @@ def resistive_torque_Nm(
         The resistive torque, N·m: wound section (D_after = D'), unwound cylinder and the two
         hemispherical ends (D_after(z) where wider than the lumen).
     """
-    return torque_breakdown_Nm(helical_angle_rad, frequency_hz, tissue, geometry)["total"]
+    return torque_breakdown_Nm(helical_angle_rad, frequency_hz, tissue, geometry, d_prime_m)[
+        "total"
+    ]
