@@ -235,6 +235,11 @@ def format_scenario_solve(rec: Any, p: float | None) -> str:
         )
     if rec.capacity >= n:
         return f"scenario solve      all {n} scenarios in one NLP ({rec.rounds} solve(s))"
+    if not (math.isfinite(rec.outside_min_Nm) and math.isfinite(rec.tail_edge_Nm)):
+        return (
+            f"scenario solve      working set {rec.capacity} of {n} scenarios, {rec.rounds} "
+            "round(s); not checked over all: no feasible optimum to check"
+        )
     return (
         f"scenario solve      working set {rec.capacity} of {n} scenarios, {rec.rounds} round(s); "
         f"checked over all {n}: smallest margin outside {rec.outside_min_Nm * 1e3:.4g} mN·m "

@@ -259,3 +259,23 @@ def test_a_torque_shortfall_names_the_limit_that_caps_the_field(capsys, setting,
     found = re.search(r"there (\S+) \(.*?\) caps the field at ([\d.]+) mT", line)
     assert found and found.group(1) == key, f"{setting}: names {key}: {line}"
     assert float(found.group(2)) == pytest.approx(field_mT, rel=1e-3), "the field, 4 digits"
+
+
+def test_an_infeasible_power_or_robust_optimum_prints_no_false_limit_or_nan(capsys):
+    """Least power at 2 W: the field at the best design is the solver's own ("fixed"), not a
+    limit, so no limit is named; a robust optimum with no feasible point: its scenario check
+    is said not to have run, never "nan mN·m"."""
+    power = ["optimize.objective=power", "limits.power_W=2", "requirements.min_safety_factor=2"]
+    assert main(["optimize", *(a for s in power for a in ("--set", s))]) == 3
+    out = capsys.readouterr().out
+    assert "falls short" in out and "caps the field" not in out, out
+    robust = [
+        "optimize.objective=margin_p05",
+        "tissue.uncertainty.scale_sigma_log=0.3",
+        "limits.z.power_W=3",
+    ]
+    assert main(["optimize", *(a for s in robust for a in ("--set", s))]) == 3
+    out = capsys.readouterr().out
+    assert "nan" not in out.lower(), out
+    assert "no feasible optimum to check" in out, "the scenario check says it did not run"
+    assert "limits.z.power_W" in out, "the channel that caps the field is named"

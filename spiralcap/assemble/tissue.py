@@ -71,10 +71,26 @@ def build_tissues(design: Mapping[str, Any]) -> list[TissueParameters]:
         tissues.append(torque_model.preset(name))
     if anatomy:  # the patient's lumen and wall, whichever material the set describes
         tissues = [t.replace(**anatomy) for t in tissues]
-    scale = float(design.get("tissue.scale", 1.0))
+    scale = tissue_scale(design)
     if scale != 1.0:  # every set alike: the resistive torque is linear in the factor
         tissues = [t.scaled(scale, f"{t.name} × tissue.scale {scale:g}") for t in tissues]
     return tissues
+
+
+def tissue_scale(design: Mapping[str, Any]) -> float:
+    """The design's ``tissue.scale``, the factor on every tissue set's constants (1: not set).
+
+    Parameters
+    ----------
+    design : mapping
+        A validated design (``spiralcap.design.Design``).
+
+    Returns
+    -------
+    float
+        The factor, dimensionless.
+    """
+    return float(design.get("tissue.scale", 1.0))
 
 
 # --- tissue uncertainty (issue 11) ------------------------------------------------------------

@@ -210,7 +210,7 @@ def run(args: argparse.Namespace) -> int:
     import numpy as np
 
     import torque_model as tm
-    from spiralcap.assemble.tissue import build_tissues
+    from spiralcap.assemble.tissue import build_tissues, tissue_scale
     from spiralcap.commands.torque import check_plot_path, geometry_from_design
     from torque_model.fit_quality import assess_fit
 
@@ -232,7 +232,7 @@ def run(args: argparse.Namespace) -> int:
     )
     _check_angles(design, angle_deg, args.data)
     base = build_tissues(design)[0]
-    scale = design_tissue_scale(design)
+    scale = tissue_scale(design)
     result = tm.identify(
         np.asarray(data["frequency_hz"]),
         np.asarray(data["torque_mNm"]) * 1e-3,
@@ -310,11 +310,6 @@ def constants_table(result: Any, design_scale: float = 1.0) -> dict[str, float]:
     return {
         _DISPLAY[k][0]: float(full[_DISPLAY[k][0]]) / design_scale for k in tm_parameter_names()
     }
-
-
-def design_tissue_scale(design: Any) -> float:
-    """The design's ``tissue.scale`` (1 when not set)."""
-    return float(design.get("tissue.scale", 1.0))
 
 
 def scaled_bounds(design_scale: float) -> dict[str, tuple[float, float]] | None:

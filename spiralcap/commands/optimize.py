@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import argparse
 import math
-from typing import Any
+from typing import TYPE_CHECKING
 
 from spiralcap.commands._common import (
     add_design_arguments,
@@ -17,6 +17,9 @@ from spiralcap.commands._common import (
     design_paths,
     print_json,
 )
+
+if TYPE_CHECKING:
+    from optimize.result import OptimizationResult
 
 #: how to show a sensitivity per SI unit in engineering units: unit -> (label, factor)
 _ENGINEERING = {
@@ -222,18 +225,16 @@ def format_result(res) -> str:
     return "\n".join(lines)
 
 
-def _field_cap_words(res: Any) -> str:
+def _field_cap_words(res: OptimizationResult) -> str:
     """``; there limits.x.power_W (...) caps the field at 1.139 mT``: the limit that sets the
-    field at the best design found, as a design key ("" when no evaluation names one)."""
+    field at the best design found, as a design key ("" when the evaluation names none)."""
     from spiralcap.assemble.system import constraint_key
     from spiralcap.presentation import readable
 
-    ev = getattr(res, "evaluation", None)
-    name = str(getattr(ev, "field_limited_by", "") or "")
-    field_T = float(getattr(ev, "field_amplitude_T", math.nan))
-    if not name or not math.isfinite(field_T):
+    name, field_T = res.evaluation.field_limited_by, float(res.evaluation.field_amplitude_T)
+    key = constraint_key(name) if name else ""
+    if not key.startswith("limits.") or not math.isfinite(field_T):  # e.g. "fixed": the solver's
         return ""
-    key = constraint_key(name) or name
     return f"; there {key} ({readable(name)}) caps the field at {field_T * 1e3:.4g} mT"
 
 
