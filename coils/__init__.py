@@ -1,4 +1,4 @@
-"""Helmholtz coils, circular and square: exact loop fields, three-axis systems, rotating-field allocation,
+"""Helmholtz coils, circular, square and rectangular: exact loop fields, three-axis systems, rotating-field allocation,
 electrical and thermal sizing, and field uniformity. SI units throughout; imports only the
 spiralcap core (backend, constants, errors)."""
 
@@ -11,6 +11,7 @@ from coils.electrical import (
 )
 from coils.loop import coaxial_mutual_inductance_H, loop_field
 from coils.pair import HelmholtzPair
+from coils.rectangle_pair import RectanglePair
 from coils.rotating import heading_frame
 from coils.sizing import AxisSizing, SystemSizing, size_system
 from coils.square_pair import SQUARE_HELMHOLTZ_RATIO, SquarePair
@@ -28,6 +29,7 @@ __all__ = [
     "SQUARE_HELMHOLTZ_RATIO",
     "AxisSizing",
     "HelmholtzPair",
+    "RectanglePair",
     "SquarePair",
     "SystemSizing",
     "ThreeAxisHelmholtz",

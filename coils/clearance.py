@@ -119,20 +119,24 @@ def pair_rings(pair: Any) -> tuple[Ring, Ring]:
 
 @dataclass(frozen=True)
 class Frame:
-    """One square winding pack as a solid frame (SI).
+    """One square or rectangular winding pack as a solid frame (SI).
 
     Parameters
     ----------
     axis : int
         Axis index: 0, 1, 2 for a frame about x, y, z (sides along the other two axes).
     side_m : float
-        Side a of the mean turn (the section's centre line), m.
+        Side a of the mean turn (the section's centre line) along the next axis in cyclic
+        order (x: y, y: z, z: x), m.
     centre_m : float
         Axial position c of the section's mid-plane, m.
     width_m : float
         Axial width w of the section, m.
     depth_m : float
         Depth d of the section across each side, m (d < a).
+    side_v_m : float, optional
+        Side b of the mean turn along the axis after that (x: z, y: x, z: y), m; None: a
+        square, b = a.
     """
 
     axis: int
@@ -140,20 +144,45 @@ class Frame:
     centre_m: float
     width_m: float
     depth_m: float
+    side_v_m: float | None = None
+
+    @property
+    def sides_m(self) -> tuple[float, float]:
+        """The mean turn's sides (a, b) along the next two axes in cyclic order, m."""
+        return (self.side_m, self.side_m if self.side_v_m is None else self.side_v_m)
+
+    def halves(self) -> tuple[int, int, float, float, float, float]:
+        """The two in-plane axes u < v and the section's outer and inner half extents along
+        them, ``(u, v, out_u, out_v, in_u, in_v)``, m."""
+        u, v = (k for k in range(3) if k != self.axis)
+        a, b = self.sides_m
+        along = {(self.axis + 1) % 3: a, (self.axis + 2) % 3: b}
+        d = self.depth_m
+        return (
+            u,
+            v,
+            0.5 * (along[u] + d),
+            0.5 * (along[v] + d),
+            0.5 * (along[u] - d),
+            0.5 * (along[v] - d),
+        )
 
     @property
     def volume_m3(self) -> float:
-        """w ((a + d)² - (a - d)²) = 4 a w d, m³."""
-        return 4.0 * self.side_m * self.width_m * self.depth_m
+        """w ((a + d)(b + d) - (a - d)(b - d)) = 2 (a + b) w d, m³."""
+        a, b = self.sides_m
+        if self.side_v_m is None:
+            return 4.0 * self.side_m * self.width_m * self.depth_m
+        return 2.0 * (a + b) * self.width_m * self.depth_m
 
 
 def pair_packs(pair: Any) -> tuple[Any, Any]:
-    """The two packs of a pair at ∓s/2 along its axis: :class:`Ring` for a circular pair
-    (:func:`pair_rings`), :class:`Frame` for a square one.
+    """The two packs of a pair at ∓s/2 along its axis as solids: :class:`Ring` for a circular
+    pair, :class:`Frame` for a square or rectangular one (the pair's ``pack_solids``).
 
     Parameters
     ----------
-    pair : coils.HelmholtzPair or coils.SquarePair
+    pair : coils.winding.WoundPair
         The pair (SI lengths).
 
     Returns
@@ -161,19 +190,7 @@ def pair_packs(pair: Any) -> tuple[Any, Any]:
     tuple of Ring or tuple of Frame
         The coil at -s/2 and the coil at +s/2 (SI).
     """
-    if getattr(pair, "shape", "circle") != "square":
-        return pair_rings(pair)
-    half = 0.5 * pair.spacing_m
-    return tuple(  # type: ignore[return-value]
-        Frame(
-            pair.axis_index,
-            pair.side_m,
-            sign * half,
-            pair.winding_pack_width_m,
-            pair.winding_pack_depth_m,
-        )
-        for sign in (-1.0, 1.0)
-    )
+    return pair.pack_solids()
 
 
 def _box_sdf_2d(qx: np.ndarray, qy: np.ndarray) -> np.ndarray:
@@ -204,11 +221,9 @@ def frame_signed_distance(frame: Frame, points: np.ndarray) -> np.ndarray:
         Signed distance, m (negative inside).
     """
     p = np.asarray(points, dtype=float)
-    u, v = (k for k in range(3) if k != frame.axis)
+    u, v, out_u, out_v, in_u, in_v = frame.halves()
     au, av = np.abs(p[..., u]), np.abs(p[..., v])
-    h_out = 0.5 * (frame.side_m + frame.depth_m)
-    h_in = 0.5 * (frame.side_m - frame.depth_m)
-    s2 = np.maximum(_box_sdf_2d(au - h_out, av - h_out), -_box_sdf_2d(au - h_in, av - h_in))
+    s2 = np.maximum(_box_sdf_2d(au - out_u, av - out_v), -_box_sdf_2d(au - in_u, av - in_v))
     qz = np.abs(p[..., frame.axis] - frame.centre_m) - 0.5 * frame.width_m
     return _box_sdf_2d(s2, qz)
 
@@ -228,9 +243,7 @@ def frame_bars(frame: Frame) -> np.ndarray:
         Low and high corner of each bar, m.
     """
     a = frame.axis
-    u, v = (k for k in range(3) if k != a)
-    h_out = 0.5 * (frame.side_m + frame.depth_m)
-    h_in = 0.5 * (frame.side_m - frame.depth_m)
+    u, v, out_u, out_v, in_u, in_v = frame.halves()
     out = np.empty((4, 2, 3))
     out[:, 0, a], out[:, 1, a] = (
         frame.centre_m - 0.5 * frame.width_m,
@@ -238,11 +251,11 @@ def frame_bars(frame: Frame) -> np.ndarray:
     )
     for i, sign in enumerate((-1.0, 1.0)):
         # bars along v at u = ±h: the full outer length
-        out[i, :, u] = np.sort([sign * h_in, sign * h_out])
-        out[i, :, v] = (-h_out, h_out)
+        out[i, :, u] = np.sort([sign * in_u, sign * out_u])
+        out[i, :, v] = (-out_v, out_v)
         # bars along u at v = ±h, between the other two
-        out[2 + i, :, v] = np.sort([sign * h_in, sign * h_out])
-        out[2 + i, :, u] = (-h_in, h_in)
+        out[2 + i, :, v] = np.sort([sign * in_v, sign * out_v])
+        out[2 + i, :, u] = (-in_u, in_u)
     return out
 
 
@@ -640,8 +653,9 @@ def pair_extent_m(
     ----------
     axis_index : int
         The pair's axis (0, 1, 2 for x, y, z), an index.
-    radius_m : float or CasADi
-        Mean winding radius R, m.
+    radius_m : float or CasADi, or a tuple of two
+        Mean winding radius R, m; or the mean turn's reach (half side) along the next two axes
+        in cyclic order, m (a rectangle).
     separation_m : float or CasADi
         Distance between the two coils' mid-planes s, m.
     width_m : float or CasADi
@@ -654,6 +668,12 @@ def pair_extent_m(
     list of float or CasADi
         The three half-extents, m.
     """
+    if isinstance(radius_m, tuple):  # reaches along the next two axes in cyclic order
+        reach = {(axis_index + 1) % 3: radius_m[0], (axis_index + 2) % 3: radius_m[1]}
+        out = [0.5 * separation_m + 0.5 * width_m] * 3
+        for i, r in reach.items():
+            out[i] = r + 0.5 * depth_m
+        return out
     outer = radius_m + 0.5 * depth_m
     return [0.5 * separation_m + 0.5 * width_m if i == axis_index else outer for i in range(3)]
 
@@ -672,17 +692,5 @@ def outer_box_m(pairs: Any) -> np.ndarray:
     ndarray, shape (3,)
         Twice the largest half-extent along x, y and z over the pairs, m.
     """
-    halves = np.array(
-        [
-            pair_extent_m(
-                p.axis_index,
-                p.radius_m,
-                p.separation_m,
-                p.winding_pack_width_m,
-                p.winding_pack_depth_m,
-            )
-            for p in pairs
-        ],
-        dtype=float,
-    )
+    halves = np.array([p.extents_m for p in pairs], dtype=float)
     return 2.0 * halves.max(axis=0)

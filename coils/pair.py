@@ -19,6 +19,7 @@ import numpy as np
 from coils.filaments import Axis, FilamentSet
 from coils.loop import coaxial_mutual_inductance_H, loop_field
 from coils.winding import MAX_PACKING_FACTOR, PACK_ASPECT_RANGE, WoundPair
+from spiralcap.core import backend as bk
 from spiralcap.core.constants import MU0_T_m_per_A
 
 __all__ = ["MAX_PACKING_FACTOR", "PACK_ASPECT_RANGE", "HelmholtzPair", "stefan_bracket"]
@@ -153,6 +154,81 @@ class HelmholtzPair(WoundPair):
     _TURN_LENGTH_PER_SIZE: ClassVar[float] = 2.0 * math.pi
     _DEFAULT_SPACING_PER_SIZE: ClassVar[float] = 1.0
     _FILAMENT_PAIR: ClassVar[str] = "(radial, axial) of counts"
+    SIZE_NAMES: ClassVar[tuple[str, ...]] = ("radius_m",)
+
+    # --- the shape's terms (coils.winding.WoundPair) -------------------------------------------
+    @classmethod
+    def thermal_ring(cls, axis: str, sizes: tuple[Any, ...]) -> dict[str, Any]:
+        """The thermal model's ring: the coil itself, ``mean_radius_m`` = R, m."""
+        return {"mean_radius_m": sizes[0]}
+
+    @classmethod
+    def terms(
+        cls, sizes: tuple[Any, ...], turns: Any, separation: Any, width: Any, depth: Any
+    ) -> dict[str, Any]:
+        """Two coaxial loops of N turns at ±s/2: centre gain μ0 N R² / (R² + s²/4)^{3/2}
+        (Biot-Savart on the axis), wire 2N · 2πR, Stefan's self inductance (Rosa & Grover
+        1912, eq. 91) and N² times Maxwell's coaxial mutual inductance; SI, backend-generic."""
+        radius = sizes[0]
+        gain = (
+            MU0_T_m_per_A
+            * turns
+            * radius
+            * radius
+            / (radius * radius + 0.25 * separation * separation) ** 1.5
+        )
+        return {
+            "gain_T_per_A": gain,
+            "length_m": 2.0 * turns * 2.0 * bk.pi * radius,
+            "self_inductance_H": MU0_T_m_per_A
+            * radius
+            * turns
+            * turns
+            * stefan_bracket(radius, width, depth),
+            "mutual_filament_H": turns
+            * turns
+            * coaxial_mutual_inductance_H(radius, radius, separation),
+        }
+
+    @classmethod
+    def mean_turn_points(
+        cls, axis: int, sizes: tuple[float, ...], offset: float, n: int
+    ) -> np.ndarray:
+        """n points evenly round the mean circle (radius R) in the plane ``x[axis] = offset``,
+        (n, 3), m."""
+        phi = np.linspace(0.0, 2.0 * np.pi, n, endpoint=False)
+        u, v = [k for k in range(3) if k != axis]
+        pts = np.zeros((n, 3))
+        pts[:, u], pts[:, v] = sizes[0] * np.cos(phi), sizes[0] * np.sin(phi)
+        pts[:, axis] = offset
+        return pts
+
+    @classmethod
+    def mean_turn_distance_m(
+        cls, points: np.ndarray, axis: int, sizes: tuple[float, ...], offset: float
+    ) -> np.ndarray:
+        """Exact distance of points (n, 3) to the mean circle in the plane ``x[axis] =
+        offset``: hypot(ρ - R, x[axis] - offset), m."""
+        radial = np.sqrt(np.sum(np.delete(points, axis, axis=1) ** 2, axis=1))
+        return np.hypot(radial - sizes[0], points[:, axis] - offset)
+
+    def pack_solids(self) -> tuple[Any, Any]:
+        """The two packs as solid rings (:func:`coils.clearance.pair_rings`)."""
+        from coils.clearance import pair_rings
+
+        return pair_rings(self)
+
+    def view_pack(self) -> Any:
+        """The packs for the view factors (:class:`coils.viewfactors.PackRing`)."""
+        from coils.viewfactors import PackRing
+
+        return PackRing(
+            self.axis_index,
+            self.radius_m,
+            self.spacing_m,
+            self.winding_pack_width_m,
+            self.winding_pack_depth_m,
+        )
 
     # --- geometry ------------------------------------------------------------------------------
     @property

@@ -159,6 +159,35 @@ def square_pack_self_inductance_H(side_m: float, width_m: float, depth_m: float)
     return float(4.0 * (like - np.sum(pair_weight * opposite)))
 
 
+def _rectangle_points(axis: int, side_u: float, side_v: float, offset: float, n: int) -> np.ndarray:
+    """n points evenly (in the parameter) along the mean rectangle of sides (side_u, side_v)
+    along the next two axes in ascending order, in the plane ``x[axis] = offset``, (n, 3), m."""
+    u, v = [k for k in range(3) if k != axis]
+    t = np.arange(n) / n
+    pts = np.zeros((n, 3))
+    pts[:, axis] = offset
+    side, along = np.divmod(4.0 * t, 1.0)  # which side, and how far along it (0..1)
+    hu, hv = 0.5 * side_u, 0.5 * side_v
+    wu, wv = side_u * (along - 0.5), side_v * (along - 0.5)
+    cu = np.choose(side.astype(int), [hu, -wu, -hu, wu])
+    cv = np.choose(side.astype(int), [wv, hv, -wv, -hv])
+    pts[:, u], pts[:, v] = cu, cv
+    return pts
+
+
+def _rectangle_distance(
+    pts: np.ndarray, axis: int, side_u: float, side_v: float, offset: float
+) -> np.ndarray:
+    """Exact distance of points (n, 3) to the mean rectangle of sides (side_u, side_v) along
+    the other two axes in ascending order, in the plane ``x[axis] = offset``, m."""
+    u, v = [k for k in range(3) if k != axis]
+    normal = pts[:, axis] - offset
+    du, dv = np.abs(pts[:, u]) - 0.5 * side_u, np.abs(pts[:, v]) - 0.5 * side_v
+    outside = np.hypot(np.maximum(du, 0.0), np.maximum(dv, 0.0))
+    in_plane = np.where(np.maximum(du, dv) > 0.0, outside, -np.maximum(du, dv))
+    return np.hypot(in_plane, normal)
+
+
 @dataclass(frozen=True)
 class SquarePair(WoundPair):
     """Two coaxial, series-connected square coils of N turns each; all quantities SI.
@@ -213,6 +242,100 @@ class SquarePair(WoundPair):
     _TURN_LENGTH_PER_SIZE: ClassVar[float] = 4.0
     _DEFAULT_SPACING_PER_SIZE: ClassVar[float] = SQUARE_HELMHOLTZ_RATIO
     _FILAMENT_PAIR: ClassVar[str] = "(depth, axial) of counts"
+    SIZE_NAMES: ClassVar[tuple[str, ...]] = ("side_m",)
+
+    # --- the shape's terms (coils.winding.WoundPair) -------------------------------------------
+    @classmethod
+    def reach_m(cls, sizes: tuple[Any, ...]) -> Any:
+        """Distance from the axis to the middle of the mean turn's sides, a/2, m."""
+        return 0.5 * sizes[0]
+
+    @classmethod
+    def tube_radius_m(cls, width_m: Any, depth_m: Any) -> Any:
+        """Radius of the tube about the mean turn that holds the frame: its sharp outer corner,
+        (h/2, h/2, w/2) from the mean turn's corner, is sqrt(h²/2 + w²/4) away, m."""
+        return bk.sqrt(0.5 * depth_m * depth_m + 0.25 * width_m * width_m)
+
+    @classmethod
+    def thermal_ring(cls, axis: str, sizes: tuple[Any, ...]) -> dict[str, Any]:
+        """A ring as long as the mean turn (radius 4a/(2π)) with vertical bars of height a
+        where the frame stands in a vertical plane (the x and y pairs), m."""
+        side = sizes[0]
+        bars = {"vertical_bar_height_m": side} if axis != "z" else {}
+        return {"mean_radius_m": 4.0 * side / (2.0 * bk.pi), **bars}
+
+    @classmethod
+    def terms(
+        cls, sizes: tuple[Any, ...], turns: Any, separation: Any, width: Any, depth: Any
+    ) -> dict[str, Any]:
+        """Two square loops of N turns, side a, at ±s/2: centre gain
+        4 μ0 N a² / (π (a² + s²) sqrt(a²/2 + s²/4)) (each side a finite straight wire), wire
+        2N · 4a, N² times Grover's square with the section's geometric mean distance, and N²
+        times the coaxial centre-line squares' mutual inductance; SI, backend-generic."""
+        side = sizes[0]
+        half = 0.5 * side
+        a2, s2 = side * side, separation * separation
+        gain = (
+            4.0 * MU0_T_m_per_A * turns * a2 / (bk.pi * (a2 + s2) * bk.sqrt(0.5 * a2 + 0.25 * s2))
+        )
+        return {
+            "gain_T_per_A": gain,
+            "length_m": 2.0 * turns * 4.0 * side,
+            "self_inductance_H": turns
+            * turns
+            * grover_square_inductance_H(side, rectangle_gmd_m(width, depth)),
+            "mutual_filament_H": turns * turns * square_mutual_inductance_H(half, half, separation),
+        }
+
+    @classmethod
+    def mean_turn_points(
+        cls, axis: int, sizes: tuple[float, ...], offset: float, n: int
+    ) -> np.ndarray:
+        """n points evenly along the mean square (side a, sides along the other two axes) in
+        the plane ``x[axis] = offset``, (n, 3), m."""
+        return _rectangle_points(axis, sizes[0], sizes[0], offset, n)
+
+    @classmethod
+    def mean_turn_distance_m(
+        cls, points: np.ndarray, axis: int, sizes: tuple[float, ...], offset: float
+    ) -> np.ndarray:
+        """Exact distance of points (n, 3) to the mean square in the plane ``x[axis] =
+        offset``, m."""
+        return _rectangle_distance(points, axis, sizes[0], sizes[0], offset)
+
+    def pack_solids(self) -> tuple[Any, Any]:
+        """The two packs as solid frames (:class:`coils.clearance.Frame`) at ∓s/2."""
+        from coils.clearance import Frame
+
+        half = 0.5 * self.spacing_m
+        return tuple(  # type: ignore[return-value]
+            Frame(
+                self.axis_index,
+                self.side_m,
+                sign * half,
+                self.winding_pack_width_m,
+                self.winding_pack_depth_m,
+            )
+            for sign in (-1.0, 1.0)
+        )
+
+    def view_pack(self) -> Any:
+        """The packs for the view factors (:class:`coils.viewfactors.PackFrame`)."""
+        from coils.viewfactors import PackFrame
+
+        return PackFrame(
+            self.axis_index,
+            self.side_m,
+            self.spacing_m,
+            self.winding_pack_width_m,
+            self.winding_pack_depth_m,
+        )
+
+    @property
+    def vertical_bar_height_m(self) -> float:
+        """Height of the vertical bars of a frame in a vertical plane (x, y pairs): a; 0 for the
+        horizontal z frame, m."""
+        return float(self.side_m) if self.axis != "z" else 0.0
 
     # --- geometry ------------------------------------------------------------------------------
     @property

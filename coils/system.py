@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 from functools import cached_property
 from typing import Any
@@ -9,16 +10,15 @@ from typing import Any
 import numpy as np
 
 from coils.filaments import AXES, FilamentSet
-from coils.pair import HelmholtzPair
 from coils.rotating import allocation, ellipse_semi_axes
-from coils.square import MixedFilamentSet, SquareFilamentSet
-from coils.square_pair import SquarePair
+from coils.square import MixedFilamentSet
+from coils.winding import WoundPair
 from spiralcap.core.errors import InputError
 
 __all__ = ["PAIR_TYPES", "PointEvaluator", "ThreeAxisHelmholtz"]
 
-#: The pair classes a three-axis set is made of (circular and square coils, mixed freely).
-PAIR_TYPES = (HelmholtzPair, SquarePair)
+#: The pair classes a three-axis set is made of (circles, squares, rectangles, mixed freely).
+PAIR_TYPES = (WoundPair,)
 
 
 def _points(points_m: Any) -> np.ndarray:
@@ -35,9 +35,16 @@ def _currents(currents_A: Any) -> np.ndarray:
     return i
 
 
-def _others(ks: list[int]) -> list[int]:
-    """The pair indices 0..2 not in ``ks``, in order."""
-    return [k for k in range(3) if k not in ks]
+def _joined(sets: list[Any], columns: list[int]) -> Any:
+    """Filament sets of one kind (class) as one set, set i driven by column ``columns[i]``:
+    every per-filament field of the class concatenated in order."""
+    cls = type(sets[0])
+    values: dict[str, Any] = {"column_axes": (0, 1, 2)}
+    values["columns"] = np.concatenate([np.full(len(s.turns), k) for k, s in zip(columns, sets)])
+    for f in dataclasses.fields(cls):
+        if f.init and f.name not in values:
+            values[f.name] = np.concatenate([getattr(s, f.name) for s in sets])
+    return cls(**values)
 
 
 class PointEvaluator:
@@ -89,8 +96,8 @@ class ThreeAxisHelmholtz:
 
     Parameters
     ----------
-    x, y, z : HelmholtzPair or SquarePair
-        The pairs along each axis (circles and squares mixed freely); each pair's ``axis``
+    x, y, z : HelmholtzPair, SquarePair or RectanglePair
+        The pairs along each axis (shapes mixed freely); each pair's ``axis``
         must match its slot.
 
     Raises
@@ -99,15 +106,19 @@ class ThreeAxisHelmholtz:
         A pair missing or on the wrong axis (named ``x``, ``y`` or ``z``).
     """
 
-    x: HelmholtzPair | SquarePair
-    y: HelmholtzPair | SquarePair
-    z: HelmholtzPair | SquarePair
+    x: WoundPair
+    y: WoundPair
+    z: WoundPair
 
     def __post_init__(self) -> None:
         for name in AXES:
             pair = getattr(self, name)
             if not isinstance(pair, PAIR_TYPES) or pair.axis != name:
-                raise InputError(name, pair, f"a HelmholtzPair or SquarePair with axis={name!r}")
+                raise InputError(
+                    name,
+                    pair,
+                    f"a coil pair (coils.HelmholtzPair, SquarePair, RectanglePair) with axis={name!r}",
+                )
 
     @property
     def pairs(self) -> tuple[Any, Any, Any]:
@@ -115,45 +126,19 @@ class ThreeAxisHelmholtz:
         return (self.x, self.y, self.z)
 
     @cached_property
-    def filament_set(self) -> FilamentSet | MixedFilamentSet:
+    def filament_set(self) -> Any:
         """All filaments of the three pairs; drive column k is pair k.
 
-        All circles: one :class:`coils.filaments.FilamentSet`. With square pairs: the circular
-        and the square filaments as two sets whose fields add (:class:`MixedFilamentSet`).
+        The pairs' filament sets joined by kind (:func:`_joined`): all circles, one
+        :class:`coils.filaments.FilamentSet`; with other shapes, one set per kind (circles
+        first, in the order the pairs bring them) whose fields add (:class:`MixedFilamentSet`).
         """
-        if all(isinstance(p, HelmholtzPair) for p in self.pairs):
-            return self._circle_set()
-        parts: list[Any] = []
-        circles = [k for k, p in enumerate(self.pairs) if isinstance(p, HelmholtzPair)]
-        if circles:
-            parts.append(self._circle_set(circles))
-        squares = [self.pairs[k].filament_set for k in range(3) if k not in circles]
-        cat = np.concatenate
-        parts.append(
-            SquareFilamentSet(
-                axes=cat([s.axes for s in squares]),
-                half_sides_m=cat([s.half_sides_m for s in squares]),
-                centres_m=cat([s.centres_m for s in squares]),
-                turns=cat([s.turns for s in squares]),
-                columns=cat([np.full(len(s.turns), k) for k, s in zip(_others(circles), squares)]),
-                column_axes=(0, 1, 2),
-            )
-        )
-        return MixedFilamentSet(tuple(parts))
-
-    def _circle_set(self, which: list[int] | None = None) -> FilamentSet:
-        """The filaments of the circular pairs ``which`` (default all), columns by pair."""
-        keep = [0, 1, 2] if which is None else which
-        sets = [self.pairs[k].filament_set for k in keep]
-        cat = np.concatenate
-        return FilamentSet(
-            axes=cat([s.axes for s in sets]),
-            radii_m=cat([s.radii_m for s in sets]),
-            centres_m=cat([s.centres_m for s in sets]),
-            turns=cat([s.turns for s in sets]),
-            columns=cat([np.full(len(s.turns), k) for k, s in zip(keep, sets)]),
-            column_axes=(0, 1, 2),
-        )
+        kinds: dict[type, list[int]] = {}
+        for k, p in enumerate(self.pairs):
+            kinds.setdefault(type(p.filament_set), []).append(k)
+        order = sorted(kinds.items(), key=lambda kv: (kv[0] is not FilamentSet, kv[1][0]))
+        parts = [_joined([self.pairs[k].filament_set for k in ks], ks) for _, ks in order]
+        return parts[0] if len(parts) == 1 else MixedFilamentSet(tuple(parts))
 
     # --- field ---------------------------------------------------------------------------------
     def field(self, points_m: Any, currents_A: Any) -> np.ndarray:

@@ -214,9 +214,9 @@ class WindingPack:
     coils : int
         Number of identical coils (2 for a pair).
     vertical_bar_height_m : float, array or CasADi
-        A square frame in a vertical plane (an x or y square pair): the height of its vertical
-        bars, m, half its length (the convection is then the mean of the horizontal and the
-        vertical bars'); 0 (default): a ring, or a horizontal frame. A square pack is otherwise
+        A square or rectangular frame in a vertical plane (an x or y pair): the height of its
+        vertical bars, m (the convection is then the length-weighted mean of the horizontal and
+        the vertical bars'); 0 (default): a ring, or a horizontal frame. A square pack is otherwise
         a ring of its mean turn's length (``mean_radius_m`` = 4a/(2π)): the same volume and
         faces.
     """
@@ -404,14 +404,17 @@ def convection_coefficient_W_m2K(pack: WindingPack, surface_C: Any, ambient_C: A
 
 
 def _with_vertical_bars(pack: WindingPack, h_ring: Any, surface_C: Any, ambient_C: Any) -> Any:
-    """The ring's coefficient, or for a square frame in a vertical plane the mean of it (its
-    horizontal bars) and the vertical bars' (:func:`coils.convection.
-    vertical_bar_convection_W_m2K`). A height of 0 (a number) is a ring: returned as it is;
-    a symbolic height blends by a 0/0.5 weight, h + f (h_bar - h), the same value at f = 0."""
+    """The ring's coefficient, or for a frame in a vertical plane the length-weighted mean of it
+    (its horizontal bars) and the vertical bars' (:func:`coils.convection.
+    vertical_bar_convection_W_m2K`): h + f (h_bar - h) with f = 2 height / (2π R_m) the
+    vertical bars' share of the mean turn (1/2 for a square, b/(a + b) for a rectangle whose
+    vertical side is b). A height of 0 (a number) is a ring: returned as it is; a symbolic
+    height of 0 gives f = 0, the same value."""
     height = pack.vertical_bar_height_m
     if isinstance(height, (int, float)) and height == 0.0:
         return h_ring
-    share = _where(height > 0.0, 0.5, 0.0)
+    # the vertical bars' share of the mean turn, 2 height / (2π R_m): 1/2 for a square frame
+    share = height / (bk.pi * pack.mean_radius_m)
     h_bar = vertical_bar_convection_W_m2K(
         pack.pack_width_m,
         pack.pack_depth_m,

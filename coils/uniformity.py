@@ -446,12 +446,14 @@ def _pair_similarity_key(pair: Any) -> tuple[bytes, ...]:
             (fs.centres_m / r).tobytes(),
             (fs.turns / fs.turns[0]).tobytes(),
         )
-    return (
+    key = (
         b"square",
         (fs.half_sides_m / r).tobytes(),
         (fs.centres_m / r).tobytes(),
         (fs.turns / fs.turns[0]).tobytes(),
     )
+    extra = getattr(fs, "half_sides_v_m", None)  # a rectangle's second half sides
+    return key if extra is None else (b"rectangle", *key[1:], (extra / r).tobytes())
 
 
 def pair_uniform_regions(pairs: Any, tolerances: Any) -> tuple[tuple[UniformRegion, ...], ...]:

@@ -64,8 +64,9 @@ class PackRing:
 
 @dataclass(frozen=True)
 class PackFrame:
-    """One square pair's pack geometry (SI): axis index, side of the mean turn, coil spacing,
-    width, depth (a frame of four bars about the axis, sides along the other two axes).
+    """One square or rectangular pair's pack geometry (SI): axis index, side of the mean turn,
+    coil spacing, width, depth, and the second side of a rectangle (a frame of four bars about
+    the axis, sides along the other two axes).
 
     Attributes
     ----------
@@ -77,6 +78,8 @@ class PackFrame:
         Distance between the coil planes (the packs' mid-planes, at ±s/2), m.
     width_m, depth_m : float
         Axial width of each pack and its depth across each side, m.
+    side_v_m : float or None
+        A rectangle's side along (a+2) % 3 (``side_m`` runs along (a+1) % 3), m; None: a square.
     """
 
     axis_index: int
@@ -84,11 +87,20 @@ class PackFrame:
     separation_m: float
     width_m: float
     depth_m: float
+    side_v_m: float | None = None
 
     @property
     def radius_m(self) -> float:
         """Half the side (the length scale of the tracer's tolerances), m."""
         return 0.5 * self.side_m
+
+    def halves(self) -> tuple[float, float, float, float]:
+        """Outer and inner half extents of the section along u = (a+1) % 3 and w = (a+2) % 3,
+        ``(out_u, out_w, in_u, in_w)``, m (side_v_m None: a square)."""
+        a = self.side_m
+        b = a if self.side_v_m is None else self.side_v_m
+        d = self.depth_m
+        return 0.5 * (a + d), 0.5 * (b + d), 0.5 * (a - d), 0.5 * (b - d)
 
 
 def _bars(frame: PackFrame, centre: float) -> list[tuple[np.ndarray, np.ndarray]]:
@@ -96,13 +108,16 @@ def _bars(frame: PackFrame, centre: float) -> list[tuple[np.ndarray, np.ndarray]
     (low corner, high corner)."""
     a = frame.axis_index
     u, w = (a + 1) % 3, (a + 2) % 3
-    h_out, h_in = 0.5 * (frame.side_m + frame.depth_m), 0.5 * (frame.side_m - frame.depth_m)
+    out_u, out_w, in_u, in_w = frame.halves()
     out = []
     for sign in (-1.0, 1.0):
-        for along, across, half in ((w, u, h_out), (u, w, h_in)):
+        for along, across, half, lo_x, hi_x in (
+            (w, u, out_w, in_u, out_u),
+            (u, w, in_u, in_w, out_w),
+        ):
             lo, hi = np.empty(3), np.empty(3)
             lo[a], hi[a] = centre - 0.5 * frame.width_m, centre + 0.5 * frame.width_m
-            lo[across], hi[across] = sorted((sign * h_in, sign * h_out))
+            lo[across], hi[across] = sorted((sign * lo_x, sign * hi_x))
             lo[along], hi[along] = -half, half
             out.append((lo, hi))
     return out
@@ -294,35 +309,61 @@ def _emitters(ring: PackRing, u: np.ndarray) -> tuple:
     return tuple(p), tuple(nv)
 
 
+def _pick_side(x: np.ndarray, lengths: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Which of four sides of ``lengths`` a uniform ``x`` in [0, 1) falls on (in proportion
+    to length), and the position t in [-1, 1] along it; four equal sides by 4x directly."""
+    if np.all(lengths == lengths[0]):
+        along4 = 4.0 * x
+        side = np.minimum(along4.astype(int), 3)
+        return side, 2.0 * (along4 - side) - 1.0
+    ends = np.cumsum(lengths)
+    s = x * ends[-1]
+    side = np.minimum(np.searchsorted(ends, s, side="right"), 3)
+    return side, 2.0 * (s - (ends - lengths)[side]) / lengths[side] - 1.0
+
+
 def _frame_emitters(frame: PackFrame, u: np.ndarray) -> tuple:
-    """As :func:`_emitters` on the +s/2 coil of a square frame: inner and outer faces
-    (4 (a ∓ d) w each), lower and upper faces (4 a d each), a point uniform on the chosen face
-    (position along the face's perimeter, then across it)."""
+    """As :func:`_emitters` on the +s/2 coil of a square or rectangular frame (sides a along
+    u, b along w): inner and outer faces (2 (a + b ∓ 2d) w each), lower and upper faces
+    (2 (a + b) d each), a point uniform on the chosen face (position along the face's
+    perimeter, then across it)."""
     a = frame.axis_index
     ua, wa = (a + 1) % 3, (a + 2) % 3
-    side, d, wd = frame.side_m, frame.depth_m, frame.width_m
-    h_out, h_in = 0.5 * (side + d), 0.5 * (side - d)
+    side = frame.side_m
+    side_v = side if frame.side_v_m is None else frame.side_v_m
+    d, wd = frame.depth_m, frame.width_m
+    out_u, out_w, in_u, in_w = frame.halves()
     c = 0.5 * frame.separation_m
-    areas = np.array([4.0 * (side - d) * wd, 4.0 * (side + d) * wd, 4.0 * side * d, 4.0 * side * d])
+    areas = np.array(
+        [
+            2.0 * ((side - d) + (side_v - d)) * wd,
+            2.0 * ((side + d) + (side_v + d)) * wd,
+            2.0 * (side + side_v) * d,
+            2.0 * (side + side_v) * d,
+        ]
+    )
     # 0 inner faces, 1 outer faces, 2 lower face, 3 upper face
     face = np.minimum(np.searchsorted(np.cumsum(areas) / areas.sum(), u[:, 0], side="right"), 3)
     flat = face >= 2
-    # the side (0..3: u = +h, v = +h, u = -h, v = -h) and the position t along it, in [-1, 1]:
-    # the walls' four sides are equally long; the flat faces' bars are a + d, a - d, a + d,
-    # a - d long (sides 0 and 2 run the full outer length, 1 and 3 fit between them)
-    along4 = 4.0 * u[:, 1]
-    wall_side = np.minimum(along4.astype(int), 3)
-    lengths = np.array([side + d, side - d, side + d, side - d])
-    ends = np.cumsum(lengths)
-    s_flat = u[:, 1] * ends[-1]
-    flat_side = np.minimum(np.searchsorted(ends, s_flat, side="right"), 3)
-    t_flat = 2.0 * (s_flat - (ends - lengths)[flat_side]) / lengths[flat_side] - 1.0
+    # the side (0..3: u = +h, w = +h, u = -h, w = -h) and the position t along it, in [-1, 1]:
+    # a wall's sides are b, a, b, a long (inner: less d, outer: plus d); the flat faces' bars
+    # are b + d, a - d, b + d, a - d long (sides 0 and 2 run the full outer length, 1 and 3 fit
+    # between them)
+    normal_in = np.array([in_u, in_w, in_u, in_w])
+    normal_out = np.array([out_u, out_w, out_u, out_w])
+    wall_in, wall_out = normal_in[[1, 0, 1, 0]], normal_out[[1, 0, 1, 0]]
+    inner = face == 0
+    side_in, t_in = _pick_side(u[:, 1], wall_in)
+    side_out, t_out = _pick_side(u[:, 1], wall_out)
+    flat_reach = np.array([out_w, in_u, out_w, in_u])
+    flat_side, t_flat = _pick_side(u[:, 1], 2.0 * flat_reach)
+    wall_side = np.where(inner, side_in, side_out)
     which = np.where(flat, flat_side, wall_side)
-    t = np.where(flat, t_flat, 2.0 * (along4 - wall_side) - 1.0)
-    half = np.where(face == 0, h_in, h_out)
+    t = np.where(flat, t_flat, np.where(inner, t_in, t_out))
+    half = np.where(inner, normal_in[which], normal_out[which])
     # on a flat face: across the side's bar from its inner to its outer edge
-    offset = np.where(flat, h_in + d * u[:, 2], half)
-    reach = np.where(flat, np.where(which % 2 == 0, h_out, h_in), half)
+    offset = np.where(flat, normal_in[which] + d * u[:, 2], half)
+    reach = np.where(flat, flat_reach[which], np.where(inner, wall_in[which], wall_out[which]))
     sign_n = np.where(which < 2, 1.0, -1.0)
     normal_u = np.where(which % 2 == 0, sign_n, 0.0)
     normal_w = np.where(which % 2 == 1, sign_n, 0.0)
@@ -364,6 +405,27 @@ def _traced(rings: tuple[PackRing | PackFrame, ...], rays: int) -> np.ndarray:
     return out
 
 
+def _rounded(r: PackRing | PackFrame) -> PackRing | PackFrame:
+    """The pack with its lengths rounded to 1e-12 m (the cache key)."""
+    if isinstance(r, PackFrame):
+        side_v = None if r.side_v_m is None else round(float(r.side_v_m), 12)
+        return PackFrame(
+            int(r.axis_index),
+            round(float(r.side_m), 12),
+            round(float(r.separation_m), 12),
+            round(float(r.width_m), 12),
+            round(float(r.depth_m), 12),
+            side_v,
+        )
+    return PackRing(
+        int(r.axis_index),
+        round(float(r.radius_m), 12),
+        round(float(r.separation_m), 12),
+        round(float(r.width_m), 12),
+        round(float(r.depth_m), 12),
+    )
+
+
 def view_factors(rings: Sequence[PackRing | PackFrame], rays: int = RAYS_PER_PAIR) -> np.ndarray:
     """Fractions of each pair's diffuse emission reaching ``[room, pair 0, pair 1, pair 2]``.
 
@@ -382,14 +444,5 @@ def view_factors(rings: Sequence[PackRing | PackFrame], rays: int = RAYS_PER_PAI
     ndarray, shape (3, 4)
         View factors, dimensionless; row k is pair k's ``[room, pair 0, pair 1, pair 2]``.
     """
-    key = tuple(
-        type(r)(
-            int(r.axis_index),
-            round(float(r.side_m if isinstance(r, PackFrame) else r.radius_m), 12),
-            round(float(r.separation_m), 12),
-            round(float(r.width_m), 12),
-            round(float(r.depth_m), 12),
-        )
-        for r in rings
-    )
+    key = tuple(_rounded(r) for r in rings)
     return _traced(key, int(rays))

@@ -23,6 +23,7 @@ import numpy as np
 
 from coils.electrical import copper_resistivity_ohm_m
 from coils.filaments import AXES, Axis, gauss_legendre_pack
+from spiralcap.core import backend as bk
 from spiralcap.core.constants import COPPER_DENSITY_kg_m3
 from spiralcap.core.errors import InputError, check_positive
 
@@ -91,21 +92,21 @@ class WoundPair:
         def self_inductance_H(self) -> float: ...
         @property
         def mutual_inductance_H(self) -> float: ...
-        @staticmethod
-        def _centre_field_T_per_A(
-            sizes_m: np.ndarray, centres_m: np.ndarray, turns: np.ndarray
-        ) -> float: ...
+        @property
+        def centre_field_per_amp_T_per_A(self) -> float: ...
+        @property
+        def radius_m(self) -> float: ...
+
+        _centre_field_T_per_A: Callable[..., float]
 
     def __post_init__(self) -> None:
         """Check every field (InputError named by the field), store the checked values."""
         set_ = object.__setattr__
-        key = self._SIZE_KEY
-        size = check_positive(key, getattr(self, key))
-        set_(self, key, size)
+        key, size = self._check_size()
         set_(self, "turns", _check_count("turns", self.turns))
         if self.axis not in AXES:
             raise InputError("axis", self.axis, "one of 'x', 'y', 'z'")
-        default = self._DEFAULT_SPACING_PER_SIZE * size
+        default = self.default_spacing_m(self.sizes_m)
         sep = default if self.separation_m is None else self.separation_m
         set_(self, "separation_m", check_positive("separation_m", sep))
         set_(self, "wire_diameter_m", check_positive("wire_diameter_m", self.wire_diameter_m))
@@ -118,6 +119,161 @@ class WoundPair:
         set_(self, "filaments", tuple(_check_count("filaments", n) for n in self.filaments))
         set_(self, "pack_aspect", _check_aspect(self.pack_aspect))
         self._check_fits(key, size, sep)
+
+    def _check_size(self) -> tuple[str, float]:
+        """Check and store the size field; return its name and the size the pack's depth must
+        stay below (the radius, the side), m."""
+        key = self._SIZE_KEY
+        size = check_positive(key, getattr(self, key))
+        object.__setattr__(self, key, size)
+        return key, size
+
+    # --- the shape's terms (backend-generic, of the sizes; what the sizing NLP asks) ----------
+    #: The names of the pair's sizes as hardware quantities (``radius_m``; ``side_m``; ...).
+    SIZE_NAMES: ClassVar[tuple[str, ...]]
+
+    @property
+    def sizes_m(self) -> tuple[float, ...]:
+        """The pair's sizes, in the order of :attr:`SIZE_NAMES`, m."""
+        return (float(getattr(self, self._SIZE_KEY)),)
+
+    def with_sizes(self, sizes_m: tuple[float, ...]) -> Any:
+        """This pair with sizes ``sizes_m`` (the order of :attr:`SIZE_NAMES`, m); a pair at
+        its default spacing keeps it."""
+        from dataclasses import replace
+
+        me: Any = self
+        sep = None if self.helmholtz else self.separation_m
+        return replace(me, **{self._SIZE_KEY: float(sizes_m[0])}, separation_m=sep)
+
+    @property
+    def helmholtz(self) -> bool:
+        """Flag: the separation is the default spacing of the sizes (to 1e-12 of the size)."""
+        size = self._size_m
+        return abs(self.spacing_m - self.default_spacing_m(self.sizes_m)) <= 1e-12 * size
+
+    @classmethod
+    def default_spacing_m(cls, sizes: tuple[Any, ...]) -> Any:
+        """The separation the pair has by default at sizes ``sizes``, m (backend-generic)."""
+        return cls._DEFAULT_SPACING_PER_SIZE * sizes[0]
+
+    @classmethod
+    def turn_length_m(cls, sizes: tuple[Any, ...]) -> Any:
+        """Length of the mean turn at sizes ``sizes``, m (backend-generic)."""
+        return cls._TURN_LENGTH_PER_SIZE * sizes[0]
+
+    @classmethod
+    def reach_m(cls, sizes: tuple[Any, ...]) -> Any:
+        """Least distance from the axis to the mean turn (R; a/2 of a square), m."""
+        return sizes[0]
+
+    @classmethod
+    def depth_limit_m(cls, sizes: tuple[Any, ...]) -> Any:
+        """What the pack's depth must stay below: R, or the (least) side of a frame, m."""
+        return sizes[0]
+
+    @classmethod
+    def reaches_m(cls, sizes: tuple[Any, ...]) -> tuple[Any, Any]:
+        """Distance from the axis to the mean turn's middle along the next two axes in cyclic
+        order, m (R and R for a circle)."""
+        r = cls.reach_m(sizes)
+        return (r, r)
+
+    @classmethod
+    def tube_radius_m(cls, width_m: Any, depth_m: Any) -> Any:
+        """Radius of the tube about the mean turn that holds the whole pack, m: half the
+        section's diagonal for a ring (backend-generic)."""
+        return 0.5 * bk.sqrt(width_m * width_m + depth_m * depth_m)
+
+    @classmethod
+    def half_extents_m(
+        cls, axis_index: int, sizes: tuple[Any, ...], separation_m: Any, width_m: Any, depth_m: Any
+    ) -> list[Any]:
+        """Half-extent of the two packs as solids along x, y and z, m (backend-generic): along
+        the axis s/2 + w/2, across it the mean turn's reach plus h/2."""
+        from coils.clearance import pair_extent_m
+
+        return pair_extent_m(axis_index, cls.reaches_m(sizes), separation_m, width_m, depth_m)
+
+    @classmethod
+    def thermal_ring(cls, axis: str, sizes: tuple[Any, ...]) -> dict[str, Any]:
+        """The thermal model's ring (:class:`coils.thermal.WindingPack`): ``mean_radius_m`` of
+        the circle as long as the mean turn, and a frame's ``vertical_bar_height_m``, m."""
+        return {"mean_radius_m": cls.turn_length_m(sizes) / (2.0 * bk.pi)}
+
+    @classmethod
+    def terms(
+        cls, sizes: tuple[Any, ...], turns: Any, separation: Any, width: Any, depth: Any
+    ) -> dict[str, Any]:
+        """The shape's closed forms at these sizes (backend-generic, SI): the two-filament
+        centre gain ``gain_T_per_A``, the wire ``length_m`` of both coils, one coil's
+        ``self_inductance_H`` and N² times the centre-line filaments' ``mutual_filament_H``."""
+        raise NotImplementedError
+
+    @classmethod
+    def mean_turn_points(
+        cls, axis: int, sizes: tuple[float, ...], offset: float, n: int
+    ) -> np.ndarray:
+        """n points evenly along the mean turn in the plane ``x[axis] = offset``, (n, 3), m."""
+        raise NotImplementedError
+
+    @classmethod
+    def mean_turn_distance_m(
+        cls, points: np.ndarray, axis: int, sizes: tuple[float, ...], offset: float
+    ) -> np.ndarray:
+        """Exact distance of points (n, 3) to the mean turn in the plane ``x[axis] = offset``,
+        m."""
+        raise NotImplementedError
+
+    # --- the pair's own solids, cooling and corrections ----------------------------------------
+    def pack_solids(self) -> tuple[Any, Any]:
+        """The two packs as solids at ∓s/2 (:mod:`coils.clearance`)."""
+        raise NotImplementedError
+
+    def view_pack(self) -> Any:
+        """The pack geometry the view factors are traced on (:mod:`coils.viewfactors`)."""
+        raise NotImplementedError
+
+    @property
+    def vertical_bar_height_m(self) -> float:
+        """Height of a frame's vertical bars when it stands in a vertical plane, m (0: a ring
+        or a horizontal frame; :class:`coils.thermal.WindingPack`)."""
+        return 0.0
+
+    @property
+    def tube_m(self) -> float:
+        """:meth:`tube_radius_m` of this pair's pack, m."""
+        return float(self.tube_radius_m(self.winding_pack_width_m, self.winding_pack_depth_m))
+
+    @property
+    def extents_m(self) -> list[float]:
+        """:meth:`half_extents_m` of this pair, m."""
+        return [
+            float(v)
+            for v in self.half_extents_m(
+                self.axis_index,
+                self.sizes_m,
+                self.spacing_m,
+                self.winding_pack_width_m,
+                self.winding_pack_depth_m,
+            )
+        ]
+
+    def formula_corrections(self) -> tuple[float, float]:
+        """(gain, mutual) corrections of the closed forms (:meth:`terms`) to this pair: its
+        exact centre field over the two-filament formula's, and the series inductance's excess
+        over the formulas' self inductance, 2(L + M - L_formula), over 2 N² M_filament, so
+        2 L_formula + 2 c M_filament is the pair's series inductance exactly."""
+        q = self.terms(
+            self.sizes_m,
+            self.turns,
+            self.separation_m,
+            self.winding_pack_width_m,
+            self.winding_pack_depth_m,
+        )
+        gain = self.centre_field_per_amp_T_per_A / float(q["gain_T_per_A"])
+        excess = self.mutual_inductance_H + self.self_inductance_H - float(q["self_inductance_H"])
+        return gain, excess / float(q["mutual_filament_H"])
 
     def _check_fits(self, key: str, size: float, sep: float) -> None:
         """The pack fits: its depth below the size ``key`` = ``size``, m, and its width below
@@ -184,7 +340,12 @@ class WoundPair:
     @property
     def wire_length_m(self) -> float:
         """Copper length of both coils, 2 N times the mean turn (2π R, or 4 a for a square), m."""
-        return 2.0 * self.turns * self._TURN_LENGTH_PER_SIZE * self._size_m
+        return 2.0 * self.turns * self.mean_turn_length_m
+
+    @property
+    def mean_turn_length_m(self) -> float:
+        """Length of the mean turn (:meth:`turn_length_m` of the sizes), m."""
+        return float(self.turn_length_m(self.sizes_m))
 
     @property
     def copper_mass_kg(self) -> float:
@@ -289,7 +450,7 @@ class WoundPair:
         """Outer surface of both winding packs, 2 x 2(w + h) x the mean turn (2πR by Pappus,
         or 4a for a square frame), m²."""
         perimeter = 2.0 * (self.winding_pack_width_m + self.winding_pack_depth_m)
-        return 2.0 * perimeter * self._TURN_LENGTH_PER_SIZE * self._size_m
+        return 2.0 * perimeter * self.mean_turn_length_m
 
     def thermal_conductance_W_per_K(self, heat_transfer_coefficient_W_m2K: float) -> float:
         """Thermal conductance from both coils to ambient air, h A, W/K.

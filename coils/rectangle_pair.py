@@ -1,0 +1,314 @@
+"""A rectangular Helmholtz pair: two coaxial rectangular coils in series with rectangular packs.
+
+Geometry: each coil's mean turn is a rectangle of sides a, b (the winding's centre line) along the
+next two axes in cyclic order (x: y, z; y: z, x; z: x, y), sharp corners; the winding pack is
+the section of :class:`coils.winding.WoundPair` (w x h, h across each side), so the pack is a
+frame whose filament at depth offset δ is the rectangle of sides a + 2δ, b + 2δ: its mean turn
+is exactly 2(a + b) long, its volume w h · 2(a + b) and its faces 2(w + h) · 2(a + b). The coils
+sit at ±s/2 along the pair's axis, s by default the spacing with zero field curvature at the
+centre for the aspect b/a (:func:`coils.rectangle.helmholtz_spacing_ratio`, 0.5445 a at a = b).
+
+Field: Biot-Savart of four finite straight segments per filament
+(:class:`coils.rectangle.RectangleFilamentSet`). Self inductance: N² times Grover's rectangle
+with the section's geometric mean distance in place of the wire's
+(:func:`coils.rectangle.grover_rectangle_inductance_H`, :func:`coils.square_pair.rectangle_gmd_m`).
+Mutual inductance: N² times the exact coaxial-rectangle Neumann formula averaged over both packs.
+Long frames are what labs build for patient access: the frame is long along the body.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+from functools import cached_property
+from typing import Any, ClassVar
+
+import numpy as np
+
+from coils.filaments import Axis
+from coils.rectangle import (
+    RECTANGLE_ASPECT_RANGE,
+    RectangleFilamentSet,
+    grover_rectangle_inductance_H,
+    helmholtz_spacing_ratio,
+    rectangle_axial_field_T_per_A,
+    rectangle_field_local,
+    rectangle_mutual_inductance_H,
+)
+from coils.square_pair import _rectangle_distance, _rectangle_points, rectangle_gmd_m
+from coils.winding import WoundPair
+from spiralcap.core import backend as bk
+from spiralcap.core.errors import InputError, check_positive
+
+__all__ = ["RectanglePair"]
+
+
+def _ascending(axis: int, sizes: tuple[Any, ...]) -> tuple[Any, Any]:
+    """The sides (a, b) along the next two axes in cyclic order, reordered to the two other
+    axes in ascending order (a y pair's a runs along z, its b along x)."""
+    a, b = sizes
+    return (b, a) if axis == 1 else (a, b)
+
+
+@dataclass(frozen=True)
+class RectanglePair(WoundPair):
+    """Two coaxial, series-connected rectangular coils of N turns each; all quantities SI.
+
+    The interface of :class:`coils.HelmholtzPair` and :class:`coils.SquarePair` (field, gains,
+    resistance, inductances, pack geometry, solids, cooling) with two sides in place of a
+    radius.
+
+    Parameters
+    ----------
+    sides_m : (float, float)
+        Sides a, b of each coil's mean turn along the next two axes in cyclic order, m
+        (b / a in :data:`coils.rectangle.RECTANGLE_ASPECT_RANGE`).
+    turns : int
+        Turns N of each coil, count.
+    axis : {"x", "y", "z"}
+        Common axis of the two coils.
+    separation_m : float, optional
+        Distance between the coil planes, m; default the spacing with zero centre curvature.
+    wire_diameter_m : float
+        Bare copper diameter d, m.
+    packing_factor : float
+        Copper area / pack area, dimensionless, in (0, π/(2√3)).
+    filaments : (int, int)
+        Gauss-Legendre filaments across the pack's depth and width for the field, counts.
+    pack_aspect : float
+        Axial width / depth of the winding pack, dimensionless.
+
+    Raises
+    ------
+    InputError
+        A parameter outside its range, named by its parameter name (``sides_m`` for two sides
+        whose ratio is outside its range); a pack depth >= the shorter side
+        (``wire_diameter_m``) or coils that overlap (``separation_m``).
+
+    Examples
+    --------
+    >>> p = RectanglePair(sides_m=(0.8, 0.62), turns=300, wire_diameter_m=2.36e-3)
+    >>> round(p.separation_m / 0.8, 4), round(p.mean_turn_length_m, 3)
+    (0.4714, 2.84)
+    """
+
+    sides_m: tuple[float, float]
+    turns: int
+    axis: Axis = "z"
+    separation_m: float | None = None
+    wire_diameter_m: float = 2.5e-3
+    packing_factor: float = 0.7
+    filaments: tuple[int, int] = (1, 1)
+    pack_aspect: float = 1.0
+
+    #: The shape of the coils.
+    shape: ClassVar[str] = "rectangle"
+    _SIZE_KEY: ClassVar[str] = "sides_m"
+    _FILAMENT_PAIR: ClassVar[str] = "(depth, axial) of counts"
+    SIZE_NAMES: ClassVar[tuple[str, ...]] = ("side_a_m", "side_b_m")
+
+    def _check_size(self) -> tuple[str, float]:
+        """Two sides > 0 with b / a in range (InputError naming ``sides_m``); the shorter side
+        is what the pack's depth must stay below."""
+        s = self.sides_m
+        if not (isinstance(s, (tuple, list)) and len(s) == 2):
+            raise InputError("sides_m", s, "two sides [a, b] in m")
+        a, b = (check_positive("sides_m", float(v)) for v in s)
+        lo, hi = RECTANGLE_ASPECT_RANGE
+        if not lo <= b / a <= hi:
+            raise InputError("sides_m", [a, b], f"two sides with a ratio b/a in [{lo:g}, {hi:g}]")
+        object.__setattr__(self, "sides_m", (a, b))
+        return "sides_m", min(a, b)
+
+    # --- the shape's terms (coils.winding.WoundPair) -------------------------------------------
+    @property
+    def sizes_m(self) -> tuple[float, ...]:
+        """The sides (a, b), m."""
+        return (float(self.sides_m[0]), float(self.sides_m[1]))
+
+    @property
+    def _size_m(self) -> float:
+        """The first side a, m (the scale of tolerances)."""
+        return float(self.sides_m[0])
+
+    def with_sizes(self, sizes_m: tuple[float, ...]) -> Any:
+        """This pair with sides ``sizes_m`` (a, b), m; at its default spacing it keeps it."""
+        helm = self.helmholtz
+        sides = (float(sizes_m[0]), float(sizes_m[1]))
+        return replace(self, sides_m=sides, separation_m=None if helm else self.separation_m)
+
+    @classmethod
+    def default_spacing_m(cls, sizes: tuple[Any, ...]) -> Any:
+        """The spacing with zero centre curvature at sides (a, b), m (numbers only: a
+        numerical root, :func:`coils.rectangle.helmholtz_spacing_ratio`)."""
+        a, b = float(sizes[0]), float(sizes[1])
+        return helmholtz_spacing_ratio(a, b) * a
+
+    @classmethod
+    def turn_length_m(cls, sizes: tuple[Any, ...]) -> Any:
+        """The mean turn, 2 (a + b), m (exact for the mitred frame)."""
+        return 2.0 * (sizes[0] + sizes[1])
+
+    @classmethod
+    def reach_m(cls, sizes: tuple[Any, ...]) -> Any:
+        """Distance from the axis to the middle of the longer sides, min(a, b)/2, m."""
+        return 0.5 * bk.fmin(sizes[0], sizes[1])
+
+    @classmethod
+    def depth_limit_m(cls, sizes: tuple[Any, ...]) -> Any:
+        """The pack's depth must stay below the shorter side, m."""
+        return bk.fmin(sizes[0], sizes[1])
+
+    @classmethod
+    def reaches_m(cls, sizes: tuple[Any, ...]) -> tuple[Any, Any]:
+        """(a/2, b/2): the mean turn's half sides along the next two axes in cyclic order, m."""
+        return (0.5 * sizes[0], 0.5 * sizes[1])
+
+    @classmethod
+    def tube_radius_m(cls, width_m: Any, depth_m: Any) -> Any:
+        """The frame's sharp outer corner, sqrt(h²/2 + w²/4) from the mean turn's corner, m."""
+        return bk.sqrt(0.5 * depth_m * depth_m + 0.25 * width_m * width_m)
+
+    @classmethod
+    def thermal_ring(cls, axis: str, sizes: tuple[Any, ...]) -> dict[str, Any]:
+        """A ring as long as the mean turn (radius (a + b)/π), with vertical bars of the side
+        along z where the frame stands in a vertical plane (x pair: b; y pair: a), m."""
+        ring = {"mean_radius_m": cls.turn_length_m(sizes) / (2.0 * bk.pi)}
+        if axis == "z":
+            return ring
+        return {**ring, "vertical_bar_height_m": sizes[1] if axis == "x" else sizes[0]}
+
+    @classmethod
+    def terms(
+        cls, sizes: tuple[Any, ...], turns: Any, separation: Any, width: Any, depth: Any
+    ) -> dict[str, Any]:
+        """Two rectangles of N turns at ±s/2: centre gain 2 N B1(s/2)
+        (:func:`coils.rectangle.rectangle_axial_field_T_per_A`), wire 2N · 2(a + b), N² times
+        Grover's rectangle with the section's GMD and N² times the centre-line rectangles'
+        mutual inductance; SI, backend-generic."""
+        a, b = sizes
+        return {
+            "gain_T_per_A": 2.0 * turns * rectangle_axial_field_T_per_A(a, b, 0.5 * separation),
+            "length_m": 2.0 * turns * 2.0 * (a + b),
+            "self_inductance_H": turns
+            * turns
+            * grover_rectangle_inductance_H(a, b, rectangle_gmd_m(width, depth)),
+            "mutual_filament_H": turns
+            * turns
+            * rectangle_mutual_inductance_H(0.5 * a, 0.5 * b, 0.5 * a, 0.5 * b, separation),
+        }
+
+    @classmethod
+    def mean_turn_points(
+        cls, axis: int, sizes: tuple[float, ...], offset: float, n: int
+    ) -> np.ndarray:
+        """n points along the mean rectangle in the plane ``x[axis] = offset``, (n, 3), m."""
+        su, sv = _ascending(axis, sizes)
+        return _rectangle_points(axis, su, sv, offset, n)
+
+    @classmethod
+    def mean_turn_distance_m(
+        cls, points: np.ndarray, axis: int, sizes: tuple[float, ...], offset: float
+    ) -> np.ndarray:
+        """Exact distance of points (n, 3) to the mean rectangle, m."""
+        su, sv = _ascending(axis, sizes)
+        return _rectangle_distance(points, axis, su, sv, offset)
+
+    def pack_solids(self) -> tuple[Any, Any]:
+        """The two packs as solid frames of sides a ± h, b ± h at ∓s/2."""
+        from coils.clearance import Frame
+
+        half = 0.5 * self.spacing_m
+        a, b = self.sizes_m
+        w, h = self.winding_pack_width_m, self.winding_pack_depth_m
+        return tuple(  # type: ignore[return-value]
+            Frame(self.axis_index, a, sign * half, w, h, side_v_m=b) for sign in (-1.0, 1.0)
+        )
+
+    def view_pack(self) -> Any:
+        """The packs for the view factors (:class:`coils.viewfactors.PackFrame`)."""
+        from coils.viewfactors import PackFrame
+
+        a, b = self.sizes_m
+        return PackFrame(
+            self.axis_index,
+            a,
+            self.spacing_m,
+            self.winding_pack_width_m,
+            self.winding_pack_depth_m,
+            side_v_m=b,
+        )
+
+    @property
+    def vertical_bar_height_m(self) -> float:
+        """The side along z of a frame in a vertical plane (x pair: b, y pair: a), m; 0 for z."""
+        return float(self.thermal_ring(self.axis, self.sizes_m).get("vertical_bar_height_m", 0.0))
+
+    # --- geometry ------------------------------------------------------------------------------
+    @property
+    def radius_m(self) -> float:
+        """Distance from the axis to the middle of the longer sides, min(a, b)/2, m: the nearest
+        the mean turn comes to the axis (bore, uniform-region scale)."""
+        return 0.5 * min(self.sizes_m)
+
+    @property
+    def turn_radius_m(self) -> float:
+        """Radius of the circle as long as the mean turn, (a + b)/π, m (thermal rings)."""
+        return self.mean_turn_length_m / (2.0 * math.pi)
+
+    @property
+    def _filament_size_m(self) -> float:
+        """Half side a/2 of the filament at the pack centre, m."""
+        return 0.5 * self.sides_m[0]
+
+    @property
+    def _extra_half_v_m(self) -> float:
+        """(b - a)/2: a filament's half side along v less its half side along u, m."""
+        return 0.5 * (self.sides_m[1] - self.sides_m[0])
+
+    @cached_property
+    def filament_set(self) -> RectangleFilamentSet:
+        """The field model: both coils as Gauss-Legendre grids of rectangular filaments."""
+        half_u, common = self._filament_set_fields()
+        return RectangleFilamentSet(
+            half_sides_m=half_u, half_sides_v_m=half_u + self._extra_half_v_m, **common
+        )
+
+    # --- field ---------------------------------------------------------------------------------
+    def _centre_field_T_per_A(
+        self, half_u_m: np.ndarray, centres_m: np.ndarray, turns: np.ndarray
+    ) -> float:
+        """Field at the centre per ampere of coaxial rectangles, T/A."""
+        zero = np.zeros_like(half_u_m)
+        b_w = rectangle_field_local(
+            half_u_m, half_u_m + self._extra_half_v_m, zero, zero, -centres_m
+        )
+        return float(np.sum(turns * b_w[2]))
+
+    @cached_property
+    def centre_field_per_amp_T_per_A(self) -> float:
+        """Field at the centre per ampere, T/A: the exact sum over the rectangular filaments."""
+        return self._centre_field_T_per_A(*self._coil_grids(self.filaments))
+
+    # --- electrical ----------------------------------------------------------------------------
+    @cached_property
+    def self_inductance_H(self) -> float:
+        """Self inductance of one coil, H: N² times Grover's rectangle with the section's
+        geometric mean distance (:func:`coils.rectangle.grover_rectangle_inductance_H`; uniform
+        current density, every filament at the mean turn's sides). The one method a measured
+        value would replace."""
+        gmd = rectangle_gmd_m(self.winding_pack_width_m, self.winding_pack_depth_m)
+        a, b = self.sizes_m
+        return float(self.turns**2 * grover_rectangle_inductance_H(a, b, float(gmd)))
+
+    @cached_property
+    def mutual_inductance_H(self) -> float:
+        """Mutual inductance between the two coils, H: N² times the exact coaxial-rectangle
+        formula (:func:`coils.rectangle.rectangle_mutual_inductance_H`) averaged over both packs
+        with a 4 x 4 Gauss-Legendre rule each."""
+        extra = self._extra_half_v_m
+
+        def kernel(h1: Any, h2: Any, dist: Any) -> Any:
+            return rectangle_mutual_inductance_H(h1, h1 + extra, h2, h2 + extra, dist)
+
+        return self._mutual_average_H(kernel)
