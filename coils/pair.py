@@ -155,6 +155,7 @@ class HelmholtzPair(WoundPair):
     _DEFAULT_SPACING_PER_SIZE: ClassVar[float] = 1.0
     _FILAMENT_PAIR: ClassVar[str] = "(radial, axial) of counts"
     SIZE_NAMES: ClassVar[tuple[str, ...]] = ("radius_m",)
+    RING: ClassVar[bool] = True
 
     # --- the shape's terms (coils.winding.WoundPair) -------------------------------------------
     @classmethod

@@ -105,7 +105,8 @@ class RectanglePair(WoundPair):
     shape: ClassVar[str] = "rectangle"
     _SIZE_KEY: ClassVar[str] = "sides_m"
     _FILAMENT_PAIR: ClassVar[str] = "(depth, axial) of counts"
-    SIZE_NAMES: ClassVar[tuple[str, ...]] = ("side_a_m", "side_b_m")
+    #: One size, the first side a: the sizing scales the rectangle at its aspect b / a.
+    SIZE_NAMES: ClassVar[tuple[str, ...]] = ("side_a_m",)
 
     def _check_size(self) -> tuple[str, float]:
         """Two sides > 0 with b / a in range (InputError naming ``sides_m``); the shorter side
@@ -134,8 +135,30 @@ class RectanglePair(WoundPair):
     def with_sizes(self, sizes_m: tuple[float, ...]) -> Any:
         """This pair with sides ``sizes_m`` (a, b), m; at its default spacing it keeps it."""
         helm = self.helmholtz
-        sides = (float(sizes_m[0]), float(sizes_m[1]))
-        return replace(self, sides_m=sides, separation_m=None if helm else self.separation_m)
+        return replace(
+            self, **self.size_fields(sizes_m), separation_m=None if helm else self.separation_m
+        )
+
+    def size_fields(self, sizes: tuple[float, ...]) -> dict[str, Any]:
+        """``sides_m`` of sizes (a, b); a lone first side keeps the aspect b / a."""
+        a = float(sizes[0])
+        b = float(sizes[1]) if len(sizes) > 1 else a * self.sides_m[1] / self.sides_m[0]
+        return {"sides_m": (a, b)}
+
+    @property
+    def shape_key(self) -> tuple[Any, ...]:
+        """The class and the aspect b / a (fixed while the sizing scales the rectangle)."""
+        return (type(self), self.sides_m[1] / self.sides_m[0])
+
+    @classmethod
+    def scaled_sizes(cls, key: tuple[Any, ...], size: Any) -> tuple[Any, ...]:
+        """(a, a · b/a) for the aspect of ``key``, m."""
+        return (size, key[1] * size)
+
+    @classmethod
+    def spacing_per_size(cls, key: tuple[Any, ...]) -> float:
+        """The zero-curvature spacing / a at the aspect of ``key`` (a numerical root)."""
+        return helmholtz_spacing_ratio(1.0, key[1])
 
     @classmethod
     def default_spacing_m(cls, sizes: tuple[Any, ...]) -> Any:

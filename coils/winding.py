@@ -144,7 +144,32 @@ class WoundPair:
 
         me: Any = self
         sep = None if self.helmholtz else self.separation_m
-        return replace(me, **{self._SIZE_KEY: float(sizes_m[0])}, separation_m=sep)
+        return replace(me, **self.size_fields(sizes_m), separation_m=sep)
+
+    #: Flag: the pack is a solid of revolution (a ring), so the torus of :meth:`tube_radius_m`
+    #: about the mean turn holds it and the least distance is at least the torus bound.
+    RING: ClassVar[bool] = False
+
+    @property
+    def shape_key(self) -> tuple[Any, ...]:
+        """What a compiled sizing problem needs to know of the shape: the class, and any
+        number the sizes follow besides the one free size (hashable)."""
+        return (type(self),)
+
+    @classmethod
+    def scaled_sizes(cls, key: tuple[Any, ...], size: Any) -> tuple[Any, ...]:
+        """The sizes (:attr:`SIZE_NAMES` order) of a pair of shape ``key`` whose first size is
+        ``size`` (backend-generic), m."""
+        return (size,)
+
+    @classmethod
+    def spacing_per_size(cls, key: tuple[Any, ...]) -> float:
+        """Default spacing / first size of a pair of shape ``key``, dimensionless."""
+        return cls._DEFAULT_SPACING_PER_SIZE
+
+    def size_fields(self, sizes: tuple[float, ...]) -> dict[str, Any]:
+        """The dataclass fields that set sizes ``sizes``, by name (for ``dataclasses.replace``)."""
+        return {self._SIZE_KEY: float(sizes[0])}
 
     @property
     def helmholtz(self) -> bool:

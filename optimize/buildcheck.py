@@ -181,7 +181,7 @@ def buildable_ok(model: Any, rtol: float = 1e-6) -> bool:
     if not all(c.ok for c in envelope_checks(model, rtol)):
         return False
     for a, b in itertools.combinations(pairs, 2):
-        rings = a.shape != "square" and b.shape != "square"  # a frame's corner leaves the torus
+        rings = a.RING and b.RING  # a frame's corner leaves the torus
         gap = mean_turn_gap_m(a, b) - math.pi * a.radius_m / GAP_SAMPLES
         if rings and torus_clearance_bound_m(gap, a, b) >= need - slack:
             continue

@@ -165,7 +165,7 @@ def _setup(
         hw.helmholtz_flags(model),
         len(model.headings),
         model.limits.copper_mass_kg is not None,
-        hw.square_flags(model),
+        hw.shape_keys(model),
     )
     bounds = {**variable_bounds(exact), **{v.name: (v.lo, v.hi) for v in free}}
     scales = scales_for(exact)
@@ -837,21 +837,20 @@ def _loss_scaled(model: DesignModel, x: dict[str, float], scales: Any) -> float:
 
 def _copper_mass_kg(values: dict[str, float], model: DesignModel) -> float:
     pf = model.coils.pairs[0].packing_factor
-    square = hw.square_flags(model)
     return float(
         sum(
             hw.coil_quantities(
-                values[hw.size_name(ax, sq)],
+                key[0],
+                key[0].scaled_sizes(key, values[hw.size_name(ax, key)]),
                 values[f"{ax}.turns"],
                 values[f"{ax}.wire_diameter_m"],
-                values[hw.size_name(ax, sq)],
+                values[hw.size_name(ax, key)],
                 packing=pf,
                 resistivity=1.0,
                 h=1.0,
                 aspect=values[f"{ax}.pack_aspect"],
-                square=sq,
             )["copper_mass_kg"]
-            for ax, sq in zip(hw.AXES, square)
+            for ax, key in zip(hw.AXES, hw.shape_keys(model))
         )
     )
 

@@ -46,19 +46,23 @@ from spiralcap.core.constants import COPPER_DENSITY_kg_m3, MU0_T_m_per_A
 
 AXES = ("x", "y", "z")
 COIL_QUANTITIES = ("radius_m", "turns", "wire_diameter_m", "pack_aspect")
-#: The size of a square pair in place of ``radius_m``: the side of its mean turn (issue 30).
-SIDE = "side_m"
+#: The sizes of the pairs of other shapes in place of ``radius_m`` (each pair class's
+#: ``SIZE_NAMES``; ``coils.system.PAIR_CLASSES``).
+OTHER_SIZES = ("side_m", "side_a_m")
+#: Every size quantity a pair may have.
+SIZES = ("radius_m", *OTHER_SIZES)
 NAMES = (
     *(f"{ax}.{q}" for ax in AXES for q in COIL_QUANTITIES),
     "magnet.diameter_m",
     "magnet.length_m",
     "spiral.wire_diameter_m",
-    *(f"{ax}.{SIDE}" for ax in AXES),
+    *(f"{ax}.{q}" for q in OTHER_SIZES for ax in AXES),
 )
 #: Typical magnitudes: the NLP's variable scaling.
 REFERENCE = {
     "radius_m": 0.1,
     "side_m": 0.2,
+    "side_a_m": 0.2,
     "turns": 100.0,
     "wire_diameter_m": 1e-3,
     "pack_aspect": 1.0,
@@ -132,26 +136,28 @@ class Sizing:
     min_bore_m: float | None = None
 
 
-def size_name(ax: str, square: bool) -> str:
-    """The name of pair ``ax``'s size: ``"x.radius_m"``, or ``"x.side_m"`` for a square pair.
+def size_name(ax: str, pair: Any) -> str:
+    """The name of pair ``ax``'s size: ``"x.radius_m"`` of a circle, its own size otherwise
+    (``"x.side_m"`` of a square; the pair class's first ``SIZE_NAMES``).
 
     Parameters
     ----------
     ax : {"x", "y", "z"}
         The pair's axis.
-    square : bool
-        Flag: the pair is square.
+    pair : coils.winding.WoundPair or its class, or a shape key
+        The pair (or its ``shape_key``).
 
     Returns
     -------
     str
         A name of :data:`NAMES`.
     """
-    return f"{ax}.{SIDE if square else 'radius_m'}"
+    cls = pair[0] if isinstance(pair, tuple) else pair
+    return f"{ax}.{cls.SIZE_NAMES[0]}"
 
 
-def square_flags(model: Any) -> tuple[bool, bool, bool]:
-    """Per pair (x, y, z), flag: the pair is square (its size is ``side_m``).
+def shape_keys(model: Any) -> tuple[Any, Any, Any]:
+    """Per pair (x, y, z), its ``shape_key``: what a compiled sizing problem knows of it.
 
     Parameters
     ----------
@@ -160,15 +166,15 @@ def square_flags(model: Any) -> tuple[bool, bool, bool]:
 
     Returns
     -------
-    tuple of bool
-        Per pair, flag: square.
+    tuple of tuple
+        Per pair, the pair class and any fixed number its sizes follow.
     """
-    x, y, z = (p.shape == "square" for p in model.coils.pairs)
+    x, y, z = (p.shape_key for p in model.coils.pairs)
     return (x, y, z)
 
 
 def hardware_of(model: Any) -> dict[str, float]:
-    """The hardware values of a model, by name (a square pair's size as ``<ax>.side_m``).
+    """The hardware values of a model, by name (each pair's size under its own name).
 
     Parameters
     ----------
@@ -183,7 +189,7 @@ def hardware_of(model: Any) -> dict[str, float]:
     """
     out: dict[str, float] = {}
     for ax, p in zip(AXES, model.coils.pairs):
-        out[size_name(ax, p.shape == "square")] = float(getattr(p, p._SIZE_KEY))
+        out[size_name(ax, p.shape_key)] = float(p.sizes_m[0])
         out[f"{ax}.turns"] = float(p.turns)
         out[f"{ax}.wire_diameter_m"] = float(p.wire_diameter_m)
         out[f"{ax}.pack_aspect"] = float(p.pack_aspect)
@@ -194,18 +200,8 @@ def hardware_of(model: Any) -> dict[str, float]:
     return out
 
 
-def _default_spacing(p: Any, size: float) -> float:
-    """The separation a pair of size ``size`` has by default (R; 0.5445 a for a square), m."""
-    return size if p.shape != "square" else p._DEFAULT_SPACING_PER_SIZE * size
-
-
-def _helmholtz(p: Any) -> bool:
-    size = float(getattr(p, p._SIZE_KEY))
-    return abs(p.separation_m - _default_spacing(p, size)) <= 1e-12 * size
-
-
 def helmholtz_flags(model: Any) -> tuple[bool, bool, bool]:
-    """Per pair: does the separation follow the size (Helmholtz spacing: R, or 0.5445 a)?
+    """Per pair: does the separation follow the size (its default spacing: R, 0.5445 a, ...)?
 
     Parameters
     ----------
@@ -217,7 +213,7 @@ def helmholtz_flags(model: Any) -> tuple[bool, bool, bool]:
     tuple of bool
         Per pair (x, y, z), flag: the separation is the default spacing of its size.
     """
-    x, y, z = (_helmholtz(p) for p in model.coils.pairs)
+    x, y, z = (p.helmholtz for p in model.coils.pairs)
     return (x, y, z)
 
 
@@ -241,18 +237,18 @@ def with_hardware(model: Any, values: Mapping[str, float]) -> Any:
     import coils
 
     hw = {**hardware_of(model), **values}
-    flags = helmholtz_flags(model)
     pairs = []
-    for ax, p, helm in zip(AXES, model.coils.pairs, flags):
-        size = hw[size_name(ax, p.shape == "square")]
+    for ax, p in zip(AXES, model.coils.pairs):
+        key = p.shape_key
+        sizes = p.scaled_sizes(key, hw[size_name(ax, key)])
         pairs.append(
             replace(
                 p,
-                **{p._SIZE_KEY: size},
+                **p.size_fields(sizes),
                 turns=max(1, round(hw[f"{ax}.turns"])),
                 wire_diameter_m=hw[f"{ax}.wire_diameter_m"],
                 pack_aspect=hw[f"{ax}.pack_aspect"],
-                separation_m=_default_spacing(p, size) if helm else p.separation_m,
+                separation_m=None if p.helmholtz else p.separation_m,
             )
         )
     cap = model.capsule
@@ -269,33 +265,15 @@ def with_hardware(model: Any, values: Mapping[str, float]) -> Any:
 # --- frozen factors ---------------------------------------------------------------------------
 
 
-def _gain_formula(radius: Any, turns: Any, separation: Any) -> Any:
-    return (
-        MU0_T_m_per_A
-        * turns
-        * radius
-        * radius
-        / (radius * radius + 0.25 * separation * separation) ** 1.5
-    )
-
-
-def _square_gain_formula(side: Any, turns: Any, separation: Any) -> Any:
-    """Centre field per ampere of two coaxial square loops of N turns, side a, at ±s/2:
-    4 μ0 N a² / (π (a² + s²) sqrt(a²/2 + s²/4)) (each side a finite straight wire), T/A."""
-    a2, s2 = side * side, separation * separation
-    return 4.0 * MU0_T_m_per_A * turns * a2 / (bk.pi * (a2 + s2) * bk.sqrt(0.5 * a2 + 0.25 * s2))
-
-
 def mean_turn_gap_m(pa: Any, pb: Any) -> float:
     """Least distance between the mean turns of two orthogonal pairs, m (sampled).
 
-    The mean turns are circles of radius R, or squares of side a for a square pair (sides
-    parallel to the other two axes); GAP_SAMPLES points along the first pair's mean turns,
-    the exact distance to the second's.
+    GAP_SAMPLES points along the first pair's mean turns (its ``mean_turn_points``), the exact
+    distance to the second's (its ``mean_turn_distance_m``).
 
     Parameters
     ----------
-    pa, pb : HelmholtzPair or SquarePair
+    pa, pb : coils.winding.WoundPair
         Two pairs on different axes.
 
     Returns
@@ -303,101 +281,25 @@ def mean_turn_gap_m(pa: Any, pb: Any) -> float:
     float
         Least distance between their mean turns, m.
     """
-    if pa.shape != "square" and pb.shape != "square":
-        return _gap(
-            pa.axis_index, pa.radius_m, pa.separation_m, pb.axis_index, pb.radius_m, pb.separation_m
-        )
     return _shape_gap(
-        (pa.axis_index, pa.shape == "square", pa._size_m, pa.separation_m),
-        (pb.axis_index, pb.shape == "square", pb._size_m, pb.separation_m),
+        (type(pa), pa.axis_index, pa.sizes_m, float(pa.separation_m)),
+        (type(pb), pb.axis_index, pb.sizes_m, float(pb.separation_m)),
     )
-
-
-def _mean_turn_points(axis: int, square: bool, size: float, offset: float) -> np.ndarray:
-    """GAP_SAMPLES points along a mean turn (circle of radius ``size``, or square of side
-    ``size``) in the plane ``x[axis] = offset``, (n, 3), m."""
-    u, v = [k for k in range(3) if k != axis]
-    t = np.arange(GAP_SAMPLES) / GAP_SAMPLES
-    pts = np.zeros((GAP_SAMPLES, 3))
-    pts[:, axis] = offset
-    if not square:
-        phi = 2.0 * np.pi * t
-        pts[:, u], pts[:, v] = size * np.cos(phi), size * np.sin(phi)
-        return pts
-    side, along = np.divmod(4.0 * t, 1.0)  # which side, and how far along it (0..1)
-    h, w = 0.5 * size, size * (along - 0.5)
-    cu = np.choose(side.astype(int), [h, -w, -h, w])
-    cv = np.choose(side.astype(int), [w, h, -w, -h])
-    pts[:, u], pts[:, v] = cu, cv
-    return pts
-
-
-def _distance_to_mean_turn(
-    pts: np.ndarray, axis: int, square: bool, size: float, offset: float
-) -> np.ndarray:
-    """Exact distance of points (n, 3) to a mean turn (circle of radius ``size`` or square of
-    side ``size`` in the plane ``x[axis] = offset``), m."""
-    u, v = [k for k in range(3) if k != axis]
-    normal = pts[:, axis] - offset
-    if not square:
-        return np.hypot(np.hypot(pts[:, u], pts[:, v]) - size, normal)
-    du, dv = np.abs(pts[:, u]) - 0.5 * size, np.abs(pts[:, v]) - 0.5 * size
-    outside = np.hypot(np.maximum(du, 0.0), np.maximum(dv, 0.0))
-    in_plane = np.where(np.maximum(du, dv) > 0.0, outside, -np.maximum(du, dv))
-    return np.hypot(in_plane, normal)
 
 
 @functools.lru_cache(maxsize=256)
 def _shape_gap(a: tuple, b: tuple) -> float:
-    """:func:`mean_turn_gap_m` with a square pair: (axis, square, size, separation) each."""
+    """:func:`mean_turn_gap_m` of (pair class, axis, sizes, separation) each."""
     best = np.inf
     for sa, sb in itertools.product((-0.5, 0.5), repeat=2):
-        pts = _mean_turn_points(a[0], a[1], a[2], sa * a[3])
-        d = _distance_to_mean_turn(pts, b[0], b[1], b[2], sb * b[3])
+        pts = a[0].mean_turn_points(a[1], a[2], sa * a[3], GAP_SAMPLES)
+        d = b[0].mean_turn_distance_m(pts, b[1], b[2], sb * b[3])
         best = min(best, float(d.min()))
     return best
-
-
-def tube_radius_m(width_m: Any, depth_m: Any, square: bool) -> Any:
-    """Radius of the tube about the mean turn that holds the whole pack, m (backend-generic).
-
-    A ring's section lies within half its diagonal of the mean turn; a square frame's sharp
-    outer corner, (h/2, h/2, w/2) from the mean turn's corner, within sqrt(h²/2 + w²/4).
-
-    Parameters
-    ----------
-    width_m, depth_m : float or CasADi
-        Axial width w and depth h of the pack, m.
-    square : bool
-        Flag: a square frame (sharp corners).
-
-    Returns
-    -------
-    float or CasADi
-        Tube radius, m.
-    """
-    if square:
-        return bk.sqrt(0.5 * depth_m * depth_m + 0.25 * width_m * width_m)
-    return 0.5 * bk.sqrt(width_m * width_m + depth_m * depth_m)
 
 
 #: Points on the first mean turn at which :func:`mean_turn_gap_m` takes the distance.
 GAP_SAMPLES = 2048
-
-
-@functools.lru_cache(maxsize=256)
-def _gap(ia: int, ra: float, sa_m: float, ib: int, rb: float, sb_m: float) -> float:
-    phi = np.linspace(0.0, 2.0 * np.pi, GAP_SAMPLES, endpoint=False)
-    best = np.inf
-    u, v = [k for k in range(3) if k != ia]
-    for sa, sb in itertools.product((-0.5, 0.5), repeat=2):
-        pts = np.zeros((phi.size, 3))
-        pts[:, u], pts[:, v] = ra * np.cos(phi), ra * np.sin(phi)
-        pts[:, ia] = sa * sa_m
-        radial = np.sqrt(np.sum(np.delete(pts, ib, axis=1) ** 2, axis=1))
-        d = np.hypot(radial - rb, pts[:, ib] - sb * sb_m)
-        best = min(best, float(d.min()))
-    return best
 
 
 @dataclass(frozen=True)
@@ -471,7 +373,7 @@ def frozen_factors(model: Any) -> Frozen:
 
     m = prepare(model)
     pairs = m.coils.pairs
-    gain_corr, mut_corr = zip(*(_pair_corrections(p) for p in pairs))
+    gain_corr, mut_corr = zip(*(p.formula_corrections() for p in pairs))
     gaps, da, db, delta = [], [], [], []
     h = 1e-6
     for i, j in PAIRS_OF_PAIRS:
@@ -479,8 +381,8 @@ def frozen_factors(model: Any) -> Frozen:
         g0 = mean_turn_gap_m(a, b)
         gaps.append(g0)
         delta.append(_clearance_delta_m(pack_clearance_m(a, b), g0, a, b))
-        da.append((mean_turn_gap_m(_scaled(a, h), b) - g0) / (h * a._size_m))
-        db.append((mean_turn_gap_m(a, _scaled(b, h)) - g0) / (h * b._size_m))
+        da.append((mean_turn_gap_m(_scaled(a, h), b) - g0) / (h * a.sizes_m[0]))
+        db.append((mean_turn_gap_m(a, _scaled(b, h)) - g0) / (h * b.sizes_m[0]))
     return Frozen(
         np.array(gain_corr),
         np.array(mut_corr),
@@ -488,39 +390,12 @@ def frozen_factors(model: Any) -> Frozen:
         np.array(gaps),
         np.array(da),
         np.array(db),
-        np.array([p._size_m for p in pairs]),
+        np.array([p.sizes_m[0] for p in pairs]),
         np.asarray(m.constants.view_factors, dtype=float),
         np.array(delta),
         np.array([_delta_slopes(pairs[i], pairs[j]) for i, j in PAIRS_OF_PAIRS]),
         np.array([(p.winding_pack_width_m, p.winding_pack_depth_m) for p in pairs]),
     )
-
-
-def _pair_corrections(p: Any) -> tuple[float, float]:
-    """(gain, mutual) corrections of one built pair: its exact centre field over the formula's,
-    and its exact mutual inductance over N² times the filament formula. A square pair's mutual
-    correction also carries its self inductance's pack average over Grover's square with the
-    section's GMD, so the series inductance 2 L + 2 M is exact at the frozen hardware."""
-    from coils.loop import coaxial_mutual_inductance_H
-
-    if p.shape != "square":
-        gain = p.centre_field_per_amp_T_per_A / _gain_formula(p.radius_m, p.turns, p.separation_m)
-        fil = p.turns**2 * coaxial_mutual_inductance_H(p.radius_m, p.radius_m, p.separation_m)
-        return gain, p.mutual_inductance_H / float(fil)
-    q = coil_quantities(
-        p.side_m,
-        p.turns,
-        p.wire_diameter_m,
-        p.separation_m,
-        packing=p.packing_factor,
-        resistivity=1.0,
-        h=0.0,
-        aspect=p.pack_aspect,
-        square=True,
-    )
-    gain = p.centre_field_per_amp_T_per_A / float(q["gain_T_per_A"])
-    excess = p.mutual_inductance_H + p.self_inductance_H - float(q["self_inductance_H"])
-    return gain, excess / float(q["mutual_filament_H"])
 
 
 def _clearance_delta_m(exact_m: float, gap_m: float, a: Any, b: Any) -> float:
@@ -529,13 +404,9 @@ def _clearance_delta_m(exact_m: float, gap_m: float, a: Any, b: Any) -> float:
     clearance at the frozen hardware even where the sampled gap overstates the true one."""
     from coils.clearance import torus_clearance_bound_m
 
-    if a.shape != "square" and b.shape != "square":
+    if a.RING and b.RING:
         return max(exact_m - torus_clearance_bound_m(gap_m, a, b), 0.0)
-    tubes = sum(
-        tube_radius_m(p.winding_pack_width_m, p.winding_pack_depth_m, p.shape == "square")
-        for p in (a, b)
-    )
-    return exact_m - (gap_m - tubes)
+    return exact_m - (gap_m - (a.tube_m + b.tube_m))
 
 
 def _delta_slopes(a: Any, b: Any) -> np.ndarray:
@@ -544,17 +415,17 @@ def _delta_slopes(a: Any, b: Any) -> np.ndarray:
     row is as before). The frame-to-frame distance is piecewise linear in the pack sides, so
     with these slopes the row tracks the exact clearance to first order as the packs grow and
     the outer iterations settle."""
-    from coils.clearance import pack_distance_m, pair_packs
+    from coils.clearance import pack_distance_m
 
-    if a.shape != "square" and b.shape != "square":
+    if a.RING and b.RING:
         return np.zeros(4)
-    packs = [pair_packs(a)[1], pair_packs(b)[1]]
-    squares = [a.shape == "square", b.shape == "square"]
+    packs = [a.pack_solids()[1], b.pack_solids()[1]]
+    kinds = [type(a), type(b)]
 
     def delta(k: int, name: str, step: float) -> float:
         moved = list(packs)
         moved[k] = replace(packs[k], **{name: getattr(packs[k], name) + step})
-        tubes = sum(tube_radius_m(q.width_m, q.depth_m, sq) for q, sq in zip(moved, squares))
+        tubes = sum(c.tube_radius_m(q.width_m, q.depth_m) for q, c in zip(moved, kinds))
         return pack_distance_m(*moved) + tubes  # the gap term does not move with the packs
 
     out = []
@@ -566,18 +437,16 @@ def _delta_slopes(a: Any, b: Any) -> np.ndarray:
 
 
 def _scaled(p: Any, h: float) -> Any:
-    size = p._size_m * (1 + h)
-    helm = _helmholtz(p)
-    return replace(
-        p, **{p._SIZE_KEY: size}, separation_m=_default_spacing(p, size) if helm else p.separation_m
-    )
+    """The pair with every size scaled by 1 + h (at its default spacing if it had it)."""
+    return p.with_sizes(tuple(size * (1 + h) for size in p.sizes_m))
 
 
 # --- expressions ------------------------------------------------------------------------------
 
 
 def coil_quantities(
-    radius: Any,
+    shape: Any,
+    sizes: tuple[Any, ...],
     turns: Any,
     wire: Any,
     separation: Any,
@@ -586,16 +455,19 @@ def coil_quantities(
     resistivity: Any,
     h: Any,
     aspect: Any = 1.0,
-    square: bool = False,
 ) -> dict[str, Any]:
     """Pack side (of the equal-area square), width (axial) and depth (radial), uncorrected
     gain, resistance, self inductance, filament mutual inductance (times N²), convective
-    conductance of the faces and copper mass of one pair (backend-generic).
+    conductance of the faces and copper mass of one pair (backend-generic): the pair's shape
+    gives the gain, wire length and inductances (its ``terms``) and the mean turn.
 
     Parameters
     ----------
-    radius : float or CasADi
-        Mean coil radius R, m; for a square pair (``square``) the side a of the mean turn, m.
+    shape : type
+        The pair class (``coils.winding.WoundPair`` and its shapes).
+    sizes : tuple of float or CasADi
+        The pair's sizes (its ``SIZE_NAMES``; the mean radius R of a circle, the side a of a
+        square, the sides a, b of a rectangle), m.
     turns : float or CasADi
         Turns N of each coil, count (continuous in the relaxation).
     wire : float or CasADi
@@ -610,9 +482,6 @@ def coil_quantities(
         Face heat transfer coefficient, W/(m²·K).
     aspect : float or CasADi
         Axial width / radial depth of the pack, dimensionless.
-    square : bool
-        Flag: square turns (mean turn 4a; gain of two square loops; Grover's square with the
-        section's geometric mean distance; the coaxial squares' mutual inductance).
 
     Returns
     -------
@@ -625,8 +494,7 @@ def coil_quantities(
     pack_area = turns * area / packing
     side = bk.sqrt(pack_area)
     width, depth = bk.sqrt(pack_area * aspect), bk.sqrt(pack_area / aspect)
-    shape = _square_terms if square else _circle_terms
-    terms = shape(radius, turns, separation, width, depth)
+    terms = shape.terms(sizes, turns, separation, width, depth)
     length = terms.pop("length_m")
     return {
         "side_m": side,
@@ -634,47 +502,8 @@ def coil_quantities(
         "depth_m": depth,
         **terms,
         "resistance_ohm": resistivity * length / area,
-        "conductance_W_per_K": h * 2.0 * 2.0 * (width + depth) * 4.0 * radius
-        if square
-        else h * 2.0 * 2.0 * (width + depth) * 2.0 * bk.pi * radius,
+        "conductance_W_per_K": h * 2.0 * 2.0 * (width + depth) * shape.turn_length_m(sizes),
         "copper_mass_kg": COPPER_DENSITY_kg_m3 * length * area,
-    }
-
-
-def _circle_terms(radius: Any, turns: Any, sep: Any, width: Any, depth: Any) -> dict:
-    """One circular pair's two-loop gain, wire length (2N · 2πR), Stefan's self inductance
-    (Rosa & Grover 1912, eq. 91) and Maxwell's coaxial mutual inductance (times N²), SI."""
-    from coils.loop import coaxial_mutual_inductance_H
-    from coils.pair import stefan_bracket
-
-    length = 2.0 * turns * 2.0 * bk.pi * radius
-    return {
-        "gain_T_per_A": _gain_formula(radius, turns, sep),
-        "length_m": length,
-        "self_inductance_H": MU0_T_m_per_A
-        * radius
-        * turns
-        * turns
-        * stefan_bracket(radius, width, depth),
-        "mutual_filament_H": turns * turns * coaxial_mutual_inductance_H(radius, radius, sep),
-    }
-
-
-def _square_terms(side: Any, turns: Any, sep: Any, width: Any, depth: Any) -> dict:
-    """:func:`_circle_terms` of a square pair of side a (mean turn 4a): two square loops' gain,
-    Grover's square with the section's geometric mean distance (coils.square_pair) and the
-    coaxial squares' mutual inductance (coils.square), SI."""
-    from coils.square import square_mutual_inductance_H
-    from coils.square_pair import grover_square_inductance_H, rectangle_gmd_m
-
-    half = 0.5 * side
-    return {
-        "gain_T_per_A": _square_gain_formula(side, turns, sep),
-        "length_m": 2.0 * turns * 4.0 * side,
-        "self_inductance_H": turns
-        * turns
-        * grover_square_inductance_H(side, rectangle_gmd_m(width, depth)),
-        "mutual_filament_H": turns * turns * square_mutual_inductance_H(half, half, sep),
     }
 
 
@@ -708,24 +537,42 @@ class HardwareStructure:
         Number of headings.
     copper_mass_limit : bool
         Flag: the copper-mass row is part of the problem.
-    square : tuple of bool
-        Per pair, flag: a square pair (its size is ``<ax>.side_m``, :func:`size_name`).
+    shapes : tuple of tuple
+        Per pair, its ``shape_key`` (:func:`shape_keys`): the pair class, which gives the
+        shape's terms, and any fixed number its sizes follow; empty: three circles.
     """
 
     free: tuple[str, ...]
     helmholtz: tuple[bool, bool, bool]
     headings: int
     copper_mass_limit: bool = False
-    square: tuple[bool, bool, bool] = (False, False, False)
+    shapes: tuple = ()
+
+    def shape(self, k: int) -> Any:
+        """Pair k's class (``coils.HelmholtzPair`` when ``shapes`` is empty)."""
+        if not self.shapes:
+            from coils.pair import HelmholtzPair
+
+            return HelmholtzPair
+        return self.shapes[k][0]
+
+    def key(self, k: int) -> tuple[Any, ...]:
+        """Pair k's shape key."""
+        return self.shapes[k] if self.shapes else (self.shape(k),)
 
     @property
     def names(self) -> tuple[str, ...]:
         """The hardware names of this problem: :data:`NAMES` with each pair's own size."""
-        sizes = {size_name(ax, not sq) for ax, sq in zip(AXES, self.square)}
-        return tuple(n for n in NAMES if n not in sizes)
+        own = {size_name(ax, self.key(k)) for k, ax in enumerate(AXES)}
+        sizes = {f"{ax}.{q}" for ax in AXES for q in SIZES}
+        return tuple(n for n in NAMES if n not in sizes or n in own)
+
+    def sizes(self, hw: dict[str, Any], k: int) -> tuple[Any, ...]:
+        """Pair k's sizes as expressions (its ``SIZE_NAMES`` order), m."""
+        return self.shape(k).scaled_sizes(self.key(k), self.size(hw, k))
 
     def size(self, hw: dict[str, Any], k: int) -> Any:
-        """Pair k's size expression: R, or the side a of a square pair.
+        """Pair k's (first) size expression: R, or the side a of a square or rectangle.
 
         Parameters
         ----------
@@ -739,10 +586,10 @@ class HardwareStructure:
         casadi.SX
             The size, m.
         """
-        return hw[size_name(AXES[k], self.square[k])]
+        return hw[size_name(AXES[k], self.key(k))]
 
     def reach(self, hw: dict[str, Any], k: int) -> Any:
-        """Distance from pair k's axis to the middle of its mean turn: R, or a/2 for a square.
+        """Least distance from pair k's axis to its mean turn: R, or a/2 for a square.
 
         Parameters
         ----------
@@ -756,7 +603,7 @@ class HardwareStructure:
         casadi.SX
             The distance, m.
         """
-        return 0.5 * self.size(hw, k) if self.square[k] else self.size(hw, k)
+        return self.shape(k).reach_m(self.sizes(hw, k))
 
     def spacing(self, hw: dict[str, Any], k: int, separation: Any) -> Any:
         """Pair k's separation: its size's Helmholtz spacing (R; 0.5445 a) or ``separation``.
@@ -777,10 +624,9 @@ class HardwareStructure:
         """
         if not self.helmholtz[k]:
             return separation
-        from coils.square_pair import SQUARE_HELMHOLTZ_RATIO
-
+        ratio = self.shape(k).spacing_per_size(self.key(k))
         size = self.size(hw, k)
-        return SQUARE_HELMHOLTZ_RATIO * size if self.square[k] else size
+        return size if ratio == 1.0 else ratio * size
 
 
 def _hardware_symbols(b: Any, hs: HardwareStructure) -> dict[str, Any]:
@@ -807,7 +653,8 @@ def _coil_symbols(b: Any, hs: HardwareStructure, hw: dict[str, Any]) -> tuple[li
     for k, ax in enumerate(AXES):
         q.append(
             coil_quantities(
-                hs.size(hw, k),
+                hs.shape(k),
+                hs.sizes(hw, k),
                 hw[f"{ax}.turns"],
                 hw[f"{ax}.wire_diameter_m"],
                 hs.spacing(hw, k, sep[k]),
@@ -815,7 +662,6 @@ def _coil_symbols(b: Any, hs: HardwareStructure, hw: dict[str, Any]) -> tuple[li
                 resistivity=rho,
                 h=hcoef,
                 aspect=hw[f"{ax}.pack_aspect"],
-                square=hs.square[k],
             )
         )
     return q, packing, hcoef
@@ -830,19 +676,12 @@ def _pack_symbols(
     hcoef: Any,
     convection: str,
 ) -> tuple:
-    """The three winding packs (:class:`coils.thermal.WindingPack`) as expressions: a square
-    pack by the radius of the ring as long as its mean turn (2a/π), with its vertical bars
-    where its plane is vertical (coils.thermal)."""
+    """The three winding packs (:class:`coils.thermal.WindingPack`) as expressions: each the
+    pair's thermal ring (a frame as the ring as long as its mean turn, with its vertical bars
+    where its plane is vertical; coils.thermal)."""
     from coils.thermal import WindingPack
 
     conductivity, emissivity = b.parameter("hw.conductivity"), b.parameter("hw.emissivity")
-
-    def square_parts(k: int) -> dict[str, Any]:
-        if not hs.square[k]:
-            return {"mean_radius_m": hw[f"{AXES[k]}.radius_m"]}
-        side = hs.size(hw, k)
-        bars = {"vertical_bar_height_m": side} if AXES[k] != "z" else {}
-        return {"mean_radius_m": 4.0 * side / (2.0 * bk.pi), **bars}
 
     return tuple(
         WindingPack(
@@ -855,7 +694,7 @@ def _pack_symbols(
             vertical_axis=AXES[k] == "z",
             air_speed_m_s=b.parameter("hw.air_speed_m_s"),
             convection=convection,
-            **square_parts(k),
+            **hs.shape(k).thermal_ring(AXES[k], hs.sizes(hw, k)),
         )
         for k in range(3)
     )
@@ -956,7 +795,6 @@ def _envelope_terms(
     """Rows ``envelope_<i>[<pair>]``: each freed pair's packs inside half the envelope along
     every axis (coils.clearance.pair_extent_m; a square frame reaches a/2 + h/2 across its
     axis, its sides' outer faces); none without ``limits.envelope_mm``."""
-    from coils.clearance import pair_extent_m
     from optimize.nlp import Row
     from optimize.problem import Term
 
@@ -968,7 +806,7 @@ def _envelope_terms(
         if not freed[k]:
             continue
         s = hs.spacing(hw, k, sep[k])
-        halves = pair_extent_m(k, hs.reach(hw, k), s, q[k]["width_m"], q[k]["depth_m"])
+        halves = hs.shape(k).half_extents_m(k, hs.sizes(hw, k), s, q[k]["width_m"], q[k]["depth_m"])
         for i, half in enumerate(halves):
             out.append(
                 Term(
@@ -1019,7 +857,7 @@ def geometry_terms(b: Any, hs: HardwareStructure, hw: dict, q: list, ctx: Any) -
     for h, loss in enumerate(losses):
         out.append(Term(Row(f"heading_loss[{h}]", "epigraph", "W"), loss, q[3]["power_W"], upper))
 
-    if free & {f"{ax}.{qq}" for ax in AXES for qq in (*COIL_QUANTITIES, SIDE)}:
+    if free & {f"{ax}.{qq}" for ax in AXES for qq in (*COIL_QUANTITIES, *OTHER_SIZES)}:
         out += _coil_terms(b, hs, hw, q, ctx)
     out += _capsule_terms(b, free, hw, ctx)
     return out
@@ -1046,13 +884,13 @@ def _coil_terms(b: Any, hs: HardwareStructure, hw: dict, q: list, ctx: Any) -> l
     need = b.parameter("requirement.min_clearance_m")
     bore_r = b.parameter("requirement.bore_radius_m")
     r0 = b.parameter("frozen.radii0_m", (3,))
-    freed = [bool(free & {f"{ax}.{qq}" for qq in (*COIL_QUANTITIES, SIDE)}) for ax in AXES]
+    freed = [bool(free & {f"{ax}.{qq}" for qq in (*COIL_QUANTITIES, *OTHER_SIZES)}) for ax in AXES]
     for k, ax in enumerate(AXES):
         if not freed[k]:  # a fixed pair's rows would be constants
             continue
         r, width, depth = hs.reach(hw, k), q[k]["width_m"], q[k]["depth_m"]
-        # the pack inside its turn: h <= R, or h <= a for a square frame (coils.winding)
-        inside = hs.size(hw, k) if hs.square[k] else r
+        # the pack inside its turn: h <= R, or h <= the (shorter) side of a frame (coils.winding)
+        inside = hs.shape(k).depth_limit_m(hs.sizes(hw, k))
         out.append(Term(Row(f"pack_side_{ax}", "geometry", "m"), depth, inside, upper))
         if not hs.helmholtz[k]:
             out.append(Term(Row(f"pack_separation_{ax}", "geometry", "m"), width, sep[k], upper))
@@ -1078,7 +916,9 @@ def _coil_terms(b: Any, hs: HardwareStructure, hw: dict, q: list, ctx: Any) -> l
         ri, rj = hs.size(hw, i), hs.size(hw, j)
         gap = gap0[n] + dga[n] * (ri - r0[i]) + dgb[n] * (rj - r0[j])
         clearance = gap - _tubes(hs, q, i, j) + delta[n]
-        if hs.square[i] or hs.square[j]:  # the correction to first order in the packs
+        if not (
+            hs.shape(i).RING and hs.shape(j).RING
+        ):  # the correction to first order in the packs
             clearance = clearance + _delta_moves(b, q, n, i, j)
         out.append(
             Term(
@@ -1107,11 +947,9 @@ def _delta_moves(b: Any, q: list, n: int, i: int, j: int) -> Any:
 
 
 def _tubes(hs: HardwareStructure, q: list, i: int, j: int) -> Any:
-    """The two packs' tube radii about their mean turns (:func:`tube_radius_m`), summed, m."""
-    if not (hs.square[i] or hs.square[j]):  # two rings: as before square pairs, bit for bit
-        diag = [bk.sqrt(q[k]["width_m"] ** 2 + q[k]["depth_m"] ** 2) for k in (i, j)]
-        return 0.5 * (diag[0] + diag[1])
-    return sum(tube_radius_m(q[k]["width_m"], q[k]["depth_m"], hs.square[k]) for k in (i, j))
+    """The two packs' tube radii about their mean turns (each pair's ``tube_radius_m``), summed,
+    m."""
+    return sum(hs.shape(k).tube_radius_m(q[k]["width_m"], q[k]["depth_m"]) for k in (i, j))
 
 
 def _capsule_terms(b: Any, free: set, hw: dict, ctx: Any) -> list:

@@ -414,7 +414,7 @@ def packs_of(model: DesignModel) -> tuple:
             vertical_axis=p.axis == "z",
             air_speed_m_s=float(model.air_speed_m_s),
             convection="fixed" if h is not None else model.cooling,
-            vertical_bar_height_m=float(p.side_m) if p.shape == "square" and p.axis != "z" else 0.0,
+            vertical_bar_height_m=p.vertical_bar_height_m,
         )
         for p in model.coils.pairs
     )
@@ -434,18 +434,7 @@ def pack_rings(coils: Any) -> list[Any]:
     list of coils.viewfactors.PackRing or PackFrame
         One per pair, SI.
     """
-    from coils.viewfactors import PackFrame, PackRing
-
-    return [
-        (PackFrame if p.shape == "square" else PackRing)(
-            p.axis_index,
-            p.side_m if p.shape == "square" else p.radius_m,
-            p.spacing_m,
-            p.winding_pack_width_m,
-            p.winding_pack_depth_m,
-        )
-        for p in coils.pairs
-    ]
+    return [p.view_pack() for p in coils.pairs]
 
 
 def view_factors_of(coils: Any) -> Any:

@@ -15,7 +15,7 @@ def assert_sizing_rows_equal_fixed_rows(model, names: tuple[str, ...], what: str
     from optimize.solve import compile_problem, scales_for, structure_of
 
     hs = hw.HardwareStructure(
-        names, hw.helmholtz_flags(model), len(model.headings), square=hw.square_flags(model)
+        names, hw.helmholtz_flags(model), len(model.headings), shapes=hw.shape_keys(model)
     )
     sized = compile_problem(structure_of(model, hardware=hs))
     fixed = compile_problem(structure_of(model))

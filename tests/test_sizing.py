@@ -36,7 +36,8 @@ def x_sized(model):
 
 def _quantities(p, temperature_C, h):
     return hw.coil_quantities(
-        p.radius_m,
+        coils.HelmholtzPair,
+        (p.radius_m,),
         p.turns,
         p.wire_diameter_m,
         p.separation_m,
@@ -70,9 +71,17 @@ def test_hardware_expressions_match_the_coil_objects(model):
 def test_hardware_expressions_numpy_and_casadi_agree(model):
     p = model.coils.pairs[0]
     r, n, d = ca.SX.sym("r"), ca.SX.sym("n"), ca.SX.sym("d")
-    sym = hw.coil_quantities(r, n, d, r, packing=0.7, resistivity=2e-8, h=10.0)
+    hp = coils.HelmholtzPair
+    sym = hw.coil_quantities(hp, (r,), n, d, r, packing=0.7, resistivity=2e-8, h=10.0)
     num = hw.coil_quantities(
-        p.radius_m, p.turns, p.wire_diameter_m, p.radius_m, packing=0.7, resistivity=2e-8, h=10.0
+        hp,
+        (p.radius_m,),
+        p.turns,
+        p.wire_diameter_m,
+        p.radius_m,
+        packing=0.7,
+        resistivity=2e-8,
+        h=10.0,
     )
     for k in sym:
         f = ca.Function("f", [r, n, d], [sym[k]])

@@ -28,7 +28,8 @@ PAIR = coils.SquarePair(0.78, 350, "y", wire_diameter_m=2.5e-3, pack_aspect=1.5)
 
 def _quantities(p, **kw):
     return hw.coil_quantities(
-        p.side_m,
+        coils.SquarePair,
+        (p.side_m,),
         p.turns,
         p.wire_diameter_m,
         p.separation_m,
@@ -36,7 +37,6 @@ def _quantities(p, **kw):
         resistivity=kw.get("resistivity", 1.7e-8),
         h=kw.get("h", 5.0),
         aspect=p.pack_aspect,
-        square=True,
     )
 
 
@@ -109,9 +109,10 @@ def test_square_expressions_against_the_pair_and_textbook() -> None:
 
 def test_square_expressions_numpy_and_casadi_agree() -> None:
     a, n, d, s = (ca.SX.sym(k) for k in "ands")
-    sym = hw.coil_quantities(a, n, d, s, packing=0.7, resistivity=2e-8, h=10.0, square=True)
+    sq = coils.SquarePair
+    sym = hw.coil_quantities(sq, (a,), n, d, s, packing=0.7, resistivity=2e-8, h=10.0)
     args = (PAIR.side_m, PAIR.turns, PAIR.wire_diameter_m, PAIR.separation_m)
-    num = hw.coil_quantities(*args, packing=0.7, resistivity=2e-8, h=10.0, square=True)
+    num = hw.coil_quantities(sq, (args[0],), *args[1:], packing=0.7, resistivity=2e-8, h=10.0)
     for k in sym:
         v = float(ca.Function("f", [a, n, d, s], [sym[k]])(*args))
         assert math.isclose(v, float(num[k]), rel_tol=1e-12), f"{k}: numpy and CasADi, 1e-12"
@@ -134,7 +135,8 @@ def test_frozen_factors_make_the_square_rows_exact() -> None:
     for n, (i, j) in enumerate(hw.PAIRS_OF_PAIRS):
         a, b = model.coils.pairs[i], model.coils.pairs[j]
         tubes = sum(
-            hw.tube_radius_m(p.winding_pack_width_m, p.winding_pack_depth_m, True) for p in (a, b)
+            coils.SquarePair.tube_radius_m(p.winding_pack_width_m, p.winding_pack_depth_m)
+            for p in (a, b)
         )
         row = fz.gap0_m[n] - tubes + fz.clearance_delta_m[n]
         assert math.isclose(row, box_union_distance_m(a, b), rel_tol=1e-9), (
