@@ -97,9 +97,11 @@ class AxisSizing:
     radiation_view_factor : float
         Fraction of the pack's radiation that reaches the room, dimensionless (1: alone).
     shape : str
-        ``"circle"`` or ``"square"``.
+        ``"circle"``, ``"square"`` or ``"rectangle"``.
     side_m : float or None
-        Mean turn's side of a square pair, m (None: a circle).
+        Mean turn's side of a square pair, m (None: another shape).
+    sides_m : tuple of float or None
+        Mean turn's sides (a, b) of a rectangular pair, m (None: another shape).
     """
 
     axis: str
@@ -136,6 +138,7 @@ class AxisSizing:
     pack_field_per_amp_T_per_A: float = math.nan
     shape: str = "circle"
     side_m: float | None = None
+    sides_m: tuple[float, float] | None = None
 
 
 @dataclass(frozen=True)
@@ -315,7 +318,8 @@ def size_system(
             AxisSizing(
                 axis=pair.axis,
                 shape=pair.shape,
-                side_m=pair.side_m if pair.shape == "square" else None,
+                side_m=pair.size_keys.get("side_m"),
+                sides_m=pair.size_keys.get("sides_m"),
                 radius_m=pair.radius_m,
                 separation_m=pair.spacing_m,
                 turns=pair.turns,

@@ -172,6 +172,12 @@ class WoundPair:
         return {self._SIZE_KEY: float(sizes[0])}
 
     @property
+    def size_keys(self) -> dict[str, Any]:
+        """The pair's size as its design key's leaf and value: ``{"radius_m": R}``,
+        ``{"side_m": a}`` or ``{"sides_m": (a, b)}``, m."""
+        return {self._SIZE_KEY: getattr(self, self._SIZE_KEY)}
+
+    @property
     def helmholtz(self) -> bool:
         """Flag: the separation is the default spacing of the sizes (to 1e-12 of the size)."""
         size = self._size_m

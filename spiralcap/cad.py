@@ -56,9 +56,12 @@ def _solid(ring: Any) -> Any:
     from coils.clearance import Frame
 
     w, h = ring.width_m * _MM, ring.depth_m * _MM
-    if isinstance(ring, Frame):  # square frame, sides along the other axes, sharp corners
-        a = ring.side_m * _MM
-        body = Box(a + h, a + h, w) - Box(a - h, a - h, w)
+    if isinstance(ring, Frame):  # a frame, sides along the other axes, sharp corners
+        # its sides along the turned body's local x and y: the next two axes in cyclic order,
+        # taken in the order the turn below puts them (local x -> z for x, x for y and z)
+        a, b = (s * _MM for s in ring.sides_m)
+        lx, ly = ((b, a), (b, a), (a, b))[ring.axis]
+        body = Box(lx + h, ly + h, w) - Box(lx - h, ly - h, w)
     else:
         r = ring.radius_m * _MM
         body = Cylinder(r + 0.5 * h, w) - Cylinder(r - 0.5 * h, w)  # about z, centred

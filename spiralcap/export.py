@@ -64,18 +64,31 @@ def _rotation(axis: str) -> Any:
     return None
 
 
+def _local_halves(axis: str, half_u: float, half_v: float) -> tuple[float, float]:
+    """A filament's half sides along the next two axes in cyclic order (u, v), as half sides
+    along magpylib's local x and y after :func:`_rotation` (local x is z for an x pair and x
+    for a y pair: v there; u for a z pair)."""
+    return (half_u, half_v) if axis == "z" else (half_v, half_u)
+
+
 def _filament(
-    magpylib: Any, square: bool, size_m: float, position_m: Any, ampere_turns: float, rotation: Any
+    magpylib: Any,
+    halves: tuple[float, float] | None,
+    size_m: float,
+    position_m: Any,
+    ampere_turns: float,
+    rotation: Any,
 ) -> Any:
-    """One filament: a ``Circle`` of radius ``size_m``, or a closed ``Polyline`` square of half
-    side ``size_m`` (sides along the other two axes), counter-clockwise about its local z so a
-    positive current makes a field along the pair's axis, as spiralcap's sign."""
-    if not square:
+    """One filament: a ``Circle`` of radius ``size_m`` (``halves`` None), or a closed
+    ``Polyline`` rectangle of half sides ``halves`` along its local x and y (sides along the
+    other two axes), counter-clockwise about its local z so a positive current makes a field
+    along the pair's axis, as spiralcap's sign."""
+    if halves is None:
         return magpylib.current.Circle(
             current=ampere_turns, diameter=2.0 * size_m, position=position_m, orientation=rotation
         )
-    h = size_m
-    corners = [(h, -h, 0.0), (h, h, 0.0), (-h, h, 0.0), (-h, -h, 0.0), (h, -h, 0.0)]
+    h, k = halves
+    corners = [(h, -k, 0.0), (h, k, 0.0), (-h, k, 0.0), (-h, -k, 0.0), (h, -k, 0.0)]
     return magpylib.current.Polyline(
         current=ampere_turns, vertices=corners, position=position_m, orientation=rotation
     )
@@ -118,16 +131,22 @@ def to_magpylib(model: Any, currents_A: Sequence[float] = (1.0, 1.0, 1.0)) -> An
         e = np.eye(3)[pair.axis_index]
         rotation = _rotation(pair.axis)
         n = len(fs.turns) // 2  # filaments of one coil: the first half at -s/2, then +s/2
-        square = hasattr(fs, "half_sides_m")  # coils.square_pair.SquarePair
-        sizes = fs.half_sides_m if square else fs.radii_m
+        polygon = hasattr(fs, "half_sides_m")  # four straight sides (a square, a rectangle)
+        sizes = fs.half_sides_m if polygon else fs.radii_m
+        others = getattr(fs, "half_sides_v_m", sizes)  # a rectangle's second half sides
         for side in (slice(0, n), slice(n, 2 * n)):
             centre = float(np.mean(fs.centres_m[side]))
             loops = [
                 _filament(
-                    magpylib, square, float(size), float(z) * e, float(turns * current), rotation
+                    magpylib,
+                    _local_halves(pair.axis, float(size), float(other)) if polygon else None,
+                    float(size),
+                    float(z) * e,
+                    float(turns * current),
+                    rotation,
                 )
-                for size, z, turns in zip(
-                    sizes[side], fs.centres_m[side], fs.turns[side], strict=True
+                for size, other, z, turns in zip(
+                    sizes[side], others[side], fs.centres_m[side], fs.turns[side], strict=True
                 )
             ]
             coil = magpylib.Collection(*loops)

@@ -265,11 +265,12 @@ for _ax, _r, _n, _d in (("x", 0.43, 400, 3.0), ("y", 0.35, 350, 2.5), ("z", 0.28
 # square coil pairs (issue 30): the shape of each pair and the side of a square one
 for _ax in "xyz":
     KEYS[f"coils.{_ax}.shape"] = _choice(
-        f"shape of the {_ax} pair's coils: 'circle' (size coils.{_ax}.radius_m) or 'square' "
+        f"shape of the {_ax} pair's coils: 'circle' (size coils.{_ax}.radius_m), 'square' "
         f"(size coils.{_ax}.side_m, sides parallel to the other two axes, sharp corners, so "
-        "square pairs nest into a cube; docs/coils-square.md)",
+        f"square pairs nest into a cube) or 'rectangle' (sides coils.{_ax}.sides_m; "
+        "docs/coils-square.md)",
         "circle",
-        ("circle", "square"),
+        ("circle", "square", "rectangle"),
     )
     KEYS[f"coils.{_ax}.side_m"] = _between(
         f"side of each coil of a square {_ax} pair, on the winding's centre line (needed with "
@@ -279,6 +280,21 @@ for _ax in "xyz":
         0.02,
         4.0,
         open_=False,
+    )
+    KEYS[f"coils.{_ax}.sides_m"] = Key(
+        list,
+        None,
+        "two sides [a, b] in m, each from 0.02 to 4, with b/a from 0.25 to 4",
+        lambda v: (
+            isinstance(v, list)
+            and len(v) == 2
+            and all(_num(c) and 0.02 <= c <= 4.0 for c in v)
+            and 0.25 <= v[1] / v[0] <= 4.0
+        ),
+        f"sides of each coil of a rectangular {_ax} pair on the winding's centre line, along "
+        f"the next two axes in cyclic order (x: y, z; y: z, x; z: x, y); needed with "
+        f"coils.{_ax}.shape = 'rectangle'. Range: the square's sides; an aspect b/a from 0.25 "
+        "to 4, beyond which the zero-curvature spacing is no longer a Helmholtz-like pair",
     )
 
 KEYS.update(

@@ -305,6 +305,10 @@ def coils_payload(a: CoilAnalysis) -> dict[str, Any]:
     for s in sizing["axes"].values():  # a side only on a square pair (radius_m: half of it)
         if s["side_m"] is None:
             del s["side_m"]
+        if s["sides_m"] is None:  # sides only on a rectangle (radius_m: half the shorter)
+            del s["sides_m"]
+        else:
+            s["sides_m"] = list(s["sides_m"])
     for s in sizing["axes"].values():  # the side of a square pack only where it is one
         if not math.isclose(s["winding_pack_width_m"], s["winding_pack_depth_m"], rel_tol=1e-12):
             del s["winding_pack_side_m"]

@@ -20,49 +20,59 @@ def pack_clearance_m(pair_a: Any, pair_b: Any) -> float:
     return exact(pair_a, pair_b)
 
 
+#: Each shape's pair class (in :mod:`coils`) and the design key of its size.
+SHAPES: dict[str, tuple[str, str]] = {
+    "circle": ("HelmholtzPair", "radius_m"),
+    "square": ("SquarePair", "side_m"),
+    "rectangle": ("RectanglePair", "sides_m"),
+}
+_SIZE_WORDS = {"side_m": "a side in [0.02, 4] m", "sides_m": "two sides [a, b] in [0.02, 4] m"}
+
+
 def _size_key(design: Mapping[str, Any], ax: str) -> str:
-    """The key that sets the size of pair ``ax``: ``radius_m``, or ``side_m`` for a square.
+    """The key that sets the size of pair ``ax``: ``radius_m`` of a circle, ``side_m`` of a
+    square, ``sides_m`` of a rectangle.
 
     Raises
     ------
     InputError
-        A square pair without ``side_m``, or ``side_m`` on a circular pair.
+        A square or rectangle without its size key, or another shape's size key set (a
+        circle's ``radius_m`` has a default and is ignored by the other shapes).
     """
     key = f"coils.{ax}."
-    side = design.get(key + "side_m")
-    if design.get(key + "shape", "circle") == "square":
-        if side is None:
+    shape = design.get(key + "shape", "circle")
+    own = SHAPES[shape][1]
+    for other_shape, (_, other) in SHAPES.items():
+        if other != own and other != "radius_m" and design.get(key + other) is not None:
             raise InputError(
-                key + "side_m",
-                None,
-                f"a side in [0.02, 4] m: {key}shape = 'square' needs {key}side_m "
-                f"(a square pair does not use {key}radius_m)",
+                key + other,
+                design.get(key + other),
+                f"no value for a {shape} pair ({key}shape = '{shape}' is sized by {key}{own}); "
+                f"set {key}shape = '{other_shape}' to use it",
             )
-        return key + "side_m"
-    if side is not None:
+    if own != "radius_m" and design.get(key + own) is None:
         raise InputError(
-            key + "side_m",
-            side,
-            f"no value for a circular pair ({key}shape = 'circle' is sized by {key}radius_m); "
-            f"set {key}shape = 'square' to use a side",
+            key + own,
+            None,
+            f"{_SIZE_WORDS[own]}: {key}shape = '{shape}' needs {key}{own} "
+            f"(a {shape} pair does not use {key}radius_m)",
         )
-    return key + "radius_m"
+    return key + own
 
 
 def _pair(design: Mapping[str, Any], ax: str, packing: float) -> Any:
-    """The pair on axis ``ax`` (circular or square) with the design's cross-key checks."""
-    from coils import HelmholtzPair, SquarePair
-    from coils.square_pair import SQUARE_HELMHOLTZ_RATIO
+    """The pair on axis ``ax`` (its shape's class) with the design's cross-key checks."""
+    import coils
 
     key = f"coils.{ax}."
     size_key = _size_key(design, ax)
-    size = design[size_key]
-    square = size_key.endswith("side_m")
+    cls = getattr(coils, SHAPES[design.get(key + "shape", "circle")][0])
+    value = design[size_key]
+    sizes = tuple(float(v) for v in value) if isinstance(value, list) else (float(value),)
+    size = min(sizes)
     turns = design[key + "turns"]
     wire_mm = design[key + "wire_diameter_mm"]
-    separation = design.get(key + "separation_m") or (
-        SQUARE_HELMHOLTZ_RATIO * size if square else size
-    )
+    separation = design.get(key + "separation_m") or cls.default_spacing_m(sizes)
     aspect = design.get(key + "pack_aspect", 1.0)
     area = turns * math.pi * (wire_mm * 1e-3) ** 2 / 4.0 / packing
     depth, width = math.sqrt(area / aspect), math.sqrt(area * aspect)
@@ -72,7 +82,7 @@ def _pair(design: Mapping[str, Any], ax: str, packing: float) -> Any:
             wire_mm,
             f"a wire thin enough that the winding pack depth (now {depth:.4g} m "
             f"for {turns} turns at packing factor {packing:g}, aspect {aspect:g}) is "
-            f"below {size_key} = {size:g} m",
+            f"below {size_key} = {value} m",
         )
     if width >= separation:
         raise InputError(
@@ -89,9 +99,7 @@ def _pair(design: Mapping[str, Any], ax: str, packing: float) -> Any:
         "packing_factor": packing,
         "pack_aspect": aspect,
     }
-    if square:
-        return SquarePair(side_m=size, **common)
-    return HelmholtzPair(radius_m=size, **common)
+    return cls(**{cls._SIZE_KEY: value if len(sizes) == 1 else sizes}, **common)
 
 
 def build_coils(design: Mapping[str, Any]) -> Any:
@@ -100,10 +108,11 @@ def build_coils(design: Mapping[str, Any]) -> Any:
     Parameters
     ----------
     design : Mapping
-        Validated design (``spiralcap.design.Design``): keys ``coils.{x,y,z}.shape`` (circle
-        or square), ``radius_m`` (a circle) or ``side_m`` (a square), ``turns``,
-        ``wire_diameter_mm`` (converted to m), optional ``separation_m`` (default: the radius,
-        or 0.5445 x the side) and ``coils.packing_factor``.
+        Validated design (``spiralcap.design.Design``): keys ``coils.{x,y,z}.shape`` (circle,
+        square or rectangle), ``radius_m`` (a circle), ``side_m`` (a square) or ``sides_m`` (a
+        rectangle), ``turns``, ``wire_diameter_mm`` (converted to m), optional
+        ``separation_m`` (default: the radius, 0.5445 x the side, or a rectangle's spacing with
+        zero centre curvature) and ``coils.packing_factor``.
 
     Returns
     -------

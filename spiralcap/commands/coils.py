@@ -91,13 +91,20 @@ def _cooling_words(p: dict[str, Any]) -> str:
     )
 
 
+def _size_cell(a: dict[str, Any]) -> Any:
+    """A pair's size: its radius, a square's side, or a rectangle's sides as ``a x b``, m."""
+    if "sides_m" in a:
+        return " x ".join(f"{s:.4g}" for s in a["sides_m"])
+    return a["side_m"] if "side_m" in a else a["radius_m"]
+
+
 def _hardware_table(axes: list[dict[str, Any]]) -> str:
     """What does not depend on the current: geometry, copper, field per ampere, inductance."""
-    squares = any(a.get("shape") == "square" for a in axes)
+    frames = any("side_m" in a or "sides_m" in a for a in axes)  # a size other than a radius
     return format_table(
         [
             "axis",
-            "radius_or_side_m" if squares else "radius_m",
+            "radius_or_side_m" if frames else "radius_m",
             "turns",
             "wire_mm",
             "pack_w_mm",
@@ -110,8 +117,8 @@ def _hardware_table(axes: list[dict[str, Any]]) -> str:
         ],
         [
             [
-                a["axis"] + (" (square)" if a.get("shape") == "square" else ""),
-                a["side_m"] if "side_m" in a else a["radius_m"],
+                a["axis"] + (f" ({a['shape']})" if "side_m" in a or "sides_m" in a else ""),
+                _size_cell(a),
                 a["turns"],
                 a["wire_diameter_m"] * 1e3,
                 a["winding_pack_width_m"] * 1e3,

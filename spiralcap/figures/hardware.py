@@ -109,15 +109,19 @@ def plot_geometry(
     for name, hatch in (("x", ""), ("z", "///"), ("y", "")):
         pair = getattr(coils, name)
         colour, ls = _PAIR_STYLE[name]
-        r = pair.radius_m * _MM
+        # the mean turn's reach in the section plane (x-z): along z for x, along x for z
+        reaches = pair.reaches_m(pair.sizes_m)
+        r = float(reaches[1] if name == "x" else reaches[0]) * _MM
         h = 0.5 * pair.separation_m * _MM
         width, depth = pair.winding_pack_width_m * _MM, pair.winding_pack_depth_m * _MM
         extent = max(extent, r + depth, h + width)
         arts: list[Any] = []
-        square = getattr(pair, "shape", "circle") == "square"
-        if name == "y" and square:
-            # a square frame face-on: the band between the squares of half side r ± depth/2
-            arts.append(ax.add_patch(_square_band(r, depth, colour, ls)))
+        frame = not pair.RING
+        if name == "y" and frame:
+            # a frame face-on: the band between the rectangles of half sides reach ± depth/2
+            # (a y pair's first side runs along z, its second along x)
+            half_x, half_z = float(reaches[1]) * _MM, float(reaches[0]) * _MM
+            arts.append(ax.add_patch(_square_band(half_x, half_z, depth, colour, ls)))
         elif name == "y":
             # parallel to the section plane: the winding annulus seen face-on
             arts.append(
@@ -152,7 +156,7 @@ def plot_geometry(
                 marker="s",
                 markerfacecolor=colour if name != "y" else "none",
                 label=f"{name} pair: "
-                + (f"square, side {2 * r:.0f} mm" if square else f"R = {r:.0f} mm")
+                + (_frame_words(pair) if frame else f"R = {r:.0f} mm")
                 + f", spacing {2 * h:.0f} mm, "
                 f"pack {width:.0f} x {depth:.0f} mm" + (" (face-on)" if name == "y" else ""),
             )
@@ -192,17 +196,23 @@ def plot_geometry(
     return GeometryDrawn(drawn, ws, cap_ax)
 
 
-def _square_band(half_mm: float, depth_mm: float, colour: Any, ls: Any) -> Any:
-    """The face-on band of a square frame (outer square less the inner one), a PathPatch."""
+def _frame_words(pair: Any) -> str:
+    """A frame's legend words: ``square, side 780 mm`` or ``rectangle, sides 620 x 800 mm``."""
+    sizes = [f"{s * _MM:.0f}" for s in pair.sizes_m]
+    return f"{pair.shape}, side{'s' if len(sizes) > 1 else ''} {' x '.join(sizes)} mm"
+
+
+def _square_band(half_x_mm: float, half_z_mm: float, depth_mm: float, colour: Any, ls: Any) -> Any:
+    """The face-on band of a frame (outer rectangle less the inner one), a PathPatch."""
     from matplotlib.patches import PathPatch
     from matplotlib.path import Path
 
-    def square(h: float, reverse: bool) -> list[tuple[float, float]]:
-        corners = [(h, -h), (h, h), (-h, h), (-h, -h)]
+    def square(hx: float, hz: float, reverse: bool) -> list[tuple[float, float]]:
+        corners = [(hx, -hz), (hx, hz), (-hx, hz), (-hx, -hz)]
         return (corners[::-1] if reverse else corners) + [corners[-1] if reverse else corners[0]]
 
-    outer = square(half_mm + depth_mm / 2, False)
-    inner = square(half_mm - depth_mm / 2, True)
+    outer = square(half_x_mm + depth_mm / 2, half_z_mm + depth_mm / 2, False)
+    inner = square(half_x_mm - depth_mm / 2, half_z_mm - depth_mm / 2, True)
     codes = [Path.MOVETO, *[Path.LINETO] * 3, Path.CLOSEPOLY] * 2
     return PathPatch(
         Path(outer + inner, codes),

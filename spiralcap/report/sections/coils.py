@@ -51,17 +51,23 @@ SIZING_ROWS: tuple[tuple[str, str, str, float], ...] = (
 
 
 def _shape_rows(ctx: Context, axes: list[str]) -> list[list[Cell]]:
-    """With a square pair in the set: each pair's shape and a square's side (issue 30)."""
-    shapes = [ctx.value(f"coils.axes.{ax}").get("shape", "circle") for ax in axes]
-    if "square" not in shapes:
+    """With a square or rectangular pair in the set: each pair's shape and its sides (issue 30,
+    38)."""
+    rows = [ctx.value(f"coils.axes.{ax}") for ax in axes]
+    shapes = [r.get("shape", "circle") for r in rows]
+    if not any("side_m" in r or "sides_m" in r for r in rows):
         return []
     sides: list[Cell] = [
-        ctx.num(f"coils.axes.{ax}.side_m") if shape == "square" else "–"
-        for ax, shape in zip(axes, shapes, strict=True)
+        ctx.num(f"coils.axes.{ax}.side_m")
+        if "side_m" in r
+        else " x ".join(f"{s:.4g}" for s in r["sides_m"])
+        if "sides_m" in r
+        else "–"
+        for ax, r in zip(axes, rows, strict=True)
     ]
     return [
-        ["coil shape (a square pair's radius row: half its side)", "", *shapes],
-        ["side of a square coil a (mean turn)", "m", *sides],
+        ["coil shape (a frame's radius row: half its shorter side)", "", *shapes],
+        ["sides of a frame's mean turn", "m", *sides],
     ]
 
 
@@ -147,10 +153,11 @@ def _build_paragraph(ctx: Context) -> Paragraph:
     c = "coils"
     cl = ctx.value(f"{c}.pack_clearances_m")
     shapes = {ctx.value(f"{c}.axes.{ax}").get("shape", "circle") for ax in ctx.value(f"{c}.axes")}
-    solids = {
-        frozenset({"circle"}): "solid rings",
-        frozenset({"square"}): "solid square frames",
-    }.get(frozenset(shapes), "solid rings and square frames")
+    kinds = sorted(shapes - {"circle"})
+    words = (["rings"] if "circle" in shapes else []) + (
+        [" and ".join(kinds) + " frames"] if kinds else []
+    )
+    solids = "solid " + " and ".join(words)
     parts: list[Any] = [
         Strong("Can it be built. "),
         f"The winding packs are {solids} of rectangular section; as solids the packs of two "
