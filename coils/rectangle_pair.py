@@ -107,6 +107,8 @@ class RectanglePair(WoundPair):
     _FILAMENT_PAIR: ClassVar[str] = "(depth, axial) of counts"
     #: One size, the first side a: the sizing scales the rectangle at its aspect b / a.
     SIZE_NAMES: ClassVar[tuple[str, ...]] = ("side_a_m",)
+    #: The sizes that follow the free one (:meth:`scaled_sizes`): the second side b.
+    DERIVED_SIZE_NAMES: ClassVar[tuple[str, ...]] = ("side_b_m",)
 
     def _check_size(self) -> tuple[str, float]:
         """Two sides > 0 with b / a in range (InputError naming ``sides_m``); the shorter side

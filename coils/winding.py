@@ -131,6 +131,8 @@ class WoundPair:
     # --- the shape's terms (backend-generic, of the sizes; what the sizing NLP asks) ----------
     #: The names of the pair's sizes as hardware quantities (``radius_m``; ``side_m``; ...).
     SIZE_NAMES: ClassVar[tuple[str, ...]]
+    #: The names of the sizes that follow the first (:meth:`scaled_sizes`), none here.
+    DERIVED_SIZE_NAMES: ClassVar[tuple[str, ...]] = ()
 
     @property
     def sizes_m(self) -> tuple[float, ...]:

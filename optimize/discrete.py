@@ -526,10 +526,11 @@ def finish(
     # the same solve again, bit for bit, with the step-out and highest frequency
     full = _submit(executor, _full_result, ctx, values).result()
     free_box = {v.name: (v.lo, v.hi) for v in s.free}
+    discrete = {v.name: values[v.name] for v in s.free}
     result = HardwareResult(
-        relaxed=r.hardware,
+        relaxed={**r.hardware, **hw.derived_sizes(s.model, r.hardware)},
         relaxed_objective=_relaxed_objective(s, r),
-        discrete={v.name: values[v.name] for v in s.free},
+        discrete={**discrete, **hw.derived_sizes(s.model, discrete)},
         discrete_objective=full.objective_value,
         candidates=ranking.tried,
         feasible=ranking.feasible,

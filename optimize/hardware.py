@@ -200,6 +200,33 @@ def hardware_of(model: Any) -> dict[str, float]:
     return out
 
 
+def derived_sizes(model: Any, values: Mapping[str, float]) -> dict[str, float]:
+    """The sizes that follow a pair's free size in ``values`` (a rectangle's second side
+    ``<ax>.side_b_m`` at its aspect), by name, m: what a sized design needs besides its free
+    names.
+
+    Parameters
+    ----------
+    model : DesignModel
+        The design (its pairs' shapes).
+    values : mapping of str to float
+        Hardware by :data:`NAMES` name.
+
+    Returns
+    -------
+    dict of str to float
+        Each derived size by ``<ax>.<name>``, m (empty: none).
+    """
+    out: dict[str, float] = {}
+    for ax, p in zip(AXES, model.coils.pairs):
+        key = p.shape_key
+        name = size_name(ax, key)
+        if name in values and p.DERIVED_SIZE_NAMES:
+            sizes = p.scaled_sizes(key, values[name])
+            out.update({f"{ax}.{n}": float(v) for n, v in zip(p.DERIVED_SIZE_NAMES, sizes[1:])})
+    return out
+
+
 def helmholtz_flags(model: Any) -> tuple[bool, bool, bool]:
     """Per pair: does the separation follow the size (its default spacing: R, 0.5445 a, ...)?
 

@@ -704,7 +704,7 @@ FREEABLE_KEYS = (
     *(
         f"coils.{ax}.{q}"
         for ax in "xyz"
-        for q in ("turns", "wire_diameter_mm", "radius_m", "pack_aspect", "side_m")
+        for q in ("turns", "wire_diameter_mm", "radius_m", "pack_aspect", "side_m", "sides_m")
     ),
     "capsule.magnet.diameter_mm",
     "capsule.magnet.length_mm",
@@ -712,8 +712,13 @@ FREEABLE_KEYS = (
 )
 
 
+#: A freed key whose range is checked as another key's value: a rectangle is sized at its
+#: aspect b/a, its range bounds the first side a (a side, as a square's).
+_FREE_RANGE_AS = {f"coils.{ax}.sides_m": f"coils.{ax}.side_m" for ax in "xyz"}
+
+
 def _free_range(key: str) -> Key:
-    spec = KEYS[key]
+    spec = KEYS[_FREE_RANGE_AS.get(key, key)]
 
     def ok(v: Any) -> bool:
         if not (isinstance(v, list) and len(v) == 2 and all(_num(x) for x in v)):

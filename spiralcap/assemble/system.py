@@ -258,6 +258,8 @@ _HARDWARE_NAMES: dict[str, tuple[str, float]] = {
     **{f"coils.{ax}.wire_diameter_mm": (f"{ax}.wire_diameter_m", 1e-3) for ax in "xyz"},
     **{f"coils.{ax}.radius_m": (f"{ax}.radius_m", 1.0) for ax in "xyz"},
     **{f"coils.{ax}.side_m": (f"{ax}.side_m", 1.0) for ax in "xyz"},
+    # a rectangle is sized at its aspect: its first side a; the sized design holds [a, b]
+    **{f"coils.{ax}.sides_m": (f"{ax}.side_a_m", 1.0) for ax in "xyz"},
     **{f"coils.{ax}.pack_aspect": (f"{ax}.pack_aspect", 1.0) for ax in "xyz"},
     "capsule.magnet.diameter_mm": ("magnet.diameter_m", 1e-3),
     "capsule.magnet.length_mm": ("magnet.length_m", 1e-3),
@@ -293,20 +295,21 @@ def free_keys(design: Design) -> dict[str, tuple[float, float]]:
 
 def _check_free_sizes(design: Design, free: dict[str, tuple[float, float]]) -> None:
     """A freed pair size must be the pair's own: ``radius_m`` of a circle, ``side_m`` of a
-    square (InputError naming the freed key otherwise)."""
+    square, ``sides_m`` of a rectangle (InputError naming the freed key otherwise)."""
+    from spiralcap.assemble.coils import SHAPES
+
+    sizes = {size for _, size in SHAPES.values()}
     for key, rng in free.items():
         head, _, quantity = key.rpartition(".")
-        if quantity not in ("radius_m", "side_m") or not head.startswith("coils."):
+        if quantity not in sizes or not head.startswith("coils."):
             continue
-        square = design.get(head + ".shape", "circle") == "square"
-        own = "side_m" if square else "radius_m"
+        shape = design.get(head + ".shape", "circle")
+        own = SHAPES[shape][1]
         if quantity != own:
-            shape = "square" if square else "circular"
             raise InputError(
                 _FREE_PREFIX + key,
                 list(rng),
-                f"the size of a {shape} pair: free {head}.{own} ({head}.shape = "
-                f"'{'square' if square else 'circle'}')",
+                f"the size of a {shape} pair: free {head}.{own} ({head}.shape = '{shape}')",
             )
 
 
@@ -348,8 +351,13 @@ def hardware_design_values(values: dict[str, float]) -> dict[str, Any]:
     by_name = {name: (key, factor) for key, (name, factor) in _HARDWARE_NAMES.items()}
     out: dict[str, Any] = {}
     for name, v in values.items():
+        if name.endswith(".side_b_m"):  # a rectangle's second side: with its first below
+            continue
         key, factor = by_name[name]
         out[key] = round(v) if key.endswith(".turns") else float(f"{v / factor:.12g}")
+        second = values.get(name.removesuffix("side_a_m") + "side_b_m")
+        if name.endswith(".side_a_m") and second is not None:
+            out[key] = [out[key], float(f"{second:.12g}")]
     return out
 
 

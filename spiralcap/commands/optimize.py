@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import argparse
 import math
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from spiralcap.commands._common import (
     add_design_arguments,
@@ -288,8 +288,15 @@ def _hardware_lines(res) -> list[str]:
         f"{100 * rel:.2g} %)",
     ]
     for key, value in chosen.items():
-        lines.append(f"  {key:<34} {value!s:<10} (relaxed {relaxed[key]:.5g})")
+        lines.append(f"  {key:<34} {_value(value):<10} (relaxed {_value(relaxed[key], 5)})")
     return lines
+
+
+def _value(value: Any, digits: int | None = None) -> str:
+    """A sized key's value: a number, or a list of numbers (a rectangle's sides) as [a, b]."""
+    if isinstance(value, list):
+        return "[" + ", ".join(_value(v, digits) for v in value) + "]"
+    return str(value) if digits is None else f"{value:.{digits}g}"
 
 
 def _turns(values: dict[str, float]) -> dict[str, float]:
