@@ -32,7 +32,7 @@ which for g << a, b is Grover's rectangle (DESIGN.md 4.1; Grover 1946, ch. 5, eq
 wire's GMD: (μ0/π)[a ln(2a/g) + b ln(2b/g) + 2d - a asinh(a/b) - b asinh(b/a) - 2(a + b)].
 
 Helmholtz spacing: the on-axis field of one rectangle of sides a, b at height z is
-μ0 I a b / (π sqrt(a² + b² + 4z²)) [1/(a² + 4z²) + 1/(b² + 4z²)]; the pair's centre field has
+2 μ0 I a b / (π sqrt(a² + b² + 4z²)) [1/(a² + 4z²) + 1/(b² + 4z²)]; the pair's centre field has
 zero curvature where d²/dz² of it vanishes at z = s/2 (:func:`helmholtz_spacing_ratio`, found
 numerically; 0.54451 at a = b, Firester's 0.5445).
 """
@@ -199,7 +199,7 @@ def grover_rectangle_inductance_H(side_a_m: Any, side_b_m: Any, gmd_m: Any) -> A
 
 def rectangle_axial_field_T_per_A(side_a_m: Any, side_b_m: Any, z_m: Any) -> Any:
     """Field per ampere on the axis of one rectangle of sides a, b at distance z from its plane,
-    μ0 a b / (π sqrt(a² + b² + 4z²)) [1/(a² + 4z²) + 1/(b² + 4z²)], T/A. Backend-generic.
+    2 μ0 a b / (π sqrt(a² + b² + 4z²)) [1/(a² + 4z²) + 1/(b² + 4z²)], T/A. Backend-generic.
 
     Parameters
     ----------
@@ -221,7 +221,8 @@ def rectangle_axial_field_T_per_A(side_a_m: Any, side_b_m: Any, z_m: Any) -> Any
     """
     a2, b2, z4 = side_a_m * side_a_m, side_b_m * side_b_m, 4.0 * z_m * z_m
     return (
-        MU0_T_m_per_A
+        2.0
+        * MU0_T_m_per_A
         * side_a_m
         * side_b_m
         / (bk.pi * bk.sqrt(a2 + b2 + z4))
