@@ -566,7 +566,7 @@ class HardwareStructure:
         Flag: the copper-mass row is part of the problem.
     shapes : tuple of tuple
         Per pair, its ``shape_key`` (:func:`shape_keys`): the pair class, which gives the
-        shape's terms, and any fixed number its sizes follow; empty: three circles.
+        shape's terms, and any fixed number its sizes follow (one per pair).
     """
 
     free: tuple[str, ...]
@@ -576,16 +576,12 @@ class HardwareStructure:
     shapes: tuple = ()
 
     def shape(self, k: int) -> Any:
-        """Pair k's class (``coils.HelmholtzPair`` when ``shapes`` is empty)."""
-        if not self.shapes:
-            from coils.pair import HelmholtzPair
-
-            return HelmholtzPair
+        """Pair k's class (a ``coils.winding.WoundPair``)."""
         return self.shapes[k][0]
 
     def key(self, k: int) -> tuple[Any, ...]:
         """Pair k's shape key."""
-        return self.shapes[k] if self.shapes else (self.shape(k),)
+        return self.shapes[k]
 
     @property
     def names(self) -> tuple[str, ...]:

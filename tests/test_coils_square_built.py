@@ -226,7 +226,7 @@ def test_vertical_bar_convection_by_hand_and_blend() -> None:
     base = dict(
         pack_width_m=w,
         pack_depth_m=d,
-        mean_radius_m=0.6,
+        mean_radius_m=2.0 * height / np.pi,  # a square frame of side `height`: 4a / (2 pi)
         packing_factor=0.7,
         conductivity_W_mK=0.5,
         heat_transfer_coefficient_W_m2K=0.0,
@@ -236,7 +236,8 @@ def test_vertical_bar_convection_by_hand_and_blend() -> None:
     ring = convection_coefficient_W_m2K(WindingPack(**base), ts, ta)
     frame = convection_coefficient_W_m2K(WindingPack(**base, vertical_bar_height_m=height), ts, ta)
     assert frame == pytest.approx(0.5 * (ring + by_hand), rel=1e-12), (
-        "a vertical frame: half horizontal bars (the ring's cylinder), half vertical bars"
+        "a vertical square frame: half horizontal bars (the ring's cylinder), half vertical bars "
+        "(the vertical bars' share of the mean turn, 2a / 4a)"
     )
     import casadi as ca
 

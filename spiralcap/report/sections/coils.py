@@ -54,7 +54,7 @@ def _shape_rows(ctx: Context, axes: list[str]) -> list[list[Cell]]:
     """With a square or rectangular pair in the set: each pair's shape and its sides (issue 30,
     38)."""
     rows = [ctx.value(f"coils.axes.{ax}") for ax in axes]
-    shapes = [r.get("shape", "circle") for r in rows]
+    shapes = [r["shape"] for r in rows]
     if not any("side_m" in r or "sides_m" in r for r in rows):
         return []
     sides: list[Cell] = [
@@ -152,9 +152,10 @@ def _bom_table(ctx: Context) -> Table:
 def _build_paragraph(ctx: Context) -> Paragraph:
     c = "coils"
     cl = ctx.value(f"{c}.pack_clearances_m")
-    shapes = {ctx.value(f"{c}.axes.{ax}").get("shape", "circle") for ax in ctx.value(f"{c}.axes")}
-    kinds = sorted(shapes - {"circle"})
-    words = (["rings"] if "circle" in shapes else []) + (
+    rows = [ctx.value(f"{c}.axes.{ax}") for ax in ctx.value(f"{c}.axes")]
+    framed = ["side_m" in r or "sides_m" in r for r in rows]  # a size other than a radius
+    kinds = sorted({r["shape"] for r, f in zip(rows, framed, strict=True) if f})
+    words = (["rings"] if not all(framed) else []) + (
         [" and ".join(kinds) + " frames"] if kinds else []
     )
     solids = "solid " + " and ".join(words)
