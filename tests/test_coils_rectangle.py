@@ -374,3 +374,59 @@ def test_cli_sizing_with_free_z_turns(tmp_path, capsys) -> None:
     res = json.loads(capsys.readouterr().out)
     assert res["hardware"]["discrete"]["coils.z.turns"] >= 100
     assert "sides_m = [0.62, 0.8]" in out.read_text(), "the sized design keeps the sides"
+
+
+def _rect_model(sets=()):
+    from spiralcap.assemble import build_model
+    from spiralcap.design import load_design
+
+    return build_model(load_design(str(RECT_EXAMPLE), list(sets)))
+
+
+def test_export_to_magpylib_of_rectangles_on_every_axis() -> None:
+    """Rectangles on x, y and z: to_magpylib's closed Polylines (spiralcap.export) against
+    spiralcap's field, pair by pair (the cyclic orientation of the sides on each axis)."""
+    from spiralcap.export import to_magpylib
+
+    system = coils.ThreeAxisHelmholtz(
+        _pair("x", (1.0, 0.7)), _pair("y", (0.6, 0.9)), _pair("z", (0.5, 0.8), filaments=(2, 2))
+    )
+    points = np.random.default_rng(4).uniform(-0.15, 0.15, (40, 3))
+    for k, currents in enumerate(np.eye(3)):
+        got = to_magpylib(system, currents_A=tuple(currents)).getB(points)
+        ref = system.field(points, currents)
+        err = np.max(np.linalg.norm(got - ref, axis=1)) / np.max(np.linalg.norm(ref, axis=1))
+        assert err < 1e-6, f"pair {k}: magpylib Polyline rectangles vs spiralcap, rel 1e-6"
+
+
+def test_step_frames_have_the_rectangle_volume_and_distances(tmp_path, capsys) -> None:
+    b3d = pytest.importorskip("build123d")
+
+    step = tmp_path / "rect.step"
+    assert cli.main(["coils", str(RECT_EXAMPLE), "--step", str(step), "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    solids = {c.label: c for c in b3d.import_step(str(step)).children}
+    z = _rect_model().coils.z
+    a, b = z.sides_m
+    expected = 2 * (a + b) * z.winding_pack_width_m * z.winding_pack_depth_m * 1e9
+    assert solids["coil_z+"].volume == pytest.approx(expected, rel=1e-6), (
+        "a rectangular frame's volume 2 (a + b) w h (mm³), 1e-6"
+    )
+    box = solids["coil_z+"].bounding_box()
+    h = z.winding_pack_depth_m * 1e3
+    assert box.size.X == pytest.approx(a * 1e3 + h, abs=1e-6), "side a + h along x (z pair)"
+    assert box.size.Y == pytest.approx(b * 1e3 + h, abs=1e-6), "side b + h along y"
+    for key in ("x/z", "y/z"):
+        p, q = key.split("/")
+        kernel = min(
+            solids[f"coil_{p}{s}"].distance_to(solids[f"coil_{q}{t}"]) for s in "-+" for t in "-+"
+        )
+        assert out["pack_clearances_m"][key] * 1e3 == pytest.approx(kernel, abs=1e-3), (
+            f"{key}: spiralcap's frame distance vs OpenCASCADE's on the STEP solids, 1 µm"
+        )
+    bom = {r["axis"]: r for r in out["bill_of_materials"]}["z"]
+    from spiralcap.analysis.bom import LEAD_ALLOWANCE_PER_COIL_m
+
+    assert bom["wire_length_m"] == pytest.approx(
+        2 * 300 * 2 * (a + b) + 2 * LEAD_ALLOWANCE_PER_COIL_m
+    ), "bill of materials: 2 N · 2(a + b) plus the leads"

@@ -102,6 +102,12 @@ def _pair(design: Mapping[str, Any], ax: str, packing: float) -> Any:
     return cls(**{cls._SIZE_KEY: value if len(sizes) == 1 else sizes}, **common)
 
 
+def _noun(size_key: str) -> str:
+    """'a radius', 'a side' or 'sides' for a size key."""
+    noun = size_key.rpartition(".")[2][:-2]
+    return noun if noun.endswith("s") else "a " + noun
+
+
 def build_coils(design: Mapping[str, Any]) -> Any:
     """The three-axis Helmholtz system a design describes.
 
@@ -140,7 +146,7 @@ def build_coils(design: Mapping[str, Any]) -> Any:
             raise InputError(
                 size_key,
                 design[size_key],
-                f"a {size_key.rpartition('.')[2][:-2]} at which the {a} and {b} winding packs "
+                f"{_noun(size_key)} at which the {a} and {b} winding packs "
                 f"do not intersect (as solids they overlap by at least {-gap * 1e3:.3g} mm; "
                 "nest the pairs with sizes further apart or thinner packs)",
             )
