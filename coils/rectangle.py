@@ -90,7 +90,7 @@ def rectangle_field_local(
     >>> import math
     >>> b = rectangle_field_local(0.4, 0.31, 0.0, 0.0, 0.0)[2]
     >>> a, c = 0.8, 0.62  # the centre of a rectangle: 2 μ0 sqrt(a² + c²) / (π a c)
-    >>> round(b / (2 * 4e-7 * math.pi * math.hypot(a, c) / (math.pi * a * c)), 6)
+    >>> round(float(b / (2 * 4e-7 * math.pi * math.hypot(a, c) / (math.pi * a * c))), 6)
     1.0
     """
     hu, hv = half_u_m, half_v_m
@@ -139,7 +139,7 @@ def rectangle_mutual_inductance_H(
     --------
     >>> from coils.square import square_mutual_inductance_H
     >>> m_sq = square_mutual_inductance_H(0.3, 0.3, 0.2)
-    >>> abs(rectangle_mutual_inductance_H(0.3, 0.3, 0.3, 0.3, 0.2) / m_sq - 1) < 1e-15
+    >>> bool(abs(rectangle_mutual_inductance_H(0.3, 0.3, 0.3, 0.3, 0.2) / m_sq - 1) < 1e-15)
     True
     """
     u1, v1, u2, v2, z = half_u1_m, half_v1_m, half_u2_m, half_v2_m, distance_m
@@ -188,7 +188,7 @@ def grover_rectangle_inductance_H(side_a_m: Any, side_b_m: Any, gmd_m: Any) -> A
     --------
     >>> from coils.square_pair import grover_square_inductance_H
     >>> sq = grover_square_inductance_H(0.6, 0.01)
-    >>> abs(grover_rectangle_inductance_H(0.6, 0.6, 0.01) / sq - 1) < 1e-12
+    >>> bool(abs(grover_rectangle_inductance_H(0.6, 0.6, 0.01) / sq - 1) < 1e-12)
     True
     """
     a, b, g = side_a_m, side_b_m, gmd_m
@@ -216,7 +216,7 @@ def rectangle_axial_field_T_per_A(side_a_m: Any, side_b_m: Any, z_m: Any) -> Any
     Examples
     --------
     >>> b0 = rectangle_axial_field_T_per_A(0.8, 0.62, 0.0)
-    >>> abs(b0 / rectangle_field_local(0.4, 0.31, 0.0, 0.0, 0.0)[2] - 1) < 1e-14
+    >>> bool(abs(b0 / rectangle_field_local(0.4, 0.31, 0.0, 0.0, 0.0)[2] - 1) < 1e-14)
     True
     """
     a2, b2, z4 = side_a_m * side_a_m, side_b_m * side_b_m, 4.0 * z_m * z_m

@@ -89,7 +89,7 @@ class RectanglePair(WoundPair):
     --------
     >>> p = RectanglePair(sides_m=(0.8, 0.62), turns=300, wire_diameter_m=2.36e-3)
     >>> round(p.separation_m / 0.8, 4), round(p.mean_turn_length_m, 3)
-    (0.4714, 2.84)
+    (0.4597, 2.84)
     """
 
     sides_m: tuple[float, float]

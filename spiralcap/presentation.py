@@ -11,6 +11,8 @@ import math
 from collections.abc import Mapping
 from typing import Any
 
+from spiralcap.keymap import design_key, si_factor
+
 #: How an SI unit is shown: SI unit -> (shown unit, factor from SI to shown).
 SHOWN_UNITS: dict[str, tuple[str, float]] = {
     "T": ("mT", 1e3),
@@ -268,15 +270,23 @@ def binding(limits: Any) -> tuple[Any, ...]:
     return tuple(b for b in limits if on_bound(*parts(b)))
 
 
+def _domain_words(words: str, field: str, unit: str) -> tuple[str, str, str, float]:
+    """(words, design key, shown unit, factor from SI) of a model field shown in its design
+    key's unit (:mod:`spiralcap.keymap`)."""
+    key = design_key(field)
+    return words, key, unit, 1.0 / si_factor(key)
+
+
 #: How each model input of torque_model.domain.CALIBRATED is named and shown: quantity ->
-#: (words, design key, shown unit, factor from SI).
+#: (words, design key, shown unit, factor from SI); the key and factor from spiralcap.keymap.
 _DOMAIN_WORDS: dict[str, tuple[str, str, str, float]] = {
-    "helical_angle_rad": ("helical angle", "capsule.spiral.helical_angle_deg", "°", 180 / math.pi),
-    "frequency_hz": ("rotation frequency", "operation.frequency_hz", "Hz", 1.0),
-    "body_diameter_m": ("capsule diameter", "capsule.diameter_mm", "mm", 1e3),
-    "wire_diameter_m": ("spiral wire diameter", "capsule.spiral.wire_diameter_mm", "mm", 1e3),
-    "starts": ("spiral starts", "capsule.spiral.starts", "", 1.0),
-    "lumen_diameter_m": ("lumen", "tissue.lumen_diameter_mm", "mm", 1e3),
+    "helical_angle_rad": _domain_words("helical angle", "spiral.helical_angle_rad", "°"),
+    "frequency_hz": _domain_words("rotation frequency", "operation.frequency_hz", "Hz"),
+    "body_diameter_m": _domain_words("capsule diameter", "body.diameter_m", "mm"),
+    "wire_diameter_m": _domain_words("spiral wire diameter", "spiral.wire_diameter_m", "mm"),
+    "starts": _domain_words("spiral starts", "spiral.starts", ""),
+    "lumen_diameter_m": _domain_words("lumen", "tissue.lumen_diameter_m", "mm"),
+    # a ratio shown in per cent (its key has no unit)
     "wall_strain": ("wall strain", "requirements.min_wall_strain", "%", 100.0),
 }
 

@@ -12,25 +12,18 @@ from contextlib import contextmanager
 from typing import TYPE_CHECKING, Any
 
 from spiralcap.core.errors import InputError
+from spiralcap.keymap import FIELD_KEYS
 from spiralcap.schema import KEYS, to_si, validate_value
 
 if TYPE_CHECKING:
     from capsule import Capsule
 
-#: Capsule-domain field (``part.parameter``) -> design key.
+#: Capsule-domain field (``part.parameter``) -> design key (the capsule's rows of
+#: :data:`spiralcap.keymap.FIELD_KEYS`).
 _DESIGN_KEY: dict[str, str] = {
-    "body.diameter_m": "capsule.diameter_mm",
-    "body.length_m": "capsule.length_mm",
-    "body.shell_thickness_m": "capsule.shell_thickness_mm",
-    "spiral.helical_angle_rad": "capsule.spiral.helical_angle_deg",
-    "spiral.wire_diameter_m": "capsule.spiral.wire_diameter_mm",
-    "spiral.wound_length_m": "capsule.spiral.wound_length_mm",
-    "spiral.starts": "capsule.spiral.starts",
-    "magnet.diameter_m": "capsule.magnet.diameter_mm",
-    "magnet.length_m": "capsule.magnet.length_mm",
-    "magnet.inner_diameter_m": "capsule.magnet.inner_diameter_mm",
-    "magnet.remanence_T": "capsule.magnet.remanence_T",
-    "magnet.grade": "capsule.magnet.grade",
+    field: key
+    for field, key in FIELD_KEYS.items()
+    if field.startswith(("body.", "spiral.", "magnet."))
 }
 
 

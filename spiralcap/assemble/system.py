@@ -10,7 +10,8 @@ import numpy as np
 
 from spiralcap.core.errors import InputError
 from spiralcap.design import Design
-from spiralcap.schema import to_si, winding_temperature_C
+from spiralcap.keymap import field_of, si_factor
+from spiralcap.schema import FREEABLE_KEYS, to_si, winding_temperature_C
 
 #: Below this helical angle the D' conversion of torque_model.geometry no longer holds for the
 #: paper's capsule (the bump wraps round the back; see its docstring).
@@ -252,18 +253,11 @@ def constraint_key(name: str) -> str:
     return ""
 
 
-#: freeable design key -> (optimize.hardware name, SI factor)
+#: freeable design key -> (optimize.hardware name, SI factor): the hardware rows of
+#: :data:`spiralcap.keymap.FIELD_KEYS`, the factor from the key's name (a rectangle is sized at
+#: its aspect by its first side a; the sized design holds [a, b])
 _HARDWARE_NAMES: dict[str, tuple[str, float]] = {
-    **{f"coils.{ax}.turns": (f"{ax}.turns", 1.0) for ax in "xyz"},
-    **{f"coils.{ax}.wire_diameter_mm": (f"{ax}.wire_diameter_m", 1e-3) for ax in "xyz"},
-    **{f"coils.{ax}.radius_m": (f"{ax}.radius_m", 1.0) for ax in "xyz"},
-    **{f"coils.{ax}.side_m": (f"{ax}.side_m", 1.0) for ax in "xyz"},
-    # a rectangle is sized at its aspect: its first side a; the sized design holds [a, b]
-    **{f"coils.{ax}.sides_m": (f"{ax}.side_a_m", 1.0) for ax in "xyz"},
-    **{f"coils.{ax}.pack_aspect": (f"{ax}.pack_aspect", 1.0) for ax in "xyz"},
-    "capsule.magnet.diameter_mm": ("magnet.diameter_m", 1e-3),
-    "capsule.magnet.length_mm": ("magnet.length_m", 1e-3),
-    "capsule.spiral.wire_diameter_mm": ("spiral.wire_diameter_m", 1e-3),
+    key: (field_of(key), si_factor(key)) for key in FREEABLE_KEYS
 }
 _FREE_PREFIX = "optimize.free."
 
