@@ -411,8 +411,8 @@ def build(ctx: Context) -> Section:
         "fig-geometry",
         "The hardware to scale. Left: section through the coil centre in the x–z plane, in mm: "
         "the x and z pairs cut through their winding packs (rectangles of axial width x radial "
-        "depth at the mean radius, or at half the side of a square pair; solid and dash-dot "
-        "lines the coils edge-on), the y pair face-on (its winding annulus or square frame, "
+        "depth at the mean radius, or at half the side of a frame across the section; solid "
+        "and dash-dot lines the coils edge-on), the y pair face-on (its winding annulus or frame, "
         "dashed outline, light fill), the workspace sphere "
         "dash-dotted; black segments: where the packs of two pairs come closest (the 3-D "
         "segment between the solids projected onto the section; its length in the legend). "
