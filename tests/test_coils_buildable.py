@@ -350,6 +350,12 @@ def test_step_read_back_six_named_solids_of_the_right_volume(tmp_path, capsys) -
     assert sorted(solids) == sorted(
         [f"coil_{ax}{s}" for ax in "xyz" for s in "-+"] + ["workspace"]
     ), "six named packs and the workspace"
+    _check_volumes_and_copper(solids, capsys)
+    _check_apart_as_the_tool_says(solids, capsys)
+
+
+def _check_volumes_and_copper(solids: dict, capsys) -> None:
+    """Each pack 2πR·w·h (0.5 %), the workspace sphere, and the copper mass from the volumes."""
     model = build_model(load_design(None))
     for pair in model.coils.pairs:
         expected = (
@@ -366,6 +372,10 @@ def test_step_read_back_six_named_solids_of_the_right_volume(tmp_path, capsys) -
         assert masses[pair.axis]["copper_mass_kg"] == pytest.approx(from_cad, rel=0.01), (
             "copper mass = CAD volume of the two packs x packing factor x 8890 kg/m³ (1 %)"
         )
+
+
+def _check_apart_as_the_tool_says(solids: dict, capsys) -> None:
+    """No two packs share a volume; the kernel's distances are the tool's clearances."""
     packs = [solids[f"coil_{ax}{s}"] for ax in "xyz" for s in "-+"]
     for a, b in itertools.combinations(packs, 2):
         common = (a & b).volume if (a & b) is not None else 0.0
