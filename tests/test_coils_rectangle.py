@@ -399,6 +399,7 @@ def test_export_to_magpylib_of_rectangles_on_every_axis() -> None:
         assert err < 1e-6, f"pair {k}: magpylib Polyline rectangles vs spiralcap, rel 1e-6"
 
 
+@pytest.mark.slow
 def test_step_frames_have_the_rectangle_volume_and_distances(tmp_path, capsys) -> None:
     b3d = pytest.importorskip("build123d")
 
