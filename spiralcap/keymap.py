@@ -44,6 +44,7 @@ FIELD_KEYS: dict[str, str] = {
     **{f"{ax}.pack_aspect": f"coils.{ax}.pack_aspect" for ax in _AXES},
     # the operating point and the patient
     "operation.frequency_hz": "operation.frequency_hz",
+    "operation.field_amplitude_T": "operation.field_amplitude_mT",
     "tissue.lumen_diameter_m": "tissue.lumen_diameter_mm",
 }
 

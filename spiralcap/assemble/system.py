@@ -10,7 +10,7 @@ import numpy as np
 
 from spiralcap.core.errors import InputError
 from spiralcap.design import Design
-from spiralcap.keymap import field_of, si_factor
+from spiralcap.keymap import design_key, field_of, from_field_si, si_factor
 from spiralcap.schema import FREEABLE_KEYS, to_si, winding_temperature_C
 
 #: Below this helical angle the D' conversion of torque_model.geometry no longer holds for the
@@ -358,14 +358,13 @@ def hardware_design_values(values: dict[str, float]) -> dict[str, Any]:
 def optimum_values(design: Design, result: Any) -> dict[str, Any]:
     """The design keys an optimum sets: angle, frequency, the field where the objective set it,
     and every freed hardware key at its discrete optimum."""
-    values: dict[str, Any] = {
-        "capsule.spiral.helical_angle_deg": math.degrees(result.helical_angle_rad),
-        "operation.frequency_hz": float(result.frequency_hz),
+    fields = {
+        "spiral.helical_angle_rad": result.helical_angle_rad,
+        "operation.frequency_hz": result.frequency_hz,
     }
-    if result.field_is_set:
-        values["operation.field_amplitude_mT"] = float(result.field_amplitude_T * 1e3)
-    elif design.get("operation.field_amplitude_mT") is not None:
-        values["operation.field_amplitude_mT"] = float(result.field_amplitude_T * 1e3)
+    if result.field_is_set or design.get("operation.field_amplitude_mT") is not None:
+        fields["operation.field_amplitude_T"] = result.field_amplitude_T
+    values: dict[str, Any] = {design_key(f): float(from_field_si(f, v)) for f, v in fields.items()}
     if result.hardware is not None:
         values.update(hardware_design_values(result.hardware.discrete))
     return values
