@@ -18,7 +18,6 @@ from typing import Any
 
 import numpy as np
 
-from coils.pair import HelmholtzPair
 from coils.system import PAIR_TYPES, ThreeAxisHelmholtz
 from spiralcap.core.errors import InputError, check_positive
 
@@ -81,7 +80,9 @@ def _field_function(coils: Any, currents_A: Any) -> Callable[[np.ndarray], np.nd
             raise InputError("currents_A", currents_A, "three finite currents, not all zero")
         return lambda p: coils.field(p, currents)
     raise InputError(
-        "system", type(coils).__name__, "a HelmholtzPair, SquarePair or ThreeAxisHelmholtz"
+        "system",
+        type(coils).__name__,
+        "a coil pair (HelmholtzPair, SquarePair, RectanglePair) or ThreeAxisHelmholtz",
     )
 
 
@@ -440,7 +441,7 @@ def _pair_similarity_key(pair: Any) -> tuple[bytes, ...]:
     """
     fs = pair.filament_set
     r = pair.radius_m
-    if isinstance(pair, HelmholtzPair):
+    if pair.RING:
         return (
             (fs.radii_m / r).tobytes(),
             (fs.centres_m / r).tobytes(),
@@ -481,7 +482,11 @@ def pair_uniform_regions(pairs: Any, tolerances: Any) -> tuple[tuple[UniformRegi
     out = []
     for pair in pairs:
         if not isinstance(pair, PAIR_TYPES):
-            raise InputError("pairs", type(pair).__name__, "HelmholtzPair or SquarePair instances")
+            raise InputError(
+                "pairs",
+                type(pair).__name__,
+                "coil pairs (HelmholtzPair, SquarePair, RectanglePair)",
+            )
         key = _pair_similarity_key(pair)
         axis = pair.axis_index
         if key in done:
@@ -499,9 +504,9 @@ def pair_uniform_regions(pairs: Any, tolerances: Any) -> tuple[tuple[UniformRegi
             )
         else:
             field = _field_function(pair, None)
-            if isinstance(pair, HelmholtzPair):
+            if pair.RING:
                 found = _radius_axisymmetric(field, tols, pair.radius_m, axis)
-            else:  # a square pair is not axisymmetric: the full ray lattice
+            else:  # a frame is not axisymmetric: the full ray lattice
                 found = _radius(field, tols, pair.radius_m)
             mine = tuple(UniformRegion(r, t, u, np.eye(3)[axis]) for (r, u), t in zip(found, tols))
             done[key] = (pair, mine)
