@@ -1,7 +1,8 @@
 """What a pair of series coils with rectangular winding packs has whatever shape its turns are.
 
-:class:`coils.HelmholtzPair` (circular turns, size the mean radius R) and
-:class:`coils.SquarePair` (square turns, size the side a of the mean turn) share the winding:
+:class:`coils.HelmholtzPair` (circular turns, size the mean radius R),
+:class:`coils.SquarePair` (square turns, size the side a of the mean turn) and
+:class:`coils.RectanglePair` (rectangular turns, sides a, b) share the winding:
 N turns of round copper wire of bare diameter d in a section of area
 A = N π d² / 4 / packing_factor, axial width w = sqrt(A · aspect), depth h = sqrt(A / aspect)
 across the turn; two coils at ±s/2 on the pair's axis carrying the same current in the same
@@ -10,6 +11,19 @@ geometry, the Gauss-Legendre grids of both packs, the field, the DC resistance, 
 inductance and the convective conductance. Each pair supplies its size, the length of its mean
 turn per unit of size (2π for a circle, 4 for a square), the filament set of its shape, the
 centre field of a set of its filaments and its inductances.
+
+The shape is an object every layer asks (issue 38): each pair class also owns its
+backend-generic terms for numpy and CasADi (:meth:`WoundPair.terms`: the two-filament gain, the
+wire, the self and mutual inductance; :meth:`~WoundPair.turn_length_m`,
+:meth:`~WoundPair.reach_m`, :meth:`~WoundPair.depth_limit_m`, :meth:`~WoundPair.tube_radius_m`,
+:meth:`~WoundPair.half_extents_m`, :meth:`~WoundPair.thermal_ring`, the mean turn's points and
+distance, :meth:`~WoundPair.scaled_sizes`, :meth:`~WoundPair.spacing_per_size`) and its parts
+(:meth:`~WoundPair.pack_solids`, :meth:`~WoundPair.view_pack`,
+:attr:`~WoundPair.vertical_bar_height_m`, :meth:`~WoundPair.formula_corrections`,
+:attr:`~WoundPair.size_keys`, :attr:`~WoundPair.RING`), so the sizing NLP, the clearances, the
+cooling, the CAD and the export never test which shape a pair is. The resistance
+(:meth:`WoundPair.resistance_ohm`) and each shape's ``self_inductance_H`` and
+``mutual_inductance_H`` are each one method: where a measured value would sit.
 """
 
 from __future__ import annotations
