@@ -385,7 +385,8 @@ class MarginProblem:
 
     @property
     def min_wall_strain(self) -> float:
-        """The least wall strain a sample must reach to grip (requirements.min_wall_strain)."""
+        """The least wall strain a sample must reach to grip (requirements.min_wall_strain),
+        dimensionless."""
         return float(self.requirements.min_wall_strain)
 
     def nominal_margin_Nm(self) -> float:
@@ -630,7 +631,7 @@ class Probability:
     value : float
         Share of the samples, a probability.
     ci95 : (float, float)
-        Wilson score 95 % interval, probabilities.
+        Wilson score 95 % interval, a probability each.
     count : int
         Number of samples in it, count.
     """
@@ -709,7 +710,7 @@ class UncertaintyResult:
     min_wall_strain : float
         The minimum strain the samples were judged against, dimensionless.
     closed_form : dict of str to float
-        The exact probabilities where a closed form exists (:func:`grip_loss_probability`:
+        The exact probabilities (a probability each) where a closed form exists (:func:`grip_loss_probability`:
         ``no_grip`` always, ``below_min_strain`` without wall-thickness uncertainty).
     strains : ndarray
         Every sample's least wall strain in sample order, dimensionless.
