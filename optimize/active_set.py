@@ -116,9 +116,8 @@ def worst_margins(model: DesignModel, alpha: float, f: float, field: float) -> n
     from optimize.robust import effective_margins, scenario_rows
 
     sc = model.scenarios
-    rows = scenario_rows(
-        alpha, f, field, model.constants, model.requirements, sc.tissues, sc.grip_torque_Nm
-    )
+    c, req = model.constants, model.requirements
+    rows = scenario_rows(alpha, f, field, c, req, sc.tissues, sc.grip_torque_Nm, sc.grip)
     return effective_margins(rows, sc.count)
 
 

@@ -82,11 +82,14 @@ class ScenarioStructure:
         Number of nominal tissue sets.
     failure_constraint : bool
         Flag: the failure probability row is part of the problem.
+    grip : bool
+        Flag: the grip rows are part of the problem (the scenarios move the wall strain).
     """
 
     count: int
     sets: int
     failure_constraint: bool
+    grip: bool = True
 
 
 @dataclass(frozen=True, eq=False)
@@ -113,8 +116,10 @@ class ScenarioSet:
     max_failure_probability : float or None
         The chance constraint's p, a probability (None: no constraint).
     grip_torque_Nm : float
-        Torque scale of the grip rows, N·m (the nominal sets' worst required torque at the
-        centre of the search box).
+        Torque scale of the grip rows, N·m (:func:`grip_torque_Nm`).
+    grip : bool
+        Flag: the scenarios move the wall strain (a lumen or wall-thickness spread), so the
+        problem has grip rows.
     index : ndarray of int or None
         For a working set, the indices of its scenarios in the whole set.
     total : int or None
@@ -127,6 +132,10 @@ class ScenarioSet:
     beta: float = BETA
     max_failure_probability: float | None = None
     grip_torque_Nm: float = 1e-3
+    #: Whether the scenarios move the wall strain (a lumen or wall spread): only then can a
+    #: scenario lose its grip while the nominal sets hold theirs, and only then are the grip
+    #: rows part of the problem.
+    grip: bool = True
     #: A working set (:mod:`optimize.active_set`): which scenarios of the whole set these are,
     #: and how many the whole set has (the CVaR sums are normalised by it). None: the whole set.
     index: np.ndarray | None = None
@@ -169,7 +178,7 @@ class ScenarioSet:
     def structure(self) -> ScenarioStructure:
         """The compiled-in part (hashable)."""
         return ScenarioStructure(
-            self.count, len(self.tissues), self.max_failure_probability is not None
+            self.count, len(self.tissues), self.max_failure_probability is not None, self.grip
         )
 
     def parameter_values(self) -> dict[str, Any]:
@@ -245,8 +254,9 @@ def with_scenarios(
         raise InputError("max_failure_probability", p, "a probability in (0, 1)")
     u = uq.latent_uniforms(len(uncertainty.factors()), 0, scenarios, seed, "sobol")
     arrays = uq.perturbed_tissues(model.tissues, uncertainty, u)
-    grip = grip_torque_Nm(model)
-    return replace(model, scenarios=ScenarioSet(arrays, u, seed, beta, p, grip))
+    grip = uncertainty.lumen_diameter_sigma_m > 0 or uncertainty.wall_thickness_sigma_m > 0
+    sc = ScenarioSet(arrays, u, seed, beta, p, grip_torque_Nm(model), grip)
+    return replace(model, scenarios=sc)
 
 
 def grip_torque_Nm(model: DesignModel) -> float:
@@ -376,7 +386,7 @@ def scenario_outcomes(model: DesignModel, alpha: float, f: float, field: float) 
     sc = model.scenarios
     c, req = model.constants, model.requirements
     n, k = sc.count, len(sc.tissues)
-    rows = scenario_rows(alpha, f, field, c, req, sc.tissues, sc.grip_torque_Nm)
+    rows = scenario_rows(alpha, f, field, c, req, sc.tissues, sc.grip_torque_Nm, sc.grip)
     torque = effective_margins(rows[:k], n)
     strains = effective_margins(ph.wall_strains(alpha, c, sc.tissues), n)
     return torque, strains, effective_margins(rows, n)
@@ -397,7 +407,7 @@ def in_sample(model: DesignModel, result: Any) -> InSample:
     InSample
         The in-sample figures, N·m.
     """
-    from optimize.uncertainty import counted_margins, failed
+    from optimize.uncertainty import counted_margins, failed, grip_threshold
 
     model = prepare(model)
     sc = model.scenarios
@@ -417,5 +427,5 @@ def in_sample(model: DesignModel, result: Any) -> InSample:
         stepout_probability=float(np.mean(torque < 0)),
         margins_Nm=m,
         failure_probability=float(np.mean(failed(torque, strains, eps))),
-        below_min_strain_probability=float(np.mean(strains < eps)),
+        below_min_strain_probability=float(np.mean(strains < grip_threshold(eps))),
     )

@@ -105,7 +105,7 @@ def scenario_margins(alpha: Any, f: Any, field: Any, c: Any, req: Any, arrays: t
 
 
 def scenario_rows(
-    alpha: Any, f: Any, field: Any, c: Any, req: Any, arrays: tuple, grip_Nm: Any
+    alpha: Any, f: Any, field: Any, c: Any, req: Any, arrays: tuple, grip_Nm: Any, grip: bool
 ) -> list:
     """Every term of a scenario's effective margin: per tissue set its torque margin, then per
     set its grip margin ``grip_Nm · (ε/ε_min − 1)`` (ε the strain the spiral stretches that
@@ -132,13 +132,20 @@ def scenario_rows(
         Per tissue set, the scenario fields (numpy arrays or CasADi vectors), SI.
     grip_Nm : float or CasADi
         Torque scale of the grip terms, N·m (:attr:`ScenarioSet.grip_torque_Nm`).
+    grip : bool
+        Flag: the scenarios move the strain (a lumen or wall spread); without it every
+        scenario stretches the walls as the nominal sets do, which the nominal wall-strain rows
+        already hold at the minimum, and the grip terms are left out (they would only lower
+        the margins of scenarios that grip).
 
     Returns
     -------
     list of ndarray or CasADi
-        Torque margins of the sets, then grip margins of the sets, N·m.
+        Torque margins of the sets, then (with ``grip``) grip margins of the sets, N·m.
     """
     margins = scenario_margins(alpha, f, field, c, req, arrays)
+    if not grip:
+        return margins
     eps_min = req.min_wall_strain
     grips = [grip_Nm * (e / eps_min - 1.0) for e in ph.wall_strains(alpha, c, arrays)]
     return [*margins, *grips]
@@ -183,14 +190,16 @@ def _symbolic_margins(ctx: Any) -> list:
         ctx.constants,
         ctx.requirements,
         arrays,
-        ctx.parameter("scenario.grip_torque_Nm"),
+        ctx.parameter("scenario.grip_torque_Nm") if ctx.scenarios.grip else 0.0,
+        ctx.scenarios.grip,
     )
     return [m / ctx.scales.torque_Nm for m in rows]
 
 
 def _row_names(ctx: Any) -> list[str]:
     """Names of :func:`scenario_rows`' terms: the tissue sets, then ``grip <set>``."""
-    return [t.name for t in ctx.tissues] + [f"grip {t.name}" for t in ctx.tissues]
+    grip = [f"grip {t.name}" for t in ctx.tissues] if ctx.scenarios.grip else []
+    return [t.name for t in ctx.tissues] + grip
 
 
 def _excess(ctx: Any, name: str, eta: Any, margins: list) -> Any:

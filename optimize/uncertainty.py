@@ -759,6 +759,26 @@ FAILURE_DEFINITION = (
 )
 
 
+def grip_threshold(min_wall_strain: float) -> float:
+    """The strain below which a sample has lost its grip: ``requirements.min_wall_strain`` less
+    the tolerance :func:`optimize.evaluate` judges requirements with (an optimum sits on its
+    strain row to the solver's tolerance), dimensionless.
+
+    Parameters
+    ----------
+    min_wall_strain : float
+        The minimum strain, dimensionless.
+
+    Returns
+    -------
+    float
+        The threshold, dimensionless.
+    """
+    from optimize.evaluate import FEASIBILITY_RTOL
+
+    return float(min_wall_strain) * (1.0 - FEASIBILITY_RTOL)
+
+
 def counted_margins(margins: Any, strains: Any, min_wall_strain: float) -> np.ndarray:
     """The margin a sample counts with: ``min(margin, 0)`` below the minimum strain, else the
     margin (a failed sample is never a good margin).
@@ -778,7 +798,7 @@ def counted_margins(margins: Any, strains: Any, min_wall_strain: float) -> np.nd
         Counted margins, N·m.
     """
     m = np.asarray(margins, dtype=float)
-    return np.where(np.asarray(strains) < min_wall_strain, np.minimum(m, 0.0), m)
+    return np.where(np.asarray(strains) < grip_threshold(min_wall_strain), np.minimum(m, 0.0), m)
 
 
 def failed(margins: Any, strains: Any, min_wall_strain: float) -> np.ndarray:
@@ -798,7 +818,7 @@ def failed(margins: Any, strains: Any, min_wall_strain: float) -> np.ndarray:
     ndarray of bool
         True where the sample fails.
     """
-    return (np.asarray(margins) < 0) | (np.asarray(strains) < min_wall_strain)
+    return (np.asarray(margins) < 0) | (np.asarray(strains) < grip_threshold(min_wall_strain))
 
 
 PERCENTILES = (("p01", 1.0), ("p05", 5.0), ("p50", 50.0), ("p95", 95.0))
@@ -871,7 +891,7 @@ def summarise(
     no_grip = Probability.of(strains <= 0)
     closed = {"no_grip": grip_loss_probability(problem, 0.0)}
     if problem.uncertainty.wall_thickness_sigma_m <= 0:
-        closed["below_min_strain"] = grip_loss_probability(problem, eps)
+        closed["below_min_strain"] = grip_loss_probability(problem, grip_threshold(eps))
     return UncertaintyResult(
         samples=n,
         seed=seed,
@@ -890,7 +910,7 @@ def summarise(
         no_grip_probability=no_grip.value,
         failure=Probability.of(fail),
         stepout=stepout,
-        below_min_strain=Probability.of(strains < eps),
+        below_min_strain=Probability.of(strains < grip_threshold(eps)),
         no_grip=no_grip,
         min_wall_strain=eps,
         closed_form=closed,

@@ -147,7 +147,7 @@ def plot_sobol(ax: Any, result: Any) -> dict[str, Any]:
     ax.set_xlim(min(0.0, float(np.min(s.first_order)) - 0.05), 1.05)
     ax.set_xlabel("Sobol index of the counted margin\n(share of its variance)")
     ax.legend(loc="upper right", fontsize="small")
-    ax.set_title(f"sensitivity (SALib, {s.base_samples} base samples)")
+    ax.set_title(f"sensitivity ({s.base_samples} base samples)")
     return {"first_order": first, "total": total}
 
 

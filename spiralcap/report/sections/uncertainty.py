@@ -165,7 +165,7 @@ def build(ctx: Context, st: Any) -> Section | None:
             if with_sobol
             else distribution[0].upper() + distribution[1:] + ".",
             _draw(st, with_sobol),
-            size_in=(10.0, 4.2) if with_sobol else (6.6, 4.2),
+            size_in=(10.0, 4.8) if with_sobol else (6.6, 4.8),
         )
     )
     return Section("uncertainty", "Tissue uncertainty", blocks)
