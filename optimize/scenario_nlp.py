@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import functools
 import math
+from dataclasses import dataclass
 from typing import Any
 
 import casadi as ca
@@ -28,6 +29,36 @@ import numpy as np
 from optimize import physics as ph
 from optimize.nlp import Row
 from spiralcap.core.errors import InputError
+
+
+@dataclass(frozen=True)
+class TissueArrays:
+    """Tissue parameters as arrays (one entry per sample): duck-types TissueParameters.
+
+    Attributes
+    ----------
+    E1_Pa, E2_Pa, E3_Pa : ndarray or CasADi
+        Spring moduli per sample, Pa.
+    eta1_Pa_s, eta2_Pa_s : ndarray or CasADi
+        Dashpot viscosities per sample, Pa·s.
+    lumen_diameter_m, wall_thickness_m : ndarray or CasADi
+        Lumen diameter and wall thickness per sample, m.
+    friction_coefficient : ndarray or CasADi
+        Friction coefficient per sample, dimensionless.
+    name : str
+        Name of the nominal set.
+    """
+
+    E1_Pa: Any
+    E2_Pa: Any
+    E3_Pa: Any
+    eta1_Pa_s: Any
+    eta2_Pa_s: Any
+    lumen_diameter_m: Any
+    wall_thickness_m: Any
+    friction_coefficient: Any
+    name: str = "samples"
+
 
 #: The tissue fields a scenario perturbs (one parameter vector per field and tissue set).
 FIELDS = (
@@ -172,8 +203,6 @@ def effective_margins(rows: list, count: int) -> np.ndarray:
 def _symbolic_margins(ctx: Any) -> list:
     """The scenario rows (torque and grip margins) of the context, / tau_ref, with the
     scenarios as parameters."""
-    from optimize.uncertainty import TissueArrays
-
     assert ctx.parameter is not None
     n = ctx.scenarios.count
     arrays = tuple(

@@ -37,6 +37,7 @@ import numpy as np
 from scipy import special
 
 from optimize import physics as ph
+from optimize.scenario_nlp import TissueArrays
 from optimize.system import DesignModel, prepare
 from spiralcap.core.errors import InputError
 
@@ -167,35 +168,6 @@ def covariance_factor(cov: np.ndarray, key: str = "covariance_log") -> np.ndarra
         )
     keep = lam > 1e-12 * max(top, 1e-300)
     return vec[:, keep] * np.sqrt(lam[keep])
-
-
-@dataclass(frozen=True)
-class TissueArrays:
-    """Tissue parameters as arrays (one entry per sample): duck-types TissueParameters.
-
-    Attributes
-    ----------
-    E1_Pa, E2_Pa, E3_Pa : ndarray or CasADi
-        Spring moduli per sample, Pa.
-    eta1_Pa_s, eta2_Pa_s : ndarray or CasADi
-        Dashpot viscosities per sample, Pa·s.
-    lumen_diameter_m, wall_thickness_m : ndarray or CasADi
-        Lumen diameter and wall thickness per sample, m.
-    friction_coefficient : ndarray or CasADi
-        Friction coefficient per sample, dimensionless.
-    name : str
-        Name of the nominal set.
-    """
-
-    E1_Pa: Any
-    E2_Pa: Any
-    E3_Pa: Any
-    eta1_Pa_s: Any
-    eta2_Pa_s: Any
-    lumen_diameter_m: Any
-    wall_thickness_m: Any
-    friction_coefficient: Any
-    name: str = "samples"
 
 
 def perturbed_tissues(tissues: tuple, unc: TissueUncertainty, u: np.ndarray) -> tuple:
