@@ -1,6 +1,7 @@
 """Robust optimum: CVaR over tissue scenarios, checked out of sample (issue 11)."""
 
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -25,7 +26,13 @@ def _run(capsys, *extra):
 
 
 def test_margin_p05_beats_the_deterministic_optimum_out_of_sample(capsys):
+    import jsonschema
+
     out = _run(capsys, "--set", "optimize.objective=margin_p05")
+    with open(
+        Path(__file__).resolve().parents[1] / "docs/json/optimize.schema.json", encoding="utf-8"
+    ) as fh:
+        jsonschema.validate(out, json.load(fh))  # the failure parts and the grip rows' scale
     r = out["robust"]
     claim = r["in_sample"]["margin_p05_Nm"]
     fresh = r["out_of_sample"]["margin_p05_Nm"]

@@ -8,6 +8,7 @@ samples against ``optimize.evaluate`` of the same tissues, and the counting rule
 import json
 import math
 from dataclasses import replace
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -129,7 +130,9 @@ def test_cli_leads_with_failure_and_json_has_its_parts():
     doc = json.loads(out)
     import jsonschema
 
-    with open("docs/json/uncertainty.schema.json", encoding="utf-8") as fh:
+    with open(
+        Path(__file__).resolve().parents[1] / "docs/json/uncertainty.schema.json", encoding="utf-8"
+    ) as fh:
         jsonschema.validate(doc, json.load(fh))
     f = doc["failure_probability"]
     parts = f["parts"]
