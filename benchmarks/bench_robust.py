@@ -100,7 +100,7 @@ def main() -> None:
         rob, solve = r["robust"], r["robust"]["solve"]
         how = (
             "constraint cannot bind (checked over all scenarios), returned at once"
-            if solve["stepout_constraint_cannot_bind"]
+            if solve["failure_constraint_cannot_bind"]
             else f"working set {solve['working_set']} of {solve['scenarios']}, "
             f"{solve['rounds']} round(s)"
         )
