@@ -4,7 +4,7 @@ Run: python benchmarks/bench_robust.py [--quick]
 Prints, all in this run (fresh ``spiralcap`` processes, end to end, median of 3; ratios against
 one deterministic ``spiralcap optimize`` of the built-in design timed the same way):
 - the three cases of issue 21 (target <= 3x): ``margin_p05`` with scale σ 0.3; the same with
-  lumen σ 0.3 mm, friction σ 0.2 and ``min_spiral_turns = 0``; ``max_stepout_probability =
+  lumen σ 0.3 mm, friction σ 0.2 and ``min_spiral_turns = 0``; ``max_failure_probability =
   0.01`` with scale σ 0.3 — with how the scenarios were solved (working set, rounds, or the
   constraint found unable to bind), the angle and frequency against the whole formulation
   (every scenario in one NLP, solved here in-process; target 1e-4 relative) and the
@@ -40,9 +40,9 @@ CASES = {
         "requirements.min_spiral_turns=0",
         "optimize.objective=margin_p05",
     ],
-    "max_stepout_probability 0.01, scale σ 0.3": [
+    "max_failure_probability 0.01, scale σ 0.3": [
         *SCALE,
-        "requirements.max_stepout_probability=0.01",
+        "requirements.max_failure_probability=0.01",
     ],
 }
 FREE = [
@@ -100,7 +100,7 @@ def main() -> None:
         rob, solve = r["robust"], r["robust"]["solve"]
         how = (
             "constraint cannot bind (checked over all scenarios), returned at once"
-            if solve["stepout_constraint_cannot_bind"]
+            if solve["failure_constraint_cannot_bind"]
             else f"working set {solve['working_set']} of {solve['scenarios']}, "
             f"{solve['rounds']} round(s)"
         )

@@ -40,7 +40,7 @@ def main() -> None:
     problem = uq.margin_problem(model, build_uncertainty(design))
     n1, n2 = 1 << 16, 1 << 20
     t1, _ = median_time(lambda: uq.run_local(problem, n1, 1), 5)
-    t2, m = median_time(lambda: uq.run_local(problem, n2, 1), 3)
+    t2, m = median_time(lambda: uq.run_local(problem, n2, 1)[:, 0], 3)
     rate = (n2 - n1) / (t2 - t1)
     print(
         f"vectorised Monte Carlo: {n1} samples {t1 * 1e3:.1f} ms, {n2} samples {t2 * 1e3:.1f} ms"
@@ -90,7 +90,7 @@ def dask_scaling(problem: uq.MarginProblem) -> None:
 
     n = 1 << 23
     tasks = [(problem, b, 1, "sobol") for b in uq.batches(n)]
-    t_local, ref = median_time(lambda: np.concatenate(map_tasks(uq.batch_margins, tasks)), 3)
+    t_local, ref = median_time(lambda: np.concatenate(map_tasks(uq.batch_outcomes, tasks)), 3)
     print(
         f"{n} samples, {len(tasks)} tasks of 8 chunks of {uq.CHUNK}: this process {t_local * 1e3:.0f} ms"
     )
@@ -100,9 +100,9 @@ def dask_scaling(problem: uq.MarginProblem) -> None:
             n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None
         ) as cluster:
             addr = cluster.scheduler_address
-            map_tasks(uq.batch_margins, tasks[:2], dask=addr)  # warm the workers' imports
+            map_tasks(uq.batch_outcomes, tasks[:2], dask=addr)  # warm the workers' imports
             t, out = median_time(
-                lambda addr=addr: np.concatenate(map_tasks(uq.batch_margins, tasks, dask=addr)), 3
+                lambda addr=addr: np.concatenate(map_tasks(uq.batch_outcomes, tasks, dask=addr)), 3
             )
         times[workers] = t
         same = np.array_equal(out, ref)

@@ -1,6 +1,6 @@
 """The scenarios that matter: the robust NLP solved on a working set of them (cutting planes).
 
-The CVaR objective and the step-out row (:mod:`optimize.robust`) sum over every tissue scenario,
+The CVaR objective and the failure row (:mod:`optimize.robust`) sum over every tissue scenario,
 but at the optimum only the lower tail counts: with ``k = ceil(β S)`` (52 of 1024 at β = 0.05)
 every scenario whose margin lies above the ``k``-th smallest has ``u_s = 0`` and an inactive row.
 So the problem is solved on a **working set** ``A`` of the scenarios, with the sums still
@@ -18,7 +18,7 @@ and multipliers). Every scenario ever in the tail stays in ``A``, so ``A`` grows
 loop ends (at worst with the whole set). The working set has a fixed capacity (compiled once; the
 scenario data are parameters), about 1.25 k, doubled only when the tail outgrows it.
 
-``requirements.max_stepout_probability`` with an objective that has no scenarios (``margin``,
+``requirements.max_failure_probability`` with an objective that has no scenarios (``margin``,
 ...) is first solved without the constraint: if the whole set's ``CVaR_p`` at that optimum is
 already >= 0, the constraint cannot bind and that optimum is the answer (``skipped``, with the
 evidence); otherwise the loop above starts there.
@@ -55,9 +55,9 @@ class ScenarioSolve:
     ``scenarios``: the whole set; ``capacity``: the working set's size (``scenarios`` when the
     whole set was solved at once, 0 when none was needed); ``rounds``: NLP solves of the loop;
     ``index``: the final working set (whole-set indices, slot order); ``skipped``: the
-    step-out constraint could not bind (the optimum without it already meets it);
-    ``cvar_Nm`` / ``stepout_cvar_Nm``: CVaR_β and CVaR_p of the worst-case margin over the whole
-    set at the optimum; ``stepout_probability``: the whole set's step-out share there;
+    failure constraint could not bind (the optimum without it already meets it);
+    ``cvar_Nm`` / ``failure_cvar_Nm``: CVaR_β and CVaR_p of the worst-case margin over the whole
+    set at the optimum; ``failure_probability``: the whole set's failure share there;
     ``outside_min_Nm`` / ``tail_edge_Nm``: the smallest margin outside the working set and the
     ``k``-th smallest inside it (the check: the first is not below the second).
 
@@ -72,11 +72,11 @@ class ScenarioSolve:
     index : tuple of int
         The final working set, whole-set indices in slot order.
     skipped : bool
-        Flag: the step-out constraint could not bind.
-    cvar_Nm, stepout_cvar_Nm : float
+        Flag: the failure constraint could not bind.
+    cvar_Nm, failure_cvar_Nm : float
         CVaR_β and CVaR_p of the worst-case margin over the whole set, N·m.
-    stepout_probability : float
-        The whole set's step-out share, a probability.
+    failure_probability : float
+        The whole set's failure share, a probability.
     outside_min_Nm, tail_edge_Nm : float
         Smallest margin outside the working set and the tail's edge inside it, N·m.
     """
@@ -87,14 +87,15 @@ class ScenarioSolve:
     index: tuple[int, ...]
     skipped: bool
     cvar_Nm: float
-    stepout_cvar_Nm: float
-    stepout_probability: float
+    failure_cvar_Nm: float
+    failure_probability: float
     outside_min_Nm: float
     tail_edge_Nm: float
 
 
 def worst_margins(model: DesignModel, alpha: float, f: float, field: float) -> np.ndarray:
-    """The worst-case (over tissue sets) margin of every scenario of ``model``, N·m.
+    """The effective margin of every scenario of ``model`` (the least of its torque and grip
+    margins over the tissue sets, :func:`optimize.robust.scenario_rows`; < 0: it fails), N·m.
 
     Parameters
     ----------
@@ -112,12 +113,12 @@ def worst_margins(model: DesignModel, alpha: float, f: float, field: float) -> n
     ndarray, shape (S,)
         Worst-case margin of each scenario, N·m.
     """
-    from optimize.robust import scenario_margins
+    from optimize.robust import effective_margins, scenario_rows
 
     sc = model.scenarios
-    per_set = scenario_margins(alpha, f, field, model.constants, model.requirements, sc.tissues)
-    m = np.min(np.stack([np.broadcast_to(np.asarray(x, float), (sc.count,)) for x in per_set]), 0)
-    return np.asarray(m, dtype=float)
+    c, req = model.constants, model.requirements
+    rows = scenario_rows(alpha, f, field, c, req, sc.tissues, sc.grip_torque_Nm, sc.grip)
+    return effective_margins(rows, sc.count)
 
 
 def tail_count(model: DesignModel) -> int:
@@ -135,8 +136,8 @@ def tail_count(model: DesignModel) -> int:
     """
     sc = model.scenarios
     share = sc.beta if model.bounds.objective == "margin_p05" else 0.0
-    if sc.max_stepout_probability is not None:
-        share = max(share, sc.max_stepout_probability)
+    if sc.max_failure_probability is not None:
+        share = max(share, sc.max_failure_probability)
     return max(math.ceil(share * sc.count - 1e-9), 1)
 
 
@@ -174,7 +175,7 @@ def _point(res: Any) -> tuple[float, float, float]:
 def _record(model, res, rounds, capacity, index, skipped) -> ScenarioSolve:
     sc = model.scenarios
     m = worst_margins(model, *_point(res)) if res.feasible else np.full(sc.count, np.nan)
-    p = sc.max_stepout_probability
+    p = sc.max_failure_probability
     idx = np.asarray(index, dtype=np.intp)
     inside = np.zeros(sc.count, dtype=bool)
     inside[idx] = True
@@ -188,8 +189,8 @@ def _record(model, res, rounds, capacity, index, skipped) -> ScenarioSolve:
         index=tuple(int(i) for i in idx),
         skipped=skipped,
         cvar_Nm=cvar(m, sc.beta),
-        stepout_cvar_Nm=cvar(m, p) if p is not None else float("nan"),
-        stepout_probability=float(np.mean(m < 0)),
+        failure_cvar_Nm=cvar(m, p) if p is not None else float("nan"),
+        failure_probability=float(np.mean(m < 0)),
         outside_min_Nm=outside,
         tail_edge_Nm=edge,
     )
@@ -377,7 +378,7 @@ def _working_set_loop(
         if not free.feasible:  # infeasible without the row: more so with it
             return replace(free, scenario_solve=_record(model, free, rounds, 0, (), False))
         rec = _record(model, free, rounds, 0, (), False)
-        if rec.stepout_cvar_Nm >= -TIE_RTOL * _size(model, free):
+        if rec.failure_cvar_Nm >= -TIE_RTOL * _size(model, free):
             return replace(free, scenario_solve=replace(rec, skipped=True))
         points, warm = [_point(free)], _core(free)
     if cap >= whole:
@@ -514,12 +515,12 @@ def _size(model: DesignModel, res: Any) -> float:
 
 def _infeasible(model, res, rounds, cap, index) -> Any:
     """An infeasible working-set result (the whole problem, more constrained, is infeasible
-    too), its step-out shortfall measured over the whole set at the closest design."""
+    too), its failure shortfall measured over the whole set at the closest design."""
     sc = model.scenarios
     m = worst_margins(model, res.helical_angle_rad, res.frequency_hz, res.field_amplitude_T)
     share = float(np.mean(m < 0))
     shortfalls = tuple(
-        replace(s, best=share) if s.name == "stepout_probability" else s for s in res.shortfalls
+        replace(s, best=share) if s.name == "failure_probability" else s for s in res.shortfalls
     )
     rec = ScenarioSolve(
         sc.count,
@@ -528,7 +529,7 @@ def _infeasible(model, res, rounds, cap, index) -> Any:
         tuple(int(i) for i in index),
         False,
         cvar(m, sc.beta),
-        cvar(m, sc.max_stepout_probability) if sc.max_stepout_probability else float("nan"),
+        cvar(m, sc.max_failure_probability) if sc.max_failure_probability else float("nan"),
         share,
         float("nan"),
         float("nan"),

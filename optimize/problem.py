@@ -35,6 +35,7 @@ import numpy as np
 
 import capsule as cap
 from optimize import physics as ph
+from optimize import scenario_nlp
 from optimize.nlp import Row
 from optimize.system import DesignModel
 from spiralcap.core import backend as bk
@@ -277,13 +278,25 @@ def _mass(ctx: Context) -> tuple[Any, list[Term]]:
     ) / ctx.scales.power_W, []
 
 
+def _margin_p05(ctx: Context) -> tuple[Any, list[Term]]:
+    # CVaR_0.05 of the scenarios' effective margin (optimize.scenario_nlp; docs/uncertainty.md)
+    obj, rows = scenario_nlp.cvar_objective(ctx)
+    return obj, [Term(*r) for r in rows]
+
+
+def _failure_probability(ctx: Context) -> list[Term]:
+    # requirements.max_failure_probability: CVaR_p(effective margin) >= 0 (no rows without it)
+    return [Term(*r) for r in scenario_nlp.failure_terms(ctx)]
+
+
 OBJECTIVES: dict[str, ObjectiveSpec] = {
     "margin": ObjectiveSpec(_margin, 1.0, "N·m", lambda s: s.torque_Nm),
     "ratio": ObjectiveSpec(_ratio, 1.0, "1", lambda s: 1.0),
     "power": ObjectiveSpec(_power, -1.0, "W", lambda s: s.power_W, uses_t=False),
     "copper_mass": ObjectiveSpec(_mass, -1.0, "kg", lambda s: s.mass_kg, uses_t=False),
+    "margin_p05": ObjectiveSpec(_margin_p05, 1.0, "N·m", lambda s: s.torque_Nm),
 }
-CONSTRAINTS: list[Callable[[Context], list[Term]]] = []
+CONSTRAINTS: list[Callable[[Context], list[Term]]] = [_failure_probability]
 
 
 def register_objective(name: str, spec: ObjectiveSpec) -> None:

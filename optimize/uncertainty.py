@@ -37,6 +37,7 @@ import numpy as np
 from scipy import special
 
 from optimize import physics as ph
+from optimize.scenario_nlp import TissueArrays
 from optimize.system import DesignModel, prepare
 from spiralcap.core.errors import InputError
 
@@ -167,35 +168,6 @@ def covariance_factor(cov: np.ndarray, key: str = "covariance_log") -> np.ndarra
         )
     keep = lam > 1e-12 * max(top, 1e-300)
     return vec[:, keep] * np.sqrt(lam[keep])
-
-
-@dataclass(frozen=True)
-class TissueArrays:
-    """Tissue parameters as arrays (one entry per sample): duck-types TissueParameters.
-
-    Attributes
-    ----------
-    E1_Pa, E2_Pa, E3_Pa : ndarray or CasADi
-        Spring moduli per sample, Pa.
-    eta1_Pa_s, eta2_Pa_s : ndarray or CasADi
-        Dashpot viscosities per sample, Pa·s.
-    lumen_diameter_m, wall_thickness_m : ndarray or CasADi
-        Lumen diameter and wall thickness per sample, m.
-    friction_coefficient : ndarray or CasADi
-        Friction coefficient per sample, dimensionless.
-    name : str
-        Name of the nominal set.
-    """
-
-    E1_Pa: Any
-    E2_Pa: Any
-    E3_Pa: Any
-    eta1_Pa_s: Any
-    eta2_Pa_s: Any
-    lumen_diameter_m: Any
-    wall_thickness_m: Any
-    friction_coefficient: Any
-    name: str = "samples"
 
 
 def perturbed_tissues(tissues: tuple, unc: TissueUncertainty, u: np.ndarray) -> tuple:
@@ -330,12 +302,64 @@ class MarginProblem:
         return np.concatenate([self._margins(u[i : i + BLOCK]) for i in range(0, len(u), BLOCK)])
 
     def _margins(self, u: np.ndarray) -> np.ndarray:
+        return self._outcomes(u)[:, 0]
+
+    def _outcomes(self, u: np.ndarray) -> np.ndarray:
         arrays = perturbed_tissues(self.tissues, self.uncertainty, u)
         pairs = ph.required_torques_Nm(
             self.helical_angle_rad, self.frequency_hz, self.constants, arrays, self.requirements
         )
         need = np.max(np.stack([np.asarray(r + t, dtype=float) for r, t in pairs]), axis=0)
-        return self.available_torque_Nm - need
+        strains = ph.wall_strains(self.helical_angle_rad, self.constants, arrays)
+        least = np.min(
+            np.stack([np.broadcast_to(np.asarray(s, float), need.shape) for s in strains]), 0
+        )
+        return np.stack([self.available_torque_Nm - need, least], axis=1)
+
+    def outcomes(self, u: np.ndarray) -> np.ndarray:
+        """Worst-case margin and least wall strain (over the tissue sets) of each sample.
+
+        Evaluated in blocks of :data:`BLOCK` rows, as :meth:`margins_Nm`.
+
+        Parameters
+        ----------
+        u : ndarray, shape (n, d)
+            Latent uniforms in (0, 1), dimensionless.
+
+        Returns
+        -------
+        ndarray, shape (n, 2)
+            Column 0 the worst-case margin (as modelled, grip or not), N·m; column 1 the least
+            strain the spiral stretches a tissue set's wall by, dimensionless (<= 0: no
+            contact).
+        """
+        u = np.asarray(u, dtype=float)
+        if u.shape[0] <= BLOCK:
+            return self._outcomes(u)
+        return np.concatenate([self._outcomes(u[i : i + BLOCK]) for i in range(0, len(u), BLOCK)])
+
+    def counted_margins_Nm(self, u: np.ndarray) -> np.ndarray:
+        """The margin each sample counts with (:func:`counted_margins`): a sample below the
+        minimum strain never counts as a good margin.
+
+        Parameters
+        ----------
+        u : ndarray, shape (n, d)
+            Latent uniforms in (0, 1), dimensionless.
+
+        Returns
+        -------
+        ndarray, shape (n,)
+            Counted worst-case margin per sample, N·m.
+        """
+        o = self.outcomes(u)
+        return counted_margins(o[:, 0], o[:, 1], self.min_wall_strain)
+
+    @property
+    def min_wall_strain(self) -> float:
+        """The least wall strain a sample must reach to grip (requirements.min_wall_strain),
+        dimensionless."""
+        return float(self.requirements.min_wall_strain)
 
     def nominal_margin_Nm(self) -> float:
         """The deterministic worst-case margin (the nominal tissue sets), N·m.
@@ -459,10 +483,11 @@ def latent_uniforms(d: int, start: int, count: int, seed: int, method: str = "so
     return engine.random(count)
 
 
-def chunk_margins(
+def chunk_outcomes(
     problem: MarginProblem, start: int, count: int, seed: int, method: str
 ) -> np.ndarray:
-    """Margins of samples ``start .. start+count-1`` (the unit of work sent to a worker), N·m.
+    """Margins and strains of samples ``start .. start+count-1`` (the unit of work sent to a
+    worker): :meth:`MarginProblem.outcomes`.
 
     Parameters
     ----------
@@ -479,17 +504,17 @@ def chunk_margins(
 
     Returns
     -------
-    ndarray, shape (count,)
-        Worst-case margins, N·m.
+    ndarray, shape (count, 2)
+        Worst-case margin (N·m) and least wall strain (dimensionless) of each sample.
     """
     u = latent_uniforms(problem.dimension, start, count, seed, method)
-    return problem.margins_Nm(u)
+    return problem.outcomes(u)
 
 
-def batch_margins(
+def batch_outcomes(
     problem: MarginProblem, pieces: tuple[tuple[int, int], ...], seed: int, method: str
 ) -> np.ndarray:
-    """:func:`chunk_margins` of several (start, count) chunks, concatenated (one task).
+    """:func:`chunk_outcomes` of several (start, count) chunks, concatenated (one task).
 
     Parameters
     ----------
@@ -504,10 +529,10 @@ def batch_margins(
 
     Returns
     -------
-    ndarray
-        The chunks' margins in order, N·m.
+    ndarray, shape (n, 2)
+        The chunks' margins (N·m) and least strains (dimensionless) in order.
     """
-    return np.concatenate([chunk_margins(problem, s, n, seed, method) for s, n in pieces])
+    return np.concatenate([chunk_outcomes(problem, s, n, seed, method) for s, n in pieces])
 
 
 def batches(samples: int, per_task: int = 8) -> list[tuple[tuple[int, int], ...]]:
@@ -570,8 +595,50 @@ class SobolIndices:
 
 
 @dataclass(frozen=True)
+class Probability:
+    """A share of the samples and its Wilson 95 % interval.
+
+    Attributes
+    ----------
+    value : float
+        Share of the samples, a probability.
+    ci95 : (float, float)
+        Wilson score 95 % interval, a probability each.
+    count : int
+        Number of samples in it, count.
+    """
+
+    value: float
+    ci95: tuple[float, float]
+    count: int
+
+    @classmethod
+    def of(cls, mask: np.ndarray) -> Probability:
+        """The share of True in ``mask`` with its Wilson interval.
+
+        Parameters
+        ----------
+        mask : ndarray of bool
+            One flag per sample.
+
+        Returns
+        -------
+        Probability
+            The share, a probability.
+        """
+        k, n = int(np.count_nonzero(mask)), int(mask.size)
+        return cls(k / n, wilson_interval(k, n), k)
+
+
+@dataclass(frozen=True)
 class UncertaintyResult:
     """Distribution of the worst-case margin and speed over the sampled tissues (SI).
+
+    A sample **fails** when the capsule steps out (worst-case margin < 0) or its spiral
+    stretches some tissue set's wall by less than ``requirements.min_wall_strain`` (no contact
+    is the extreme case): :func:`failed`. The margin statistics and the Sobol indices use each
+    sample's *counted* margin (:func:`counted_margins`: a sample below the minimum strain counts
+    with ``min(margin, 0)``, never as a good margin); the speed is 0 in every failed sample.
 
     Attributes
     ----------
@@ -592,18 +659,33 @@ class UncertaintyResult:
     stepout_ci95 : (float, float)
         Wilson 95 % interval of that probability.
     margin_percentiles_Nm : dict of str to float
-        Margin percentiles (``p01``, ``p05``, ``p50``, ``p95``), N·m.
+        Percentiles (``p01``, ``p05``, ``p50``, ``p95``) of the counted margin, N·m.
     speed_percentiles_m_s : dict of str to float
-        Speed percentiles, m/s.
+        Speed percentiles (0 in a failed sample), m/s.
     margin_mean_Nm, margin_std_Nm : float
-        Mean and standard deviation of the margin, N·m.
+        Mean and standard deviation of the counted margin, N·m.
     sobol : SobolIndices or None
-        Sensitivity indices, when asked for.
+        Sensitivity indices of the counted margin, when asked for.
     margins_Nm : ndarray
-        Every sample's margin in sample order, N·m.
+        Every sample's counted margin in sample order, N·m.
     no_grip_probability : float
-        Probability that the spiral does not touch some tissue set's wall (a wider sampled
-        lumen: no grip, no screw; :func:`no_grip_probability`, exact), a probability.
+        Share of samples whose spiral does not touch some tissue set's wall (strain <= 0), a
+        probability.
+    failure : Probability
+        Share of failed samples (step-out or below the minimum strain).
+    stepout : Probability
+        Share of samples with a negative margin (as ``stepout_probability``).
+    below_min_strain : Probability
+        Share of samples below the minimum strain in some set (no contact included).
+    no_grip : Probability
+        Share of samples without contact in some set.
+    min_wall_strain : float
+        The minimum strain the samples were judged against, dimensionless.
+    closed_form : dict of str to float
+        The exact probabilities (a probability each) where a closed form exists (:func:`grip_loss_probability`:
+        ``no_grip`` always, ``below_min_strain`` without wall-thickness uncertainty).
+    strains : ndarray
+        Every sample's least wall strain in sample order, dimensionless.
     """
 
     samples: int
@@ -621,6 +703,94 @@ class UncertaintyResult:
     sobol: SobolIndices | None
     margins_Nm: np.ndarray = field(repr=False, compare=False)
     no_grip_probability: float = 0.0
+    failure: Probability = Probability(0.0, (0.0, 1.0), 0)
+    stepout: Probability = Probability(0.0, (0.0, 1.0), 0)
+    below_min_strain: Probability = Probability(0.0, (0.0, 1.0), 0)
+    no_grip: Probability = Probability(0.0, (0.0, 1.0), 0)
+    min_wall_strain: float = 0.0
+    closed_form: dict[str, float] = field(default_factory=dict)
+    strains: np.ndarray = field(default_factory=lambda: np.zeros(0), repr=False, compare=False)
+
+    @property
+    def failure_probability(self) -> float:
+        """Share of failed samples, a probability."""
+        return self.failure.value
+
+
+#: How the margin statistics count a failed sample (text, JSON and the report say it).
+MARGIN_COUNTING = (
+    "a sample below the minimum wall strain (no contact included) counts with its margin "
+    "clipped to at most 0, min(margin, 0): a failed sample never counts as a good margin; a "
+    "sample that steps out keeps its negative margin"
+)
+#: The failure definition, in words.
+FAILURE_DEFINITION = (
+    "a sample fails when the capsule steps out (worst-case margin < 0) or its spiral "
+    "stretches some tissue set's wall by less than requirements.min_wall_strain (no contact "
+    "is the extreme case)"
+)
+
+
+def grip_threshold(min_wall_strain: float) -> float:
+    """The strain below which a sample has lost its grip: ``requirements.min_wall_strain`` less
+    the tolerance :func:`optimize.evaluate` judges requirements with (an optimum sits on its
+    strain row to the solver's tolerance), dimensionless.
+
+    Parameters
+    ----------
+    min_wall_strain : float
+        The minimum strain, dimensionless.
+
+    Returns
+    -------
+    float
+        The threshold, dimensionless.
+    """
+    from optimize.evaluate import FEASIBILITY_RTOL
+
+    return float(min_wall_strain) * (1.0 - FEASIBILITY_RTOL)
+
+
+def counted_margins(margins: Any, strains: Any, min_wall_strain: float) -> np.ndarray:
+    """The margin a sample counts with: ``min(margin, 0)`` below the minimum strain, else the
+    margin (a failed sample is never a good margin).
+
+    Parameters
+    ----------
+    margins : array_like
+        Worst-case margins (as modelled), N·m.
+    strains : array_like
+        Least wall strains, dimensionless.
+    min_wall_strain : float
+        The minimum strain, dimensionless.
+
+    Returns
+    -------
+    ndarray
+        Counted margins, N·m.
+    """
+    m = np.asarray(margins, dtype=float)
+    return np.where(np.asarray(strains) < grip_threshold(min_wall_strain), np.minimum(m, 0.0), m)
+
+
+def failed(margins: Any, strains: Any, min_wall_strain: float) -> np.ndarray:
+    """Which samples fail: a negative margin or a least strain below the minimum.
+
+    Parameters
+    ----------
+    margins : array_like
+        Worst-case margins, N·m.
+    strains : array_like
+        Least wall strains, dimensionless.
+    min_wall_strain : float
+        The minimum strain, dimensionless.
+
+    Returns
+    -------
+    ndarray of bool
+        True where the sample fails.
+    """
+    return (np.asarray(margins) < 0) | (np.asarray(strains) < grip_threshold(min_wall_strain))
 
 
 PERCENTILES = (("p01", 1.0), ("p05", 5.0), ("p50", 50.0), ("p95", 95.0))
@@ -654,19 +824,20 @@ def wilson_interval(k: int, n: int, z: float = 1.959963984540054) -> tuple[float
 
 def summarise(
     problem: MarginProblem,
-    margins: np.ndarray,
+    outcomes: np.ndarray,
     seed: int,
     method: str,
     sobol: SobolIndices | None = None,
 ) -> UncertaintyResult:
-    """The statistics of a vector of sampled margins (in sample order).
+    """The statistics of the sampled outcomes (in sample order).
 
     Parameters
     ----------
     problem : MarginProblem
         The design and its uncertainty.
-    margins : ndarray
-        Sampled worst-case margins in sample order, N·m.
+    outcomes : ndarray, shape (n, 2)
+        Worst-case margin (N·m) and least wall strain (dimensionless) of each sample
+        (:meth:`MarginProblem.outcomes`).
     seed : int
         Seed of the sequence.
     method : str
@@ -679,12 +850,20 @@ def summarise(
     UncertaintyResult
         The statistics, SI.
     """
-    margins = np.asarray(margins, dtype=float)
+    outcomes = np.asarray(outcomes, dtype=float).reshape(-1, 2)
+    raw, strains = outcomes[:, 0], outcomes[:, 1]
+    eps = problem.min_wall_strain
+    margins = counted_margins(raw, strains, eps)
     n = margins.size
-    out = int(np.count_nonzero(margins < 0))
-    speeds = np.where(margins >= 0, problem.speed_m_s, 0.0)
+    stepout = Probability.of(raw < 0)
+    fail = failed(raw, strains, eps)
+    speeds = np.where(fail, 0.0, problem.speed_m_s)
     q = np.percentile(margins, [p for _, p in PERCENTILES])
     qs = np.percentile(speeds, [p for _, p in PERCENTILES])
+    no_grip = Probability.of(strains <= 0)
+    closed = {"no_grip": grip_loss_probability(problem, 0.0)}
+    if problem.uncertainty.wall_thickness_sigma_m <= 0:
+        closed["below_min_strain"] = grip_loss_probability(problem, grip_threshold(eps))
     return UncertaintyResult(
         samples=n,
         seed=seed,
@@ -692,31 +871,58 @@ def summarise(
         nominal_margin_Nm=problem.nominal_margin_Nm(),
         available_torque_Nm=problem.available_torque_Nm,
         speed_nominal_m_s=problem.speed_m_s,
-        stepout_probability=out / n,
-        stepout_ci95=wilson_interval(out, n),
+        stepout_probability=stepout.value,
+        stepout_ci95=stepout.ci95,
         margin_percentiles_Nm={k: float(v) for (k, _), v in zip(PERCENTILES, q)},
         speed_percentiles_m_s={k: float(v) for (k, _), v in zip(PERCENTILES, qs)},
         margin_mean_Nm=float(margins.mean()),
         margin_std_Nm=float(margins.std(ddof=1)) if n > 1 else 0.0,
         sobol=sobol,
         margins_Nm=margins,
-        no_grip_probability=no_grip_probability(problem),
+        no_grip_probability=no_grip.value,
+        failure=Probability.of(fail),
+        stepout=stepout,
+        below_min_strain=Probability.of(strains < grip_threshold(eps)),
+        no_grip=no_grip,
+        min_wall_strain=eps,
+        closed_form=closed,
+        strains=strains,
     )
 
 
 def no_grip_probability(problem: MarginProblem) -> float:
-    """Probability that a sampled lumen is as wide as the spiral's D' in some tissue set.
-
-    The spiral stretches a wall only while D' > lumen + δ (the strain's sign does not depend on
-    the wall), and every set shares the one lumen offset δ, a normal N(0, σ²) truncated below
-    at −(1 − floor)·(least nominal lumen) (:func:`perturbed_tissues`). So the grip is lost when
-    δ ≥ x = min over sets of (D' − lumen), with probability (exact, by the truncated CDF)
-    1 − (Φ(x/σ) − Φ(lo/σ)) / (1 − Φ(lo/σ)).
+    """Probability that a sampled lumen is as wide as the spiral's D' in some tissue set
+    (:func:`grip_loss_probability` at strain 0; exact).
 
     Parameters
     ----------
     problem : MarginProblem
         The design at its operating point and its uncertainty.
+
+    Returns
+    -------
+    float
+        The probability, dimensionless, in [0, 1].
+    """
+    return grip_loss_probability(problem, 0.0)
+
+
+def grip_loss_probability(problem: MarginProblem, strain: float) -> float:
+    """Probability that a sample stretches some tissue set's wall by less than ``strain``.
+
+    Exact where only the lumen moves the strain (no wall-thickness uncertainty, or
+    ``strain = 0``, whose sign does not depend on the wall). Set k's strain is
+    (D' − L_k − δ)/(L_k + δ + d_k) with one lumen offset δ for every set, a normal N(0, σ²)
+    truncated below at −(1 − floor)·(least nominal lumen) (:func:`perturbed_tissues`); it is
+    below ``strain`` when δ > x_k = (D' − L_k − strain·(L_k + d_k))/(1 + strain). So the
+    probability is P(δ > min_k x_k) = 1 − (Φ(x/σ) − Φ(lo/σ))/(1 − Φ(lo/σ)).
+
+    Parameters
+    ----------
+    problem : MarginProblem
+        The design at its operating point and its uncertainty.
+    strain : float
+        The strain threshold, dimensionless (0: contact).
 
     Returns
     -------
@@ -731,11 +937,15 @@ def no_grip_probability(problem: MarginProblem) -> float:
             problem.helical_angle_rad, g.body_diameter_m, g.wire_diameter_m, g.starts
         )
     )
+    x = min(
+        (d_prime - t.lumen_diameter_m - strain * (t.lumen_diameter_m + t.wall_thickness_m))
+        / (1.0 + strain)
+        for t in problem.tissues
+    )
     lumens = [float(t.lumen_diameter_m) for t in problem.tissues]
-    x = d_prime - max(lumens)
     sigma = problem.uncertainty.lumen_diameter_sigma_m
     if sigma <= 0:
-        return 1.0 if x <= 0 else 0.0
+        return 1.0 if x < 0 or (strain == 0 and x <= 0) else 0.0
     lo = special.ndtr(-(1.0 - _FLOOR) * min(lumens) / sigma)
     cdf = (special.ndtr(x / sigma) - lo) / (1.0 - lo)
     return float(min(max(1.0 - cdf, 0.0), 1.0))
@@ -773,7 +983,9 @@ def sobol_indices(
     groups = [g for _, g in factors]
     unique = list(dict.fromkeys(groups))
     if len(unique) == 1:  # one input explains everything (if anything moves); SALib needs two
-        probe = problem.margins_Nm(np.linspace(0.05, 0.95, 9)[:, None] * np.ones(len(factors)))
+        probe = problem.counted_margins_Nm(
+            np.linspace(0.05, 0.95, 9)[:, None] * np.ones(len(factors))
+        )
         value = (1.0,) if np.ptp(probe) > 0 else (0.0,)
         return SobolIndices(tuple(unique), value, (0.0,), value, (0.0,), base_samples)
     spec = {
@@ -783,7 +995,7 @@ def sobol_indices(
         "groups": groups,
     }
     x = sa_sample.sample(spec, base_samples, calc_second_order=False, seed=seed)
-    y = problem.margins_Nm(x)
+    y = problem.counted_margins_Nm(x)
     if not np.ptp(y) > 0:  # no input moves the margin (no torque required): nothing to share
         zero = (0.0,) * len(unique)
         return SobolIndices(tuple(unique), zero, zero, zero, zero, base_samples)
@@ -809,7 +1021,7 @@ def sobol_indices(
 def run_local(
     problem: MarginProblem, samples: int, seed: int = 0, method: str = "sobol"
 ) -> np.ndarray:
-    """All ``samples`` margins in this process, chunk by chunk (what the executors reproduce).
+    """All ``samples`` outcomes in this process, chunk by chunk (what the executors reproduce).
 
     Parameters
     ----------
@@ -824,11 +1036,11 @@ def run_local(
 
     Returns
     -------
-    ndarray, shape (samples,)
-        Worst-case margins, N·m.
+    ndarray, shape (samples, 2)
+        Worst-case margin (N·m) and least wall strain (dimensionless) of each sample.
     """
     check_samples(samples)
-    return np.concatenate([chunk_margins(problem, s, n, seed, method) for s, n in chunks(samples)])
+    return np.concatenate([chunk_outcomes(problem, s, n, seed, method) for s, n in chunks(samples)])
 
 
 def check_seed(seed: Any, key: str = "--seed") -> int:

@@ -248,7 +248,7 @@ def compare_designs(designs: Sequence[Design], labels: Sequence[str] | None = No
         model = prepare(build_model(d))
         evaluations.append(evaluate(model))
         # optimised as `spiralcap optimize` does: over tissue scenarios for margin_p05 and
-        # max_stepout_probability
+        # max_failure_probability
         results.append(optimize_design(optimization_model(d, model)))
     names = tuple(labels) if labels is not None else tuple(str(d.source) for d in designs)
     return Comparison(

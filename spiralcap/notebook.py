@@ -133,7 +133,9 @@ class _UncertaintyStudyView:
         rows: list[tuple[str, Any]] = [
             ("samples", r.samples),
             ("nominal margin (mN·m)", r.nominal_margin_Nm * 1e3),
+            ("failure probability (step-out or lost grip)", r.failure_probability),
             ("step-out probability", r.stepout_probability),
+            ("below-minimum-strain probability", r.below_min_strain.value),
         ]
         rows += [(f"margin {k} (mN·m)", v * 1e3) for k, v in r.margin_percentiles_Nm.items()]
         rows.append(("ran", f"{st.where}, {st.elapsed_s:.3g} s"))

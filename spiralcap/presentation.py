@@ -213,8 +213,8 @@ def step_out_words(
 OBJECTIVES: dict[str, tuple[str, str, float, str]] = {
     "margin": ("worst-case torque margin", "mN·m", 1e3, "maximised"),
     "margin_p05": (
-        "CVaR₀.₀₅ (mean of the worst 5 %) of the worst-case torque margin over the tissue "
-        "scenarios",
+        "CVaR₀.₀₅ (mean of the worst 5 %) of the worst-case margin over the tissue scenarios "
+        "(lost grip counted as failure: the least of torque and grip margins)",
         "mN·m",
         1e3,
         "maximised",

@@ -1,6 +1,6 @@
 """The robust optimum of a design file: tissue scenarios in, an out-of-sample check out.
 
-``optimize.objective = "margin_p05"`` and ``requirements.max_stepout_probability`` are solved by
+``optimize.objective = "margin_p05"`` and ``requirements.max_failure_probability`` are solved by
 the one design NLP (:func:`optimize.optimize_design`) on a model that carries tissue scenarios
 (:func:`optimize.robust.with_scenarios`, from the design's ``[tissue.uncertainty]``,
 ``optimize.scenarios`` and ``optimize.scenario_seed``). :func:`robust_optimum` adds what the
@@ -26,7 +26,7 @@ def wants_robust(design: Any) -> bool:
     """Whether the design's optimum must be judged over tissue scenarios."""
     return (
         design["optimize.objective"] == "margin_p05"
-        or design.get("requirements.max_stepout_probability") is not None
+        or design.get("requirements.max_failure_probability") is not None
     )
 
 
@@ -46,11 +46,11 @@ def robust_model(design: Any, model: Any = None) -> Any:
     if not unc.active:
         key = "optimize.objective"
         if design["optimize.objective"] != "margin_p05":
-            key = "requirements.max_stepout_probability"
+            key = "requirements.max_failure_probability"
         raise InputError(
             key,
             design[key],
-            "a design with tissue uncertainty: margin_p05 and max_stepout_probability need "
+            "a design with tissue uncertainty: margin_p05 and max_failure_probability need "
             "[tissue.uncertainty] (e.g. --set tissue.uncertainty.scale_sigma_log=0.3)",
         )
     return with_scenarios(
@@ -58,7 +58,7 @@ def robust_model(design: Any, model: Any = None) -> Any:
         unc,
         scenarios=int(design["optimize.scenarios"]),
         seed=int(design["optimize.scenario_seed"]),
-        max_stepout_probability=design.get("requirements.max_stepout_probability"),
+        max_failure_probability=design.get("requirements.max_failure_probability"),
     )
 
 
@@ -82,8 +82,9 @@ class RobustCheck:
     deterministic: Any  # OptimizationResult, objective "margin", no scenarios
     deterministic_out_of_sample: Any  # UncertaintyResult at the deterministic optimum
     fresh_seed: int
+    grip_torque_Nm: float
     objective: str
-    max_stepout_probability: float | None
+    max_failure_probability: float | None
 
 
 def robust_optimum(design: Any, samples: int = OUT_OF_SAMPLE) -> RobustCheck:
@@ -108,7 +109,7 @@ def robust_optimum(design: Any, samples: int = OUT_OF_SAMPLE) -> RobustCheck:
     res = optimize_design(model)
     oos = _fresh(design, res, samples, fresh)
     if res.scenario_solve is not None and res.scenario_solve.skipped:
-        det, det_oos = res, oos  # the step-out row cannot bind: the deterministic optimum
+        det, det_oos = res, oos  # the failure row cannot bind: the deterministic optimum
     else:
         det, det_oos = deterministic()
     own = model if res.hardware is None else robust_model(*_as_built(design, res))
@@ -119,8 +120,9 @@ def robust_optimum(design: Any, samples: int = OUT_OF_SAMPLE) -> RobustCheck:
         deterministic=det,
         deterministic_out_of_sample=det_oos,
         fresh_seed=fresh,
+        grip_torque_Nm=model.scenarios.grip_torque_Nm,
         objective=model.bounds.objective,
-        max_stepout_probability=model.scenarios.max_stepout_probability,
+        max_failure_probability=model.scenarios.max_failure_probability,
     )
 
 
@@ -153,6 +155,13 @@ def _fresh(design: Any, res: Any, samples: int, seed: int) -> Any:
     return uq.summarise(p, uq.run_local(p, samples, seed), seed, "sobol")
 
 
+def _failure_dict(r: Any) -> dict[str, Any]:
+    """P(failure) and its parts (with Wilson intervals) of a fresh-sample check."""
+    from spiralcap.uncertainty import failure_to_dict
+
+    return failure_to_dict(r)
+
+
 def robust_to_dict(rc: RobustCheck) -> dict[str, Any]:
     """The ``"robust"`` part of ``optimize --json`` (SI units in the keys)."""
     ins, oos, d_oos = rc.in_sample, rc.out_of_sample, rc.deterministic_out_of_sample
@@ -162,21 +171,28 @@ def robust_to_dict(rc: RobustCheck) -> dict[str, Any]:
         "scenarios": ins.scenarios,
         "scenario_seed": ins.seed,
         "beta": ins.beta,
+        "grip_torque_Nm": rc.grip_torque_Nm,
+        "failure_counting": "a scenario fails when it steps out or stretches some wall by less "
+        "than requirements.min_wall_strain; its effective margin is the least of its torque "
+        "margins and its grip margins grip_torque_Nm x (strain / min_wall_strain - 1)",
         # one type per field: present only when the design constrains it
         **(
             {}
-            if rc.max_stepout_probability is None
-            else {"max_stepout_probability": rc.max_stepout_probability}
+            if rc.max_failure_probability is None
+            else {"max_failure_probability": rc.max_failure_probability}
         ),
         "in_sample": {
             "margin_p05_Nm": ins.margin_p05_Nm,
             "cvar05_Nm": ins.cvar_Nm,
+            "failure_probability": ins.failure_probability,
             "stepout_probability": ins.stepout_probability,
+            "below_min_strain_probability": ins.below_min_strain_probability,
         },
         "out_of_sample": {
             "samples": oos.samples,
             "seed": rc.fresh_seed,
             "margin_p05_Nm": p05,
+            "failure_probability": _failure_dict(oos),
             "stepout_probability": oos.stepout_probability,
             "stepout_probability_ci95": list(oos.stepout_ci95),
             **(
@@ -192,7 +208,9 @@ def robust_to_dict(rc: RobustCheck) -> dict[str, Any]:
             "frequency_hz": rc.deterministic.frequency_hz,
             "margin_Nm": rc.deterministic.margin_Nm,
             "out_of_sample_margin_p05_Nm": d_oos.margin_percentiles_Nm["p05"],
+            "out_of_sample_failure_probability": d_oos.failure.value,
             "out_of_sample_stepout_probability": d_oos.stepout_probability,
+            "out_of_sample_below_min_strain_probability": d_oos.below_min_strain.value,
         },
     }
 
@@ -208,8 +226,8 @@ def scenario_solve_to_dict(rec: Any) -> dict[str, Any] | None:
         return None
     check = {
         "cvar05_Nm": _finite(rec.cvar_Nm),
-        "stepout_cvar_Nm": _finite(rec.stepout_cvar_Nm),  # only with max_stepout_probability
-        "stepout_probability": _finite(rec.stepout_probability),
+        "failure_cvar_Nm": _finite(rec.failure_cvar_Nm),  # only with max_failure_probability
+        "failure_probability": _finite(rec.failure_probability),
         "smallest_margin_outside_working_set_Nm": _finite(rec.outside_min_Nm),
         "tail_edge_in_working_set_Nm": _finite(rec.tail_edge_Nm),
     }
@@ -217,7 +235,7 @@ def scenario_solve_to_dict(rec: Any) -> dict[str, Any] | None:
         "scenarios": rec.scenarios,
         "working_set": rec.capacity,
         "rounds": rec.rounds,
-        "stepout_constraint_cannot_bind": rec.skipped,
+        "failure_constraint_cannot_bind": rec.skipped,
         "check": {k: v for k, v in check.items() if v is not None},
     }
 
@@ -229,9 +247,9 @@ def format_scenario_solve(rec: Any, p: float | None) -> str:
     n = rec.scenarios
     if rec.skipped:
         return (
-            f"scenario solve      P(step-out) <= {p:g} cannot bind: the optimum without it has "
-            f"CVaR_{p:g} {rec.stepout_cvar_Nm * 1e3:.4g} mN·m >= 0 and P(step-out) "
-            f"{100 * rec.stepout_probability:.3g} % over all {n} scenarios; returned at once"
+            f"scenario solve      P(failure) <= {p:g} cannot bind: the optimum without it has "
+            f"CVaR_{p:g} {rec.failure_cvar_Nm * 1e3:.4g} mN·m >= 0 and P(failure) "
+            f"{100 * rec.failure_probability:.3g} % over all {n} scenarios; returned at once"
         )
     if rec.capacity >= n:
         return f"scenario solve      all {n} scenarios in one NLP ({rec.rounds} solve(s))"

@@ -899,9 +899,11 @@ KEYS.update(
             "rotation frequencies the bench covered: record of the bench the constants were "
             "fitted on; not used by the model (the fitted constants are calibrated only there)",
         ),
-        "requirements.max_stepout_probability": _between(
-            "largest allowed probability that the capsule steps out over the tissue "
-            "uncertainty (a CVaR constraint on optimize.scenarios scenarios; unset: none)",
+        "requirements.max_failure_probability": _between(
+            "largest allowed probability that the capsule fails over the tissue uncertainty: "
+            "steps out, or its spiral stretches some wall by less than "
+            "requirements.min_wall_strain (a CVaR constraint on optimize.scenarios scenarios; "
+            "unset: none)",
             None,
             0.0,
             0.5,
@@ -909,7 +911,7 @@ KEYS.update(
         ),
         "optimize.scenarios": _count(
             "tissue scenarios (Sobol' points; a power of 2 keeps them balanced) for objective "
-            "margin_p05 and requirements.max_stepout_probability (at most 8192: each adds a "
+            "margin_p05 and requirements.max_failure_probability (at most 8192: each adds a "
             "variable and a row to the NLP)",
             1024,
             20,
@@ -995,6 +997,14 @@ def si_values(design: Any, prefix: str) -> dict[str, float]:
     return out
 
 
+#: Keys that are no longer read, and what replaces them (refused with that one line).
+RETIRED_KEYS = {
+    "requirements.max_stepout_probability": "no longer read: use "
+    "requirements.max_failure_probability (a failure is a step-out or a spiral that stretches "
+    "some wall by less than requirements.min_wall_strain)",
+}
+
+
 def validate_value(key: str, value: Any) -> Any:
     """Check one value against its key; return it coerced (int -> float where a float is due).
 
@@ -1004,6 +1014,8 @@ def validate_value(key: str, value: Any) -> Any:
         Unknown key (with the closest known key suggested) or a value outside what is allowed.
     """
     spec = KEYS.get(key)
+    if key in RETIRED_KEYS:
+        raise InputError(key, value, RETIRED_KEYS[key])
     if spec is None:
         import difflib
 

@@ -2,7 +2,8 @@
 
 The design's ``[tissue.uncertainty]`` table says what is uncertain; :func:`study` samples it
 (:mod:`optimize.uncertainty`), evaluates the worst-case margin of every sample at the operating
-point, and summarises the step-out probability, percentiles and Sobol indices (SALib). The
+point, and summarises the failure probability (step-out or lost grip), percentiles and Sobol
+indices (SALib). The
 samples run in chunks here, in worker processes or on a Dask cluster
 (:func:`spiralcap.parallel.map_tasks`): same seed, same numbers bit for bit.
 """
@@ -22,7 +23,7 @@ DEFAULT_SOBOL_BASE = 1 << 12
 
 @dataclass(frozen=True)
 class Study(Viewable):
-    """An uncertainty study and where/how long it ran; in a notebook a table of the step-out
+    """An uncertainty study and where/how long it ran; in a notebook a table of the failure
     probability and the margin's percentiles, ``.plot()`` its distribution
     (:mod:`spiralcap.notebook`)."""
 
@@ -96,17 +97,44 @@ def study(
     # tasks of 8 chunks (2^18 samples, ~0.1 s): each chunk's samples are fixed by its index
     # range and the seed, so the grouping changes nothing in the result
     tasks = [(problem, b, seed, method) for b in uq.batches(samples)]
-    parts = map_tasks(uq.batch_margins, tasks, workers=workers, dask=dask, progress=progress)
+    parts = map_tasks(uq.batch_outcomes, tasks, workers=workers, dask=dask, progress=progress)
     import numpy as np
 
-    margins = np.concatenate(parts)
+    outcomes = np.concatenate(parts)
     sob = uq.sobol_indices(problem, sobol_base, seed) if sobol_base else None
-    result = uq.summarise(problem, margins, seed, method, sob)
+    result = uq.summarise(problem, outcomes, seed, method, sob)
     return Study(result, unc, where(workers, dask), time.perf_counter() - t0)
+
+
+def failure_to_dict(r: Any) -> dict[str, Any]:
+    """``failure_probability``: the share of failed samples and its parts, each with its Wilson
+    interval (the parts overlap: a sample can step out and lose grip), and the closed forms
+    where they exist (:func:`optimize.uncertainty.grip_loss_probability`)."""
+    from optimize import uncertainty as uq
+
+    def part(p: Any, closed: str | None = None) -> dict[str, Any]:
+        out: dict[str, Any] = {"value": p.value, "ci95": list(p.ci95), "samples": p.count}
+        if closed is not None and closed in r.closed_form:
+            out["closed_form"] = r.closed_form[closed]
+        return out
+
+    return {
+        **part(r.failure),
+        "definition": uq.FAILURE_DEFINITION,
+        "min_wall_strain": r.min_wall_strain,
+        "interval": "Wilson score 95 % (binomial; conservative for quasi-random points)",
+        "parts": {
+            "stepout_probability": part(r.stepout),
+            "below_min_strain_probability": part(r.below_min_strain, "below_min_strain"),
+            "no_grip_probability": part(r.no_grip, "no_grip"),
+        },
+    }
 
 
 def study_to_dict(st: Study, design_source: str = "") -> dict[str, Any]:
     """JSON-ready mapping (SI units in every key)."""
+    from optimize import uncertainty as uq
+
     r = st.result
     out: dict[str, Any] = {
         "design": design_source,
@@ -118,6 +146,7 @@ def study_to_dict(st: Study, design_source: str = "") -> dict[str, Any]:
         "uncertain_inputs": list(dict.fromkeys(g for _, g in st.uncertainty.factors())),
         "nominal_margin_Nm": r.nominal_margin_Nm,
         "available_torque_Nm": r.available_torque_Nm,
+        "failure_probability": failure_to_dict(r),
         "stepout_probability": r.stepout_probability,
         "no_grip_probability": r.no_grip_probability,
         "stepout_probability_ci95": list(r.stepout_ci95),
@@ -125,8 +154,10 @@ def study_to_dict(st: Study, design_source: str = "") -> dict[str, Any]:
         "margin_percentiles_Nm": r.margin_percentiles_Nm,
         "margin_mean_Nm": r.margin_mean_Nm,
         "margin_std_Nm": r.margin_std_Nm,
+        "margin_counting": uq.MARGIN_COUNTING,
         "speed_percentiles_m_s": r.speed_percentiles_m_s,
-        "speed_note": "the design's speed where the margin holds, 0 where it steps out",
+        "speed_note": "the design's speed where the sample does not fail, 0 in every failed "
+        "sample (step-out or below the minimum wall strain)",
     }
     if r.sobol is not None:
         s = r.sobol

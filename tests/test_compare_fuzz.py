@@ -66,7 +66,7 @@ CASES: list = [
     ["--set", "2:report.title='A title'"],
     [
         "--set",
-        "2:requirements.max_stepout_probability=0.2",
+        "2:requirements.max_failure_probability=0.2",
         "--set",
         "2:optimize.scenarios=64",
         "--set",

@@ -57,7 +57,7 @@ CASES = [
         ],
     ),
     ("optimize", ["optimize", "--set", "optimize.objective='margin_p05'", *SCALE]),
-    ("optimize", ["optimize", "--set", "requirements.max_stepout_probability=0.2", *SCALE]),
+    ("optimize", ["optimize", "--set", "requirements.max_failure_probability=0.2", *SCALE]),
     ("evaluate", ["evaluate", *RUNAWAY]),
 ]
 
@@ -92,8 +92,8 @@ def test_json_matches_schema_and_text_has_no_nan(tmp_path, name, argv):
     if name == "fit":
         assert "residual_std" in doc and doc["residual_std"] >= 0
     if name == "optimize":
-        constrained = "requirements.max_stepout_probability=0.2" in argv
-        assert ("max_stepout_probability" in doc["robust"]) == constrained, doc["robust"]
+        constrained = "requirements.max_failure_probability=0.2" in argv
+        assert ("max_failure_probability" in doc["robust"]) == constrained, doc["robust"]
 
 
 def _run(argv: list[str]) -> tuple[int, str, str]:

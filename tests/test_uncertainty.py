@@ -25,7 +25,7 @@ def test_scale_only_stepout_matches_closed_form(method):
     sigma = 0.5
     p = _problem(f"tissue.uncertainty.scale_sigma_log={sigma}", one_set=True)
     n = 200_000
-    m = uq.run_local(p, n, seed=11, method=method)
+    m = uq.run_local(p, n, seed=11, method=method)[:, 0]
     exact = uq.closed_form_stepout_probability(p)
     est = float(np.mean(m < 0))
     se = math.sqrt(exact * (1 - exact) / n)

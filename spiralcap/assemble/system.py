@@ -193,7 +193,7 @@ _CONSTRAINT_KEYS = {
     "frequency_max": "optimize.frequency_max_hz",
     "frequency_min": "optimize.frequency_min_hz",
     "solver": "optimize.starts",
-    "stepout_probability": "requirements.max_stepout_probability",
+    "failure_probability": "requirements.max_failure_probability",
     "copper_mass": "limits.copper_mass_kg",
     "bore_clearance": "coils.min_clearance_mm",
     "envelope": "limits.envelope_mm",

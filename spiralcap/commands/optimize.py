@@ -306,7 +306,7 @@ def _turns(values: dict[str, float]) -> dict[str, float]:
 #: What a scenario objective maximises, in the robust lines (the key's name says p05).
 _ROBUST_OBJECTIVE_WORDS = {
     "margin_p05": " (maximises CVaR05, the mean of the worst 5 % of the scenario margins, a lower "
-    "bound on their p05)"
+    "bound on their p05; a failed scenario's margin is negative)"
 }
 
 
@@ -316,22 +316,31 @@ def format_robust(rc) -> str:
 
     ins, oos, d_oos = rc.in_sample, rc.out_of_sample, rc.deterministic_out_of_sample
     rel = robust_to_dict(rc)["out_of_sample"].get("p05_relative_to_claim")
-    p = rc.max_stepout_probability
-    cons = f", P(step-out) <= {p:g} (CVaR)" if p is not None else ""
+    p = rc.max_failure_probability
+    cons = f", P(failure) <= {p:g} (CVaR)" if p is not None else ""
+    lo, hi = oos.failure.ci95
     return "\n".join(
         [
             f"tissue scenarios    {ins.scenarios} (Sobol', seed {ins.seed}); objective "
-            f"{rc.objective}{_ROBUST_OBJECTIVE_WORDS.get(rc.objective, '')}{cons}",
-            f"in-sample           margin p05 {ins.margin_p05_Nm * 1e3:.4g} mN·m, CVaR05 "
-            f"{ins.cvar_Nm * 1e3:.4g} mN·m, P(step-out) {100 * ins.stepout_probability:.3g} %",
-            f"out-of-sample       margin p05 {oos.margin_percentiles_Nm['p05'] * 1e3:.4g} mN·m"
+            f"{rc.objective}{_ROBUST_OBJECTIVE_WORDS.get(rc.objective, '')}{cons}; a scenario "
+            "fails when it steps out or stretches a wall by less than "
+            "requirements.min_wall_strain",
+            f"in-sample           P(failure) {100 * ins.failure_probability:.3g} % (step-out "
+            f"{100 * ins.stepout_probability:.3g} %, below min strain "
+            f"{100 * ins.below_min_strain_probability:.3g} %), margin p05 "
+            f"{ins.margin_p05_Nm * 1e3:.4g} mN·m, CVaR05 {ins.cvar_Nm * 1e3:.4g} mN·m",
+            f"out-of-sample       P(failure) {100 * oos.failure.value:.3g} % (95 % interval "
+            f"{100 * lo:.3g}-{100 * hi:.3g} %; step-out {100 * oos.stepout_probability:.3g} %, "
+            f"below min strain {100 * oos.below_min_strain.value:.3g} %, no contact "
+            f"{100 * oos.no_grip.value:.3g} %), margin p05 "
+            f"{oos.margin_percentiles_Nm['p05'] * 1e3:.4g} mN·m"
             + (f" ({100 * rel:+.2g} % vs claim)" if rel is not None else "")
-            + f", P(step-out) {100 * oos.stepout_probability:.3g} % "
-            f"({oos.samples} fresh samples, seed {rc.fresh_seed})",
+            + f" ({oos.samples} fresh samples, seed {rc.fresh_seed})",
             f"deterministic opt.  {rc.deterministic.helical_angle_deg:.4g} deg, "
-            f"{rc.deterministic.frequency_hz:.4g} Hz: out-of-sample margin p05 "
-            f"{d_oos.margin_percentiles_Nm['p05'] * 1e3:.4g} mN·m, P(step-out) "
-            f"{100 * d_oos.stepout_probability:.3g} %",
+            f"{rc.deterministic.frequency_hz:.4g} Hz: out-of-sample P(failure) "
+            f"{100 * d_oos.failure.value:.3g} % (step-out {100 * d_oos.stepout_probability:.3g} "
+            f"%, below min strain {100 * d_oos.below_min_strain.value:.3g} %), margin p05 "
+            f"{d_oos.margin_percentiles_Nm['p05'] * 1e3:.4g} mN·m",
             format_scenario_solve(rc.result.scenario_solve, p),
         ]
     )
@@ -348,7 +357,7 @@ def run(args: argparse.Namespace) -> int:
 
     design = design_from_args(args)
     rc = None
-    if wants_robust(design):  # margin_p05 / max_stepout_probability: over tissue scenarios
+    if wants_robust(design):  # margin_p05 / max_failure_probability: over tissue scenarios
         with working("optimize (robust)") as say:
             if say is not None:
                 say("the optimum over the tissue scenarios, then checked on fresh tissues")

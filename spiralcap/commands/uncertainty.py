@@ -10,6 +10,7 @@ numbers bit for bit.
 from __future__ import annotations
 
 import argparse
+from typing import Any
 
 from spiralcap.commands._common import (
     add_design_arguments,
@@ -79,28 +80,39 @@ def format_study(st: Study, design_source: str = "") -> str:
     from spiralcap.commands._common import format_table
 
     r = st.result
-    lo, hi = r.stepout_ci95
     mp, sp = r.margin_percentiles_Nm, r.speed_percentiles_m_s
+
+    def share(p: Any) -> str:
+        lo, hi = p.ci95
+        return f"{100 * p.value:.4g} % (95 % interval {100 * lo:.3g}-{100 * hi:.3g} %)"
+
+    closed = r.closed_form
+    below_exact = (
+        f"; exact {100 * closed['below_min_strain']:.4g} %" if "below_min_strain" in closed else ""
+    )
     lines = [
         f"design {design_source}: {r.samples} tissue samples ({r.method}, seed {r.seed}) on "
         f"{st.where}, {st.elapsed_s:.3g} s",
         "uncertain inputs    " + ", ".join(dict.fromkeys(g for _, g in st.uncertainty.factors())),
+        f"P(failure)          {share(r.failure)}: steps out, or stretches a wall by less than "
+        f"{100 * r.min_wall_strain:.3g} % (requirements.min_wall_strain)",
+        f"  step-out          {share(r.stepout)}",
+        f"  below min strain  {share(r.below_min_strain)}{below_exact}",
+        f"  no contact        {share(r.no_grip)}; exact {100 * closed['no_grip']:.4g} % "
+        "(a sampled lumen as wide as the spiral: no grip, no screw)",
         f"nominal margin      {r.nominal_margin_Nm * 1e3:.4g} mN·m "
         f"(magnetic torque {r.available_torque_Nm * 1e3:.4g} mN·m)",
-        f"step-out prob.      {100 * r.stepout_probability:.4g} % "
-        f"(95 % interval {100 * lo:.3g}-{100 * hi:.3g} %)",
-        f"no-grip prob.       {100 * r.no_grip_probability:.4g} % (a sampled lumen as wide as "
-        "the spiral: no grip, no screw; exact)",
         "margin, mN·m        " + "  ".join(f"{k} {v * 1e3:.4g}" for k, v in mp.items()),
+        "                    (a sample below the minimum strain counts as min(margin, 0))",
         "speed, mm/s         "
         + "  ".join(f"{k} {v * 1e3:.4g}" for k, v in sp.items())
-        + "  (0 where it steps out)",
+        + "  (0 in every failed sample)",
     ]
     if r.sobol is not None:
         s = r.sobol
         lines += [
             "",
-            f"Sobol indices of the margin (SALib, {s.base_samples} base samples; ± 95 %):",
+            f"Sobol indices of the counted margin (SALib, {s.base_samples} base samples; ± 95 %):",
             format_table(
                 ["input", "first_order", "±", "total", "± "],
                 [

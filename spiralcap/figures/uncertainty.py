@@ -1,4 +1,4 @@
-"""Figures of an uncertainty study: the margin's distribution with the step-out region, and the
+"""Figures of an uncertainty study: the margin's distribution with the failure region, and the
 Sobol indices of the margin.
 
 Each function takes an :class:`optimize.uncertainty.UncertaintyResult` and an ``ax``, and
@@ -15,21 +15,42 @@ from spiralcap.figures.style import COLOURS, HATCHES, REPORT_RC
 
 
 def plot_margin_distribution(ax: Any, result: Any) -> dict[str, Any]:
-    """Histogram of the worst-case margin (mN·m, density) and its CDF on a twin axis.
+    """Histogram of the worst-case margin of the samples that do not fail (mN·m, density of the
+    whole sample) and the CDF of the counted margin on a twin axis.
 
-    The step-out region (margin < 0) is shaded and hatched; the 5th percentile and the nominal
-    margin are marked. Returns the artists: ``hist``, ``cdf``, ``stepout``, ``p05``, ``nominal``.
+    The failure region (counted margin <= 0: step-out, or below the minimum strain, whose
+    margin counts as min(margin, 0)) is shaded and hatched and names P(failure) and its parts;
+    the 5th percentile and the nominal margin are marked. Returns the artists: ``hist``,
+    ``cdf``, ``failure``, ``p05``, ``nominal``.
     """
     m = np.asarray(result.margins_Nm) * 1e3
+    strains = np.asarray(getattr(result, "strains", np.zeros(0)))
+    ok = m >= 0
+    if strains.size == m.size:
+        ok &= strains >= result.min_wall_strain
+    shown = m[ok] if ok.any() else m
     lo, hi = np.percentile(m, [0.5, 99.95])
     lo = min(lo, -0.05 * (hi - lo))
+    hi = max(hi, float(np.max(shown)) if shown.size else hi, 0.05 * (hi - lo))
     bins = np.linspace(lo, hi, 80)
-    # density of the whole sample (the tails beyond the shown range are left out, not piled up)
-    weights = np.full(m.size, 1.0 / (m.size * (bins[1] - bins[0])))
+    # density over the whole sample: the bars' area is the share that does not fail (failed
+    # samples are not a margin; their share is in the hatched region's label)
+    weights = np.full(shown.size, 1.0 / (m.size * (bins[1] - bins[0])))
     _, _, hist = ax.hist(
-        m, bins=bins, weights=weights, color=COLOURS[0], alpha=0.55, label="samples (histogram)"
+        shown,
+        bins=bins,
+        weights=weights,
+        color=COLOURS[0],
+        alpha=0.55,
+        label="samples that do not fail (histogram)",
     )
-    stepout = ax.axvspan(
+    fail = getattr(result, "failure", None)
+    p_fail = fail.value if fail is not None else result.stepout_probability
+    below = getattr(result, "below_min_strain", None)
+    parts = f"step-out {100 * result.stepout_probability:.3g} %"
+    if below is not None:
+        parts += f", below min. strain {100 * below.value:.3g} %"
+    failure = ax.axvspan(
         lo,
         0.0,
         facecolor="0.92",
@@ -37,10 +58,12 @@ def plot_margin_distribution(ax: Any, result: Any) -> dict[str, Any]:
         edgecolor="0.65",
         linewidth=0,
         zorder=0,
-        label=f"step-out: P = {100 * result.stepout_probability:.3g} %",
+        label=f"failure: P = {100 * p_fail:.3g} % ({parts})",
     )
     p05 = result.margin_percentiles_Nm["p05"] * 1e3
-    line_p05 = ax.axvline(p05, color=COLOURS[1], linestyle="--", label=f"p05 = {p05:.3g} mN·m")
+    line_p05 = ax.axvline(
+        p05, color=COLOURS[1], linestyle="--", label=f"p05 (counted) = {p05:.3g} mN·m"
+    )
     nom = result.nominal_margin_Nm * 1e3
     line_nom = ax.axvline(nom, color="black", linestyle=":", label=f"nominal = {nom:.3g} mN·m")
     ax.set_xlim(lo, hi)
@@ -51,17 +74,30 @@ def plot_margin_distribution(ax: Any, result: Any) -> dict[str, Any]:
     ys = np.arange(1, xs.size + 1) / xs.size
     step = max(xs.size // 2000, 1)
     (cdf,) = twin.plot(
-        xs[::step], ys[::step], color=COLOURS[2], linestyle="-", label="cumulative (right axis)"
+        xs[::step],
+        ys[::step],
+        color=COLOURS[2],
+        linestyle="-",
+        label="cumulative, counted margin (right axis)",
     )
     twin.set_ylim(0, 1.0)
     twin.set_ylabel("cumulative probability")
     twin.grid(False)
-    handles = [hist[0], cdf, stepout, line_p05, line_nom]
-    ax.legend(handles, [h.get_label() for h in handles], loc="center left", fontsize="small")
-    ax.set_title(
-        f"margin over {result.samples} tissue samples ({result.method}); 0.5-99.95 % shown"
+    handles = [hist[0], cdf, failure, line_p05, line_nom]
+    ax.legend(
+        handles,
+        [h.get_label() for h in handles],
+        loc="upper center",
+        bbox_to_anchor=(0.5, -0.16),
+        ncol=2,
+        fontsize="small",
     )
-    return {"hist": hist, "cdf": cdf, "stepout": stepout, "p05": line_p05, "nominal": line_nom}
+    ax.set_title(
+        f"margin over {result.samples} tissue samples ({result.method}); a failed sample "
+        "counts as min(margin, 0)",
+        fontsize="medium",
+    )
+    return {"hist": hist, "cdf": cdf, "failure": failure, "p05": line_p05, "nominal": line_nom}
 
 
 def sobol_panel(result: Any) -> bool:
@@ -109,9 +145,9 @@ def plot_sobol(ax: Any, result: Any) -> dict[str, Any]:
     ax.set_yticks(y, [n.replace("_", " ") for n in s.inputs])
     ax.invert_yaxis()
     ax.set_xlim(min(0.0, float(np.min(s.first_order)) - 0.05), 1.05)
-    ax.set_xlabel("Sobol index of the margin (share of variance)")
-    ax.legend(loc="lower right", fontsize="small")
-    ax.set_title(f"sensitivity (SALib, {s.base_samples} base samples)")
+    ax.set_xlabel("Sobol index of the counted margin\n(share of its variance)")
+    ax.legend(loc="upper right", fontsize="small")
+    ax.set_title(f"sensitivity ({s.base_samples} base samples)")
     return {"first_order": first, "total": total}
 
 
@@ -127,11 +163,11 @@ def save_uncertainty_figure(path: str, result: Any) -> dict[str, Any]:
 
     with matplotlib.rc_context(REPORT_RC):
         if sobol_panel(result):
-            fig = Figure(figsize=(11.0, 4.4), layout="constrained")
+            fig = Figure(figsize=(11.0, 5.2), layout="constrained")
             ax1, ax2 = fig.subplots(1, 2, width_ratios=[1.4, 1.0])
             drawn = {**plot_margin_distribution(ax1, result), **plot_sobol(ax2, result)}
         else:  # one uncertain input (its index is 1) or none computed: no Sobol panel
-            fig = Figure(figsize=(6.6, 4.4), layout="constrained")
+            fig = Figure(figsize=(6.6, 5.2), layout="constrained")
             drawn = plot_margin_distribution(fig.subplots(), result)
         buf = io.BytesIO()
         suffix = str(path).rsplit(".", 1)[-1].lower() if "." in str(path) else "png"

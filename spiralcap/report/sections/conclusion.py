@@ -16,7 +16,8 @@ from spiralcap.report.document import Inline, Link, Paragraph, Section, Strong
 from spiralcap.report.sections._util import Context, readable
 from spiralcap.report.sections.summary import change_first
 
-#: Above this step-out probability the uncertainty section raises an alert; the conclusion
+#: Above this failure probability (step-out or lost grip) the uncertainty section raises an
+#: alert; the conclusion
 #: calls the design unsafe under tissue uncertainty at the same level.
 STEPOUT_ALERT = 0.05
 
@@ -122,6 +123,9 @@ def conclusion_payload(
     if uncertainty is not None:
         p = float(uncertainty["stepout_probability"])
         out["stepout_probability"] = p
+        # a failure is a step-out or a lost grip (below the minimum wall strain)
+        p = float(uncertainty["failure_probability"]["value"])
+        out["failure_probability"] = p
         out["safe_under_uncertainty"] = bool(evaluation["feasible"]) and p <= STEPOUT_ALERT
     return out
 
@@ -153,11 +157,12 @@ def _is_safe(ctx: Context) -> Paragraph:
             ", ".join(f"{readable(r['name'])} ({r['key']})" for r in failing) or "a check",
         ]
     kind = "ok" if safe else "alert"
-    if _has(ctx, f"{c}.stepout_probability"):
-        p = ctx.value(f"{c}.stepout_probability")
+    if _has(ctx, f"{c}.failure_probability"):
+        p = ctx.value(f"{c}.failure_probability")
         parts += [
-            "; over the tissue uncertainty it steps out with probability ",
-            ctx.num(f"{c}.stepout_probability", 100.0, "%"),
+            "; over the tissue uncertainty it fails (steps out or loses its grip) with "
+            "probability ",
+            ctx.num(f"{c}.failure_probability", 100.0, "%"),
             (" (above 5 %: not safe enough)" if p > STEPOUT_ALERT else ""),
         ]
         if not ctx.value(f"{c}.safe_under_uncertainty"):
@@ -228,11 +233,19 @@ def _fails_first(ctx: Context) -> Paragraph:
                 ctx.num(f"{c}.checks_by_headroom.{i}.headroom", 100.0, "%"),
                 "). ",
             ]
-    if _has(ctx, f"{c}.stepout_probability"):
+    if _has(ctx, f"{c}.failure_probability"):
         parts += [
-            "Sampling the design's [tissue.uncertainty], the capsule steps out with probability ",
-            ctx.num("uncertainty.stepout_probability", 100.0, "%"),
-            " and the 5th-percentile margin is ",
+            "Sampling the design's [tissue.uncertainty], the capsule fails with probability ",
+            ctx.num("uncertainty.failure_probability.value", 100.0, "%"),
+            " (steps out ",
+            ctx.num("uncertainty.failure_probability.parts.stepout_probability.value", 100.0, "%"),
+            ", below the minimum wall strain ",
+            ctx.num(
+                "uncertainty.failure_probability.parts.below_min_strain_probability.value",
+                100.0,
+                "%",
+            ),
+            ") and the 5th-percentile margin is ",
             ctx.num("uncertainty.margin_percentiles_Nm.p05", 1e3, "mN·m"),
             " (",
             Link("section Tissue uncertainty", "uncertainty"),

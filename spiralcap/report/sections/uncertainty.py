@@ -12,7 +12,7 @@ from typing import Any
 from spiralcap.report.document import FigureBlock, Paragraph, Section, Table
 from spiralcap.report.sections._util import Context
 
-#: Samples the report draws: 2^16 keeps the step-out probability's 95 % interval within about
+#: Samples the report draws: 2^16 keeps the failure probability's 95 % interval within about
 #: ±0.2 percentage points at 5 % and the study well under a second.
 REPORT_SAMPLES = 1 << 16
 REPORT_SOBOL_BASE = 1 << 11
@@ -76,21 +76,32 @@ def build(ctx: Context, st: Any) -> Section | None:
             ctx.num(f"{p}.seed"),
             ") perturb every tissue set alike; each sample's worst-case margin is computed by "
             "the same physics functions as the rest of this report, at the operating point. "
-            "The capsule steps out of synchrony where the margin is negative.",
+            "A sample fails where the capsule steps out of synchrony (negative margin) or its "
+            "spiral stretches some wall by less than the minimum strain ",
+            ctx.num(f"{p}.failure_probability.min_wall_strain", 100.0, "%"),
+            " (no contact is the extreme case: no grip, no screw).",
         ]
     )
-    lo, hi = ctx.value(f"{p}.stepout_probability_ci95")
+    f = f"{p}.failure_probability"
+    lo, hi = ctx.value(f"{f}.ci95")
+    parts = f"{f}.parts"
     risk = Paragraph(
         [
-            "Step-out probability ",
-            ctx.num(f"{p}.stepout_probability", 100.0, "%"),
-            f" (95 % interval {100 * lo:.3g}-{100 * hi:.3g} %); 5th-percentile margin ",
+            "Failure probability ",
+            ctx.num(f"{f}.value", 100.0, "%"),
+            f" (95 % interval {100 * lo:.3g}-{100 * hi:.3g} %): step-out ",
+            ctx.num(f"{parts}.stepout_probability.value", 100.0, "%"),
+            ", below the minimum strain ",
+            ctx.num(f"{parts}.below_min_strain_probability.value", 100.0, "%"),
+            ", of which no contact ",
+            ctx.num(f"{parts}.no_grip_probability.value", 100.0, "%"),
+            ". 5th-percentile margin ",
             ctx.num(f"{p}.margin_percentiles_Nm.p05", 1e3, "mN·m"),
             " against a nominal ",
             ctx.num(f"{p}.nominal_margin_Nm", 1e3, "mN·m"),
-            ".",
+            " (a failed sample counts with at most 0 mN·m: never as a good margin).",
         ],
-        kind="alert" if ctx.value(f"{p}.stepout_probability") > 0.05 else "note",
+        kind="alert" if ctx.value(f"{f}.value") > 0.05 else "note",
     )
     rows: list[list[Any]] = [
         [
@@ -104,7 +115,9 @@ def build(ctx: Context, st: Any) -> Section | None:
         ["percentile", "worst-case margin", "forward speed"],
         rows,
         id="uncertainty-percentiles",
-        caption="Percentiles over the tissue samples; the speed is 0 where the capsule steps out.",
+        caption="Percentiles over the tissue samples. A sample below the minimum wall strain "
+        "counts with min(margin, 0); the speed is 0 in every failed sample (step-out or lost "
+        "grip).",
     )
     from spiralcap.figures.uncertainty import sobol_panel
 
@@ -131,14 +144,16 @@ def build(ctx: Context, st: Any) -> Section | None:
                     for n in names
                 ],
                 id="uncertainty-sobol",
-                caption="Sobol indices of the margin (SALib; Saltelli 2010, Jansen 1999): the "
+                caption="Sobol indices of the counted margin (a sample below the minimum strain "
+                "counts as min(margin, 0); SALib; Saltelli 2010, Jansen 1999): the "
                 "share of the margin's variance each input explains alone (first order) and "
                 "with its interactions (total). Correlated fit parameters form one group.",
             )
         )
     distribution = (
         "distribution of the worst-case margin over the tissue samples (histogram, and "
-        "cumulative on the right axis); hatched, the step-out region"
+        "cumulative on the right axis); hatched, the failure region (step-out, or below the "
+        "minimum strain, counted as min(margin, 0))"
     )
     blocks.append(
         FigureBlock(
@@ -150,7 +165,7 @@ def build(ctx: Context, st: Any) -> Section | None:
             if with_sobol
             else distribution[0].upper() + distribution[1:] + ".",
             _draw(st, with_sobol),
-            size_in=(10.0, 4.2) if with_sobol else (6.6, 4.2),
+            size_in=(10.0, 4.8) if with_sobol else (6.6, 4.8),
         )
     )
     return Section("uncertainty", "Tissue uncertainty", blocks)
