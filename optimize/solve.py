@@ -87,9 +87,11 @@ def initial_points(model: DesignModel, scales: pb.Scales, starts: int) -> list[d
     A, F = np.meshgrid(alphas, freqs, indexing="ij")
     g = margin_grid(model, A, F, capacity=True)
     field = g.field_amplitude_T
-    t0 = g.margin_Nm / scales.torque_Nm
+    # a number everywhere, no contact included (a start only, never a design's margin)
+    margin = np.asarray(g.model_margin_Nm, dtype=float)
+    t0 = margin / scales.torque_Nm
     if model.bounds.objective == "ratio":
-        score, t0 = g.safety_factor, g.safety_factor
+        score = t0 = np.asarray(g.model_safety_factor, dtype=float)
     elif _minimises_power(model):
         need = worst_required(model, A, F).total_Nm
         c = model.constants
@@ -99,7 +101,7 @@ def initial_points(model: DesignModel, scales: pb.Scales, starts: int) -> list[d
         score = np.where(ok, -field, -field - 1.0)
         t0 = np.zeros_like(field)
     else:
-        score = g.margin_Nm
+        score = margin
     score = np.where(g.feasible, score, score - 1e3 * np.abs(score).max() - 1.0)
     out = []
     for band in np.array_split(np.arange(alphas.size), max(starts, 1)):

@@ -521,10 +521,10 @@ KEYS.update(
             "least strain the spiral must stretch the intestinal wall by, (D' - lumen) / "
             "(lumen + wall), for every tissue set: a spiral that does not stretch the wall does "
             "not grip it, so it neither screws the capsule forward nor meets the model's "
-            "resistance (default 0.017: the least strain at which the paper measured a spiral "
-            "capsule's torque, capsule No. 4 at 20 deg in sample 3, 1.69 %); range: 1e-4-0.5 "
-            "(it cannot be switched off)",
-            0.017,
+            "resistance (default 0.0168: includes the least strain at which the paper measured a "
+            "spiral capsule's torque, capsule No. 4 at 20 deg in sample 3, 1.685 %, to three "
+            "figures); range: 1e-4-0.5 (it cannot be switched off)",
+            0.0168,
             1e-4,
             0.5,
             open_=False,
