@@ -414,6 +414,62 @@ def least_wall_strain(model: DesignModel, alpha_rad: Any) -> np.ndarray:
     return np.min(np.stack([np.asarray(s, dtype=float) for s in strains]), axis=0)
 
 
+@dataclass(frozen=True)
+class GripBound:
+    """The steepest helical angle inside the optimiser's box at which the spiral still grips
+    (every tissue set's wall strain >= ``requirements.min_wall_strain``).
+
+    Attributes
+    ----------
+    helical_angle_max_rad : float
+        That angle, rad (the box's upper bound where the grip holds across it; its lower
+        bound where the grip is out of reach: the most strain there is).
+    reachable : bool
+        Flag: some angle in the box grips.
+    least_strain_at_max : float
+        The least wall strain over the tissue sets at that angle, dimensionless.
+    """
+
+    helical_angle_max_rad: float
+    reachable: bool
+    least_strain_at_max: float
+
+
+def grip_bound(model: DesignModel) -> GripBound:
+    """Where the spiral stops gripping along the helical angle (:class:`GripBound`).
+
+    The strain falls as the angle grows (a steeper spiral's cut is narrower, so D' is smaller:
+    docs/torque-model.md section 1), so the grip holds on ``[lo, alpha*]``, alpha* the root of
+    least strain = ``requirements.min_wall_strain`` (Brent's method), inside the box of
+    ``model.bounds``.
+
+    Parameters
+    ----------
+    model : DesignModel
+        The design (capsule, tissue sets, requirement and angle bounds).
+
+    Returns
+    -------
+    GripBound
+        The steepest gripping angle, rad, and whether any angle grips.
+    """
+    model = prepare(model)
+    lo, hi = model.bounds.helical_angle_min_rad, model.bounds.helical_angle_max_rad
+    need = float(model.requirements.min_wall_strain)
+
+    def excess(alpha: float) -> float:
+        return float(least_wall_strain(model, alpha)) - need
+
+    if excess(lo) < 0:  # the most strain is at lo: out of reach but for the tolerance
+        return GripBound(lo, excess(lo) >= -FEASIBILITY_RTOL * need, excess(lo) + need)
+    if excess(hi) >= 0:
+        return GripBound(hi, True, excess(hi) + need)
+    root = brentq(excess, lo, hi, xtol=1e-13, rtol=1e-14)
+    while excess(root) < 0 and root > lo:  # the root's side that grips (one ulp at a time)
+        root = math.nextafter(root, lo)
+    return GripBound(root, True, excess(root) + need)
+
+
 def _capacity_T(model: DesignModel, f: np.ndarray) -> np.ndarray:
     """:func:`optimize.physics.field_capacity_T` at every frequency of ``f``, solved once per
     distinct frequency (an angle x frequency grid repeats each one per angle). Bit for bit the

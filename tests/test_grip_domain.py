@@ -9,7 +9,10 @@ from __future__ import annotations
 
 import csv
 import functools
+import json
 import math
+import re
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -143,3 +146,95 @@ def test_api_margin_is_nan_without_contact():
     assert list(g.grip) == ["below minimum", "none"]
     assert np.isfinite(g.model_margin_Nm).all()
     assert g.margin_Nm[0] == pytest.approx(evaluate(model, math.radians(10.0), 1.0).margin_Nm)
+
+
+def test_notebook_view_shows_no_margin_without_contact():
+    """The notebook table of a no-contact evaluation says so instead of a number or 'nan'."""
+    from spiralcap.notebook import NO_CONTACT
+
+    model = prepare(build_model(load_design(None, [f"tissue.lumen_diameter_mm={LUMEN_MM}"])))
+    page = evaluate(model, math.radians(25.0), 1.0)._repr_html_()
+    assert NO_CONTACT in page and "nan" not in page.lower(), "no margin, named"
+    assert "does not touch every wall" in page
+
+
+#: The issue's infeasible case: a 9 mm capsule with a 2.25 mm spiral wire in a 10.5 mm lumen,
+#: driven by examples/square_coils.toml's square coils with 30 W per amplifier channel.
+LAB = [
+    "capsule.diameter_mm=9",
+    "capsule.spiral.wire_diameter_mm=2.25",
+    "tissue.lumen_diameter_mm=10.5",
+    "optimize.helical_angle_min_deg=4",  # the 2.25 mm wire's turns touch below 3.65 deg
+    "limits.x.power_W=30",
+    "limits.y.power_W=30",
+    "limits.z.power_W=30",
+]
+SQUARE = str(Path(__file__).resolve().parents[1] / "examples" / "square_coils.toml")
+
+
+@pytest.fixture(scope="module")
+def lab_infeasible():
+    """``optimize --json`` and the text of the lab's case (each run once)."""
+    rc, out, err = run(["optimize", SQUARE, *_sets(LAB), "--json"])
+    assert rc == 3, out + err
+    rc_text, text, _ = run(["optimize", SQUARE, *_sets(LAB)])
+    assert rc_text == 3
+    return json.loads(out), text
+
+
+def test_infeasible_case_is_explained_at_a_design_that_grips(lab_infeasible):
+    """Issue 36 done-when: exit 3, explained where the spiral grips (the strain there by the
+    ConvexHull D' and eq. 6 >= the minimum), the limiting requirement the torque (reachable
+    grip is not named), and the shortfall printed equal to ``evaluate`` of that design."""
+    doc, text = lab_infeasible
+    at = doc["explained_at"]
+    assert at["grips"] is True
+    alpha = at["keys"]["capsule.spiral.helical_angle_deg"]
+    d_prime = hull_d_prime_mm(float(alpha), body_mm=9.0, wire_mm=2.25)
+    walls_mm = {
+        1e3 * tm.preset(n).wall_thickness_m for n in ("zhou2013-sample2", "zhou2013-sample3")
+    }
+    strain = min((d_prime - 10.5) / (10.5 + w) for w in walls_mm)
+    assert strain >= tm.DEFAULT_MIN_WALL_STRAIN * (1 - 1e-4), (
+        f"{alpha:.4f} deg: eq. 6 at the ConvexHull D' {d_prime:.5f} mm grips (1e-4: the hull)"
+    )
+    names = [s["name"] for s in doc["shortfalls"]]
+    assert names == ["margin"], f"the torque is what is out of reach, not the grip: {names}"
+    sets = [f"{k}={v!r}" for k, v in at["keys"].items()]
+    ev = json.loads(run(["evaluate", SQUARE, *_sets([*LAB, *sets]), "--json"])[1])
+    short = doc["shortfalls"][0]
+    assert -ev["margin_Nm"] == pytest.approx(short["short_by"], rel=1e-9), (
+        "the shortfall is that design's own evaluation (1e-9)"
+    )
+    assert ev["grip"] == "ok" and ev["speed_m_s"] >= 5e-3 * (1 - 1e-6), "speed met there"
+    line = next(ln for ln in text.splitlines() if "falls short of the required torque" in ln)
+    printed = float(re.search(r"by ([\d.]+) mN·m", line).group(1))
+    assert printed == pytest.approx(-ev["margin_Nm"] * 1e3, rel=5e-4), "4 figures printed"
+    assert "--set capsule.spiral.helical_angle_deg=" in text, "the design is named"
+
+
+def test_advice_stays_inside_the_model_first(lab_infeasible):
+    """The advice names the spiral wire, the magnet and the coil turns before any requirement,
+    and says that lowering the grip row extrapolates."""
+    doc, text = lab_infeasible
+    advice = doc["advice"]
+    first_requirement = next(i for i, a in enumerate(advice) if "requirements." in a)
+    inside = " ".join(advice[:first_requirement])
+    for key in ("capsule.spiral.wire_diameter_mm", "capsule.magnet.", "coils.x.turns"):
+        assert key in inside, f"{key} before any requirement: {advice}"
+    assert "extrapolates" in advice[-1] and "requirements.min_wall_strain" in advice[-1]
+    assert "what would help, in this order:" in text
+
+
+def test_no_angle_grips_names_the_grip_only():
+    """A 0.5 mm wire on the 9 mm capsule in the 10.5 mm lumen cannot touch at any angle (D'
+    by ConvexHull at the smallest angle is below the lumen): the grip is what is out of reach,
+    named alone (the speed is 0 there only because nothing grips)."""
+    assert hull_d_prime_mm(4.0, body_mm=9.0, wire_mm=0.5) < 10.5
+    sets = [s for s in LAB if "limits." not in s] + ["capsule.spiral.wire_diameter_mm=0.5"]
+    rc, out, err = run(["optimize", SQUARE, *_sets(sets), "--json"])
+    assert rc == 3, err
+    doc = json.loads(out)
+    assert {s["name"].split("[")[0] for s in doc["shortfalls"]} == {"wall_strain"}
+    assert doc["explained_at"]["grips"] is False
+    assert "capsule.spiral.wire_diameter_mm" in doc["advice"][0]
