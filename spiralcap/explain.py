@@ -51,9 +51,7 @@ def explained_at_line(res: Any) -> str:
     """``  explained at the closest design that grips: helical angle 12.04 deg, 1.335 Hz,
     1.922 mT (wall strain >= 1.68 %); spiralcap evaluate --set ... gives these numbers``."""
     ev = res.evaluation
-    need = next(
-        (c.allowed for c in ev.checks if c.name.startswith("wall_strain[")), float("nan")
-    )
+    need = next((c.allowed for c in ev.checks if c.name.startswith("wall_strain[")), float("nan"))
     where = (
         "the closest design that grips"
         if grips(res)
