@@ -149,9 +149,13 @@ def margin_vs_angle(
     c = curve if curve is not None else angle_curve(model, angle_range_rad(model, *angles))
     # start where the margin is above -40 % of its peak: the steep fall at tiny angles would
     # squeeze the useful range (the range is chosen from the data)
-    peak = float(np.nanmax(c.margin_Nm))
+    peak = float(np.nanmax(c.margin_Nm)) if np.isfinite(c.margin_Nm).any() else 0.0
     keep = np.nonzero(c.margin_Nm >= -0.4 * abs(peak))[0]
-    sl = slice(max(0, int(keep[0]) - 1) if keep.size else 0, None)
+    first = int(keep[0]) - 1 if keep.size else 0
+    # never cut off the optimum (or closest design) or the angle as entered
+    marked = min(np.degrees(angles))
+    first = min(first, int(np.searchsorted(c.x, marked)) - 6)  # a few points left of it
+    sl = slice(max(0, first), None)
     drawn = plot_margin_vs_angle(
         ax,
         c.x[sl],

@@ -163,7 +163,7 @@ def build(ctx: Context) -> Section:
         "states (markers only: filled circles calibration, open squares validation; the model is "
         "drawn as lines without markers). Right: this design's capsule "
         "geometry in each of its tissue sets, at the helical angle as entered and at the "
-        "optimum; vertical lines mark the two operating frequencies.",
+        f"{ctx.optimum}; vertical lines mark the two operating frequencies.",
         _draw(ctx.data),
         size_in=(9.0, 4.6),
     )
@@ -214,11 +214,11 @@ def _domain(ctx: Context) -> Paragraph:
     """Where the model extrapolates, at the design as entered and at the optimum."""
     parts: list[Any] = [
         "The paper calibrated the model on 11 mm capsules with 1 mm single-start spirals at "
-        "5–20°, 0.5–3 Hz, lumens of 10.9–11.1 mm and wall strains of 1.7–6.4 %. "
+        "5–20°, 0.5–3 Hz, lumens of 10.9–11.1 mm and wall strains of 1.68–6.45 %. "
     ]
     for label, path in (
         ("As entered", "tissue.domain.entered"),
-        ("At the optimum", "tissue.domain.optimum"),
+        (f"At the {ctx.optimum}", "tissue.domain.optimum"),
     ):
         words = ctx.value(path)
         if words:
