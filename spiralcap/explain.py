@@ -58,12 +58,21 @@ def explained_at_line(res: Any) -> str:
         else "the helical angle that stretches the walls most (none grips)"
     )
     sets = " ".join(f"--set {k}={v!r}" for k, v in explained_at_values(res).items())
-    return (
+    head = (
         f"  explained at {where}: helical angle {ev.helical_angle_deg:.4g} deg, "
         f"{ev.frequency_hz:.4g} Hz, {ev.field_amplitude_T * 1e3:.4g} mT (every wall strain "
-        f"{'>=' if grips(res) else 'below'} {100 * need:.3g} %); `spiralcap evaluate` with "
-        f"{sets} gives these numbers"
+        f"{'>=' if grips(res) else 'below'} {100 * need:.3g} %)"
     )
+    if not at_design_hardware(res):  # a sizing's closest hardware: the keys alone do not do
+        return head
+    return f"{head}; `spiralcap evaluate` with {sets} gives these numbers"
+
+
+def at_design_hardware(res: Any) -> bool:
+    """Whether an infeasible result stands at the design's own hardware (the fixed-hardware
+    explanation, ``optimize.solve``'s message), so its angle, frequency and field keys alone
+    reproduce it in ``evaluate``; a sizing's closest design has other hardware."""
+    return str(res.message).startswith("infeasible: no design inside the limits meets")
 
 
 def _names(res: Any) -> set[str]:

@@ -202,11 +202,15 @@ def optimization_to_dict(res: Any) -> dict[str, Any]:
     if not math.isfinite(res.objective_value):  # no optimum (infeasible): no objective value
         out.pop("objective_value", None)
     if res.status != "optimal" and res.evaluation is not None:
-        from spiralcap.explain import advice, explained_at_values, grips
+        from spiralcap.explain import advice, at_design_hardware, explained_at_values, grips
 
-        # where the shortfalls stand (the design keys evaluate reproduces them with), whether
-        # it grips, and what to change, in order (issue 36: explanations inside the domain)
-        out["explained_at"] = {"keys": explained_at_values(res), "grips": grips(res)}
+        # where the shortfalls stand (the design keys evaluate reproduces them with, at the
+        # design's own hardware), whether it grips, and what to change, in order (issue 36)
+        out["explained_at"] = {
+            "keys": explained_at_values(res),
+            "grips": grips(res),
+            "at_design_hardware": at_design_hardware(res),
+        }
         out["advice"] = advice(res)
     hardware = _hardware(res.hardware)
     if hardware is None:  # fixed hardware: no sizing part (one type per field, no null)

@@ -238,3 +238,48 @@ def test_no_angle_grips_names_the_grip_only():
     assert {s["name"].split("[")[0] for s in doc["shortfalls"]} == {"wall_strain"}
     assert doc["explained_at"]["grips"] is False
     assert "capsule.spiral.wire_diameter_mm" in doc["advice"][0]
+
+
+def _paragraphs(section) -> str:
+    from spiralcap.report.document import Paragraph
+    from spiralcap.report.numbers import Num
+
+    out = []
+    for b in section.blocks:
+        if isinstance(b, Paragraph):
+            out.append(
+                "".join(
+                    p.text if isinstance(p, Num) else getattr(p, "text", str(p)) for p in b.parts
+                )
+            )
+    return "\n".join(out)
+
+
+def test_report_says_no_feasible_design_on_its_first_page_and_tables(lab_infeasible):
+    """The summary (the first page) of the lab's infeasible case: no 'Proposed change: the
+    optimum', the advice in place of 'relax a limit', and the shortfall table captioned as no
+    feasible design at the closest design that grips, with the keys evaluate reproduces."""
+    from spiralcap.report.sections import conclusion, summary
+    from spiralcap.report.sections._util import Context
+    from spiralcap.report.sections.optimum import _shortfall_table
+
+    doc, _ = lab_infeasible
+    rc, out, _ = run(["evaluate", SQUARE, *_sets(LAB), "--json"])
+    assert rc == 0
+    ev = json.loads(out)
+    design = load_design(SQUARE, LAB)
+    payload = {
+        "evaluate": ev,
+        "optimize": doc,
+        "conclusion": conclusion.conclusion_payload(ev, doc, design, None),
+    }
+    ctx = Context(None, payload)
+    text = _paragraphs(summary.build(ctx))
+    assert "Proposed change: the optimum" not in text
+    assert "No proposed change: no feasible design" in text and "NO FEASIBLE DESIGN" in text
+    assert "Relax a limit or a requirement" not in text
+    assert "(1) a thicker spiral wire (capsule.spiral.wire_diameter_mm)" in text
+    caption = _shortfall_table(ctx).caption
+    assert caption.startswith("NO FEASIBLE DESIGN") and "grips the wall" in caption
+    assert "capsule.spiral.helical_angle_deg = " in caption and "gives these numbers" in caption
+    assert doc["explained_at"]["at_design_hardware"] is True

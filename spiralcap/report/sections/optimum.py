@@ -141,7 +141,13 @@ def _shortfall_table(ctx: Context) -> Table:
             if at.get("grips", True)
             else "helical angle that stretches the walls most (none grips)"
         )
-        + (f" ({where}; `spiralcap evaluate` there gives these numbers)" if where else ""),
+        + (
+            f" ({where}; `spiralcap evaluate` there gives these numbers)"
+            if where and at.get("at_design_hardware", False)
+            else f" ({where})"
+            if where
+            else ""
+        ),
         id="shortfalls",
     )
 
