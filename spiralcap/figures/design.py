@@ -196,9 +196,10 @@ def plot_margin_vs_frequency(
     # feasible part solid with markers; the rest (extended by one point so the two parts
     # join) thin and dotted in the same colour
     solid = np.where(ok, m, np.nan)
-    (line,) = ax.plot(f, solid, label=label, **style)
+    drawn = bool(np.isfinite(m).any())  # no contact at this angle: no curve to name
+    (line,) = ax.plot(f, solid, label=label if drawn else f"_{label}", **style)
     bad_line = None
-    if (~ok).any():
+    if (~ok).any() and drawn:
         grown = ~ok | np.roll(~ok, 1) | np.roll(~ok, -1)
         bad_line = ax.plot(
             f,
@@ -281,7 +282,7 @@ def plot_margin_vs_frequency(
             clip_on=False,
             zorder=6,
         )
-    if operating_frequency_hz is not None:
+    if operating_frequency_hz is not None and drawn:
         y = float(np.interp(operating_frequency_hz, f, m))
         (operating,) = ax.plot(
             [operating_frequency_hz],
@@ -309,7 +310,7 @@ def plot_margin_vs_frequency(
 
 #: The grip regions of a margin-against-frequency curve: grip -> (words, hatch, edge colour).
 _GRIP_REGION = {
-    "none": ("no contact with the wall: no margin", "xx", "0.75"),
+    "none": ("no contact with the wall: no margin", "xx", "0.82"),
     "below minimum": ("wall strain below the minimum: extrapolated", "\\\\", "0.6"),
 }
 

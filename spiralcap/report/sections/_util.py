@@ -25,7 +25,9 @@ class Context:
         (:data:`NO_CONTACT` for a margin the model does not have: no contact)."""
         if self._unbounded(path):
             return Num("unbounded", key=None, unit=unit)
-        if self._flag(path, "_undefined"):
+        if self._flag(path, "_undefined") or (
+            path.endswith(_NO_CONTACT_FIELDS) and lookup(self.payload, path) is None
+        ):  # the embedded JSON holds a NaN as None
             return Num(NO_CONTACT, key=None)
         return Num(lookup(self.payload, path), key=path, scale=scale, unit=unit)
 
@@ -78,6 +80,8 @@ class Context:
 
 #: A margin, safety factor or step-out the model does not have (the spiral does not touch).
 NO_CONTACT = "none (no contact with the wall)"
+#: The fields that are NaN (None in the report's JSON) exactly where there is no contact.
+_NO_CONTACT_FIELDS = ("margin_Nm", "safety_factor", "step_out_frequency_hz")
 
 
 def step_out_parts(ctx: Context, path: str) -> list[Any]:

@@ -67,7 +67,9 @@ def checks_table(ctx: Context, prefix: str, caption: str, ident: str) -> Table:
                 # the self-lock row's value is alpha + atan(mu), not the helical angle its key sets
                 "self-locking: α + atan μ" if c["name"] == "self_lock" else readable(c["name"]),
                 c["key"],
-                ctx.num(f"{prefix}.checks.{i}.value", factor, label),
+                ctx.num(f"{prefix}.checks.{i}.value", factor, label)
+                if c.get("value") is not None
+                else "none (no contact)",  # the margin where the spiral does not touch
                 c["sense"],
                 ctx.num(f"{prefix}.checks.{i}.allowed", factor, label),
                 "yes" if c["ok"] else "NO",
@@ -86,6 +88,8 @@ def _max_frequency_parts(ctx: Context, prefix: str) -> list[Any]:
     """The drive's maximum frequency of the evaluation at ``prefix`` and what limits it."""
     value = ctx.value(f"{prefix}.max_frequency_hz")
     by = str(ctx.value(f"{prefix}.max_frequency_limited_by")).replace("_", " ")
+    if value is None or value != value:  # no contact: no margin to reach zero
+        return ["no frequency (no contact: no margin)"]
     if ctx.value(f"{prefix}.max_frequency_beyond_search"):
         return [f"beyond {value:g} Hz"]
     if value == 0:

@@ -326,7 +326,9 @@ def change_first(ctx: Context) -> Paragraph:
         )
         parts += [ctx.num(f"{o}.margin_Nm", 1e3, "mN·m"), ")."]
     else:
-        gain = ctx.value(f"{o}.margin_Nm") - ctx.value(f"{e}.margin_Nm")
+        entered_margin = ctx.value(f"{e}.margin_Nm")  # None / NaN: no contact, no margin
+        touches = isinstance(entered_margin, (int, float)) and entered_margin == entered_margin
+        gain = ctx.value(f"{o}.margin_Nm") - entered_margin if touches else 0.0
         parts += [
             "Adopt the proposed operating point and hardware ("
             if sized
@@ -338,7 +340,13 @@ def change_first(ctx: Context) -> Paragraph:
             *point,
             "".join(f"{', ' if point or i else ''}{change}" for i, change in enumerate(sized)),
         ]
-        if _same(ctx, f"{e}.margin_Nm", f"{o}.margin_Nm", 1e3):
+        if not touches:
+            parts += [
+                "; as entered the spiral does not touch every wall (no margin), the proposed "
+                "design's worst-case margin is ",
+                ctx.num(f"{o}.margin_Nm", 1e3, "mN·m"),
+            ]
+        elif _same(ctx, f"{e}.margin_Nm", f"{o}.margin_Nm", 1e3):
             parts += ["; the worst-case margin stays ", ctx.num(f"{o}.margin_Nm", 1e3, "mN·m")]
         else:
             parts += [
