@@ -552,11 +552,28 @@ def _closest_gripping(
     """The design the infeasibility is explained at: the relaxed problem at angles that grip
     (at most ``alpha_max_rad``), first with the speed and turns held (:data:`_HARD_FIRST`:
     the torque is then what is out of reach, by how much), else with every slack free."""
-    best, spent = _relaxed_optimum(model, scales, starts, alpha_max_rad, _HARD_FIRST)
-    if best.success:
-        return best, spent
+    spent = 0
+    if _speed_and_turns_reachable(model, alpha_max_rad):
+        best, spent = _relaxed_optimum(model, scales, starts, alpha_max_rad, _HARD_FIRST)
+        if best.success:
+            return best, spent
     best, more = _relaxed_optimum(model, scales, starts, alpha_max_rad)
     return best, spent + more
+
+
+def _speed_and_turns_reachable(model: DesignModel, alpha_max_rad: float) -> bool:
+    """Whether some helical angle up to ``alpha_max_rad`` (inside the box) meets the speed at
+    the highest frequency and the spiral turns: the rows :data:`_HARD_FIRST` holds depend on
+    the angle and frequency only (the field, which the limits cap, only moves the torque), so
+    this says whether that relaxed problem has a solution without solving it."""
+    b, c, req = model.bounds, model.constants, model.requirements
+    lo = b.helical_angle_min_rad
+    alpha = np.linspace(lo, max(lo, min(b.helical_angle_max_rad, alpha_max_rad)), 257)
+    speed = np.asarray(ph.speed_m_s(alpha, b.frequency_max_hz, c, req), dtype=float)
+    turns = np.asarray(ph.spiral_turns(alpha, c), dtype=float)
+    rtol = 1e-6
+    ok = (speed >= req.min_speed_m_s * (1 - rtol)) & (turns >= req.min_spiral_turns * (1 - rtol))
+    return bool(ok.any())
 
 
 def _relaxed_optimum(

@@ -42,7 +42,7 @@ def test_margin_p05_beats_the_deterministic_optimum_out_of_sample(capsys):
 
 
 def test_stepout_probability_constraint_holds_or_is_reported(capsys):
-    # the grip row held low: with the default 1.7 % it binds first (the angle that lowers the
+    # the grip row held low: with the default 1.68 % it binds first (the angle that lowers the
     # step-out risk is where the spiral stops gripping sample 3), which is not this test's row
     risky = ["--set", "tissue.uncertainty.scale_sigma_log=0.4", "--set", "optimize.scenarios=128"]
     risky += ["--set", "requirements.min_wall_strain=0.005"]
