@@ -283,3 +283,22 @@ def test_report_says_no_feasible_design_on_its_first_page_and_tables(lab_infeasi
     assert caption.startswith("NO FEASIBLE DESIGN") and "grips the wall" in caption
     assert "capsule.spiral.helical_angle_deg = " in caption and "gives these numbers" in caption
     assert doc["explained_at"]["at_design_hardware"] is True
+
+
+def test_grip_bound_against_the_convex_hull():
+    """``optimize.grip_bound`` on the built-in design (sample 3: lumen 11.1 mm, wall 1 mm) is
+    the angle where eq. 6 at the ConvexHull D' equals the default 1.68 % (the model's D' is
+    within 3e-5 of the hull's, docs/torque-model.md: 0.05 deg), and the built-in optimum sits
+    on it (the grip row binds there)."""
+    from scipy.optimize import brentq
+
+    from optimize import grip_bound, optimize_design
+
+    model = prepare(build_model(load_design()))
+    need = tm.DEFAULT_MIN_WALL_STRAIN
+    hull = brentq(lambda a: (hull_d_prime_mm(a) - 11.1) / 12.1 - need, 19.0, 21.0, xtol=1e-4)
+    bound = grip_bound(model)
+    assert bound.reachable and bound.least_strain_at_max >= need * (1 - 1e-9)
+    assert math.degrees(bound.helical_angle_max_rad) == pytest.approx(hull, abs=0.05)
+    res = optimize_design(model)
+    assert res.helical_angle_rad == pytest.approx(bound.helical_angle_max_rad, rel=1e-6)
