@@ -302,3 +302,50 @@ def test_grip_bound_against_the_convex_hull():
     assert math.degrees(bound.helical_angle_max_rad) == pytest.approx(hull, abs=0.05)
     res = optimize_design(model)
     assert res.helical_angle_rad == pytest.approx(bound.helical_angle_max_rad, rel=1e-6)
+
+
+@pytest.fixture(scope="module")
+def no_contact_case():
+    """The built-in design entered at 25 deg in an 11.3 mm lumen (no contact), its optimum."""
+    from optimize import optimize_design
+
+    sets = [f"tissue.lumen_diameter_mm={LUMEN_MM}", "capsule.spiral.helical_angle_deg=25"]
+    model = prepare(build_model(load_design(None, sets)))
+    return model, evaluate(model), optimize_design(model)
+
+
+def test_report_figures_hatch_and_name_both_regions(no_contact_case):
+    """The report's margin-against-angle, margin-against-frequency and margin-map figures name
+    no contact and the strain below the minimum; the angle figure's no-contact span starts
+    where the ConvexHull D' meets the lumen (within one grid step of the curve)."""
+    from scipy.optimize import brentq
+
+    from spiralcap.feasibility import NO_CONTACT
+    from spiralcap.figures import api
+
+    model, ev, res = no_contact_case
+    angle = api.margin_vs_angle(model, res, ev)
+    names = {t.get_text() for t in angle.ax.get_legend().get_texts()}
+    assert {api._GRIP_NAMES["none"], api._GRIP_NAMES["below minimum"]} <= names, names
+    edge = brentq(lambda a: hull_d_prime_mm(a) - LUMEN_MM, 15.0, 25.0, xtol=1e-4)
+    span = next(s for s in angle.drawn.shortfalls if s.get_label() == api._GRIP_NAMES["none"])
+    step = (45.0 - 2.0) / 240
+    assert span.get_x() == pytest.approx(edge, abs=step), "no contact from D' = lumen on"
+    freq = api.margin_vs_frequency(model, ev, res)
+    names = {t.get_text() for t in freq.ax.get_legend().get_texts()}
+    assert "α = 25°: no contact with the wall: no margin" in names, names
+    assert not any(n.startswith("as entered") for n in names), "no curve named where none is"
+    regions = api.margin_map(model, res, ev).drawn.regions
+    assert NO_CONTACT in regions and any(r.endswith("extrapolated") for r in regions), regions
+
+
+def test_evaluate_text_marks_below_minimum_as_extrapolated():
+    """15 deg in the 11.3 mm lumen touches (strain 0.3 %) but below the minimum: the margin is
+    shown, named as extrapolated, and the design is infeasible."""
+    from spiralcap.commands.evaluate import format_evaluation
+
+    model = prepare(build_model(load_design(None, [f"tissue.lumen_diameter_mm={LUMEN_MM}"])))
+    ev = evaluate(model, math.radians(15.0), 1.0)
+    assert ev.grip == "below minimum" and math.isfinite(ev.margin_Nm) and not ev.feasible
+    text = format_evaluation(ev)
+    assert "below requirements.min_wall_strain: extrapolated" in text
