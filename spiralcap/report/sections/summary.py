@@ -326,9 +326,6 @@ def change_first(ctx: Context) -> Paragraph:
         )
         parts += [ctx.num(f"{o}.margin_Nm", 1e3, "mN·m"), ")."]
     else:
-        entered_margin = ctx.value(f"{e}.margin_Nm")  # None / NaN: no contact, no margin
-        touches = isinstance(entered_margin, (int, float)) and entered_margin == entered_margin
-        gain = ctx.value(f"{o}.margin_Nm") - entered_margin if touches else 0.0
         parts += [
             "Adopt the proposed operating point and hardware ("
             if sized
@@ -340,22 +337,7 @@ def change_first(ctx: Context) -> Paragraph:
             *point,
             "".join(f"{', ' if point or i else ''}{change}" for i, change in enumerate(sized)),
         ]
-        if not touches:
-            parts += [
-                "; as entered the spiral does not touch every wall (no margin), the proposed "
-                "design's worst-case margin is ",
-                ctx.num(f"{o}.margin_Nm", 1e3, "mN·m"),
-            ]
-        elif _same(ctx, f"{e}.margin_Nm", f"{o}.margin_Nm", 1e3):
-            parts += ["; the worst-case margin stays ", ctx.num(f"{o}.margin_Nm", 1e3, "mN·m")]
-        else:
-            parts += [
-                "; the worst-case margin goes from ",
-                ctx.num(f"{e}.margin_Nm", 1e3, "mN·m"),
-                " to ",
-                ctx.num(f"{o}.margin_Nm", 1e3, "mN·m"),
-            ]
-        parts.append("." if gain >= 0 else " (the optimum trades margin for its objective).")
+        parts += _margin_change(ctx)
     gains = (ctx.payload.get(c) or {}).get("limit_gains")
     if gains and fmt(float(gains[0]["objective_percent_per_percent"])) != "0":
         g = gains[0]
@@ -367,6 +349,34 @@ def change_first(ctx: Context) -> Paragraph:
             " of the objective.",
         ]
     return Paragraph(parts)
+
+
+def _margin_change(ctx: Context) -> list[Inline]:
+    """``; the worst-case margin goes from 1.2 mN·m to 2.3 mN·m.`` (or stays; or, where the
+    design as entered does not touch every wall, that it has none)."""
+    e, o = "evaluate", "optimize"
+    entered = ctx.value(f"{e}.margin_Nm")  # None / NaN: no contact, no margin
+    if not (isinstance(entered, (int, float)) and entered == entered):
+        return [
+            "; as entered the spiral does not touch every wall (no margin), the proposed "
+            "design's worst-case margin is ",
+            ctx.num(f"{o}.margin_Nm", 1e3, "mN·m"),
+            ".",
+        ]
+    end = (
+        "."
+        if ctx.value(f"{o}.margin_Nm") >= entered
+        else (" (the optimum trades margin for its objective).")
+    )
+    if _same(ctx, f"{e}.margin_Nm", f"{o}.margin_Nm", 1e3):
+        return ["; the worst-case margin stays ", ctx.num(f"{o}.margin_Nm", 1e3, "mN·m"), end]
+    return [
+        "; the worst-case margin goes from ",
+        ctx.num(f"{e}.margin_Nm", 1e3, "mN·m"),
+        " to ",
+        ctx.num(f"{o}.margin_Nm", 1e3, "mN·m"),
+        end,
+    ]
 
 
 def bom_brief(ctx: Context) -> Table:
