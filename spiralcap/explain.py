@@ -104,12 +104,36 @@ def advice(res: Any) -> list[str]:
         )
     if "speed" in names and not grip_binds(res):
         out.append("a steeper spiral (optimize.helical_angle_max_deg) or a higher frequency bound")
-    out.append(
-        "relaxing a requirement (requirements.*) comes last; lowering "
-        "requirements.min_wall_strain below the paper's least measured strain leaves the "
-        "model's calibrated domain (it extrapolates)"
-    )
+    limits = _limit_keys(res)
+    if limits:
+        out.append(
+            f"the hardware itself exceeds {', '.join(limits)}: other coil hardware (coils.*, "
+            "or --free to size it) or a higher limit"
+        )
+    if any(not _is_limit(s) for s in res.shortfalls):  # a requirement is short too
+        out.append(
+            "relaxing a requirement (requirements.*) comes last; lowering "
+            "requirements.min_wall_strain below the paper's least measured strain leaves the "
+            "model's calibrated domain (it extrapolates)"
+        )
     return out
+
+
+def _limit_keys(res: Any) -> list[str]:
+    """The ``limits.*`` keys among the shortfalls (a limit the closest design still breaks:
+    the hardware's own copper mass, envelope, clearance), each once."""
+    return list(dict.fromkeys(_key(s) for s in res.shortfalls if _is_limit(s)))
+
+
+def _key(shortfall: Any) -> str:
+    from spiralcap.assemble.system import constraint_key
+
+    return constraint_key(shortfall.name) or shortfall.name
+
+
+def _is_limit(shortfall: Any) -> bool:
+    """A shortfall that is a limit the hardware breaks (not a requirement out of reach)."""
+    return _key(shortfall).startswith(("limits.", "coils.min_"))
 
 
 def _cap_words(res: Any) -> str:

@@ -349,3 +349,23 @@ def test_evaluate_text_marks_below_minimum_as_extrapolated():
     assert ev.grip == "below minimum" and math.isfinite(ev.margin_Nm) and not ev.feasible
     text = format_evaluation(ev)
     assert "below requirements.min_wall_strain: extrapolated" in text
+
+
+def test_advice_for_a_limit_the_hardware_breaks_names_no_requirement():
+    """A shortfall that is the hardware's own limit (copper mass, clearances) is answered with
+    other hardware or a higher limit, not 'relax a requirement'; with a requirement short too,
+    the requirement line comes last."""
+    from types import SimpleNamespace
+
+    from optimize import Shortfall
+    from spiralcap.explain import advice
+
+    ev = SimpleNamespace(checks=(), field_limited_by="")
+    copper = Shortfall("copper_mass", "kg", 1.0, 142.0)
+    only = advice(SimpleNamespace(shortfalls=(copper,), evaluation=ev))
+    assert len(only) == 1 and "limits.copper_mass_kg" in only[0], only
+    both = advice(
+        SimpleNamespace(shortfalls=(copper, Shortfall("margin", "N·m", 0.0, -1e-4)), evaluation=ev)
+    )
+    assert "coils.x.turns" in both[0] and "limits.copper_mass_kg" in both[1]
+    assert both[-1].startswith("relaxing a requirement"), both
