@@ -65,7 +65,10 @@ def explained_at_line(res: Any) -> str:
     )
     if not at_design_hardware(res):  # a sizing's closest hardware: the keys alone do not do
         return head
-    return f"{head}; `spiralcap evaluate` with {sets} gives these numbers"
+    checked = {c.name for c in ev.checks}
+    if all(s.name in checked for s in res.shortfalls):
+        return f"{head}; `spiralcap evaluate` with {sets} gives these numbers"
+    return f"{head}; `spiralcap evaluate` with {sets} evaluates it (scenario rows aside)"
 
 
 def at_design_hardware(res: Any) -> bool:
