@@ -210,27 +210,25 @@ def build(ctx: Context) -> Section:
         )
     # a review reads the design as entered first, then the optimum as a proposed change
     sized = sized_hardware_changes(ctx)
-    proposed = (
-        _no_proposal(ctx)
-        if not feasible
-        else Paragraph(
-            [
-                Strong("Proposed change: the optimum."),
-                (
-                    " The optimiser re-chose the operating point and sized the freed hardware ("
-                    + ", ".join(sized)
-                    + ") inside the same limits; "
-                    if sized
-                    else " The optimiser re-chose the operating point inside the same hardware "
-                    "and limits; "
-                )
-                + "adopting it is a change to the design (whether it is safe under uncertainty, and "
-                "who the exposure levels protect: ",
-                Link("section Conclusion", "conclusion"),
-                ").",
-            ]
-        )
+    proposed = Paragraph(
+        [
+            Strong("Proposed change: the optimum."),
+            (
+                " The optimiser re-chose the operating point and sized the freed hardware ("
+                + ", ".join(sized)
+                + ") inside the same limits; "
+                if sized
+                else " The optimiser re-chose the operating point inside the same hardware "
+                "and limits; "
+            )
+            + "adopting it is a change to the design (whether it is safe under uncertainty, and "
+            "who the exposure levels protect: ",
+            Link("section Conclusion", "conclusion"),
+            ").",
+        ]
     )
+    if not feasible:  # nothing to adopt: the first page says so instead
+        proposed = _no_proposal(ctx)
     blocks: list[Block] = [
         _as_entered(ctx),
         *_warnings(ctx),
