@@ -575,7 +575,10 @@ def plot_limit_utilisation(
             ax.text(
                 min(u, 150.0) - 1.5 if inside else min(u, 150.0) + 1.5,
                 yi,
-                f"{u:.0f} %{tag}" if u >= 10 else f"{u:.2g} %{tag}",
+                # needed / nothing achieved (no speed, no strain: no contact): not a percentage
+                "nothing achieved: fails"
+                if np.isinf(u)
+                else (f"{u:.0f} %{tag}" if u >= 10 else f"{u:.2g} %{tag}"),
                 va="center",
                 ha="right" if inside else "left",
                 fontsize=8,
