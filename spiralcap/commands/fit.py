@@ -165,6 +165,8 @@ def read_bench_header(path: str | Path) -> dict[str, float]:
         key = KEYS[BENCH_KEYS[name][0]]
         if not (math.isfinite(value) and key.check(value)):
             raise DataError(f"{where}: bench_{name} = {value:g}; {key.allowed}")
+        if name in out:  # which of two values is meant cannot be guessed
+            raise DataError(f"{where}: bench_{name} given a second time")
         out[name] = value
     return out
 
