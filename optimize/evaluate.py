@@ -26,6 +26,33 @@ FEASIBILITY_RTOL = 1e-6
 STEP_OUT_SEARCH_HZ = (0.01, 200.0)
 
 
+#: Grip of a point (:func:`grip_state`): the spiral stretches every wall by at least
+#: ``requirements.min_wall_strain``; by less (the model extrapolates below what the paper
+#: measured: infeasible); or it does not touch some wall (no contact: no margin, no speed).
+GRIP_OK, GRIP_BELOW, GRIP_NONE = "ok", "below minimum", "none"
+
+
+def grip_state(least_strain: Any, min_wall_strain: Any) -> np.ndarray:
+    """:data:`GRIP_OK`, :data:`GRIP_BELOW` or :data:`GRIP_NONE` at each point.
+
+    Parameters
+    ----------
+    least_strain : float or ndarray
+        The least wall strain over the tissue sets, dimensionless (<= 0: no contact).
+    min_wall_strain : float or ndarray
+        ``requirements.min_wall_strain``, dimensionless (judged with
+        :data:`FEASIBILITY_RTOL`, as the strain check is).
+
+    Returns
+    -------
+    ndarray of str
+        The grip at each point, a label (dimensionless), broadcast like the inputs.
+    """
+    s = np.asarray(least_strain, dtype=float)
+    ok = s >= np.asarray(min_wall_strain, dtype=float) * (1 - FEASIBILITY_RTOL)
+    return np.where(s > 0, np.where(ok, GRIP_OK, GRIP_BELOW), GRIP_NONE)
+
+
 @dataclass(frozen=True)
 class Check:
     """One requirement or limit: ``value`` against ``allowed`` (``sense`` '<=', '>=', '<').
@@ -95,9 +122,10 @@ class Evaluation(Viewable):
     worst_tissue : str
         Name of the tissue set that needs the most torque.
     margin_Nm : float
-        Available minus required torque, N·m.
+        Available minus required torque, N·m; NaN where the spiral does not touch some tissue
+        set's wall (no contact: the model has no physics there, :attr:`grip` ``"none"``).
     safety_factor : float
-        Available / required torque, dimensionless (a ratio).
+        Available / required torque, dimensionless (a ratio); NaN where ``margin_Nm`` is.
     lag_angle_rad : float
         Angle the magnet lags the field by, rad (pi/2 where it cannot keep up).
     step_out_frequency_hz : float
@@ -176,6 +204,15 @@ class Evaluation(Viewable):
         return all(s > 0 for s in self.wall_strains)
 
     @property
+    def grip(self) -> str:
+        """:data:`GRIP_OK`, :data:`GRIP_BELOW` (below ``requirements.min_wall_strain``) or
+        :data:`GRIP_NONE` (no contact with some wall), from the strain checks."""
+        if not self.wall_strains or min(self.wall_strains) <= 0:
+            return GRIP_NONE
+        strain_ok = all(c.ok for c in self.checks if c.name.startswith("wall_strain["))
+        return GRIP_OK if strain_ok else GRIP_BELOW
+
+    @property
     def copper_mass_kg(self) -> float:
         """Copper of the three pairs, kg."""
         return float(sum(self.copper_masses_kg))
@@ -247,9 +284,10 @@ class MarginGrid:
     Attributes
     ----------
     margin_Nm : ndarray
-        Torque margin, N·m.
+        Torque margin, N·m; NaN where the spiral does not touch some wall (:attr:`grip`
+        ``"none"``: the model has no physics there).
     safety_factor : ndarray
-        Available / required torque, dimensionless.
+        Available / required torque, dimensionless; NaN where ``margin_Nm`` is.
     field_amplitude_T : ndarray
         Rotating-field amplitude at the centre, T.
     speed_m_s : ndarray
@@ -260,6 +298,16 @@ class MarginGrid:
         Mask: every requirement and limit holds.
     wall_strain : ndarray or None
         Least wall strain over the tissue sets, dimensionless.
+    grip : ndarray of str or None
+        :func:`grip_state` at each point, a label (dimensionless): ``"ok"``,
+        ``"below minimum"``, ``"none"``.
+    model_margin_Nm : ndarray or None
+        The margin the formulas give everywhere, N·m, no contact included (there the tissue
+        term is the weight's friction and the thrust only): for starting points and searches
+        that need a number at every point, never a design's margin.
+    model_safety_factor : ndarray or None
+        The safety factor the formulas give everywhere, dimensionless (as
+        ``model_margin_Nm``).
     """
 
     margin_Nm: np.ndarray
@@ -269,6 +317,9 @@ class MarginGrid:
     spiral_turns: np.ndarray
     feasible: np.ndarray
     wall_strain: np.ndarray | None = None  # the least over the tissue sets
+    grip: np.ndarray | None = None
+    model_margin_Nm: np.ndarray | None = None
+    model_safety_factor: np.ndarray | None = None
 
     def __getitem__(self, name: str) -> np.ndarray:
         """Column by name (``grid["margin_Nm"]``), for code written against the old dict."""
@@ -327,14 +378,19 @@ def margin_grid(
         & (turns >= req.min_spiral_turns * (1 - FEASIBILITY_RTOL))
         & (strain >= req.min_wall_strain * (1 - FEASIBILITY_RTOL))
     )
+    margin = avail - required
+    contact = strain > 0  # no contact with some wall: no margin (the model has no physics)
     return MarginGrid(
-        margin_Nm=avail - required,
-        safety_factor=ratio,
+        margin_Nm=np.where(contact, margin, np.nan),
+        safety_factor=np.where(contact, ratio, np.nan),
         field_amplitude_T=field,
         speed_m_s=speed,
         spiral_turns=turns,
         feasible=ok,
         wall_strain=strain,
+        grip=grip_state(strain, req.min_wall_strain),
+        model_margin_Nm=margin,
+        model_safety_factor=ratio,
     )
 
 
@@ -356,6 +412,62 @@ def least_wall_strain(model: DesignModel, alpha_rad: Any) -> np.ndarray:
     model = prepare(model)
     strains = ph.wall_strains(np.asarray(alpha_rad, dtype=float), model.constants, model.tissues)
     return np.min(np.stack([np.asarray(s, dtype=float) for s in strains]), axis=0)
+
+
+@dataclass(frozen=True)
+class GripBound:
+    """The steepest helical angle inside the optimiser's box at which the spiral still grips
+    (every tissue set's wall strain >= ``requirements.min_wall_strain``).
+
+    Attributes
+    ----------
+    helical_angle_max_rad : float
+        That angle, rad (the box's upper bound where the grip holds across it; its lower
+        bound where the grip is out of reach: the most strain there is).
+    reachable : bool
+        Flag: some angle in the box grips.
+    least_strain_at_max : float
+        The least wall strain over the tissue sets at that angle, dimensionless.
+    """
+
+    helical_angle_max_rad: float
+    reachable: bool
+    least_strain_at_max: float
+
+
+def grip_bound(model: DesignModel) -> GripBound:
+    """Where the spiral stops gripping along the helical angle (:class:`GripBound`).
+
+    The strain falls as the angle grows (a steeper spiral's cut is narrower, so D' is smaller:
+    docs/torque-model.md section 1), so the grip holds on ``[lo, alpha*]``, alpha* the root of
+    least strain = ``requirements.min_wall_strain`` (Brent's method), inside the box of
+    ``model.bounds``.
+
+    Parameters
+    ----------
+    model : DesignModel
+        The design (capsule, tissue sets, requirement and angle bounds).
+
+    Returns
+    -------
+    GripBound
+        The steepest gripping angle, rad, and whether any angle grips.
+    """
+    model = prepare(model)
+    lo, hi = model.bounds.helical_angle_min_rad, model.bounds.helical_angle_max_rad
+    need = float(model.requirements.min_wall_strain)
+
+    def excess(alpha: float) -> float:
+        return float(least_wall_strain(model, alpha)) - need
+
+    if excess(lo) < 0:  # the most strain is at lo: out of reach but for the tolerance
+        return GripBound(lo, excess(lo) >= -FEASIBILITY_RTOL * need, excess(lo) + need)
+    if excess(hi) >= 0:
+        return GripBound(hi, True, excess(hi) + need)
+    root = brentq(excess, lo, hi, xtol=1e-13, rtol=1e-14)
+    while excess(root) < 0 and root > lo:  # the root's side that grips (one ulp at a time)
+        root = math.nextafter(root, lo)
+    return GripBound(root, True, excess(root) + need)
 
 
 def _capacity_T(model: DesignModel, f: np.ndarray) -> np.ndarray:
@@ -634,8 +746,8 @@ def evaluate(
     field, binding = _operating_field(model, f, field_amplitude_T)
     avail = float(ph.available_torque_Nm(field, c))
     res, thr, required, worst = (float(np.asarray(v)) for v in worst_required(model, alpha, f))
-    margin = avail - required
     strains = tuple(float(x) for x in ph.wall_strains(alpha, c, model.tissues))
+    margin = _margin_if_contact(avail - required, strains)
     # a spiral that does not stretch every wall does not grip it: no screw, no speed
     speed = float(ph.speed_m_s(alpha, f, c, req)) if min(strains) > 0 else 0.0
     turns = float(ph.spiral_turns(alpha, c))
@@ -654,7 +766,10 @@ def evaluate(
     # the lag behind the field at which the magnet's torque m B sin(lag) meets the load; 90 deg
     # (the most it can give) when the load exceeds it: the magnet then cannot stay synchronous
     lag = float(np.arcsin(min(max(required / avail, 0.0), 1.0))) if avail > 0 else np.pi / 2
-    step_out, fmax, fmax_by = _frequency_bounds(model, alpha, field, frequency_bounds)
+    # no contact: no margin, so no frequency where it reaches zero (NaN; the searches skipped)
+    step_out, fmax, fmax_by = _frequency_bounds(
+        model, alpha, field, frequency_bounds and min(strains) > 0
+    )
     return Evaluation(
         helical_angle_rad=alpha,
         frequency_hz=f,
@@ -668,7 +783,7 @@ def evaluate(
         required_torque_Nm=required,
         worst_tissue=model.tissues[int(worst)].name,
         margin_Nm=margin,
-        safety_factor=avail / required if required > 0 else float("inf"),
+        safety_factor=_margin_if_contact(avail / required if required > 0 else math.inf, strains),
         lag_angle_rad=lag,
         step_out_frequency_hz=step_out.frequency_hz,
         step_out_beyond_search=step_out.beyond_search,
@@ -686,6 +801,12 @@ def evaluate(
         extrapolations=extrapolations(alpha, f, ph.contact_geometry(c), model.tissues),
         calibration_edges=calibration_edges(alpha, f, ph.contact_geometry(c), model.tissues),
     )
+
+
+def _margin_if_contact(value: float, strains: tuple[float, ...]) -> float:
+    """``value`` (a margin, N·m, or a safety factor) where the spiral touches every wall, else
+    NaN: with no contact the model has no physics, so there is no margin."""
+    return value if min(strains) > 0 else math.nan
 
 
 def _operating_field(model: DesignModel, f: float, field_T: float | None) -> tuple[float, str]:

@@ -22,7 +22,7 @@ import numpy as np
 from optimize import physics as ph
 from optimize import problem as pb
 from optimize.compiled import compile_problem, structure_of
-from optimize.evaluate import _three, evaluate, margin_grid, worst_required
+from optimize.evaluate import _three, evaluate, grip_bound, margin_grid, worst_required
 from optimize.nlp import Solution
 from optimize.result import BindingLimit, OptimizationResult, Shortfall
 from optimize.system import DesignModel, prepare
@@ -87,9 +87,11 @@ def initial_points(model: DesignModel, scales: pb.Scales, starts: int) -> list[d
     A, F = np.meshgrid(alphas, freqs, indexing="ij")
     g = margin_grid(model, A, F, capacity=True)
     field = g.field_amplitude_T
-    t0 = g.margin_Nm / scales.torque_Nm
+    # a number everywhere, no contact included (a start only, never a design's margin)
+    margin = np.asarray(g.model_margin_Nm, dtype=float)
+    t0 = margin / scales.torque_Nm
     if model.bounds.objective == "ratio":
-        score, t0 = g.safety_factor, g.safety_factor
+        score = t0 = np.asarray(g.model_safety_factor, dtype=float)
     elif _minimises_power(model):
         need = worst_required(model, A, F).total_Nm
         c = model.constants
@@ -99,7 +101,7 @@ def initial_points(model: DesignModel, scales: pb.Scales, starts: int) -> list[d
         score = np.where(ok, -field, -field - 1.0)
         t0 = np.zeros_like(field)
     else:
-        score = g.margin_Nm
+        score = margin
     score = np.where(g.feasible, score, score - 1e3 * np.abs(score).max() - 1.0)
     out = []
     for band in np.array_split(np.arange(alphas.size), max(starts, 1)):
@@ -472,8 +474,16 @@ def _binds(value: float, allowed: float, g: float, lam: float) -> bool:
 
 
 def _infeasible(model, scales, starts, iterations, tried, t0, status_text, ev=None):
-    """Solve the relaxed problem and report which requirement is out of reach, by how much."""
-    best, spent = _relaxed_optimum(model, scales, starts)
+    """Solve the relaxed problem and report which requirement is out of reach, by how much.
+
+    The relaxed problem is solved where the spiral grips (``grip_bound``: the helical angle no
+    steeper than the one that stretches every wall by ``requirements.min_wall_strain``), so
+    the explanation stands at the closest design inside the model's domain, and its
+    shortfalls are that design's own evaluation; where no angle grips, at the angle that
+    stretches the walls most (the grip itself is then what is out of reach).
+    """
+    grip = grip_bound(model)
+    best, spent = _closest_gripping(model, scales, starts, grip.helical_angle_max_rad)
     iterations += spent
     tried += len(starts or initial_points(model, scales, model.bounds.starts))
     xs = best.values()
@@ -490,8 +500,12 @@ def _infeasible(model, scales, starts, iterations, tried, t0, status_text, ev=No
     shortfalls = tuple(
         Shortfall(c.name, c.unit, c.allowed, c.value)
         for c in ev.failed()
-        if c.sense == ">=" or c.name in BUILD_CHECK_NAMES  # the hardware's own: no operating
-    ) + _hook_shortfalls(best)  # point changes the copper mass
+        # the hardware's own: no operating point changes the copper mass; a margin with no
+        # contact (NaN) is not a shortfall, the grip that is out of reach is
+        if (c.sense == ">=" or c.name in BUILD_CHECK_NAMES) and c.value == c.value
+    ) + _hook_shortfalls(best)
+    if not grip.reachable:  # no angle grips: that is what is out of reach (no speed without it)
+        shortfalls = tuple(s for s in shortfalls if s.name.startswith("wall_strain["))
     if not shortfalls and ev.feasible:
         # the relaxed optimum meets everything (IPOPT failed from the grid starts for another
         # reason): start the problem itself there
@@ -512,28 +526,81 @@ def _infeasible(model, scales, starts, iterations, tried, t0, status_text, ev=No
         iterations,
         tried,
         t0,
-        f"infeasible: no design inside the limits meets {names}",
+        f"infeasible: no design inside the limits meets {names}"
+        + (
+            " (explained at the closest design that grips, every wall strain >= "
+            "requirements.min_wall_strain)"
+            if grip.reachable
+            else " (no helical angle in the bounds grips: explained at the one that stretches "
+            "the walls most)"
+        ),
         objective_value=float("nan"),
         solution=None,
         field_set=field is not None,
     )
 
 
-def _relaxed_optimum(
-    model: DesignModel, scales: pb.Scales, starts: list[dict[str, float]]
+#: The slacks held at zero first when explaining an infeasible design: the speed and the spiral
+#: turns are met, so what is left short is the torque (the margin or safety factor), unless
+#: no design inside the limits meets them even so.
+_HARD_FIRST = ("slack_speed", "slack_turns")
+
+
+def _closest_gripping(
+    model: DesignModel, scales: pb.Scales, starts: list[dict[str, float]], alpha_max_rad: float
 ) -> tuple[Solution, int]:
-    """The relaxed problem (slacks on the requirements) from each start: the best solve, and
-    the iterations spent."""
+    """The design the infeasibility is explained at: the relaxed problem at angles that grip
+    (at most ``alpha_max_rad``), first with the speed and turns held (:data:`_HARD_FIRST`:
+    the torque is then what is out of reach, by how much), else with every slack free."""
+    spent = 0
+    if _speed_and_turns_reachable(model, alpha_max_rad):
+        best, spent = _relaxed_optimum(model, scales, starts, alpha_max_rad, _HARD_FIRST)
+        if best.success:
+            return best, spent
+    best, more = _relaxed_optimum(model, scales, starts, alpha_max_rad)
+    return best, spent + more
+
+
+def _speed_and_turns_reachable(model: DesignModel, alpha_max_rad: float) -> bool:
+    """Whether some helical angle up to ``alpha_max_rad`` (inside the box) meets the speed at
+    the highest frequency and the spiral turns: the rows :data:`_HARD_FIRST` holds depend on
+    the angle and frequency only (the field, which the limits cap, only moves the torque), so
+    this says whether that relaxed problem has a solution without solving it."""
+    b, c, req = model.bounds, model.constants, model.requirements
+    lo = b.helical_angle_min_rad
+    alpha = np.linspace(lo, max(lo, min(b.helical_angle_max_rad, alpha_max_rad)), 257)
+    speed = np.asarray(ph.speed_m_s(alpha, b.frequency_max_hz, c, req), dtype=float)
+    turns = np.asarray(ph.spiral_turns(alpha, c), dtype=float)
+    rtol = 1e-6
+    ok = (speed >= req.min_speed_m_s * (1 - rtol)) & (turns >= req.min_spiral_turns * (1 - rtol))
+    return bool(ok.any())
+
+
+def _relaxed_optimum(
+    model: DesignModel,
+    scales: pb.Scales,
+    starts: list[dict[str, float]],
+    alpha_max_rad: float | None = None,
+    hard: tuple[str, ...] = (),
+) -> tuple[Solution, int]:
+    """The relaxed problem (slacks on the requirements) from each start: the best solve (a
+    converged one first), and the iterations spent. ``alpha_max_rad``: the helical angle held
+    at or below it (where the spiral grips, :func:`optimize.evaluate.grip_bound`); ``hard``:
+    slacks held at zero (those requirements met)."""
     problem = compile_problem(structure_of(model, relaxed=True))
     p = problem.parameters(model, scales)
     bounds = {**variable_bounds(model), "t": (0.0, 0.0)}
+    if alpha_max_rad is not None:
+        lo = bounds["helical_angle"][0]
+        bounds["helical_angle"] = (lo, max(lo, min(bounds["helical_angle"][1], alpha_max_rad)))
+    bounds.update(dict.fromkeys(hard, (0.0, 0.0)))
     starts = starts or initial_points(model, scales, model.bounds.starts)
     best, iterations = None, 0
     slacks = [v.name for v in problem.nlp.variables if v.name.startswith("slack")]
     for x0 in starts:
         sol = problem.nlp.solve({**x0, "t": 0.0, **dict.fromkeys(slacks, 1.0)}, p, bounds)
         iterations += sol.iterations
-        if best is None or sol.f < best.f:
+        if best is None or (not best.success, best.f) > (not sol.success, sol.f):
             best = sol
     assert best is not None  # at least one start
     return best, iterations

@@ -68,6 +68,8 @@ def _searched(hz: float, beyond: bool) -> float | Above:
     from optimize.evaluate import STEP_OUT_SEARCH_HZ
 
     top = STEP_OUT_SEARCH_HZ[1]
+    if math.isnan(hz) and not beyond:  # no search: no contact, no margin to reach zero
+        return math.nan
     if beyond or not math.isfinite(hz) or hz >= top:
         return Above(float(hz) if math.isfinite(hz) and hz < top else float(top))
     return hz

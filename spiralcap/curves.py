@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -76,6 +76,30 @@ class Curve:
     speed_slack_m_s: np.ndarray
     turns_slack: np.ndarray
     frequency_hz: np.ndarray | None = None
+    #: least wall strain over the tissue sets at each point, dimensionless (<= 0: no contact,
+    #: where ``margin_Nm`` is NaN)
+    wall_strain: np.ndarray | None = None
+    #: ``requirements.min_wall_strain`` (below it the model extrapolates), dimensionless
+    min_wall_strain: float | None = None
+
+    @property
+    def grip(self) -> np.ndarray | None:
+        """``"ok"``, ``"below minimum"`` or ``"none"`` at each point (optimize.grip_state)."""
+        if self.wall_strain is None or self.min_wall_strain is None:
+            return None
+        from optimize.evaluate import grip_state
+
+        return grip_state(self.wall_strain, self.min_wall_strain)
+
+    def grip_slacks(self) -> dict[str, np.ndarray]:
+        """Slacks (negative where the region lies) of no contact and of a strain below the
+        minimum, continuous through both edges, for :func:`shortfall_spans`-style hatching:
+        ``{"none": strain, "below minimum": -min(strain, min - strain)}``."""
+        if self.wall_strain is None or self.min_wall_strain is None:
+            return {}
+        s = np.asarray(self.wall_strain, float)
+        need = float(self.min_wall_strain) * (1 - 1e-6)  # FEASIBILITY_RTOL, as the check
+        return {"none": s, "below minimum": -np.minimum(s, need - s)}
 
 
 @dataclass(frozen=True)
@@ -139,7 +163,7 @@ def angle_curve(model: Any, alpha_rad: np.ndarray) -> Curve:
     needed = req.min_speed_m_s / np.maximum(per_hz, 1e-300)
     f = np.clip(needed, b.frequency_min_hz, b.frequency_max_hz)
     c = curve(model, alpha_rad, f, np.degrees(alpha_rad))
-    return Curve(c.x, c.margin_Nm, c.feasible, c.speed_slack_m_s, c.turns_slack, frequency_hz=f)
+    return replace(c, frequency_hz=f)
 
 
 def curve(model: Any, alpha: Any, f: Any, x: np.ndarray) -> Curve:
@@ -157,6 +181,8 @@ def curve(model: Any, alpha: Any, f: Any, x: np.ndarray) -> Curve:
         feasible=_grid_field(g, "feasible").astype(bool),
         speed_slack_m_s=_grid_field(g, "speed_m_s") - req.min_speed_m_s * tol,
         turns_slack=_grid_field(g, "spiral_turns") - req.min_spiral_turns * tol,
+        wall_strain=np.broadcast_to(_grid_field(g, "wall_strain"), np.shape(g.margin_Nm)),
+        min_wall_strain=float(req.min_wall_strain),
     )
 
 
@@ -361,6 +387,8 @@ def frequency_curves(model: Any, evaluation: Any, result: Any = None) -> tuple[C
             both.feasible[i],
             both.speed_slack_m_s[i],
             both.turns_slack[i],
+            wall_strain=None if both.wall_strain is None else both.wall_strain[i],
+            min_wall_strain=both.min_wall_strain,
         )
         for i in (0, 1)
     )

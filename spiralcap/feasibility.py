@@ -12,10 +12,18 @@ def _grid_field(grid: Any, name: str) -> np.ndarray:
     return np.asarray(value)
 
 
+#: The region where the spiral does not touch some wall (the model has no physics there).
+NO_CONTACT = "no contact: no margin"
+#: Said after the grip requirement where the spiral touches but stretches less than it: the
+#: tissue model extrapolates below the strains the paper measured.
+BELOW_MINIMUM = ": extrapolated"
+
+
 def failing_requirements(model: Any, alpha_rad: np.ndarray, grid: Any) -> np.ndarray:
     """The first requirement not met at each point of a ``margin_grid`` (``""``: none).
 
-    In the order self-locking, grip (wall strain), spiral turns, speed, set field, safety factor, with
+    In the order no contact (:data:`NO_CONTACT`: the margin is NaN there), self-locking,
+    grip below the minimum strain (named as extrapolated), spiral turns, speed, set field, safety factor, with
     :data:`optimize.evaluate.FEASIBILITY_RTOL` as ``feasible`` allows; a point whose only
     failure is a negative margin (it steps out) gets ``""``: the map draws that region itself.
     Any other infeasible point left unnamed is ``"a requirement not met"``.
@@ -37,9 +45,12 @@ def failing_requirements(model: Any, alpha_rad: np.ndarray, grid: Any) -> np.nda
 
     strain = np.asarray(least_wall_strain(model, alpha_rad), float)
     checks = [
+        (NO_CONTACT, strain <= 0),  # no physics there: margin NaN, speed 0
         ("spiral self-locks", np.asarray(self_lock_margin(model, alpha_rad), float) <= 0),
         (
-            "wall strain (grip)" + text(np.asarray(req.min_wall_strain) * 100, ".3g", " %"),
+            "wall strain (grip)"
+            + text(np.asarray(req.min_wall_strain) * 100, ".3g", " %")
+            + BELOW_MINIMUM,
             strain < np.asarray(req.min_wall_strain) * (1 - rtol),
         ),
         (

@@ -40,22 +40,37 @@ def table(
 def _checks_table(checks: Sequence[Any]) -> str:
     from spiralcap.presentation import readable
 
+    def value(c: Any) -> Any:
+        return NO_CONTACT if c.value != c.value else c.value  # NaN: the margin, no contact
+
     return table(
         "requirements and limits (SI)",
-        [(readable(c.name), c.value, c.sense, c.allowed, c.unit, c.ok) for c in checks],
+        [(readable(c.name), value(c), c.sense, c.allowed, c.unit, c.ok) for c in checks],
         ("check", "value", "", "allowed", "unit", "ok"),
     )
 
 
+#: What the view shows for the margin where the spiral does not touch some wall.
+NO_CONTACT = "none: no contact with the wall"
+#: Grip words of the view (``Evaluation.grip``).
+_GRIP = {
+    "ok": "yes",
+    "below minimum": "below requirements.min_wall_strain (the model extrapolates)",
+    "none": "no: the spiral does not touch every wall",
+}
+
+
 def _evaluation_rows(ev: Any) -> list[tuple[str, Any]]:
+    touches = getattr(ev, "grip", "ok") != "none"
     return [
         ("helical angle (°)", ev.helical_angle_deg),
         ("rotation frequency (Hz)", ev.frequency_hz),
         ("rotating field (mT)", ev.field_amplitude_T * 1e3),
-        ("torque margin (mN·m)", ev.margin_Nm * 1e3),
-        ("safety factor", ev.safety_factor),
+        ("grip (wall strain)", _GRIP[getattr(ev, "grip", "ok")]),
+        ("torque margin (mN·m)", ev.margin_Nm * 1e3 if touches else NO_CONTACT),
+        ("safety factor", ev.safety_factor if touches else NO_CONTACT),
         ("forward speed (mm/s)", ev.speed_m_s * 1e3),
-        ("step-out frequency (Hz)", ev.step_out_frequency_hz),
+        ("step-out frequency (Hz)", ev.step_out_frequency_hz if touches else NO_CONTACT),
         ("copper (kg)", ev.copper_mass_kg),
         ("meets every requirement and limit", ev.feasible),
     ]

@@ -188,6 +188,8 @@ def step_out_words(
     allow), so the drive can raise it at higher frequencies.
     """
     at = "at the set field" if field_fixed else "at the operating field"
+    if bound == "no_contact":  # the spiral does not touch every wall: no margin, no step-out
+        return "none: the spiral does not touch every wall (no contact, no margin)"
     if bound == "below_search_range":
         return f"below {step_out_hz:g} Hz: the capsule cannot keep up at any frequency {at}"
     drive = f"{max_frequency_hz:.3g} Hz" + (" or more" if max_frequency_beyond else "")

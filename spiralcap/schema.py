@@ -537,10 +537,10 @@ KEYS.update(
             "least strain the spiral must stretch the intestinal wall by, (D' - lumen) / "
             "(lumen + wall), for every tissue set: a spiral that does not stretch the wall does "
             "not grip it, so it neither screws the capsule forward nor meets the model's "
-            "resistance (default 0.017: the least strain at which the paper measured a spiral "
-            "capsule's torque, capsule No. 4 at 20 deg in sample 3, 1.69 %); range: 1e-4-0.5 "
-            "(it cannot be switched off)",
-            0.017,
+            "resistance (default 0.0168: includes the least strain at which the paper measured a "
+            "spiral capsule's torque, capsule No. 4 at 20 deg in sample 3, 1.685 %, to three "
+            "figures); range: 1e-4-0.5 (it cannot be switched off)",
+            0.0168,
             1e-4,
             0.5,
             open_=False,
@@ -775,6 +775,10 @@ KEYS.update(
 
 
 # --- tissue uncertainty (issue 11) ---
+#: The names ``spiralcap fit`` fits (``tissue.fit.fitted``, ``tissue.fit.not_pinned_down``).
+_FIT_NAMES = ("scale", "E1_kPa", "E2_kPa", "E3_kPa", "eta1_kPa_s", "eta2_kPa_s")
+
+
 def _is_matrix5(v: Any) -> bool:
     return (
         isinstance(v, list)
@@ -874,6 +878,22 @@ KEYS.update(
             0.05,
             10.0,
             open_=False,
+        ),
+        "tissue.fit.not_pinned_down": Key(
+            list,
+            None,
+            "a list of tissue keys (scale, E1_kPa, E2_kPa, E3_kPa, eta1_kPa_s, eta2_kPa_s)",
+            lambda v: isinstance(v, list) and all(x in _FIT_NAMES for x in v),
+            "the fitted constants the bench data did not pin down (written by `spiralcap fit "
+            "-o`; empty: every fitted constant pinned down): a record, the report never calls "
+            "such constants calibrated",
+        ),
+        "tissue.fit.fitted": Key(
+            list,
+            None,
+            "a list of tissue keys (scale, E1_kPa, E2_kPa, E3_kPa, eta1_kPa_s, eta2_kPa_s)",
+            lambda v: isinstance(v, list) and 0 < len(v) and all(x in _FIT_NAMES for x in v),
+            "the constants `spiralcap fit -o` fitted (the others were held): a record",
         ),
         "tissue.fit.bench_helical_angles_deg": Key(
             list,

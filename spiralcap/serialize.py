@@ -18,7 +18,10 @@ Every number field has one type, a finite number (docs/json/README.md):
   ``"found"``, ``"above_search_range"`` (the step-out lies above the value given, the top of
   the search) or ``"below_search_range"`` (the capsule cannot turn even at the value given, the
   bottom of the search);
-- ``lag_angle_deg`` is 90 when the magnet cannot hold the load (``synchronous`` false).
+- ``lag_angle_deg`` is 90 when the magnet cannot hold the load (``synchronous`` false);
+- ``margin_Nm`` and ``safety_factor`` are absent, with ``margin_Nm_undefined`` and
+  ``safety_factor_undefined`` true, where the spiral does not touch some wall (``grip``
+  ``"none"``: the model has no physics there).
 """
 
 from __future__ import annotations
@@ -49,7 +52,7 @@ TRANSFORMS: dict[str, tuple[str, Callable[[Any], Any]]] = {
 }
 
 #: properties shown as fields where a class has them
-PROPERTIES = ("gain_per_unit_relaxed", "short_by", "copper_mass_kg", "engaged")
+PROPERTIES = ("gain_per_unit_relaxed", "short_by", "copper_mass_kg", "engaged", "grip")
 
 #: fields shown by a dedicated rule of their parent (not field by field)
 _SKIPPED = {"current_phases_rad", "headings", "solution_x", "solution_lam_g", "scenario_solve"}
@@ -99,12 +102,18 @@ def _step_out(hz: float) -> tuple[float, str]:
 def _finite_fields(out: dict[str, Any], margin_Nm: float) -> dict[str, Any]:
     """Safety factor, step-out and lag as finite numbers with their flags (see module notes)."""
     sf = out.pop("safety_factor")
-    out["safety_factor_unbounded"] = not math.isfinite(sf)
+    out["safety_factor_unbounded"] = math.isinf(sf)
     if math.isfinite(sf):
         out["safety_factor"] = sf
-    out["step_out_frequency_hz"], out["step_out_bound"] = _step_out(out["step_out_frequency_hz"])
+    elif math.isnan(sf):  # no contact: no margin, no ratio (print_json leaves margin_Nm out)
+        out["safety_factor_undefined"] = True
+    if math.isnan(margin_Nm) and math.isnan(out["step_out_frequency_hz"]):
+        out["step_out_bound"] = "no_contact"  # print_json flags the NaN as undefined
+    else:
+        hz = out["step_out_frequency_hz"]
+        out["step_out_frequency_hz"], out["step_out_bound"] = _step_out(hz)
     if "lag_angle_deg" in out:
-        out["synchronous"] = margin_Nm >= 0
+        out["synchronous"] = not margin_Nm < 0  # no contact (NaN): nothing but the weight holds
     return out
 
 
@@ -192,6 +201,17 @@ def optimization_to_dict(res: Any) -> dict[str, Any]:
     out["copper_masses_kg"] = _by_axis(res.evaluation.copper_masses_kg)
     if not math.isfinite(res.objective_value):  # no optimum (infeasible): no objective value
         out.pop("objective_value", None)
+    if res.status != "optimal" and res.evaluation is not None:
+        from spiralcap.explain import advice, at_design_hardware, explained_at_values, grips
+
+        # where the shortfalls stand (the design keys evaluate reproduces them with, at the
+        # design's own hardware), whether it grips, and what to change, in order (issue 36)
+        out["explained_at"] = {
+            "keys": explained_at_values(res),
+            "grips": grips(res),
+            "at_design_hardware": at_design_hardware(res),
+        }
+        out["advice"] = advice(res)
     hardware = _hardware(res.hardware)
     if hardware is None:  # fixed hardware: no sizing part (one type per field, no null)
         out.pop("hardware", None)

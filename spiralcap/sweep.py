@@ -46,6 +46,9 @@ EVALUATE_COLUMNS = (
     "speed_m_s",
     "wall_strain",  # the least over the tissue sets (the spiral grips where > 0)
     "feasible",
+    # "ok" / "below minimum" (requirements.min_wall_strain, extrapolated) / "none" (no contact:
+    # margin_Nm and safety_factor NaN, speed 0)
+    "grip",
 )
 #: Most points of a vectorised evaluation per array call: a larger grid is cut into equal calls,
 #: each a progress step (a call costs about 1.5 s besides its points, the field-capacity
@@ -61,6 +64,7 @@ OPTIMIZE_COLUMNS = (
     "safety_factor",
     "field_amplitude_T",
     "binding_limits",
+    "grip",  # of the optimum, or of the closest design where none is feasible
 )
 
 
@@ -280,6 +284,7 @@ def _evaluate_points(design, inputs, progress) -> dict[str, np.ndarray]:
                 ev.speed_m_s,
                 min(ev.wall_strains),
                 ev.feasible,
+                ev.grip,
             )
         )
         if progress:
@@ -311,6 +316,7 @@ def _row(r, columns: tuple[str, ...] = OPTIMIZE_COLUMNS) -> tuple:
                 r.safety_factor,
                 r.field_amplitude_T,
                 ";".join(b.name for b in binding(r.binding_limits)),
+                r.evaluation.grip,
             ),
         )
     )

@@ -193,7 +193,7 @@ def test_copper_mass_60kg_is_infeasible_as_cooled_and_says_so(tmp_path, capsys) 
     """Issue 18 asked for a least-power sizing under 60 kg at safety factor 2; that number was
     set before the cooling as built (natural convection ~6 W/(m²·K) instead of 10, packs
     radiating onto each other), the friction of the capsule's weight and the grip requirement
-    (the spiral must stretch sample 3's wall by 1.7 %, which holds the angle at or below 19.65°
+    (the spiral must stretch sample 3's wall by 1.68 %, which holds the angle at or below 20.13°
     where the tissue torque is higher). Now the least copper that meets safety factor 2 with the
     six keys free is ~87.6 kg (every hot spot at its limit), so 80 kg must exit 3 naming the
     mass and write nothing; the binding-limit case is tested at 100 kg above."""

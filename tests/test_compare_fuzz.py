@@ -220,7 +220,9 @@ def _compared(argv: tuple[str, ...]):
 
 
 def test_zero_torque_rows_are_typed():
-    """An infinite safety factor in one design only: no number list mixes inf with numbers."""
+    """A design whose spiral touches no wall has no margin and no safety factor (NaN, issue 36:
+    no margin where the model has no physics): no number list mixes NaN with numbers, the row
+    says which design has none, and "–" is shown for it."""
     from optimize import evaluate, prepare
     from spiralcap.assemble import build_model
     from spiralcap.compare import comparison_to_dict, evaluation_rows
@@ -233,6 +235,6 @@ def test_zero_torque_rows_are_typed():
     from spiralcap.compare import _typed
 
     typed = _typed(sf.values)
-    assert "values" not in typed and typed["values_unbounded"] is True, typed
-    assert typed["shown"][1] == "∞" and typed["defined"] == [True, True], typed
+    assert "values" not in typed and typed["values_undefined"] is True, typed
+    assert typed["shown"][1] == "–" and typed["defined"] == [True, False], typed
     assert callable(comparison_to_dict)

@@ -22,6 +22,27 @@ CASES = [
     ("evaluate", ["evaluate", *ZERO_TORQUE]),
     ("evaluate", ["evaluate", "--set", "limits.current_A=0.01"]),
     ("evaluate", ["evaluate", "--set", "capsule.spiral.helical_angle_deg=80"]),
+    # no contact (issue 36): margin, safety factor and step-out absent with their flags
+    (
+        "evaluate",
+        [
+            "evaluate",
+            "--set",
+            "tissue.lumen_diameter_mm=11.3",
+            "--set",
+            "capsule.spiral.helical_angle_deg=25",
+        ],
+    ),
+    (
+        "sweep",
+        [
+            "sweep",
+            "--over",
+            "capsule.spiral.helical_angle_deg=15:25:3",
+            "--set",
+            "tissue.lumen_diameter_mm=11.3",
+        ],
+    ),
     ("optimize", ["optimize"]),
     ("optimize", ["optimize", "--set", "limits.current_A=0.01"]),
     # coils: validated in test_robustness.test_single_heading_coils_have_no_nan_or_inf (slow)

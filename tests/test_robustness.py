@@ -105,19 +105,24 @@ def test_out_of_range_values_are_refused_naming_the_key(expr):
     assert key in err or "--set" in err, f"{expr}: the message names the key"
 
 
-def test_zero_required_torque_reports_an_unbounded_safety_factor():
-    """A weightless capsule in a lumen wider than it, no load: nothing resists (API only)."""
+def test_zero_required_torque_has_no_margin_where_nothing_touches():
+    """A weightless capsule in a lumen wider than it, no load: nothing resists, and nothing
+    grips. The model has no physics there (issue 36): no margin, no safety factor, no step-out
+    (NaN, their ``_undefined`` flags in JSON), not an unbounded safety factor (API only)."""
     from optimize import evaluate
-    from spiralcap.commands.evaluate import format_evaluation
+    from spiralcap.commands._common import _jsonable
+    from spiralcap.commands.evaluate import NO_MARGIN, format_evaluation
     from spiralcap.serialize import evaluation_to_dict
 
     ev = evaluate(weightless(ZERO_TORQUE))
     assert ev.required_torque_Nm == 0.0, "a lumen wider than the capsule, no load, no weight"
-    doc = evaluation_to_dict(ev)
-    assert doc["safety_factor_unbounded"] is True and "safety_factor" not in doc
-    assert doc["step_out_bound"] in ("found", "above_search_range")
-    assert not bad_numbers(json.loads(json.dumps(doc)))
-    assert "unbounded (no torque is required)" in format_evaluation(ev)
+    assert ev.grip == "none" and math.isnan(ev.margin_Nm) and ev.speed_m_s == 0.0
+    doc = _jsonable(evaluation_to_dict(ev))
+    assert doc["safety_factor_unbounded"] is False and doc["safety_factor_undefined"] is True
+    assert doc["margin_Nm_undefined"] is True and "margin_Nm" not in doc
+    assert doc["step_out_bound"] == "no_contact" and doc["grip"] == "none"
+    assert not bad_numbers(json.loads(json.dumps(doc))), "only the no-contact flags"
+    assert NO_MARGIN in format_evaluation(ev)
 
 
 def test_a_capsule_that_does_not_touch_the_wall_is_not_safe():
@@ -280,7 +285,10 @@ def test_lag_and_step_out_are_numbers_when_the_margin_is_negative():
 
 
 def test_step_out_above_the_search_range_is_a_bound():
-    _, out, _ = sound(["evaluate", "--json", *ZERO_TORQUE], allowed=(0,))
+    """A spiral that touches (strain 0.3 %, below the minimum) with a small load: the margin
+    stays positive to 200 Hz."""
+    grazing = ["tissue.lumen_diameter_mm=11.3", "capsule.spiral.helical_angle_deg=15"]
+    _, out, _ = sound(["evaluate", "--json", *(a for g in grazing for a in ("--set", g))], (0,))
     ev = json.loads(out)
     assert ev["step_out_bound"] == "above_search_range"
     assert ev["step_out_frequency_hz"] == 200.0, "the top of STEP_OUT_SEARCH_HZ"

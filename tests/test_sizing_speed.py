@@ -174,7 +174,7 @@ def test_least_required_torque_bounds_a_dense_grid(copper):
     least = least_required_torque_Nm(copper)
     assert least <= brute, "a lower bound of every allowed grid point's required torque"
     # the least sits on the grip's boundary (the largest angle that still stretches sample 3's
-    # wall by 1.7 %), where one grid step (0.086 deg) moves the need by up to 2e-3
+    # wall by 1.68 %), where one grid step (0.086 deg) moves the need by up to 2e-3
     assert least >= brute * (1 - 3e-3), "and the least of them to 3e-3 (grid spacing)"
 
 

@@ -10,10 +10,13 @@ screw propulsion needs the wall wrapped round the thread. The design therefore r
 eps_w >= ``requirements.min_wall_strain`` for every tissue set (an NLP row, so no optimiser can
 settle where the spiral only grazes the wall and the model's resistance vanishes).
 
-The default, :data:`DEFAULT_MIN_WALL_STRAIN` = 0.017, is the least strain at which the paper
-measured a spiral capsule's torque: capsule No. 4 (20 deg) in sample 3 (lumen 11.1 mm, wall
-1 mm) stretches the wall by 1.69 % (this module's :func:`wall_strain` at the paper's capsule;
-``torque_model.domain.CALIBRATED``). Below it nothing in the paper shows that a spiral grips.
+The default, :data:`DEFAULT_MIN_WALL_STRAIN` = 0.0168, includes the least strain at which the
+paper measured a spiral capsule's torque: capsule No. 4 (20 deg) in sample 3 (lumen 11.1 mm, wall
+1 mm) stretches the wall by 1.6852 % with this module's :func:`wall_strain` (D' = 11.3039 mm)
+and by 1.6826 % with the exact tube section's hull (D' = 11.3036 mm, docs/torque-model.md);
+rounded down to the three figures the paper gives its lumens to, 1.68 %, both readings of that
+measured case grip (``torque_model.domain.CALIBRATED``'s lower end is the same 1.68 %). Below
+it nothing in the paper shows that a spiral grips.
 
 Weight friction
 ---------------
@@ -49,8 +52,9 @@ __all__ = [
 ]
 
 #: Least wound-section strain a spiral must impose to count as gripping the wall: the least the
-#: paper's capsules imposed on its samples (No. 4, 20 deg, sample 3: 1.69 %), rounded up.
-DEFAULT_MIN_WALL_STRAIN = 0.017
+#: paper's capsules imposed on its samples (No. 4, 20 deg, sample 3: 1.6852 % by this model's D',
+#: 1.6826 % by the exact tube's hull), rounded down to three figures so that case grips.
+DEFAULT_MIN_WALL_STRAIN = 0.0168
 
 
 def wall_strain(

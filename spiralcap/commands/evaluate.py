@@ -26,6 +26,8 @@ def check_words(c, key: str) -> str:
     from spiralcap.presentation import in_key_units, with_unit
 
     unit, factor = in_key_units(c.unit, key)
+    if c.value != c.value:  # NaN: the margin where the spiral does not touch some wall
+        return f"none (no contact) {c.sense} {with_unit(f'{c.allowed * factor:.4g}', unit)}"
     if c.name == "self_lock":
         return f"α + atan μ = {c.value * factor:.3g}°, must stay below {c.allowed * factor:g}°"
     value = with_unit(f"{c.value * factor:.4g}", unit)
@@ -44,6 +46,23 @@ def tissue_line(ev) -> str:
         else ""
     )
     return "wall strain         " + ", ".join(parts) + note
+
+
+#: What stands for a margin where the spiral does not touch some wall.
+NO_MARGIN = "none: the spiral does not touch every wall (no contact: the model has no physics)"
+
+
+def margin_text(ev) -> str:
+    """``2.32 mN·m (safety factor 3.61)``; :data:`NO_MARGIN` where there is no contact; a
+    strain below the minimum said after the number (the model extrapolates there)."""
+    import math
+
+    if not math.isfinite(ev.margin_Nm):
+        return NO_MARGIN
+    text = f"{ev.margin_Nm * 1e3:.4g} mN·m (safety factor {safety_factor_text(ev.safety_factor)})"
+    if getattr(ev, "grip", "ok") == "below minimum":
+        text += "; the wall strain is below requirements.min_wall_strain: extrapolated"
+    return text
 
 
 def format_evaluation(ev) -> str:
@@ -85,15 +104,18 @@ def format_evaluation(ev) -> str:
             if any(c.name == "self_lock" and not c.ok for c in ev.checks)
             else ""
         ),
-        f"margin              {ev.margin_Nm * mnm:.4g} mN·m (safety factor "
-        f"{safety_factor_text(ev.safety_factor)})",
+        f"margin              {margin_text(ev)}",
         "step-out frequency  "
-        + step_out_words(
-            *_step_out(ev.step_out_frequency_hz),
-            ev.max_frequency_hz,
-            ev.max_frequency_beyond_search,
-            ev.max_frequency_limited_by,
-            ev.field_limited_by == "fixed",
+        + (
+            step_out_words(
+                *_step_out(ev.step_out_frequency_hz),
+                ev.max_frequency_hz,
+                ev.max_frequency_beyond_search,
+                ev.max_frequency_limited_by,
+                ev.field_limited_by == "fixed",
+            )
+            if ev.grip != "none"
+            else "none (no contact: nothing for the magnet to step out against)"
         ),
         f"forward speed       {ev.speed_m_s * 1e3:.4g} mm/s, spiral turns {ev.spiral_turns:.3g}"
         + ("" if ev.engaged else " (the spiral does not stretch every wall: no grip, no screw)"),

@@ -6,8 +6,16 @@ ratios -- the calibration factor, all a 0.5-3 Hz curve can pin down.
 
 The CSV has a header row with ``frequency_hz`` and ``torque_mNm`` and, optionally,
 ``helical_angle_deg`` (else every row takes the design's ``capsule.spiral.helical_angle_deg``);
-other columns are ignored, blank lines and lines starting with ``#`` are skipped. Lumen, wall
-thickness and friction of the bench come from the design's tissue.
+other columns are ignored, blank lines and lines starting with ``#`` are skipped.
+
+The bench is described apart from the patient (issue 36): its lumen, wall thickness, friction,
+capsule and spiral wire diameters come from ``--bench-*`` options, else from header lines of the
+data file (``# bench_lumen_diameter_mm = 10.9``, the ``tissue.fit.bench_*`` record's names),
+else from the bench the design's ``tissue.preset`` was measured on (its lumen, wall and
+friction, the paper's capsule ``torque_model.PAPER_CAPSULE``). The patient's anatomy
+(``tissue.lumen_diameter_mm``) and capsule never enter the fit: the same bench data give the
+same constants with or without a patient's ``--design``. The design gives the material the
+fit starts from and holds (its preset, material overrides and ``tissue.scale``).
 
 A fit writes material, not anatomy: the result's ``tissue`` table (and ``[tissue]`` of
 ``-o FILE.toml``) holds the five fitted constants only, so layering the file on a design
@@ -21,6 +29,7 @@ from __future__ import annotations
 import argparse
 import csv
 import math
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -71,12 +80,174 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--plot", metavar="FILE.png", help="draw the data and the fitted curves (png, pdf or svg)"
     )
+    add_bench_arguments(parser)
     parser.add_argument(
         "--only",
         metavar="NAMES",
         help="fit only these, comma-separated: scale, E1, E2, E3, eta1, eta2 (the rest stay the "
         "design's; scale multiplies the constants not named), e.g. --only scale",
     )
+
+
+#: The bench's description: ``--bench-*`` option / data-file header name -> (the design key
+#: whose range it takes, the SI factor from its unit).
+BENCH_KEYS: dict[str, tuple[str, float]] = {
+    "lumen_diameter_mm": ("tissue.lumen_diameter_mm", 1e-3),
+    "wall_thickness_mm": ("tissue.wall_thickness_mm", 1e-3),
+    "friction_coefficient": ("tissue.friction_coefficient", 1.0),
+    "capsule_diameter_mm": ("capsule.diameter_mm", 1e-3),
+    "wire_diameter_mm": ("capsule.spiral.wire_diameter_mm", 1e-3),
+}
+#: The ``--bench-*`` option of each bench name.
+BENCH_OPTIONS = {
+    "lumen_diameter_mm": "--bench-lumen-mm",
+    "wall_thickness_mm": "--bench-wall-mm",
+    "friction_coefficient": "--bench-friction",
+    "capsule_diameter_mm": "--bench-capsule-mm",
+    "wire_diameter_mm": "--bench-wire-mm",
+}
+
+
+def add_bench_arguments(parser: argparse.ArgumentParser) -> None:
+    """``--bench-lumen-mm`` ... ``--bench-wire-mm``: the bench, apart from the patient."""
+    words = {
+        "lumen_diameter_mm": "inner diameter of the bench sample's lumen, mm",
+        "wall_thickness_mm": "wall thickness of the bench sample, mm",
+        "friction_coefficient": "capsule-mucosa friction coefficient on the bench",
+        "capsule_diameter_mm": "diameter of the capsule measured on the bench, mm",
+        "wire_diameter_mm": "spiral wire diameter of the bench capsule, mm",
+    }
+    for name, option in BENCH_OPTIONS.items():
+        parser.add_argument(
+            option,
+            dest=f"bench_{name}",
+            type=float,
+            default=None,
+            metavar="X",
+            help=f"{words[name]} (else the data file's '# bench_{name} = X' line, else the "
+            "bench of the design's tissue.preset: its own lumen, wall and friction, the "
+            "paper's 11 mm capsule with a 1 mm wire)",
+        )
+
+
+def read_bench_header(path: str | Path) -> dict[str, float]:
+    """The bench keys a data file states in its comment lines (``# bench_lumen_diameter_mm =
+    10.9``), design units.
+
+    Raises
+    ------
+    DataError
+        A ``bench_`` name that is not one of :data:`BENCH_KEYS`, a value that is not a
+        number, or one outside the range of its design key; the message names the line.
+    """
+    from spiralcap.design import read_text_file
+    from spiralcap.schema import KEYS
+
+    out: dict[str, float] = {}
+    for no, line in enumerate(read_text_file(Path(path), "data file").splitlines(), start=1):
+        body = line.strip().lstrip("#").strip()
+        if not line.lstrip().startswith("#") or not body.startswith("bench_"):
+            continue
+        name, sep, raw = body.partition("=")
+        name = name.strip().removeprefix("bench_")
+        where = f"{path} line {no}"
+        if not sep or name not in BENCH_KEYS:
+            allowed = ", ".join(f"bench_{k}" for k in BENCH_KEYS)
+            raise DataError(
+                f"{where}: {_short(body)!r}; a bench header line is NAME = X, NAME one of {allowed}"
+            )
+        try:
+            value = float(raw.strip())
+        except ValueError:
+            raise DataError(
+                f"{where}: bench_{name} = {_short(raw.strip())!r} is not a number"
+            ) from None
+        key = KEYS[BENCH_KEYS[name][0]]
+        if not (math.isfinite(value) and key.check(value)):
+            raise DataError(f"{where}: bench_{name} = {value:g}; {key.allowed}")
+        if name in out:  # which of two values is meant cannot be guessed
+            raise DataError(f"{where}: bench_{name} given a second time")
+        out[name] = value
+    return out
+
+
+@dataclass(frozen=True)
+class Bench:
+    """The bench a fit describes: the tissue sample (the design's material on the bench's
+    lumen, wall and friction) and the capsule, SI; ``sources`` says where each bench value
+    came from (an option, the data file's header, the preset's bench)."""
+
+    tissue: Any
+    geometry: Any
+    sources: dict[str, str]
+
+
+def bench_from(design: Any, options: dict[str, float | None], header: dict[str, float]) -> Bench:
+    """The bench: each value from its ``--bench-*`` option, else the data file's header, else
+    the bench of the design's ``tissue.preset`` (its own lumen, wall and friction, the paper's
+    capsule), never the patient's anatomy or capsule.
+
+    Raises
+    ------
+    InputError
+        A ``--bench-*`` value outside the range of its design key.
+    """
+    from dataclasses import replace
+
+    import torque_model as tm
+    from spiralcap.assemble.tissue import build_tissues
+    from spiralcap.core.errors import InputError
+    from spiralcap.schema import KEYS
+
+    preset = design.get("tissue.preset", "zhou2013-sample2")
+    material = build_tissues(design)[0]  # the design's material (the patient's anatomy after)
+    own = tm.preset(preset)
+    paper = tm.PAPER_CAPSULE
+    default_si = {
+        "lumen_diameter_mm": own.lumen_diameter_m,
+        "wall_thickness_mm": own.wall_thickness_m,
+        "friction_coefficient": material.friction_coefficient,
+        "capsule_diameter_mm": paper.body_diameter_m,
+        "wire_diameter_mm": paper.wire_diameter_m,
+    }
+    si: dict[str, float] = {}
+    sources: dict[str, str] = {}
+    for name, (key, factor) in BENCH_KEYS.items():
+        given = options.get(name)
+        if given is not None and not (math.isfinite(given) and KEYS[key].check(given)):
+            raise InputError(BENCH_OPTIONS[name], given, KEYS[key].allowed)
+        if given is not None:
+            si[name], sources[name] = given * factor, BENCH_OPTIONS[name]
+        elif name in header:
+            si[name], sources[name] = header[name] * factor, "the data file's header"
+        else:
+            capsule = name in ("capsule_diameter_mm", "wire_diameter_mm")
+            si[name] = default_si[name]
+            sources[name] = "the paper's capsule" if capsule else f"{preset}'s bench"
+    tissue = replace(
+        material,
+        lumen_diameter_m=si["lumen_diameter_mm"],
+        wall_thickness_m=si["wall_thickness_mm"],
+        friction_coefficient=si["friction_coefficient"],
+    )
+    geometry = replace(
+        paper, body_diameter_m=si["capsule_diameter_mm"], wire_diameter_m=si["wire_diameter_mm"]
+    )
+    return Bench(tissue, geometry, sources)
+
+
+def bench_words(bench: Bench) -> str:
+    """``lumen 10.9 mm, wall 1 mm, friction 0.28 (zhou2013-sample2's bench); capsule 11 mm
+    with a 1 mm spiral wire (the paper's capsule)``: the bench the fit used, with sources."""
+    t, g = bench.tissue, bench.geometry
+    parts = [
+        ("lumen", f"{t.lumen_diameter_m * 1e3:.4g} mm", "lumen_diameter_mm"),
+        ("wall", f"{t.wall_thickness_m * 1e3:.4g} mm", "wall_thickness_mm"),
+        ("friction", f"{t.friction_coefficient:.4g}", "friction_coefficient"),
+        ("capsule", f"{g.body_diameter_m * 1e3:.4g} mm", "capsule_diameter_mm"),
+        ("spiral wire", f"{g.wire_diameter_m * 1e3:.4g} mm", "wire_diameter_mm"),
+    ]
+    return ", ".join(f"{what} {value} ({bench.sources[name]})" for what, value, name in parts)
 
 
 def parse_only(text: str | None) -> tuple[str, ...] | None:
@@ -210,8 +381,8 @@ def run(args: argparse.Namespace) -> int:
     import numpy as np
 
     import torque_model as tm
-    from spiralcap.assemble.tissue import build_tissues, tissue_scale
-    from spiralcap.commands.torque import check_plot_path, geometry_from_design
+    from spiralcap.assemble.tissue import tissue_scale
+    from spiralcap.commands.torque import check_plot_path
     from torque_model.fit_quality import assess_fit
 
     if args.plot:
@@ -230,15 +401,17 @@ def run(args: argparse.Namespace) -> int:
     angle_deg = np.asarray(
         data.get("helical_angle_deg", [design["capsule.spiral.helical_angle_deg"]] * n), dtype=float
     )
-    _check_angles(design, angle_deg, args.data)
-    base = build_tissues(design)[0]
+    options = {name: getattr(args, f"bench_{name}", None) for name in BENCH_KEYS}
+    bench = bench_from(design, options, read_bench_header(args.data))
+    _check_angles(bench.geometry, angle_deg, args.data)
+    base = bench.tissue
     scale = tissue_scale(design)
     result = tm.identify(
         np.asarray(data["frequency_hz"]),
         np.asarray(data["torque_mNm"]) * 1e-3,
         np.radians(angle_deg),
         base,
-        geometry_from_design(design),
+        bench.geometry,
         free=free,
         bounds=scaled_bounds(scale),
     )
@@ -255,9 +428,10 @@ def run(args: argparse.Namespace) -> int:
 
         write_files_atomic(outputs)  # both or neither
     if args.json:
-        print_json(fit_payload(result, args.data, design.source, quality, scale))
+        payload = fit_payload(result, args.data, design.source, quality, scale)
+        print_json({**payload, "bench_sources": bench.sources})
     else:
-        _print_text(result, args.data, design.source, base.name, quality, scale)
+        _print_text(result, args.data, design.source, bench_words(bench), quality, scale)
         for path in outputs:
             print(f"wrote {path}")
     if not result.success:
@@ -270,16 +444,26 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def _check_angles(design: Any, angle_deg: Any, data_path: str) -> None:
-    """Each helical angle of the data must make a capsule ``evaluate`` would accept."""
-    from spiralcap.assemble import build_capsule
-    from spiralcap.core.errors import InputError
+def _check_angles(geometry: Any, angle_deg: Any, data_path: str) -> None:
+    """Each helical angle of the data must make a spiral on the bench capsule whose turns do
+    not touch and whose cut D' describes (``capsule.min_helical_angle_rad``)."""
+    import capsule as cap
+    from spiralcap.assemble.system import MIN_MODEL_ANGLE_deg
 
+    g = geometry
+    helix = cap.helix_diameter_m(g.body_diameter_m, g.wire_diameter_m)
+    least = max(
+        MIN_MODEL_ANGLE_deg,
+        math.degrees(cap.min_helical_angle_for_clearance_rad(helix, g.wire_diameter_m, g.starts)),
+    )
     for a in sorted({float(x) for x in angle_deg}):
-        try:
-            build_capsule(design.with_values({"capsule.spiral.helical_angle_deg": a}))
-        except InputError as exc:
-            raise DataError(f"{data_path}: helical_angle_deg = {a:g}: {exc.allowed}") from None
+        if not least <= a < 90:
+            raise DataError(
+                f"{data_path}: helical_angle_deg = {a:g}; on the bench capsule "
+                f"({g.body_diameter_m * 1e3:g} mm, a {g.wire_diameter_m * 1e3:g} mm wire) an "
+                f"angle >= {least:.3g} deg (below it the spiral's turns touch or the paper's "
+                "profile conversion no longer holds)"
+            )
 
 
 def _notes(flags: tuple[str, ...]) -> list[str]:
@@ -493,6 +677,12 @@ def tissue_toml(result: Any, data_path: str, quality: Any = None, design_scale: 
     lines += ["", "[tissue]"]
     lines += [f"{k} = {float(v)!r}" for k, v in constants_table(result, design_scale).items()]
     lines += ["", "[tissue.fit]", "# the bench the constants were fitted on (a record)"]
+    lines.append("fitted = [" + ", ".join(f'"{_DISPLAY[n][0]}"' for n in result.free) + "]")
+    lines.append(
+        "not_pinned_down = ["
+        + ", ".join(f'"{_DISPLAY[n][0]}"' for n in result.not_pinned_down)
+        + "]"
+    )
     for key, value in bench_record(result).items():
         text = (
             "[" + ", ".join(repr(float(x)) for x in value) + "]"
@@ -643,15 +833,16 @@ def _print_text(
     result: Any,
     data_path: str,
     design_source: str,
-    base_name: str,
+    bench: str,
     quality: Any = None,
     design_scale: float = 1.0,
 ) -> None:
     print(
         f"tissue identification from {data_path} ({result.frequency_hz.size} points, "
-        f"{result.dof} residual degree{'' if result.dof == 1 else 's'} of freedom; bench lumen, "
-        f"wall and friction from {base_name}, design: {design_source})"
+        f"{result.dof} residual degree{'' if result.dof == 1 else 's'} of freedom; material "
+        f"from the design: {design_source})"
     )
+    print(f"bench used (a record under [tissue.fit], not written into [tissue]): {bench}")
     headers = ["parameter", "value", "unit", "std error ×/÷", "95 % interval", "status"]
     print(format_table(headers, _parameter_rows(result)))
     held = [_DISPLAY[k][0] for k in tm_parameter_names() if k not in result.free]
@@ -666,12 +857,6 @@ def _print_text(
             f"({design_scale:g}) multiplies every tissue set, so -o and the JSON 'tissue' table "
             "hold them divided by it (on this design they give the fitted curve)"
         )
-    bench = bench_record(result)
-    print(
-        f"bench (a record, not written into [tissue]): lumen_diameter_mm = "
-        f"{bench['lumen_diameter_mm']:.4g}, wall_thickness_mm = {bench['wall_thickness_mm']:.4g}, "
-        f"friction_coefficient = {bench['friction_coefficient']:.4g}"
-    )
     for line in _verdict_lines(result, quality):
         print(line)
     print()

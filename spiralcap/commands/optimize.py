@@ -191,6 +191,10 @@ def format_result(res) -> str:
             lines += _hardware_lines(res)
     else:
         lines.append(message_in_key_units(res.message))
+        from spiralcap.explain import advice_lines, explained_at_line
+
+        if res.evaluation is not None:
+            lines.append(explained_at_line(res))
         lines += _grip_binds(res)
         for s in res.shortfalls:
             label, factor = _ENGINEERING.get(s.unit, (s.unit, 1.0))
@@ -198,8 +202,7 @@ def format_result(res) -> str:
                 lines.append(
                     f"  the magnet's torque falls short of the required torque by "
                     f"{s.short_by / factor:.4g} {label} at the best design inside the "
-                    f"limits{_field_cap_words(res)} (more field, a stronger magnet or a lighter "
-                    "load would help)"
+                    f"limits{_field_cap_words(res)}"
                 )
             elif s.name == "solver":
                 lines.append(
@@ -222,6 +225,8 @@ def format_result(res) -> str:
                     f"  {key}: needs {s.needed / factor:.4g}{u}, best reachable "
                     f"{s.best / factor:.4g}{u} (short by {s.short_by / factor:.4g}{u})"
                 )
+        if res.evaluation is not None:
+            lines += advice_lines(res)
     return "\n".join(lines)
 
 

@@ -101,6 +101,7 @@ def margin_vs_frequency(
             label=f"as entered, α = {ev.helical_angle_deg:.3g}°",
             max_frequency_hz=_found(ev, "max_frequency"),
             max_frequency_limited_by=getattr(ev, "max_frequency_limited_by", ""),
+            grip=_grip_of(design),
         )
     ]
     if optimum is not None:
@@ -117,10 +118,13 @@ def margin_vs_frequency(
                 shade=False,
                 max_frequency_hz=_found(result.evaluation, "max_frequency"),
                 max_frequency_limited_by=result.evaluation.max_frequency_limited_by,
+                grip=_grip_of(optimum),
             )
         )
         lo, hi = ax.get_ylim()
-        ax.set_ylim(lo, max(hi, 1.1e3 * float(max(design.margin_Nm.max(), result.margin_Nm))))
+        top = np.nanmax([np.nanmax(design.margin_Nm, initial=-np.inf), result.margin_Nm])
+        if np.isfinite(top):
+            ax.set_ylim(lo, max(hi, 1.1e3 * float(top)))
     # two curves, each with its step-out and maximum frequency: the legend goes below the axes
     ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.16), ncols=2, fontsize=7.5)
     return Plot(fig, ax, tuple(drawn))
@@ -138,30 +142,33 @@ def margin_vs_angle(
     from spiralcap.curves import angle_curve, angle_range_rad
     from spiralcap.figures.design import plot_margin_vs_angle
 
-    fig, ax = _axes(ax, (7.5, 4.4))
+    fig, ax = _axes(ax, (7.5, 5.2))
     angles = [result.helical_angle_rad] + (
         [evaluation.helical_angle_rad] if evaluation is not None else []
     )
     c = curve if curve is not None else angle_curve(model, angle_range_rad(model, *angles))
     # start where the margin is above -40 % of its peak: the steep fall at tiny angles would
     # squeeze the useful range (the range is chosen from the data)
-    peak = float(np.nanmax(c.margin_Nm))
+    peak = float(np.nanmax(c.margin_Nm)) if np.isfinite(c.margin_Nm).any() else 0.0
     keep = np.nonzero(c.margin_Nm >= -0.4 * abs(peak))[0]
-    sl = slice(max(0, int(keep[0]) - 1) if keep.size else 0, None)
+    first = int(keep[0]) - 1 if keep.size else 0
+    # never cut off the optimum (or closest design) or the angle as entered
+    marked = min(np.degrees(angles))
+    first = min(first, int(np.searchsorted(c.x, marked)) - 6)  # a few points left of it
+    sl = slice(max(0, first), None)
     drawn = plot_margin_vs_angle(
         ax,
         c.x[sl],
         c.margin_Nm[sl],
-        shortfalls={
-            "speed below requirements.min_speed_mm_s": c.speed_slack_m_s[sl],
-            "fewer turns than requirements.min_spiral_turns": c.turns_slack[sl],
-        },
+        shortfalls=_angle_shortfalls(c, sl),
         optimum_deg=result.helical_angle_deg,
         optimum_margin_Nm=result.margin_Nm,
         design_angle_deg=None if evaluation is None else evaluation.helical_angle_deg,
         label="margin, each angle at the lowest frequency meeting the speed",
         optimum_name="optimum" if result.status == "optimal" else "closest design (infeasible)",
     )
+    # the hatched regions' names would cover the curve: the legend goes below the axes
+    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.16), ncols=2, fontsize=7.5)
     if c.frequency_hz is not None:
         twin = ax.twinx()
         fx = c.frequency_hz[sl]
@@ -170,6 +177,36 @@ def margin_vs_angle(
         twin.set_ylim(0, 1.1 * float(fx.max()))
         twin.grid(False)
     return Plot(fig, ax, drawn)
+
+
+#: Legend names of the grip regions on the margin-against-angle figure.
+_GRIP_NAMES = {
+    "none": "no contact with the wall: no margin (no physics in the model)",
+    "below minimum": "wall strain below requirements.min_wall_strain: extrapolated",
+}
+
+
+def _angle_shortfalls(c: Any, sl: slice) -> dict[str, Any]:
+    """The hatched regions of the angle figure: no contact and a strain below the minimum
+    first (where they hold, the speed and turns are not what fails), then speed and turns."""
+    grip = {_GRIP_NAMES[k]: v[sl] for k, v in c.grip_slacks().items()}
+    contact = c.wall_strain[sl] > 0 if c.wall_strain is not None else True
+    return {  # the grip regions last: the speed and turns keep their hatches
+        "speed below requirements.min_speed_mm_s": np.where(
+            contact, c.speed_slack_m_s[sl], np.abs(c.speed_slack_m_s[sl])
+        ),
+        "fewer turns than requirements.min_spiral_turns": np.where(
+            contact, c.turns_slack[sl], np.abs(c.turns_slack[sl])
+        ),
+        **grip,
+    }
+
+
+def _grip_of(curve: Any) -> str:
+    """The grip of a curve at one angle (every point the same): ``ok``/``below minimum``/
+    ``none``."""
+    grip = getattr(curve, "grip", None)
+    return "ok" if grip is None or not len(grip) else str(grip[0])
 
 
 def margin_map(

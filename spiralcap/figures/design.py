@@ -143,6 +143,7 @@ def plot_margin_vs_frequency(
     shade: bool = True,
     max_frequency_hz: float | None = None,
     max_frequency_limited_by: str = "",
+    grip: str = "ok",
 ) -> MarginFrequencyDrawn:
     """Worst-case torque margin against rotation frequency at one helical angle.
 
@@ -178,6 +179,11 @@ def plot_margin_vs_frequency(
         field the limits allow, crosses zero), Hz; marked with a dash-dot vertical line.
     max_frequency_limited_by : str
         What limits the field there (``Evaluation.max_frequency_limited_by``), for the label.
+    grip : str
+        The grip at this curve's helical angle (``optimize.grip_state``; the same at every
+        frequency): ``"none"`` (no contact: no margin, the whole width hatched and named, the
+        curve absent) or ``"below minimum"`` (the strain below the requirement: the model
+        extrapolates; hatched and named), ``"ok"`` draws nothing more.
 
     Returns
     -------
@@ -190,9 +196,10 @@ def plot_margin_vs_frequency(
     # feasible part solid with markers; the rest (extended by one point so the two parts
     # join) thin and dotted in the same colour
     solid = np.where(ok, m, np.nan)
-    (line,) = ax.plot(f, solid, label=label, **style)
+    drawn = bool(np.isfinite(m).any())  # no contact at this angle: no curve to name
+    (line,) = ax.plot(f, solid, label=label if drawn else f"_{label}", **style)
     bad_line = None
-    if (~ok).any():
+    if (~ok).any() and drawn:
         grown = ~ok | np.roll(~ok, 1) | np.roll(~ok, -1)
         bad_line = ax.plot(
             f,
@@ -203,6 +210,7 @@ def plot_margin_vs_frequency(
             label=f"{label}: a requirement not met",
         )[0]
     zero = ax.axhline(0.0, color="black", linewidth=1.0)
+    _grip_region(ax, f, grip, label, style_index)
     below = None
     if shade:
         below = ax.axhspan(
@@ -274,7 +282,7 @@ def plot_margin_vs_frequency(
             clip_on=False,
             zorder=6,
         )
-    if operating_frequency_hz is not None:
+    if operating_frequency_hz is not None and drawn:
         y = float(np.interp(operating_frequency_hz, f, m))
         (operating,) = ax.plot(
             [operating_frequency_hz],
@@ -298,6 +306,42 @@ def plot_margin_vs_frequency(
     ax.set_ylabel(_MARGIN_LABEL)
     ax.legend(loc="best", fontsize=7.5)
     return MarginFrequencyDrawn(line, bad_line, zero, step_out, operating, below, max_line)
+
+
+#: The grip regions of a margin-against-frequency curve: grip -> (words, hatch, edge colour).
+_GRIP_REGION = {
+    "none": ("no contact with the wall: no margin", "xx", "0.82"),
+    "below minimum": ("wall strain below the minimum: extrapolated", "\\\\", "0.6"),
+}
+
+
+def _grip_region(ax: Axes, f: np.ndarray, grip: str, label: str, style_index: int) -> Any:
+    """Hatch the curve's whole frequency range where its angle does not grip, named in the
+    legend and on the axes (the grip does not depend on frequency)."""
+    if grip not in _GRIP_REGION:
+        return None
+    words, hatch, edge = _GRIP_REGION[grip]
+    short = label.split(",")[-1].strip() or label
+    span = ax.axvspan(
+        float(f.min()),
+        float(f.max()),
+        facecolor="none",
+        edgecolor=edge,
+        hatch=hatch,
+        linewidth=0.0,
+        label=f"{short}: {words}",
+        zorder=0,
+    )
+    ax.annotate(
+        f"{short}: {words}",
+        (0.5, 0.62 - 0.1 * style_index),
+        xycoords="axes fraction",
+        ha="center",
+        va="center",
+        fontsize=8,
+        bbox={"boxstyle": "round,pad=0.25", "fc": "white", "ec": "0.3", "lw": 0.6},
+    )
+    return span
 
 
 def plot_margin_vs_angle(
@@ -531,7 +575,10 @@ def plot_limit_utilisation(
             ax.text(
                 min(u, 150.0) - 1.5 if inside else min(u, 150.0) + 1.5,
                 yi,
-                f"{u:.0f} %{tag}" if u >= 10 else f"{u:.2g} %{tag}",
+                # needed / nothing achieved (no speed, no strain: no contact): not a percentage
+                "nothing achieved: fails"
+                if np.isinf(u)
+                else (f"{u:.0f} %{tag}" if u >= 10 else f"{u:.2g} %{tag}"),
                 va="center",
                 ha="right" if inside else "left",
                 fontsize=8,

@@ -266,11 +266,57 @@ def _fixed_copper(column: str, values: Any) -> bool:
     return v.size == 0 or float(np.ptp(v)) <= 1e-9 * max(abs(float(v.mean())), 1e-30)
 
 
+#: How the 1-key sweep figure names and hatches the grip regions (the ``grip`` column).
+GRIP_REGIONS: dict[str, tuple[str, str, str]] = {
+    "none": ("no contact: no margin, speed 0", "xx", "0.45"),
+    "below minimum": ("wall strain below the minimum: extrapolated", "///", "0.6"),
+}
+
+
+def grip_spans(x: Any, grip: Any) -> list[tuple[str, float, float]]:
+    """The runs of equal ``grip`` other than ``"ok"`` along increasing ``x``: (grip, lo, hi),
+    each edge halfway to the neighbouring point of another grip (the ends at the first and
+    last point)."""
+    xs = np.asarray(x, float)
+    g = np.asarray(grip, dtype=object)
+    out: list[tuple[str, float, float]] = []
+    i = 0
+    while i < xs.size:
+        j = i
+        while j + 1 < xs.size and g[j + 1] == g[i]:
+            j += 1
+        if g[i] in GRIP_REGIONS:
+            lo = xs[0] if i == 0 else 0.5 * (xs[i - 1] + xs[i])
+            hi = xs[-1] if j == xs.size - 1 else 0.5 * (xs[j] + xs[j + 1])
+            if hi == lo:  # a single point at an end: a sliver as wide as half a step
+                step = float(np.median(np.diff(xs))) if xs.size > 1 else 1.0
+                lo, hi = lo - 0.25 * step, hi + 0.25 * step
+            out.append((str(g[i]), float(lo), float(hi)))
+        i = j + 1
+    return out
+
+
+def _hatch_grip(axs: list[Any], x: Any, grip: Any) -> list[Any]:
+    """Hatch the no-contact and below-minimum spans on every panel; legend handles for them."""
+    from matplotlib.patches import Patch
+
+    spans = grip_spans(x, grip)
+    for ax in axs:
+        for name, lo, hi in spans:
+            _, hatch, colour = GRIP_REGIONS[name]
+            ax.axvspan(lo, hi, facecolor="none", edgecolor=colour, hatch=hatch, lw=0, zorder=0)
+    return [
+        Patch(facecolor="white", edgecolor=GRIP_REGIONS[n][2], hatch=GRIP_REGIONS[n][1], label=t)
+        for n, t in ((n, GRIP_REGIONS[n][0]) for n in dict.fromkeys(s[0] for s in spans))
+    ]
+
+
 def draw_sweep(fig: Any, result: Any, failing: Any = None) -> SweepDrawn:
     """The figure of a sweep (:class:`spiralcap.sweep.SweepResult`) on ``fig``.
 
     One swept key: each numeric output against it, stacked, infeasible points (or failed
-    re-optimisations) as crosses. Two keys: the margin map (:func:`plot_margin_map`), the
+    re-optimisations) as crosses, the spans with no contact (no margin, speed 0) and below the
+    minimum wall strain (extrapolated) hatched and named (:data:`GRIP_REGIONS`). Two keys: the margin map (:func:`plot_margin_map`), the
     first key along x, each failing requirement named where ``failing`` (one name per point,
     :func:`spiralcap.sweep.failing_requirements`) gives it. More keys cannot be drawn on one
     figure.
@@ -309,23 +355,23 @@ def draw_sweep(fig: Any, result: Any, failing: Any = None) -> SweepDrawn:
             ax.ticklabel_format(axis="y", useOffset=False, style="plain")
             ax.set_ylabel(label, fontsize=8.5)
         axs[-1].set_xlabel(_label(key))
+        handles = _hatch_grip(axs, x, out["grip"]) if "grip" in out else []
         if (~ok).any():
             from matplotlib.lines import Line2D
 
-            axs[0].legend(
-                handles=[
-                    Line2D(
-                        [],
-                        [],
-                        marker="x",
-                        color="#a4161a",
-                        linestyle="none",
-                        label="infeasible (a requirement not met)",
-                    )
-                ],
-                loc="best",
-                fontsize=7.5,
+            handles.insert(
+                0,
+                Line2D(
+                    [],
+                    [],
+                    marker="x",
+                    color="#a4161a",
+                    linestyle="none",
+                    label="infeasible (a requirement not met)",
+                ),
             )
+        if handles:
+            fig.legend(handles=handles, loc="outside upper center", ncols=2, fontsize=7.5)
         return SweepDrawn(axs, None)
     if len(axes) == 2:
         kx, ky = axes[0].key, axes[1].key
@@ -341,7 +387,7 @@ def draw_sweep(fig: Any, result: Any, failing: Any = None) -> SweepDrawn:
             ax,
             np.asarray(axes[0].values, float),
             np.asarray(axes[1].values, float),
-            np.nan_to_num(margin, nan=float(np.nanmin(margin))),
+            margin,  # NaN where the spiral does not touch: named there, not coloured
             feasible=ok,
             failing=None if failing is None else np.asarray(failing, object).reshape(nx, ny).T,
             xlabel=_label(kx),

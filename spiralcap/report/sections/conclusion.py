@@ -50,6 +50,8 @@ def headroom(check: Mapping[str, Any], required_torque_Nm: float) -> float | Non
     value, allowed, sense = check.get("value"), check.get("allowed"), check.get("sense", "")
     if not isinstance(value, (int, float)) or not isinstance(allowed, (int, float)):
         return None
+    if math.isnan(value):  # the margin where the spiral does not touch: no margin, no headroom
+        return None
     if check.get("name") == "margin":
         return value / required_torque_Nm if required_torque_Nm > 0 else None
     # checks_by_headroom rounds a relative 1e-6 to 0: "at its limit", as the binding list does
@@ -77,7 +79,8 @@ def conclusion_payload(
             rows.append({"name": c["name"], "key": c["key"], "ok": c["ok"], "headroom": h})
     rows.sort(key=lambda r: r["headroom"])
     resistive = float(evaluation["resistive_torque_Nm"])
-    margin = float(evaluation["margin_Nm"])
+    margin = evaluation.get("margin_Nm")  # absent or None: no contact, no margin
+    margin = float(margin) if isinstance(margin, (int, float)) else math.nan
     objective = optimization.get("objective_value")
     gains = []
     if optimization.get("status") == "optimal" and isinstance(objective, (int, float)):
@@ -106,7 +109,9 @@ def conclusion_payload(
     out: dict[str, Any] = {
         "safe_as_entered": bool(evaluation["feasible"]),
         "checks_by_headroom": rows,
-        "tissue_torque_headroom": margin / resistive if resistive > 0 else None,
+        "tissue_torque_headroom": margin / resistive
+        if resistive > 0 and math.isfinite(margin)
+        else None,
         "limit_gains": gains,
         "exposure": {
             "field_exposure": design.get("limits.field_exposure"),

@@ -67,7 +67,9 @@ def checks_table(ctx: Context, prefix: str, caption: str, ident: str) -> Table:
                 # the self-lock row's value is alpha + atan(mu), not the helical angle its key sets
                 "self-locking: α + atan μ" if c["name"] == "self_lock" else readable(c["name"]),
                 c["key"],
-                ctx.num(f"{prefix}.checks.{i}.value", factor, label),
+                ctx.num(f"{prefix}.checks.{i}.value", factor, label)
+                if c.get("value") is not None
+                else "none (no contact)",  # the margin where the spiral does not touch
                 c["sense"],
                 ctx.num(f"{prefix}.checks.{i}.allowed", factor, label),
                 "yes" if c["ok"] else "NO",
@@ -86,6 +88,8 @@ def _max_frequency_parts(ctx: Context, prefix: str) -> list[Any]:
     """The drive's maximum frequency of the evaluation at ``prefix`` and what limits it."""
     value = ctx.value(f"{prefix}.max_frequency_hz")
     by = str(ctx.value(f"{prefix}.max_frequency_limited_by")).replace("_", " ")
+    if value is None or value != value:  # no contact: no margin to reach zero
+        return ["no frequency (no contact: no margin)"]
     if ctx.value(f"{prefix}.max_frequency_beyond_search"):
         return [f"beyond {value:g} Hz"]
     if value == 0:
@@ -143,7 +147,7 @@ def build(ctx: Context) -> Section:
             *step_out_parts(ctx, f"{e}.step_out_frequency_hz"),
             " at the design's helical angle and at ",
             *step_out_parts(ctx, f"{o}.step_out_frequency_hz"),
-            " at the optimum's; with the field raised to what the limits allow at each "
+            f" at the {ctx.optimum}'s; with the field raised to what the limits allow at each "
             "frequency, the drive keeps a positive margin up to ",
             *_max_frequency_parts(ctx, e),
             " and ",
@@ -152,7 +156,7 @@ def build(ctx: Context) -> Section:
             Ref("fig-margin-frequency"),
             "). So, as entered: step-out ",
             step_out_clause(ctx, e, ctx.value(f"{e}.field_limited_by") == "fixed"),
-            "; at the optimum: step-out ",
+            f"; at the {ctx.optimum}: step-out ",
             step_out_clause(ctx, o, bool(ctx.value(f"{o}.field_is_set"))),
             ". ",
             Ref("fig-torque-budget"),
@@ -174,12 +178,15 @@ def build(ctx: Context) -> Section:
         FigureBlock(
             "fig-margin-frequency",
             "Worst-case torque margin against rotation frequency at the design's helical angle "
-            "and at the optimum's, the field the largest the limits allow at each frequency "
+            + ("and at the optimum's" if ctx.feasible else "(no feasible optimum)")
+            + ", the field the largest the limits allow at each frequency "
             "(optimize.margin_grid). Each curve is solid where every requirement holds at its "
             "own angle and thin and dotted where one fails; dash-dot vertical lines: the "
             "drive's maximum frequency (max_frequency_hz, where the curve reaches zero); dashed: "
             "the step-out frequency at the operating field (step_out_frequency_hz); stars: the "
-            "operating points; hatched: negative margin.",
+            "operating points; hatched: negative margin; a curve at an angle whose spiral does "
+            "not grip is hatched and named (no contact: no margin; below the minimum wall "
+            "strain: extrapolated).",
             _draw_frequency(ctx.data),
             size_in=(7.5, 5.0),
         )
@@ -206,8 +213,11 @@ def build(ctx: Context) -> Section:
                 "capsule steps out; each other hatched region is named by the requirement that "
                 "fails there; thick black line: margin = 0, where the capsule steps out even at the "
                 "largest field (the drive's maximum frequency); open circle: "
-                "the best feasible grid point; star: the optimiser's optimum; diamond: the "
-                "design as entered.",
+                "the best feasible grid point; star: the optimiser's "
+                + ("optimum" if ctx.feasible else "closest design (no design is feasible)")
+                + "; diamond: the design as entered; no contact (the spiral does not touch "
+                "the wall): no margin there, hatched; a wall strain below the minimum: "
+                "extrapolated, hatched.",
                 _draw_map(ctx.data),
                 size_in=(7.0, 4.6),
             )
@@ -215,7 +225,7 @@ def build(ctx: Context) -> Section:
     blocks.append(
         evaluation_table(
             ctx,
-            [(e, "as entered"), (f"{o}.evaluation", "optimum")],
+            [(e, "as entered"), (f"{o}.evaluation", ctx.optimum)],
             "Operating points (same numbers as `spiralcap evaluate --json` and the evaluation "
             "inside `spiralcap optimize --json`)",
         )
@@ -223,7 +233,8 @@ def build(ctx: Context) -> Section:
     blocks.append(
         FigureBlock(
             "fig-torque-budget",
-            "Torque budget at the operating point as entered and at the optimum: the synchronous "
+            f"Torque budget at the operating point as entered and at the {ctx.optimum}: the "
+            "synchronous "
             "torque the magnet can deliver at the weakest workspace point against the required "
             "torque (tissue resistive, hatched, plus thrust, dotted).",
             _draw_budget(ctx.data),

@@ -6,6 +6,7 @@ from typing import Any, cast
 
 from spiralcap.assemble.system import message_in_key_units
 from spiralcap.report.document import Cell, Code, FigureBlock, Paragraph, Ref, Section, Table
+from spiralcap.report.numbers import fmt
 from spiralcap.report.sections._util import SHOWN_UNITS, Context, readable
 from spiralcap.report.sections.margin import checks_table
 from spiralcap.report.sections.summary import binding_gain, step_out_clause
@@ -129,10 +130,24 @@ def _shortfall_table(ctx: Context) -> Table:
                 ctx.num(f"{p}.short_by", factor, label),
             ]
         )
+    at = ctx.value("optimize").get("explained_at", {})
+    where = ", ".join(f"{k} = {fmt(v)}" for k, v in at.get("keys", {}).items())
     return Table(
         ["requirement", "design key", "needed", "best reachable", "short by"],
         rows,
-        caption="Requirements out of reach inside the limits",
+        caption="NO FEASIBLE DESIGN: requirements out of reach inside the limits, at the "
+        + (
+            "closest design that grips the wall"
+            if at.get("grips", True)
+            else "helical angle that stretches the walls most (none grips)"
+        )
+        + (
+            f" ({where}; `spiralcap evaluate` there gives these numbers)"
+            if where and at.get("at_design_hardware", False)
+            else f" ({where})"
+            if where
+            else ""
+        ),
         id="shortfalls",
     )
 
@@ -149,8 +164,8 @@ def _allocation_table(ctx: Context) -> Table:
     return Table(
         ["heading (unit vector)", "I_x (A)", "I_y (A)", "I_z (A)", "φ_x (°)", "φ_y (°)", "φ_z (°)"],
         rows,
-        caption="Coil current amplitudes and phases at the optimum field, per heading "
-        "(centre allocation)",
+        caption=f"Coil current amplitudes and phases at the {ctx.optimum}'s field, per heading "
+        "(centre allocation)" + ("" if ctx.feasible else "; no design is feasible"),
         id="allocation",
         compact=True,  # one row per heading (up to 64): small type in the PDF
     )
@@ -240,7 +255,12 @@ def build(ctx: Context) -> Section:
         Table(
             ["quantity", "unit", "optimum" if feasible else "closest design"],
             rows,
-            caption="The optimum (same numbers as `spiralcap optimize --json`)",
+            caption=(
+                "The optimum"
+                if feasible
+                else "NO FEASIBLE DESIGN: the closest design, where the shortfalls are stated"
+            )
+            + " (same numbers as `spiralcap optimize --json`)",
             id="optimum-table",
         )
     )
@@ -267,7 +287,9 @@ def build(ctx: Context) -> Section:
     blocks.append(
         FigureBlock(
             "fig-utilisation",
-            "How close each limit and requirement is to binding at the optimum: value / allowed "
+            f"How close each limit and requirement is to binding at the {ctx.optimum}"
+            + ("" if feasible else " (no design is feasible)")
+            + ": value / allowed "
             "for limits, needed / achieved for requirements. Hatched bars at 100 % bind; "
             "cross-hatched bars beyond 100 % are violated.",
             _draw_utilisation(ctx.data.optimize_json["evaluation"]["checks"]),
@@ -276,7 +298,11 @@ def build(ctx: Context) -> Section:
     )
     blocks.append(
         checks_table(
-            ctx, f"{o}.evaluation", "Requirements and limits at the optimum", "checks-optimum"
+            ctx,
+            f"{o}.evaluation",
+            f"Requirements and limits at the {ctx.optimum}"
+            + ("" if feasible else " (no design is feasible)"),
+            "checks-optimum",
         )
     )
     blocks.append(_allocation_table(ctx))

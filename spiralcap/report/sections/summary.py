@@ -50,9 +50,9 @@ def step_out_clause(ctx: Context, prefix: str, field_fixed: bool) -> str:
     ev = ctx.value(prefix) if prefix.endswith("evaluate") else ctx.value(f"{prefix}.evaluation")
     top = ctx.value(prefix)
     return step_out_words(
-        top["step_out_frequency_hz"],
+        top.get("step_out_frequency_hz", float("nan")),  # absent: no contact
         top["step_out_bound"],
-        ev["max_frequency_hz"],
+        ev.get("max_frequency_hz", float("nan")),
         ev["max_frequency_beyond_search"],
         ev["max_frequency_limited_by"],
         field_fixed,
@@ -190,14 +190,21 @@ def build(ctx: Context) -> Section:
                     " the hardware and exposure limits are kept hard; what is "
                     "out of reach, and by how much, is listed in ",
                     Link("section Optimum", "optimum"),
-                    ". Relax a limit or a requirement and run the report again.",
+                    ". What would help, in this order: ",
+                    advice_sentence(ctx),
                 ]
             )
         )
         verdict = Paragraph(
             [
-                "Infeasible: no design inside the limits meets every requirement. "
-                "The figures below show the closest design the optimiser found."
+                "Infeasible: no design inside the limits meets every requirement. The tables "
+                "and figures below show the closest design "
+                + (
+                    "that still grips the wall (every wall strain at least "
+                    "requirements.min_wall_strain), where the shortfalls are stated."
+                    if ctx.value(f"{o}").get("explained_at", {}).get("grips", True)
+                    else "the optimiser found: no helical angle inside the bounds grips the wall."
+                )
             ],
             kind="alert",
         )
@@ -220,6 +227,8 @@ def build(ctx: Context) -> Section:
             ").",
         ]
     )
+    if not feasible:  # nothing to adopt: the first page says so instead
+        proposed = _no_proposal(ctx)
     blocks: list[Block] = [
         _as_entered(ctx),
         *_warnings(ctx),
@@ -231,6 +240,29 @@ def build(ctx: Context) -> Section:
     if (ctx.payload.get("coils") or {}).get("bill_of_materials"):
         blocks.append(bom_brief(ctx))
     return Section("summary", "Summary", blocks)
+
+
+def advice_sentence(ctx: Context) -> str:
+    """The infeasible result's advice (``optimize.advice``, :func:`spiralcap.explain.advice`)
+    as one numbered sentence: design changes inside the model first, a requirement last."""
+    advice = ctx.value("optimize").get("advice") or [
+        "relax a limit or a requirement listed as out of reach in section Optimum"
+    ]
+    return "; ".join(f"({i}) {a}" for i, a in enumerate(advice, 1)) + "."
+
+
+def _no_proposal(ctx: Context) -> Paragraph:
+    """The first page's place of the proposed change when nothing is feasible: no proposal."""
+    return Paragraph(
+        [
+            Strong("No proposed change: no feasible design."),
+            " The optimiser found no helical angle, frequency and field that meet every "
+            "requirement inside the limits; the closest design below is not a design to adopt (",
+            Link("section Optimum", "optimum"),
+            ").",
+        ],
+        kind="alert",
+    )
 
 
 def _warnings(ctx: Context) -> list[Paragraph]:
@@ -281,7 +313,7 @@ def change_first(ctx: Context) -> Paragraph:
             + ". "
         )
     if ctx.value(f"{o}.status") != "optimal":
-        parts.append("Relax a limit or a requirement listed as out of reach in section Optimum.")
+        parts += ["No design is feasible; what would help, in this order: ", advice_sentence(ctx)]
         return Paragraph(parts)
     point = _operating_point_change(ctx)
     sized = sized_hardware_changes(ctx)
@@ -292,7 +324,6 @@ def change_first(ctx: Context) -> Paragraph:
         )
         parts += [ctx.num(f"{o}.margin_Nm", 1e3, "mN·m"), ")."]
     else:
-        gain = ctx.value(f"{o}.margin_Nm") - ctx.value(f"{e}.margin_Nm")
         parts += [
             "Adopt the proposed operating point and hardware ("
             if sized
@@ -304,16 +335,7 @@ def change_first(ctx: Context) -> Paragraph:
             *point,
             "".join(f"{', ' if point or i else ''}{change}" for i, change in enumerate(sized)),
         ]
-        if _same(ctx, f"{e}.margin_Nm", f"{o}.margin_Nm", 1e3):
-            parts += ["; the worst-case margin stays ", ctx.num(f"{o}.margin_Nm", 1e3, "mN·m")]
-        else:
-            parts += [
-                "; the worst-case margin goes from ",
-                ctx.num(f"{e}.margin_Nm", 1e3, "mN·m"),
-                " to ",
-                ctx.num(f"{o}.margin_Nm", 1e3, "mN·m"),
-            ]
-        parts.append("." if gain >= 0 else " (the optimum trades margin for its objective).")
+        parts += _margin_change(ctx)
     gains = (ctx.payload.get(c) or {}).get("limit_gains")
     if gains and fmt(float(gains[0]["objective_percent_per_percent"])) != "0":
         g = gains[0]
@@ -325,6 +347,34 @@ def change_first(ctx: Context) -> Paragraph:
             " of the objective.",
         ]
     return Paragraph(parts)
+
+
+def _margin_change(ctx: Context) -> list[Inline]:
+    """``; the worst-case margin goes from 1.2 mN·m to 2.3 mN·m.`` (or stays; or, where the
+    design as entered does not touch every wall, that it has none)."""
+    e, o = "evaluate", "optimize"
+    entered = ctx.value(f"{e}.margin_Nm")  # None / NaN: no contact, no margin
+    if not (isinstance(entered, (int, float)) and entered == entered):
+        return [
+            "; as entered the spiral does not touch every wall (no margin), the proposed "
+            "design's worst-case margin is ",
+            ctx.num(f"{o}.margin_Nm", 1e3, "mN·m"),
+            ".",
+        ]
+    end = (
+        "."
+        if ctx.value(f"{o}.margin_Nm") >= entered
+        else (" (the optimum trades margin for its objective).")
+    )
+    if _same(ctx, f"{e}.margin_Nm", f"{o}.margin_Nm", 1e3):
+        return ["; the worst-case margin stays ", ctx.num(f"{o}.margin_Nm", 1e3, "mN·m"), end]
+    return [
+        "; the worst-case margin goes from ",
+        ctx.num(f"{e}.margin_Nm", 1e3, "mN·m"),
+        " to ",
+        ctx.num(f"{o}.margin_Nm", 1e3, "mN·m"),
+        end,
+    ]
 
 
 def bom_brief(ctx: Context) -> Table:
@@ -389,11 +439,8 @@ def _as_entered(ctx: Context) -> Paragraph:
         ctx.num(f"{e}.helical_angle_deg", unit="°"),
         ", ",
         ctx.num(f"{e}.frequency_hz", unit="Hz"),
-        ") has a margin of ",
-        ctx.num(f"{e}.margin_Nm", 1e3, "mN·m"),
-        " (safety factor ",
-        ctx.num(f"{e}.safety_factor"),
-        ") and moves at ",
+        *_margin_words(ctx, e),
+        " and moves at ",
         ctx.num(f"{e}.speed_m_s", 1e3, "mm/s"),
         "; ",
     ]
@@ -402,6 +449,24 @@ def _as_entered(ctx: Context) -> Paragraph:
     else:
         parts.append("it meets every requirement and limit.")
     return Paragraph(parts, kind="alert" if failed else "ok")
+
+
+def _margin_words(ctx: Context, e: str) -> list[Any]:
+    """``) has a margin of 2.3 mN·m (safety factor 3.6)``, or that it has none: the spiral does
+    not touch every wall (no contact), or the strain is below the minimum (extrapolated)."""
+    grip = ctx.value(e).get("grip", "ok")
+    if grip == "none":
+        return [") has no margin: the spiral does not touch every wall (no contact),"]
+    out: list[Any] = [
+        ") has a margin of ",
+        ctx.num(f"{e}.margin_Nm", 1e3, "mN·m"),
+        " (safety factor ",
+        ctx.num(f"{e}.safety_factor"),
+        ")",
+    ]
+    if grip == "below minimum":
+        out.append(", with a wall strain below requirements.min_wall_strain (extrapolated),")
+    return out
 
 
 def _without_status(message: str) -> str:

@@ -109,6 +109,39 @@ def _draw(data: Any) -> Any:
     return draw
 
 
+#: The design's material keys: set, the first tissue set is no longer the calibrated preset.
+_MATERIAL_KEYS = ("scale", "E1_kPa", "E2_kPa", "E3_kPa", "eta1_kPa_s", "eta2_kPa_s")
+
+
+def provenance(design: Any) -> str:
+    """Where the tissue constants come from, in words for a caption: "calibrated" only for the
+    published sets (the paper's calibration, docs/torque-model.md), "fitted on a bench" with
+    whether its data pinned them down (``tissue.fit.not_pinned_down`` from ``spiralcap fit
+    -o``), "set in the design" for constants entered by hand. A fit that does not pin its
+    constants down is never called calibrated (issue 36)."""
+    given = [k for k in _MATERIAL_KEYS if k != "scale" and design.get(f"tissue.{k}") is not None]
+    loose = design.get("tissue.fit.not_pinned_down")
+    fitted = design.get("tissue.fit.fitted") or design.get("tissue.fit.bench_frequency_range_hz")
+    if not given and not fitted:
+        scaled = (design.get("tissue.scale") or 1.0) != 1.0
+        return "the calibrated presets" + (" times tissue.scale" if scaled else "")
+    if not fitted:
+        return (
+            "the first set's constants set in the design ("
+            + ", ".join(f"tissue.{k}" for k in given)
+            + "), not from the paper's calibration"
+        )
+    if loose:
+        return (
+            "the first set fitted on a bench whose data do NOT pin down "
+            + ", ".join(loose)
+            + " (those constants are not unique)"
+        )
+    if loose is None:
+        return "the first set fitted on a bench (whether its data pin the constants down is not recorded)"
+    return "the first set fitted on a bench, every fitted constant pinned down by its data"
+
+
 def build(ctx: Context) -> Section:
     """The tissue-torque section."""
     t = "tissue"
@@ -119,7 +152,8 @@ def build(ctx: Context) -> Section:
     set_table = Table(
         ["parameter", "unit", *[s["name"] for s in sets]],
         rows,
-        caption="Tissue parameter sets used (calibrated; the margin must hold for every one)",
+        caption=f"Tissue parameter sets used ({provenance(ctx.data.design)}; the margin must "
+        "hold for every one)",
         wrap=0,
         id="tissue-table",
     )
@@ -163,7 +197,7 @@ def build(ctx: Context) -> Section:
         "states (markers only: filled circles calibration, open squares validation; the model is "
         "drawn as lines without markers). Right: this design's capsule "
         "geometry in each of its tissue sets, at the helical angle as entered and at the "
-        "optimum; vertical lines mark the two operating frequencies.",
+        f"{ctx.optimum}; vertical lines mark the two operating frequencies.",
         _draw(ctx.data),
         size_in=(9.0, 4.6),
     )
@@ -214,11 +248,11 @@ def _domain(ctx: Context) -> Paragraph:
     """Where the model extrapolates, at the design as entered and at the optimum."""
     parts: list[Any] = [
         "The paper calibrated the model on 11 mm capsules with 1 mm single-start spirals at "
-        "5–20°, 0.5–3 Hz, lumens of 10.9–11.1 mm and wall strains of 1.7–6.4 %. "
+        "5–20°, 0.5–3 Hz, lumens of 10.9–11.1 mm and wall strains of 1.68–6.45 %. "
     ]
     for label, path in (
         ("As entered", "tissue.domain.entered"),
-        ("At the optimum", "tissue.domain.optimum"),
+        (f"At the {ctx.optimum}", "tissue.domain.optimum"),
     ):
         words = ctx.value(path)
         if words:

@@ -74,7 +74,12 @@ def build(ctx: Context) -> Section:
         id="power-sweep",
         compact=True,  # every budget's row: small type in the PDF
         caption="Re-optimisation at each power budget (spiralcap sweep --optimize "
-        "--over limits.power_W=...)",
+        "--over limits.power_W=...)"
+        + (
+            "; an infeasible row shows the closest design that grips the wall, not an optimum"
+            if any(st != "optimal" for st in sweep["status"])
+            else ""
+        ),
     )
     angle_fig = FigureBlock(
         "fig-margin-angle",
@@ -83,9 +88,13 @@ def build(ctx: Context) -> Section:
         "(grey dashed, right axis): the margin a helical-angle tolerance costs. Small angles "
         "need a higher frequency (more tissue torque, less field); large angles cost thrust "
         "torque and fall below the minimum number of spiral turns (hatched: that requirement "
-        "fails). Star: the optimum; dashed line: the angle as entered.",
+        "fails). Where the spiral stretches the wall less than requirements.min_wall_strain "
+        "the model extrapolates, and where it does not touch the wall there is no margin: both "
+        "hatched and named. Star: the "
+        + ("optimum" if ctx.feasible else "closest design (no design is feasible)")
+        + "; dashed line: the angle as entered.",
         _draw_angle(ctx.data),
-        size_in=(7.5, 4.4),
+        size_in=(7.5, 5.2),
     )
     power_fig = FigureBlock(
         "fig-margin-power",
