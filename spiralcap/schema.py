@@ -578,8 +578,9 @@ KEYS.update(
         ),
         "limits.surface_temperature_C": _between(
             "hottest coil-pack surface a patient or operator may touch (optional; IEC 60601-1 "
-            "Table 23/24: 43 °C for applied parts in contact > 10 min, 48 °C for parts held "
-            "1-10 min, 60 °C for metal parts touched briefly); range: -50 to 250 °C",
+            "3rd ed. Table 24, metal: 43 °C for contact of 10 min or more, 48 °C for 1-10 min, "
+            "51 °C under 1 min; unset, the warning picks one by operation.session_min); range: "
+            "-50 to 250 °C",
             None,
             -50.0,
             250.0,
