@@ -315,7 +315,10 @@ class Constants:
     and heading, per tesla of centre amplitude (minor semi-axis of the field ellipse).
     ``copper_mass_kg[k]``: copper of pair k (both coils), wire length x area x density.
     ``heading_current_per_tesla_A_per_T[h, k]``: sqrt(1 - n_hk²) / g_k, the current amplitude
-    axis k carries per tesla for heading h (``current_per_tesla_A_per_T`` is its column max).
+    axis k carries per tesla for heading h (``current_per_tesla_A_per_T`` is its column max);
+    with calibrated coils (:class:`coils.calibration.CalibratedHelmholtz`) the amplitudes of
+    the allocation through the calibrated centre matrix A^-1 (and the power weights their
+    squares over 2), not through the diagonal gains.
     ``mass_kg``: the capsule's mass, whose weight rests on the wall (torque_model.engagement).
 
     Every field may hold CasADi values (the NLP builds it from parameters and, when sizing,
@@ -488,7 +491,13 @@ def precompute(model: DesignModel) -> Constants:
     packs = packs_of(model)
     n2 = np.asarray(model.headings, dtype=float) ** 2  # (h, 3)
     s = np.sqrt(np.clip(1.0 - n2, 0.0, 1.0))  # (h, 3)
-    current_per_T = np.max(s / g, axis=0)
+    per_heading = s / g
+    actuation = getattr(model.coils, "actuation_matrix_T_per_A", None)
+    if actuation is not None:  # calibrated coils (coils.calibration): A^-1 of the real set
+        from coils.rotating import allocation
+
+        per_heading = np.array([allocation(actuation, h, 1.0)[0] for h in model.headings])
+    current_per_T = np.max(per_heading, axis=0)
     field = model.coils.field_matrix(model.points_m)  # the same points for every heading
     factor = min(
         float(np.min(model.coils.rotating_field_semi_axes_T(model.points_m, h, 1.0, field)[0]))
@@ -501,7 +510,7 @@ def precompute(model: DesignModel) -> Constants:
         inductance_H=ind,
         packs=packs,
         current_per_tesla_A_per_T=current_per_T,
-        power_weights_per_T2=s**2 / (2.0 * g**2),
+        power_weights_per_T2=s**2 / (2.0 * g**2) if actuation is None else 0.5 * per_heading**2,
         workspace_factor=factor,
         moment_Am2=float(model.capsule.magnet.moment_Am2),
         body_diameter_m=body.diameter_m,
@@ -510,7 +519,7 @@ def precompute(model: DesignModel) -> Constants:
         wound_length_m=spiral.wound_length_m,
         helix_diameter_m=float(cap.helix_diameter_m(body.diameter_m, spiral.wire_diameter_m)),
         copper_mass_kg=np.array([p.copper_mass_kg for p in pairs]),
-        heading_current_per_tesla_A_per_T=s / g,
+        heading_current_per_tesla_A_per_T=per_heading,
         starts=int(spiral.starts),
         winding_temperature_C=model.winding_temperature_C,
         session_s=model.session_s,

@@ -924,6 +924,83 @@ KEYS.update(
 )
 
 
+# --- the lab's coils as measured (issue 37) ---
+#: Largest Frobenius distance of a calibration map from the identity (coils.calibration).
+CALIBRATION_MAP_DOMAIN = 0.5
+
+
+def _is_calibration_map(v: Any) -> bool:
+    if not (
+        isinstance(v, list)
+        and len(v) == 3
+        and all(isinstance(r, list) and len(r) == 3 and all(_num(x) for x in r) for r in v)
+    ):
+        return False
+    off = sum((v[i][j] - (1.0 if i == j else 0.0)) ** 2 for i in range(3) for j in range(3))
+    return math.sqrt(off) <= CALIBRATION_MAP_DOMAIN
+
+
+KEYS.update(
+    {
+        **{
+            f"calibration.map_{ax}": Key(
+                list,
+                None,
+                "a 3 x 3 list of rows of finite numbers within "
+                f"{CALIBRATION_MAP_DOMAIN:g} of the identity (Frobenius distance)",
+                _is_calibration_map,
+                f"the {ax} pair's calibration map M (dimensionless, `spiralcap calibrate -o`): "
+                f"its field per ampere is M times the modelled one everywhere; absent: the "
+                "identity; beyond the domain the survey's pair is not the modelled one (wired "
+                "backwards, another channel)",
+            )
+            for ax in "xyz"
+        },
+        "calibration.background_field_uT": Key(
+            list,
+            None,
+            "three finite numbers [Bx, By, Bz], each within +/-10000 uT",
+            lambda v: (
+                isinstance(v, list) and len(v) == 3 and all(_num(c) and abs(c) <= 1e4 for c in v)
+            ),
+            "constant background field the survey saw (the Earth's ~50 uT, the building's); "
+            "the waveforms cancel it with a steady current offset; range: +/-10 mT, beyond "
+            "any room's ambient field",
+        ),
+        "calibration.survey_csv": Key(
+            str,
+            None,
+            "a path to the survey CSV (relative to the file that sets it)",
+            lambda v: isinstance(v, str) and v.strip() != "",
+            "the gaussmeter survey the calibration was fitted to (the report re-reads it for "
+            "its residuals); a record, not used by the field model",
+        ),
+        "calibration.residual_rms_uT": _between(
+            "RMS residual of the calibration fit over every survey row and component: a record "
+            "of the fit, not used by the model; range: 0-1e6 uT",
+            None,
+            0.0,
+            1e6,
+            open_=False,
+        ),
+        "calibration.holdout_rms_uT": _between(
+            "RMS residual on the survey rows held out of the check fit: a record, not used by "
+            "the model; range: 0-1e6 uT",
+            None,
+            0.0,
+            1e6,
+            open_=False,
+        ),
+        "calibration.rows": _count(
+            "survey rows the calibration was fitted to: a record, not used by the model",
+            None,
+            1,
+            10**7,
+        ),
+    }
+)
+
+
 def _with_units(name: str, spec: Key) -> Key:
     from spiralcap.core.constants import design_unit
 
