@@ -86,6 +86,9 @@ class Limits:
         (``"current_x"``, ...), the global limit elsewhere (None: no pair has its own).
     envelope_m : ndarray or None
         Outer box the coil set must fit, (X, Y, Z) edge lengths, m (None: no envelope).
+    axis_apparent_power_VA : ndarray or None
+        Per pair, the apparent power V I / 2 its amplifier channel may deliver (V and I the
+        amplitudes), VA; used where ``own`` names it (``"apparent_power_x"``).
     own : frozenset of str
         Which per-pair limits are set: ``"current_x"``, ``"voltage_y"``, ``"power_z"``, ...
         (structure: a compiled problem is built for one such set).
@@ -102,6 +105,7 @@ class Limits:
     axis_voltage_V: Any = None
     axis_power_W: Any = None
     envelope_m: Any = None
+    axis_apparent_power_VA: Any = None
     own: frozenset = frozenset()
 
     def channel(self, kind: str, k: int) -> tuple[str, Any]:

@@ -262,6 +262,17 @@ for _ax, _r, _n, _d in (("x", 0.43, 400, 3.0), ("y", 0.35, 350, 2.5), ("z", 0.28
         4.0,
         open_=False,
     )
+# amplifier apparent power per channel (issue 37)
+for _ax in "xyz":
+    KEYS[f"limits.{_ax}.apparent_power_VA"] = _between(
+        f"apparent power the {_ax} pair's amplifier channel may deliver, V I / 2 with V and I "
+        "the drive-voltage and current amplitudes at the worst heading (optional); range: "
+        "1 mVA to 10 MVA",
+        None,
+        1e-3,
+        1e7,
+        open_=False,
+    )
 # square coil pairs (issue 30): the shape of each pair and the side of a square one
 for _ax in "xyz":
     KEYS[f"coils.{_ax}.shape"] = _choice(

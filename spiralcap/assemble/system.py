@@ -156,7 +156,8 @@ def channel_limits(d: Design) -> dict[str, Any]:
     :class:`optimize.Limits` fields (SI; NaN where a pair has no limit of its own)."""
     out: dict[str, Any] = {}
     own = set()
-    for kind, unit in (("current", "A"), ("voltage", "V"), ("power", "W")):
+    kinds = (("current", "A"), ("voltage", "V"), ("power", "W"), ("apparent_power", "VA"))
+    for kind, unit in kinds:
         values = [d.get(f"limits.{ax}.{kind}_{unit}") for ax in "xyz"]
         if any(v is not None for v in values):
             out[f"axis_{kind}_{unit}"] = np.array(
@@ -202,6 +203,7 @@ _CHANNEL_KEYS = {
     "axis_current": "limits.{}.current_A",
     "axis_voltage": "limits.{}.voltage_V",
     "axis_power": "limits.{}.power_W",
+    "axis_apparent_power": "limits.{}.apparent_power_VA",
 }
 
 
