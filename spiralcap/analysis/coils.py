@@ -114,6 +114,7 @@ class CoilAnalysis(Viewable):
     bore_radius_m: float = 0.0
     bill_of_materials: tuple = ()  # spiralcap.analysis.bom.BomRow per pair
     warnings: tuple[str, ...] = ()  # spiralcap.analysis.touch: a pack surface too hot to hold
+    stray: Any = None  # spiralcap.analysis.stray.StrayField at the operating field
 
 
 def _uniform(system: Any) -> UniformRegions:
@@ -276,6 +277,7 @@ def analyse_coils(design: Any, model: Any = None) -> CoilAnalysis:
         bore_clearance_m=bore_clearance_m(model.coils.pairs, req.bore_radius_m),
         bore_radius_m=float(req.bore_radius_m),
     )
+    from spiralcap.analysis.stray import stray_field
     from spiralcap.analysis.touch import touch_warning
 
     touch = touch_warning(model, field)
@@ -283,6 +285,7 @@ def analyse_coils(design: Any, model: Any = None) -> CoilAnalysis:
         analysis,
         bill_of_materials=bill_of_materials(model, analysis),
         warnings=() if touch is None else (touch.words(),),
+        stray=stray_field(model, field),
     )
 
 
@@ -351,4 +354,11 @@ def coils_payload(a: CoilAnalysis) -> dict[str, Any]:
         "bore_radius_m": a.bore_radius_m,
         "bill_of_materials": [asdict(r) for r in a.bill_of_materials],
         "warnings": list(a.warnings),
+        **({} if a.stray is None else {"stray_field": _stray_payload(a.stray)}),
     }
+
+
+def _stray_payload(stray: Any) -> dict[str, Any]:
+    from spiralcap.analysis.stray import stray_payload
+
+    return stray_payload(stray)

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import math
+from collections.abc import Sequence
 from typing import Any
 
 from spiralcap.commands._common import (
@@ -45,6 +46,15 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         type=float,
         metavar="S",
         help="grid spacing of --field-grid, mm (default: the workspace diameter / 20)",
+    )
+    from spiralcap.commands._common import allow_negative_numbers
+
+    allow_negative_numbers(parser)  # --grid-box-mm -600,600,...
+    parser.add_argument(
+        "--grid-box-mm",
+        metavar="X0,X1,Y0,Y1,Z0,Z1",
+        help="the box --field-grid samples, mm from the coil centre (default: the cube round "
+        "the workspace sphere), e.g. -600,600,-600,600,0,0 for the x-y plane out to 600 mm",
     )
     parser.add_argument(
         "--cad-workspace",
@@ -243,7 +253,7 @@ def _operating_table(op: dict[str, Any]) -> str:
     )
 
 
-def _text(p: dict[str, Any], bom: str = "") -> str:
+def _text(p: dict[str, Any], bom: str = "", stray: Sequence[str] = ()) -> str:
     """The operating point first (where the design runs), then what each pair may carry, the
     hardware, the amplifier rating in words, uniformity, clearances and the bill of materials."""
     axes = [p["axes"][ax] for ax in "xyz"]
@@ -301,6 +311,7 @@ def _text(p: dict[str, Any], bom: str = "") -> str:
         f" ({w['limit_key']}); the power limit alone allows "
         f"{w['per_limit_max_field_T']['power'] * 1e3:.4g} mT",
         "",
+        *([*stray, ""] if stray else []),
         *_clearance_lines(p),
     ]
     if bom:
@@ -335,7 +346,10 @@ def run(args: argparse.Namespace) -> int:
     if args.json:
         print_json(payload)
     else:
-        print(_text(payload, bom_table(analysis.bill_of_materials)))
+        from spiralcap.analysis.stray import stray_words
+
+        stray = stray_words(analysis.stray) if analysis.stray is not None else []
+        print(_text(payload, bom_table(analysis.bill_of_materials), stray))
     if args.plot:
         write_geometry(args.plot, design, quiet=args.json)
     if args.step or args.stl:
@@ -356,6 +370,41 @@ def _check_grid_arguments(args: argparse.Namespace) -> None:
             raise InputError("--grid-step-mm", args.grid_step_mm, "used with --field-grid")
         if not (math.isfinite(args.grid_step_mm) and args.grid_step_mm > 0):
             raise InputError("--grid-step-mm", args.grid_step_mm, "a grid spacing > 0 mm")
+    if getattr(args, "grid_box_mm", None) is not None:
+        if args.field_grid is None:
+            raise InputError("--grid-box-mm", args.grid_box_mm, "used with --field-grid")
+        parse_grid_box_mm(args.grid_box_mm)
+
+
+#: Largest distance from the centre a --grid-box-mm edge may have, mm (the model's room: 10 m).
+GRID_BOX_LIMIT_MM = 10_000.0
+
+
+def parse_grid_box_mm(text: str) -> tuple[float, ...]:
+    """``--grid-box-mm X0,X1,Y0,Y1,Z0,Z1`` as six numbers in m (lower <= upper on each axis).
+
+    Raises
+    ------
+    InputError
+        Not six finite numbers, a lower end above its upper end, or an edge beyond 10 m.
+    """
+    allowed = (
+        "six numbers X0,X1,Y0,Y1,Z0,Z1 in mm with X0 <= X1, Y0 <= Y1, Z0 <= Z1, each within "
+        f"+/-{GRID_BOX_LIMIT_MM:g} mm of the centre"
+    )
+    from spiralcap.core.errors import InputError
+
+    try:
+        values = [float(v) for v in str(text).split(",")]
+    except ValueError:
+        raise InputError("--grid-box-mm", text, allowed) from None
+    if len(values) != 6 or not all(
+        math.isfinite(v) and abs(v) <= GRID_BOX_LIMIT_MM for v in values
+    ):
+        raise InputError("--grid-box-mm", text, allowed)
+    if any(values[2 * i] > values[2 * i + 1] for i in range(3)):
+        raise InputError("--grid-box-mm", text, allowed)
+    return tuple(v * 1e-3 for v in values)
 
 
 def _field_grid(args: argparse.Namespace, design: Any) -> Any:
@@ -365,7 +414,9 @@ def _field_grid(args: argparse.Namespace, design: Any) -> Any:
     from spiralcap.export import field_grid
 
     step = None if args.grid_step_mm is None else args.grid_step_mm * 1e-3
-    return field_grid(design, float(design["workspace.radius_m"]), step)
+    box = getattr(args, "grid_box_mm", None)
+    box_m = None if box is None else parse_grid_box_mm(box)
+    return field_grid(design, float(design["workspace.radius_m"]), step, box_m)
 
 
 def _write_grid(args: argparse.Namespace, grid: Any) -> None:
