@@ -223,3 +223,38 @@ def test_example_survey_is_what_its_script_writes(tmp_path) -> None:
     assert script["main"](["x", str(tmp_path / "s.csv")]) == 0
     shipped = np.loadtxt(root / "examples" / "field_survey.csv", delimiter=",", skiprows=1)
     np.testing.assert_allclose(np.loadtxt(tmp_path / "s.csv", delimiter=",", skiprows=1), shipped)
+
+
+def test_report_calibration_section_rechecks_the_survey(fitted) -> None:
+    """The report re-reads the survey the cal.toml names and finds the residuals calibrate
+    printed (the same model, a different code path: the calibrated coils' field matrix)."""
+    from matplotlib.figure import Figure
+
+    from spiralcap.assemble import build_model
+    from spiralcap.design import load_design
+    from spiralcap.report.document import FigureBlock
+    from spiralcap.report.sections import calibration
+
+    payload, cal = fitted
+    design = load_design([cal])
+    check = calibration.calibration_check(design, build_model(design))
+    assert check is not None and check.measured_T is not None, check
+    block = calibration.payload(check)
+    assert block["residual_rms_T"] == pytest.approx(payload["residual_rms_T"], rel=1e-9)
+    assert block["residual_max_T"] == pytest.approx(payload["residual_max_T"], rel=1e-9)
+    np.testing.assert_allclose(
+        block["actuation_matrix_T_per_A"], payload["actuation_matrix_T_per_A"], rtol=1e-12
+    )
+    assert calibration.calibration_check(load_design(), build_model(load_design())) is None
+
+    class Ctx:  # the section reads numbers from the report JSON by path
+        def num(self, path, scale=1.0, unit=""):
+            from spiralcap.report.numbers import Num
+            from spiralcap.report.sections._util import lookup
+
+            return Num(lookup({"calibration": block}, path), key=path, scale=scale, unit=unit)
+
+    section = calibration.build(Ctx(), check)  # type: ignore[arg-type]
+    figures = [b for b in section.blocks if isinstance(b, FigureBlock)]
+    assert [f.id for f in figures] == ["fig-calibration"]
+    figures[0].draw(Figure(figsize=figures[0].size_in))

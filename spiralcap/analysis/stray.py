@@ -17,7 +17,14 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["IMPLANT_LEVEL_T", "StrayField", "exposure_crossing_hz", "stray_field"]
+__all__ = [
+    "IMPLANT_LEVEL_T",
+    "PeakFieldPlane",
+    "StrayField",
+    "exposure_crossing_hz",
+    "peak_field_plane",
+    "stray_field",
+]
 
 #: ICNIRP 2009 (static magnetic fields): keep people with implanted devices below 0.5 mT, T.
 IMPLANT_LEVEL_T = 0.5e-3
@@ -189,3 +196,61 @@ def stray_words(s: StrayField) -> list[str]:
         f"exposure: {s.field_amplitude_T * 1e3:.4g} mT exceeds ICNIRP 2010's reference level "
         f"at rotation frequencies ({freq('occupational')}; {freq('public')})",
     ]
+
+
+@dataclass(frozen=True)
+class PeakFieldPlane:
+    """The largest |B| over a turn and every heading on a plane through the centre.
+
+    Attributes
+    ----------
+    plane : str
+        ``"xz"`` or ``"xy"``: the two coordinates of the grid.
+    u_m, v_m : ndarray, shape (n,)
+        Grid coordinates along the plane's two axes, m.
+    peak_T : ndarray, shape (n, n)
+        Peak |B| at (v, u) (rows v), T.
+    """
+
+    plane: str
+    u_m: np.ndarray
+    v_m: np.ndarray
+    peak_T: np.ndarray
+
+
+def peak_field_plane(
+    model: Any, field_T: float, plane: str, half_width_m: float, points: int = 81
+) -> PeakFieldPlane:
+    """:class:`PeakFieldPlane` of ``model`` at ``field_T`` on ``plane`` out to ``half_width_m``.
+
+    Parameters
+    ----------
+    model : optimize.DesignModel
+        The design.
+    field_T : float
+        Operating field at the centre, T.
+    plane : str
+        ``"xz"`` (y = 0) or ``"xy"`` (z = 0).
+    half_width_m : float
+        Half the side of the square sampled, m.
+    points : int
+        Grid points along each side, count.
+
+    Returns
+    -------
+    PeakFieldPlane
+        The grid and the peak field on it, m and T.
+    """
+    from coils.stray import allocation_vectors, peak_field_T
+
+    coils = model.coils
+    allocations = [
+        allocation_vectors(*coils.rotating_allocation(h, float(field_T))) for h in model.headings
+    ]
+    axis = np.linspace(-half_width_m, half_width_m, points)
+    uu, vv = np.meshgrid(axis, axis)
+    k = {"xz": 2, "xy": 1}[plane]
+    pts = np.zeros((uu.size, 3))
+    pts[:, 0], pts[:, k] = uu.ravel(), vv.ravel()
+    peak = peak_field_T(coils.field_matrix(pts), allocations).reshape(uu.shape)
+    return PeakFieldPlane(plane, axis, axis, peak)

@@ -17,9 +17,7 @@ calibrated actuation matrix.
 from __future__ import annotations
 
 import argparse
-import math
 import os
-from pathlib import Path
 from typing import Any
 
 from spiralcap.commands._common import (
@@ -30,17 +28,11 @@ from spiralcap.commands._common import (
     print_json,
 )
 from spiralcap.core.errors import DataError
+from spiralcap.survey import COLUMNS, read_survey_csv
 
-COLUMNS = ("x_m", "y_m", "z_m", "I_x_A", "I_y_A", "I_z_A", "Bx_T", "By_T", "Bz_T")
-#: Largest pair current a survey row may hold, A (limits.current_A's range).
-MAX_CURRENT_A = 1e3
-#: Largest field component a survey row may hold, T (no air-cored coil set makes 10 T).
-MAX_FIELD_T = 10.0
 #: Probe positions must lie within this fraction of the innermost pair's radius from the centre
 #: (closer to the windings the filament model of the pack is not what the probe sees).
 POSITION_FRACTION = 0.8
-#: Most survey rows read.
-MAX_ROWS = 1_000_000
 _AXES = ("x", "y", "z")
 
 
@@ -57,82 +49,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         metavar="FILE.toml",
         help="write the [calibration] table as TOML, to layer on the design",
     )
-
-
-def read_survey_csv(path: str | Path) -> Any:
-    """The survey as a :class:`coils.calibration.Survey` (SI), every cell checked.
-
-    Raises
-    ------
-    DataError
-        Unreadable file, a missing, repeated or unknown column, a cell that is empty, not a
-        finite number or out of range (naming file line, data row and column), or no rows.
-    """
-    import numpy as np
-
-    from coils.calibration import Survey
-    from spiralcap.commands.fit import _split
-    from spiralcap.design import read_text_file
-
-    p = Path(path)
-    text = read_text_file(p, "survey file")
-    lines = [
-        (i + 1, line)
-        for i, line in enumerate(text.splitlines())
-        if line.strip() and not line.lstrip().startswith("#")
-    ]
-    if not lines:
-        raise DataError(f"{p}: no header row (expected columns {', '.join(COLUMNS)})")
-    header_no, header_text = lines[0]
-    header = [h.strip() for h in _split(header_text, f"{p} line {header_no}")]
-    _check_header(header, f"{p} line {header_no}")
-    if len(lines) - 1 > MAX_ROWS:
-        raise DataError(f"{p}: {len(lines) - 1} data rows; at most {MAX_ROWS}")
-    order = [header.index(c) for c in COLUMNS]
-    table = np.empty((len(lines) - 1, len(COLUMNS)))
-    for row_no, (line_no, line) in enumerate(lines[1:], start=1):
-        where = f"{p} line {line_no} (data row {row_no})"
-        cells = _split(line, where)
-        if len(cells) != len(header):
-            raise DataError(f"{where}: {len(cells)} cells for {len(header)} columns")
-        for j, idx in enumerate(order):
-            table[row_no - 1, j] = _cell(cells[idx].strip(), COLUMNS[j], where)
-    if len(table) == 0:
-        raise DataError(f"{p}: a header but no data rows")
-    return Survey(table[:, 0:3], table[:, 3:6], table[:, 6:9])
-
-
-def _check_header(header: list[str], where: str) -> None:
-    for col in header:
-        if col not in COLUMNS:
-            raise DataError(
-                f"{where}: column {col[:40]!r} is not a survey column (allowed: "
-                f"{', '.join(COLUMNS)}; units are in the names, nothing else is read)"
-            )
-        if header.count(col) > 1:
-            raise DataError(f"{where}: column {col!r} appears more than once")
-    missing = [c for c in COLUMNS if c not in header]
-    if missing:
-        raise DataError(f"{where}: missing column(s) {', '.join(missing)}")
-
-
-def _cell(raw: str, col: str, where: str) -> float:
-    if raw == "":
-        raise DataError(f"{where}, column {col}: empty cell")
-    try:
-        value = float(raw)
-    except ValueError:
-        raise DataError(f"{where}, column {col}: {raw[:60]!r} is not a number") from None
-    if not math.isfinite(value):
-        raise DataError(f"{where}, column {col}: {raw!r} is not a finite number")
-    if col.startswith("I_") and abs(value) > MAX_CURRENT_A:
-        raise DataError(f"{where}, column {col}: {raw} A; at most {MAX_CURRENT_A:g} A in size")
-    if col.startswith("B") and abs(value) > MAX_FIELD_T:
-        raise DataError(
-            f"{where}, column {col}: {raw} T; at most {MAX_FIELD_T:g} T in size (a field in mT "
-            "or uT belongs in tesla here)"
-        )
-    return value
 
 
 def _check_positions(survey: Any, system: Any, where: str) -> None:
