@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -251,6 +252,8 @@ def size_system(
     headings: np.ndarray | None = None,
     packs: tuple | None = None,
     view_factors: np.ndarray | None = None,
+    resistance_20C_ohm: Any = None,
+    inductance_H: Any = None,
 ) -> SystemSizing:
     """Evaluate every pair at one current amplitude and frequency.
 
@@ -279,6 +282,9 @@ def size_system(
         View factors, dimensionless, rows ``[room, x, y, z]``
         (:func:`coils.viewfactors.view_factors`): the three pairs, all at this current,
         radiate to each other; default: each alone in the room.
+    resistance_20C_ohm, inductance_H : array_like, shape (3,), optional
+        Each pair's series resistance at 20 °C (Ω) and inductance (H) in place of the values
+        computed from its geometry (a lab's measured pairs); default: computed.
 
     Returns
     -------
@@ -299,7 +305,16 @@ def size_system(
             )
             for pair in system.pairs
         )
-    r20s = [pair.resistance_ohm(20.0) for pair in system.pairs]
+    r20s = (
+        [pair.resistance_ohm(20.0) for pair in system.pairs]
+        if resistance_20C_ohm is None
+        else [float(r) for r in resistance_20C_ohm]
+    )
+    inductances = (
+        [pair.series_inductance_H for pair in system.pairs]
+        if inductance_H is None
+        else [float(v) for v in inductance_H]
+    )
     together = pair_temperatures(
         packs, r20s, (current_amplitude_A,) * 3, ambient_temperature_C, view_factors
     )
@@ -309,7 +324,7 @@ def size_system(
             st = type(st)(*(math.nan,) * 11, runaway=1.0)
         states.append((together[k], r20))
         r = r20 * (1.0 + COPPER_TEMPERATURE_COEFFICIENT_per_K * (float(st.mean_C) - 20.0))
-        z = float(impedance_ohm(r, pair.series_inductance_H, frequency_hz))
+        z = float(impedance_ohm(r, inductances[k], frequency_hz))
         g = pair.centre_field_per_amp_T_per_A
         axes.append(
             AxisSizing(
@@ -331,7 +346,7 @@ def size_system(
                 resistance_ohm=r,
                 self_inductance_H=pair.self_inductance_H,
                 mutual_inductance_H=pair.mutual_inductance_H,
-                inductance_H=pair.series_inductance_H,
+                inductance_H=inductances[k],
                 impedance_ohm=z,
                 voltage_amplitude_V=z * current_amplitude_A,
                 power_W=float(st.power_W),

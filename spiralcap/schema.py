@@ -262,6 +262,35 @@ for _ax, _r, _n, _d in (("x", 0.43, 400, 3.0), ("y", 0.35, 350, 2.5), ("z", 0.28
         4.0,
         open_=False,
     )
+# a lab's coils as measured (issue 37): series R and L of each pair at its channel's terminals
+for _ax in "xyz":
+    KEYS[f"coils.{_ax}.measured.resistance_ohm"] = _between(
+        f"measured resistance of the {_ax} pair as wired to its channel (both coils in series, "
+        f"leads included) at coils.{_ax}.measured.temperature_C: replaces the computed value in "
+        "every voltage, power, heating and waveform figure, scaled with copper's temperature "
+        "coefficient (optional); range: 0.1 mOhm to 10 kOhm",
+        None,
+        1e-4,
+        1e4,
+        open_=False,
+    )
+    KEYS[f"coils.{_ax}.measured.temperature_C"] = _between(
+        f"copper temperature at which coils.{_ax}.measured.resistance_ohm was measured (absent: "
+        "20 °C); range: -50 to 250 °C, the copper's range in the model",
+        None,
+        -50.0,
+        250.0,
+        open_=False,
+    )
+    KEYS[f"coils.{_ax}.measured.inductance_H"] = _between(
+        f"measured inductance of the {_ax} pair at its terminals (both coils in series, their "
+        "mutual inductance included): replaces the computed value in every voltage and "
+        "waveform figure (optional); range: 0.1 uH to 1 kH",
+        None,
+        1e-7,
+        1e3,
+        open_=False,
+    )
 # amplifier apparent power per channel (issue 37)
 for _ax in "xyz":
     KEYS[f"limits.{_ax}.apparent_power_VA"] = _between(

@@ -115,6 +115,7 @@ class CoilAnalysis(Viewable):
     bill_of_materials: tuple = ()  # spiralcap.analysis.bom.BomRow per pair
     warnings: tuple[str, ...] = ()  # spiralcap.analysis.touch: a pack surface too hot to hold
     stray: Any = None  # spiralcap.analysis.stray.StrayField at the operating field
+    measured: tuple = ()  # spiralcap.analysis.measured.MeasuredPair per measured pair
 
 
 def _uniform(system: Any) -> UniformRegions:
@@ -235,6 +236,8 @@ def analyse_coils(design: Any, model: Any = None) -> CoilAnalysis:
         headings=model.headings,
         packs=c.packs,
         view_factors=c.view_factors,
+        resistance_20C_ohm=c.resistance_20C_ohm,  # a lab's measured pairs where given
+        inductance_H=c.inductance_H,
     )
     cap = physics.field_capacity(model.frequency_hz, c, model.limits, model.ambient_temperature_C)
     per = np.asarray(c.current_per_tesla_A_per_T, dtype=float)
@@ -277,15 +280,19 @@ def analyse_coils(design: Any, model: Any = None) -> CoilAnalysis:
         bore_clearance_m=bore_clearance_m(model.coils.pairs, req.bore_radius_m),
         bore_radius_m=float(req.bore_radius_m),
     )
+    from spiralcap.analysis.measured import measured_pairs
     from spiralcap.analysis.stray import stray_field
     from spiralcap.analysis.touch import touch_warning
 
     touch = touch_warning(model, field)
+    measured = measured_pairs(design, model.coils) if hasattr(design, "get") else ()
     return replace(
         analysis,
         bill_of_materials=bill_of_materials(model, analysis),
-        warnings=() if touch is None else (touch.words(),),
+        warnings=(() if touch is None else (touch.words(),))
+        + tuple(w for m in measured for w in m.warnings()),
         stray=stray_field(model, field),
+        measured=measured,
     )
 
 
@@ -305,6 +312,10 @@ def coils_payload(a: CoilAnalysis) -> dict[str, Any]:
         }
         for s in sizing["axes"]
     }
+    from spiralcap.analysis.measured import measured_payload
+
+    for m in a.measured:  # a lab's measured pair: measured beside computed, the deviation
+        sizing["axes"][m.axis]["measured"] = measured_payload(m)
     for s in sizing["axes"].values():  # a side only on a square pair (radius_m: half of it)
         if s["side_m"] is None:
             del s["side_m"]

@@ -122,7 +122,12 @@ def build_model(design: Design):
         objective=d["optimize.objective"],
         starts=d["optimize.starts"],
     )
+    from spiralcap.assemble.measured import measured_constants
+
+    measured_r20, measured_ind = measured_constants(d)
     return DesignModel(
+        measured_resistance_20C_ohm=measured_r20,
+        measured_inductance_H=measured_ind,
         coils=build_coils(d),
         capsule=build_capsule(d),
         tissues=tuple(build_tissues(d)),
@@ -319,6 +324,9 @@ def build_sizing(design: Design) -> Any:
     free = free_keys(design)
     if not free:
         return None
+    from spiralcap.assemble.measured import check_no_sizing
+
+    check_no_sizing(design, free)
     _check_free_sizes(design, free)
     variables = tuple(
         hw.FreeVariable(

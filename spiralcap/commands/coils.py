@@ -253,6 +253,32 @@ def _operating_table(op: dict[str, Any]) -> str:
     )
 
 
+def _measured_lines(axes: list[dict[str, Any]]) -> list[str]:
+    """Per measured pair: measured beside computed R and L, with the deviation (the measured
+    values are the ones every figure uses)."""
+    lines = []
+    for a in axes:
+        m = a.get("measured")
+        if not m:
+            continue
+        parts = []
+        if "resistance_ohm" in m:
+            parts.append(
+                f"R {m['resistance_ohm']:.4g} Ω at {m['temperature_C']:g} °C (computed "
+                f"{m['computed_resistance_ohm']:.4g} Ω, {m['resistance_deviation'] * 100:+.3g} %)"
+            )
+        if "inductance_H" in m:
+            parts.append(
+                f"L {m['inductance_H'] * 1e3:.4g} mH (computed "
+                f"{m['computed_inductance_H'] * 1e3:.4g} mH, {m['inductance_deviation'] * 100:+.3g} %)"
+            )
+        lines.append(
+            f"  {a['axis']} pair as measured (coils.{a['axis']}.measured.*, used): "
+            + "; ".join(parts)
+        )
+    return lines
+
+
 def _text(p: dict[str, Any], bom: str = "", stray: Sequence[str] = ()) -> str:
     """The operating point first (where the design runs), then what each pair may carry, the
     hardware, the amplifier rating in words, uniformity, clearances and the bill of materials."""
@@ -297,6 +323,7 @@ def _text(p: dict[str, Any], bom: str = "", stray: Sequence[str] = ()) -> str:
         "the pairs (loop_mT_per_A: centre field per ampere with each coil one loop at its mean "
         "radius, the field model):",
         _hardware_table(axes),
+        *_measured_lines(axes),
         "",
         *_rating_lines(p),
         "",

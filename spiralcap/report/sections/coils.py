@@ -482,6 +482,7 @@ def build(ctx: Context) -> Section:
             )
         )
     blocks.append(_sizing_table(ctx))
+    blocks += measured_blocks(ctx)
     blocks.append(_build_paragraph(ctx))
     blocks.append(_bom_table(ctx))
     blocks.append(
@@ -531,6 +532,52 @@ def build(ctx: Context) -> Section:
     blocks += heating_blocks(ctx)
     blocks += stray_blocks(ctx)
     return Section("coils", "Coil sizing and field uniformity", blocks)
+
+
+def measured_blocks(ctx: Context) -> list[Any]:
+    """The lab's measured pairs (``coils.axes.<p>.measured``) beside the computed constants."""
+    parts: list[Any] = []
+    for ax in ctx.value("coils.axes"):
+        m = ctx.value(f"coils.axes.{ax}").get("measured")
+        if not m:
+            continue
+        base = f"coils.axes.{ax}.measured"
+        parts.append(f"The {ax} pair as measured: ")
+        if "resistance_ohm" in m:
+            parts += [
+                ctx.num(f"{base}.resistance_ohm", unit="Ω"),
+                f" at {m['temperature_C']:g} °C against ",
+                ctx.num(f"{base}.computed_resistance_ohm", unit="Ω"),
+                " computed (",
+                ctx.num(f"{base}.resistance_deviation", 100.0, "%"),
+                ")",
+            ]
+        if "inductance_H" in m:
+            parts += [
+                "; " if "resistance_ohm" in m else "",
+                ctx.num(f"{base}.inductance_H", 1e3, "mH"),
+                " against ",
+                ctx.num(f"{base}.computed_inductance_H", 1e3, "mH"),
+                " computed (",
+                ctx.num(f"{base}.inductance_deviation", 100.0, "%"),
+                ")",
+            ]
+        parts.append(". ")
+    if not parts:
+        return []
+    return [
+        Paragraph(
+            [
+                Strong("Measured pairs. "),
+                *parts,
+                "The measured values (coils.<pair>.measured.*) replace the computed ones in "
+                "the table above and in every voltage, power, heating and waveform figure of "
+                "this report; the resistance follows copper's temperature coefficient from its "
+                "measuring temperature. A deviation beyond 15 % points at the turn count, the "
+                "wire size, series or parallel wiring of the two coils, or the leads.",
+            ]
+        )
+    ]
 
 
 def stray_blocks(ctx: Context) -> list[Any]:
