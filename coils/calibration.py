@@ -189,9 +189,9 @@ def _check_rank(survey: Survey, x: np.ndarray, what: str) -> None:
     have = int(np.sum(s > RANK_TOLERANCE * s[0]))
     if have < 4:
         raise DataError(
-            f"{what}: the current settings span {have - 1} independent directions with the "
-            "background; add settings that drive each of the x, y and z pairs on its own "
-            "(and one with all three off), 4 independent settings at least"
+            f"{what}: the current settings drive {have - 1} independent combination(s) of "
+            "the three pairs; add settings that drive each of the x, y and z pairs on its own "
+            "(and one with all three off): 4 independent settings with the background at least"
         )
     positions = len(np.unique(np.round(survey.points_m, 9), axis=0))
     s = np.linalg.svd(_scaled(x), compute_uv=False)
