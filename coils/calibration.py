@@ -51,6 +51,7 @@ __all__ = [
     "CoilCalibration",
     "Survey",
     "fit_calibration",
+    "gains_and_tilts",
     "holdout_mask",
 ]
 
@@ -131,6 +132,30 @@ class CoilCalibration:
         """
         g = np.asarray(field_matrix_T_per_A, dtype=float)
         return np.einsum("kcj,njk->nck", np.asarray(self.maps, dtype=float), g)
+
+
+def gains_and_tilts(
+    actuation_T_per_A: np.ndarray, model_actuation_T_per_A: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """Per pair: the gain |A_k| / |G_k(0)| and the tilt between A_k and G_k(0).
+
+    Parameters
+    ----------
+    actuation_T_per_A, model_actuation_T_per_A : ndarray, shape (3, 3)
+        Calibrated and modelled centre field per ampere (column k: pair k), T/A.
+
+    Returns
+    -------
+    gains : ndarray, shape (3,)
+        Dimensionless.
+    tilts_deg : ndarray, shape (3,)
+        Degrees.
+    """
+    a = np.asarray(actuation_T_per_A, dtype=float)
+    g = np.asarray(model_actuation_T_per_A, dtype=float)
+    na, ng = np.linalg.norm(a, axis=0), np.linalg.norm(g, axis=0)
+    cos = np.sum(a * g, axis=0) / (na * ng)
+    return na / ng, np.degrees(np.arccos(np.clip(cos, -1.0, 1.0)))
 
 
 def holdout_mask(rows: int, every: int = HOLDOUT_EVERY) -> np.ndarray:
@@ -263,15 +288,12 @@ class CalibrationFit:
     @property
     def gain_factors(self) -> np.ndarray:
         """|A_k| / |G_k(0)| per pair, dimensionless: real centre field per ampere / model's."""
-        a, g = self.actuation_matrix_T_per_A, self.model_actuation_T_per_A
-        return np.linalg.norm(a, axis=0) / np.linalg.norm(g, axis=0)
+        return gains_and_tilts(self.actuation_matrix_T_per_A, self.model_actuation_T_per_A)[0]
 
     @property
     def axis_tilts_deg(self) -> np.ndarray:
         """Angle between each pair's real centre field and the model's, degrees."""
-        a, g = self.actuation_matrix_T_per_A, self.model_actuation_T_per_A
-        cos = np.sum(a * g, axis=0) / (np.linalg.norm(a, axis=0) * np.linalg.norm(g, axis=0))
-        return np.degrees(np.arccos(np.clip(cos, -1.0, 1.0)))
+        return gains_and_tilts(self.actuation_matrix_T_per_A, self.model_actuation_T_per_A)[1]
 
 
 def _lstsq(x: np.ndarray, b: np.ndarray) -> np.ndarray:

@@ -360,7 +360,8 @@ def size_system(
                 surface_max_temperature_C=float(st.surface_max_C),
                 convection_coefficient_W_m2K=float(st.convection_W_m2K),
                 radiation_view_factor=1.0 if view_factors is None else float(view_factors[k][0]),
-                field_amplitude_T=g * current_amplitude_A,
+                # the set's own centre gain: a calibrated set's (coils.calibration), else g
+                field_amplitude_T=float(system.centre_gains_T_per_A[k]) * current_amplitude_A,
                 pack_field_per_amp_T_per_A=pair.pack_centre_field_per_amp_T_per_A,
             )
         )
@@ -396,7 +397,7 @@ def _worst_heading(
     the largest loss."""
     h = np.eye(3) if headings is None else np.asarray(headings, dtype=float)
     h = h / np.linalg.norm(h, axis=1, keepdims=True)
-    g = np.array([p.centre_field_per_amp_T_per_A for p in system.pairs])
+    g = np.asarray(system.centre_gains_T_per_A, dtype=float)  # calibrated where calibrated
     per_T = np.sqrt(np.clip(1.0 - h**2, 0.0, 1.0)) / g  # (h, 3) A per T
     field = current_A / np.max(per_T, axis=1)
     currents = field[:, None] * per_T

@@ -116,6 +116,7 @@ class CoilAnalysis(Viewable):
     warnings: tuple[str, ...] = ()  # spiralcap.analysis.touch: a pack surface too hot to hold
     stray: Any = None  # spiralcap.analysis.stray.StrayField at the operating field
     measured: tuple = ()  # spiralcap.analysis.measured.MeasuredPair per measured pair
+    calibration: dict[str, Any] | None = None  # calibrated coils: actuation, gains, tilts (SI)
 
 
 def _uniform(system: Any) -> UniformRegions:
@@ -293,7 +294,29 @@ def analyse_coils(design: Any, model: Any = None) -> CoilAnalysis:
         + tuple(w for m in measured for w in m.warnings()),
         stray=stray_field(model, field),
         measured=measured,
+        calibration=calibration_summary(model.coils),
     )
+
+
+def calibration_summary(coils: Any) -> dict[str, Any] | None:
+    """The calibrated centre actuation of ``coils`` beside the model's (None: not calibrated):
+    ``actuation_matrix_T_per_A`` (column k: pair k), ``model_actuation_matrix_T_per_A``,
+    ``gain_factors``, ``axis_tilts_deg``, ``background_field_T``."""
+    if getattr(coils, "calibration", None) is None:
+        return None
+    from coils.calibration import gains_and_tilts
+    from spiralcap.assemble.calibration import nominal
+
+    a = np.asarray(coils.actuation_matrix_T_per_A)
+    g = nominal(coils).field_matrix(np.zeros((1, 3)))[0]
+    gains, tilts = gains_and_tilts(a, g)
+    return {
+        "actuation_matrix_T_per_A": a.tolist(),
+        "model_actuation_matrix_T_per_A": g.tolist(),
+        "gain_factors": dict(zip(_AXES, map(float, gains), strict=True)),
+        "axis_tilts_deg": dict(zip(_AXES, map(float, tilts), strict=True)),
+        "background_field_T": [float(v) for v in coils.background_T],
+    }
 
 
 def coils_payload(a: CoilAnalysis) -> dict[str, Any]:
@@ -366,6 +389,7 @@ def coils_payload(a: CoilAnalysis) -> dict[str, Any]:
         "bill_of_materials": [asdict(r) for r in a.bill_of_materials],
         "warnings": list(a.warnings),
         **({} if a.stray is None else {"stray_field": _stray_payload(a.stray)}),
+        **({} if a.calibration is None else {"calibration": a.calibration}),
     }
 
 

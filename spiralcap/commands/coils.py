@@ -253,6 +253,24 @@ def _operating_table(op: dict[str, Any]) -> str:
     )
 
 
+def _calibration_lines(p: dict[str, Any]) -> list[str]:
+    """With calibrated coils: each pair's calibrated centre field per ampere, gain and tilt."""
+    cal = p.get("calibration")
+    if not cal:
+        return []
+    a = cal["actuation_matrix_T_per_A"]
+    lines = ["  calibrated coils (calibration.*: the field per ampere every figure uses):"]
+    for k, ax in enumerate("xyz"):
+        col = ", ".join(f"{a[c][k] * 1e3:+.5f}" for c in range(3))
+        lines.append(
+            f"    {ax} pair ({col}) mT/A at the centre: gain {cal['gain_factors'][ax]:.4f}, "
+            f"tilt {cal['axis_tilts_deg'][ax]:.3f} deg"
+        )
+    bg = ", ".join(f"{v * 1e6:+.3g}" for v in cal["background_field_T"])
+    lines.append(f"    background field ({bg}) uT, cancelled by the waveforms")
+    return lines
+
+
 def _measured_lines(axes: list[dict[str, Any]]) -> list[str]:
     """Per measured pair: measured beside computed R and L, with the deviation (the measured
     values are the ones every figure uses)."""
@@ -324,6 +342,7 @@ def _text(p: dict[str, Any], bom: str = "", stray: Sequence[str] = ()) -> str:
         "radius, the field model):",
         _hardware_table(axes),
         *_measured_lines(axes),
+        *_calibration_lines(p),
         "",
         *_rating_lines(p),
         "",

@@ -93,15 +93,11 @@ def calibration_check(design: Any, model: Any) -> CalibrationCheck | None:
     )
 
 
-def _column_stats(a: np.ndarray, g: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    gains = np.linalg.norm(a, axis=0) / np.linalg.norm(g, axis=0)
-    cos = np.sum(a * g, axis=0) / (np.linalg.norm(a, axis=0) * np.linalg.norm(g, axis=0))
-    return gains, np.degrees(np.arccos(np.clip(cos, -1.0, 1.0)))
-
-
 def payload(check: CalibrationCheck) -> dict[str, Any]:
     """The report JSON's ``calibration`` block (SI; the residuals only with the survey)."""
-    gains, tilts = _column_stats(check.actuation_matrix_T_per_A, check.model_actuation_T_per_A)
+    from coils.calibration import gains_and_tilts
+
+    gains, tilts = gains_and_tilts(check.actuation_matrix_T_per_A, check.model_actuation_T_per_A)
     out: dict[str, Any] = {
         "survey": check.survey,
         "actuation_matrix_T_per_A": check.actuation_matrix_T_per_A.tolist(),
