@@ -147,9 +147,9 @@ def gains_and_tilts(
     Returns
     -------
     gains : ndarray, shape (3,)
-        Dimensionless.
+        Per pair, dimensionless.
     tilts_deg : ndarray, shape (3,)
-        Degrees.
+        Per pair, deg.
     """
     a = np.asarray(actuation_T_per_A, dtype=float)
     g = np.asarray(model_actuation_T_per_A, dtype=float)

@@ -25,6 +25,7 @@ import numpy as np
 
 __all__ = [
     "Plot",
+    "calibration_residuals",
     "field_maps",
     "geometry",
     "heating",
@@ -477,3 +478,46 @@ def stray_field_map(
         ticks=(0.05, 0.1, 0.5, 1, 5, 10, 50, 100),
     )
     return Plot(fig, axs[0], tuple(planes))
+
+
+def calibration_residuals(check: Any, *, fig: Any = None) -> Plot:
+    """A calibrated design's survey: measured against the calibrated model (every row and
+    component, mT) and the residual against the measured |B| (µT)
+    (:func:`spiralcap.analysis.calibration.calibration_check`)."""
+    from spiralcap.figures.style import COLOURS, MARKERS
+
+    fig = _figure(fig, (7.5, 3.3))
+    measured = np.asarray(check.measured_T) * 1e3
+    predicted = np.asarray(check.predicted_T) * 1e3
+    left, right = fig.subplots(1, 2)
+    lo, hi = (
+        float(min(measured.min(), predicted.min())),
+        float(max(measured.max(), predicted.max())),
+    )
+    left.plot([lo, hi], [lo, hi], color="0.5", linewidth=1.0, label="model = measured")
+    for c, ax in enumerate("xyz"):
+        left.plot(
+            predicted[:, c],
+            measured[:, c],
+            linestyle="none",
+            marker=MARKERS[c],
+            markersize=3.5,
+            color=COLOURS[c],
+            label=f"B{ax}",
+        )
+        right.plot(
+            np.linalg.norm(measured, axis=1),
+            (measured[:, c] - predicted[:, c]) * 1e3,
+            linestyle="none",
+            marker=MARKERS[c],
+            markersize=3.5,
+            color=COLOURS[c],
+            label=f"B{ax}",
+        )
+    left.set_xlabel("calibrated model (mT)")
+    left.set_ylabel("measured (mT)")
+    left.legend(fontsize=7.5, loc="upper left")
+    right.axhline(0.0, color="0.5", linewidth=1.0)
+    right.set_xlabel("|B| measured (mT)")
+    right.set_ylabel("measured − model (µT)")
+    return Plot(fig, left, None)
