@@ -973,9 +973,12 @@ def _is_calibration_map(v: Any) -> bool:
     if not (
         isinstance(v, list)
         and len(v) == 3
-        and all(isinstance(r, list) and len(r) == 3 and all(_num(x) for x in r) for r in v)
+        and all(
+            isinstance(r, list) and len(r) == 3 and all(_num(x) and abs(x) <= 10.0 for x in r)
+            for r in v
+        )
     ):
-        return False
+        return False  # (an entry beyond 10 is far outside the domain; no overflow below)
     off = sum((v[i][j] - (1.0 if i == j else 0.0)) ** 2 for i in range(3) for j in range(3))
     return math.sqrt(off) <= CALIBRATION_MAP_DOMAIN
 

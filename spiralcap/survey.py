@@ -23,6 +23,8 @@ COLUMNS = ("x_m", "y_m", "z_m", "I_x_A", "I_y_A", "I_z_A", "Bx_T", "By_T", "Bz_T
 MAX_CURRENT_A = 1e3
 #: Largest field component a survey row may hold, T (no air-cored coil set makes 10 T).
 MAX_FIELD_T = 10.0
+#: Farthest probe coordinate read, m (the model's room; calibrate refuses far less).
+MAX_POSITION_M = 100.0
 #: Most survey rows read.
 MAX_ROWS = 1_000_000
 
@@ -92,6 +94,11 @@ def _cell(raw: str, col: str, where: str) -> float:
         raise DataError(f"{where}, column {col}: {raw[:60]!r} is not a number") from None
     if not math.isfinite(value):
         raise DataError(f"{where}, column {col}: {raw!r} is not a finite number")
+    if col.endswith("_m") and abs(value) > MAX_POSITION_M:
+        raise DataError(
+            f"{where}, column {col}: {raw} m; at most {MAX_POSITION_M:g} m from the centre (a "
+            "position in mm belongs in metres here)"
+        )
     if col.startswith("I_") and abs(value) > MAX_CURRENT_A:
         raise DataError(f"{where}, column {col}: {raw} A; at most {MAX_CURRENT_A:g} A in size")
     if col.startswith("B") and abs(value) > MAX_FIELD_T:

@@ -258,3 +258,14 @@ def test_report_calibration_section_rechecks_the_survey(fitted) -> None:
     figures = [b for b in section.blocks if isinstance(b, FigureBlock)]
     assert [f.id for f in figures] == ["fig-calibration"]
     figures[0].draw(Figure(figsize=figures[0].size_in))
+
+
+def test_huge_values_are_one_line_refusals(tmp_path, capsys) -> None:
+    """Entries that overflow a square (1e308) are refused by range, not by a traceback."""
+    big = "[[1e308, 0, 0], [0, 1, 0], [0, 0, 1]]"
+    code, out = _run(capsys, ["evaluate", "--set", f"calibration.map_x={big}"])
+    assert code == 2 and "calibration.map_x" in out.err and "Traceback" not in out.err, out.err
+    path = tmp_path / "far.csv"
+    path.write_text(COLUMNS + "\n1e308,0,0,1,0,0,1e-3,0,0\n")
+    code, out = _run(capsys, ["calibrate", str(path)])
+    assert code == 2 and "column x_m" in out.err and len(out.err.strip().splitlines()) == 1
