@@ -649,12 +649,15 @@ def _apparent_power_cap_T(
         return np.full(shape, np.inf)
     ind = float(c.inductance_H[k])
 
-    def value(b: Any) -> Any:
+    def value(b: Any, freq: Any) -> Any:
         current = b * per_amp
         r = np.asarray(winding_resistance_ohm(current, k, c, ambient_temperature_C), dtype=float)
-        return 0.5 * np.asarray(impedance_ohm(r, ind, f), dtype=float) * current * current
+        return 0.5 * np.asarray(impedance_ohm(r, ind, freq), dtype=float) * current * current
 
-    return _bisect_field_T(value, np.broadcast_to(allowed, shape), shape)
+    if int(np.prod(shape)) == 1:  # one value (any shape of size 1): the scalar search
+        f1, a1 = float(f.ravel()[0]), float(allowed.ravel()[0])
+        return np.full(shape, _bisect_field_T(lambda b: value(b, f1), a1, ()))
+    return _bisect_field_T(lambda b: value(b, f), np.broadcast_to(allowed, shape), shape)
 
 
 def _voltage_cap_T(

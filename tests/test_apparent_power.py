@@ -62,3 +62,29 @@ def test_optimize_names_the_apparent_power_limit_it_binds(capsys) -> None:
     assert "axis_apparent_power_x" in binding, list(binding)
     assert binding["axis_apparent_power_x"]["key"] == "limits.x.apparent_power_VA"
     assert binding["axis_apparent_power_x"]["value"] == pytest.approx(500.0, rel=1e-6)
+
+
+def test_apparent_power_cap_on_arrays_of_frequencies_is_each_scalar_cap() -> None:
+    """The report's curves ask the cap on arrays, one-element ones too: each element is the
+    scalar search's answer, and at it S_x = V I / 2 is the limit (a by-hand |Z| I² / 2)."""
+    import numpy as np
+
+    from coils.electrical import impedance_ohm
+    from optimize import physics, prepare
+    from spiralcap.assemble import build_model
+    from spiralcap.design import load_design
+
+    model = prepare(build_model(load_design().with_values({"limits.x.apparent_power_VA": 300.0})))
+    c, amb = model.constants, model.ambient_temperature_C
+    freqs = np.array([0.5, 2.0, 4.0])
+    caps = [physics.field_capacity_T(f, c, model.limits, amb)[0] for f in freqs]
+    for shape in ((1,), (1, 1)):
+        one = physics.field_capacity_T(np.full(shape, 2.0), c, model.limits, amb)[0]
+        assert np.shape(one) == shape and float(one.ravel()[0]) == float(caps[1])
+    many = physics.field_capacity_T(freqs, c, model.limits, amb)[0]
+    np.testing.assert_array_equal(many, np.array(caps, dtype=float))
+    for f, cap in zip(freqs, caps, strict=True):
+        i = float(cap) * float(c.current_per_tesla_A_per_T[0])
+        r = float(physics.winding_resistance_ohm(i, 0, c, amb))
+        s = 0.5 * float(impedance_ohm(r, float(c.inductance_H[0]), f)) * i * i
+        assert s <= 300.0 * (1 + 1e-9), f"at {f} Hz the cap keeps S_x <= 300 VA ({s})"

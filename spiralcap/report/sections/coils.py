@@ -548,7 +548,7 @@ def measured_blocks(ctx: Context) -> list[Any]:
                 ctx.num(f"{base}.resistance_ohm", unit="Ω"),
                 f" at {m['temperature_C']:g} °C against ",
                 ctx.num(f"{base}.computed_resistance_ohm", unit="Ω"),
-                " computed (",
+                " computed (measured / computed − 1: ",
                 ctx.num(f"{base}.resistance_deviation", 100.0, "%"),
                 ")",
             ]
