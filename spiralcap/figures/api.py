@@ -465,7 +465,7 @@ def stray_field_map(
     fig = _figure(fig, (7.5, 3.6))
     half = float(half_width_m)
     level = IMPLANT_LEVEL_T if level_T is None else float(level_T)
-    planes = planes or [peak_field_plane(model, field_T, p, half, 61) for p in ("xz", "xy")]
+    planes = planes or [peak_field_plane(model, field_T, p, half, 45) for p in ("xz", "xy")]
     axs = fig.subplots(1, 2)
     drawn = [plot_stray_plane(ax, p, model.coils, level) for ax, p in zip(axs, planes, strict=True)]
     fig.colorbar(
