@@ -269,3 +269,16 @@ def test_huge_values_are_one_line_refusals(tmp_path, capsys) -> None:
     path.write_text(COLUMNS + "\n1e308,0,0,1,0,0,1e-3,0,0\n")
     code, out = _run(capsys, ["calibrate", str(path)])
     assert code == 2 and "column x_m" in out.err and len(out.err.strip().splitlines()) == 1
+
+
+def test_optimize_writes_the_survey_path_so_it_still_resolves(fitted, tmp_path, capsys) -> None:
+    """``optimize -o`` into another folder keeps the survey reachable (written absolute)."""
+    from spiralcap.design import load_design
+
+    _, cal = fitted
+    out = tmp_path / "elsewhere" / "best.toml"
+    out.parent.mkdir()
+    code, _ = _run(capsys, ["optimize", str(cal), "-o", str(out)])
+    assert code == 0
+    path = load_design([out]).path_of("calibration.survey_csv")
+    assert path is not None and path.is_absolute() and path.exists(), path

@@ -390,10 +390,10 @@ def optimum_design_toml(design: Design, result: Any) -> str:
     }
     # a path the design names, relative to the file that named it, would point elsewhere from
     # the written file's folder: write it absolute
-    key = "tissue.uncertainty.covariance_from"
-    named = design.path_of(key) if values.get(key) is not None else None
-    if named is not None:
-        values[key] = os.path.abspath(named)
+    for key in ("tissue.uncertainty.covariance_from", "calibration.survey_csv"):
+        named = design.path_of(key) if values.get(key) is not None else None
+        if named is not None:
+            values[key] = os.path.abspath(named)
     head = (
         "# spiralcap design file written by `spiralcap optimize` "
         f"(objective {result.objective}).\n"
