@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -254,6 +255,8 @@ def size_system(
     headings: np.ndarray | None = None,
     packs: tuple | None = None,
     view_factors: np.ndarray | None = None,
+    resistance_20C_ohm: Any = None,
+    inductance_H: Any = None,
 ) -> SystemSizing:
     """Evaluate every pair at one current amplitude and frequency.
 
@@ -282,6 +285,9 @@ def size_system(
         View factors, dimensionless, rows ``[room, x, y, z]``
         (:func:`coils.viewfactors.view_factors`): the three pairs, all at this current,
         radiate to each other; default: each alone in the room.
+    resistance_20C_ohm, inductance_H : array_like, shape (3,), optional
+        Each pair's series resistance at 20 °C (Ω) and inductance (H) in place of the values
+        computed from its geometry (a lab's measured pairs); default: computed.
 
     Returns
     -------
@@ -302,7 +308,16 @@ def size_system(
             )
             for pair in system.pairs
         )
-    r20s = [pair.resistance_ohm(20.0) for pair in system.pairs]
+    r20s = (
+        [pair.resistance_ohm(20.0) for pair in system.pairs]
+        if resistance_20C_ohm is None
+        else [float(r) for r in resistance_20C_ohm]
+    )
+    inductances = (
+        [pair.series_inductance_H for pair in system.pairs]
+        if inductance_H is None
+        else [float(v) for v in inductance_H]
+    )
     together = pair_temperatures(
         packs, r20s, (current_amplitude_A,) * 3, ambient_temperature_C, view_factors
     )
@@ -312,7 +327,7 @@ def size_system(
             st = type(st)(*(math.nan,) * 11, runaway=1.0)
         states.append((together[k], r20))
         r = r20 * (1.0 + COPPER_TEMPERATURE_COEFFICIENT_per_K * (float(st.mean_C) - 20.0))
-        z = float(impedance_ohm(r, pair.series_inductance_H, frequency_hz))
+        z = float(impedance_ohm(r, inductances[k], frequency_hz))
         g = pair.centre_field_per_amp_T_per_A
         axes.append(
             AxisSizing(
@@ -335,7 +350,7 @@ def size_system(
                 resistance_ohm=r,
                 self_inductance_H=pair.self_inductance_H,
                 mutual_inductance_H=pair.mutual_inductance_H,
-                inductance_H=pair.series_inductance_H,
+                inductance_H=inductances[k],
                 impedance_ohm=z,
                 voltage_amplitude_V=z * current_amplitude_A,
                 power_W=float(st.power_W),
@@ -349,7 +364,8 @@ def size_system(
                 surface_max_temperature_C=float(st.surface_max_C),
                 convection_coefficient_W_m2K=float(st.convection_W_m2K),
                 radiation_view_factor=1.0 if view_factors is None else float(view_factors[k][0]),
-                field_amplitude_T=g * current_amplitude_A,
+                # the set's own centre gain: a calibrated set's (coils.calibration), else g
+                field_amplitude_T=float(system.centre_gains_T_per_A[k]) * current_amplitude_A,
                 pack_field_per_amp_T_per_A=pair.pack_centre_field_per_amp_T_per_A,
             )
         )
@@ -385,7 +401,7 @@ def _worst_heading(
     the largest loss."""
     h = np.eye(3) if headings is None else np.asarray(headings, dtype=float)
     h = h / np.linalg.norm(h, axis=1, keepdims=True)
-    g = np.array([p.centre_field_per_amp_T_per_A for p in system.pairs])
+    g = np.asarray(system.centre_gains_T_per_A, dtype=float)  # calibrated where calibrated
     per_T = np.sqrt(np.clip(1.0 - h**2, 0.0, 1.0)) / g  # (h, 3) A per T
     field = current_A / np.max(per_T, axis=1)
     currents = field[:, None] * per_T

@@ -6,9 +6,10 @@ about it at frequency f, B(t) = B0 (u cos ωt + v sin ωt) with (u, v, n) a righ
 Between headings the whole frame is turned, during the first ``ramp_s`` of the next dwell,
 about n_{i-1} x n_i by the angle between them times the quintic smooth step
 s(τ) = 10τ³ - 15τ⁴ + 6τ⁵ (zero first and second derivative at both ends, so currents and
-voltages stay continuous). Currents I = G⁻¹ B with G the field matrix at the centre;
-voltages V = R I + L dI/dt with each pair's series resistance and inductance (orthogonal pairs
-have no mutual inductance) and dI/dt = G⁻¹ dB/dt from the analytic derivative
+voltages stay continuous). Currents I = G⁻¹ (B - b0) with G the field matrix at the centre
+(calibrated coils: the calibrated actuation matrix) and b0 a background the coils cancel
+(zero unless given); voltages V = R I + L dI/dt with each pair's series resistance and
+inductance (orthogonal pairs have no mutual inductance) and dI/dt = G⁻¹ dB/dt from the analytic derivative
 dB/dt = B0 [Ω x (u cos ωt + v sin ωt) + ω (v cos ωt - u sin ωt)], Ω the frame's angular velocity.
 No I/O; numpy only (this is a post-processing of an operating point, not optimised).
 """
@@ -92,6 +93,7 @@ def heading_waveforms(
     dwell_s: float,
     ramp_s: float,
     samples_per_period: int = 200,
+    background_T: np.ndarray | None = None,
 ) -> Waveforms:
     """Sample the three currents, voltages and the centre field over the heading sequence.
 
@@ -113,6 +115,9 @@ def heading_waveforms(
         Duration of each change of rotation plane, 0 < ramp <= dwell, s.
     samples_per_period : int
         Number of samples per rotation period (also at least 200 per ramp).
+    background_T : array_like, shape (3,), optional
+        A constant background field the coils cancel (a calibration's b0), T: the currents
+        then make B(t) - b0, so that the field in the room, coils plus background, is B(t).
 
     Returns
     -------
@@ -158,7 +163,8 @@ def heading_waveforms(
         field[sel] = amplitude_T * b
         dfield[sel] = amplitude_T * (np.cross(rate, b) + omega * (v * c - u * sn))
     g_inv = np.linalg.inv(field_matrix_T_per_A)
-    current = field @ g_inv.T
+    offset = np.zeros(3) if background_T is None else np.asarray(background_T, dtype=float)
+    current = (field - offset) @ g_inv.T
     dcurrent = dfield @ g_inv.T
     r, ind = np.asarray(resistance_ohm, float), np.asarray(inductance_H, float)
     return Waveforms(

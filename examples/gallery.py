@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import sys
 from pathlib import Path
+from typing import Any
 
 
 def main(
@@ -70,6 +71,8 @@ def main(
         "uncertainty": lambda: figures.tissue_uncertainty(
             study(uncertain, samples=uncertainty_samples, sobol_base=256).result
         ),
+        "stray-field": lambda: _stray_field(figures, design, model),
+        "calibration": lambda: figures.calibration_residuals(_calibration_check(design)),
     }
     written = []
     with matplotlib.rc_context(REPORT_RC):
@@ -79,6 +82,43 @@ def main(
             plot.figure.savefig(path, format=fmt)
             written.append(path)
     return written
+
+
+def _stray_field(figures: Any, design: Any, model: Any) -> Any:
+    """The stray-field map at the operating field, out to 1.25 x the farthest 0.5 mT point."""
+    from spiralcap.analysis.coils import analyse_coils
+
+    analysis = analyse_coils(design, model)
+    half = 1.25 * max(analysis.stray.fade_distance_m.values())
+    return figures.stray_field_map(model, analysis.operating_field_T, half)
+
+
+def _calibration_check(design: Any) -> Any:
+    """The built-in design calibrated from ``examples/field_survey.csv`` and checked against it
+    (what ``spiralcap calibrate examples/field_survey.csv -o cal.toml`` and the report do)."""
+    import numpy as np
+
+    from coils.calibration import fit_calibration
+    from spiralcap.analysis.calibration import calibration_check
+    from spiralcap.assemble import build_model
+    from spiralcap.assemble.coils import build_coils
+    from spiralcap.survey import read_survey_csv
+
+    path = Path(__file__).resolve().with_name("field_survey.csv")
+    survey = read_survey_csv(path)
+    coils = build_coils(design)
+    fit = fit_calibration(
+        survey, coils.field_matrix(survey.points_m), coils.field_matrix(np.zeros((1, 3)))[0]
+    )
+    maps = fit.calibration.maps
+    calibrated = design.with_values(
+        {
+            **{f"calibration.map_{ax}": maps[k].tolist() for k, ax in enumerate("xyz")},
+            "calibration.background_field_uT": (fit.calibration.background_T * 1e6).tolist(),
+            "calibration.survey_csv": str(path),
+        }
+    )
+    return calibration_check(calibrated, build_model(calibrated))
 
 
 if __name__ == "__main__":

@@ -316,7 +316,8 @@ def _axis_limit_parameters(b: NLPBuilder, structure: Structure) -> dict[str, Any
     them (``Limits`` fields; the numbers filled by :func:`_limit_values`)."""
     own = structure.own_limits
     out: dict[str, Any] = {"own": own}
-    for kind, unit in (("current", "A"), ("voltage", "V"), ("power", "W")):
+    kinds = (("current", "A"), ("voltage", "V"), ("power", "W"), ("apparent_power", "VA"))
+    for kind, unit in kinds:
         if any(name.startswith(kind + "_") for name in own):
             out[f"axis_{kind}_{unit}"] = b.parameter(f"limit.axis_{kind}_{unit}", (3,))
     if structure.envelope:

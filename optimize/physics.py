@@ -529,6 +529,11 @@ def _pair_terms(
         out.append(
             LimitTerm(f"axis_power_{ax}", "W", loss, limits.axis_power_W[k], 2 if fixed_r else None)
         )
+    if f"apparent_power_{ax}" in limits.own:  # the channel's apparent power V I / 2
+        va = 0.5 * volts * current
+        allowed = limits.axis_apparent_power_VA[k]
+        power = 2 if fixed_r else None
+        out.append(LimitTerm(f"axis_apparent_power_{ax}", "VA", va, allowed, power))
     amb = ambient_temperature_C
     rise = state.hot_spot_C - amb  # hot_spot_rise_K, from the same solve
     out.append(LimitTerm(f"hot_spot_{ax}", "K", rise, limits.coil_temperature_C - amb, None))
@@ -626,6 +631,33 @@ def _channel_power_cap_T(k: int, c: Constants, allowed_W: Any, ambient_temperatu
         return 0.5 * winding_resistance_ohm(current, k, c, ambient_temperature_C) * current**2
 
     return _bisect_field_T(value, allowed, allowed.shape)
+
+
+def _apparent_power_cap_T(
+    k: int, frequency_hz: Any, c: Constants, allowed_VA: Any, ambient_temperature_C: float
+) -> Any:
+    """Largest centre field pair k's channel apparent power allows, |Z(R(I))| I² / 2 <= S
+    (bisection, vectorised over f; the resistance at the pair's self-consistent mean
+    temperature)."""
+    from coils.electrical import impedance_ohm
+
+    f = np.asarray(frequency_hz, dtype=float)
+    allowed = np.asarray(allowed_VA, dtype=float)
+    shape = np.broadcast_shapes(f.shape, allowed.shape)
+    per_amp = float(c.current_per_tesla_A_per_T[k])
+    if per_amp <= 0:
+        return np.full(shape, np.inf)
+    ind = float(c.inductance_H[k])
+
+    def value(b: Any, freq: Any) -> Any:
+        current = b * per_amp
+        r = np.asarray(winding_resistance_ohm(current, k, c, ambient_temperature_C), dtype=float)
+        return 0.5 * np.asarray(impedance_ohm(r, ind, freq), dtype=float) * current * current
+
+    if int(np.prod(shape)) == 1:  # one value (any shape of size 1): the scalar search
+        f1, a1 = float(f.ravel()[0]), float(allowed.ravel()[0])
+        return np.full(shape, _bisect_field_T(lambda b: value(b, f1), a1, ()))
+    return _bisect_field_T(lambda b: value(b, f), np.broadcast_to(allowed, shape), shape)
 
 
 def _voltage_cap_T(
@@ -786,6 +818,9 @@ def _cap_T(t: LimitTerm, frequency_hz: Any, c: Constants, ambient_temperature_C:
         return _power_cap_T(c, t.allowed, ambient_temperature_C)
     if t.power is None and t.name.startswith("axis_power_"):
         return _channel_power_cap_T(_AXES.index(t.name[-1]), c, t.allowed, ambient_temperature_C)
+    if t.power is None and t.name.startswith("axis_apparent_power_"):
+        k = _AXES.index(t.name[-1])
+        return _apparent_power_cap_T(k, frequency_hz, c, t.allowed, ambient_temperature_C)
     if t.power is None:  # voltage with the self-consistent resistance
         return _voltage_cap_T(
             _AXES.index(t.name[-1]), frequency_hz, c, t.allowed, ambient_temperature_C

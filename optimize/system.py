@@ -86,6 +86,9 @@ class Limits:
         (``"current_x"``, ...), the global limit elsewhere (None: no pair has its own).
     envelope_m : ndarray or None
         Outer box the coil set must fit, (X, Y, Z) edge lengths, m (None: no envelope).
+    axis_apparent_power_VA : ndarray or None
+        Per pair, the apparent power V I / 2 its amplifier channel may deliver (V and I the
+        amplitudes), VA; used where ``own`` names it (``"apparent_power_x"``).
     own : frozenset of str
         Which per-pair limits are set: ``"current_x"``, ``"voltage_y"``, ``"power_z"``, ...
         (structure: a compiled problem is built for one such set).
@@ -102,6 +105,7 @@ class Limits:
     axis_voltage_V: Any = None
     axis_power_W: Any = None
     envelope_m: Any = None
+    axis_apparent_power_VA: Any = None
     own: frozenset = frozenset()
 
     def channel(self, kind: str, k: int) -> tuple[str, Any]:
@@ -251,6 +255,11 @@ class DesignModel:
         The optimiser's search box and options.
     constants : Constants or None
         The precomputed constants (:func:`prepare` fills them), or None.
+    measured_resistance_20C_ohm, measured_inductance_H : tuple of 3 (float or None), or None
+        A lab's measured series resistance at 20 °C (Ω) and inductance (H) of each pair as
+        wired to its channel (``coils.{x,y,z}.measured.*``): where given they replace the
+        values computed from the geometry in every voltage, power and heating figure
+        (:func:`precompute`); None (or a None entry): the computed value.
     """
 
     coils: Any
@@ -274,6 +283,8 @@ class DesignModel:
     sizing: Any = None
     scenarios: Any = field(default=None, compare=False, repr=False)
     constants: Any = field(default=None, compare=False, repr=False)
+    measured_resistance_20C_ohm: Any = None
+    measured_inductance_H: Any = None
 
 
 class PhysicsMemo:
@@ -315,7 +326,10 @@ class Constants:
     and heading, per tesla of centre amplitude (minor semi-axis of the field ellipse).
     ``copper_mass_kg[k]``: copper of pair k (both coils), wire length x area x density.
     ``heading_current_per_tesla_A_per_T[h, k]``: sqrt(1 - n_hk²) / g_k, the current amplitude
-    axis k carries per tesla for heading h (``current_per_tesla_A_per_T`` is its column max).
+    axis k carries per tesla for heading h (``current_per_tesla_A_per_T`` is its column max);
+    with calibrated coils (:class:`coils.calibration.CalibratedHelmholtz`) the amplitudes of
+    the allocation through the calibrated centre matrix A^-1 (and the power weights their
+    squares over 2), not through the diagonal gains.
     ``mass_kg``: the capsule's mass, whose weight rests on the wall (torque_model.engagement).
 
     Every field may hold CasADi values (the NLP builds it from parameters and, when sizing,
@@ -455,6 +469,13 @@ def view_factors_of(coils: Any) -> Any:
     return view_factors(pack_rings(coils))
 
 
+def _measured(measured: Any, computed: list[float]) -> np.ndarray:
+    """Each pair's measured value where the lab gave one, else the computed one (SI)."""
+    if measured is None:
+        return np.array(computed)
+    return np.array([c if m is None else float(m) for m, c in zip(measured, computed, strict=True)])
+
+
 def precompute(model: DesignModel) -> Constants:
     """Reduce coils, headings and workspace to the constants of the margin and the limits.
 
@@ -472,12 +493,18 @@ def precompute(model: DesignModel) -> Constants:
 
     pairs = model.coils.pairs
     g = np.asarray(model.coils.centre_gains_T_per_A, dtype=float)
-    r20 = np.array([p.resistance_ohm(20.0) for p in pairs])
-    ind = np.array([p.series_inductance_H for p in pairs])
+    r20 = _measured(model.measured_resistance_20C_ohm, [p.resistance_ohm(20.0) for p in pairs])
+    ind = _measured(model.measured_inductance_H, [p.series_inductance_H for p in pairs])
     packs = packs_of(model)
     n2 = np.asarray(model.headings, dtype=float) ** 2  # (h, 3)
     s = np.sqrt(np.clip(1.0 - n2, 0.0, 1.0))  # (h, 3)
-    current_per_T = np.max(s / g, axis=0)
+    per_heading = s / g
+    actuation = getattr(model.coils, "actuation_matrix_T_per_A", None)
+    if actuation is not None:  # calibrated coils (coils.calibration): A^-1 of the real set
+        from coils.rotating import allocation
+
+        per_heading = np.array([allocation(actuation, h, 1.0)[0] for h in model.headings])
+    current_per_T = np.max(per_heading, axis=0)
     field = model.coils.field_matrix(model.points_m)  # the same points for every heading
     factor = min(
         float(np.min(model.coils.rotating_field_semi_axes_T(model.points_m, h, 1.0, field)[0]))
@@ -490,7 +517,7 @@ def precompute(model: DesignModel) -> Constants:
         inductance_H=ind,
         packs=packs,
         current_per_tesla_A_per_T=current_per_T,
-        power_weights_per_T2=s**2 / (2.0 * g**2),
+        power_weights_per_T2=s**2 / (2.0 * g**2) if actuation is None else 0.5 * per_heading**2,
         workspace_factor=factor,
         moment_Am2=float(model.capsule.magnet.moment_Am2),
         body_diameter_m=body.diameter_m,
@@ -499,7 +526,7 @@ def precompute(model: DesignModel) -> Constants:
         wound_length_m=spiral.wound_length_m,
         helix_diameter_m=float(cap.helix_diameter_m(body.diameter_m, spiral.wire_diameter_m)),
         copper_mass_kg=np.array([p.copper_mass_kg for p in pairs]),
-        heading_current_per_tesla_A_per_T=s / g,
+        heading_current_per_tesla_A_per_T=per_heading,
         starts=int(spiral.starts),
         winding_temperature_C=model.winding_temperature_C,
         session_s=model.session_s,

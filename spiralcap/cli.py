@@ -23,6 +23,7 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "capsule": ("capsule", "capsule figures: magnet moment, spiral pitch, speed, thrust torque"),
     "torque": ("torque", "tissue resistive torque against rotation frequency"),
     "fit": ("fit", "identify tissue parameters from bench torque measurements (CSV)"),
+    "calibrate": ("calibrate", "fit the coils' field to a gaussmeter survey (CSV): cal.toml"),
     "evaluate": ("evaluate", "the design at its operating point: field, torques, margin, limits"),
     "optimize": ("optimize", "choose helical angle, frequency and coil currents for most margin"),
     "waveforms": ("waveforms", "coil currents, voltages and field for a sequence of headings"),

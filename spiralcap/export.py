@@ -175,8 +175,13 @@ def grid_columns() -> list[str]:
     return ["x_m", "y_m", "z_m"] + [f"B{c}_per_A_{k}_T_per_A" for k in _AXES for c in _AXES]
 
 
-def field_grid(model: Any, half_width_m: float, step_m: float | None = None) -> FieldGrid:
-    """The field per ampere of the x, y and z pairs on a grid over ``[-h, h]^3``.
+def field_grid(
+    model: Any,
+    half_width_m: float,
+    step_m: float | None = None,
+    box_m: Sequence[float] | None = None,
+) -> FieldGrid:
+    """The field per ampere of the x, y and z pairs on a grid over ``[-h, h]^3`` or a box.
 
     Parameters
     ----------
@@ -185,7 +190,11 @@ def field_grid(model: Any, half_width_m: float, step_m: float | None = None) -> 
     half_width_m : float
         Half the side of the cube sampled, m (the workspace radius); 0 samples the centre.
     step_m : float, optional
-        Grid spacing, m (default: the cube's side over :data:`DEFAULT_STEPS_PER_DIAMETER`).
+        Grid spacing, m (default: the box's longest side over :data:`DEFAULT_STEPS_PER_DIAMETER`).
+    box_m : sequence of 6 floats, optional
+        ``(x0, x1, y0, y1, z0, z1)``, m, with each lower end <= its upper end: the box sampled
+        in place of the cube (``--grid-box-mm``). Along each axis the points are ``step_m``
+        apart, centred in the box's extent on that axis.
 
     Raises
     ------
@@ -194,21 +203,32 @@ def field_grid(model: Any, half_width_m: float, step_m: float | None = None) -> 
     """
     system = _system(model)
     h = float(half_width_m)
+    box = np.array([-h, h] * 3 if box_m is None else box_m, dtype=float).reshape(3, 2)
+    sides = box[:, 1] - box[:, 0]
+    where = "workspace cube" if box_m is None else "--grid-box-mm box"
+    longest = float(np.max(sides))
     if step_m is None:
-        step_m = 2.0 * h / DEFAULT_STEPS_PER_DIAMETER if h > 0 else 1.0
+        step_m = longest / DEFAULT_STEPS_PER_DIAMETER if longest > 0 else 1.0
     if not (math.isfinite(step_m) and step_m > 0):
         raise InputError("--grid-step-mm", step_m * 1e3, "a grid spacing > 0 mm")
-    span = 2.0 * h / step_m + 1e-9  # points per side less one (inf for a subnormal step)
-    n = math.floor(span) + 1 if span < MAX_GRID_POINTS else MAX_GRID_POINTS + 1
-    if n**3 > MAX_GRID_POINTS:
+    counts = []
+    for side in sides:
+        span = float(side) / step_m + 1e-9  # points along a side less one (inf: subnormal step)
+        counts.append(math.floor(span) + 1 if span < MAX_GRID_POINTS else MAX_GRID_POINTS + 1)
+    if math.prod(counts) > MAX_GRID_POINTS:
+        volume = float(np.prod(np.maximum(sides, step_m)))
+        least = (volume / MAX_GRID_POINTS) ** (1 / 3)
         raise InputError(
             "--grid-step-mm",
             step_m * 1e3,
-            f"a spacing of at least {2e3 * h / (MAX_GRID_POINTS ** (1 / 3) - 1):.3g} mm "
-            f"(at most {MAX_GRID_POINTS} points over the {2e3 * h:g} mm workspace cube)",
+            f"a spacing of at least about {least * 1e3:.3g} mm (at most {MAX_GRID_POINTS} "
+            f"points over the {' x '.join(f'{s * 1e3:g}' for s in sides)} mm {where})",
         )
-    axis = -0.5 * (n - 1) * step_m + step_m * np.arange(n)
-    grid = np.stack(np.meshgrid(axis, axis, axis, indexing="ij"), axis=-1).reshape(-1, 3)
+    axes = [
+        0.5 * (lo + hi) - 0.5 * (n - 1) * step_m + step_m * np.arange(n)
+        for (lo, hi), n in zip(box, counts, strict=True)
+    ]
+    grid = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, 3)
     return FieldGrid(grid, np.asarray(system.field_matrix(grid)), float(step_m))
 
 

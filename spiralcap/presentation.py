@@ -84,6 +84,7 @@ _PER_AXIS = {
     "axis_current": "current (own channel)",
     "axis_voltage": "drive voltage (own channel)",
     "axis_power": "copper power (own channel)",
+    "axis_apparent_power": "apparent power V·I/2 (own channel)",
     "current": "current",
     "voltage": "drive voltage",
     "temperature_rise": "coil temperature rise",

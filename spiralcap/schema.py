@@ -262,6 +262,46 @@ for _ax, _r, _n, _d in (("x", 0.43, 400, 3.0), ("y", 0.35, 350, 2.5), ("z", 0.28
         4.0,
         open_=False,
     )
+# a lab's coils as measured (issue 37): series R and L of each pair at its channel's terminals
+for _ax in "xyz":
+    KEYS[f"coils.{_ax}.measured.resistance_ohm"] = _between(
+        f"measured resistance of the {_ax} pair as wired to its channel (both coils in series, "
+        f"leads included) at coils.{_ax}.measured.temperature_C: replaces the computed value in "
+        "every voltage, power, heating and waveform figure, scaled with copper's temperature "
+        "coefficient (optional); range: 0.1 mOhm to 10 kOhm",
+        None,
+        1e-4,
+        1e4,
+        open_=False,
+    )
+    KEYS[f"coils.{_ax}.measured.temperature_C"] = _between(
+        f"copper temperature at which coils.{_ax}.measured.resistance_ohm was measured (absent: "
+        "20 °C); range: -50 to 250 °C, the copper's range in the model",
+        None,
+        -50.0,
+        250.0,
+        open_=False,
+    )
+    KEYS[f"coils.{_ax}.measured.inductance_H"] = _between(
+        f"measured inductance of the {_ax} pair at its terminals (both coils in series, their "
+        "mutual inductance included): replaces the computed value in every voltage and "
+        "waveform figure (optional); range: 0.1 uH to 1 kH",
+        None,
+        1e-7,
+        1e3,
+        open_=False,
+    )
+# amplifier apparent power per channel (issue 37)
+for _ax in "xyz":
+    KEYS[f"limits.{_ax}.apparent_power_VA"] = _between(
+        f"apparent power the {_ax} pair's amplifier channel may deliver, V I / 2 with V and I "
+        "the drive-voltage and current amplitudes at the worst heading (optional); range: "
+        "1 mVA to 10 MVA",
+        None,
+        1e-3,
+        1e7,
+        open_=False,
+    )
 # square coil pairs (issue 30): the shape of each pair and the side of a square one
 for _ax in "xyz":
     KEYS[f"coils.{_ax}.shape"] = _choice(
@@ -594,8 +634,9 @@ KEYS.update(
         ),
         "limits.surface_temperature_C": _between(
             "hottest coil-pack surface a patient or operator may touch (optional; IEC 60601-1 "
-            "Table 23/24: 43 °C for applied parts in contact > 10 min, 48 °C for parts held "
-            "1-10 min, 60 °C for metal parts touched briefly); range: -50 to 250 °C",
+            "3rd ed. Table 24, metal: 43 °C for contact of 10 min or more, 48 °C for 1-10 min, "
+            "51 °C under 1 min; unset, the warning picks one by operation.session_min); range: "
+            "-50 to 250 °C",
             None,
             -50.0,
             250.0,
@@ -962,6 +1003,86 @@ KEYS.update(
         "report.project": _text("project the design belongs to, shown on the title page"),
         "report.author": _text("author of the report, shown on the title page"),
         "report.revision": _text("revision of the design or report, e.g. 'B' or '2026-03'"),
+    }
+)
+
+
+# --- the lab's coils as measured (issue 37) ---
+#: Largest Frobenius distance of a calibration map from the identity (coils.calibration).
+CALIBRATION_MAP_DOMAIN = 0.5
+
+
+def _is_calibration_map(v: Any) -> bool:
+    if not (
+        isinstance(v, list)
+        and len(v) == 3
+        and all(
+            isinstance(r, list) and len(r) == 3 and all(_num(x) and abs(x) <= 10.0 for x in r)
+            for r in v
+        )
+    ):
+        return False  # (an entry beyond 10 is far outside the domain; no overflow below)
+    off = sum((v[i][j] - (1.0 if i == j else 0.0)) ** 2 for i in range(3) for j in range(3))
+    return math.sqrt(off) <= CALIBRATION_MAP_DOMAIN
+
+
+KEYS.update(
+    {
+        **{
+            f"calibration.map_{ax}": Key(
+                list,
+                None,
+                "a 3 x 3 list of rows of finite numbers within "
+                f"{CALIBRATION_MAP_DOMAIN:g} of the identity (Frobenius distance)",
+                _is_calibration_map,
+                f"the {ax} pair's calibration map M (dimensionless, `spiralcap calibrate -o`): "
+                f"its field per ampere is M times the modelled one everywhere; absent: the "
+                "identity; beyond the domain the survey's pair is not the modelled one (wired "
+                "backwards, another channel)",
+            )
+            for ax in "xyz"
+        },
+        "calibration.background_field_uT": Key(
+            list,
+            None,
+            "three finite numbers [Bx, By, Bz], each within +/-10000 uT",
+            lambda v: (
+                isinstance(v, list) and len(v) == 3 and all(_num(c) and abs(c) <= 1e4 for c in v)
+            ),
+            "constant background field the survey saw (the Earth's ~50 uT, the building's); "
+            "the waveforms cancel it with a steady current offset; range: +/-10 mT, beyond "
+            "any room's ambient field",
+        ),
+        "calibration.survey_csv": Key(
+            str,
+            None,
+            "a path to the survey CSV (relative to the file that sets it)",
+            lambda v: isinstance(v, str) and v.strip() != "",
+            "the gaussmeter survey the calibration was fitted to (the report re-reads it for "
+            "its residuals); a record, not used by the field model",
+        ),
+        "calibration.residual_rms_uT": _between(
+            "RMS residual of the calibration fit over every survey row and component: a record "
+            "of the fit, not used by the model; range: 0-1e6 uT",
+            None,
+            0.0,
+            1e6,
+            open_=False,
+        ),
+        "calibration.holdout_rms_uT": _between(
+            "RMS residual on the survey rows held out of the check fit: a record, not used by "
+            "the model; range: 0-1e6 uT",
+            None,
+            0.0,
+            1e6,
+            open_=False,
+        ),
+        "calibration.rows": _count(
+            "survey rows the calibration was fitted to: a record, not used by the model",
+            None,
+            1,
+            10**7,
+        ),
     }
 )
 

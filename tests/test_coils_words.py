@@ -6,7 +6,7 @@ import json
 
 import pytest
 
-from spiralcap.analysis.touch import IEC60601_HELD_PART_C
+from spiralcap.analysis.touch import IEC60601_LONG_CONTACT_C
 from spiralcap.cli import main
 
 
@@ -39,7 +39,7 @@ def test_coils_at_a_rating_that_holds_shows_its_temperatures(capsys) -> None:
 
 def test_surface_above_iec_60601_is_a_warning_only_without_a_surface_limit(capsys) -> None:
     warned = _out(capsys, ["evaluate"])
-    assert f"above the {IEC60601_HELD_PART_C:g} °C IEC 60601-1" in warned, warned[-400:]
+    assert f"above the {IEC60601_LONG_CONTACT_C:g} °C IEC 60601-1" in warned, warned[-400:]
     assert "limits.surface_temperature_C" in warned
     coils_text = _out(capsys, ["coils"])
     assert "IEC 60601-1 allows" in coils_text
@@ -49,3 +49,25 @@ def test_surface_above_iec_60601_is_a_warning_only_without_a_surface_limit(capsy
     assert "IEC 60601-1" not in quiet, "with the limit set, the check speaks instead"
     cool = json.loads(_out(capsys, ["evaluate", "--json", "--set", "limits.current_A=2"]))
     assert cool["warnings"] == [], "a cool design has no warning"
+
+
+@pytest.mark.parametrize(
+    ("session_min", "limit_C"),
+    [(None, 43.0), (30.0, 43.0), (10.0, 43.0), (5.0, 48.0), (1.0, 48.0), (0.5, 51.0)],
+)
+def test_touch_limit_follows_iec_60601_table_24_by_contact_time(session_min, limit_C) -> None:
+    from spiralcap.analysis.touch import touch_limit_C
+
+    seconds = None if session_min is None else 60.0 * session_min
+    assert touch_limit_C(seconds)[0] == limit_C, (
+        f"IEC 60601-1 3rd ed. Table 24 (metal): {limit_C} °C for {session_min} min, exact"
+    )
+
+
+def test_touch_warning_names_the_limit_of_the_session(capsys) -> None:
+    hot = ["limits.current_A=33", "limits.coil_temperature_C=200", "limits.voltage_V=2000"]
+    argv = ["evaluate", "--json", "--set", "operation.session_min=5", "--set", "limits.power_W=1e5"]
+    short = json.loads(_out(capsys, argv + [a for k in hot for a in ("--set", k)]))["warnings"]
+    steady = json.loads(_out(capsys, ["evaluate", "--json"]))["warnings"]
+    assert "48 °C" in " ".join(short) and "of 1-10 min" in " ".join(short), short
+    assert "43 °C" in " ".join(steady) and "10 min or more" in " ".join(steady), steady

@@ -49,6 +49,7 @@ CASES = [
     ("capsule", ["capsule"]),
     ("torque", ["torque", "--frequency", "0.5", "2", "50"]),
     ("fit", ["fit", CSV]),
+    ("calibrate", ["calibrate", str(Path(CSV).with_name("field_survey.csv"))]),
     ("fit", ["fit", CSV, "--only", "scale,E1"]),
     ("fit", ["fit", CSV, "--only", "scale"]),
     ("fit", ["fit", CSV.replace("bench_synthetic", "paper_points"), "--only", "scale"]),

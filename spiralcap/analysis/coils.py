@@ -114,6 +114,9 @@ class CoilAnalysis(Viewable):
     bore_radius_m: float = 0.0
     bill_of_materials: tuple = ()  # spiralcap.analysis.bom.BomRow per pair
     warnings: tuple[str, ...] = ()  # spiralcap.analysis.touch: a pack surface too hot to hold
+    stray: Any = None  # spiralcap.analysis.stray.StrayField at the operating field
+    measured: tuple = ()  # spiralcap.analysis.measured.MeasuredPair per measured pair
+    calibration: dict[str, Any] | None = None  # calibrated coils: actuation, gains, tilts (SI)
 
 
 def _uniform(system: Any) -> UniformRegions:
@@ -234,6 +237,8 @@ def analyse_coils(design: Any, model: Any = None) -> CoilAnalysis:
         headings=model.headings,
         packs=c.packs,
         view_factors=c.view_factors,
+        resistance_20C_ohm=c.resistance_20C_ohm,  # a lab's measured pairs where given
+        inductance_H=c.inductance_H,
     )
     cap = physics.field_capacity(model.frequency_hz, c, model.limits, model.ambient_temperature_C)
     per = np.asarray(c.current_per_tesla_A_per_T, dtype=float)
@@ -276,14 +281,42 @@ def analyse_coils(design: Any, model: Any = None) -> CoilAnalysis:
         bore_clearance_m=bore_clearance_m(model.coils.pairs, req.bore_radius_m),
         bore_radius_m=float(req.bore_radius_m),
     )
+    from spiralcap.analysis.measured import measured_pairs
+    from spiralcap.analysis.stray import stray_field
     from spiralcap.analysis.touch import touch_warning
 
     touch = touch_warning(model, field)
+    measured = measured_pairs(design, model.coils) if hasattr(design, "get") else ()
     return replace(
         analysis,
         bill_of_materials=bill_of_materials(model, analysis),
-        warnings=() if touch is None else (touch.words(),),
+        warnings=(() if touch is None else (touch.words(),))
+        + tuple(w for m in measured for w in m.warnings()),
+        stray=stray_field(model, field),
+        measured=measured,
+        calibration=calibration_summary(model.coils),
     )
+
+
+def calibration_summary(coils: Any) -> dict[str, Any] | None:
+    """The calibrated centre actuation of ``coils`` beside the model's (None: not calibrated):
+    ``actuation_matrix_T_per_A`` (column k: pair k), ``model_actuation_matrix_T_per_A``,
+    ``gain_factors``, ``axis_tilts_deg``, ``background_field_T``."""
+    if getattr(coils, "calibration", None) is None:
+        return None
+    from coils.calibration import gains_and_tilts
+    from spiralcap.assemble.calibration import nominal
+
+    a = np.asarray(coils.actuation_matrix_T_per_A)
+    g = nominal(coils).field_matrix(np.zeros((1, 3)))[0]
+    gains, tilts = gains_and_tilts(a, g)
+    return {
+        "actuation_matrix_T_per_A": a.tolist(),
+        "model_actuation_matrix_T_per_A": g.tolist(),
+        "gain_factors": dict(zip(_AXES, map(float, gains), strict=True)),
+        "axis_tilts_deg": dict(zip(_AXES, map(float, tilts), strict=True)),
+        "background_field_T": [float(v) for v in coils.background_T],
+    }
 
 
 def coils_payload(a: CoilAnalysis) -> dict[str, Any]:
@@ -302,6 +335,10 @@ def coils_payload(a: CoilAnalysis) -> dict[str, Any]:
         }
         for s in sizing["axes"]
     }
+    from spiralcap.analysis.measured import measured_payload
+
+    for m in a.measured:  # a lab's measured pair: measured beside computed, the deviation
+        sizing["axes"][m.axis]["measured"] = measured_payload(m)
     for s in sizing["axes"].values():  # a side only on a square pair (radius_m: half of it)
         if s["side_m"] is None:
             del s["side_m"]
@@ -355,4 +392,12 @@ def coils_payload(a: CoilAnalysis) -> dict[str, Any]:
         "bore_radius_m": a.bore_radius_m,
         "bill_of_materials": [asdict(r) for r in a.bill_of_materials],
         "warnings": list(a.warnings),
+        **({} if a.stray is None else {"stray_field": _stray_payload(a.stray)}),
+        **({} if a.calibration is None else {"calibration": a.calibration}),
     }
+
+
+def _stray_payload(stray: Any) -> dict[str, Any]:
+    from spiralcap.analysis.stray import stray_payload
+
+    return stray_payload(stray)

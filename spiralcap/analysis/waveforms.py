@@ -20,6 +20,8 @@ def waveforms_for_design(design: Any, headings: Any, dwell_s: float, ramp_s: flo
 
     The resistance of each pair is taken at its mean winding temperature at the operating point
     (worst-heading current; steady, or at the end of the session), as ``spiralcap coils``.
+    Calibrated coils (a design with ``[calibration]``): the currents invert the calibrated
+    centre matrix and cancel the survey's background field.
     """
     import numpy as np
 
@@ -58,5 +60,6 @@ def waveforms_for_design(design: Any, headings: Any, dwell_s: float, ramp_s: flo
         frequency_hz=f,
         dwell_s=dwell_s,
         ramp_s=ramp_s,
+        background_T=getattr(model.coils, "background_T", None),
     )
     return w, check_waveforms(w, model.limits.current_A, model.limits.voltage_V), model

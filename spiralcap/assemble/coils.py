@@ -123,6 +123,8 @@ def build_coils(design: Mapping[str, Any]) -> Any:
     Returns
     -------
     coils.ThreeAxisHelmholtz
+        A :class:`coils.calibration.CalibratedHelmholtz` when the design carries a
+        ``[calibration]`` table (``spiralcap.assemble.calibration``).
 
     Raises
     ------
@@ -150,4 +152,6 @@ def build_coils(design: Mapping[str, Any]) -> Any:
                 f"do not intersect (as solids they overlap by at least {-gap * 1e3:.3g} mm; "
                 "nest the pairs with sizes further apart or thinner packs)",
             )
-    return ThreeAxisHelmholtz(**pairs)
+    from spiralcap.assemble.calibration import apply_calibration
+
+    return apply_calibration(design, ThreeAxisHelmholtz(**pairs))

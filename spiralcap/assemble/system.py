@@ -123,7 +123,12 @@ def build_model(design: Design):
         objective=d["optimize.objective"],
         starts=d["optimize.starts"],
     )
+    from spiralcap.assemble.measured import measured_constants
+
+    measured_r20, measured_ind = measured_constants(d)
     return DesignModel(
+        measured_resistance_20C_ohm=measured_r20,
+        measured_inductance_H=measured_ind,
         coils=build_coils(d),
         capsule=build_capsule(d),
         tissues=tuple(build_tissues(d)),
@@ -157,7 +162,8 @@ def channel_limits(d: Design) -> dict[str, Any]:
     :class:`optimize.Limits` fields (SI; NaN where a pair has no limit of its own)."""
     out: dict[str, Any] = {}
     own = set()
-    for kind, unit in (("current", "A"), ("voltage", "V"), ("power", "W")):
+    kinds = (("current", "A"), ("voltage", "V"), ("power", "W"), ("apparent_power", "VA"))
+    for kind, unit in kinds:
         values = [d.get(f"limits.{ax}.{kind}_{unit}") for ax in "xyz"]
         if any(v is not None for v in values):
             out[f"axis_{kind}_{unit}"] = np.array(
@@ -203,6 +209,7 @@ _CHANNEL_KEYS = {
     "axis_current": "limits.{}.current_A",
     "axis_voltage": "limits.{}.voltage_V",
     "axis_power": "limits.{}.power_W",
+    "axis_apparent_power": "limits.{}.apparent_power_VA",
 }
 
 
@@ -314,6 +321,9 @@ def build_sizing(design: Design) -> Any:
     free = free_keys(design)
     if not free:
         return None
+    from spiralcap.assemble.measured import check_no_sizing
+
+    check_no_sizing(design, free)
     _check_free_sizes(design, free)
     variables = tuple(
         hw.FreeVariable(
@@ -381,10 +391,10 @@ def optimum_design_toml(design: Design, result: Any) -> str:
     }
     # a path the design names, relative to the file that named it, would point elsewhere from
     # the written file's folder: write it absolute
-    key = "tissue.uncertainty.covariance_from"
-    named = design.path_of(key) if values.get(key) is not None else None
-    if named is not None:
-        values[key] = os.path.abspath(named)
+    for key in ("tissue.uncertainty.covariance_from", "calibration.survey_csv"):
+        named = design.path_of(key) if values.get(key) is not None else None
+        if named is not None:
+            values[key] = os.path.abspath(named)
     head = (
         "# spiralcap design file written by `spiralcap optimize` "
         f"(objective {result.objective}).\n"

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import math
+from collections.abc import Sequence
 from typing import Any
 
 from spiralcap.commands._common import (
@@ -45,6 +46,15 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
         type=float,
         metavar="S",
         help="grid spacing of --field-grid, mm (default: the workspace diameter / 20)",
+    )
+    from spiralcap.commands._common import allow_negative_numbers
+
+    allow_negative_numbers(parser)  # --grid-box-mm -600,600,...
+    parser.add_argument(
+        "--grid-box-mm",
+        metavar="X0,X1,Y0,Y1,Z0,Z1",
+        help="the box --field-grid samples, mm from the coil centre (default: the cube round "
+        "the workspace sphere), e.g. -600,600,-600,600,0,0 for the x-y plane out to 600 mm",
     )
     parser.add_argument(
         "--cad-workspace",
@@ -250,7 +260,51 @@ def _operating_table(op: dict[str, Any]) -> str:
     )
 
 
-def _text(p: dict[str, Any], bom: str = "") -> str:
+def _calibration_lines(p: dict[str, Any]) -> list[str]:
+    """With calibrated coils: each pair's calibrated centre field per ampere, gain and tilt."""
+    cal = p.get("calibration")
+    if not cal:
+        return []
+    a = cal["actuation_matrix_T_per_A"]
+    lines = ["  calibrated coils (calibration.*: the field per ampere every figure uses):"]
+    for k, ax in enumerate("xyz"):
+        col = ", ".join(f"{a[c][k] * 1e3:+.5f}" for c in range(3))
+        lines.append(
+            f"    {ax} pair ({col}) mT/A at the centre: gain {cal['gain_factors'][ax]:.4f}, "
+            f"tilt {cal['axis_tilts_deg'][ax]:.3f} deg"
+        )
+    bg = ", ".join(f"{v * 1e6:+.3g}" for v in cal["background_field_T"])
+    lines.append(f"    background field ({bg}) uT, cancelled by the waveforms")
+    return lines
+
+
+def _measured_lines(axes: list[dict[str, Any]]) -> list[str]:
+    """Per measured pair: measured beside computed R and L, with the deviation (the measured
+    values are the ones every figure uses)."""
+    lines = []
+    for a in axes:
+        m = a.get("measured")
+        if not m:
+            continue
+        parts = []
+        if "resistance_ohm" in m:
+            parts.append(
+                f"R {m['resistance_ohm']:.4g} Ω at {m['temperature_C']:g} °C (computed "
+                f"{m['computed_resistance_ohm']:.4g} Ω, {m['resistance_deviation'] * 100:+.3g} %)"
+            )
+        if "inductance_H" in m:
+            parts.append(
+                f"L {m['inductance_H'] * 1e3:.4g} mH (computed "
+                f"{m['computed_inductance_H'] * 1e3:.4g} mH, {m['inductance_deviation'] * 100:+.3g} %)"
+            )
+        lines.append(
+            f"  {a['axis']} pair as measured (coils.{a['axis']}.measured.*, used): "
+            + "; ".join(parts)
+        )
+    return lines
+
+
+def _text(p: dict[str, Any], bom: str = "", stray: Sequence[str] = ()) -> str:
     """The operating point first (where the design runs), then what each pair may carry, the
     hardware, the amplifier rating in words, uniformity, clearances and the bill of materials."""
     axes = [p["axes"][ax] for ax in "xyz"]
@@ -294,6 +348,8 @@ def _text(p: dict[str, Any], bom: str = "") -> str:
         "the pairs (loop_mT_per_A: centre field per ampere with each coil one loop at its mean "
         "radius, the field model):",
         _hardware_table(axes),
+        *_measured_lines(axes),
+        *_calibration_lines(p),
         "",
         *_rating_lines(p),
         "",
@@ -308,6 +364,7 @@ def _text(p: dict[str, Any], bom: str = "") -> str:
         f" ({w['limit_key']}); the power limit alone allows "
         f"{w['per_limit_max_field_T']['power'] * 1e3:.4g} mT",
         "",
+        *([*stray, ""] if stray else []),
         *_clearance_lines(p),
     ]
     if bom:
@@ -342,7 +399,10 @@ def run(args: argparse.Namespace) -> int:
     if args.json:
         print_json(payload)
     else:
-        print(_text(payload, bom_table(analysis.bill_of_materials)))
+        from spiralcap.analysis.stray import stray_words
+
+        stray = stray_words(analysis.stray) if analysis.stray is not None else []
+        print(_text(payload, bom_table(analysis.bill_of_materials), stray))
     if args.plot:
         write_geometry(args.plot, design, quiet=args.json)
     if args.step or args.stl:
@@ -363,6 +423,41 @@ def _check_grid_arguments(args: argparse.Namespace) -> None:
             raise InputError("--grid-step-mm", args.grid_step_mm, "used with --field-grid")
         if not (math.isfinite(args.grid_step_mm) and args.grid_step_mm > 0):
             raise InputError("--grid-step-mm", args.grid_step_mm, "a grid spacing > 0 mm")
+    if getattr(args, "grid_box_mm", None) is not None:
+        if args.field_grid is None:
+            raise InputError("--grid-box-mm", args.grid_box_mm, "used with --field-grid")
+        parse_grid_box_mm(args.grid_box_mm)
+
+
+#: Largest distance from the centre a --grid-box-mm edge may have, mm (the model's room: 10 m).
+GRID_BOX_LIMIT_MM = 10_000.0
+
+
+def parse_grid_box_mm(text: str) -> tuple[float, ...]:
+    """``--grid-box-mm X0,X1,Y0,Y1,Z0,Z1`` as six numbers in m (lower <= upper on each axis).
+
+    Raises
+    ------
+    InputError
+        Not six finite numbers, a lower end above its upper end, or an edge beyond 10 m.
+    """
+    allowed = (
+        "six numbers X0,X1,Y0,Y1,Z0,Z1 in mm with X0 <= X1, Y0 <= Y1, Z0 <= Z1, each within "
+        f"+/-{GRID_BOX_LIMIT_MM:g} mm of the centre"
+    )
+    from spiralcap.core.errors import InputError
+
+    try:
+        values = [float(v) for v in str(text).split(",")]
+    except ValueError:
+        raise InputError("--grid-box-mm", text, allowed) from None
+    if len(values) != 6 or not all(
+        math.isfinite(v) and abs(v) <= GRID_BOX_LIMIT_MM for v in values
+    ):
+        raise InputError("--grid-box-mm", text, allowed)
+    if any(values[2 * i] > values[2 * i + 1] for i in range(3)):
+        raise InputError("--grid-box-mm", text, allowed)
+    return tuple(v * 1e-3 for v in values)
 
 
 def _field_grid(args: argparse.Namespace, design: Any) -> Any:
@@ -372,7 +467,9 @@ def _field_grid(args: argparse.Namespace, design: Any) -> Any:
     from spiralcap.export import field_grid
 
     step = None if args.grid_step_mm is None else args.grid_step_mm * 1e-3
-    return field_grid(design, float(design["workspace.radius_m"]), step)
+    box = getattr(args, "grid_box_mm", None)
+    box_m = None if box is None else parse_grid_box_mm(box)
+    return field_grid(design, float(design["workspace.radius_m"]), step, box_m)
 
 
 def _write_grid(args: argparse.Namespace, grid: Any) -> None:

@@ -25,6 +25,7 @@ import numpy as np
 
 __all__ = [
     "Plot",
+    "calibration_residuals",
     "field_maps",
     "geometry",
     "heating",
@@ -33,6 +34,7 @@ __all__ = [
     "margin_vs_angle",
     "margin_vs_frequency",
     "margin_vs_power",
+    "stray_field_map",
     "tissue_torque",
     "tissue_uncertainty",
     "torque_budget",
@@ -480,3 +482,79 @@ def tissue_uncertainty(result: Any, *, fig: Any = None) -> Plot:
     ax1, ax2 = fig.subplots(1, 2, width_ratios=[1.4, 1.0])
     drawn = {**plot_margin_distribution(ax1, result), **plot_sobol(ax2, result)}
     return Plot(fig, ax1, drawn)
+
+
+def stray_field_map(
+    model: Any,
+    field_T: float,
+    half_width_m: float,
+    *,
+    level_T: float | None = None,
+    fig: Any = None,
+    planes: Any = None,
+) -> Plot:
+    """Largest |B| over a turn (every heading) at the operating field on the x–z and x–y planes
+    out to ``half_width_m``, with the ``level_T`` contour (default 0.5 mT, ICNIRP 2009 for
+    implanted devices) and the coil packs."""
+    from spiralcap.analysis.stray import IMPLANT_LEVEL_T, peak_field_plane
+    from spiralcap.figures.coils import plot_stray_plane
+
+    fig = _figure(fig, (7.5, 3.6))
+    half = float(half_width_m)
+    level = IMPLANT_LEVEL_T if level_T is None else float(level_T)
+    planes = planes or [peak_field_plane(model, field_T, p, half, 45) for p in ("xz", "xy")]
+    axs = fig.subplots(1, 2)
+    drawn = [plot_stray_plane(ax, p, model.coils, level) for ax, p in zip(axs, planes, strict=True)]
+    fig.colorbar(
+        drawn[-1],
+        ax=list(axs),
+        label="largest |B| over a turn (mT)",
+        shrink=0.85,
+        location="right",
+        format="%g",
+        ticks=(0.05, 0.1, 0.5, 1, 5, 10, 50, 100),
+    )
+    return Plot(fig, axs[0], tuple(planes))
+
+
+def calibration_residuals(check: Any, *, fig: Any = None) -> Plot:
+    """A calibrated design's survey: measured against the calibrated model (every row and
+    component, mT) and the residual against the measured |B| (µT)
+    (:func:`spiralcap.analysis.calibration.calibration_check`)."""
+    from spiralcap.figures.style import COLOURS, MARKERS
+
+    fig = _figure(fig, (7.5, 3.3))
+    measured = np.asarray(check.measured_T) * 1e3
+    predicted = np.asarray(check.predicted_T) * 1e3
+    left, right = fig.subplots(1, 2)
+    lo, hi = (
+        float(min(measured.min(), predicted.min())),
+        float(max(measured.max(), predicted.max())),
+    )
+    left.plot([lo, hi], [lo, hi], color="0.5", linewidth=1.0, label="model = measured")
+    for c, ax in enumerate("xyz"):
+        left.plot(
+            predicted[:, c],
+            measured[:, c],
+            linestyle="none",
+            marker=MARKERS[c],
+            markersize=3.5,
+            color=COLOURS[c],
+            label=f"B{ax}",
+        )
+        right.plot(
+            np.linalg.norm(measured, axis=1),
+            (measured[:, c] - predicted[:, c]) * 1e3,
+            linestyle="none",
+            marker=MARKERS[c],
+            markersize=3.5,
+            color=COLOURS[c],
+            label=f"B{ax}",
+        )
+    left.set_xlabel("calibrated model (mT)")
+    left.set_ylabel("measured (mT)")
+    left.legend(fontsize=7.5, loc="upper left")
+    right.axhline(0.0, color="0.5", linewidth=1.0)
+    right.set_xlabel("|B| measured (mT)")
+    right.set_ylabel("measured − model (µT)")
+    return Plot(fig, left, None)

@@ -245,3 +245,45 @@ def plot_uniformity_profile(
     ax.set_ylabel("|B| / |B(0)| − 1 (%)")
     ax.legend(loc="best", fontsize=7.5, ncols=2)
     return ProfileDrawn(lines, bands)
+
+
+#: Filled levels of the stray-field map, mT (log-spaced round numbers).
+STRAY_LEVELS_mT = (0.05, 0.1, 0.2, 0.5, 1.0, 2.0, 5.0, 10.0, 20.0, 50.0, 100.0)
+
+
+def plot_stray_plane(ax: Any, plane: Any, coils: Any, level_T: float) -> Any:
+    """One plane of the stray-field map: filled log levels (mT), the ``level_T`` contour thick,
+    the packs of the pairs whose axes lie in the plane as rectangles, the third pair's outline
+    dashed. Returns the filled contour set (for a colour bar)."""
+    from matplotlib.colors import BoundaryNorm
+    from matplotlib.patches import Circle, Rectangle
+
+    u, v = np.asarray(plane.u_m) * 1e3, np.asarray(plane.v_m) * 1e3
+    peak = np.asarray(plane.peak_T) * 1e3
+    levels = list(STRAY_LEVELS_mT)
+    norm = BoundaryNorm(levels, 256, extend="both")
+    filled = ax.contourf(u, v, peak, levels=levels, cmap="Greys", norm=norm, extend="both")
+    line = ax.contour(u, v, peak, levels=[level_T * 1e3], colors="#D55E00", linewidths=2.0)
+    ax.clabel(line, fmt=lambda x: f"{x:g} mT", fontsize=8)
+    second = {"xz": 2, "xy": 1}[plane.plane]
+    for k, pair in enumerate(coils.pairs):
+        size_mm = float(pair.radius_m) * 1e3
+        if k in (0, second):  # the pair's axis lies in the plane: its packs cut it
+            w, h = pair.winding_pack_width_m * 1e3, pair.winding_pack_depth_m * 1e3
+            for a in (-0.5, 0.5):
+                for r in (-1.0, 1.0):
+                    c_ax, c_r = a * pair.separation_m * 1e3, r * size_mm
+                    x0, y0 = (c_ax - w / 2, c_r - h / 2) if k == 0 else (c_r - h / 2, c_ax - w / 2)
+                    dx, dy = (w, h) if k == 0 else (h, w)
+                    ax.add_patch(Rectangle((x0, y0), dx, dy, facecolor="#0072B2", edgecolor="none"))
+        elif getattr(pair, "shape", "circle") == "square":
+            s2 = size_mm
+            ax.add_patch(Rectangle((-s2, -s2), 2 * s2, 2 * s2, fill=False, linestyle="--", lw=1))
+        else:
+            ax.add_patch(Circle((0, 0), size_mm, fill=False, linestyle="--", linewidth=1.0))
+    names = {"xz": ("x (mm)", "z (mm)"), "xy": ("x (mm)", "y (mm)")}[plane.plane]
+    ax.set_xlabel(names[0])
+    ax.set_ylabel(names[1])
+    ax.set_aspect("equal")
+    ax.set_title(f"{plane.plane[0]}–{plane.plane[1]} plane through the centre", fontsize=9)
+    return filled

@@ -44,6 +44,11 @@ def report_payload(data: Any) -> dict[str, Any]:
     extra: dict[str, Any] = {}
     if data.uncertainty is not None:  # only with tissue uncertainty: the layout is unchanged
         extra["uncertainty"] = uncertainty.payload(data.uncertainty)
+    from spiralcap.report.sections import calibration
+
+    check = calibration.calibration_check(design, data.model)
+    if check is not None:  # only with a [calibration] table
+        extra["calibration"] = calibration.payload(check)
     return _jsonable(
         {
             "format": DATA_FORMAT,

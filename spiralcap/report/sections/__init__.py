@@ -5,6 +5,7 @@ from __future__ import annotations
 from spiralcap.report.document import Section
 from spiralcap.report.sections import (
     assumptions,
+    calibration,
     coils,
     comparison,
     conclusion,
@@ -27,10 +28,13 @@ def build_sections(ctx: Context, command: str) -> list[Section]:
     tissue uncertainty only when the design has one)."""
     compared = comparison.build(ctx)
     uncertain = uncertainty.build(ctx, getattr(ctx.data, "uncertainty", None))
+    check = calibration.calibration_check(ctx.data.design, ctx.data.model)
+    calibrated = calibration.build(ctx, check)
     return [
         summary.build(ctx),
         inputs.build(ctx),
         coils.build(ctx),
+        *([calibrated] if calibrated is not None else []),
         tissue.build(ctx),
         margin.build(ctx),
         *([uncertain] if uncertain is not None else []),

@@ -237,8 +237,31 @@ def _draw_heating(data: Any, session_s: float | None) -> Any:
     return draw
 
 
+def _draw_stray(data: Any) -> Any:
+    def draw(fig: Any) -> None:
+        from spiralcap.figures.api import stray_field_map
+
+        block = data.coils_json["stray_field"]
+        stray_field_map(
+            data.model,
+            float(block["field_amplitude_T"]),
+            _stray_half_width_m(block),
+            level_T=float(block["level_T"]),
+            fig=fig,
+        )
+
+    return draw
+
+
+def _stray_half_width_m(block: dict[str, Any]) -> float:
+    """Half the side the stray-field map covers: 1.25 x the farthest fade distance, m."""
+    finite = [v for k, v in block["fade_distance_m"].items() if k in ("x", "y", "z")]
+    return 1.25 * max(finite) if finite else float(block["search_reach_m"])
+
+
 #: Size (in) of each figure :func:`coil_figures` draws.
 _SIZES_IN = {
+    "fig-stray-field": (7.5, 3.6),
     "fig-geometry": (7.0, 3.5),
     "fig-field-maps": (7.5, 3.5),
     "fig-field-profiles": (7.0, 4.0),
@@ -269,6 +292,7 @@ _FACTORIES: dict[str, Any] = {
     "fig-field-maps": lambda d: _draw_maps(d, _workspace_m(d)),
     "fig-field-profiles": _draw_profiles,
     "fig-heating": lambda d: _draw_heating(d, _session_s(d.design, d.coils_json)),
+    "fig-stray-field": _draw_stray,
 }
 
 
@@ -281,6 +305,7 @@ def coil_figures(data: Any) -> dict[str, tuple[Any, tuple[float, float]]]:
     its figure blocks from the same functions.
     """
     ids = [k for k in _FACTORIES if k != "fig-heating" or data.heating]
+    ids = [k for k in ids if k != "fig-stray-field" or "stray_field" in data.coils_json]
     return {k: (_FACTORIES[k](data), _SIZES_IN[k]) for k in ids}
 
 
@@ -465,6 +490,7 @@ def build(ctx: Context) -> Section:
             )
         )
     blocks.append(_sizing_table(ctx))
+    blocks += measured_blocks(ctx)
     blocks.append(_build_paragraph(ctx))
     blocks.append(_bom_table(ctx))
     blocks.append(
@@ -512,4 +538,101 @@ def build(ctx: Context) -> Section:
         )
     )
     blocks += heating_blocks(ctx)
+    blocks += stray_blocks(ctx)
     return Section("coils", "Coil sizing and field uniformity", blocks)
+
+
+def measured_blocks(ctx: Context) -> list[Any]:
+    """The lab's measured pairs (``coils.axes.<p>.measured``) beside the computed constants."""
+    parts: list[Any] = []
+    for ax in ctx.value("coils.axes"):
+        m = ctx.value(f"coils.axes.{ax}").get("measured")
+        if not m:
+            continue
+        base = f"coils.axes.{ax}.measured"
+        parts.append(f"The {ax} pair as measured: ")
+        if "resistance_ohm" in m:
+            parts += [
+                ctx.num(f"{base}.resistance_ohm", unit="Ω"),
+                f" at {m['temperature_C']:g} °C against ",
+                ctx.num(f"{base}.computed_resistance_ohm", unit="Ω"),
+                " computed (measured / computed − 1: ",
+                ctx.num(f"{base}.resistance_deviation", 100.0, "%"),
+                ")",
+            ]
+        if "inductance_H" in m:
+            parts += [
+                "; " if "resistance_ohm" in m else "",
+                ctx.num(f"{base}.inductance_H", 1e3, "mH"),
+                " against ",
+                ctx.num(f"{base}.computed_inductance_H", 1e3, "mH"),
+                " computed (",
+                ctx.num(f"{base}.inductance_deviation", 100.0, "%"),
+                ")",
+            ]
+        parts.append(". ")
+    if not parts:
+        return []
+    return [
+        Paragraph(
+            [
+                Strong("Measured pairs. "),
+                *parts,
+                "The measured values (coils.<pair>.measured.*) replace the computed ones in "
+                "the table above and in every voltage, power, heating and waveform figure of "
+                "this report; the resistance follows copper's temperature coefficient from its "
+                "measuring temperature. A deviation beyond 15 % points at the turn count, the "
+                "wire size, series or parallel wiring of the two coils, or the leads.",
+            ]
+        )
+    ]
+
+
+def stray_blocks(ctx: Context) -> list[Any]:
+    """The stray field and the exposure crossings (``coils.stray_field``) and their map."""
+    if "stray_field" not in ctx.value("coils"):
+        return []
+    s = "coils.stray_field"
+    fade = ctx.value(f"{s}.fade_distance_m")
+    parts: list[Any] = [
+        Strong("Stray field and exposure. "),
+        "At the operating field (",
+        ctx.num(f"{s}.field_amplitude_T", 1e3, "mT"),
+        " at the centre) the largest |B| over a turn, over every heading, falls below ",
+        ctx.num(f"{s}.level_T", 1e3, "mT"),
+        " (ICNIRP 2009's level for people with implanted devices such as pacemakers) beyond ",
+    ]
+    for i, ax in enumerate("xyz"):
+        parts.append(f"{', ' if i else ''}{ax} ")
+        if ax in fade:
+            parts.append(ctx.num(f"{s}.fade_distance_m.{ax}", 1e3, "mm"))
+        else:
+            parts += ["more than ", ctx.num(f"{s}.search_reach_m", 1e3, "mm")]
+    parts.append(" from the centre along each axis (")
+    parts += [Ref("fig-stray-field"), "). "]
+    crossing = ctx.value(f"{s}.exposure_crossing_hz")
+    for kind in ("occupational", "public"):
+        if kind in crossing and crossing[kind] > 0:
+            parts += [
+                f"It exceeds ICNIRP 2010's {kind} reference level at rotation frequencies above ",
+                ctx.num(f"{s}.exposure_crossing_hz.{kind}", unit="Hz"),
+                ". ",
+            ]
+        elif kind in crossing:
+            parts.append(f"It exceeds ICNIRP 2010's {kind} reference level at every frequency. ")
+        else:
+            parts.append(
+                f"It stays below ICNIRP 2010's {kind} reference level at every frequency. "
+            )
+    return [
+        Paragraph(parts),
+        _figure(
+            ctx.data,
+            "fig-stray-field",
+            "Largest |B| over a turn, over every heading, at the operating field on the x–z and "
+            "x–y planes through the coil centre (grey levels, mT), from the calibrated coils "
+            "where the design carries a calibration. Orange: the 0.5 mT contour (ICNIRP 2009, "
+            "implanted devices); blue: the winding packs cut by the plane; dashed: the outline "
+            "of the pair whose axis is normal to the plane.",
+        ),
+    ]
