@@ -256,7 +256,7 @@ def plot_stray_plane(ax: Any, plane: Any, coils: Any, level_T: float) -> Any:
     the packs of the pairs whose axes lie in the plane as rectangles, the third pair's outline
     dashed. Returns the filled contour set (for a colour bar)."""
     from matplotlib.colors import BoundaryNorm
-    from matplotlib.patches import Circle, Rectangle
+    from matplotlib.patches import Polygon, Rectangle
 
     u, v = np.asarray(plane.u_m) * 1e3, np.asarray(plane.v_m) * 1e3
     peak = np.asarray(plane.peak_T) * 1e3
@@ -276,11 +276,10 @@ def plot_stray_plane(ax: Any, plane: Any, coils: Any, level_T: float) -> Any:
                     x0, y0 = (c_ax - w / 2, c_r - h / 2) if k == 0 else (c_r - h / 2, c_ax - w / 2)
                     dx, dy = (w, h) if k == 0 else (h, w)
                     ax.add_patch(Rectangle((x0, y0), dx, dy, facecolor="#0072B2", edgecolor="none"))
-        elif getattr(pair, "shape", "circle") == "square":
-            s2 = size_mm
-            ax.add_patch(Rectangle((-s2, -s2), 2 * s2, 2 * s2, fill=False, linestyle="--", lw=1))
-        else:
-            ax.add_patch(Circle((0, 0), size_mm, fill=False, linestyle="--", linewidth=1.0))
+        else:  # the pair's mean turn, as the pair itself draws it (any shape)
+            pts = pair.mean_turn_points(k, pair.sizes_m, 0.0, 200) * 1e3
+            uv = [i for i in range(3) if i != k]
+            ax.add_patch(Polygon(pts[:, uv], closed=True, fill=False, linestyle="--", lw=1.0))
     names = {"xz": ("x (mm)", "z (mm)"), "xy": ("x (mm)", "y (mm)")}[plane.plane]
     ax.set_xlabel(names[0])
     ax.set_ylabel(names[1])
