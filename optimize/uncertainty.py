@@ -362,7 +362,9 @@ class MarginProblem:
         return float(self.requirements.min_wall_strain)
 
     def nominal_margin_Nm(self) -> float:
-        """The deterministic worst-case margin (the nominal tissue sets), N·m.
+        """The deterministic worst-case margin (the nominal tissue sets), N·m; NaN where the
+        spiral does not touch some nominal wall (no contact: the model has no margin there, as
+        :func:`optimize.evaluate`).
 
         Returns
         -------
@@ -376,6 +378,9 @@ class MarginProblem:
             self.tissues,
             self.requirements,
         )
+        strains = ph.wall_strains(self.helical_angle_rad, self.constants, self.tissues)
+        if min(float(e) for e in strains) <= 0.0:
+            return math.nan
         return self.available_torque_Nm - max(float(r + t) for r, t in pairs)
 
 

@@ -147,7 +147,12 @@ class _UncertaintyStudyView:
         r = st.result
         rows: list[tuple[str, Any]] = [
             ("samples", r.samples),
-            ("nominal margin (mN·m)", r.nominal_margin_Nm * 1e3),
+            (
+                "nominal margin (mN·m)",
+                "none (no contact)"
+                if r.nominal_margin_Nm != r.nominal_margin_Nm  # NaN: no contact, no margin
+                else r.nominal_margin_Nm * 1e3,
+            ),
             ("failure probability (step-out or lost grip)", r.failure_probability),
             ("step-out probability", r.stepout_probability),
             ("below-minimum-strain probability", r.below_min_strain.value),

@@ -10,6 +10,8 @@ samples run in chunks here, in worker processes or on a Dask cluster
 
 from __future__ import annotations
 
+import math
+
 import time
 from dataclasses import dataclass
 from typing import Any, ClassVar
@@ -131,6 +133,14 @@ def failure_to_dict(r: Any) -> dict[str, Any]:
     }
 
 
+def _nominal_margin(margin_Nm: float) -> dict[str, Any]:
+    """The nominal margin's JSON keys: absent, with ``nominal_margin_Nm_undefined``, where the
+    nominal spiral does not touch some wall (the rule of ``margin_Nm`` in evaluate's JSON)."""
+    if math.isnan(margin_Nm):
+        return {"nominal_margin_Nm_undefined": True}
+    return {"nominal_margin_Nm": margin_Nm}
+
+
 def study_to_dict(st: Study, design_source: str = "") -> dict[str, Any]:
     """JSON-ready mapping (SI units in every key)."""
     from optimize import uncertainty as uq
@@ -144,7 +154,7 @@ def study_to_dict(st: Study, design_source: str = "") -> dict[str, Any]:
         "ran_on": st.where,
         "elapsed_s": st.elapsed_s,
         "uncertain_inputs": list(dict.fromkeys(g for _, g in st.uncertainty.factors())),
-        "nominal_margin_Nm": r.nominal_margin_Nm,
+        **_nominal_margin(r.nominal_margin_Nm),
         "available_torque_Nm": r.available_torque_Nm,
         "failure_probability": failure_to_dict(r),
         "stepout_probability": r.stepout_probability,

@@ -278,3 +278,23 @@ def test_grip_rows_only_where_the_scenarios_move_the_strain():
         strain = (d_prime - t.lumen_diameter_m) / (t.lumen_diameter_m + t.wall_thickness_m)
         grip = np.asarray(rb_[len(base.tissues) + k])
         assert np.array_equal(grip < 0, strain < eps), "grip margin < 0 <=> strain < minimum"
+
+
+def test_nominal_margin_absent_without_nominal_contact():
+    """A nominal lumen wider than D' (11.8 mm against D' of about 11.3 mm at 20 deg): the model
+    has no margin there, so the nominal margin is NaN, as evaluate's (and absent from the JSON
+    with its ``_undefined`` flag); with contact it is evaluate's margin."""
+    from spiralcap.uncertainty import _nominal_margin
+
+    for lumen, contact in (("11.8", False), ("10.9", True)):
+        design = load_design(None, [*EDGE, LUMEN, f"tissue.lumen_diameter_mm={lumen}"])
+        model = build_model(design)
+        nominal = uq.margin_problem(model, build_uncertainty(design)).nominal_margin_Nm()
+        ev = evaluate(model)
+        assert (ev.grip != "none") == contact, f"lumen {lumen} mm: contact by evaluate"
+        if contact:
+            assert nominal == pytest.approx(ev.margin_Nm, rel=1e-9), "nominal = evaluate's margin"
+            assert _nominal_margin(nominal) == {"nominal_margin_Nm": nominal}
+        else:
+            assert math.isnan(nominal) and math.isnan(ev.margin_Nm), "no contact: no margin"
+            assert _nominal_margin(nominal) == {"nominal_margin_Nm_undefined": True}

@@ -9,6 +9,8 @@ numbers bit for bit.
 
 from __future__ import annotations
 
+import math
+
 import argparse
 from typing import Any
 
@@ -100,7 +102,7 @@ def format_study(st: Study, design_source: str = "") -> str:
         f"  below min strain  {share(r.below_min_strain)}{below_exact}",
         f"  no contact        {share(r.no_grip)}; exact {100 * closed['no_grip']:.4g} % "
         "(a sampled lumen as wide as the spiral: no grip, no screw)",
-        f"nominal margin      {r.nominal_margin_Nm * 1e3:.4g} mN·m "
+        f"nominal margin      {_nominal_words(r.nominal_margin_Nm)} "
         f"(magnetic torque {r.available_torque_Nm * 1e3:.4g} mN·m)",
         "margin, mN·m        " + "  ".join(f"{k} {v * 1e3:.4g}" for k, v in mp.items()),
         "                    (a sample below the minimum strain counts as min(margin, 0))",
@@ -164,3 +166,10 @@ def run(args: argparse.Namespace) -> int:
         if args.plot:
             print(f"wrote {args.plot}")
     return 0
+
+
+def _nominal_words(margin_Nm: float) -> str:
+    """The nominal margin in mN·m, or that there is none (no contact at the nominal tissue)."""
+    if math.isnan(margin_Nm):
+        return "none (no contact at the nominal lumen)"
+    return f"{margin_Nm * 1e3:.4g} mN·m"

@@ -64,8 +64,11 @@ def plot_margin_distribution(ax: Any, result: Any) -> dict[str, Any]:
     line_p05 = ax.axvline(
         p05, color=COLOURS[1], linestyle="--", label=f"p05 (counted) = {p05:.3g} mN·m"
     )
-    nom = result.nominal_margin_Nm * 1e3
-    line_nom = ax.axvline(nom, color="black", linestyle=":", label=f"nominal = {nom:.3g} mN·m")
+    nom = result.nominal_margin_Nm * 1e3  # NaN: no contact at the nominal lumen, no margin
+    nom_label = "nominal: no contact, no margin" if np.isnan(nom) else f"nominal = {nom:.3g} mN·m"
+    line_nom = ax.axvline(0.0 if np.isnan(nom) else nom, color="black", linestyle=":")
+    line_nom.set_label(nom_label)
+    line_nom.set_visible(not np.isnan(nom))
     ax.set_xlim(lo, hi)
     ax.set_xlabel("worst-case torque margin (mN·m)")
     ax.set_ylabel("probability density (1/mN·m)")
