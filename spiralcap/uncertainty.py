@@ -11,7 +11,6 @@ samples run in chunks here, in worker processes or on a Dask cluster
 from __future__ import annotations
 
 import math
-
 import time
 from dataclasses import dataclass
 from typing import Any, ClassVar

@@ -9,9 +9,8 @@ numbers bit for bit.
 
 from __future__ import annotations
 
-import math
-
 import argparse
+import math
 from typing import Any
 
 from spiralcap.commands._common import (
