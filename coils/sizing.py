@@ -67,6 +67,8 @@ class AxisSizing:
         Centre field per ampere of the field model (each coil one loop at its mean radius), T/A.
     pack_field_per_amp_T_per_A : float
         The same with the current spread over the winding pack, T/A.
+    current_amplitude_A : float
+        The current amplitude this pair is sized at (its amplifier channel's limit), A.
     resistance_20C_ohm, resistance_ohm : float
         Resistance of the pair at 20 °C and at its mean winding temperature, Ω.
     self_inductance_H, mutual_inductance_H, inductance_H : float
@@ -136,6 +138,7 @@ class AxisSizing:
     pack_field_per_amp_T_per_A: float = math.nan
     shape: str = "circle"
     side_m: float | None = None
+    current_amplitude_A: float = math.nan
 
 
 @dataclass(frozen=True)
@@ -243,7 +246,7 @@ def size_system(
     system: ThreeAxisHelmholtz,
     *,
     frequency_hz: float,
-    current_amplitude_A: float,
+    current_amplitude_A: float | tuple[float, ...],
     ambient_temperature_C: float,
     heat_transfer_coefficient_W_m2K: float | None,
     winding_conductivity_W_mK: float = 0.5,
@@ -260,8 +263,9 @@ def size_system(
         The coils.
     frequency_hz : float
         Drive frequency, Hz.
-    current_amplitude_A : float
-        Current amplitude of every pair, and the current limit, A.
+    current_amplitude_A : float or tuple of 3 floats
+        Current amplitude of every pair, and the current limit, A; or one per pair (x, y, z:
+        each pair's own amplifier channel).
     ambient_temperature_C : float
         Air temperature, °C.
     heat_transfer_coefficient_W_m2K : float or None
@@ -299,10 +303,9 @@ def size_system(
             )
             for pair in system.pairs
         )
+    amps = _pair_currents(current_amplitude_A)
     r20s = [pair.resistance_ohm(20.0) for pair in system.pairs]
-    together = pair_temperatures(
-        packs, r20s, (current_amplitude_A,) * 3, ambient_temperature_C, view_factors
-    )
+    together = pair_temperatures(packs, r20s, amps, ambient_temperature_C, view_factors)
     for k, pair in enumerate(system.pairs):
         pack, r20, st = packs[k], r20s[k], together[k]
         if float(st.runaway) > 0.5:  # no steady state: report NaN, not the bounding iterate
@@ -333,7 +336,7 @@ def size_system(
                 mutual_inductance_H=pair.mutual_inductance_H,
                 inductance_H=pair.series_inductance_H,
                 impedance_ohm=z,
-                voltage_amplitude_V=z * current_amplitude_A,
+                voltage_amplitude_V=z * amps[k],
                 power_W=float(st.power_W),
                 surface_conductance_W_per_K=float(pack.surface_area_m2 * st.effective_h_W_m2K),
                 surface_temperature_C=float(st.surface_C),
@@ -345,16 +348,17 @@ def size_system(
                 surface_max_temperature_C=float(st.surface_max_C),
                 convection_coefficient_W_m2K=float(st.convection_W_m2K),
                 radiation_view_factor=1.0 if view_factors is None else float(view_factors[k][0]),
-                field_amplitude_T=g * current_amplitude_A,
+                field_amplitude_T=g * amps[k],
                 pack_field_per_amp_T_per_A=pair.pack_centre_field_per_amp_T_per_A,
+                current_amplitude_A=amps[k],
             )
         )
     weakest = min(a.field_amplitude_T for a in axes)
     tied = tuple(a.axis for a in axes if a.field_amplitude_T <= weakest * (1.0 + 1e-9))
-    worst = _worst_heading(system, states, current_amplitude_A, ambient_temperature_C, headings)
+    worst = _worst_heading(system, states, amps, ambient_temperature_C, headings)
     return SystemSizing(
         frequency_hz=frequency_hz,
-        current_amplitude_A=current_amplitude_A,
+        current_amplitude_A=max(amps),
         ambient_temperature_C=ambient_temperature_C,
         heat_transfer_coefficient_W_m2K=heat_transfer_coefficient_W_m2K,
         winding_conductivity_W_mK=winding_conductivity_W_mK,
@@ -368,10 +372,27 @@ def size_system(
     )
 
 
+def _pair_currents(current_amplitude_A: float | tuple[float, ...]) -> tuple[float, float, float]:
+    """The three pairs' current amplitudes, A: one for all, or one per pair (each > 0, finite)."""
+    from spiralcap.core.checks import positive_finite
+
+    if np.ndim(current_amplitude_A) == 0:
+        one = positive_finite("current_amplitude_A", current_amplitude_A)
+        return (one, one, one)
+    amps = tuple(float(a) for a in np.asarray(current_amplitude_A, dtype=float).ravel())
+    if len(amps) != 3:
+        raise ValueError(
+            f"current_amplitude_A = {current_amplitude_A!r}: one current, or three (x, y, z), A"
+        )
+    for ax, a in zip("xyz", amps):
+        positive_finite(f"current_amplitude_A[{ax}]", a)
+    return (amps[0], amps[1], amps[2])
+
+
 def _worst_heading(
     system: ThreeAxisHelmholtz,
     states: list,
-    current_A: float,
+    current_A: tuple[float, float, float],
     ambient_C: float,
     headings: np.ndarray | None,
 ) -> WorstHeading:
@@ -383,7 +404,8 @@ def _worst_heading(
     h = h / np.linalg.norm(h, axis=1, keepdims=True)
     g = np.array([p.centre_field_per_amp_T_per_A for p in system.pairs])
     per_T = np.sqrt(np.clip(1.0 - h**2, 0.0, 1.0)) / g  # (h, 3) A per T
-    field = current_A / np.max(per_T, axis=1)
+    with np.errstate(divide="ignore"):  # an axis a heading does not use caps nothing
+        field = np.min(np.asarray(current_A)[None, :] / per_T, axis=1)
     currents = field[:, None] * per_T
     loss = np.zeros(h.shape[0])
     for k, (state, r20) in enumerate(states):

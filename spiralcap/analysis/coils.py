@@ -30,6 +30,7 @@ class AxisLimit:
     max_current_A: float
     max_current_limited_by: str
     max_rotating_field_T: float
+    max_current_limit_key: str = ""  # the design key of that limit ("" for an unused pair)
 
 
 @dataclass(frozen=True)
@@ -114,6 +115,8 @@ class CoilAnalysis(Viewable):
     bore_radius_m: float = 0.0
     bill_of_materials: tuple = ()  # spiralcap.analysis.bom.BomRow per pair
     warnings: tuple[str, ...] = ()  # spiralcap.analysis.touch: a pack surface too hot to hold
+    #: each pair's amplifier current key: ``limits.x.current_A`` where set, else the global one
+    current_keys: tuple[str, ...] = ("limits.current_A",) * 3
 
 
 def _uniform(system: Any) -> UniformRegions:
@@ -220,13 +223,16 @@ def analyse_coils(design: Any, model: Any = None) -> CoilAnalysis:
     from coils import size_system
     from optimize import physics, prepare
     from spiralcap.assemble import build_model
+    from spiralcap.assemble.system import constraint_key
 
     model = prepare(model if model is not None else build_model(design))
     c = model.constants
+    # each pair at its own amplifier channel's current where limits.{x,y,z}.current_A is set
+    channels = tuple(float(model.limits.channel("current", k)[1]) for k in range(3))
     sizing = size_system(
         model.coils,
         frequency_hz=model.frequency_hz,
-        current_amplitude_A=model.limits.current_A,
+        current_amplitude_A=channels,
         ambient_temperature_C=model.ambient_temperature_C,
         heat_transfer_coefficient_W_m2K=model.heat_transfer_coefficient_W_m2K,
         winding_conductivity_W_mK=model.winding_conductivity_W_mK,
@@ -248,8 +254,9 @@ def analyse_coils(design: Any, model: Any = None) -> CoilAnalysis:
             AxisLimit(
                 axis=ax,
                 max_current_A=amps,
-                max_current_limited_by=name[: -len(f"_{ax}")],
+                max_current_limited_by=stable_limit_name(name)[: -len(f"_{ax}")],
                 max_rotating_field_T=best,
+                max_current_limit_key=constraint_key(name),
             )
         )
     fixed = model.field_amplitude_T is not None
@@ -275,6 +282,7 @@ def analyse_coils(design: Any, model: Any = None) -> CoilAnalysis:
         pack_clearances_m=pack_clearances_m(model.coils.pairs),
         bore_clearance_m=bore_clearance_m(model.coils.pairs, req.bore_radius_m),
         bore_radius_m=float(req.bore_radius_m),
+        current_keys=tuple(constraint_key(model.limits.channel("current", k)[0]) for k in range(3)),
     )
     from spiralcap.analysis.touch import touch_warning
 
@@ -284,6 +292,13 @@ def analyse_coils(design: Any, model: Any = None) -> CoilAnalysis:
         bill_of_materials=bill_of_materials(model, analysis),
         warnings=() if touch is None else (touch.words(),),
     )
+
+
+def stable_limit_name(name: str) -> str:
+    """A limit's name in the JSON, the same whichever amplifier channel sets it:
+    ``axis_voltage_y`` (the y pair's own channel, ``limits.y.voltage_V``) -> ``voltage_y``, as
+    the global limit's row is named; the design key that sets it is in ``per_limit_key``."""
+    return name[len("axis_") :] if name.startswith("axis_") else name
 
 
 def coils_payload(a: CoilAnalysis) -> dict[str, Any]:
@@ -302,6 +317,8 @@ def coils_payload(a: CoilAnalysis) -> dict[str, Any]:
         }
         for s in sizing["axes"]
     }
+    for ax, key in zip(_AXES, a.current_keys):  # the amplifier channel each pair is sized at
+        sizing["axes"][ax]["current_limit_key"] = key
     for s in sizing["axes"].values():  # a side only on a square pair (radius_m: half of it)
         if s["side_m"] is None:
             del s["side_m"]
@@ -325,15 +342,20 @@ def coils_payload(a: CoilAnalysis) -> dict[str, Any]:
         },
     }
     from spiralcap.assemble.system import constraint_key
+    from spiralcap.presentation import readable
 
     return {
         "design": a.design,
         **sizing,
         "rotating_field_within_limits": {
             "max_rotating_field_T": a.capacity.field_T,
-            "limited_by": a.capacity.limited_by,
+            "limited_by": stable_limit_name(a.capacity.limited_by),
+            "limited_by_words": readable(a.capacity.limited_by),
             "limit_key": constraint_key(a.capacity.limited_by),
-            "per_limit_max_field_T": dict(a.capacity.caps_T),
+            "per_limit_max_field_T": {
+                stable_limit_name(k): v for k, v in a.capacity.caps_T.items()
+            },
+            "per_limit_key": {stable_limit_name(k): constraint_key(k) for k in a.capacity.caps_T},
         },
         "operating_point": {
             "field_amplitude_T": a.operating_field_T,

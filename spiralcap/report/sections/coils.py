@@ -371,6 +371,24 @@ def _total_power_parts(ctx: Context) -> list[Any]:
     ]
 
 
+def _rating_parts(ctx: Context) -> list[Any]:
+    """The current each pair is sized at: one amplifier rating (``limits.current_A``), or each
+    pair's own channel (``limits.x.current_A``) where one is set."""
+    keys = [str(ctx.value(f"coils.axes.{ax}.current_limit_key")) for ax in "xyz"]
+    amps = [float(ctx.value(f"coils.axes.{ax}.current_amplitude_A")) for ax in "xyz"]
+    if keys == ["limits.current_A"] * 3 and len(set(amps)) == 1:
+        return [
+            "Each pair is sized at the current-amplitude limit ",
+            ctx.num("coils.axes.x.current_amplitude_A", unit="A"),
+            " (limits.current_A)",
+        ]
+    out: list[Any] = ["Each pair is sized at its amplifier channel's current-amplitude limit ("]
+    for i, (ax, key) in enumerate(zip("xyz", keys)):
+        out += [", " if i else "", f"{ax} "]
+        out += [ctx.num(f"coils.axes.{ax}.current_amplitude_A", unit="A"), f" {key}"]
+    return [*out, ")"]
+
+
 def build(ctx: Context) -> Section:
     """The coil-sizing section."""
     c = "coils"
@@ -378,8 +396,7 @@ def build(ctx: Context) -> Section:
     design = ctx.data.design
     intro = Paragraph(
         [
-            "Each pair is sized at the current-amplitude limit ",
-            ctx.num(f"{c}.current_amplitude_A", unit="A"),
+            *_rating_parts(ctx),
             " and the operating frequency ",
             ctx.num(f"{c}.frequency_hz", unit="Hz"),
             ", copper resistance at the self-consistent mean winding temperature, ambient ",
@@ -388,7 +405,7 @@ def build(ctx: Context) -> Section:
             ". Inside every limit the largest rotating field (worst heading) is ",
             ctx.num(f"{c}.rotating_field_within_limits.max_rotating_field_T", 1e3, "mT"),
             ", set by ",
-            str(ctx.value(f"{c}.rotating_field_within_limits.limited_by")).replace("_", " "),
+            str(ctx.value(f"{c}.rotating_field_within_limits.limited_by_words")),
             f" ({ctx.value(f'{c}.rotating_field_within_limits.limit_key')}; the current limit alone "
             "would allow ",
             ctx.num(f"{c}.current_limited_rotating_field_T", 1e3, "mT"),

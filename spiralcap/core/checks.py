@@ -1,0 +1,260 @@
+"""The public API refuses nonsense: argument checks at the entry points of the domain packages.
+
+A public function of ``coils``, ``capsule``, ``torque_model`` or ``optimize`` is wrapped with
+:func:`guard`, which checks each named physical argument (finite, sign, type) and raises
+:class:`~spiralcap.core.errors.InputError` (a ``ValueError``) or ``TypeError`` naming the
+argument, its value and what is allowed.
+
+The same checks serve numpy and CasADi: a CasADi ``SX``/``MX`` value is symbolic and passes
+unchecked (there is nothing concrete to check, and no Python ``if`` may look at its value); a
+``DM`` is checked as the numbers it holds. A call from inside the domain packages themselves is
+not checked again (its arguments were checked where they entered, and intermediate arrays may
+carry a NaN on purpose, a pair that runs away thermally): the wrapper looks at its caller's
+module once and steps aside, so building and solving an NLP costs nothing extra.
+"""
+
+from __future__ import annotations
+
+import functools
+import inspect
+import math
+import numbers
+import sys
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any, ParamSpec, TypeVar
+
+import numpy as np
+
+from spiralcap.core.errors import InputError
+
+__all__ = [
+    "Spec",
+    "angle",
+    "choice",
+    "finite",
+    "guard",
+    "instance",
+    "is_symbolic",
+    "nonnegative",
+    "positive",
+    "positive_finite",
+    "temperature",
+    "unit_interval",
+]
+
+P = ParamSpec("P")
+R = TypeVar("R")
+
+#: Callers inside these packages are trusted (their arguments were checked on the way in).
+DOMAIN_PACKAGES = ("coils", "capsule", "torque_model", "optimize")
+
+#: Absolute zero, °C: the lowest temperature a ``*_C`` argument may have.
+ABSOLUTE_ZERO_C = -273.15
+
+
+def is_symbolic(value: Any) -> bool:
+    """Whether ``value`` is a CasADi ``SX`` or ``MX`` (a symbol, checked nowhere here)."""
+    mod = type(value).__module__
+    return mod.startswith("casadi") and type(value).__name__ in ("SX", "MX")
+
+
+def _numbers(name: str, value: Any) -> np.ndarray | None:
+    """``value`` as a float array, None if symbolic; TypeError if it is not real numbers."""
+    if is_symbolic(value):
+        return None
+    if isinstance(value, (bool, np.bool_, str, bytes)) or value is None:
+        raise TypeError(f"{name} = {value!r}: a real number (or an array of them) is needed")
+    if type(value).__module__.startswith("casadi"):  # DM: concrete numbers
+        value = np.asarray(value.full() if hasattr(value, "full") else value)
+    if isinstance(value, numbers.Real):
+        try:
+            return np.asarray(float(value))
+        except OverflowError:  # an int too large for a float
+            return np.asarray(math.inf)
+    try:
+        arr = np.asarray(value)
+    except (TypeError, ValueError):
+        arr = np.asarray(None)
+    if arr.dtype.kind not in "iuf" or arr.dtype == np.bool_:
+        raise TypeError(f"{name} = {_short(value)}: a real number (or an array of them) is needed")
+    return arr.astype(float)
+
+
+def _short(value: Any) -> str:
+    text = repr(value).replace("\n", " ")
+    return text if len(text) <= 120 else text[:117] + "..."
+
+
+@dataclass(frozen=True)
+class Spec:
+    """What one numeric argument may be: finite, and inside ``(low, high)`` or ``[low, high]``.
+
+    Attributes
+    ----------
+    low, high : float or None
+        Bounds (None: unbounded on that side), in the argument's own unit.
+    low_open, high_open : bool
+        Whether the bound itself is excluded.
+    optional : bool
+        Whether ``None`` is accepted (the function then takes its default).
+    scalar : bool
+        Whether only one number is accepted (not an array).
+    """
+
+    low: float | None = None
+    high: float | None = None
+    low_open: bool = False
+    high_open: bool = False
+    optional: bool = False
+    scalar: bool = False
+
+    def allowed(self) -> str:
+        """The rule in words: ``a finite number > 0``."""
+        parts = []
+        if self.low is not None:
+            parts.append(f"{'>' if self.low_open else '>='} {self.low:g}")
+        if self.high is not None:
+            parts.append(f"{'<' if self.high_open else '<='} {self.high:g}")
+        words = "a finite number" + (" " + " and ".join(parts) if parts else "")
+        return words + (" (or None)" if self.optional else "")
+
+    def check(self, name: str, value: Any) -> None:
+        """Raise InputError (ValueError) or TypeError if ``value`` breaks the rule."""
+        if value is None and self.optional:
+            return
+        arr = _numbers(name, value)
+        if arr is None:
+            return
+        if self.scalar and arr.ndim != 0:
+            raise TypeError(f"{name} = {_short(value)}: one number is needed, not an array")
+        ok = bool(np.all(np.isfinite(arr)))
+        if ok and self.low is not None:
+            ok = bool(np.all(arr > self.low if self.low_open else arr >= self.low))
+        if ok and self.high is not None:
+            ok = bool(np.all(arr < self.high if self.high_open else arr <= self.high))
+        if not ok:
+            raise InputError(name, value if arr.ndim == 0 else _Shown(value), self.allowed())
+
+
+class _Shown:
+    """An array shown short in an error message."""
+
+    def __init__(self, value: Any) -> None:
+        self.value = value
+
+    def __repr__(self) -> str:
+        return _short(np.asarray(self.value).tolist())
+
+
+def finite(optional: bool = False, scalar: bool = False) -> Spec:
+    """Any finite number."""
+    return Spec(optional=optional, scalar=scalar)
+
+
+def positive(optional: bool = False, scalar: bool = False) -> Spec:
+    """A finite number > 0 (a length, a frequency, a mass, a moment)."""
+    return Spec(low=0.0, low_open=True, optional=optional, scalar=scalar)
+
+
+def nonnegative(optional: bool = False, scalar: bool = False) -> Spec:
+    """A finite number >= 0 (a load, a current amplitude, a power)."""
+    return Spec(low=0.0, optional=optional, scalar=scalar)
+
+
+def unit_interval(optional: bool = False, scalar: bool = False) -> Spec:
+    """A finite number in [0, 1] (an efficiency, a fraction)."""
+    return Spec(low=0.0, high=1.0, optional=optional, scalar=scalar)
+
+
+def angle(optional: bool = False, scalar: bool = False) -> Spec:
+    """A helical angle, rad: strictly between 0 and pi/2."""
+    return Spec(
+        low=0.0, high=math.pi / 2, low_open=True, high_open=True, optional=optional, scalar=scalar
+    )
+
+
+def temperature(optional: bool = False, scalar: bool = False) -> Spec:
+    """A temperature, °C: finite and above absolute zero."""
+    return Spec(low=ABSOLUTE_ZERO_C, low_open=True, optional=optional, scalar=scalar)
+
+
+@dataclass(frozen=True)
+class _Instance:
+    kind: type | tuple[type, ...]
+    words: str
+    optional: bool = False
+
+    def check(self, name: str, value: Any) -> None:
+        if value is None and self.optional:
+            return
+        if not isinstance(value, self.kind):
+            raise TypeError(f"{name} = {_short(value)}: {self.words} is needed")
+
+
+@dataclass(frozen=True)
+class _Choice:
+    values: tuple[str, ...]
+
+    def check(self, name: str, value: Any) -> None:
+        if not isinstance(value, str):
+            raise TypeError(f"{name} = {_short(value)}: one of {', '.join(self.values)} is needed")
+        if value not in self.values:
+            raise InputError(name, value, "one of " + ", ".join(self.values))
+
+
+def choice(*values: str) -> _Choice:
+    """One of the strings ``values`` (a mode, a kind)."""
+    return _Choice(tuple(values))
+
+
+def instance(kind: type | tuple[type, ...], words: str, optional: bool = False) -> _Instance:
+    """An object of ``kind`` (``words``: what it is, e.g. ``"an optimize.DesignModel"``)."""
+    return _Instance(kind, words, optional)
+
+
+def positive_finite(name: str, value: Any) -> float:
+    """``value`` as a float if it is a finite real number > 0, else InputError/TypeError."""
+    positive().check(name, value)
+    return float(value)
+
+
+def _trusted_caller(depth: int = 2) -> bool:
+    """Whether the function's caller is a module of a domain package (then it is not checked)."""
+    try:
+        caller = sys._getframe(depth).f_globals.get("__name__", "")
+    except ValueError:  # no such frame
+        return False
+    return caller.split(".", 1)[0] in DOMAIN_PACKAGES
+
+
+def guard(**specs: Spec | _Instance | _Choice) -> Callable[[Callable[P, R]], Callable[P, R]]:
+    """Check the named arguments of a public function before it runs (see the module notes).
+
+    Parameters
+    ----------
+    **specs : Spec or instance(...)
+        Argument name -> its rule (:func:`positive`, :func:`angle`, :func:`instance`, ...).
+    """
+
+    def wrap(fn: Callable[P, R]) -> Callable[P, R]:
+        sig = inspect.signature(fn)
+        missing = set(specs) - set(sig.parameters)
+        if missing:
+            raise TypeError(f"guard on {fn.__qualname__}: no argument {sorted(missing)}")
+
+        @functools.wraps(fn)
+        def checked(*args: P.args, **kwargs: P.kwargs) -> R:
+            if not _trusted_caller():
+                try:
+                    bound = sig.bind(*args, **kwargs)
+                except TypeError as exc:
+                    raise TypeError(f"{fn.__name__}(): {exc}") from None
+                for name, spec in specs.items():
+                    if name in bound.arguments:
+                        spec.check(name, bound.arguments[name])
+            return fn(*args, **kwargs)
+
+        return checked
+
+    return wrap
