@@ -122,9 +122,10 @@ _UTILISATION_CAP = 1e6
 
 
 def _check(c: dict[str, Any], key: str) -> dict[str, Any]:
-    """A check in the unit and form of its design key (``value``, ``allowed``, ``unit``): the
-    hot spot in °C against ``limits.coil_temperature_C``, the speed in mm/s, the self-lock
-    α + atan μ in degrees against 90; ``utilisation`` in the row's own form (1 binds)."""
+    """A check in SI (``value``, ``allowed`` in ``unit``: N·m, m/s, rad, m, T; temperatures in
+    °C) and in the unit of its design key (``value_in_key_unit``, ``allowed_in_key_unit`` in
+    ``key_unit``: the speed in mm/s, the self-lock α + atan μ in degrees against 90);
+    ``utilisation`` in the row's own form (1 binds)."""
     from spiralcap.presentation import in_key_units
 
     unit, factor = in_key_units(c["unit"], key)
@@ -135,9 +136,9 @@ def _check(c: dict[str, Any], key: str) -> dict[str, Any]:
         "name": c["name"],
         "key": key,
         **c,
-        "unit": unit,
-        "value": c["value"] * factor,
-        "allowed": c["allowed"] * factor,
+        "key_unit": unit,
+        "value_in_key_unit": c["value"] * factor,
+        "allowed_in_key_unit": c["allowed"] * factor,
         "utilisation": min(util, _UTILISATION_CAP),
     }
 

@@ -168,10 +168,10 @@ def test_self_locking_spiral_is_never_feasible(angle):
     lock = next(c for c in ev["checks"] if c["name"] == "self_lock")
     mu = 0.51  # zhou2013-sample3, the design's most frictional tissue (Zhou 2013, Table I)
     expected = angle + math.degrees(math.atan(mu))
-    assert lock["value"] == pytest.approx(expected, abs=1e-9), (
+    assert lock["value_in_key_unit"] == pytest.approx(expected, abs=1e-9), (
         "self-lock check: alpha + atan(mu) in degrees (Shigley power screw), 1e-9"
     )
-    assert (lock["allowed"], lock["sense"], lock["unit"]) == (90.0, "<", "°"), (
+    assert (lock["allowed_in_key_unit"], lock["sense"], lock["key_unit"]) == (90.0, "<", "°"), (
         "must stay below 90°, in the unit of capsule.spiral.helical_angle_deg"
     )
     assert lock["ok"] is False and ev["feasible"] is False, (
