@@ -185,6 +185,7 @@ def optimization_to_dict(res: Any) -> dict[str, Any]:
         b["gain_per_key_unit"], b["gain_per_key_unit_label"] = gain_per_key_unit(
             res.objective, b["unit"], b["key"], b["gain_per_unit_relaxed"]
         )
+        _gain_per_step(b)
     out["binding_keys"] = binding_keys(out["binding_limits"])
     for s in out["shortfalls"]:
         s["key"] = constraint_key(s["name"])
@@ -199,6 +200,19 @@ def optimization_to_dict(res: Any) -> dict[str, Any]:
     else:
         out["hardware"] = hardware
     return _finite_fields(out, res.margin_Nm)
+
+
+def _gain_per_step(b: dict[str, Any]) -> None:
+    """``gain_per_step`` (the objective's shown unit) for relaxing the key by ``gain_step`` (in
+    words; ``gain_step_in_key_unit`` in the key's unit): 1 °C, 1°, 0.1 % of strain."""
+    from spiralcap.presentation import gain_step
+
+    step, words = gain_step(b["key"], b["key_unit"])
+    b["gain_step_in_key_unit"] = step
+    b["gain_step"] = words
+    b["gain_per_step"] = b["gain_per_key_unit"] * step
+    obj_unit = b["gain_per_key_unit_label"].split(" per ", 1)[0]
+    b["gain_per_step_label"] = f"{obj_unit} per {words}".strip()
 
 
 def binding_keys(binding: list[dict[str, Any]]) -> list[dict[str, Any]]:
@@ -219,6 +233,8 @@ def binding_keys(binding: list[dict[str, Any]]) -> list[dict[str, Any]]:
             }
         out[key]["rows"].append(b["name"])
         out[key]["gain_per_key_unit"] += b["gain_per_key_unit"]
+    for k in out.values():
+        _gain_per_step(k)
     return list(out.values())
 
 

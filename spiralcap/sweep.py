@@ -203,7 +203,7 @@ def _vector_model(
     from optimize import prepare
     from spiralcap.assemble import build_model
 
-    model = base if base is not None else prepare(build_model(design))
+    model = base if base is not None else prepare(build_model(design, optimiser=False))
     alpha: Any = model.capsule.spiral.helical_angle_rad
     f: Any = model.frequency_hz
     groups: dict[str, dict[str, Any]] = {"limits": {}, "requirements": {}}
@@ -235,7 +235,7 @@ def _evaluate_vectorised(
     from optimize import margin_grid, prepare
     from spiralcap.assemble import build_model
 
-    base = prepare(build_model(design))
+    base = prepare(build_model(design, optimiser=False))
     n = len(next(iter(inputs.values())))
     parts: dict[str, list[np.ndarray]] = {k: [] for k in EVALUATE_COLUMNS}
     calls = -(-n // VECTOR_CHUNK)
@@ -271,7 +271,7 @@ def _evaluate_points(design, inputs, progress) -> dict[str, np.ndarray]:
     n = len(next(iter(inputs.values())))
     rows = []
     for i in range(n):
-        ev = evaluate(build_model(_at(design, inputs, i)))
+        ev = evaluate(build_model(_at(design, inputs, i), optimiser=False))
         rows.append(
             (
                 ev.margin_Nm,

@@ -85,8 +85,11 @@ def test_optimize_text_has_no_unitless_numbers():
     assert re.search(r"objective +copper mass of the three coil pairs, minimised: [\d.]+ kg", out)
     assert re.search(r"whole turns and standard wire cost [\d.e-]+ kg", out), out
     assert re.search(
-        r"requirements.min_safety_factor.*lowering it by 1 unit gains [\d.]+ kg less", out
-    )
+        r"requirements.min_safety_factor.*lowering it by 0.1 of the safety factor gains "
+        r"[\d.]+ kg less",
+        out,
+    ), "issue 39: a gain per a sensible step of a ratio, not 'per unit'"
+    assert "per unit" not in out and "by 1 unit" not in out
 
 
 def test_singular_counts_in_evaluate_and_with_unit():

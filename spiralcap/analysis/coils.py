@@ -225,7 +225,7 @@ def analyse_coils(design: Any, model: Any = None) -> CoilAnalysis:
     from spiralcap.assemble import build_model
     from spiralcap.assemble.system import constraint_key
 
-    model = prepare(model if model is not None else build_model(design))
+    model = prepare(model if model is not None else build_model(design, optimiser=False))
     c = model.constants
     # each pair at its own amplifier channel's current where limits.{x,y,z}.current_A is set
     channels = tuple(float(model.limits.channel("current", k)[1]) for k in range(3))

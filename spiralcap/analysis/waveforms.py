@@ -29,7 +29,7 @@ def waveforms_for_design(design: Any, headings: Any, dwell_s: float, ramp_s: flo
     from spiralcap.assemble import build_model
     from spiralcap.core.constants import COPPER_TEMPERATURE_COEFFICIENT_per_K as alpha
 
-    model = prepare(build_model(design))
+    model = prepare(build_model(design, optimiser=False))
     c, f = model.constants, model.frequency_hz
     field = float(operating_field_T(model, f))
     temps = [
