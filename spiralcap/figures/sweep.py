@@ -289,14 +289,19 @@ def draw_sweep(fig: Any, result: Any, failing: Any = None) -> SweepDrawn:
             ok = np.asarray(out["feasible"], bool)
         else:
             ok = np.asarray(out["status"]) == "optimal"
+        # points that could not be built (a row marked unbuildable): a grey dotted line each
+        unbuilt = np.asarray(out.get("unbuildable", np.zeros(x.shape, bool)), bool)
+        failed = ~ok & ~unbuilt
         cols = [c for c in SHOWN_COLUMNS if c in out and not _fixed_copper(c, out[c])]
         axs = list(np.atleast_1d(fig.subplots(len(cols), 1, sharex=True)))
         for k, (ax, col) in enumerate(zip(axs, cols, strict=True)):
             label, factor = SHOWN_COLUMNS[col]
             y = np.asarray(out[col], float) * factor
             ax.plot(x, np.where(ok, y, np.nan), **series_style(k))
-            if (~ok).any():
-                ax.plot(x[~ok], y[~ok], "x", color="#a4161a", markersize=8, markeredgewidth=2)
+            if failed.any():
+                ax.plot(x[failed], y[failed], "x", color="#a4161a", markersize=8, markeredgewidth=2)
+            for xu in x[unbuilt]:
+                ax.axvline(float(xu), color="0.45", linestyle=":", linewidth=1.2)
             if col == "margin_Nm":
                 ax.axhline(0.0, color="black", linewidth=1.0)
             finite = y[np.isfinite(y)]
@@ -312,8 +317,9 @@ def draw_sweep(fig: Any, result: Any, failing: Any = None) -> SweepDrawn:
         if (~ok).any():
             from matplotlib.lines import Line2D
 
-            axs[0].legend(
-                handles=[
+            handles = []
+            if failed.any():
+                handles.append(
                     Line2D(
                         [],
                         [],
@@ -322,10 +328,18 @@ def draw_sweep(fig: Any, result: Any, failing: Any = None) -> SweepDrawn:
                         linestyle="none",
                         label="infeasible (a requirement not met)",
                     )
-                ],
-                loc="best",
-                fontsize=7.5,
-            )
+                )
+            if unbuilt.any():
+                handles.append(
+                    Line2D(
+                        [],
+                        [],
+                        color="0.45",
+                        linestyle=":",
+                        label="cannot be built (unbuildable_reason)",
+                    )
+                )
+            axs[0].legend(handles=handles, loc="best", fontsize=7.5)
         return SweepDrawn(axs, None)
     if len(axes) == 2:
         kx, ky = axes[0].key, axes[1].key
