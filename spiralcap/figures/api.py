@@ -19,6 +19,7 @@ the axes and the typed record of what was drawn.
 
 from __future__ import annotations
 
+import math
 from typing import Any, NamedTuple
 
 import numpy as np
@@ -73,6 +74,21 @@ def _found(ev: Any, name: str) -> float | None:
     return float(value)
 
 
+def _same_point(evaluation: Any, result: Any) -> bool:
+    """Whether the design as entered sits at the optimum (angle and frequency to 1e-6)."""
+    return math.isclose(
+        evaluation.helical_angle_deg, result.helical_angle_deg, rel_tol=1e-6, abs_tol=1e-9
+    ) and math.isclose(evaluation.frequency_hz, result.frequency_hz, rel_tol=1e-6, abs_tol=1e-9)
+
+
+def _apart(x: float | None, other: float | None, span: float) -> float | None:
+    """``x``, or None where the other curve already marks a line within 1 % of the axis there
+    (two labels on one line would overprint)."""
+    if x is None or other is None:
+        return x
+    return None if abs(x - other) <= 0.01 * span else x
+
+
 def margin_vs_frequency(
     model: Any, evaluation: Any, result: Any = None, *, ax: Any = None, curves: Any = None
 ) -> Plot:
@@ -90,6 +106,9 @@ def margin_vs_frequency(
     fig, ax = _axes(ax, (7.5, 5.4))
     design, optimum = curves if curves is not None else frequency_curves(model, evaluation, result)
     ev = evaluation
+    # the design as entered may be the optimum itself (a design written by `optimize -o`):
+    # then one curve says so, and no label is printed twice over itself
+    same = optimum is not None and _same_point(ev, result)
     drawn = [
         plot_margin_vs_frequency(
             ax,
@@ -98,12 +117,13 @@ def margin_vs_frequency(
             feasible=design.feasible,
             step_out_frequency_hz=_found(ev, "step_out"),
             operating_frequency_hz=ev.frequency_hz,
-            label=f"as entered, α = {ev.helical_angle_deg:.3g}°",
+            label=f"as entered{' = optimum' if same else ''}, α = {ev.helical_angle_deg:.3g}°",
             max_frequency_hz=_found(ev, "max_frequency"),
             max_frequency_limited_by=getattr(ev, "max_frequency_limited_by", ""),
         )
     ]
-    if optimum is not None:
+    if optimum is not None and not same:
+        span = float(np.ptp(design.x)) if len(design.x) else 1.0
         drawn.append(
             plot_margin_vs_frequency(
                 ax,
@@ -111,11 +131,17 @@ def margin_vs_frequency(
                 optimum.margin_Nm,
                 feasible=optimum.feasible,
                 style_index=1,
-                step_out_frequency_hz=_found(result.evaluation, "step_out"),
+                step_out_frequency_hz=_apart(
+                    _found(result.evaluation, "step_out"), _found(ev, "step_out"), span
+                ),
                 operating_frequency_hz=result.frequency_hz,
                 label=f"optimum, α = {result.helical_angle_deg:.3g}°",
                 shade=False,
-                max_frequency_hz=_found(result.evaluation, "max_frequency"),
+                max_frequency_hz=_apart(
+                    _found(result.evaluation, "max_frequency"),
+                    _found(ev, "max_frequency"),
+                    span,
+                ),
                 max_frequency_limited_by=result.evaluation.max_frequency_limited_by,
             )
         )
