@@ -25,6 +25,7 @@ from coils.electrical import impedance_ohm
 from coils.system import ThreeAxisHelmholtz
 from coils.thermal import WindingPack
 from coils.thermal_system import mean_rise_at_K, pair_temperatures
+from spiralcap.core.checks import guard, instance, nonnegative, positive, temperature, unit_interval
 from spiralcap.core.constants import COPPER_TEMPERATURE_COEFFICIENT_per_K
 
 __all__ = ["AxisSizing", "SystemSizing", "WorstHeading", "size_system", "winding_pack"]
@@ -242,6 +243,14 @@ def winding_pack(
     )
 
 
+@guard(
+    system=instance(ThreeAxisHelmholtz, "a coils.ThreeAxisHelmholtz"),
+    frequency_hz=nonnegative(scalar=True),
+    ambient_temperature_C=temperature(scalar=True),
+    heat_transfer_coefficient_W_m2K=positive(optional=True, scalar=True),
+    winding_conductivity_W_mK=positive(scalar=True),
+    surface_emissivity=unit_interval(scalar=True),
+)
 def size_system(
     system: ThreeAxisHelmholtz,
     *,

@@ -13,8 +13,10 @@ from typing import Any
 from optimize.result import OptimizationResult
 from optimize.solve import SolveOptions
 from optimize.system import DesignModel
+from spiralcap.core.checks import guard, instance
 
 
+@guard(model=instance(DesignModel, "an optimize.DesignModel (spiralcap.assemble.build_model)"))
 def optimize_design(
     model: DesignModel,
     *,

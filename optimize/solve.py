@@ -26,6 +26,7 @@ from optimize.evaluate import _three, evaluate, margin_grid, worst_required
 from optimize.nlp import Solution
 from optimize.result import BindingLimit, OptimizationResult, Shortfall
 from optimize.system import DesignModel, prepare
+from spiralcap.core.checks import guard, instance
 
 # --- scales and starts ------------------------------------------------------------------------
 
@@ -615,6 +616,10 @@ def _result(
     )
 
 
+@guard(
+    model=instance(DesignModel, "an optimize.DesignModel (spiralcap.assemble.build_model)"),
+    result=instance(OptimizationResult, "an optimize.OptimizationResult (optimize_design)"),
+)
 def with_operating_point(model: DesignModel, result: OptimizationResult) -> DesignModel:
     """The model moved to the optimum's helical angle, frequency (and field, where set).
 

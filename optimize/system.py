@@ -13,6 +13,7 @@ from typing import Any
 
 import numpy as np
 
+from spiralcap.core.checks import guard, instance
 from torque_model.engagement import DEFAULT_MIN_WALL_STRAIN
 
 
@@ -519,6 +520,7 @@ def precompute(model: DesignModel) -> Constants:
     )
 
 
+@guard(model=instance(DesignModel, "an optimize.DesignModel (spiralcap.assemble.build_model)"))
 def prepare(model: DesignModel) -> DesignModel:
     """The model with its :class:`Constants` computed (returned unchanged if already there).
 

@@ -32,6 +32,7 @@ __all__ = [
     "Spec",
     "angle",
     "choice",
+    "fields",
     "finite",
     "guard",
     "instance",
@@ -208,6 +209,25 @@ def choice(*values: str) -> _Choice:
     return _Choice(tuple(values))
 
 
+@dataclass(frozen=True)
+class _Fields:
+    fields: tuple[tuple[str, Spec], ...]
+    words: str
+
+    def check(self, name: str, value: Any) -> None:
+        missing = [f for f, _ in self.fields if not hasattr(value, f)]
+        if missing:
+            raise TypeError(f"{name} = {_short(value)}: {self.words} is needed")
+        for f, spec in self.fields:
+            spec.check(f"{name}.{f}", getattr(value, f))
+
+
+def fields(words: str, **specs: Spec) -> _Fields:
+    """An object with these numeric attributes, each checked by its rule (a duck type: a
+    ``torque_model.TissueParameters`` or the arrays of one, ``optimize.uncertainty``)."""
+    return _Fields(tuple(specs.items()), words)
+
+
 def instance(kind: type | tuple[type, ...], words: str, optional: bool = False) -> _Instance:
     """An object of ``kind`` (``words``: what it is, e.g. ``"an optimize.DesignModel"``)."""
     return _Instance(kind, words, optional)
@@ -228,7 +248,9 @@ def _trusted_caller(depth: int = 2) -> bool:
     return caller.split(".", 1)[0] in DOMAIN_PACKAGES
 
 
-def guard(**specs: Spec | _Instance | _Choice) -> Callable[[Callable[P, R]], Callable[P, R]]:
+def guard(
+    **specs: Spec | _Instance | _Choice | _Fields,
+) -> Callable[[Callable[P, R]], Callable[P, R]]:
     """Check the named arguments of a public function before it runs (see the module notes).
 
     Parameters
