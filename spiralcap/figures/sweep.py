@@ -361,5 +361,30 @@ def draw_sweep(fig: Any, result: Any, failing: Any = None) -> SweepDrawn:
             xlabel=_label(kx),
             ylabel=_label(ky),
         )
+        unbuilt = np.asarray(out.get("unbuildable", np.zeros(nx * ny, bool)), bool)
+        if unbuilt.any():  # points that could not be built: grey squares, named in the legend
+            gx, gy = np.meshgrid(axes[0].values, axes[1].values)
+            mask = unbuilt.reshape(nx, ny).T
+            (mark,) = ax.plot(
+                gx[mask],
+                gy[mask],
+                "s",
+                color="0.6",
+                markeredgecolor="black",
+                markersize=6,
+                linestyle="none",
+                label="cannot be built (unbuildable_reason)",
+                clip_on=False,
+                zorder=6,
+            )
+            old = ax.get_legend()
+            ax.legend(
+                handles=[*(old.legend_handles if old is not None else []), mark],
+                loc="upper center",
+                bbox_to_anchor=(0.5, -0.16),
+                ncols=2,
+                fontsize=7.5,
+                framealpha=0.92,
+            )
         return SweepDrawn([ax], drawn)
     raise ValueError("a sweep figure shows one or two swept keys")

@@ -384,8 +384,8 @@ def _rating_parts(ctx: Context) -> list[Any]:
         ]
     out: list[Any] = ["Each pair is sized at its amplifier channel's current-amplitude limit ("]
     for i, (ax, key) in enumerate(zip("xyz", keys)):
-        out += [", " if i else "", f"{ax} "]
-        out += [ctx.num(f"coils.axes.{ax}.current_amplitude_A", unit="A"), f" {key}"]
+        out += ["; " if i else "", f"{ax}: "]
+        out += [ctx.num(f"coils.axes.{ax}.current_amplitude_A", unit="A"), f", {key}"]
     return [*out, ")"]
 
 

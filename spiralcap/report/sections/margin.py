@@ -62,6 +62,7 @@ def checks_table(ctx: Context, prefix: str, caption: str, ident: str) -> Table:
     rows: list[list[Cell]] = []
     for i, c in enumerate(ctx.value(f"{prefix}.checks")):
         label, factor = SHOWN_UNITS.get(c["unit"], (c["unit"], 1.0))
+        label = "" if label == "1" else label  # a ratio (a strain) has no unit to print
         rows.append(
             [
                 # the self-lock row's value is alpha + atan(mu), not the helical angle its key sets

@@ -251,7 +251,8 @@ def build(ctx: Context) -> Section:
             blocks.append(
                 Paragraph(
                     [
-                        "Read a gain as what relaxing that limit by one unit of its design key buys "
+                        "Read a gain as what relaxing that limit by one step of its design key "
+                        "(the last column: 1 °C, 1 mm/s, 0.1 % of strain) buys "
                         f"in the {what}, to first order (from IPOPT's multipliers): raising an "
                         "upper limit, lowering a requirement or a lower bound. Bounds of the "
                         "search box (optimize.*) appear when the optimum sits on them. These are "
