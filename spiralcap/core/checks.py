@@ -120,10 +120,21 @@ class Spec:
         words = "a finite number" + (" " + " and ".join(parts) if parts else "")
         return words + (" (or None)" if self.optional else "")
 
+    def _number_ok(self, v: float) -> bool:
+        if not math.isfinite(v):
+            return False
+        if self.low is not None and not (v > self.low if self.low_open else v >= self.low):
+            return False
+        return self.high is None or (v < self.high if self.high_open else v <= self.high)
+
     def check(self, name: str, value: Any) -> None:
         """Raise InputError (ValueError) or TypeError if ``value`` breaks the rule."""
         if value is None and self.optional:
             return
+        if type(value) is float or type(value) is int:  # the common case, without numpy
+            if self._number_ok(float(value)):
+                return
+            raise InputError(name, value, self.allowed())
         arr = _numbers(name, value)
         if arr is None:
             return
@@ -260,21 +271,26 @@ def guard(
     """
 
     def wrap(fn: Callable[P, R]) -> Callable[P, R]:
-        sig = inspect.signature(fn)
-        missing = set(specs) - set(sig.parameters)
+        params = list(inspect.signature(fn).parameters.values())
+        missing = set(specs) - {p.name for p in params}
         if missing:
             raise TypeError(f"guard on {fn.__qualname__}: no argument {sorted(missing)}")
+        # where each checked argument sits: its position (None: keyword only) and its rule; an
+        # argument left at its default is not checked (the defaults are the package's own)
+        where = [
+            (p.name, None if p.kind is p.KEYWORD_ONLY else i, specs[p.name])
+            for i, p in enumerate(params)
+            if p.name in specs
+        ]
 
         @functools.wraps(fn)
         def checked(*args: P.args, **kwargs: P.kwargs) -> R:
             if not _trusted_caller():
-                try:
-                    bound = sig.bind(*args, **kwargs)
-                except TypeError as exc:
-                    raise TypeError(f"{fn.__name__}(): {exc}") from None
-                for name, spec in specs.items():
-                    if name in bound.arguments:
-                        spec.check(name, bound.arguments[name])
+                for name, pos, spec in where:
+                    if name in kwargs:
+                        spec.check(name, kwargs[name])
+                    elif pos is not None and pos < len(args):
+                        spec.check(name, args[pos])
             return fn(*args, **kwargs)
 
         return checked
