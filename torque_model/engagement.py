@@ -45,9 +45,9 @@ from torque_model.tissue import TissueParameters
 #: rules for the tissue and geometry arguments of the public functions here
 _TISSUE = fields(
     "a torque_model.TissueParameters (torque_model.preset)",
-    E1_Pa=positive(),
-    E2_Pa=positive(),
-    E3_Pa=positive(),
+    E1_Pa=nonnegative(),
+    E2_Pa=nonnegative(),
+    E3_Pa=nonnegative(),
     eta1_Pa_s=positive(),
     eta2_Pa_s=positive(),
     lumen_diameter_m=positive(),

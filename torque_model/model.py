@@ -32,9 +32,9 @@ from torque_model.tissue import TissueParameters, ViscoelasticConstants
 #: rules for the tissue and geometry arguments of the public functions here
 _TISSUE = fields(
     "a torque_model.TissueParameters (torque_model.preset)",
-    E1_Pa=positive(),
-    E2_Pa=positive(),
-    E3_Pa=positive(),
+    E1_Pa=nonnegative(),
+    E2_Pa=nonnegative(),
+    E3_Pa=nonnegative(),
     eta1_Pa_s=positive(),
     eta2_Pa_s=positive(),
     lumen_diameter_m=positive(),
@@ -43,9 +43,9 @@ _TISSUE = fields(
 )
 _VISCO = fields(
     "the five viscoelastic constants (a torque_model.TissueParameters)",
-    E1_Pa=positive(),
-    E2_Pa=positive(),
-    E3_Pa=positive(),
+    E1_Pa=nonnegative(),
+    E2_Pa=nonnegative(),
+    E3_Pa=nonnegative(),
     eta1_Pa_s=positive(),
     eta2_Pa_s=positive(),
 )
@@ -159,7 +159,7 @@ def stress_Pa(
     return strain_ * relaxation_modulus_Pa(azimuth_rad / omega, tissue)
 
 
-@guard(frequency_hz=positive(), tissue=_VISCO)
+@guard(frequency_hz=nonnegative(), tissue=_VISCO)
 def relaxation_integral_Pa(frequency_hz: Scalar, tissue: ViscoelasticConstants) -> Scalar:
     """int_0^{2 pi} of the eq. 4 bracket over one revolution, Pa (times rad), in closed form.
 
