@@ -329,8 +329,15 @@ def load_design(
         paths: list[Path] = []
     elif isinstance(path, (str, os.PathLike)):
         paths = [Path(path)]
-    else:
+    elif isinstance(path, Sequence) and all(isinstance(x, (str, os.PathLike)) for x in path):
         paths = [Path(x) for x in path]
+    else:
+        raise TypeError(f"path = {path!r:.120}: a design file's path, a list of them, or None")
+    if isinstance(overrides, (str, bytes)) or not isinstance(overrides, Iterable):
+        raise TypeError(f"overrides = {overrides!r:.120}: a list of 'dotted.key=value' texts")
+    overrides = list(overrides)
+    if not all(isinstance(x, str) for x in overrides):
+        raise TypeError(f"overrides = {overrides!r:.120}: a list of 'dotted.key=value' texts")
     values: dict[str, Any] = {}
     origins: dict[str, str] = {}
     for p in paths:

@@ -16,6 +16,7 @@ from typing import Any
 
 import numpy as np
 
+from spiralcap.core.checks import guard, instance
 from spiralcap.core.errors import InputError
 from spiralcap.design import Design
 from spiralcap.schema import KEYS, si_name, to_si
@@ -107,6 +108,7 @@ class SweepResult:
     mode: str
 
 
+@guard(expr=instance(str, "text of the form KEY=START:STOP:N"))
 def parse_over(expr: str) -> Axis:
     """Parse ``KEY=START:STOP:N`` (N >= 1; a whole-number key takes whole START and STOP, the
     points between are rounded and must stay distinct)."""
@@ -144,6 +146,7 @@ def _grid(axes: Sequence[Axis]) -> dict[str, np.ndarray]:
     return {a.key: m.ravel() for a, m in zip(axes, mesh)}
 
 
+@guard(design=instance(Design, "a spiralcap.design.Design (spiralcap.design.load_design)"))
 def sweep(
     design: Design,
     axes: Sequence[Axis],

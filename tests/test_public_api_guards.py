@@ -343,3 +343,41 @@ def test_symbolic_values_pass_and_cost_nothing():
     assert float(f(0.2)) == pytest.approx(math.pi * 0.012 * math.tan(0.2), rel=1e-12), (
         "lead = pi D tan(alpha) (DESIGN.md 4.2), 1e-12"
     )
+
+
+def _application_calls():
+    from spiralcap.analysis.coils import analyse_coils
+    from spiralcap.assemble import build_model
+    from spiralcap.design import load_design
+    from spiralcap.figures import api
+    from spiralcap.sweep import parse_over, sweep
+
+    return {
+        "load_design(path)": lambda bad: load_design(bad),
+        "load_design(overrides)": lambda bad: load_design(None, bad),
+        "build_model(design)": lambda bad: build_model(bad),
+        "analyse_coils(design)": lambda bad: analyse_coils(bad),
+        "sweep(design)": lambda bad: sweep(bad, []),
+        "parse_over(expr)": lambda bad: parse_over(bad),
+        "margin_vs_frequency(model)": lambda bad: api.margin_vs_frequency(bad, None),
+        "torque_budget(evaluation)": lambda bad: api.torque_budget(bad),
+        "geometry(model)": lambda bad: api.geometry(bad),
+    }
+
+
+@SETTINGS
+@given(
+    call=st.sampled_from(sorted(_application_calls())),
+    bad=st.one_of(
+        st.integers(), st.floats(allow_nan=True), st.none(), st.lists(st.integers(), min_size=1)
+    ),
+)
+def test_application_entry_points_refuse_what_they_cannot_use(call, bad):
+    """spiralcap's own public entry points: a wrong object is one TypeError/ValueError naming
+    the argument (was: 'int' object is not iterable, AttributeError deep in a figure)."""
+    arg = call.split("(")[1].rstrip(")")
+    if call == "load_design(path)" and bad is None:  # None: the built-in example, allowed
+        return
+    with pytest.raises(ALLOWED) as info:
+        _application_calls()[call](bad)
+    assert arg in str(info.value), f"{call} with {bad!r}: {info.value}"

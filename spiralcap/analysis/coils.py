@@ -17,6 +17,8 @@ from typing import Any, ClassVar
 import numpy as np
 
 from optimize.views import Viewable
+from spiralcap.core.checks import guard, instance
+from spiralcap.design import Design
 
 _TOLERANCES = (("1pct", 0.01), ("5pct", 0.05))
 _AXES = ("x", "y", "z")
@@ -214,6 +216,7 @@ def operating_thermal(
     return out, curves
 
 
+@guard(design=instance(Design, "a spiralcap.design.Design (spiralcap.design.load_design)"))
 def analyse_coils(design: Any, model: Any = None) -> CoilAnalysis:
     """The coil analysis of a validated design (see the module docstring).
 

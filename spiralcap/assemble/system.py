@@ -8,6 +8,7 @@ from typing import Any
 
 import numpy as np
 
+from spiralcap.core.checks import guard, instance
 from spiralcap.core.errors import InputError
 from spiralcap.design import Design
 from spiralcap.schema import to_si, winding_temperature_C
@@ -28,6 +29,7 @@ def _headings(design: Design) -> np.ndarray:
     return h / np.linalg.norm(h, axis=1, keepdims=True)
 
 
+@guard(design=instance(Design, "a spiralcap.design.Design (spiralcap.design.load_design)"))
 def build_model(design: Design, *, optimiser: bool = True):
     """The :class:`optimize.DesignModel` of a validated design (SI inside).
 

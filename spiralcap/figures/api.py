@@ -24,6 +24,18 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
+from optimize import DesignModel, Evaluation, OptimizationResult
+from spiralcap.core.checks import guard, instance
+
+#: the rules for the arguments of the figure functions (a wrong object: one TypeError naming it)
+_MODEL = instance(DesignModel, "an optimize.DesignModel (spiralcap.assemble.build_model)")
+_EVALUATION = instance(Evaluation, "an optimize.Evaluation (optimize.evaluate)")
+_EVALUATION_OR_NONE = instance(Evaluation, "an optimize.Evaluation (optimize.evaluate)", True)
+_RESULT = instance(OptimizationResult, "an optimize.OptimizationResult (optimize_design)")
+_RESULT_OR_NONE = instance(
+    OptimizationResult, "an optimize.OptimizationResult (optimize_design)", True
+)
+
 __all__ = [
     "Plot",
     "field_maps",
@@ -89,6 +101,7 @@ def _apart(x: float | None, other: float | None, span: float) -> float | None:
     return None if abs(x - other) <= 0.01 * span else x
 
 
+@guard(model=_MODEL, evaluation=_EVALUATION, result=_RESULT_OR_NONE)
 def margin_vs_frequency(
     model: Any, evaluation: Any, result: Any = None, *, ax: Any = None, curves: Any = None
 ) -> Plot:
@@ -152,6 +165,7 @@ def margin_vs_frequency(
     return Plot(fig, ax, tuple(drawn))
 
 
+@guard(model=_MODEL, result=_RESULT, evaluation=_EVALUATION_OR_NONE)
 def margin_vs_angle(
     model: Any, result: Any, evaluation: Any = None, *, ax: Any = None, curve: Any = None
 ) -> Plot:
@@ -198,6 +212,7 @@ def margin_vs_angle(
     return Plot(fig, ax, drawn)
 
 
+@guard(model=_MODEL, result=_RESULT_OR_NONE, evaluation=_EVALUATION_OR_NONE)
 def margin_map(
     model: Any,
     result: Any = None,
@@ -240,6 +255,7 @@ def margin_map(
     return Plot(fig, ax, drawn)
 
 
+@guard(evaluation=_EVALUATION, result=_RESULT_OR_NONE)
 def torque_budget(evaluation: Any, result: Any = None, *, ax: Any = None) -> Plot:
     """Magnetic torque available against the required torque, as entered (and optimised)."""
     from spiralcap.figures.design import plot_torque_budget
@@ -262,6 +278,7 @@ def limit_utilisation(evaluation: Any, *, ax: Any = None) -> Plot:
     return Plot(fig, ax, plot_limit_utilisation(ax, ev.checks, labels=labels))
 
 
+@guard(model=_MODEL, evaluation=_EVALUATION_OR_NONE, result=_RESULT_OR_NONE)
 def tissue_torque(
     model: Any, evaluation: Any = None, result: Any = None, *, ax: Any = None
 ) -> Plot:
@@ -307,6 +324,7 @@ def tissue_torque(
     return Plot(fig, ax, tuple(lines))
 
 
+@guard(model=_MODEL)
 def field_maps(
     model: Any, *, fig: Any = None, workspace_radius_m: float | None = None, maps: Any = None
 ) -> Plot:
@@ -371,6 +389,7 @@ def field_maps(
     return Plot(fig, axs[0], tuple(drawn))
 
 
+@guard(model=_MODEL)
 def uniformity_profile(model: Any, *, ax: Any = None, profile: Any = None) -> Plot:
     """Signed |B| deviation along each pair's axis and across it, that pair driven alone."""
     from spiralcap.curves import MAP_EXTENT, uniformity_profiles
@@ -421,6 +440,7 @@ def margin_vs_power(
     return Plot(fig, ax, drawn)
 
 
+@guard(model=_MODEL)
 def geometry(model: Any, *, fig: Any = None, workspace_radius_m: float | None = None) -> Plot:
     """The hardware to scale: nested coil pairs, the workspace and the capsule."""
     from spiralcap.figures.hardware import draw_geometry
