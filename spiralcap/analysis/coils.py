@@ -374,6 +374,9 @@ def coils_payload(a: CoilAnalysis) -> dict[str, Any]:
         "pack_clearances_m": dict(a.pack_clearances_m or {}),
         "bore_clearance_m": a.bore_clearance_m,
         "bore_radius_m": a.bore_radius_m,
-        "bill_of_materials": [asdict(r) for r in a.bill_of_materials],
+        "bill_of_materials": [
+            {**asdict(r), "wire_diameter_m": r.wire_diameter_mm * 1e-3}  # SI beside the spec
+            for r in a.bill_of_materials
+        ],
         "warnings": list(a.warnings),
     }
