@@ -175,3 +175,12 @@ def test_an_unbuildable_sweep_point_is_a_row(optimise):
         assert bad["status"] == "unbuildable"
     _, text, _ = sound(argv, (0,))
     assert "nan" not in text.lower() and "unbuildable" in text
+
+
+def test_waveforms_check_each_pair_against_its_own_channel():
+    """limits.y.current_A = 12.5 A: the y pair's 11.82 A is closest to its own 12.5 A (not to
+    the global 15 A, which the x pair's 12.71 A would be compared with)."""
+    argv = ["waveforms", "--heading", "1,0,0", "--heading", "0,1,0", "--dwell-s", "2"]
+    _, out, _ = sound([*argv, "--set", "limits.y.current_A=12.5"], (0,))
+    lines = [ln for ln in out.splitlines() if "closest to a limit" in ln]
+    assert lines and all("vs 12.5 A" in ln and "y pair" in ln for ln in lines), lines

@@ -59,4 +59,8 @@ def waveforms_for_design(design: Any, headings: Any, dwell_s: float, ramp_s: flo
         dwell_s=dwell_s,
         ramp_s=ramp_s,
     )
-    return w, check_waveforms(w, model.limits.current_A, model.limits.voltage_V), model
+    # each pair against its own amplifier channel where limits.{x,y,z}.* is set
+    lim = model.limits
+    amps = [float(lim.channel("current", k)[1]) for k in range(3)]
+    volts = [float(lim.channel("voltage", k)[1]) for k in range(3)]
+    return w, check_waveforms(w, amps, volts), model

@@ -371,6 +371,15 @@ def _total_power_parts(ctx: Context) -> list[Any]:
     ]
 
 
+def _runaway_keys(ctx: Context, axes: list[str]) -> str:
+    """The current key of each pair in ``axes``: ``limits.current_A`` when they share it, else
+    ``x: limits.x.current_A; y: limits.current_A`` (a pair on its own amplifier channel)."""
+    keys = {a: str(ctx.value(f"coils.axes.{a}.current_limit_key")) for a in axes}
+    if len(set(keys.values())) == 1:
+        return next(iter(keys.values()))
+    return "; ".join(f"{a}: {k}" for a, k in keys.items())
+
+
 def _rating_parts(ctx: Context) -> list[Any]:
     """The current each pair is sized at: one amplifier rating (``limits.current_A``), or each
     pair's own channel (``limits.x.current_A``) where one is set."""
@@ -461,7 +470,7 @@ def build(ctx: Context) -> Section:
             Paragraph(
                 [
                     Strong("Thermal runaway. "),
-                    "At the full current limit (limits.current_A) the ",
+                    f"At the full current limit ({_runaway_keys(ctx, runaway)}) the ",
                     ", ".join(runaway),
                     " pair" + ("s" if len(runaway) > 1 else ""),
                     " would run away thermally: the winding's resistance rises with its "
