@@ -79,7 +79,7 @@ def _numbers(name: str, value: Any) -> np.ndarray | None:
         arr = np.asarray(None)
     if arr.dtype.kind not in "iuf" or arr.dtype == np.bool_:
         raise TypeError(f"{name} = {_short(value)}: a real number (or an array of them) is needed")
-    return arr.astype(float)
+    return arr if arr.dtype.kind == "f" else arr.astype(float)
 
 
 def _short(value: Any) -> str:
@@ -140,11 +140,10 @@ class Spec:
             return
         if self.scalar and arr.ndim != 0:
             raise TypeError(f"{name} = {_short(value)}: one number is needed, not an array")
-        ok = bool(np.all(np.isfinite(arr)))
-        if ok and self.low is not None:
-            ok = bool(np.all(arr > self.low if self.low_open else arr >= self.low))
-        if ok and self.high is not None:
-            ok = bool(np.all(arr < self.high if self.high_open else arr <= self.high))
+        # the least and the largest element decide (NaN propagates through both)
+        ok = not arr.size or (
+            self._number_ok(float(arr.min())) and self._number_ok(float(arr.max()))
+        )
         if not ok:
             raise InputError(name, value if arr.ndim == 0 else _Shown(value), self.allowed())
 
