@@ -115,12 +115,13 @@ def test_evaluate_is_not_refused_over_an_optimiser_only_key():
     for argv in (
         ["--set", "optimize.helical_angle_min_deg=60"],
         ["--set", "optimize.frequency_min_hz=10"],
+        ["--set", "optimize.free.coils.x.side_m=[0.5, 0.9]"],  # a circle's size freed as a side
     ):
         sound(["evaluate", *argv], (0,))
         if "frequency" in argv[1]:
             sound(["coils", *argv], (0,))
         _, _, err = sound(["optimize", *argv], (2,))
-        assert "optimize." in err, "the optimiser still refuses its own bounds out of order"
+        assert "optimize." in err, "the optimiser still refuses its own keys"
 
 
 def test_set_none_clears_a_key_and_squares_become_circles():

@@ -128,7 +128,7 @@ def build_model(design: Design, *, optimiser: bool = True):
             if d.get("operation.field_amplitude_mT") is None
             else to_si("operation.field_amplitude_mT", d["operation.field_amplitude_mT"])
         ),
-        sizing=build_sizing(d),
+        sizing=build_sizing(d) if optimiser else None,  # free hardware: the optimiser's
     )
 
 
