@@ -128,7 +128,7 @@ def _hardware_table(axes: list[dict[str, Any]]) -> str:
 
 
 def _rating_lines(p: dict[str, Any]) -> list[str]:
-    """The three pairs at the amplifier rating (limits.current_A), in words: a pair that runs
+    """The three pairs at their amplifier ratings (each pair's channel), in words: a pair that runs
     away thermally is said so with the current to hold it below, never with temperatures."""
     axes = [p["axes"][ax] for ax in "xyz"]
     steady = [a for a in axes if not a.get("thermal_runaway")]
