@@ -50,6 +50,11 @@ R = TypeVar("R")
 #: Callers inside these packages are trusted (their arguments were checked on the way in).
 DOMAIN_PACKAGES = ("coils", "capsule", "torque_model", "optimize")
 
+#: Largest magnitude of any number, in its SI unit: no quantity of a capsule, a coil or a
+#: tissue comes near it (the stiffest dashpot the tests probe is 1.2e24 Pa·s), and beyond it the
+#: physics' powers and exponentials overflow to inf or NaN (1e308 is finite, its square is not).
+MAX_MAGNITUDE = 1e30
+
 #: Absolute zero, °C: the lowest temperature a ``*_C`` argument may have.
 ABSOLUTE_ZERO_C = -273.15
 
@@ -118,10 +123,15 @@ class Spec:
         if self.high is not None:
             parts.append(f"{'<' if self.high_open else '<='} {self.high:g}")
         words = "a finite number" + (" " + " and ".join(parts) if parts else "")
+        words += (
+            f" of magnitude at most {MAX_MAGNITUDE:g}"
+            if self.low is None or self.high is None
+            else ""
+        )
         return words + (" (or None)" if self.optional else "")
 
     def _number_ok(self, v: float) -> bool:
-        if not math.isfinite(v):
+        if not (math.isfinite(v) and abs(v) <= MAX_MAGNITUDE):
             return False
         if self.low is not None and not (v > self.low if self.low_open else v >= self.low):
             return False
@@ -132,7 +142,11 @@ class Spec:
         if value is None and self.optional:
             return
         if type(value) is float or type(value) is int:  # the common case, without numpy
-            if self._number_ok(float(value)):
+            try:
+                number = float(value)
+            except OverflowError:  # an int too large for a float: not a finite number
+                number = math.inf
+            if self._number_ok(number):
                 return
             raise InputError(name, value, self.allowed())
         arr = _numbers(name, value)
