@@ -4,8 +4,8 @@ InputError) or TypeError naming the argument, never a silent or NaN answer, and 
 ZeroDivisionError, KeyError or AttributeError from deep inside.
 
 What counts as nonsense is decided here from the argument's physical meaning (its name's unit),
-not read back from the guards: a NaN or an infinity anywhere; a string, a bool or None for a
-number; a negative length, frequency, mass, resistance, inductance, power, moment or load; a
+not read back from the guards: a NaN or an infinity anywhere, or a number no quantity here comes
+near (1e308, whose square overflows); a string, a bool or None for a number; a negative length, frequency, mass, resistance, inductance, power, moment or load; a
 helical angle outside (0, 90°). Each public function is first called with sensible values (it
 must answer), then hypothesis draws misuse calls (few examples, no deadline: fast).
 """
@@ -256,7 +256,8 @@ def _resolve(value: object, things: dict) -> object:
 
 def _nonsense(param: str, valid: object) -> list[object]:
     """What no physical argument named ``param`` may be (see the module notes)."""
-    bad: list[object] = [math.nan, math.inf, -math.inf, "1.0", True]
+    # 1e308 is finite but its square is not; 10**400 is no float at all
+    bad: list[object] = [math.nan, math.inf, -math.inf, "1.0", True, 1e308, -1e308, 10**400]
     if not isinstance(valid, (int, float)):  # an array argument: a NaN inside it
         bad = [[math.nan, 0.0, 1.0], "1.0", [0.0, "a"]]
     elif param in ANGLES:
