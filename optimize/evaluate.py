@@ -15,13 +15,13 @@ import numpy as np
 
 from optimize import physics as ph
 from optimize._roots import brentq
-from optimize.system import DesignModel, prepare
+from optimize.system import MODEL, DesignModel, prepare
 from optimize.views import Viewable
-from spiralcap.core.checks import angle, guard, instance, nonnegative, positive
+from spiralcap.core.checks import angle, guard, nonnegative, positive
 from torque_model.domain import calibration_edges, extrapolations
 
 #: the rule for a ``model`` argument of the public functions here
-_MODEL = instance(DesignModel, "an optimize.DesignModel (spiralcap.assemble.build_model)")
+_MODEL = MODEL
 
 #: Relative tolerance with which requirements are judged met (an optimum sits on its bounds).
 FEASIBILITY_RTOL = 1e-6

@@ -15,6 +15,7 @@ from __future__ import annotations
 import functools
 import inspect
 import math
+import re
 
 import numpy as np
 import pytest
@@ -321,6 +322,30 @@ def test_issue_examples(things):
         optimize.evaluate(model, helical_angle_rad="0.2")  # type: ignore[arg-type]
     with pytest.raises(ValueError, match="kind = 'bogus'"):
         optimize.exposure_level_T(2.0, "bogus")
+
+
+def test_a_model_with_nonsense_numbers_is_refused_naming_the_field(things):
+    """A model built by hand (dataclasses.replace) with a negative current limit, a NaN
+    frequency or a text load: the error names the model's field, not a NaN margin."""
+    from dataclasses import replace
+
+    model = things["model"]
+    cases = [
+        (replace(model, limits=replace(model.limits, current_A=-1.0)), "model.limits.current_A"),
+        (replace(model, frequency_hz=math.nan), "model.frequency_hz"),
+        (
+            replace(model, requirements=replace(model.requirements, axial_load_N="0.05")),
+            "model.requirements.axial_load_N",
+        ),
+        (
+            replace(model, bounds=replace(model.bounds, helical_angle_max_rad=2.0)),
+            "model.bounds.helical_angle_max_rad",
+        ),
+    ]
+    for bad, field in cases:
+        for fn in (optimize.evaluate, optimize.optimize_design, optimize.prepare):
+            with pytest.raises(ALLOWED, match=re.escape(field)):
+                fn(bad)
 
 
 @pytest.mark.parametrize("bad", ["model", None, 3.0, {"coils": 1}])

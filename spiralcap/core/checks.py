@@ -40,6 +40,7 @@ __all__ = [
     "nonnegative",
     "positive",
     "positive_finite",
+    "satisfies",
     "temperature",
     "unit_interval",
 ]
@@ -116,17 +117,18 @@ class Spec:
     scalar: bool = False
 
     def allowed(self) -> str:
-        """The rule in words: ``a finite number > 0``."""
+        """The rule in words: ``a finite number > 0 and <= 1e+30``."""
         parts = []
         if self.low is not None:
             parts.append(f"{'>' if self.low_open else '>='} {self.low:g}")
+        elif self.high is not None:
+            parts.append(f">= {-MAX_MAGNITUDE:g}")
         if self.high is not None:
             parts.append(f"{'<' if self.high_open else '<='} {self.high:g}")
-        words = "a finite number" + (" " + " and ".join(parts) if parts else "")
-        words += (
-            f" of magnitude at most {MAX_MAGNITUDE:g}"
-            if self.low is None or self.high is None
-            else ""
+        elif self.low is not None:
+            parts.append(f"<= {MAX_MAGNITUDE:g}")
+        words = "a finite number " + (
+            " and ".join(parts) if parts else f"of magnitude <= {MAX_MAGNITUDE:g}"
         )
         return words + (" (or None)" if self.optional else "")
 
@@ -252,6 +254,20 @@ def fields(words: str, **specs: Spec) -> _Fields:
     return _Fields(tuple(specs.items()), words)
 
 
+@dataclass(frozen=True)
+class _Custom:
+    test: Callable[[str, Any], None]
+
+    def check(self, name: str, value: Any) -> None:
+        self.test(name, value)
+
+
+def satisfies(test: Callable[[str, Any], None]) -> _Custom:
+    """A rule written as a function ``test(name, value)`` that raises (an object whose numbers
+    are checked field by field, ``optimize.system.check_model``)."""
+    return _Custom(test)
+
+
 def instance(kind: type | tuple[type, ...], words: str, optional: bool = False) -> _Instance:
     """An object of ``kind`` (``words``: what it is, e.g. ``"an optimize.DesignModel"``)."""
     return _Instance(kind, words, optional)
@@ -272,9 +288,11 @@ def _trusted_caller(depth: int = 2) -> bool:
     return caller.split(".", 1)[0] in DOMAIN_PACKAGES
 
 
-def guard(
-    **specs: Spec | _Instance | _Choice | _Fields,
-) -> Callable[[Callable[P, R]], Callable[P, R]]:
+#: What :func:`guard` takes for an argument: a numeric rule or an object's.
+Rule = Spec | _Instance | _Choice | _Fields | _Custom
+
+
+def guard(**specs: Rule) -> Callable[[Callable[P, R]], Callable[P, R]]:
     """Check the named arguments of a public function before it runs (see the module notes).
 
     Parameters
