@@ -11,6 +11,7 @@ import math
 from dataclasses import dataclass
 
 from capsule.body import GEOMETRY_RTOL, Body
+from spiralcap.core.checks import guard, instance
 from spiralcap.core.constants import MU0_T_m_per_A
 from spiralcap.core.errors import InputError, check_positive
 
@@ -120,6 +121,7 @@ class Magnet:
         return self.remanence_T * self.volume_m3 / MU0_T_m_per_A
 
 
+@guard(body=instance(Body, "a capsule.Body"), magnet=instance(Magnet, "a capsule.Magnet"))
 def magnet_fit_check(body: Body, magnet: Magnet) -> tuple[str, str] | None:
     """Like :func:`magnet_fit_problem`, also saying which size is at fault.
 
@@ -154,6 +156,7 @@ def magnet_fit_check(body: Body, magnet: Magnet) -> tuple[str, str] | None:
     return None
 
 
+@guard(body=instance(Body, "a capsule.Body"), magnet=instance(Magnet, "a capsule.Magnet"))
 def magnet_fit_problem(body: Body, magnet: Magnet) -> str | None:
     """Whether a magnet centred on the capsule axis fits inside the shell; why not if it does not.
 

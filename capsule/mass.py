@@ -11,6 +11,7 @@ from __future__ import annotations
 import math
 
 from spiralcap.core.backend import Scalar
+from spiralcap.core.checks import guard, nonnegative, positive
 
 __all__ = [
     "CONTENTS_DENSITY_kg_m3",
@@ -27,6 +28,7 @@ NDFEB_DENSITY_kg_m3 = 7500.0
 CONTENTS_DENSITY_kg_m3 = 1300.0
 
 
+@guard(diameter_m=positive(), length_m=positive())
 def body_volume_m3(diameter_m: Scalar, length_m: Scalar) -> Scalar:
     """Outer volume of a capsule: a cylinder closed by two hemispheres, m³.
 
@@ -45,6 +47,7 @@ def body_volume_m3(diameter_m: Scalar, length_m: Scalar) -> Scalar:
     return 0.25 * math.pi * diameter_m**2 * (length_m - diameter_m) + math.pi * diameter_m**3 / 6.0
 
 
+@guard(diameter_m=positive(), length_m=positive(), magnet_volume_m3=nonnegative())
 def mass_from_parts_kg(diameter_m: Scalar, length_m: Scalar, magnet_volume_m3: Scalar) -> Scalar:
     """Capsule mass estimated from its parts, kg.
 

@@ -17,9 +17,15 @@ from capsule.spiral import (
     min_helical_angle_for_clearance_rad,
 )
 from capsule.torque import max_synchronous_torque_Nm
+from spiralcap.core.checks import guard, instance
 from spiralcap.core.errors import InputError, check_positive
 
 
+@guard(
+    body=instance(Body, "a capsule.Body"),
+    spiral=instance(Spiral, "a capsule.Spiral"),
+    magnet=instance(Magnet, "a capsule.Magnet"),
+)
 def geometry_problems(body: Body, spiral: Spiral, magnet: Magnet) -> list[tuple[str, str]]:
     """Every way the three parts do not make a buildable capsule.
 

@@ -18,8 +18,10 @@ from __future__ import annotations
 from typing import Any
 
 from spiralcap.core import backend as bk
+from spiralcap.core.checks import angle, guard, nonnegative, positive, unit_interval
 
 
+@guard(frequency_hz=nonnegative(), lead_m=nonnegative(), slip_efficiency=unit_interval())
 def forward_speed_m_s(frequency_hz: Any, lead_m: Any, slip_efficiency: Any) -> Any:
     """Forward speed of the capsule, ``eta f lead``.
 
@@ -41,6 +43,12 @@ def forward_speed_m_s(frequency_hz: Any, lead_m: Any, slip_efficiency: Any) -> A
     return slip_efficiency * frequency_hz * lead_m
 
 
+@guard(
+    axial_load_N=nonnegative(),
+    helix_diameter_m=positive(),
+    helical_angle_rad=angle(),
+    friction_coefficient=nonnegative(),
+)
 def thrust_torque_Nm(
     axial_load_N: Any, helix_diameter_m: Any, helical_angle_rad: Any, friction_coefficient: Any
 ) -> Any:
@@ -85,6 +93,7 @@ def thrust_torque_Nm(
 SELF_LOCK_ANGLE_rad = 0.5 * 3.141592653589793 - 1e-6
 
 
+@guard(helical_angle_rad=angle(), friction_coefficient=nonnegative())
 def self_lock_margin_rad(helical_angle_rad: Any, friction_coefficient: Any) -> Any:
     """How far the screw is from self-locking, ``pi/2 - (alpha + atan(mu))``, rad.
 

@@ -27,6 +27,7 @@ from typing import Any
 
 from capsule.body import Body
 from spiralcap.core import backend as bk
+from spiralcap.core.checks import Spec, angle, guard, nonnegative, positive
 from spiralcap.core.errors import InputError, check_positive
 
 #: Largest spiral wire diameter accepted, as a fraction of the body diameter. An engineering
@@ -36,6 +37,7 @@ from spiralcap.core.errors import InputError, check_positive
 MAX_WIRE_TO_BODY_DIAMETER = 0.25
 
 
+@guard(body_diameter_m=positive(), wire_diameter_m=nonnegative())
 def helix_diameter_m(body_diameter_m: Any, wire_diameter_m: Any) -> Any:
     """Diameter of the helix traced by the wire's centre line, ``D + d_w``.
 
@@ -54,6 +56,7 @@ def helix_diameter_m(body_diameter_m: Any, wire_diameter_m: Any) -> Any:
     return body_diameter_m + wire_diameter_m
 
 
+@guard(helical_angle_rad=angle(), helix_diameter_m=positive())
 def lead_m(helical_angle_rad: Any, helix_diameter_m: Any) -> Any:
     """Advance per revolution of one start, ``pi D_h tan(alpha)``.
 
@@ -76,6 +79,7 @@ def lead_m(helical_angle_rad: Any, helix_diameter_m: Any) -> Any:
     return bk.pi * helix_diameter_m * bk.tan(helical_angle_rad)
 
 
+@guard(helical_angle_rad=angle(), helix_diameter_m=positive(), wound_length_m=nonnegative())
 def spiral_turns(helical_angle_rad: Any, helix_diameter_m: Any, wound_length_m: Any) -> Any:
     """Turns each start makes over the wound length, ``L_w / (pi D_h tan(alpha))``.
 
@@ -96,6 +100,7 @@ def spiral_turns(helical_angle_rad: Any, helix_diameter_m: Any, wound_length_m: 
     return wound_length_m / lead_m(helical_angle_rad, helix_diameter_m)
 
 
+@guard(helical_angle_rad=angle(), wire_diameter_m=positive())
 def footprint_width_m(helical_angle_rad: Any, wire_diameter_m: Any) -> Any:
     """Circumferential width of the obliquely cut wire in a cross-section, ``d_w / sin(alpha)``.
 
@@ -120,6 +125,7 @@ def footprint_width_m(helical_angle_rad: Any, wire_diameter_m: Any) -> Any:
     return wire_diameter_m / bk.sin(helical_angle_rad)
 
 
+@guard(helix_diameter_m=positive(), wound_length_m=positive(), min_turns=nonnegative())
 def max_helical_angle_for_turns_rad(
     helix_diameter_m: Any, wound_length_m: Any, min_turns: Any
 ) -> Any:
@@ -145,6 +151,7 @@ def max_helical_angle_for_turns_rad(
     return bk.arctan2(wound_length_m, min_turns * bk.pi * helix_diameter_m)
 
 
+@guard(helix_diameter_m=positive(), wire_diameter_m=positive(), starts=Spec(low=1.0))
 def min_helical_angle_for_clearance_rad(
     helix_diameter_m: Any, wire_diameter_m: Any, starts: Any = 1
 ) -> Any:

@@ -15,8 +15,10 @@ from typing import Any
 import numpy as np
 
 from spiralcap.core import backend as bk
+from spiralcap.core.checks import finite, guard, nonnegative, positive
 
 
+@guard(moment_Am2_vec=finite(), field_T_vec=finite())
 def magnetic_torque_Nm(moment_Am2_vec: Any, field_T_vec: Any) -> np.ndarray:
     """Torque on a point dipole in a uniform field, ``m x B`` (numpy only).
 
@@ -41,6 +43,7 @@ def magnetic_torque_Nm(moment_Am2_vec: Any, field_T_vec: Any) -> np.ndarray:
     return np.cross(np.asarray(moment_Am2_vec, dtype=float), np.asarray(field_T_vec, dtype=float))
 
 
+@guard(moment_Am2=nonnegative(), field_amplitude_T=nonnegative())
 def max_synchronous_torque_Nm(moment_Am2: Any, field_amplitude_T: Any) -> Any:
     """Largest torque a rotating field can deliver before step-out, ``m B0``.
 
@@ -59,6 +62,7 @@ def max_synchronous_torque_Nm(moment_Am2: Any, field_amplitude_T: Any) -> Any:
     return moment_Am2 * field_amplitude_T
 
 
+@guard(moment_Am2=nonnegative(), field_amplitude_T=nonnegative(), lag_angle_rad=finite())
 def synchronous_torque_Nm(moment_Am2: Any, field_amplitude_T: Any, lag_angle_rad: Any) -> Any:
     """Torque delivered at lag angle ``delta`` behind the rotating field, ``m B0 sin(delta)``.
 
@@ -79,6 +83,7 @@ def synchronous_torque_Nm(moment_Am2: Any, field_amplitude_T: Any, lag_angle_rad
     return moment_Am2 * field_amplitude_T * bk.sin(lag_angle_rad)
 
 
+@guard(load_torque_Nm=finite(), moment_Am2=positive(), field_amplitude_T=positive())
 def lag_angle_rad(load_torque_Nm: Any, moment_Am2: Any, field_amplitude_T: Any) -> Any:
     """Steady lag of the magnet behind the rotating field at a given load, ``asin(T / (m B0))``.
 

@@ -10,6 +10,7 @@ from __future__ import annotations
 from typing import Any
 
 from spiralcap.core import backend as bk
+from spiralcap.core.checks import guard, nonnegative, positive, temperature
 from spiralcap.core.constants import (
     COPPER_RESISTIVITY_20C_ohm_m,
     COPPER_TEMPERATURE_COEFFICIENT_per_K,
@@ -24,6 +25,7 @@ __all__ = [
 ]
 
 
+@guard(temperature_C=temperature())
 def copper_resistivity_ohm_m(temperature_C: Any) -> Any:
     """Resistivity of annealed copper, Ω·m: ρ20 (1 + α20 (T - 20 °C)) (IEC 60028).
 
@@ -42,6 +44,7 @@ def copper_resistivity_ohm_m(temperature_C: Any) -> Any:
     )
 
 
+@guard(resistance_ohm=nonnegative(), inductance_H=nonnegative(), frequency_hz=nonnegative())
 def impedance_ohm(resistance_ohm: Any, inductance_H: Any, frequency_hz: Any) -> Any:
     """Magnitude of the series R-L impedance, |R + jωL| = sqrt(R² + (2π f L)²), Ω.
 
@@ -63,6 +66,12 @@ def impedance_ohm(resistance_ohm: Any, inductance_H: Any, frequency_hz: Any) -> 
     return bk.sqrt(resistance_ohm * resistance_ohm + reactance * reactance)
 
 
+@guard(
+    resistance_ohm=nonnegative(),
+    inductance_H=nonnegative(),
+    frequency_hz=nonnegative(),
+    current_amplitude_A=nonnegative(),
+)
 def voltage_amplitude_V(
     resistance_ohm: Any, inductance_H: Any, frequency_hz: Any, current_amplitude_A: Any
 ) -> Any:
@@ -87,6 +96,7 @@ def voltage_amplitude_V(
     return impedance_ohm(resistance_ohm, inductance_H, frequency_hz) * current_amplitude_A
 
 
+@guard(resistance_ohm=nonnegative(), current_amplitude_A=nonnegative())
 def copper_loss_W(resistance_ohm: Any, current_amplitude_A: Any) -> Any:
     """Mean copper loss of a sinusoidal current, R I² / 2 (I the amplitude), W.
 
@@ -105,6 +115,7 @@ def copper_loss_W(resistance_ohm: Any, current_amplitude_A: Any) -> Any:
     return 0.5 * resistance_ohm * current_amplitude_A * current_amplitude_A
 
 
+@guard(power_W=nonnegative(), thermal_conductance_W_per_K=positive())
 def temperature_rise_K(power_W: Any, thermal_conductance_W_per_K: Any) -> Any:
     """Steady temperature rise ΔT = P / G of a lumped body losing heat through conductance G, K.
 

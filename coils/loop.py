@@ -31,6 +31,7 @@ import numpy as np
 
 from spiralcap.core import backend as bk
 from spiralcap.core.backend import Scalar
+from spiralcap.core.checks import finite, guard, nonnegative, positive
 from spiralcap.core.constants import MU0_T_m_per_A
 
 __all__ = [
@@ -204,6 +205,7 @@ def loop_terms_rows(
     return g, b_z
 
 
+@guard(radius_m=positive(), z0_m=finite(), rho_m=nonnegative(), z_m=finite())
 def loop_field(radius_m: Scalar, z0_m: Scalar, rho_m: Scalar, z_m: Scalar) -> tuple[Scalar, Scalar]:
     """Field of one circular filament per ampere-turn (exact, elliptic integrals).
 
@@ -235,6 +237,7 @@ def loop_field(radius_m: Scalar, z0_m: Scalar, rho_m: Scalar, z_m: Scalar) -> tu
     return rho_m * s, b_z
 
 
+@guard(radius1_m=positive(), radius2_m=positive(), distance_m=finite())
 def coaxial_mutual_inductance_H(radius1_m: Scalar, radius2_m: Scalar, distance_m: Scalar) -> Scalar:
     """Mutual inductance of two coaxial circular filaments (one turn each), H.
 

@@ -12,11 +12,13 @@ from __future__ import annotations
 
 import numpy as np
 
+from spiralcap.core.checks import finite, guard
 from spiralcap.core.errors import InputError
 
 __all__ = ["allocation", "ellipse_semi_axes", "heading_frame"]
 
 
+@guard(heading=finite())
 def heading_frame(heading: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Unit heading n and a right-handed pair u, v = n x u spanning the plane ⟂ n.
 

@@ -26,6 +26,7 @@ from coils.electrical import impedance_ohm
 from coils.system import ThreeAxisHelmholtz
 from coils.thermal import WindingPack
 from coils.thermal_system import mean_rise_at_K, pair_temperatures
+from spiralcap.core.checks import guard, instance, nonnegative, positive, temperature, unit_interval
 from spiralcap.core.constants import COPPER_TEMPERATURE_COEFFICIENT_per_K
 
 __all__ = ["AxisSizing", "SystemSizing", "WorstHeading", "size_system", "winding_pack"]
@@ -68,6 +69,8 @@ class AxisSizing:
         Centre field per ampere of the field model (each coil one loop at its mean radius), T/A.
     pack_field_per_amp_T_per_A : float
         The same with the current spread over the winding pack, T/A.
+    current_amplitude_A : float
+        The current amplitude this pair is sized at (its amplifier channel's limit), A.
     resistance_20C_ohm, resistance_ohm : float
         Resistance of the pair at 20 °C and at its mean winding temperature, Ω.
     self_inductance_H, mutual_inductance_H, inductance_H : float
@@ -140,6 +143,7 @@ class AxisSizing:
     shape: str = "circle"
     side_m: float | None = None
     sides_m: tuple[float, float] | None = None
+    current_amplitude_A: float = math.nan
 
 
 @dataclass(frozen=True)
@@ -243,11 +247,19 @@ def winding_pack(
     )
 
 
+@guard(
+    system=instance(ThreeAxisHelmholtz, "a coils.ThreeAxisHelmholtz"),
+    frequency_hz=nonnegative(scalar=True),
+    ambient_temperature_C=temperature(scalar=True),
+    heat_transfer_coefficient_W_m2K=positive(optional=True, scalar=True),
+    winding_conductivity_W_mK=positive(scalar=True),
+    surface_emissivity=unit_interval(scalar=True),
+)
 def size_system(
     system: ThreeAxisHelmholtz,
     *,
     frequency_hz: float,
-    current_amplitude_A: float,
+    current_amplitude_A: float | tuple[float, ...],
     ambient_temperature_C: float,
     heat_transfer_coefficient_W_m2K: float | None,
     winding_conductivity_W_mK: float = 0.5,
@@ -266,8 +278,9 @@ def size_system(
         The coils.
     frequency_hz : float
         Drive frequency, Hz.
-    current_amplitude_A : float
-        Current amplitude of every pair, and the current limit, A.
+    current_amplitude_A : float or tuple of 3 floats
+        Current amplitude of every pair, and the current limit, A; or one per pair (x, y, z:
+        each pair's own amplifier channel).
     ambient_temperature_C : float
         Air temperature, °C.
     heat_transfer_coefficient_W_m2K : float or None
@@ -308,6 +321,7 @@ def size_system(
             )
             for pair in system.pairs
         )
+    amps = _pair_currents(current_amplitude_A)
     r20s = (
         [pair.resistance_ohm(20.0) for pair in system.pairs]
         if resistance_20C_ohm is None
@@ -318,9 +332,7 @@ def size_system(
         if inductance_H is None
         else [float(v) for v in inductance_H]
     )
-    together = pair_temperatures(
-        packs, r20s, (current_amplitude_A,) * 3, ambient_temperature_C, view_factors
-    )
+    together = pair_temperatures(packs, r20s, amps, ambient_temperature_C, view_factors)
     for k, pair in enumerate(system.pairs):
         pack, r20, st = packs[k], r20s[k], together[k]
         if float(st.runaway) > 0.5:  # no steady state: report NaN, not the bounding iterate
@@ -352,7 +364,7 @@ def size_system(
                 mutual_inductance_H=pair.mutual_inductance_H,
                 inductance_H=inductances[k],
                 impedance_ohm=z,
-                voltage_amplitude_V=z * current_amplitude_A,
+                voltage_amplitude_V=z * amps[k],
                 power_W=float(st.power_W),
                 surface_conductance_W_per_K=float(pack.surface_area_m2 * st.effective_h_W_m2K),
                 surface_temperature_C=float(st.surface_C),
@@ -365,16 +377,17 @@ def size_system(
                 convection_coefficient_W_m2K=float(st.convection_W_m2K),
                 radiation_view_factor=1.0 if view_factors is None else float(view_factors[k][0]),
                 # the set's own centre gain: a calibrated set's (coils.calibration), else g
-                field_amplitude_T=float(system.centre_gains_T_per_A[k]) * current_amplitude_A,
+                field_amplitude_T=float(system.centre_gains_T_per_A[k]) * amps[k],
                 pack_field_per_amp_T_per_A=pair.pack_centre_field_per_amp_T_per_A,
+                current_amplitude_A=amps[k],
             )
         )
     weakest = min(a.field_amplitude_T for a in axes)
     tied = tuple(a.axis for a in axes if a.field_amplitude_T <= weakest * (1.0 + 1e-9))
-    worst = _worst_heading(system, states, current_amplitude_A, ambient_temperature_C, headings)
+    worst = _worst_heading(system, states, amps, ambient_temperature_C, headings)
     return SystemSizing(
         frequency_hz=frequency_hz,
-        current_amplitude_A=current_amplitude_A,
+        current_amplitude_A=max(amps),
         ambient_temperature_C=ambient_temperature_C,
         heat_transfer_coefficient_W_m2K=heat_transfer_coefficient_W_m2K,
         winding_conductivity_W_mK=winding_conductivity_W_mK,
@@ -388,10 +401,27 @@ def size_system(
     )
 
 
+def _pair_currents(current_amplitude_A: float | tuple[float, ...]) -> tuple[float, float, float]:
+    """The three pairs' current amplitudes, A: one for all, or one per pair (each > 0, finite)."""
+    from spiralcap.core.checks import positive_finite
+
+    if np.ndim(current_amplitude_A) == 0:
+        one = positive_finite("current_amplitude_A", current_amplitude_A)
+        return (one, one, one)
+    amps = tuple(float(a) for a in np.asarray(current_amplitude_A, dtype=float).ravel())
+    if len(amps) != 3:
+        raise ValueError(
+            f"current_amplitude_A = {current_amplitude_A!r}: one current, or three (x, y, z), A"
+        )
+    for ax, a in zip("xyz", amps):
+        positive_finite(f"current_amplitude_A[{ax}]", a)
+    return (amps[0], amps[1], amps[2])
+
+
 def _worst_heading(
     system: ThreeAxisHelmholtz,
     states: list,
-    current_A: float,
+    current_A: tuple[float, float, float],
     ambient_C: float,
     headings: np.ndarray | None,
 ) -> WorstHeading:
@@ -403,7 +433,8 @@ def _worst_heading(
     h = h / np.linalg.norm(h, axis=1, keepdims=True)
     g = np.asarray(system.centre_gains_T_per_A, dtype=float)  # calibrated where calibrated
     per_T = np.sqrt(np.clip(1.0 - h**2, 0.0, 1.0)) / g  # (h, 3) A per T
-    field = current_A / np.max(per_T, axis=1)
+    with np.errstate(divide="ignore"):  # an axis a heading does not use caps nothing
+        field = np.min(np.asarray(current_A)[None, :] / per_T, axis=1)
     currents = field[:, None] * per_T
     loss = np.zeros(h.shape[0])
     for k, (state, r20) in enumerate(states):

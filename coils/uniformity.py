@@ -19,6 +19,7 @@ from typing import Any
 import numpy as np
 
 from coils.system import PAIR_TYPES, ThreeAxisHelmholtz
+from spiralcap.core.checks import Spec, finite, guard
 from spiralcap.core.errors import InputError, check_positive
 
 __all__ = [
@@ -94,6 +95,7 @@ def _deviation(
     return np.linalg.norm(field(points), axis=1) / centre_T - 1.0
 
 
+@guard(points_m=finite(), currents_A=finite(optional=True))
 def uniformity(system: Any, points_m: Any, currents_A: Any = None) -> np.ndarray:
     """Relative deviation |B(p)| / |B(0)| - 1 at each point (dimensionless).
 
@@ -457,6 +459,7 @@ def _pair_similarity_key(pair: Any) -> tuple[bytes, ...]:
     return key if extra is None else (b"rectangle", *key[1:], (extra / r).tobytes())
 
 
+@guard(tolerances=Spec(low=0.0, high=1.0, low_open=True, high_open=True))
 def pair_uniform_regions(pairs: Any, tolerances: Any) -> tuple[tuple[UniformRegion, ...], ...]:
     """:func:`uniform_region` of each pair at each tolerance, ``[pair][tolerance]``.
 
@@ -520,6 +523,7 @@ def _single_axis(currents: np.ndarray) -> int | None:
     return int(on[0]) if len(on) == 1 else None
 
 
+@guard(tolerances=Spec(low=0.0, high=1.0, low_open=True, high_open=True))
 def uniform_regions(
     system_or_pair: Any,
     tolerances: Any,
@@ -633,6 +637,7 @@ def _search_directions(
     return found
 
 
+@guard(tolerance=Spec(low=0.0, high=1.0, low_open=True, high_open=True, scalar=True))
 def uniform_region(
     system_or_pair: Any, tolerance: float, currents_A: Any = None, direction: Any = None
 ) -> UniformRegion:
@@ -660,6 +665,7 @@ def uniform_region(
     return uniform_regions(system_or_pair, [tolerance], currents_A, direction)[0]
 
 
+@guard(tolerance=Spec(low=0.0, high=1.0, low_open=True, high_open=True, scalar=True))
 def uniform_region_radius_m(
     system_or_pair: Any, tolerance: float, currents_A: Any = None, direction: Any = None
 ) -> float:

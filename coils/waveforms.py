@@ -17,6 +17,7 @@ No I/O; numpy only (this is a post-processing of an operating point, not optimis
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -237,17 +238,17 @@ class WaveformCheck:
         return not self.exceeded
 
 
-def check_waveforms(w: Waveforms, current_limit_A: float, voltage_limit_V: float) -> WaveformCheck:
+def check_waveforms(w: Waveforms, current_limit_A: Any, voltage_limit_V: Any) -> WaveformCheck:
     """Check every sample's |I_k| and |V_k| against the limits (switching transients included).
 
     Parameters
     ----------
     w : Waveforms
         The sampled waveforms.
-    current_limit_A : float
-        Allowed |I| of each pair, A.
-    voltage_limit_V : float
-        Allowed |V| of each pair, V.
+    current_limit_A : float or sequence of 3 floats
+        Allowed |I| of each pair (one for all, or each pair's own amplifier channel), A.
+    voltage_limit_V : float or sequence of 3 floats
+        Allowed |V| of each pair (one for all, or each pair's own), V.
 
     Returns
     -------
@@ -256,7 +257,13 @@ def check_waveforms(w: Waveforms, current_limit_A: float, voltage_limit_V: float
     """
     binding: list[LimitSample] = []
     exceeded: list[LimitSample] = []
-    series = (("current", w.current_A, current_limit_A), ("voltage", w.voltage_V, voltage_limit_V))
+    series = tuple(
+        (name, data, np.broadcast_to(np.asarray(lim, dtype=float), (3,)))
+        for name, data, lim in (
+            ("current", w.current_A, current_limit_A),
+            ("voltage", w.voltage_V, voltage_limit_V),
+        )
+    )
     for i in range(len(w.headings)):
         best: LimitSample | None = None
         for name, data, lim in series:
@@ -265,7 +272,7 @@ def check_waveforms(w: Waveforms, current_limit_A: float, voltage_limit_V: float
             flat = np.unravel_index(int(np.argmax(util)), util.shape)
             j, k = int(flat[0]), int(flat[1])
             cand = LimitSample(
-                name, "xyz"[k], float(w.time_s[sel[j]]), i, float(data[sel[j], k]), lim
+                name, "xyz"[k], float(w.time_s[sel[j]]), i, float(data[sel[j], k]), float(lim[k])
             )
             if best is None or cand.utilisation > best.utilisation:
                 best = cand
@@ -273,7 +280,7 @@ def check_waveforms(w: Waveforms, current_limit_A: float, voltage_limit_V: float
             binding.append(best)
     for name, data, lim in series:
         for k in range(3):
-            over = np.nonzero(np.abs(data[:, k]) > lim)[0]
+            over = np.nonzero(np.abs(data[:, k]) > lim[k])[0]
             if over.size:
                 j = int(over[0])
                 exceeded.append(
@@ -283,7 +290,7 @@ def check_waveforms(w: Waveforms, current_limit_A: float, voltage_limit_V: float
                         float(w.time_s[j]),
                         int(w.heading_index[j]),
                         float(data[j, k]),
-                        lim,
+                        float(lim[k]),
                     )
                 )
     exceeded.sort(key=lambda s: s.time_s)

@@ -15,9 +15,13 @@ import numpy as np
 
 from optimize import physics as ph
 from optimize._roots import brentq
-from optimize.system import DesignModel, prepare
+from optimize.system import MODEL, DesignModel, prepare
 from optimize.views import Viewable
+from spiralcap.core.checks import angle, guard, nonnegative, positive
 from torque_model.domain import calibration_edges, extrapolations
+
+#: the rule for a ``model`` argument of the public functions here
+_MODEL = MODEL
 
 #: Relative tolerance with which requirements are judged met (an optimum sits on its bounds).
 FEASIBILITY_RTOL = 1e-6
@@ -250,6 +254,7 @@ class WorstRequired(NamedTuple):
     tissue_index: np.ndarray
 
 
+@guard(model=_MODEL, alpha=angle(), f=positive())
 def worst_required(model: DesignModel, alpha: Any, f: Any) -> WorstRequired:
     """Worst tissue's resistive, thrust and total torque and its index at (alpha, f).
 
@@ -326,6 +331,7 @@ class MarginGrid:
         return getattr(self, name)
 
 
+@guard(model=_MODEL, alpha_rad=angle(), frequency_hz=positive())
 def margin_grid(
     model: DesignModel, alpha_rad: Any, frequency_hz: Any, *, capacity: bool = False
 ) -> MarginGrid:
@@ -613,6 +619,13 @@ def _first_zero(margin, f_lo: float, f_hi: float) -> FrequencyBound:
     return FrequencyBound(float(root), False)
 
 
+@guard(
+    model=_MODEL,
+    alpha_rad=angle(scalar=True),
+    field_T=nonnegative(optional=True, scalar=True),
+    f_lo=positive(scalar=True),
+    f_hi=positive(scalar=True),
+)
 def step_out_frequency_hz(
     model: DesignModel,
     alpha_rad: float,
@@ -656,6 +669,12 @@ def step_out_frequency_hz(
     return _first_zero(margin, f_lo, f_hi)
 
 
+@guard(
+    model=_MODEL,
+    alpha_rad=angle(scalar=True),
+    f_lo=positive(scalar=True),
+    f_hi=positive(scalar=True),
+)
 def max_frequency_hz(
     model: DesignModel,
     alpha_rad: float,
@@ -701,6 +720,12 @@ def max_frequency_hz(
     return bound, cap.limited_by
 
 
+@guard(
+    model=_MODEL,
+    helical_angle_rad=angle(optional=True, scalar=True),
+    frequency_hz=positive(optional=True, scalar=True),
+    field_amplitude_T=nonnegative(optional=True, scalar=True),
+)
 def evaluate(
     model: DesignModel,
     helical_angle_rad: float | None = None,

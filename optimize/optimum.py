@@ -12,9 +12,11 @@ from typing import Any
 
 from optimize.result import OptimizationResult
 from optimize.solve import SolveOptions
-from optimize.system import DesignModel
+from optimize.system import MODEL, DesignModel
+from spiralcap.core.checks import guard
 
 
+@guard(model=MODEL)
 def optimize_design(
     model: DesignModel,
     *,

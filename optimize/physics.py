@@ -23,6 +23,7 @@ import capsule as cap
 import torque_model as tm
 from optimize.system import Constants, Limits, Requirements
 from spiralcap.core import backend as bk
+from spiralcap.core.checks import choice, guard, positive
 
 #: ICNIRP (2010) "Guidelines for limiting exposure to time-varying electric and magnetic fields
 #: (1 Hz to 100 kHz)", Health Phys. 99(6):818-836, Tables 3 and 4: reference levels for the
@@ -31,6 +32,7 @@ from spiralcap.core import backend as bk
 ICNIRP2010_LEVELS_T = {"occupational": (0.2, 2.5e-2, 1e-3), "public": (4e-2, 5e-3, 2e-4)}
 
 
+@guard(frequency_hz=positive(), kind=choice("occupational", "public"))
 def exposure_level_T(frequency_hz: Any, kind: str) -> Any:
     """ICNIRP 2010 reference level (rms flux density, T) at ``frequency_hz``.
 

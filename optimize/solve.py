@@ -25,7 +25,8 @@ from optimize.compiled import compile_problem, structure_of
 from optimize.evaluate import _three, evaluate, grip_bound, margin_grid, worst_required
 from optimize.nlp import Solution
 from optimize.result import BindingLimit, OptimizationResult, Shortfall
-from optimize.system import DesignModel, prepare
+from optimize.system import MODEL, DesignModel, prepare
+from spiralcap.core.checks import guard, instance
 
 # --- scales and starts ------------------------------------------------------------------------
 
@@ -682,6 +683,10 @@ def _result(
     )
 
 
+@guard(
+    model=MODEL,
+    result=instance(OptimizationResult, "an optimize.OptimizationResult (optimize_design)"),
+)
 def with_operating_point(model: DesignModel, result: OptimizationResult) -> DesignModel:
     """The model moved to the optimum's helical angle, frequency (and field, where set).
 

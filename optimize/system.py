@@ -13,6 +13,15 @@ from typing import Any
 
 import numpy as np
 
+from spiralcap.core.checks import (
+    Spec,
+    angle,
+    guard,
+    nonnegative,
+    positive,
+    satisfies,
+    temperature,
+)
 from torque_model.engagement import DEFAULT_MIN_WALL_STRAIN
 
 
@@ -287,6 +296,61 @@ class DesignModel:
     measured_inductance_H: Any = None
 
 
+#: The numbers of a model checked at the public entry points (``check_model``): where each
+#: lives, and its rule; symbols pass (an NLP's parameters), optional ones may be None.
+_MODEL_NUMBERS = (
+    ("frequency_hz", positive()),
+    ("ambient_temperature_C", temperature()),
+    ("winding_temperature_C", temperature(optional=True)),
+    ("field_amplitude_T", nonnegative(optional=True)),
+    ("session_s", positive(optional=True)),
+    ("limits.current_A", positive()),
+    ("limits.voltage_V", positive()),
+    ("limits.power_W", positive()),
+    ("limits.coil_temperature_C", temperature()),
+    ("limits.surface_temperature_C", temperature(optional=True)),
+    ("limits.copper_mass_kg", positive(optional=True)),
+    ("requirements.axial_load_N", nonnegative()),
+    ("requirements.slip_efficiency", Spec(low=0.0, high=1.0, low_open=True)),
+    ("requirements.min_speed_m_s", nonnegative()),
+    ("requirements.min_spiral_turns", nonnegative()),
+    ("requirements.min_safety_factor", positive()),
+    ("requirements.min_clearance_m", nonnegative()),
+    ("requirements.bore_radius_m", nonnegative()),
+    ("requirements.min_wall_strain", nonnegative()),
+    ("bounds.helical_angle_min_rad", angle()),
+    ("bounds.helical_angle_max_rad", angle()),
+    ("bounds.frequency_min_hz", positive()),
+    ("bounds.frequency_max_hz", positive()),
+)
+
+
+def check_model(name: str, model: Any) -> None:
+    """Refuse what is not a :class:`DesignModel` (TypeError) or one whose numbers are nonsense
+    (InputError naming ``model.limits.current_A`` and its value): the rule of the ``model``
+    argument of the public functions (:func:`spiralcap.core.checks.guard`)."""
+    if not isinstance(model, DesignModel):
+        raise TypeError(
+            f"{name} = {model!r:.80}: an optimize.DesignModel (spiralcap.assemble.build_model) "
+            "is needed"
+        )
+    for path, spec in _MODEL_NUMBERS:
+        value: Any = model
+        for part in path.split("."):
+            value = getattr(value, part)
+        spec.check(f"{name}.{path}", value)
+    lim = model.limits
+    for kind, unit in (("current", "A"), ("voltage", "V"), ("power", "W")):
+        own = getattr(lim, f"axis_{kind}_{unit}")
+        for k, ax in enumerate("xyz"):  # a pair's own channel, where it has one
+            if f"{kind}_{ax}" in lim.own:
+                positive().check(f"{name}.limits.axis_{kind}_{unit}[{ax}]", own[k])
+
+
+#: the rule of a ``model`` argument of the public functions
+MODEL = satisfies(check_model)
+
+
 class PhysicsMemo:
     """What :mod:`optimize.physics` already solved for one :class:`Constants` (its ``memo``).
 
@@ -535,6 +599,7 @@ def precompute(model: DesignModel) -> Constants:
     )
 
 
+@guard(model=MODEL)
 def prepare(model: DesignModel) -> DesignModel:
     """The model with its :class:`Constants` computed (returned unchanged if already there).
 

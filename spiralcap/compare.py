@@ -15,7 +15,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from spiralcap.design import Design
-from spiralcap.presentation import shown
+from spiralcap.presentation import readable, shown
 
 #: Relative difference below which two values count as equal.
 SAME_RTOL = 1e-9
@@ -128,8 +128,13 @@ _SEARCHED_ROWS = (
 
 def evaluation_rows(evaluations: Sequence[Any]) -> tuple[Row, ...]:
     """Margin, safety factor, field, torques, speed, step-out and every check, per design."""
+
+    def value_of(e: Any, name: str) -> Any:
+        value = getattr(e, name)
+        return readable(value) if name == "field_limited_by" else value  # no internal labels
+
     rows = [
-        _row(quantity, unit, [getattr(e, name) for e in evaluations])
+        _row(quantity, unit, [value_of(e, name) for e in evaluations])
         for quantity, unit, name in _EVALUATION_ROWS
     ] + [
         _row(quantity, "Hz", [_searched(getattr(e, hz), getattr(e, beyond)) for e in evaluations])
@@ -145,7 +150,7 @@ def evaluation_rows(evaluations: Sequence[Any]) -> tuple[Row, ...]:
         label = (
             "self-locking: α + atan μ (must stay below 90°)"
             if name == "self_lock"
-            else name.replace("_", " ")
+            else readable(name)
         )
         rows.append(_row(label, unit, [None if c is None else c.value for c in found]))
     rows.append(_row("feasible", "", [e.feasible for e in evaluations]))
@@ -202,7 +207,10 @@ def optimisation_rows(results: Sequence[Any]) -> tuple[Row, ...]:
         _row(
             "binding limits",
             "",
-            [", ".join(b.name for b in binding(r.binding_limits)) or "none" for r in results],
+            [
+                "; ".join(readable(b.name) for b in binding(r.binding_limits)) or "none"
+                for r in results
+            ],
         ),
     )
 

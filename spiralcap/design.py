@@ -329,8 +329,15 @@ def load_design(
         paths: list[Path] = []
     elif isinstance(path, (str, os.PathLike)):
         paths = [Path(path)]
-    else:
+    elif isinstance(path, Sequence) and all(isinstance(x, (str, os.PathLike)) for x in path):
         paths = [Path(x) for x in path]
+    else:
+        raise TypeError(f"path = {path!r:.120}: a design file's path, a list of them, or None")
+    if isinstance(overrides, (str, bytes)) or not isinstance(overrides, Iterable):
+        raise TypeError(f"overrides = {overrides!r:.120}: a list of 'dotted.key=value' texts")
+    overrides = list(overrides)
+    if not all(isinstance(x, str) for x in overrides):
+        raise TypeError(f"overrides = {overrides!r:.120}: a list of 'dotted.key=value' texts")
     values: dict[str, Any] = {}
     origins: dict[str, str] = {}
     for p in paths:
@@ -345,9 +352,24 @@ def load_design(
     source = " + ".join(str(p) for p in paths) if paths else "built-in example"
     for expr in overrides:
         key, value = parse_set(expr)
-        values[key] = value
         origins.pop(key, None)
+        if is_clear(value):  # --set KEY=none: the key as if never set (its default, or unset)
+            if key not in KEYS:
+                validate_value(key, value)  # an unknown key: the one-line error, with a hint
+            values.pop(key, None)
+            continue
+        values[key] = value
     return Design(values, source=source, origins=origins)
+
+
+#: The word that clears a key with ``--set KEY=none`` (no key takes it as a value).
+CLEAR = "none"
+
+
+def is_clear(value: Any) -> bool:
+    """Whether a ``--set`` value is the bare word ``none``: clear the key (the files' value and
+    any earlier ``--set`` are dropped; the key takes its default, or is unset if optional)."""
+    return isinstance(value, str) and value.strip().lower() == CLEAR
 
 
 def read_toml_file(path: str | os.PathLike[str], what: str = "design file") -> dict[str, Any]:

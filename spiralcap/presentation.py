@@ -139,6 +139,10 @@ def readable(name: str) -> str:
     """``voltage_x`` -> ``drive voltage, x pair``; unknown names are returned unchanged."""
     if name in _NAMES:
         return _NAMES[name]
+    if "@" in name:  # a freed hardware key at the end of its range: ``magnet.diameter_m@max``
+        stem, _, end = name.partition("@")
+        where = {"max": "top", "min": "bottom"}.get(end, end)
+        return f"{_hardware_words(stem)} at the {where} of its free range"
     if name.endswith("]") and "[" in name:  # a per-tissue row: ``wall_strain[sample3]``
         stem, _, inner = name[:-1].partition("[")
         return f"{readable(stem)}, {inner}"
@@ -146,6 +150,19 @@ def readable(name: str) -> str:
     if stem in _PER_AXIS and axis in ("x", "y", "z"):
         return f"{_PER_AXIS[stem]}, {axis} pair"
     return name.replace("_", " ")
+
+
+def _hardware_words(name: str) -> str:
+    """A free hardware variable in words: ``x.wire_diameter_m`` -> ``wire diameter, x pair``,
+    ``magnet.diameter_m`` -> ``magnet diameter``, ``spiral.wire_diameter_m`` -> ``spiral wire
+    diameter``."""
+    part, _, leaf = name.partition(".")
+    for suffix in ("_mm", "_m"):
+        leaf = leaf.removesuffix(suffix)
+    leaf = leaf.replace("_", " ")
+    if part in ("x", "y", "z"):
+        return f"{leaf}, {part} pair"
+    return f"{part} {leaf}".strip()
 
 
 def shown(unit: str) -> tuple[str, float]:
@@ -245,6 +262,33 @@ def gain_per_key_unit(objective: str, unit: str, key: str, gain_si: float) -> tu
         key_unit = "turn"
     obj = obj_unit or ("safety factor" if objective == "ratio" else "")
     return gain_si * obj_factor / key_factor, f"{obj} per {key_unit}".strip()
+
+
+#: Keys whose own unit is no useful step to quote a gain per: key -> (step in the key's unit,
+#: the step in words). A strain of 1 is 100 %; a safety factor of 1 doubles it.
+GAIN_STEPS: dict[str, tuple[float, str]] = {
+    "requirements.min_wall_strain": (1e-3, "0.1 % of strain"),
+    "requirements.min_safety_factor": (0.1, "0.1 of the safety factor"),
+    "requirements.slip_efficiency": (0.01, "0.01 of slip efficiency"),
+    "requirements.max_stepout_probability": (0.01, "1 % of step-out probability"),
+}
+
+
+def gain_step(key: str, key_unit: str) -> tuple[float, str]:
+    """The step a gain is quoted per, in the key's unit, and in words: ``(1.0, "1 °C")``,
+    ``(1.0, "1°")`` for an angle, ``(1.0, "1 turn")``, ``(0.001, "0.1 % of strain")`` for
+    ``requirements.min_wall_strain``; a key with no unit and no entry in :data:`GAIN_STEPS`
+    per 0.01 of it (not "per unit", a doubling of most ratios)."""
+    stem = key.removeprefix("optimize.free.")
+    if stem in GAIN_STEPS:
+        return GAIN_STEPS[stem]
+    if stem.endswith((".turns", ".starts")) or key_unit in ("turns", "starts"):
+        return 1.0, "1 turn" if stem.endswith("turns") or key_unit == "turns" else "1 start"
+    if key_unit == "°":
+        return 1.0, "1°"
+    if key_unit in ("", "1", "unit"):
+        return 0.01, "0.01"
+    return 1.0, f"1 {key_unit}"
 
 
 #: A limit binds only where the solution sits on it: its value within this relative distance of

@@ -771,11 +771,11 @@ def _free_range(key: str) -> Key:
             lo, hi = int(lo), int(hi)
         return lo < hi and spec.check(lo) and spec.check(hi)
 
-    whole = "whole numbers " if spec.kind is int else ""
+    whole = "whole numbers" if spec.kind is int else "numbers"
     return Key(
         list,
         None,
-        f"a pair [min, max] of {whole}with min < max, each {spec.allowed}",
+        f"a pair [min, max] of {whole} with min < max, each {spec.allowed}",
         ok,
         f"let the optimiser choose {key} between min and max",
     )

@@ -131,9 +131,10 @@ _UTILISATION_CAP = 1e6
 
 
 def _check(c: dict[str, Any], key: str) -> dict[str, Any]:
-    """A check in the unit and form of its design key (``value``, ``allowed``, ``unit``): the
-    hot spot in °C against ``limits.coil_temperature_C``, the speed in mm/s, the self-lock
-    α + atan μ in degrees against 90; ``utilisation`` in the row's own form (1 binds)."""
+    """A check in SI (``value``, ``allowed`` in ``unit``: N·m, m/s, rad, m, T; temperatures in
+    °C) and in the unit of its design key (``value_in_key_unit``, ``allowed_in_key_unit`` in
+    ``key_unit``: the speed in mm/s, the self-lock α + atan μ in degrees against 90);
+    ``utilisation`` in the row's own form (1 binds)."""
     from spiralcap.presentation import in_key_units
 
     unit, factor = in_key_units(c["unit"], key)
@@ -144,9 +145,9 @@ def _check(c: dict[str, Any], key: str) -> dict[str, Any]:
         "name": c["name"],
         "key": key,
         **c,
-        "unit": unit,
-        "value": c["value"] * factor,
-        "allowed": c["allowed"] * factor,
+        "key_unit": unit,
+        "value_in_key_unit": c["value"] * factor,
+        "allowed_in_key_unit": c["allowed"] * factor,
         "utilisation": min(util, _UTILISATION_CAP),
     }
 
@@ -193,6 +194,7 @@ def optimization_to_dict(res: Any) -> dict[str, Any]:
         b["gain_per_key_unit"], b["gain_per_key_unit_label"] = gain_per_key_unit(
             res.objective, b["unit"], b["key"], b["gain_per_unit_relaxed"]
         )
+        _gain_per_step(b)
     out["binding_keys"] = binding_keys(out["binding_limits"])
     for s in out["shortfalls"]:
         s["key"] = constraint_key(s["name"])
@@ -220,6 +222,19 @@ def optimization_to_dict(res: Any) -> dict[str, Any]:
     return _finite_fields(out, res.margin_Nm)
 
 
+def _gain_per_step(b: dict[str, Any]) -> None:
+    """``gain_per_step`` (the objective's shown unit) for relaxing the key by ``gain_step`` (in
+    words; ``gain_step_in_key_unit`` in the key's unit): 1 °C, 1°, 0.1 % of strain."""
+    from spiralcap.presentation import gain_step
+
+    step, words = gain_step(b["key"], b["key_unit"])
+    b["gain_step_in_key_unit"] = step
+    b["gain_step"] = words
+    b["gain_per_step"] = b["gain_per_key_unit"] * step
+    obj_unit = b["gain_per_key_unit_label"].split(" per ", 1)[0]
+    b["gain_per_step_label"] = f"{obj_unit} per {words}".strip()
+
+
 def binding_keys(binding: list[dict[str, Any]]) -> list[dict[str, Any]]:
     """The binding rows grouped by design key: relaxing a key relaxes all its rows at once
     (three pairs' current limits are one ``limits.current_A``), so its gain is their sum --
@@ -238,6 +253,8 @@ def binding_keys(binding: list[dict[str, Any]]) -> list[dict[str, Any]]:
             }
         out[key]["rows"].append(b["name"])
         out[key]["gain_per_key_unit"] += b["gain_per_key_unit"]
+    for k in out.values():
+        _gain_per_step(k)
     return list(out.values())
 
 

@@ -16,6 +16,7 @@ from typing import Any
 
 import numpy as np
 
+from spiralcap.core.checks import guard, instance
 from spiralcap.core.errors import InputError
 from spiralcap.design import Design
 from spiralcap.schema import KEYS, si_name, to_si
@@ -111,6 +112,7 @@ class SweepResult:
     mode: str
 
 
+@guard(expr=instance(str, "text of the form KEY=START:STOP:N"))
 def parse_over(expr: str) -> Axis:
     """Parse ``KEY=START:STOP:N`` (N >= 1; a whole-number key takes whole START and STOP, the
     points between are rounded and must stay distinct)."""
@@ -148,6 +150,7 @@ def _grid(axes: Sequence[Axis]) -> dict[str, np.ndarray]:
     return {a.key: m.ravel() for a, m in zip(axes, mesh)}
 
 
+@guard(design=instance(Design, "a spiralcap.design.Design (spiralcap.design.load_design)"))
 def sweep(
     design: Design,
     axes: Sequence[Axis],
@@ -207,7 +210,7 @@ def _vector_model(
     from optimize import prepare
     from spiralcap.assemble import build_model
 
-    model = base if base is not None else prepare(build_model(design))
+    model = base if base is not None else prepare(build_model(design, optimiser=False))
     alpha: Any = model.capsule.spiral.helical_angle_rad
     f: Any = model.frequency_hz
     groups: dict[str, dict[str, Any]] = {"limits": {}, "requirements": {}}
@@ -239,7 +242,7 @@ def _evaluate_vectorised(
     from optimize import margin_grid, prepare
     from spiralcap.assemble import build_model
 
-    base = prepare(build_model(design))
+    base = prepare(build_model(design, optimiser=False))
     n = len(next(iter(inputs.values())))
     parts: dict[str, list[np.ndarray]] = {k: [] for k in EVALUATE_COLUMNS}
     calls = -(-n // VECTOR_CHUNK)
@@ -274,22 +277,41 @@ def _evaluate_points(design, inputs, progress) -> dict[str, np.ndarray]:
 
     n = len(next(iter(inputs.values())))
     rows = []
+    reasons = []
     for i in range(n):
-        ev = evaluate(build_model(_at(design, inputs, i)))
-        rows.append(
-            (
-                ev.margin_Nm,
-                ev.safety_factor,
-                ev.field_amplitude_T,
-                ev.speed_m_s,
-                min(ev.wall_strains),
-                ev.feasible,
-                ev.grip,
+        try:
+            ev = evaluate(build_model(_at(design, inputs, i), optimiser=False))
+        except InputError as exc:  # this point cannot be built: a row that says so and why
+            rows.append((math.nan,) * (len(EVALUATE_COLUMNS) - 2) + (False, "unbuildable"))
+            reasons.append(str(exc))
+        else:
+            rows.append(
+                (
+                    ev.margin_Nm,
+                    ev.safety_factor,
+                    ev.field_amplitude_T,
+                    ev.speed_m_s,
+                    min(ev.wall_strains),
+                    ev.feasible,
+                    ev.grip,
+                )
             )
-        )
+            reasons.append("")
         if progress:
             progress(i + 1, n)
-    return {k: np.array([r[j] for r in rows]) for j, k in enumerate(EVALUATE_COLUMNS)}
+    out = {k: np.array([r[j] for r in rows]) for j, k in enumerate(EVALUATE_COLUMNS)}
+    return {**out, **unbuildable_columns(reasons)}
+
+
+def unbuildable_columns(reasons: Sequence[str]) -> dict[str, np.ndarray]:
+    """``unbuildable`` (flag) and ``unbuildable_reason`` (the one-line error, "" where the
+    point was built) when any point of a sweep could not be built; no columns when all were."""
+    if not any(reasons):
+        return {}
+    return {
+        "unbuildable": np.array([bool(r) for r in reasons]),
+        "unbuildable_reason": np.array(list(reasons), dtype=object),
+    }
 
 
 def _at(design: Design, inputs: dict[str, np.ndarray], i: int) -> Design:
@@ -360,7 +382,10 @@ def _models(design: Design, inputs: dict[str, np.ndarray], base: Any = None):
         base = None
     for i in range(n):
         if base is None:
-            yield optimization_model(_at(design, inputs, i))
+            try:
+                yield optimization_model(_at(design, inputs, i))
+            except InputError as exc:  # an unbuildable point: its error in the model's place
+                yield exc
             continue
         yield with_values(base, {key: float(values[i]) for key, values in inputs.items()})
 
@@ -381,14 +406,25 @@ def _optimize_chunk(
     rows: list[tuple] = []
     previous: Any = None
     for i, model in enumerate(_models(design, inputs, base)):
-        warm = previous if previous is not None and previous.feasible else None
-        # the rows need no step-out or highest frequency: those searches are skipped
-        previous = optimize_design(model, warm_start=warm, frequency_bounds=False)
-        raise_if_requested()  # a stop request whose exception was lost ends the chunk here
-        rows.append(_row(previous, columns))
+        if isinstance(model, InputError):  # status "unbuildable", the reason last
+            previous = None
+            rows.append(_unbuildable_row(columns, str(model)))
+        else:
+            warm = previous if previous is not None and previous.feasible else None
+            # the rows need no step-out or highest frequency: those searches are skipped
+            previous = optimize_design(model, warm_start=warm, frequency_bounds=False)
+            raise_if_requested()  # a stop request whose exception was lost ends the chunk here
+            rows.append((*_row(previous, columns), ""))
         if progress:
             progress(i + 1)
     return rows
+
+
+def _unbuildable_row(columns: tuple[str, ...], reason: str) -> tuple:
+    """A row of a point that cannot be built: status ``unbuildable``, no numbers (NaN), no
+    binding limits, then the reason (the chunk's rows end with it)."""
+    values = {"status": "unbuildable", "binding_limits": ""}
+    return (*(values.get(c, math.nan) for c in columns), reason)
 
 
 def _optimize_points(
@@ -426,7 +462,8 @@ def _optimize_points(
             report = (lambda i, d=done: progress(d + i, n)) if progress else None
             parts.append(_optimize_chunk(design, c, report, base, columns))
     rows = [r for part in parts for r in part]
-    return {k: np.array([r[j] for r in rows]) for j, k in enumerate(columns)}
+    out = {k: np.array([r[j] for r in rows]) for j, k in enumerate(columns)}
+    return {**out, **unbuildable_columns([r[-1] for r in rows])}
 
 
 def optimize_row(model: Any, warm: dict[str, Any] | None = None) -> dict[str, Any]:

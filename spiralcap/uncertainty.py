@@ -93,7 +93,9 @@ def study(
             "at least one sigma > 0 or covariance_from (e.g. --set "
             "tissue.uncertainty.scale_sigma_log=0.3)",
         )
-    problem = uq.margin_problem(model if model is not None else build_model(design), unc)
+    problem = uq.margin_problem(
+        model if model is not None else build_model(design, optimiser=False), unc
+    )
     t0 = time.perf_counter()
     # tasks of 8 chunks (2^18 samples, ~0.1 s): each chunk's samples are fixed by its index
     # range and the seed, so the grouping changes nothing in the result

@@ -23,6 +23,7 @@ CORE = {
     "spiralcap.core.backend",
     "spiralcap.core.constants",
     "spiralcap.core.errors",
+    "spiralcap.core.checks",
 }
 
 

@@ -173,10 +173,10 @@ def test_self_locking_spiral_is_never_feasible(angle):
     lock = next(c for c in ev["checks"] if c["name"] == "self_lock")
     mu = 0.51  # zhou2013-sample3, the design's most frictional tissue (Zhou 2013, Table I)
     expected = angle + math.degrees(math.atan(mu))
-    assert lock["value"] == pytest.approx(expected, abs=1e-9), (
+    assert lock["value_in_key_unit"] == pytest.approx(expected, abs=1e-9), (
         "self-lock check: alpha + atan(mu) in degrees (Shigley power screw), 1e-9"
     )
-    assert (lock["allowed"], lock["sense"], lock["unit"]) == (90.0, "<", "°"), (
+    assert (lock["allowed_in_key_unit"], lock["sense"], lock["key_unit"]) == (90.0, "<", "°"), (
         "must stay below 90°, in the unit of capsule.spiral.helical_angle_deg"
     )
     assert lock["ok"] is False and ev["feasible"] is False, (
@@ -493,7 +493,8 @@ def test_thrust_torque_never_wraps_negative_past_self_lock():
 
     mu, load, dh = 0.3, 0.05, 12e-3
     lock = math.pi / 2 - math.atan(mu)
-    alphas = np.array([lock - 0.2, lock - 1e-3, lock, lock + 1e-3, lock + 0.3])
+    # up to just below 90 deg (a helical angle of 90 deg or more is no spiral: refused, issue 39)
+    alphas = np.array([lock - 0.2, lock - 1e-3, lock, lock + 1e-3, math.pi / 2 - 1e-3])
     tau = np.asarray(capsule.thrust_torque_Nm(load, dh, alphas, mu))
     assert np.all(np.diff(tau) >= 0) and np.all(tau > 0), (
         "T = F D/2 tan(alpha + atan mu) rises without bound to the lock and stays there"

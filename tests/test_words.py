@@ -26,13 +26,17 @@ def test_hot_spot_check_is_in_degrees_celsius_against_the_key():
     amb = 25.0  # coils.ambient_temperature_C default (docs/coils-thermal.md)
     for c in hot:
         assert (c["key"], c["unit"], c["allowed"]) == ("limits.coil_temperature_C", "°C", 80.0)
+        assert (c["key_unit"], c["allowed_in_key_unit"]) == ("°C", 80.0), "°C in the key too"
         assert c["value"] <= 80.0 * (1 + 1e-9), "the field is capped by the hot spot"
         assert c["utilisation"] == pytest.approx((c["value"] - amb) / (80.0 - amb), rel=1e-12), (
             "utilisation: the rise over the allowed rise"
         )
     assert max(c["value"] for c in hot) == pytest.approx(80.0, rel=1e-9), "one pair binds"
     speed = next(c for c in doc["checks"] if c["name"] == "speed")
-    assert (speed["unit"], speed["allowed"]) == ("mm/s", 5.0), "requirements.min_speed_mm_s = 5"
+    assert (speed["unit"], speed["allowed"]) == ("m/s", 0.005), "JSON in SI (README): 5 mm/s"
+    assert (speed["key_unit"], speed["allowed_in_key_unit"]) == ("mm/s", 5.0), (
+        "requirements.min_speed_mm_s = 5, in the key's unit"
+    )
 
 
 def test_evaluate_text_says_checks_self_lock_and_step_out_in_words():
@@ -45,9 +49,12 @@ def test_evaluate_text_says_checks_self_lock_and_step_out_in_words():
     doc = _json("evaluate")
     lock = next(c for c in doc["checks"] if c["name"] == "self_lock")
     mu = 0.51  # zhou2013-sample3, the most frictional set (Zhou 2013, Table I)
-    assert lock["value"] == pytest.approx(
+    assert lock["value_in_key_unit"] == pytest.approx(
         doc["helical_angle_deg"] + math.degrees(math.atan(mu)), abs=1e-9
     )
+    assert lock["unit"] == "rad" and lock["value"] == pytest.approx(
+        math.radians(lock["value_in_key_unit"]), rel=1e-12
+    ), "the check itself in SI (rad)"
     assert doc["max_frequency_hz"] < doc["step_out_frequency_hz"], "the built-in case"
     assert (
         f"{doc['step_out_frequency_hz']:.3g} Hz at the operating field; the drive cannot hold "
@@ -78,8 +85,11 @@ def test_optimize_text_has_no_unitless_numbers():
     assert re.search(r"objective +copper mass of the three coil pairs, minimised: [\d.]+ kg", out)
     assert re.search(r"whole turns and standard wire cost [\d.e-]+ kg", out), out
     assert re.search(
-        r"requirements.min_safety_factor.*lowering it by 1 unit gains [\d.]+ kg less", out
-    )
+        r"requirements.min_safety_factor.*lowering it by 0.1 of the safety factor gains "
+        r"[\d.]+ kg less",
+        out,
+    ), "issue 39: a gain per a sensible step of a ratio, not 'per unit'"
+    assert "per unit" not in out and "by 1 unit" not in out
 
 
 def test_singular_counts_in_evaluate_and_with_unit():

@@ -39,10 +39,25 @@ conservative side). With it the resistance is never zero while the capsule lies 
 from __future__ import annotations
 
 from spiralcap.core.backend import Scalar
+from spiralcap.core.checks import angle, fields, guard, instance, nonnegative, positive
 from spiralcap.core.constants import STANDARD_GRAVITY_m_s2
 from torque_model.geometry import ContactGeometry, capsule_d_prime_m
 from torque_model.model import strain
 from torque_model.tissue import TissueParameters
+
+#: rules for the tissue and geometry arguments of the public functions here
+_TISSUE = fields(
+    "a torque_model.TissueParameters (torque_model.preset)",
+    E1_Pa=nonnegative(),
+    E2_Pa=nonnegative(),
+    E3_Pa=nonnegative(),
+    eta1_Pa_s=positive(),
+    eta2_Pa_s=positive(),
+    lumen_diameter_m=positive(),
+    wall_thickness_m=positive(),
+    friction_coefficient=nonnegative(),
+)
+_GEOMETRY = instance(ContactGeometry, "a torque_model.ContactGeometry")
 
 __all__ = [
     "DEFAULT_MIN_WALL_STRAIN",
@@ -57,6 +72,9 @@ __all__ = [
 DEFAULT_MIN_WALL_STRAIN = 0.0168
 
 
+@guard(
+    helical_angle_rad=angle(), tissue=_TISSUE, geometry=_GEOMETRY, d_prime_m=positive(optional=True)
+)
 def wall_strain(
     helical_angle_rad: Scalar,
     tissue: TissueParameters,
@@ -88,6 +106,7 @@ def wall_strain(
     return strain(d_prime, tissue.lumen_diameter_m, tissue.wall_thickness_m)
 
 
+@guard(body_diameter_m=positive(), wire_diameter_m=nonnegative())
 def contact_radius_m(body_diameter_m: Scalar, wire_diameter_m: Scalar) -> Scalar:
     """Radius at which a capsule lying on the wall touches it: the spiral's crest, m.
 
@@ -106,6 +125,7 @@ def contact_radius_m(body_diameter_m: Scalar, wire_diameter_m: Scalar) -> Scalar
     return 0.5 * body_diameter_m + wire_diameter_m
 
 
+@guard(mass_kg=nonnegative(), friction_coefficient=nonnegative(), contact_radius_m_=nonnegative())
 def weight_friction_torque_Nm(
     mass_kg: Scalar, friction_coefficient: Scalar, contact_radius_m_: Scalar
 ) -> Scalar:

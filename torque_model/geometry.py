@@ -55,6 +55,7 @@ import numpy as np
 
 from spiralcap.core import backend as bk
 from spiralcap.core.backend import Scalar
+from spiralcap.core.checks import Spec, angle, guard, instance, positive
 from spiralcap.core.errors import InputError, check_positive
 
 __all__ = [
@@ -138,6 +139,12 @@ def _tangency_cos(psi_m: Scalar, R: Scalar, r_w: Scalar, R_h: Scalar) -> Scalar:
     return c
 
 
+@guard(
+    helical_angle_rad=angle(),
+    body_diameter_m=positive(),
+    wire_diameter_m=positive(),
+    starts=Spec(low=1.0),
+)
 def equivalent_diameter_m(
     helical_angle_rad: Scalar, body_diameter_m: Scalar, wire_diameter_m: Scalar, starts: int
 ) -> Scalar:
@@ -190,6 +197,9 @@ def equivalent_diameter_m(
     return 2.0 * R + (2.0 * starts / bk.pi) * (tangent + arc - R * phi_t)
 
 
+@guard(
+    helical_angle_rad=angle(), geometry=instance(ContactGeometry, "a torque_model.ContactGeometry")
+)
 def capsule_d_prime_m(helical_angle_rad: Scalar, geometry: ContactGeometry) -> Scalar:
     """:func:`equivalent_diameter_m` of ``geometry``'s capsule at ``helical_angle_rad``.
 
@@ -209,6 +219,7 @@ def capsule_d_prime_m(helical_angle_rad: Scalar, geometry: ContactGeometry) -> S
     return equivalent_diameter_m(helical_angle_rad, g.body_diameter_m, g.wire_diameter_m, g.starts)
 
 
+@guard(body_diameter_m=positive(), lumen_diameter_m=positive(), wall_thickness_m=positive())
 def end_contact_moment_m2(
     body_diameter_m: Scalar, lumen_diameter_m: Scalar, wall_thickness_m: Scalar
 ) -> Scalar:

@@ -25,8 +25,31 @@ from __future__ import annotations
 
 from spiralcap.core import backend as bk
 from spiralcap.core.backend import Scalar
+from spiralcap.core.checks import angle, fields, finite, guard, instance, nonnegative, positive
 from torque_model.geometry import ContactGeometry, capsule_d_prime_m, end_contact_moment_m2
 from torque_model.tissue import TissueParameters, ViscoelasticConstants
+
+#: rules for the tissue and geometry arguments of the public functions here
+_TISSUE = fields(
+    "a torque_model.TissueParameters (torque_model.preset)",
+    E1_Pa=nonnegative(),
+    E2_Pa=nonnegative(),
+    E3_Pa=nonnegative(),
+    eta1_Pa_s=positive(),
+    eta2_Pa_s=positive(),
+    lumen_diameter_m=positive(),
+    wall_thickness_m=positive(),
+    friction_coefficient=nonnegative(),
+)
+_VISCO = fields(
+    "the five viscoelastic constants (a torque_model.TissueParameters)",
+    E1_Pa=nonnegative(),
+    E2_Pa=nonnegative(),
+    E3_Pa=nonnegative(),
+    eta1_Pa_s=positive(),
+    eta2_Pa_s=positive(),
+)
+_GEOMETRY = instance(ContactGeometry, "a torque_model.ContactGeometry")
 
 __all__ = [
     "angular_frequency_rad_s",
@@ -45,6 +68,7 @@ __all__ = [
 ]
 
 
+@guard(frequency_hz=nonnegative())
 def angular_frequency_rad_s(frequency_hz: Scalar) -> Scalar:
     """Eq. 5: omega = 2 pi f, rad/s, from the rotation frequency f in Hz.
 
@@ -61,6 +85,7 @@ def angular_frequency_rad_s(frequency_hz: Scalar) -> Scalar:
     return 2.0 * bk.pi * frequency_hz
 
 
+@guard(diameter_after_m=positive(), lumen_diameter_m=positive(), wall_thickness_m=positive())
 def strain(diameter_after_m: Scalar, lumen_diameter_m: Scalar, wall_thickness_m: Scalar) -> Scalar:
     """Eq. 6: circumferential strain (D_after - D_before) / (D_before + d), dimensionless.
 
@@ -82,6 +107,7 @@ def strain(diameter_after_m: Scalar, lumen_diameter_m: Scalar, wall_thickness_m:
     return (diameter_after_m - lumen_diameter_m) / (lumen_diameter_m + wall_thickness_m)
 
 
+@guard(time_s=nonnegative(), tissue=_VISCO)
 def relaxation_modulus_Pa(time_s: Scalar, tissue: ViscoelasticConstants) -> Scalar:
     """Eq. 2 bracket: E1 exp(-t E1/eta1) + E2 exp(-t E2/eta2) + E3, Pa, at time t (s).
 
@@ -105,6 +131,7 @@ def relaxation_modulus_Pa(time_s: Scalar, tissue: ViscoelasticConstants) -> Scal
     )
 
 
+@guard(azimuth_rad=finite(), frequency_hz=positive(), strain_=finite(), tissue=_VISCO)
 def stress_Pa(
     azimuth_rad: Scalar, frequency_hz: Scalar, strain_: Scalar, tissue: TissueParameters
 ) -> Scalar:
@@ -132,6 +159,7 @@ def stress_Pa(
     return strain_ * relaxation_modulus_Pa(azimuth_rad / omega, tissue)
 
 
+@guard(frequency_hz=nonnegative(), tissue=_VISCO)
 def relaxation_integral_Pa(frequency_hz: Scalar, tissue: ViscoelasticConstants) -> Scalar:
     """int_0^{2 pi} of the eq. 4 bracket over one revolution, Pa (times rad), in closed form.
 
@@ -181,6 +209,7 @@ def _relaxed_arm(omega: Scalar, modulus: float, viscosity: float) -> Scalar:
     return 2.0 * bk.pi * modulus * (-bk.expm1(-x) / x)
 
 
+@guard(stress=finite(), wall_thickness_m=positive(), diameter_after_m=positive())
 def hoop_pressure_Pa(stress: Scalar, wall_thickness_m: Scalar, diameter_after_m: Scalar) -> Scalar:
     """Eq. 3: contact pressure of a thin-walled cylinder, p = 2 sigma d / D_after, Pa.
 
@@ -201,6 +230,7 @@ def hoop_pressure_Pa(stress: Scalar, wall_thickness_m: Scalar, diameter_after_m:
     return 2.0 * stress * wall_thickness_m / diameter_after_m
 
 
+@guard(frequency_hz=positive(), strain_=finite(), tissue=_TISSUE)
 def normal_load_per_length_N_m(
     frequency_hz: Scalar, strain_: Scalar, tissue: TissueParameters
 ) -> Scalar:
@@ -225,6 +255,7 @@ def normal_load_per_length_N_m(
     return tissue.wall_thickness_m * strain_ * relaxation_integral_Pa(frequency_hz, tissue)
 
 
+@guard(frequency_hz=positive(), strain_=finite(), tissue=_TISSUE)
 def friction_per_length_N_m(
     frequency_hz: Scalar, strain_: Scalar, tissue: TissueParameters
 ) -> Scalar:
@@ -247,6 +278,7 @@ def friction_per_length_N_m(
     return tissue.friction_coefficient * normal_load_per_length_N_m(frequency_hz, strain_, tissue)
 
 
+@guard(frequency_hz=positive(), diameter_after_m=positive(), tissue=_TISSUE)
 def section_torque_per_length_N(
     frequency_hz: Scalar, diameter_after_m: Scalar, tissue: TissueParameters
 ) -> Scalar:
@@ -274,6 +306,13 @@ def section_torque_per_length_N(
     return friction_per_length_N_m(frequency_hz, eps, tissue) * 0.5 * diameter_after_m
 
 
+@guard(
+    helical_angle_rad=angle(),
+    frequency_hz=positive(),
+    tissue=_TISSUE,
+    geometry=_GEOMETRY,
+    d_prime_m=positive(optional=True),
+)
 def torque_breakdown_Nm(
     helical_angle_rad: Scalar,
     frequency_hz: Scalar,
@@ -313,6 +352,9 @@ def torque_breakdown_Nm(
     return out
 
 
+@guard(
+    helical_angle_rad=angle(), tissue=_TISSUE, geometry=_GEOMETRY, d_prime_m=positive(optional=True)
+)
 def contact_factors_m3(
     helical_angle_rad: Scalar,
     tissue: TissueParameters,
@@ -369,6 +411,7 @@ def contact_factors_m3(
     }
 
 
+@guard(helical_angle_rad=angle(), tissue=_TISSUE, geometry=_GEOMETRY)
 def contact_factor_m3(
     helical_angle_rad: Scalar, tissue: TissueParameters, geometry: ContactGeometry
 ) -> Scalar:
@@ -392,6 +435,13 @@ def contact_factor_m3(
     return parts["wound"] + parts["cylinder"] + parts["ends"]
 
 
+@guard(
+    helical_angle_rad=angle(),
+    frequency_hz=positive(),
+    tissue=_TISSUE,
+    geometry=_GEOMETRY,
+    d_prime_m=positive(optional=True),
+)
 def resistive_torque_Nm(
     helical_angle_rad: Scalar,
     frequency_hz: Scalar,

@@ -17,6 +17,8 @@ from typing import Any, ClassVar
 import numpy as np
 
 from optimize.views import Viewable
+from spiralcap.core.checks import guard, instance
+from spiralcap.design import Design
 
 _TOLERANCES = (("1pct", 0.01), ("5pct", 0.05))
 _AXES = ("x", "y", "z")
@@ -30,6 +32,7 @@ class AxisLimit:
     max_current_A: float
     max_current_limited_by: str
     max_rotating_field_T: float
+    max_current_limit_key: str = ""  # the design key of that limit ("" for an unused pair)
 
 
 @dataclass(frozen=True)
@@ -117,6 +120,8 @@ class CoilAnalysis(Viewable):
     stray: Any = None  # spiralcap.analysis.stray.StrayField at the operating field
     measured: tuple = ()  # spiralcap.analysis.measured.MeasuredPair per measured pair
     calibration: dict[str, Any] | None = None  # calibrated coils: actuation, gains, tilts (SI)
+    #: each pair's amplifier current key: ``limits.x.current_A`` where set, else the global one
+    current_keys: tuple[str, ...] = ("limits.current_A",) * 3
 
 
 def _uniform(system: Any) -> UniformRegions:
@@ -214,6 +219,7 @@ def operating_thermal(
     return out, curves
 
 
+@guard(design=instance(Design, "a spiralcap.design.Design (spiralcap.design.load_design)"))
 def analyse_coils(design: Any, model: Any = None) -> CoilAnalysis:
     """The coil analysis of a validated design (see the module docstring).
 
@@ -223,13 +229,16 @@ def analyse_coils(design: Any, model: Any = None) -> CoilAnalysis:
     from coils import size_system
     from optimize import physics, prepare
     from spiralcap.assemble import build_model
+    from spiralcap.assemble.system import constraint_key
 
-    model = prepare(model if model is not None else build_model(design))
+    model = prepare(model if model is not None else build_model(design, optimiser=False))
     c = model.constants
+    # each pair at its own amplifier channel's current where limits.{x,y,z}.current_A is set
+    channels = tuple(float(model.limits.channel("current", k)[1]) for k in range(3))
     sizing = size_system(
         model.coils,
         frequency_hz=model.frequency_hz,
-        current_amplitude_A=model.limits.current_A,
+        current_amplitude_A=channels,
         ambient_temperature_C=model.ambient_temperature_C,
         heat_transfer_coefficient_W_m2K=model.heat_transfer_coefficient_W_m2K,
         winding_conductivity_W_mK=model.winding_conductivity_W_mK,
@@ -253,8 +262,9 @@ def analyse_coils(design: Any, model: Any = None) -> CoilAnalysis:
             AxisLimit(
                 axis=ax,
                 max_current_A=amps,
-                max_current_limited_by=name[: -len(f"_{ax}")],
+                max_current_limited_by=stable_limit_name(name)[: -len(f"_{ax}")],
                 max_rotating_field_T=best,
+                max_current_limit_key=constraint_key(name),
             )
         )
     fixed = model.field_amplitude_T is not None
@@ -280,6 +290,7 @@ def analyse_coils(design: Any, model: Any = None) -> CoilAnalysis:
         pack_clearances_m=pack_clearances_m(model.coils.pairs),
         bore_clearance_m=bore_clearance_m(model.coils.pairs, req.bore_radius_m),
         bore_radius_m=float(req.bore_radius_m),
+        current_keys=tuple(constraint_key(model.limits.channel("current", k)[0]) for k in range(3)),
     )
     from spiralcap.analysis.measured import measured_pairs
     from spiralcap.analysis.stray import stray_field
@@ -319,6 +330,13 @@ def calibration_summary(coils: Any) -> dict[str, Any] | None:
     }
 
 
+def stable_limit_name(name: str) -> str:
+    """A limit's name in the JSON, the same whichever amplifier channel sets it:
+    ``axis_voltage_y`` (the y pair's own channel, ``limits.y.voltage_V``) -> ``voltage_y``, as
+    the global limit's row is named; the design key that sets it is in ``per_limit_key``."""
+    return name[len("axis_") :] if name.startswith("axis_") else name
+
+
 def coils_payload(a: CoilAnalysis) -> dict[str, Any]:
     """The JSON dict of ``spiralcap coils --json`` (units in every key)."""
     sizing = asdict(a.sizing)
@@ -339,6 +357,8 @@ def coils_payload(a: CoilAnalysis) -> dict[str, Any]:
 
     for m in a.measured:  # a lab's measured pair: measured beside computed, the deviation
         sizing["axes"][m.axis]["measured"] = measured_payload(m)
+    for ax, key in zip(_AXES, a.current_keys):  # the amplifier channel each pair is sized at
+        sizing["axes"][ax]["current_limit_key"] = key
     for s in sizing["axes"].values():  # a side only on a square pair (radius_m: half of it)
         if s["side_m"] is None:
             del s["side_m"]
@@ -366,15 +386,20 @@ def coils_payload(a: CoilAnalysis) -> dict[str, Any]:
         },
     }
     from spiralcap.assemble.system import constraint_key
+    from spiralcap.presentation import readable
 
     return {
         "design": a.design,
         **sizing,
         "rotating_field_within_limits": {
             "max_rotating_field_T": a.capacity.field_T,
-            "limited_by": a.capacity.limited_by,
+            "limited_by": stable_limit_name(a.capacity.limited_by),
+            "limited_by_words": readable(a.capacity.limited_by),
             "limit_key": constraint_key(a.capacity.limited_by),
-            "per_limit_max_field_T": dict(a.capacity.caps_T),
+            "per_limit_max_field_T": {
+                stable_limit_name(k): v for k, v in a.capacity.caps_T.items()
+            },
+            "per_limit_key": {stable_limit_name(k): constraint_key(k) for k in a.capacity.caps_T},
         },
         "operating_point": {
             "field_amplitude_T": a.operating_field_T,
@@ -390,7 +415,10 @@ def coils_payload(a: CoilAnalysis) -> dict[str, Any]:
         "pack_clearances_m": dict(a.pack_clearances_m or {}),
         "bore_clearance_m": a.bore_clearance_m,
         "bore_radius_m": a.bore_radius_m,
-        "bill_of_materials": [asdict(r) for r in a.bill_of_materials],
+        "bill_of_materials": [
+            {**asdict(r), "wire_diameter_m": r.wire_diameter_mm * 1e-3}  # SI beside the spec
+            for r in a.bill_of_materials
+        ],
         "warnings": list(a.warnings),
         **({} if a.stray is None else {"stray_field": _stray_payload(a.stray)}),
         **({} if a.calibration is None else {"calibration": a.calibration}),

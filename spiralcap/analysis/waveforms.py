@@ -31,7 +31,7 @@ def waveforms_for_design(design: Any, headings: Any, dwell_s: float, ramp_s: flo
     from spiralcap.assemble import build_model
     from spiralcap.core.constants import COPPER_TEMPERATURE_COEFFICIENT_per_K as alpha
 
-    model = prepare(build_model(design))
+    model = prepare(build_model(design, optimiser=False))
     c, f = model.constants, model.frequency_hz
     field = float(operating_field_T(model, f))
     temps = [
@@ -62,4 +62,8 @@ def waveforms_for_design(design: Any, headings: Any, dwell_s: float, ramp_s: flo
         ramp_s=ramp_s,
         background_T=getattr(model.coils, "background_T", None),
     )
-    return w, check_waveforms(w, model.limits.current_A, model.limits.voltage_V), model
+    # each pair against its own amplifier channel where limits.{x,y,z}.* is set
+    lim = model.limits
+    amps = [float(lim.channel("current", k)[1]) for k in range(3)]
+    volts = [float(lim.channel("voltage", k)[1]) for k in range(3)]
+    return w, check_waveforms(w, amps, volts), model

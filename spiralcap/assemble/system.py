@@ -8,6 +8,7 @@ from typing import Any
 
 import numpy as np
 
+from spiralcap.core.checks import guard, instance
 from spiralcap.core.errors import InputError
 from spiralcap.design import Design
 from spiralcap.keymap import design_key, field_of, from_field_si, si_factor
@@ -29,8 +30,13 @@ def _headings(design: Design) -> np.ndarray:
     return h / np.linalg.norm(h, axis=1, keepdims=True)
 
 
-def build_model(design: Design):
+@guard(design=instance(Design, "a spiralcap.design.Design (spiralcap.design.load_design)"))
+def build_model(design: Design, *, optimiser: bool = True):
     """The :class:`optimize.DesignModel` of a validated design (SI inside).
+
+    ``optimiser=False``: a model that is only evaluated (``evaluate``, ``coils``, a sweep that
+    does not re-optimise) is not refused over keys only the optimiser reads
+    (:func:`check_optimiser_keys`); its bounds are then whatever the design says.
 
     Raises
     ------
@@ -43,33 +49,8 @@ def build_model(design: Design):
     from spiralcap.assemble.tissue import build_tissues
 
     d = design
-    for lo, hi in (
-        ("optimize.helical_angle_min_deg", "optimize.helical_angle_max_deg"),
-        ("optimize.frequency_min_hz", "optimize.frequency_max_hz"),
-    ):
-        if d[lo] > d[hi]:
-            raise InputError(hi, d[hi], f"a value >= {lo} = {d[lo]:g}")
-    import capsule as cap
-
-    floor = max(
-        MIN_MODEL_ANGLE_deg,
-        math.degrees(
-            cap.min_helical_angle_for_clearance_rad(
-                cap.helix_diameter_m(
-                    d["capsule.diameter_mm"], d["capsule.spiral.wire_diameter_mm"]
-                ),
-                d["capsule.spiral.wire_diameter_mm"],
-                d["capsule.spiral.starts"],
-            )
-        ),
-    )
-    if d["optimize.helical_angle_min_deg"] < floor:
-        raise InputError(
-            "optimize.helical_angle_min_deg",
-            d["optimize.helical_angle_min_deg"],
-            f"an angle >= {floor:.3g} deg (below it the spiral's turns touch or the "
-            "paper's profile conversion no longer holds)",
-        )
+    if optimiser:
+        check_optimiser_keys(d)
     if d["limits.coil_temperature_C"] <= d["coils.ambient_temperature_C"]:
         raise InputError(
             "limits.coil_temperature_C",
@@ -153,8 +134,41 @@ def build_model(design: Design):
             if d.get("operation.field_amplitude_mT") is None
             else to_si("operation.field_amplitude_mT", d["operation.field_amplitude_mT"])
         ),
-        sizing=build_sizing(d),
+        sizing=build_sizing(d) if optimiser else None,  # free hardware: the optimiser's
     )
+
+
+def check_optimiser_keys(design: Design) -> None:
+    """The optimiser's own keys against each other and the capsule: bounds in order, the
+    smallest helical angle makeable (InputError naming the key otherwise)."""
+    d = design
+    for lo, hi in (
+        ("optimize.helical_angle_min_deg", "optimize.helical_angle_max_deg"),
+        ("optimize.frequency_min_hz", "optimize.frequency_max_hz"),
+    ):
+        if d[lo] > d[hi]:
+            raise InputError(hi, d[hi], f"a value >= {lo} = {d[lo]:g}")
+    import capsule as cap
+
+    floor = max(
+        MIN_MODEL_ANGLE_deg,
+        math.degrees(
+            cap.min_helical_angle_for_clearance_rad(
+                cap.helix_diameter_m(
+                    d["capsule.diameter_mm"], d["capsule.spiral.wire_diameter_mm"]
+                ),
+                d["capsule.spiral.wire_diameter_mm"],
+                d["capsule.spiral.starts"],
+            )
+        ),
+    )
+    if d["optimize.helical_angle_min_deg"] < floor:
+        raise InputError(
+            "optimize.helical_angle_min_deg",
+            d["optimize.helical_angle_min_deg"],
+            f"an angle >= {floor:.3g} deg (below it the spiral's turns touch or the "
+            "paper's profile conversion no longer holds)",
+        )
 
 
 def channel_limits(d: Design) -> dict[str, Any]:

@@ -36,7 +36,8 @@ def add_design_arguments(
         action="append",
         default=[],
         metavar="KEY=VALUE",
-        help="override a design key after the file(s), e.g. coils.x.turns=300",
+        help="override a design key after the file(s), e.g. coils.x.turns=300; KEY=none "
+        "clears it (its default, or unset)",
     )
     if json_flag:
         parser.add_argument("--json", action="store_true", help="print JSON instead of text")

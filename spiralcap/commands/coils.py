@@ -145,28 +145,25 @@ def _hardware_table(axes: list[dict[str, Any]]) -> str:
 
 
 def _rating_lines(p: dict[str, Any]) -> list[str]:
-    """The three pairs at the amplifier rating (limits.current_A), in words: a pair that runs
+    """The three pairs at their amplifier ratings (each pair's channel), in words: a pair that runs
     away thermally is said so with the current to hold it below, never with temperatures."""
     axes = [p["axes"][ax] for ax in "xyz"]
-    rating = p["current_amplitude_A"]
     steady = [a for a in axes if not a.get("thermal_runaway")]
-    lines = [
-        f"at the amplifier rating, {rating:g} A per pair (limits.current_A), all three pairs "
-        "together, steady:"
-    ]
+    lines = [_rating_head(p)]
     limit_C = p["operating_point"]["limit_temperature_C"]
     for a in axes:
+        rating = a["current_amplitude_A"]
         if not a.get("thermal_runaway") and a["hot_spot_temperature_C"] > limit_C:
             lines.append(
                 f"  at {rating:g} A the {a['axis']} pair's hot spot passes its {limit_C:g} °C "
                 f"limit: hold it below {a['max_current_A']:.4g} A "
-                f"({_limited_words(a['max_current_limited_by'])})"
+                f"({_limited_words(a['max_current_limited_by'], a['max_current_limit_key'])})"
             )
         if a.get("thermal_runaway"):
             lines.append(
                 f"  at {rating:g} A the {a['axis']} pair runs away thermally (it has no steady "
                 f"temperature): hold it below {a['max_current_A']:.4g} A "
-                f"({_limited_words(a['max_current_limited_by'])})"
+                f"({_limited_words(a['max_current_limited_by'], a['max_current_limit_key'])})"
             )
     if len(steady) < len(axes):  # radiating to each other: no common steady state, no numbers
         lines.append(
@@ -194,20 +191,50 @@ def _rating_lines(p: dict[str, Any]) -> list[str]:
         )
     wh = p["worst_heading"]
     lines.append(
-        f"total copper loss at {rating:g} A, worst heading "
+        f"total copper loss at {_ratings(p)}, worst heading "
         f"({', '.join(f'{x:.3g}' for x in wh['heading'])}): {_watts(p['total_power_W'])} "
         f"at {wh['field_amplitude_T'] * 1e3:.4g} mT"
     )
     return lines
 
 
-def _limited_words(limited_by: str) -> str:
-    return {
+def _channel_keys(p: dict[str, Any]) -> list[str]:
+    """Each pair's amplifier current key: its own channel's where set, else the global one."""
+    return [p["axes"][ax]["current_limit_key"] for ax in "xyz"]
+
+
+def _ratings(p: dict[str, Any]) -> str:
+    """``40 A`` (one rating for every pair) or ``x 12 A, y 13 A, z 40 A``."""
+    amps = [p["axes"][ax]["current_amplitude_A"] for ax in "xyz"]
+    if len(set(amps)) == 1:
+        return f"{amps[0]:g} A"
+    return ", ".join(f"{ax} {a:g} A" for ax, a in zip("xyz", amps))
+
+
+def _rating_head(p: dict[str, Any]) -> str:
+    """The rating the pairs are sized at, naming each amplifier channel's design key."""
+    amps = [p["axes"][ax]["current_amplitude_A"] for ax in "xyz"]
+    keys = _channel_keys(p)
+    if len(set(keys)) == 1 and len(set(amps)) == 1:
+        return (
+            f"at the amplifier rating, {amps[0]:g} A per pair ({keys[0]}), all three pairs "
+            "together, steady:"
+        )
+    each = ", ".join(f"{ax} {a:g} A ({k})" for ax, a, k in zip("xyz", amps, keys))
+    return f"at each pair's amplifier rating, {each}, all three pairs together, steady:"
+
+
+def _limited_words(limited_by: str, key: str = "") -> str:
+    words = {
         "hot_spot": "its winding hot-spot limit",
         "voltage": "its drive-voltage limit",
-        "current": "the current limit",
+        "current": "its amplifier's current limit",
         "surface": "its surface-temperature limit",
-    }.get(limited_by, f"limited by {limited_by}")
+        "surface_temperature": "its surface-temperature limit",
+        "power": "its amplifier's power limit",
+        "unused": "no heading uses this pair",
+    }.get(limited_by, limited_by.replace("_", " ") + " limit")
+    return f"{words}, {key}" if key else words
 
 
 def _clearance_lines(p: dict[str, Any]) -> list[str]:
@@ -315,7 +342,7 @@ def _text(p: dict[str, Any], bom: str = "", stray: Sequence[str] = ()) -> str:
             [
                 a["axis"],
                 a["max_current_A"],
-                a["max_current_limited_by"],
+                a["max_current_limited_by"].replace("_", " "),
                 a["max_rotating_field_T"] * 1e3,
                 uniform["per_axis"][a["axis"]]["radius_1pct_m"],
                 uniform["per_axis"][a["axis"]]["radius_5pct_m"],
@@ -360,7 +387,8 @@ def _text(p: dict[str, Any], bom: str = "", stray: Sequence[str] = ()) -> str:
         f"  at the current limit: {p['current_limited_rotating_field_T'] * 1e3:.4g} mT, set by "
         f"the {_axes_words(tuple(p['current_limiting_axes']))}: the smallest field per amp x "
         "current",
-        f"  within all limits: {w['max_rotating_field_T'] * 1e3:.4g} mT, set by {w['limited_by']}"
+        f"  within all limits: {w['max_rotating_field_T'] * 1e3:.4g} mT, set by "
+        f"{w['limited_by_words']}"
         f" ({w['limit_key']}); the power limit alone allows "
         f"{w['per_limit_max_field_T']['power'] * 1e3:.4g} mT",
         "",

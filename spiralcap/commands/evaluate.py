@@ -89,7 +89,7 @@ def format_evaluation(ev) -> str:
         + (
             "(fixed: operation.field_amplitude_mT)"
             if ev.field_limited_by == "fixed"
-            else f"(limited by {ev.field_limited_by})"
+            else f"(limited by {readable(ev.field_limited_by)}, {check_key(ev.field_limited_by)})"
         )
         + f"; weakest over workspace x{ev.workspace_factor:.4f}",
         "currents            "
@@ -144,7 +144,7 @@ def run(args: argparse.Namespace) -> int:
     from spiralcap.serialize import evaluation_to_dict
 
     design = design_from_args(args)
-    model = build_model(design)
+    model = build_model(design, optimiser=False)
     ev = evaluate(model)
     warnings = evaluation_warnings(model, ev)
     if args.json:

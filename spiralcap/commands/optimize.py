@@ -82,6 +82,27 @@ def parse_free(expr: str) -> str:
     return f"optimize.free.{key}=[{lo!r}, {hi!r}]"
 
 
+def free_overrides(exprs: list[str]) -> list[str]:
+    """Every ``--free KEY=MIN:MAX`` as its override (:func:`parse_free`); a key freed twice is
+    refused (InputError: which range would count is not the user's to guess)."""
+    from spiralcap.core.errors import InputError
+
+    seen: dict[str, str] = {}
+    out = []
+    for expr in exprs:
+        override = parse_free(expr)
+        key = expr.partition("=")[0].strip()
+        if key in seen:
+            raise InputError(
+                "--free",
+                expr,
+                f"each key freed once: {key} is already freed by --free {seen[key]}",
+            )
+        seen[key] = expr
+        out.append(override)
+    return out
+
+
 def _starts(n: int) -> str:
     return f"{n} start" if n == 1 else f"{n} starts"
 
@@ -98,12 +119,19 @@ def objective_line(res) -> str:
 def binding_line(res, b) -> str:
     """One binding limit: its name, key, value against allowed (key units) and its gain."""
     from spiralcap.assemble.system import constraint_key
-    from spiralcap.presentation import gain_per_key_unit, in_key_units, readable, with_unit
+    from spiralcap.presentation import (
+        gain_per_key_unit,
+        gain_step,
+        in_key_units,
+        readable,
+        with_unit,
+    )
 
     key = constraint_key(b.name)
     unit, factor = in_key_units(b.unit, key)
     gain, label = gain_per_key_unit(res.objective, b.unit, key, b.gain_per_unit_relaxed)
-    obj_unit, per = label.split(" per ", 1)
+    obj_unit = label.split(" per ", 1)[0]
+    step, per = gain_step(key, unit)
     verb = "raising" if b.relax_sign > 0 else "lowering"
     better = "less" if res.objective in ("power", "copper_mass") else "more"
     at = (
@@ -112,7 +140,7 @@ def binding_line(res, b) -> str:
     )
     if gain == 0 and res.objective == "copper_mass":  # fixed hardware: the copper cannot move
         return f"{at}; the copper is fixed (free hardware keys to size it)"
-    return f"{at}; {verb} it by 1 {per} gains {gain:.4g} {obj_unit} {better}".rstrip()
+    return f"{at}; {verb} it by {per} gains {gain * step:.4g} {obj_unit} {better}".rstrip()
 
 
 def _shared_key_lines(res) -> list[str]:
@@ -125,12 +153,12 @@ def _shared_key_lines(res) -> list[str]:
     ]
     out = []
     for k in shared:
-        obj_unit, per = k["gain_per_key_unit_label"].split(" per ", 1)
+        obj_unit = k["gain_per_key_unit_label"].split(" per ", 1)[0]
         verb = "raising" if k["relaxing_means"] == "raising" else "lowering"
         better = "less" if res.objective in ("power", "copper_mass") else "more"
         out.append(
-            f"  {k['key']} binds {len(k['rows'])} rows; {verb} it by 1 {per} gains "
-            f"{k['gain_per_key_unit']:.4g} {obj_unit} {better} in all"
+            f"  {k['key']} binds {len(k['rows'])} rows; {verb} it by {k['gain_step']} gains "
+            f"{k['gain_per_step']:.4g} {obj_unit} {better} in all"
         )
     return out
 
@@ -357,7 +385,7 @@ def run(args: argparse.Namespace) -> int:
     from spiralcap.serialize import optimization_to_dict
 
     check_outputs({"-o": args.output}, design_paths(args))
-    args.overrides = [*args.overrides, *(parse_free(e) for e in args.free)]
+    args.overrides = [*args.overrides, *free_overrides(args.free)]
     from spiralcap.progress import working
 
     design = design_from_args(args)

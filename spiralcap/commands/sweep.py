@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import csv
 import io
+import math
 from typing import Any
 
 from spiralcap.commands._common import (
@@ -60,7 +61,11 @@ def _shown_rows(header: list[str], rows: list[list]) -> tuple[list[str], list[li
     for r in rows:
         out.append(
             [
-                v * f if f != 1.0 and isinstance(v, (int, float)) and not isinstance(v, bool) else v
+                "–"  # an unbuildable point has no numbers: a dash, not "nan"
+                if isinstance(v, float) and math.isnan(v)
+                else v * f
+                if f != 1.0 and isinstance(v, (int, float)) and not isinstance(v, bool)
+                else v
                 for v, (_, f) in zip(r, cols, strict=True)
             ]
         )

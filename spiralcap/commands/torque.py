@@ -106,6 +106,7 @@ def run(args: argparse.Namespace) -> int:
             tm.weight_friction_torque_Nm(capsule.mass_kg, tissue.friction_coefficient, radius)
         )
         row["weight_friction_mNm"] = weight * 1e3
+        row["weight_friction_Nm"] = weight  # SI beside the shown unit (README: JSON in SI)
     if args.plot:
         from spiralcap.figures.torque import plot_torque_vs_frequency, save_figure
 
@@ -124,6 +125,7 @@ def run(args: argparse.Namespace) -> int:
                 **rows[0],
                 "helical_angle_deg": angle_deg,
                 "equivalent_diameter_mm": d_prime * 1e3,
+                "equivalent_diameter_m": d_prime,
                 "worst_case": rows[1:],
                 "design": design.source,
             }
@@ -163,6 +165,8 @@ def _tissue_row(tissue: Any, alpha_rad: float, f: Any, geometry: Any) -> dict[st
         "torque_mNm": (tau * 1e3).tolist(),
         "lumen_diameter_mm": tissue.lumen_diameter_m * 1e3,
         "wall_thickness_mm": tissue.wall_thickness_m * 1e3,
+        "lumen_diameter_m": tissue.lumen_diameter_m,
+        "wall_thickness_m": tissue.wall_thickness_m,
         "wall_strain": strain,
         "engaged": strain > 0,
     }

@@ -138,8 +138,9 @@ def _plot(path: str, w: Any, model: Any) -> bytes:
         draw_waveform_sequence(
             fig,
             w,
-            current_limit_A=model.limits.current_A,
-            voltage_limit_V=model.limits.voltage_V,
+            # each pair's own amplifier channel where limits.{x,y,z}.* is set
+            current_limit_A=[float(model.limits.channel("current", k)[1]) for k in range(3)],
+            voltage_limit_V=[float(model.limits.channel("voltage", k)[1]) for k in range(3)],
         )
         fig.suptitle(
             f"{w.amplitude_T * 1e3:.4g} mT at {w.frequency_hz:g} Hz, plane change over "

@@ -19,9 +19,22 @@ the axes and the typed record of what was drawn.
 
 from __future__ import annotations
 
+import math
 from typing import Any, NamedTuple
 
 import numpy as np
+
+from optimize import DesignModel, Evaluation, OptimizationResult
+from spiralcap.core.checks import guard, instance
+
+#: the rules for the arguments of the figure functions (a wrong object: one TypeError naming it)
+_MODEL = instance(DesignModel, "an optimize.DesignModel (spiralcap.assemble.build_model)")
+_EVALUATION = instance(Evaluation, "an optimize.Evaluation (optimize.evaluate)")
+_EVALUATION_OR_NONE = instance(Evaluation, "an optimize.Evaluation (optimize.evaluate)", True)
+_RESULT = instance(OptimizationResult, "an optimize.OptimizationResult (optimize_design)")
+_RESULT_OR_NONE = instance(
+    OptimizationResult, "an optimize.OptimizationResult (optimize_design)", True
+)
 
 __all__ = [
     "Plot",
@@ -75,6 +88,22 @@ def _found(ev: Any, name: str) -> float | None:
     return float(value)
 
 
+def _same_point(evaluation: Any, result: Any) -> bool:
+    """Whether the design as entered sits at the optimum (angle and frequency to 1e-6)."""
+    return math.isclose(
+        evaluation.helical_angle_deg, result.helical_angle_deg, rel_tol=1e-6, abs_tol=1e-9
+    ) and math.isclose(evaluation.frequency_hz, result.frequency_hz, rel_tol=1e-6, abs_tol=1e-9)
+
+
+def _apart(x: float | None, other: float | None, span: float) -> float | None:
+    """``x``, or None where the other curve already marks a line within 1 % of the axis there
+    (two labels on one line would overprint)."""
+    if x is None or other is None:
+        return x
+    return None if abs(x - other) <= 0.01 * span else x
+
+
+@guard(model=_MODEL, evaluation=_EVALUATION, result=_RESULT_OR_NONE)
 def margin_vs_frequency(
     model: Any, evaluation: Any, result: Any = None, *, ax: Any = None, curves: Any = None
 ) -> Plot:
@@ -92,6 +121,9 @@ def margin_vs_frequency(
     fig, ax = _axes(ax, (7.5, 5.4))
     design, optimum = curves if curves is not None else frequency_curves(model, evaluation, result)
     ev = evaluation
+    # the design as entered may be the optimum itself (a design written by `optimize -o`):
+    # then one curve says so, and no label is printed twice over itself
+    same = optimum is not None and _same_point(ev, result)
     drawn = [
         plot_margin_vs_frequency(
             ax,
@@ -100,13 +132,14 @@ def margin_vs_frequency(
             feasible=design.feasible,
             step_out_frequency_hz=_found(ev, "step_out"),
             operating_frequency_hz=ev.frequency_hz,
-            label=f"as entered, α = {ev.helical_angle_deg:.3g}°",
+            label=f"as entered{' = optimum' if same else ''}, α = {ev.helical_angle_deg:.3g}°",
             max_frequency_hz=_found(ev, "max_frequency"),
             max_frequency_limited_by=getattr(ev, "max_frequency_limited_by", ""),
             grip=_grip_of(design),
         )
     ]
-    if optimum is not None:
+    if optimum is not None and not same:
+        span = float(np.ptp(design.x)) if len(design.x) else 1.0
         drawn.append(
             plot_margin_vs_frequency(
                 ax,
@@ -114,11 +147,17 @@ def margin_vs_frequency(
                 optimum.margin_Nm,
                 feasible=optimum.feasible,
                 style_index=1,
-                step_out_frequency_hz=_found(result.evaluation, "step_out"),
+                step_out_frequency_hz=_apart(
+                    _found(result.evaluation, "step_out"), _found(ev, "step_out"), span
+                ),
                 operating_frequency_hz=result.frequency_hz,
                 label=f"optimum, α = {result.helical_angle_deg:.3g}°",
                 shade=False,
-                max_frequency_hz=_found(result.evaluation, "max_frequency"),
+                max_frequency_hz=_apart(
+                    _found(result.evaluation, "max_frequency"),
+                    _found(ev, "max_frequency"),
+                    span,
+                ),
                 max_frequency_limited_by=result.evaluation.max_frequency_limited_by,
                 grip=_grip_of(optimum),
             )
@@ -132,6 +171,7 @@ def margin_vs_frequency(
     return Plot(fig, ax, tuple(drawn))
 
 
+@guard(model=_MODEL, result=_RESULT, evaluation=_EVALUATION_OR_NONE)
 def margin_vs_angle(
     model: Any, result: Any, evaluation: Any = None, *, ax: Any = None, curve: Any = None
 ) -> Plot:
@@ -211,6 +251,7 @@ def _grip_of(curve: Any) -> str:
     return "ok" if grip is None or not len(grip) else str(grip[0])
 
 
+@guard(model=_MODEL, result=_RESULT_OR_NONE, evaluation=_EVALUATION_OR_NONE)
 def margin_map(
     model: Any,
     result: Any = None,
@@ -253,6 +294,7 @@ def margin_map(
     return Plot(fig, ax, drawn)
 
 
+@guard(evaluation=_EVALUATION, result=_RESULT_OR_NONE)
 def torque_budget(evaluation: Any, result: Any = None, *, ax: Any = None) -> Plot:
     """Magnetic torque available against the required torque, as entered (and optimised)."""
     from spiralcap.figures.design import plot_torque_budget
@@ -275,6 +317,7 @@ def limit_utilisation(evaluation: Any, *, ax: Any = None) -> Plot:
     return Plot(fig, ax, plot_limit_utilisation(ax, ev.checks, labels=labels))
 
 
+@guard(model=_MODEL, evaluation=_EVALUATION_OR_NONE, result=_RESULT_OR_NONE)
 def tissue_torque(
     model: Any, evaluation: Any = None, result: Any = None, *, ax: Any = None
 ) -> Plot:
@@ -320,6 +363,7 @@ def tissue_torque(
     return Plot(fig, ax, tuple(lines))
 
 
+@guard(model=_MODEL)
 def field_maps(
     model: Any, *, fig: Any = None, workspace_radius_m: float | None = None, maps: Any = None
 ) -> Plot:
@@ -384,6 +428,7 @@ def field_maps(
     return Plot(fig, axs[0], tuple(drawn))
 
 
+@guard(model=_MODEL)
 def uniformity_profile(model: Any, *, ax: Any = None, profile: Any = None) -> Plot:
     """Signed |B| deviation along each pair's axis and across it, that pair driven alone."""
     from spiralcap.curves import MAP_EXTENT, uniformity_profiles
@@ -434,6 +479,7 @@ def margin_vs_power(
     return Plot(fig, ax, drawn)
 
 
+@guard(model=_MODEL)
 def geometry(model: Any, *, fig: Any = None, workspace_radius_m: float | None = None) -> Plot:
     """The hardware to scale: nested coil pairs, the workspace and the capsule."""
     from spiralcap.figures.hardware import draw_geometry

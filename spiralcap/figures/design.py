@@ -238,11 +238,9 @@ def plot_margin_vs_frequency(
         )
     max_line = None
     if max_frequency_hz is not None and np.isfinite(max_frequency_hz) and max_frequency_hz > 0:
-        by = (
-            f", {max_frequency_limited_by.replace('_', ' ')} limit"
-            if max_frequency_limited_by
-            else ""
-        )
+        from spiralcap.presentation import readable
+
+        by = f", {readable(max_frequency_limited_by)} limit" if max_frequency_limited_by else ""
         max_line = ax.axvline(
             max_frequency_hz,
             color=style["color"],

@@ -335,14 +335,19 @@ def draw_sweep(fig: Any, result: Any, failing: Any = None) -> SweepDrawn:
             ok = np.asarray(out["feasible"], bool)
         else:
             ok = np.asarray(out["status"]) == "optimal"
+        # points that could not be built (a row marked unbuildable): a grey dotted line each
+        unbuilt = np.asarray(out.get("unbuildable", np.zeros(x.shape, bool)), bool)
+        failed = ~ok & ~unbuilt
         cols = [c for c in SHOWN_COLUMNS if c in out and not _fixed_copper(c, out[c])]
         axs = list(np.atleast_1d(fig.subplots(len(cols), 1, sharex=True)))
         for k, (ax, col) in enumerate(zip(axs, cols, strict=True)):
             label, factor = SHOWN_COLUMNS[col]
             y = np.asarray(out[col], float) * factor
             ax.plot(x, np.where(ok, y, np.nan), **series_style(k))
-            if (~ok).any():
-                ax.plot(x[~ok], y[~ok], "x", color="#a4161a", markersize=8, markeredgewidth=2)
+            if failed.any():
+                ax.plot(x[failed], y[failed], "x", color="#a4161a", markersize=8, markeredgewidth=2)
+            for xu in x[unbuilt]:
+                ax.axvline(float(xu), color="0.45", linestyle=":", linewidth=1.2)
             if col == "margin_Nm":
                 ax.axhline(0.0, color="black", linewidth=1.0)
             finite = y[np.isfinite(y)]
@@ -359,17 +364,29 @@ def draw_sweep(fig: Any, result: Any, failing: Any = None) -> SweepDrawn:
         if (~ok).any():
             from matplotlib.lines import Line2D
 
-            handles.insert(
-                0,
-                Line2D(
-                    [],
-                    [],
-                    marker="x",
-                    color="#a4161a",
-                    linestyle="none",
-                    label="infeasible (a requirement not met)",
-                ),
-            )
+            extra = []
+            if failed.any():
+                extra.append(
+                    Line2D(
+                        [],
+                        [],
+                        marker="x",
+                        color="#a4161a",
+                        linestyle="none",
+                        label="infeasible (a requirement not met)",
+                    )
+                )
+            if unbuilt.any():
+                extra.append(
+                    Line2D(
+                        [],
+                        [],
+                        color="0.45",
+                        linestyle=":",
+                        label="cannot be built (unbuildable_reason)",
+                    )
+                )
+            handles = extra + handles
         if handles:
             fig.legend(handles=handles, loc="outside upper center", ncols=2, fontsize=7.5)
         return SweepDrawn(axs, None)
@@ -393,5 +410,30 @@ def draw_sweep(fig: Any, result: Any, failing: Any = None) -> SweepDrawn:
             xlabel=_label(kx),
             ylabel=_label(ky),
         )
+        unbuilt = np.asarray(out.get("unbuildable", np.zeros(nx * ny, bool)), bool)
+        if unbuilt.any():  # points that could not be built: grey squares, named in the legend
+            gx, gy = np.meshgrid(axes[0].values, axes[1].values)
+            mask = unbuilt.reshape(nx, ny).T
+            (mark,) = ax.plot(
+                gx[mask],
+                gy[mask],
+                "s",
+                color="0.6",
+                markeredgecolor="black",
+                markersize=6,
+                linestyle="none",
+                label="cannot be built (unbuildable_reason)",
+                clip_on=False,
+                zorder=6,
+            )
+            old = ax.get_legend()
+            ax.legend(
+                handles=[*(old.legend_handles if old is not None else []), mark],
+                loc="upper center",
+                bbox_to_anchor=(0.5, -0.16),
+                ncols=2,
+                fontsize=7.5,
+                framealpha=0.92,
+            )
         return SweepDrawn([ax], drawn)
     raise ValueError("a sweep figure shows one or two swept keys")

@@ -128,8 +128,8 @@ def plot_waveforms(
     axes: Sequence[Any],
     w: Any,
     *,
-    current_limit_A: float | None = None,
-    voltage_limit_V: float | None = None,
+    current_limit_A: Any = None,
+    voltage_limit_V: Any = None,
     window_s: tuple[float, float] | None = None,
 ) -> WaveformsDrawn:
     """Currents, voltages and centre field of a heading sequence on three stacked axes.
@@ -139,8 +139,9 @@ def plot_waveforms(
     axes : three matplotlib Axes
         Current, voltage and field panels (share x).
     w : coils.waveforms.Waveforms
-    current_limit_A, voltage_limit_V : float, optional
-        Limits drawn as ± dashed lines.
+    current_limit_A, voltage_limit_V : float or sequence of 3 floats, optional
+        Limits drawn as ± dashed lines (one per pair, in its colour, where the pairs' own
+        amplifier channels differ).
     window_s : (float, float), optional
         Draw only the samples in this time window, s (a few cycles: the phases can be read).
     """
@@ -166,9 +167,9 @@ def plot_waveforms(
             )[0]
             for k in range(3)
         )
-        if lim is not None:
+        for _k, value, colour in _limit_lines(lim):
             for sign in (1.0, -1.0):
-                ax.axhline(sign * lim, color="0.2", linestyle="--", linewidth=1.2)
+                ax.axhline(sign * value, color=colour, linestyle="--", linewidth=1.2)
         ax.set_ylabel(label)
         out.append(lines)
     switches = tuple(
@@ -183,6 +184,20 @@ def plot_waveforms(
     axes[2].set_xlabel("time (s)")
     axes[0].legend(fontsize="small", loc="upper right", ncols=3)
     return WaveformsDrawn(out[0], out[1], out[2], switches)
+
+
+def _limit_lines(limit: Any) -> list[tuple[int | None, float, str]]:
+    """The limit lines to draw: one grey line for one limit (or three equal ones), else one per
+    pair in its colour (each pair on its own amplifier channel): ``(pair or None, value,
+    colour)``."""
+    import numpy as np
+
+    if limit is None:
+        return []
+    values = [float(v) for v in np.atleast_1d(np.asarray(limit, dtype=float))]
+    if len(set(values)) == 1:
+        return [(None, values[0], "0.2")]
+    return [(k, v, series_style(k)["color"]) for k, v in enumerate(values)]
 
 
 @dataclass(frozen=True)
@@ -218,8 +233,8 @@ def draw_waveform_sequence(
     fig: Any,
     w: Any,
     *,
-    current_limit_A: float | None = None,
-    voltage_limit_V: float | None = None,
+    current_limit_A: Any = None,
+    voltage_limit_V: Any = None,
 ) -> WaveformSequenceDrawn:
     """An overview of the whole sequence and, below, a few cycles around each plane change.
 
@@ -252,8 +267,14 @@ def draw_waveform_sequence(
                     **series_style(k, markevery=max(1, t.size // 10)),
                 )[0]
             )
-        if lim is not None:
-            ax.axhline(lim, color="0.2", linestyle="--", linewidth=1.2, label="limit")
+        for pair, value, colour in _limit_lines(lim):
+            ax.axhline(
+                value,
+                color=colour,
+                linestyle="--",
+                linewidth=1.2,
+                label="limit" if pair is None else f"{'xyz'[pair]} pair's limit",
+            )
         for i in range(1, len(w.headings)):
             ax.axvline(i * w.dwell_s, color="0.5", linestyle=":", linewidth=1.0)
             if i <= MAX_CHANGE_PANELS:

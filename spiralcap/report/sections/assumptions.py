@@ -173,7 +173,7 @@ def build(ctx: Context) -> Section:
             " — epigraph NLP over helical angle, frequency and field "
             "amplitude, built with CasADi [10] (exact first and second derivatives) and solved by "
             "IPOPT [11] from several starts; the multipliers of the active constraints give the "
-            "gain per unit of each binding limit (docs/optimisation.md).",
+            "gain of relaxing each binding limit by one step of its key (docs/optimisation.md).",
         ],
     ]
     return Section(

@@ -404,6 +404,33 @@ def _total_power_parts(ctx: Context) -> list[Any]:
     ]
 
 
+def _runaway_keys(ctx: Context, axes: list[str]) -> str:
+    """The current key of each pair in ``axes``: ``limits.current_A`` when they share it, else
+    ``x: limits.x.current_A; y: limits.current_A`` (a pair on its own amplifier channel)."""
+    keys = {a: str(ctx.value(f"coils.axes.{a}.current_limit_key")) for a in axes}
+    if len(set(keys.values())) == 1:
+        return next(iter(keys.values()))
+    return "; ".join(f"{a}: {k}" for a, k in keys.items())
+
+
+def _rating_parts(ctx: Context) -> list[Any]:
+    """The current each pair is sized at: one amplifier rating (``limits.current_A``), or each
+    pair's own channel (``limits.x.current_A``) where one is set."""
+    keys = [str(ctx.value(f"coils.axes.{ax}.current_limit_key")) for ax in "xyz"]
+    amps = [float(ctx.value(f"coils.axes.{ax}.current_amplitude_A")) for ax in "xyz"]
+    if keys == ["limits.current_A"] * 3 and len(set(amps)) == 1:
+        return [
+            "Each pair is sized at the current-amplitude limit ",
+            ctx.num("coils.axes.x.current_amplitude_A", unit="A"),
+            " (limits.current_A)",
+        ]
+    out: list[Any] = ["Each pair is sized at its amplifier channel's current-amplitude limit ("]
+    for i, (ax, key) in enumerate(zip("xyz", keys)):
+        out += ["; " if i else "", f"{ax}: "]
+        out += [ctx.num(f"coils.axes.{ax}.current_amplitude_A", unit="A"), f", {key}"]
+    return [*out, ")"]
+
+
 def build(ctx: Context) -> Section:
     """The coil-sizing section."""
     c = "coils"
@@ -411,8 +438,7 @@ def build(ctx: Context) -> Section:
     design = ctx.data.design
     intro = Paragraph(
         [
-            "Each pair is sized at the current-amplitude limit ",
-            ctx.num(f"{c}.current_amplitude_A", unit="A"),
+            *_rating_parts(ctx),
             " and the operating frequency ",
             ctx.num(f"{c}.frequency_hz", unit="Hz"),
             ", copper resistance at the self-consistent mean winding temperature, ambient ",
@@ -421,7 +447,7 @@ def build(ctx: Context) -> Section:
             ". Inside every limit the largest rotating field (worst heading) is ",
             ctx.num(f"{c}.rotating_field_within_limits.max_rotating_field_T", 1e3, "mT"),
             ", set by ",
-            str(ctx.value(f"{c}.rotating_field_within_limits.limited_by")).replace("_", " "),
+            str(ctx.value(f"{c}.rotating_field_within_limits.limited_by_words")),
             f" ({ctx.value(f'{c}.rotating_field_within_limits.limit_key')}; the current limit alone "
             "would allow ",
             ctx.num(f"{c}.current_limited_rotating_field_T", 1e3, "mT"),
@@ -477,7 +503,7 @@ def build(ctx: Context) -> Section:
             Paragraph(
                 [
                     Strong("Thermal runaway. "),
-                    "At the full current limit (limits.current_A) the ",
+                    f"At the full current limit ({_runaway_keys(ctx, runaway)}) the ",
                     ", ".join(runaway),
                     " pair" + ("s" if len(runaway) > 1 else ""),
                     " would run away thermally: the winding's resistance rises with its "

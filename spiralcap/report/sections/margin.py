@@ -42,7 +42,7 @@ def evaluation_table(ctx: Context, columns: list[tuple[str, str]], caption: str)
         for prefix, _ in columns:
             value = ctx.value(f"{prefix}.{field}")
             if isinstance(value, str):
-                row.append(value.replace("_", " "))
+                row.append(readable(value))  # a limit's name in words, not its row label
             elif isinstance(value, bool):
                 row.append("yes" if value else "NO")
             else:
@@ -62,6 +62,7 @@ def checks_table(ctx: Context, prefix: str, caption: str, ident: str) -> Table:
     rows: list[list[Cell]] = []
     for i, c in enumerate(ctx.value(f"{prefix}.checks")):
         label, factor = SHOWN_UNITS.get(c["unit"], (c["unit"], 1.0))
+        label = "" if label == "1" else label  # a ratio (a strain) has no unit to print
         rows.append(
             [
                 # the self-lock row's value is alpha + atan(mu), not the helical angle its key sets
@@ -87,7 +88,7 @@ def checks_table(ctx: Context, prefix: str, caption: str, ident: str) -> Table:
 def _max_frequency_parts(ctx: Context, prefix: str) -> list[Any]:
     """The drive's maximum frequency of the evaluation at ``prefix`` and what limits it."""
     value = ctx.value(f"{prefix}.max_frequency_hz")
-    by = str(ctx.value(f"{prefix}.max_frequency_limited_by")).replace("_", " ")
+    by = readable(str(ctx.value(f"{prefix}.max_frequency_limited_by")))
     if value is None or value != value:  # no contact: no margin to reach zero
         return ["no frequency (no contact: no margin)"]
     if ctx.value(f"{prefix}.max_frequency_beyond_search"):

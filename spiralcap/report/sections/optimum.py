@@ -83,11 +83,11 @@ def _binding_table(ctx: Context) -> Table:
             "value",
             "allowed",
             "relaxing means",
-            "gain per unit relaxed",
+            "gain per step relaxed",
         ],
         rows,
-        caption="Binding limits and their multipliers: what relaxing each by one unit of its "
-        "design key buys in the objective's unit (d objective / d allowed value, from IPOPT's "
+        caption="Binding limits and their multipliers: what relaxing each by one step of its "
+        "design key (1 unit of it; 0.1 % of strain, 1° of angle) buys in the objective's unit (d objective / d allowed value, from IPOPT's "
         "Lagrange multipliers with the scaling undone"
         + ("; of the continuous relaxation, for the sized hardware)" if sized else ")"),
         id="binding-limits",
@@ -100,14 +100,14 @@ def _shared_keys(ctx: Context) -> list[Paragraph]:
     for i, k in enumerate(ctx.value("optimize.binding_keys")):
         if len(k["rows"]) < 2:
             continue
-        obj_unit, per = str(k["gain_per_key_unit_label"]).split(" per ", 1)
+        obj_unit, per = str(k["gain_per_step_label"]).split(" per ", 1)
         out.append(
             Paragraph(
                 [
                     f"{k['key']} bounds {len(k['rows'])} of these rows ("
                     + "; ".join(readable(r) for r in k["rows"])
-                    + f"); {k['relaxing_means']} it by 1 {per} relaxes them all and gains ",
-                    ctx.num(f"optimize.binding_keys.{i}.gain_per_key_unit", 1.0, obj_unit),
+                    + f"); {k['relaxing_means']} it by {per} relaxes them all and gains ",
+                    ctx.num(f"optimize.binding_keys.{i}.gain_per_step", 1.0, obj_unit),
                     " in all (IPOPT may split a multiplier among rows that tie in any "
                     "proportion; their sum is what the key buys).",
                 ]
@@ -271,7 +271,8 @@ def build(ctx: Context) -> Section:
             blocks.append(
                 Paragraph(
                     [
-                        "Read a gain as what relaxing that limit by one unit of its design key buys "
+                        "Read a gain as what relaxing that limit by one step of its design key "
+                        "(the last column: 1 °C, 1 mm/s, 0.1 % of strain) buys "
                         f"in the {what}, to first order (from IPOPT's multipliers): raising an "
                         "upper limit, lowering a requirement or a lower bound. Bounds of the "
                         "search box (optimize.*) appear when the optimum sits on them. These are "

@@ -16,18 +16,16 @@ from spiralcap.report.sections._util import Context, readable
 
 
 def binding_gain(ctx: Context, limit_index: int) -> tuple[str, Num]:
-    """How relaxing binding limit ``i`` helps: the verb and the gain per unit of its key.
+    """How relaxing binding limit ``i`` helps: the verb and the gain per step of its key.
 
     Mirrors ``spiralcap optimize``: "raising it by 1 °C gains 0.02448 mN·m" (``lowering`` for a
-    requirement or a lower bound), from the JSON's ``gain_per_key_unit`` (the objective's shown
-    unit -- mN·m, W, kg or the safety factor -- per unit of the design key) and
-    ``relaxing_means``.
+    requirement or a lower bound), from the JSON's ``gain_per_step`` (the objective's shown
+    unit -- mN·m, W, kg or the safety factor -- per ``gain_step`` of the design key: 1 °C, 1°,
+    0.1 % of strain) and ``relaxing_means``.
     """
     path = f"optimize.binding_limits.{limit_index}"
     b = ctx.value(path)
-    return b["relaxing_means"], ctx.num(
-        f"{path}.gain_per_key_unit", 1.0, b["gain_per_key_unit_label"]
-    )
+    return b["relaxing_means"], ctx.num(f"{path}.gain_per_step", 1.0, b["gain_per_step_label"])
 
 
 def objective_parts(ctx: Context) -> list[Inline]:
@@ -80,7 +78,7 @@ def binding_parts(ctx: Context, limit_index: int) -> list[Inline]:
         ]
     return [
         Strong(readable(b["name"])),
-        f" ({b['key']}): {verb} it by 1 {unit} gains ",
+        f" ({b['key']}): {verb} it by {unit} gains ",
         Num(gain.value, gain.key, gain.scale, gain.unit.split(" per ", 1)[0]),
         f" {better}",
     ]
