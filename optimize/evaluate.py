@@ -17,7 +17,7 @@ from optimize import physics as ph
 from optimize._roots import brentq
 from optimize.system import MODEL, DesignModel, prepare
 from optimize.views import Viewable
-from spiralcap.core.checks import angle, guard, nonnegative, positive
+from spiralcap.core.checks import angle, finite, guard, nonnegative, positive
 from torque_model.domain import calibration_edges, extrapolations
 
 #: the rule for a ``model`` argument of the public functions here
@@ -36,6 +36,7 @@ STEP_OUT_SEARCH_HZ = (0.01, 200.0)
 GRIP_OK, GRIP_BELOW, GRIP_NONE = "ok", "below minimum", "none"
 
 
+@guard(least_strain=finite(), min_wall_strain=nonnegative())
 def grip_state(least_strain: Any, min_wall_strain: Any) -> np.ndarray:
     """:data:`GRIP_OK`, :data:`GRIP_BELOW` or :data:`GRIP_NONE` at each point.
 
@@ -441,6 +442,7 @@ class GripBound:
     least_strain_at_max: float
 
 
+@guard(model=_MODEL)
 def grip_bound(model: DesignModel) -> GripBound:
     """Where the spiral stops gripping along the helical angle (:class:`GripBound`).
 

@@ -423,7 +423,7 @@ def _optimize_chunk(
 def _unbuildable_row(columns: tuple[str, ...], reason: str) -> tuple:
     """A row of a point that cannot be built: status ``unbuildable``, no numbers (NaN), no
     binding limits, then the reason (the chunk's rows end with it)."""
-    values = {"status": "unbuildable", "binding_limits": ""}
+    values = {"status": "unbuildable", "binding_limits": "", "grip": "unbuildable"}
     return (*(values.get(c, math.nan) for c in columns), reason)
 
 

@@ -63,7 +63,7 @@ def bad_numbers(value: Any, path: str = "$", no_contact: bool = False) -> list[s
         for k, v in value.items():
             allowed = (
                 (here and k in NO_CONTACT_UNDEFINED)
-                or (margin_check and k == "value_undefined")
+                or (margin_check and k in ("value_undefined", "value_in_key_unit_undefined"))
                 or (row and k == "values_undefined")
                 or (
                     path.endswith(".margin_Nm")
