@@ -62,6 +62,7 @@ def build_model(design: Design):
             )
         ),
     )
+    tolerances = build_tolerances(d)
     if d["optimize.helical_angle_min_deg"] < floor:
         raise InputError(
             "optimize.helical_angle_min_deg",
@@ -122,16 +123,19 @@ def build_model(design: Design):
         objective=d["optimize.objective"],
         starts=d["optimize.starts"],
     )
+    tissues = tuple(build_tissues(d))
+    _check_lumen_tolerance(d, tissues)
     return DesignModel(
         coils=build_coils(d),
         capsule=build_capsule(d),
-        tissues=tuple(build_tissues(d)),
+        tissues=tissues,
         frequency_hz=d["operation.frequency_hz"],
         headings=_headings(d),
         points_m=workspace_points(d["workspace.radius_m"]),
         limits=limits,
         requirements=req,
-        bounds=bounds,
+        bounds=_bounds_within_floor(bounds, floor, tolerances),
+        tolerances=tolerances,
         winding_temperature_C=winding_temperature_C(d),
         ambient_temperature_C=d["coils.ambient_temperature_C"],
         heat_transfer_coefficient_W_m2K=d.get("coils.heat_transfer_coefficient_W_m2K"),
@@ -149,6 +153,65 @@ def build_model(design: Design):
         ),
         sizing=build_sizing(d),
     )
+
+
+def build_tolerances(d: Design) -> Any:
+    """The :class:`optimize.system.Tolerances` of ``[tolerances]`` (SI), checked against the
+    design's own values: the band of each key must stay inside what the key allows.
+
+    Raises
+    ------
+    InputError
+        A tolerance that takes the spiral's angle out of (0, 90) deg or its wire to zero.
+    """
+    from optimize.system import Tolerances
+
+    da = d["tolerances.helical_angle_deg"]
+    angle = d["capsule.spiral.helical_angle_deg"]
+    if not (angle - da > 0.0 and angle + da < 90.0):
+        raise InputError(
+            "tolerances.helical_angle_deg",
+            da,
+            f"a tolerance that keeps capsule.spiral.helical_angle_deg = {angle:g} ± it inside "
+            "(0, 90) deg",
+        )
+    dw = d["tolerances.spiral_wire_diameter_mm"]
+    wire = d["capsule.spiral.wire_diameter_mm"]
+    if not dw < wire:
+        raise InputError(
+            "tolerances.spiral_wire_diameter_mm",
+            dw,
+            f"a tolerance below capsule.spiral.wire_diameter_mm = {wire:g}",
+        )
+    return Tolerances(
+        helical_angle_rad=to_si("tolerances.helical_angle_deg", da),
+        spiral_wire_diameter_m=to_si("tolerances.spiral_wire_diameter_mm", dw),
+        lumen_diameter_m=to_si("tolerances.lumen_diameter_mm", d["tolerances.lumen_diameter_mm"]),
+    )
+
+
+def _check_lumen_tolerance(d: Design, tissues: tuple) -> None:
+    """Every tissue set's narrowest lumen (its lumen less the tolerance) must stay open."""
+    dl = d["tolerances.lumen_diameter_mm"]
+    least = min(t.lumen_diameter_m for t in tissues) * 1e3
+    if not dl < least:
+        raise InputError(
+            "tolerances.lumen_diameter_mm",
+            dl,
+            f"a tolerance below the narrowest tissue set's lumen, {least:g} mm",
+        )
+
+
+def _bounds_within_floor(bounds: Any, floor_deg: float, tolerances: Any) -> Any:
+    """``bounds`` with the least helical angle raised so that its flattest corner (the angle
+    less its tolerance) stays at or above ``floor_deg``, the model's and the spiral's floor:
+    the optimiser cannot hold a row at a corner outside the model."""
+    from dataclasses import replace
+
+    least = math.radians(floor_deg) + tolerances.helical_angle_rad
+    if bounds.helical_angle_min_rad >= least:
+        return bounds
+    return replace(bounds, helical_angle_min_rad=min(least, bounds.helical_angle_max_rad))
 
 
 def channel_limits(d: Design) -> dict[str, Any]:
@@ -193,6 +256,7 @@ _CONSTRAINT_KEYS = {
     "frequency_min": "optimize.frequency_min_hz",
     "solver": "optimize.starts",
     "stepout_probability": "requirements.max_stepout_probability",
+    "tolerance": "tolerances",
     "copper_mass": "limits.copper_mass_kg",
     "bore_clearance": "coils.min_clearance_mm",
     "envelope": "limits.envelope_mm",
