@@ -34,9 +34,9 @@ _REACH = {
     "lumen_diameter_m": 5e-3,
 }
 _RESOLUTION = {
-    "helical_angle_rad": math.radians(1e-4),
-    "spiral_wire_diameter_m": 1e-8,
-    "lumen_diameter_m": 1e-8,
+    "helical_angle_rad": math.radians(1e-3),
+    "spiral_wire_diameter_m": 1e-7,
+    "lumen_diameter_m": 1e-7,
 }
 #: The least helical angle searched (the tissue model's profile conversion holds above ~1.8°).
 _MIN_ANGLE_rad = math.radians(2.0)

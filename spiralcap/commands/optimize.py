@@ -356,15 +356,20 @@ def run(args: argparse.Namespace) -> int:
         from spiralcap.design import write_text_atomic
 
         written = write_text_atomic(args.output, optimum_design_toml(design, res))
+    from spiralcap import tolerances
+
+    intervals = tolerances.optimum_rows(design, res)
     if args.json:
         payload = {"design": design.source, **optimization_to_dict(res)}
+        if intervals:
+            payload["tolerance_intervals"] = tolerances.to_dict(intervals)
         if rc is not None:
             payload["robust"] = robust_to_dict(rc)
         if written is not None:
             payload["written"] = str(written)
         print_json(payload)
     else:
-        print(format_result(res))
+        print("\n".join([format_result(res), *tolerances.text_lines(intervals)]))
         if rc is not None:
             print(format_robust(rc))
         if written is not None:
