@@ -12,7 +12,9 @@ and the frequency alone, not on these keys, so they do not bound an interval.
 The rows are those of :func:`optimize.evaluate.evaluate`, judged with the same relative
 tolerance (:data:`optimize.evaluate.FEASIBILITY_RTOL`): the margin (or the safety factor), the
 wall strain of every tissue set, the forward speed (0 where the spiral does not grip), the
-spiral turns and the self-lock.
+spiral turns, the self-lock and the spiral's turns kept apart (the geometry rule of
+:func:`capsule.geometry_problems`, which a thicker wire or a flatter angle can break); the wire
+is searched up to the tool's plausibility bound (``capsule.MAX_WIRE_TO_BODY_DIAMETER``).
 """
 
 from __future__ import annotations
@@ -21,6 +23,7 @@ import math
 from dataclasses import dataclass, replace
 from typing import Any
 
+import capsule as cap
 from optimize import physics as ph
 from optimize.system import DesignModel, Tolerances, prepare
 
@@ -128,6 +131,11 @@ def row_slacks(
     mu = max(float(t.friction_coefficient) for t in model.tissues)
     steepest = ph.angle_corner(alpha, tol, +1)
     out["self_lock"] = math.pi / 2 - steepest - math.atan(mu)  # > 0 holds (as evaluate)
+    thick = ph.wire_corner(c, tol, +1)  # neighbouring turns apart (capsule.geometry_problems)
+    floor = cap.min_helical_angle_for_clearance_rad(
+        thick.helix_diameter_m, thick.wire_diameter_m, c.starts
+    )
+    out["spiral_clearance"] = float(ph.angle_corner(alpha, tol, -1) / floor) - 1.0
     return out
 
 
@@ -165,8 +173,9 @@ def _limits(model: DesignModel, key: str, nominal: float) -> tuple[float, float]
     reach = _REACH[key]
     if key == "helical_angle_rad":
         return max(_MIN_ANGLE_rad, nominal - reach), min(_MAX_ANGLE_rad, nominal + reach)
-    if key == "spiral_wire_diameter_m":
-        return max(nominal * 1e-3, nominal - reach), nominal + reach
+    if key == "spiral_wire_diameter_m":  # up to the tool's plausibility bound on the wire
+        most = cap.MAX_WIRE_TO_BODY_DIAMETER * float(model.constants.body_diameter_m)
+        return max(nominal * 1e-3, nominal - reach), min(nominal + reach, most)
     narrowest = min(t.lumen_diameter_m for t in model.tissues)
     return max(-0.9 * narrowest, -reach), reach
 
