@@ -643,7 +643,7 @@ def evaluate(
         Every figure and check at that operating point, SI.
     """
     model = prepare(model)
-    c, req = model.constants, model.requirements
+    c = model.constants
     alpha = (
         model.capsule.spiral.helical_angle_rad
         if helical_angle_rad is None
@@ -654,12 +654,7 @@ def evaluate(
     avail = float(ph.available_torque_Nm(field, c))
     res, thr, required, worst = (float(np.asarray(v)) for v in worst_required(model, alpha, f))
     margin = avail - required
-    # every row at its own worst corner of the tolerance box (optimize.physics; none: nominal)
-    tol = model.tolerances
-    strains = tuple(float(x) for x in ph.toleranced_wall_strains(alpha, c, model.tissues, tol))
-    # a spiral that does not stretch every wall does not grip it: no screw, no speed
-    speed = float(ph.toleranced_speed_m_s(alpha, f, c, req, tol)) if min(strains) > 0 else 0.0
-    turns = float(ph.toleranced_spiral_turns(alpha, c, tol))
+    strains, speed, turns = _spiral_rows(model, alpha, f)
     from optimize.buildcheck import build_checks, copper_masses_kg
 
     checks = [
@@ -703,12 +698,26 @@ def evaluate(
         copper_masses_kg=copper_masses_kg(model),
         wall_strains=strains,
         tissue_names=tuple(t.name for t in model.tissues),
-        weight_friction_Nm=float(
-            ph.weight_friction_Nm(ph.wire_corner(c, tol, +1), model.tissues[int(worst)])
-        ),
+        weight_friction_Nm=_weight_friction_Nm(model, int(worst)),
         extrapolations=_domain_flags(extrapolations, model, alpha, f),
         calibration_edges=_domain_flags(calibration_edges, model, alpha, f),
     )
+
+
+def _spiral_rows(model: DesignModel, alpha: float, f: float) -> tuple[tuple, float, float]:
+    """(wall strain per tissue set, speed, spiral turns), each at its own worst corner of the
+    tolerance box (optimize.physics; nominal without one); no grip, no speed."""
+    c, req, tol = model.constants, model.requirements, model.tolerances
+    strains = tuple(float(x) for x in ph.toleranced_wall_strains(alpha, c, model.tissues, tol))
+    # a spiral that does not stretch every wall does not grip it: no screw, no speed
+    speed = float(ph.toleranced_speed_m_s(alpha, f, c, req, tol)) if min(strains) > 0 else 0.0
+    return strains, speed, float(ph.toleranced_spiral_turns(alpha, c, tol))
+
+
+def _weight_friction_Nm(model: DesignModel, tissue: int) -> float:
+    """The capsule weight's friction on tissue set ``tissue`` at the thickest wire, N·m."""
+    c = ph.wire_corner(model.constants, model.tolerances, +1)
+    return float(ph.weight_friction_Nm(c, model.tissues[tissue]))
 
 
 def _domain_flags(flags: Any, model: DesignModel, alpha: float, f: float) -> tuple:

@@ -1039,7 +1039,7 @@ def wire_corner(c: Constants, tol: Any, sign: int) -> Constants:
     tol : Tolerances or None
         The tolerance box (SI).
     sign : int
-        +1 the thickest wire, -1 the thinnest.
+        +1 the thickest wire, -1 the thinnest (a sign, dimensionless).
 
     Returns
     -------
@@ -1068,7 +1068,7 @@ def lumen_corner(tissues: tuple, tol: Any, sign: int) -> tuple:
     tol : Tolerances or None
         The tolerance box (SI).
     sign : int
-        +1 the widest lumen, -1 the narrowest.
+        +1 the widest lumen, -1 the narrowest (a sign, dimensionless).
 
     Returns
     -------
@@ -1091,7 +1091,7 @@ def angle_corner(helical_angle_rad: Any, tol: Any, sign: int) -> Any:
     tol : Tolerances or None
         The tolerance box (SI).
     sign : int
-        +1 or -1.
+        +1 the steepest, -1 the flattest (a sign, dimensionless).
 
     Returns
     -------
