@@ -303,3 +303,78 @@ def test_the_optimiser_keeps_the_flattest_corner_on_the_model():
     model = build_model(load_design())
     assert math.degrees(model.bounds.helical_angle_min_rad) == pytest.approx(2.3, abs=1e-9)
     assert model.tolerances == Tolerances(math.radians(0.5), 0.02e-3, 0.05e-3)
+
+
+# --- item 7: a least-power sizing buys no copper for nothing -------------------------------------
+
+#: The z pair's turns, wire and pack shape free, least power at safety factor 2: the worst
+#: heading lies in the x-y plane, where z carries no current, so z's copper hardly moves the
+#: power (the issue's case: copper in z for a fraction of a per cent).
+Z_FREE = {
+    "optimize.free.coils.z.turns": [100, 2000],
+    "optimize.free.coils.z.wire_diameter_mm": [0.8, 5.0],
+    "optimize.free.coils.z.pack_aspect": [0.25, 4.0],
+    "optimize.objective": "power",
+    "requirements.min_safety_factor": 2.0,
+}
+
+
+@pytest.mark.slow
+def test_least_power_sizing_declines_copper_that_buys_too_little():
+    """Without the rule the least-power sizing puts more than 10 % more copper in than a
+    design within 1 % of its power needs; with it (the default) the sizing takes that leaner
+    design: its copper, summed by hand from the written pairs, is at least 10 % below, its
+    power (evaluated at the written field) within 1 % of the least power, and it holds the
+    safety factor at every corner of its tolerance box."""
+    from optimize.buildcheck import copper_masses_kg
+    from optimize.discrete import SizingOptions, size_design
+    from spiralcap.core.constants import COPPER_DENSITY_kg_m3
+
+    design = load_design().with_values(Z_FREE)
+    model = prepare(build_model(design))
+    plain = size_design(model, options=SizingOptions(lean=None))
+    lean = size_design(model)
+    assert plain.status == lean.status == "optimal"
+    kg0, kg1 = plain.evaluation.copper_mass_kg, lean.evaluation.copper_mass_kg
+    assert kg0 > 1.10 * kg1, f"the least power alone spends {kg0:.4g} kg against {kg1:.4g} kg"
+    assert lean.objective_value <= 1.01 * plain.objective_value * (1 + 1e-9), (
+        "the leaner design's power is within 1 % of the least power"
+    )
+    assert lean.hardware.copper_declined["copper_kg"] == pytest.approx(kg0, rel=1e-12)
+    written = build_model(design.with_values(optimum_values(design, lean)))
+    pairs = written.coils.pairs
+    by_hand = sum(
+        COPPER_DENSITY_kg_m3
+        * 2
+        * p.turns
+        * 2
+        * math.pi
+        * p.radius_m
+        * math.pi
+        * p.wire_diameter_m**2
+        / 4
+        for p in pairs
+    )
+    assert by_hand == pytest.approx(sum(copper_masses_kg(written)), rel=1e-9)
+    assert by_hand == pytest.approx(kg1, rel=1e-9), "copper of the written design, by hand"
+    ev = evaluate(written, frequency_bounds=False)
+    assert ev.feasible and ev.safety_factor >= 2 * (1 - 1e-6)
+    power = next(c.value for c in ev.checks if c.name == "power")
+    assert power == pytest.approx(lean.objective_value, rel=1e-6), "its power as evaluated"
+    values = optimum_values(design, lean)
+    for da, dw, dl in _corners(design):
+        corner = {
+            **values,
+            "capsule.spiral.helical_angle_deg": values["capsule.spiral.helical_angle_deg"] + da,
+            "capsule.spiral.wire_diameter_mm": 1.0 + dw,
+            **{k.split("=")[0]: 0.0 for k in ZERO},
+        }
+        m = build_model(design.with_values(corner))
+        m = replace(
+            m,
+            tissues=tuple(
+                t.replace(lumen_diameter_m=t.lumen_diameter_m + dl * 1e-3) for t in m.tissues
+            ),
+        )
+        ev = evaluate(m, frequency_bounds=False)
+        assert ev.feasible, f"sized design, corner {da:+g} deg {dw:+g} mm {dl:+g} mm: {ev.failed()}"

@@ -284,11 +284,20 @@ def _hardware_lines(res) -> list[str]:
         ),
         f"  continuous bound  {h.relaxed_objective * factor:.5g} {label}; "
         f"discrete {h.discrete_objective * factor:.5g} {label} "
-        f"(whole turns and standard wire cost {h.rounding_cost * factor:.3g} {label}, "
-        f"{100 * rel:.2g} %)",
+        f"(whole turns and standard wire"
+        + (" and the declined copper" if getattr(h, "copper_declined", None) else "")
+        + f" cost {h.rounding_cost * factor:.3g} {label}, {100 * rel:.2g} %)",
     ]
     for key, value in chosen.items():
         lines.append(f"  {key:<34} {value!s:<10} (relaxed {relaxed[key]:.5g})")
+    declined = getattr(h, "copper_declined", None)
+    if declined:  # optimize.discrete.leaner: copper that bought too little power
+        lines.append(
+            f"  copper declined   the least power, {declined['objective'] * factor:.5g} "
+            f"{label}, took {declined['copper_kg']:.4g} kg of copper; this design takes "
+            f"{res.evaluation.copper_mass_kg:.4g} kg for {h.discrete_objective * factor:.5g} "
+            f"{label} (a sizing spends at most 10 % more copper for 1 % of its objective)"
+        )
     return lines
 
 
