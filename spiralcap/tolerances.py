@@ -211,7 +211,11 @@ def text_lines(rows: tuple[IntervalRow, ...]) -> list[str]:
     """
     if not rows:
         return []
-    lines = [f"tolerances          {VARIED}:"]
+    lines = [
+        "tolerances          every requirement above is held at its own worst corner of the "
+        "[tolerances] box (its strains, speed, turns and margin are those corners'); the room "
+        f"left, {VARIED}:"
+    ]
     for r in rows:
         label = _LABELS[r.key]
         asked = (

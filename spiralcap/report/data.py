@@ -161,6 +161,7 @@ def _core_stage(
                 "design": design.source,
                 **evaluation_to_dict(ev),
                 "warnings": evaluation_warnings(model, ev),
+                **_evaluation_intervals(model, ev),
             }
         ),
         "optimize_json": _jsonable(
@@ -184,6 +185,13 @@ def _core_stage(
         out["uncertainty"] = _uncertainty.collect(design, model=model)
         lap("uncertainty")
     return out, timings
+
+
+def _evaluation_intervals(model: Any, ev: Any) -> dict[str, Any]:
+    """``{"tolerance_intervals": ...}`` of the design as ``spiralcap evaluate --json`` gives it."""
+    from spiralcap import tolerances
+
+    return {"tolerance_intervals": tolerances.to_dict(tolerances.evaluation_rows(model, ev))}
 
 
 def _tolerance_intervals(design: Design, res: Any) -> dict[str, Any]:
