@@ -920,9 +920,9 @@ KEYS.update(
         "tolerances.spiral_wire_diameter_mm": _between(
             "± on the spiral wire's diameter as it stands on the body (wire and bonding): the "
             "strain is held at the thinnest wire, the torque at the thickest (0: off). Default "
-            "0.02 mm: IEC 60317-0-1 (Table 1) allows ±0.010 mm on a 1.00 mm bare copper "
-            "conductor, and a cyanoacrylate or epoxy bond line under the wire adds 0.01 mm or "
-            "more; range: 0-0.5 mm (beyond that the wire is another wire)",
+            "0.02 mm: the round-wire standards (IEC 60317-0-1, NEMA MW 1000) allow about ±0.01 "
+            "mm on a 1 mm bare copper conductor, and a cyanoacrylate or epoxy bond line under "
+            "the wire adds 0.01 mm or more; range: 0-0.5 mm (beyond that the wire is another wire)",
             0.02,
             0.0,
             0.5,

@@ -187,8 +187,8 @@ def _tolerance_table(ctx: Context) -> list[Any]:
         p = f"{o}.keys.{i}"
         offset = bool(k["offset_from_each_tissue_set"])
         head: list[Cell] = [
-            k["key"],
-            k["unit"] + (" (offset from each set's own)" if offset else ""),
+            k["key"] + (" (offset from each tissue set's own)" if offset else ""),
+            k["unit"],
             ctx.num(f"{p}.nominal"),
             ctx.num(f"{p}.tolerance"),
         ]
