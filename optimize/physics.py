@@ -1180,7 +1180,13 @@ def worst_required_torques_Nm(
     totals = [[r + t for r, t in corner] for corner in corners]
     if len(totals) == 1:
         return totals[0]
-    return [flat + bk.positive_part(steep - flat) for flat, steep in zip(*totals)]
+    k = _TORQUE_LIFT_Nm  # the lifted variable in mN·m: IPOPT's tolerances at the torque's scale
+    return [flat + k * bk.positive_part((steep - flat) / k) for flat, steep in zip(*totals)]
+
+
+#: Scale of the lifted torque difference of :func:`worst_required_torques_Nm` (the NLP's
+#: epigraph variables are O(0.1) of their unit: a torque of a few mN·m is O(1) in mN·m), N·m.
+_TORQUE_LIFT_Nm = 1e-3
 
 
 def toleranced_wall_strains(
