@@ -673,7 +673,7 @@ def leaner(
     -------
     tuple of (OptimizationResult, int)
         The result (``res`` itself, or the leaner design with ``hardware.copper_declined``
-        naming what was declined) and the IPOPT iterations spent here.
+        naming what was declined; SI) and the IPOPT iterations spent here (a count).
     """
     assert options.lean is not None and res.hardware is not None
     copper, objective = options.lean
