@@ -85,6 +85,8 @@ class Structure:
     vertical_bars : tuple of bool
         Per pair (x, y, z), flag: a square frame in a vertical plane (its vertical bars'
         cooling, ``WindingPack.vertical_bar_height_m``, is in the rows; a ring has none).
+    tolerances : Tolerances or None
+        The tolerance box, SI (compiled in: it shifts the tissue sets' lumens).
     """
 
     objective: str
@@ -104,6 +106,8 @@ class Structure:
     own_limits: frozenset = frozenset()  # per-pair amplifier limits set
     envelope: bool = False  # limits.envelope_mm set
     vertical_bars: tuple = (False, False, False)  # pairs with vertical bars (square frames)
+    #: The tolerance box (optimize.system.Tolerances, numbers): each row at its worst corner.
+    tolerances: Any = None
 
 
 def structure_of(
@@ -149,6 +153,7 @@ def structure_of(
         model.limits.own,
         model.limits.envelope_m is not None,
         tuple(bool(p.vertical_bar_height_m) for p in model.constants.packs),
+        model.tolerances if model.tolerances.any else None,
     )
 
 
@@ -279,7 +284,7 @@ def _build_rows(b: NLPBuilder, structure: Structure) -> NLPBuilder:
     scales = pb.symbolic(b, "scale", pb.Scales(1.0, 1.0))
     ambient = b.parameter("ambient_temperature_C")
     # a template model carries the structure; its numbers are the parameters
-    template = _Template(structure.tissues, lim, req, ambient)
+    template = _Template(structure.tissues, lim, req, ambient, tolerances=structure.tolerances)
     ctx = pb.make_context(
         (alpha, f, field_scaled * scales.field_T, t),
         template,  # type: ignore[arg-type]
@@ -332,6 +337,7 @@ class _Template:
     requirements: Any
     ambient_temperature_C: Any
     constants: Any = None
+    tolerances: Any = None
 
 
 #: Constants fields that are per-pair vectors (3,); the heading table is (headings, 3).

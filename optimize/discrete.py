@@ -73,11 +73,16 @@ class SizingOptions:
         requirements need, without their NLP (:mod:`optimize.screen`; the least required
         torque is found once per sizing, by the executor while the relaxation runs). The
         result does not depend on it (tests/test_sizing_speed.py); only the work spent.
+    lean : tuple of (float, float) or None
+        (copper, objective), fractions, dimensionless: a least-power sizing does not spend more
+        than ``1 + copper`` times the copper of the leanest design within ``objective`` of its
+        power (:func:`leaner`, issue 36); None: the least power alone.
     """
 
     outer_max: int = 8
     batch: int = 8
     screen: bool = True
+    lean: tuple[float, float] | None = (0.10, 0.01)
 
 
 class Executor:
@@ -620,7 +625,107 @@ def size_design(
     spent += r.iterations + its + ranking.iterations
     if ranking.winner is None:
         return _timed(_no_neighbour(s, ranking, candidates, ctx.relaxed), t0, spent)
-    return _timed(finish(s, r, ranking, ctx, executor), t0, spent)
+    res = finish(s, r, ranking, ctx, executor)
+    if options.lean is not None and model.bounds.objective in LEAN_OBJECTIVES:
+        res, more = leaner(model, res, ctx, options, executor, say)
+        spent += more
+    return _timed(res, t0, spent)
+
+
+#: Objectives whose sizing declines copper that buys too little (:func:`leaner`).
+LEAN_OBJECTIVES = frozenset({"power"})
+
+
+def leaner(
+    model: DesignModel,
+    res: OptimizationResult,
+    ctx: _Attempt,
+    options: SizingOptions,
+    executor: Executor | None = None,
+    say: Callable[[str], None] = print,
+) -> tuple[OptimizationResult, int]:
+    """Step 5 (least power): no copper that buys too little power.
+
+    The least power can sit on a flat valley of copper: a pair whose current the worst heading
+    hardly uses, sized up for a fraction of a per cent of power. With ``options.lean`` =
+    (c, p), the leanest design within p of the least power is found by a least-copper sizing
+    with the power limit lowered to (1 + p) × the least power (skipped where its continuous
+    relaxation, a lower bound, is not c leaner already); if the least-power design holds
+    more than (1 + c) times its copper, that design is taken instead, re-optimised for least
+    power at its hardware (its power stays within p). So a sizing never spends more than
+    ``c`` more copper for less than ``p`` of its objective.
+
+    Parameters
+    ----------
+    model : DesignModel
+        The design being sized (objective ``power``).
+    res : OptimizationResult
+        The least-power sizing's result (:func:`finish`).
+    ctx : _Attempt
+        What its neighbours' solves shared (the fixed model, the warm start, the scales).
+    options : SizingOptions
+        ``lean``.
+    executor : Executor, optional
+        Where the solves run (None: here).
+    say : callable
+        ``say(stage)``.
+
+    Returns
+    -------
+    tuple of (OptimizationResult, int)
+        The result (``res`` itself, or the leaner design with ``hardware.copper_declined``
+        naming what was declined; SI) and the IPOPT iterations spent here (a count).
+    """
+    assert options.lean is not None and res.hardware is not None
+    copper, objective = options.lean
+    least_power, kg = res.objective_value, res.evaluation.copper_mass_kg
+    cap = least_power * (1.0 + objective)
+    lean_model = replace(
+        model,
+        bounds=replace(model.bounds, objective="copper_mass"),
+        limits=replace(model.limits, power_W=min(float(model.limits.power_W), cap)),
+    )
+    say(f"the least copper within {objective:.0%} of the least power")
+    # its continuous relaxation first: a bound below every discrete design's copper, so where
+    # even it is not leaner enough no neighbour needs solving
+    bound = least_copper(lean_model, options)
+    spent = 0 if bound is None else bound.iterations
+    if bound is None or not bound.objective * (1.0 + copper) < kg:
+        return res, spent
+    lean = size_design(lean_model, executor=executor, options=replace(options, lean=None))
+    spent += lean.iterations
+    if lean.status != "optimal" or lean.hardware is None:
+        return res, spent
+    if not lean.evaluation.copper_mass_kg * (1.0 + copper) < kg:
+        return res, spent
+    values = {**ctx.relaxed, **lean.hardware.discrete}
+    full = _submit(executor, _full_result, ctx, values).result()
+    spent += full.iterations
+    if full.status != "optimal" or not full.objective_value <= cap * (1 + 1e-9):
+        return res, spent
+    declined = {
+        "copper_kg": kg,
+        "objective": least_power,
+        "hardware": dict(res.hardware.discrete),
+    }
+    hardware = replace(
+        res.hardware,
+        discrete={name: values[name] for name in res.hardware.discrete},
+        discrete_objective=full.objective_value,
+        copper_declined=declined,
+    )
+    message = (
+        f"{res.message}; {kg:.4g} kg of copper for {least_power:.4g} W declined: "
+        f"{full.evaluation.copper_mass_kg:.4g} kg reach {full.objective_value:.4g} W "
+        f"(more than {copper:.0%} more copper for less than {objective:.0%} of the power)"
+    )
+    return replace(
+        full,
+        iterations=0,
+        hardware=hardware,
+        binding_limits=res.binding_limits,
+        message=message,
+    ), spent
 
 
 class _Relaxed(NamedTuple):

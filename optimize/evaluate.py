@@ -274,13 +274,28 @@ def worst_required(model: DesignModel, alpha: Any, f: Any) -> WorstRequired:
         Torques in N·m and the tissue index, broadcast like the inputs.
     """
     model = prepare(model)
-    c = model.constants
-    pairs = ph.required_torques_Nm(alpha, f, c, model.tissues, model.requirements)
+    pairs = _worst_corner_pairs(model, alpha, f)
     totals = np.stack([np.asarray(r + t, dtype=float) for r, t in pairs])
     worst = np.argmax(totals, axis=0)
     res = np.choose(worst, [np.asarray(r, dtype=float) for r, _ in pairs])
     thr = np.choose(worst, [np.asarray(t, dtype=float) for _, t in pairs])
     return WorstRequired(res, thr, np.max(totals, axis=0), worst)
+
+
+def _worst_corner_pairs(model: DesignModel, alpha: Any, f: Any) -> list[tuple[Any, Any]]:
+    """(resistive, thrust) per tissue set at its worst corner of the tolerance box
+    (:func:`optimize.physics.required_torque_corners_Nm`: of the two angle ends, the one that
+    needs more torque), numpy."""
+    corners = ph.required_torque_corners_Nm(
+        alpha, f, model.constants, model.tissues, model.requirements, model.tolerances
+    )
+    if len(corners) == 1:
+        return corners[0]
+    out = []
+    for (r0, t0), (r1, t1) in zip(*corners):
+        steep = np.asarray(r1 + t1, dtype=float) > np.asarray(r0 + t0, dtype=float)
+        out.append((np.where(steep, r1, r0), np.where(steep, t1, t0)))
+    return out
 
 
 @dataclass(frozen=True)
@@ -370,9 +385,10 @@ def margin_grid(
     avail = np.asarray(ph.available_torque_Nm(field, c), dtype=float)
     required = worst_required(model, alpha, f).total_Nm
     strain = least_wall_strain(model, alpha)
-    speed = np.asarray(ph.speed_m_s(alpha, f, c, model.requirements), dtype=float)
+    tol = model.tolerances  # each row at its own worst corner of the tolerance box
+    speed = np.asarray(ph.toleranced_speed_m_s(alpha, f, c, model.requirements, tol), dtype=float)
     speed = np.where(strain > 0, speed, 0.0)  # a spiral that does not grip does not screw
-    turns = np.asarray(ph.spiral_turns(alpha, c), dtype=float)
+    turns = np.asarray(ph.toleranced_spiral_turns(alpha, c, tol), dtype=float)
     req = model.requirements
     with np.errstate(divide="ignore"):  # nothing required: an unbounded safety factor
         ratio = np.where(required > 0, avail / np.where(required > 0, required, 1.0), np.inf)
@@ -417,7 +433,9 @@ def least_wall_strain(model: DesignModel, alpha_rad: Any) -> np.ndarray:
         min over tissue sets of torque_model.wall_strain, dimensionless (<= 0: no grip).
     """
     model = prepare(model)
-    strains = ph.wall_strains(np.asarray(alpha_rad, dtype=float), model.constants, model.tissues)
+    strains = ph.toleranced_wall_strains(
+        np.asarray(alpha_rad, dtype=float), model.constants, model.tissues, model.tolerances
+    )
     return np.min(np.stack([np.asarray(s, dtype=float) for s in strains]), axis=0)
 
 
@@ -516,7 +534,8 @@ def self_lock_margin(model: DesignModel, alpha_rad):
     import capsule as cap
 
     mu = max(float(t.friction_coefficient) for t in model.tissues)
-    return cap.self_lock_margin_rad(np.asarray(alpha_rad, dtype=float), mu)
+    steepest = ph.angle_corner(np.asarray(alpha_rad, dtype=float), model.tolerances, +1)
+    return cap.self_lock_margin_rad(steepest, mu)
 
 
 def self_lock_check(model: DesignModel, alpha_rad: float) -> Check:
@@ -763,7 +782,7 @@ def evaluate(
         Every figure and check at that operating point, SI.
     """
     model = prepare(model)
-    c, req = model.constants, model.requirements
+    c = model.constants
     alpha = (
         model.capsule.spiral.helical_angle_rad
         if helical_angle_rad is None
@@ -773,11 +792,8 @@ def evaluate(
     field, binding = _operating_field(model, f, field_amplitude_T)
     avail = float(ph.available_torque_Nm(field, c))
     res, thr, required, worst = (float(np.asarray(v)) for v in worst_required(model, alpha, f))
-    strains = tuple(float(x) for x in ph.wall_strains(alpha, c, model.tissues))
+    strains, speed, turns = _spiral_rows(model, alpha, f)
     margin = _margin_if_contact(avail - required, strains)
-    # a spiral that does not stretch every wall does not grip it: no screw, no speed
-    speed = float(ph.speed_m_s(alpha, f, c, req)) if min(strains) > 0 else 0.0
-    turns = float(ph.spiral_turns(alpha, c))
     from optimize.buildcheck import build_checks, copper_masses_kg
 
     checks = [
@@ -824,9 +840,9 @@ def evaluate(
         copper_masses_kg=copper_masses_kg(model),
         wall_strains=strains,
         tissue_names=tuple(t.name for t in model.tissues),
-        weight_friction_Nm=float(ph.weight_friction_Nm(c, model.tissues[int(worst)])),
-        extrapolations=extrapolations(alpha, f, ph.contact_geometry(c), model.tissues),
-        calibration_edges=calibration_edges(alpha, f, ph.contact_geometry(c), model.tissues),
+        weight_friction_Nm=_weight_friction_Nm(model, int(worst)),
+        extrapolations=_domain_flags(extrapolations, model, alpha, f),
+        calibration_edges=_domain_flags(calibration_edges, model, alpha, f),
     )
 
 
@@ -834,6 +850,51 @@ def _margin_if_contact(value: float, strains: tuple[float, ...]) -> float:
     """``value`` (a margin, N·m, or a safety factor) where the spiral touches every wall, else
     NaN: with no contact the model has no physics, so there is no margin."""
     return value if min(strains) > 0 else math.nan
+
+
+def _spiral_rows(model: DesignModel, alpha: float, f: float) -> tuple[tuple, float, float]:
+    """(wall strain per tissue set, speed, spiral turns), each at its own worst corner of the
+    tolerance box (optimize.physics; nominal without one); no grip, no speed."""
+    c, req, tol = model.constants, model.requirements, model.tolerances
+    strains = tuple(float(x) for x in ph.toleranced_wall_strains(alpha, c, model.tissues, tol))
+    # a spiral that does not stretch every wall does not grip it: no screw, no speed
+    speed = float(ph.toleranced_speed_m_s(alpha, f, c, req, tol)) if min(strains) > 0 else 0.0
+    return strains, speed, float(ph.toleranced_spiral_turns(alpha, c, tol))
+
+
+def _weight_friction_Nm(model: DesignModel, tissue: int) -> float:
+    """The capsule weight's friction on tissue set ``tissue`` at the thickest wire, N·m."""
+    c = ph.wire_corner(model.constants, model.tolerances, +1)
+    return float(ph.weight_friction_Nm(c, model.tissues[tissue]))
+
+
+def _domain_flags(flags: Any, model: DesignModel, alpha: float, f: float) -> tuple:
+    """``flags`` (torque_model.domain's extrapolations or calibration edges) at the design and
+    at the corners of its tolerance box that the rows are held at: the angle at each end of its
+    band, the wall strain at its own worst corner (steepest angle, thinnest wire, widest
+    lumen). The wire and the lumen themselves are judged at the design's values (the paper
+    tested one wire: a tolerance on it is not a new wire). A corner adds a flag for an input
+    and tissue set the design's own values do not flag."""
+    c, tol = model.constants, model.tolerances
+    found = {
+        (e.quantity, e.where): e for e in flags(alpha, f, ph.contact_geometry(c), model.tissues)
+    }
+    if not tol.any:
+        return tuple(found.values())
+    corners = [
+        (ph.angle_corner(alpha, tol, -1), c, model.tissues, ("helical_angle_rad",)),
+        (
+            ph.angle_corner(alpha, tol, +1),
+            ph.wire_corner(c, tol, -1),
+            ph.lumen_corner(model.tissues, tol, +1),
+            ("helical_angle_rad", "wall_strain"),
+        ),
+    ]
+    for a, cc, tissues, quantities in corners:
+        for e in flags(a, f, ph.contact_geometry(cc), tissues):
+            if e.quantity in quantities:
+                found.setdefault((e.quantity, e.where), e)
+    return tuple(found.values())
 
 
 def _operating_field(model: DesignModel, f: float, field_T: float | None) -> tuple[float, str]:

@@ -996,14 +996,17 @@ def _capsule_terms(b: Any, free: set, hw: dict, ctx: Any) -> list:
             Term(Row("magnet_length", "geometry", "m"), 0.5 * hw["magnet.length_m"], room, upper)
         )
     if "spiral.wire_diameter_m" in free:
-        c = ctx.constants
+        from optimize import physics as ph
+
+        # at its worst corner of the tolerance box: the thickest wire, the flattest angle
+        c = ph.wire_corner(ctx.constants, ctx.tolerances, +1)
         floor = cap.min_helical_angle_for_clearance_rad(
             c.helix_diameter_m, c.wire_diameter_m, c.starts
         )
         out.append(
             Term(
                 Row("spiral_clearance", "geometry", "rad", -1.0),
-                ctx.alpha,
+                ph.angle_corner(ctx.alpha, ctx.tolerances, -1),
                 floor,
                 lambda v, a: (a - v) / ALPHA_REF_rad,
             )

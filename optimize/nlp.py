@@ -79,6 +79,9 @@ class NLPBuilder:
         self._f: Any = None
         self._names: set[str] = set()
         self._start: list[Any] = []
+        #: auxiliary variables declared with a start (scaled symbol, its scaled start in terms
+        #: of the named variables and the parameters alone)
+        self._aux: list[tuple[Any, Any]] = []
 
     def variable(
         self, name: str, ref: float, lo: float = -np.inf, hi: float = np.inf, start: Any = None
@@ -111,7 +114,17 @@ class NLPBuilder:
         self._names.add(name)
         self._vars.append(_Var(name, float(ref), float(lo), float(hi)))
         self._xsym.append(s)
-        self._start.append(s if start is None else start / float(ref))
+        if start is None:
+            self._start.append(s)
+        else:
+            # a start may read auxiliary variables declared before (an epigraph of lifted
+            # terms): read their starts instead, so it is where its rows hold at the start
+            start = ca.SX(start) / float(ref)
+            if self._aux and ca.depends_on(start, ca.vertcat(*(a for a, _ in self._aux))):
+                syms, starts = zip(*self._aux)
+                start = ca.substitute([start], list(syms), list(starts))[0]
+            self._start.append(start)
+            self._aux.append((s, start))
         return s * float(ref)
 
     def positive_part(self, x: Any, ref: float = 0.1) -> Any:

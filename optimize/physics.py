@@ -1044,3 +1044,260 @@ def spiral_turns(helical_angle_rad: Any, c: Constants) -> Any:
         Turns over the wound length, count (fractional).
     """
     return cap.spiral_turns(helical_angle_rad, c.helix_diameter_m, c.wound_length_m)
+
+
+# --- tolerances: every row at its own worst corner (issue 36) ------------------------------------
+#
+# A design holds over the box angle ± da, spiral wire ± dw, every lumen ± dl (optimize.system.
+# Tolerances). Each row below is monotone in the three (tests/test_tolerances.py checks it on a
+# grid), so it is written at the corner where it is weakest: the wall strain at the widest lumen,
+# the thinnest wire and the steepest angle (D' falls as the angle rises); the required torque at
+# the narrowest lumen and the thickest wire (more strain, a wider helix for the thrust and a
+# larger crest radius for the weight's friction), and at both angle ends, the larger of the two
+# (the tissue torque falls with the angle while the thrust rises); the speed at the flattest angle
+# and the thinnest wire (the shortest lead); the spiral turns at the steepest angle and the
+# thickest wire (the longest lead); the self-lock at the steepest angle; the spiral's
+# turn-to-turn clearance at the flattest angle and the thickest wire. With zero tolerances each
+# is the nominal expression itself, bit for bit.
+
+
+def _tolerance(tol: Any, name: str) -> Any:
+    """``tol.<name>``, 0 when there is no tolerance box."""
+    return 0.0 if tol is None else getattr(tol, name)
+
+
+def wire_corner(c: Constants, tol: Any, sign: int) -> Constants:
+    """``c`` with the spiral wire at ``sign`` × its tolerance (the helix follows), m.
+
+    Parameters
+    ----------
+    c : Constants
+        The design's constants.
+    tol : Tolerances or None
+        The tolerance box (SI).
+    sign : int
+        +1 the thickest wire, -1 the thinnest (a sign, dimensionless).
+
+    Returns
+    -------
+    Constants
+        The constants at that wire (``c`` itself without a wire tolerance).
+    """
+    from dataclasses import replace
+
+    dw = _tolerance(tol, "spiral_wire_diameter_m")
+    if dw == 0.0:
+        return c
+    return replace(
+        c,
+        wire_diameter_m=c.wire_diameter_m + sign * dw,
+        helix_diameter_m=c.helix_diameter_m + sign * dw,
+    )
+
+
+def lumen_corner(tissues: tuple, tol: Any, sign: int) -> tuple:
+    """Every tissue set with its lumen at ``sign`` × the lumen tolerance (names kept).
+
+    Parameters
+    ----------
+    tissues : tuple of TissueParameters
+        The tissue sets.
+    tol : Tolerances or None
+        The tolerance box (SI).
+    sign : int
+        +1 the widest lumen, -1 the narrowest (a sign, dimensionless).
+
+    Returns
+    -------
+    tuple of TissueParameters
+        The sets at that lumen (``tissues`` itself without a lumen tolerance).
+    """
+    dl = _tolerance(tol, "lumen_diameter_m")
+    if dl == 0.0:
+        return tissues
+    return tuple(t.replace(lumen_diameter_m=t.lumen_diameter_m + sign * dl) for t in tissues)
+
+
+def angle_corner(helical_angle_rad: Any, tol: Any, sign: int) -> Any:
+    """The helical angle at ``sign`` × its tolerance, rad (+1 the steepest, -1 the flattest).
+
+    Parameters
+    ----------
+    helical_angle_rad : float, array or CasADi
+        Helical angle, rad.
+    tol : Tolerances or None
+        The tolerance box (SI).
+    sign : int
+        +1 the steepest, -1 the flattest (a sign, dimensionless).
+
+    Returns
+    -------
+    float, array or CasADi
+        The corner's angle, rad (the angle itself without an angle tolerance).
+    """
+    da = _tolerance(tol, "helical_angle_rad")
+    return helical_angle_rad if da == 0.0 else helical_angle_rad + sign * da
+
+
+def required_torque_corners_Nm(
+    helical_angle_rad: Any,
+    frequency_hz: Any,
+    c: Constants,
+    tissues: tuple,
+    req: Requirements,
+    tol: Any,
+) -> list[list[tuple[Any, Any]]]:
+    """:func:`required_torques_Nm` at the torque's worst corners: the thickest wire, the
+    narrowest lumen, and each end of the angle's tolerance (flattest first; one corner, the
+    angle itself, without an angle tolerance).
+
+    Parameters
+    ----------
+    helical_angle_rad : float, array or CasADi
+        Helical angle, rad.
+    frequency_hz : float, array or CasADi
+        Rotation frequency, Hz.
+    c : Constants
+        The design's constants.
+    tissues : tuple of TissueParameters
+        The tissue sets.
+    req : Requirements
+        The requirements (axial load).
+    tol : Tolerances or None
+        The tolerance box (SI).
+
+    Returns
+    -------
+    list of list of (float, float)
+        Per angle corner, (resistive, thrust) per tissue set, N·m.
+    """
+    cw, ts = wire_corner(c, tol, +1), lumen_corner(tissues, tol, -1)
+    if _tolerance(tol, "helical_angle_rad") == 0.0:
+        return [required_torques_Nm(helical_angle_rad, frequency_hz, cw, ts, req)]
+    return [
+        required_torques_Nm(angle_corner(helical_angle_rad, tol, s), frequency_hz, cw, ts, req)
+        for s in (-1, +1)
+    ]
+
+
+def worst_required_torques_Nm(
+    helical_angle_rad: Any,
+    frequency_hz: Any,
+    c: Constants,
+    tissues: tuple,
+    req: Requirements,
+    tol: Any,
+) -> list[Any]:
+    """Required torque (resistive + thrust) per tissue set at its worst corner of the
+    tolerance box, N·m: the larger of the two angle ends of :func:`required_torque_corners_Nm`,
+    written ``flat + max(steep - flat, 0)`` so that the NLP lifts the ``max`` into an epigraph
+    variable (every row bounds the required torque from above: exact and smooth).
+
+    Parameters
+    ----------
+    helical_angle_rad : float, array or CasADi
+        Helical angle, rad.
+    frequency_hz : float, array or CasADi
+        Rotation frequency, Hz.
+    c : Constants
+        The design's constants.
+    tissues : tuple of TissueParameters
+        The tissue sets.
+    req : Requirements
+        The requirements.
+    tol : Tolerances or None
+        The tolerance box (SI).
+
+    Returns
+    -------
+    list of float, array or CasADi
+        Required torque per tissue set, N·m.
+    """
+    corners = required_torque_corners_Nm(helical_angle_rad, frequency_hz, c, tissues, req, tol)
+    totals = [[r + t for r, t in corner] for corner in corners]
+    if len(totals) == 1:
+        return totals[0]
+    k = _TORQUE_LIFT_Nm  # the lifted variable in mN·m: IPOPT's tolerances at the torque's scale
+    return [flat + k * bk.positive_part((steep - flat) / k) for flat, steep in zip(*totals)]
+
+
+#: Scale of the lifted torque difference of :func:`worst_required_torques_Nm` (the NLP's
+#: epigraph variables are O(0.1) of their unit: a torque of a few mN·m is O(1) in mN·m), N·m.
+_TORQUE_LIFT_Nm = 1e-3
+
+
+def toleranced_wall_strains(
+    helical_angle_rad: bk.Scalar, c: Constants, tissues: tuple, tol: Any
+) -> list[bk.Scalar]:
+    """:func:`wall_strains` at the strain's worst corner: the steepest angle, the thinnest wire,
+    the widest lumen.
+
+    Parameters
+    ----------
+    helical_angle_rad : float, array or CasADi
+        Helical angle, rad.
+    c : Constants
+        The design's constants.
+    tissues : tuple of TissueParameters
+        The tissue sets.
+    tol : Tolerances or None
+        The tolerance box (SI).
+
+    Returns
+    -------
+    list
+        One strain per tissue set, dimensionless.
+    """
+    return wall_strains(
+        angle_corner(helical_angle_rad, tol, +1),
+        wire_corner(c, tol, -1),
+        lumen_corner(tissues, tol, +1),
+    )
+
+
+def toleranced_speed_m_s(
+    helical_angle_rad: Any, frequency_hz: Any, c: Constants, req: Requirements, tol: Any
+) -> Any:
+    """:func:`speed_m_s` at its worst corner: the flattest angle, the thinnest wire, m/s.
+
+    Parameters
+    ----------
+    helical_angle_rad : float, array or CasADi
+        Helical angle, rad.
+    frequency_hz : float, array or CasADi
+        Rotation frequency, Hz.
+    c : Constants
+        The design's constants.
+    req : Requirements
+        The requirements (slip efficiency).
+    tol : Tolerances or None
+        The tolerance box (SI).
+
+    Returns
+    -------
+    float, array or CasADi
+        Forward speed, m/s.
+    """
+    return speed_m_s(
+        angle_corner(helical_angle_rad, tol, -1), frequency_hz, wire_corner(c, tol, -1), req
+    )
+
+
+def toleranced_spiral_turns(helical_angle_rad: Any, c: Constants, tol: Any) -> Any:
+    """:func:`spiral_turns` at its worst corner: the steepest angle, the thickest wire.
+
+    Parameters
+    ----------
+    helical_angle_rad : float, array or CasADi
+        Helical angle, rad.
+    c : Constants
+        The design's constants.
+    tol : Tolerances or None
+        The tolerance box (SI).
+
+    Returns
+    -------
+    float, array or CasADi
+        Turns over the wound length, count (fractional).
+    """
+    return spiral_turns(angle_corner(helical_angle_rad, tol, +1), wire_corner(c, tol, +1))

@@ -144,6 +144,8 @@ class Context:
         The structure of the model's tissue scenarios.
     loss_W : float or CasADi, optional
         Worst-heading copper loss at the field, W.
+    tolerances : Tolerances, optional
+        The tolerance box, SI (None: none).
     """
 
     alpha: Any
@@ -168,6 +170,9 @@ class Context:
     #: how many per tissue set, which rows), or None; their numbers are parameters.
     scenarios: Any = None
     loss_W: Any = None  # worst-heading copper loss at the field (self-consistent resistance)
+    #: The tolerance box (optimize.system.Tolerances, numbers) every row is held over at its own
+    #: worst corner; None: none.
+    tolerances: Any = None
 
 
 @dataclass(frozen=True)
@@ -345,7 +350,7 @@ def core_terms(ctx: Context) -> list[Term]:
     list of Term
         Safety-factor, limit, speed, spiral-turn, wall-strain and self-lock rows.
     """
-    c, req = ctx.constants, ctx.requirements
+    c, req, tol = ctx.constants, ctx.requirements, ctx.tolerances
     relax = ctx.relax if ctx.relax is not None else (0.0, 0.0, 0.0)
     tau = ctx.scales.torque_Nm
     out: list[Term] = []
@@ -367,7 +372,7 @@ def core_terms(ctx: Context) -> list[Term]:
     out.append(
         Term(
             Row("speed", "requirement", "m/s", -1.0),
-            ph.speed_m_s(ctx.alpha, ctx.frequency, c, req),
+            ph.toleranced_speed_m_s(ctx.alpha, ctx.frequency, c, req, tol),
             req.min_speed_m_s,
             lambda v, a: (a - v) / bk.fmax(a, _SPEED_FLOOR_m_s) - relax[0],
         )
@@ -375,12 +380,12 @@ def core_terms(ctx: Context) -> list[Term]:
     out.append(
         Term(
             Row("spiral_turns", "requirement", "turns", -1.0),
-            ph.spiral_turns(ctx.alpha, c),
+            ph.toleranced_spiral_turns(ctx.alpha, c, tol),
             req.min_spiral_turns,
             lambda v, a: a / v - 1.0 - relax[1],
         )
     )
-    for tis, strain in zip(ctx.tissues, ph.wall_strains(ctx.alpha, c, ctx.tissues)):
+    for tis, strain in zip(ctx.tissues, ph.toleranced_wall_strains(ctx.alpha, c, ctx.tissues, tol)):
         out.append(  # engagement: the spiral must stretch every tissue set's wall
             Term(
                 Row(f"wall_strain[{tis.name}]", "requirement", "1", -1.0),
@@ -393,7 +398,9 @@ def core_terms(ctx: Context) -> list[Term]:
         out.append(
             Term(
                 Row(f"self_lock[{tis.name}]", "requirement", "rad", -1.0),
-                cap.self_lock_margin_rad(ctx.alpha, tis.friction_coefficient),
+                cap.self_lock_margin_rad(
+                    ph.angle_corner(ctx.alpha, tol, +1), tis.friction_coefficient
+                ),
                 SELF_LOCK_MIN_MARGIN_rad,
                 lambda v, a: a - v,
             )
@@ -450,7 +457,8 @@ def make_context(
     c = model.constants if constants is None else constants
     req = model.requirements if requirements is None else requirements
     alpha, f, field, t = x[0], x[1], x[2], x[3]
-    needs = tuple(r + th for r, th in ph.required_torques_Nm(alpha, f, c, model.tissues, req))
+    tol = getattr(model, "tolerances", None)  # each row at its own worst corner of the box
+    needs = tuple(ph.worst_required_torques_Nm(alpha, f, c, model.tissues, req, tol))
     amb = model.ambient_temperature_C if ambient_temperature_C is None else ambient_temperature_C
     if loss_W is None:
         loss_W = ph.total_loss_W(field, c, amb)
@@ -472,6 +480,7 @@ def make_context(
         parameter=parameter,
         scenarios=scenarios,
         loss_W=loss_W,
+        tolerances=tol,
     )
 
 

@@ -230,6 +230,10 @@ class HardwareResult:
         Flag: the frozen factors settled within their tolerances (else the relaxed numbers are
         those of the last round, its rows a little off their fixed point; every neighbour is
         still checked exactly).
+    copper_declined : dict or None
+        Where a least-power sizing gave up copper that bought too little power
+        (:func:`optimize.discrete.leaner`): the least-power design's ``copper_kg`` (kg) and
+        ``objective`` (W), and ``hardware`` (by name, the unit in each name); None otherwise.
     """
 
     relaxed: dict[str, float]
@@ -240,6 +244,7 @@ class HardwareResult:
     feasible: int
     outer_iterations: int
     settled: bool = True
+    copper_declined: dict | None = None
 
     @property
     def rounding_cost(self) -> float:

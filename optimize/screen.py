@@ -102,13 +102,20 @@ def least_required_torque_Nm(model: DesignModel) -> float:
     v_min = req.min_speed_m_s * (1.0 - RTOL)
     n_min = req.min_spiral_turns * (1.0 - RTOL)
 
+    tol = model.tolerances  # the rows as the NLP holds them, each at its worst corner
+
     def speed(a, lf):
-        return np.asarray(ph.speed_m_s(a, np.exp(lf), c, req), dtype=float)
+        return np.asarray(ph.toleranced_speed_m_s(a, np.exp(lf), c, req, tol), dtype=float)
 
     def turns(a):
-        return np.asarray(ph.spiral_turns(a, c), dtype=float)
+        return np.asarray(ph.toleranced_spiral_turns(a, c, tol), dtype=float)
 
     def need(a, lf):
+        # the flattest angle's corner alone: a smooth lower bound on the NLP's required torque
+        # (the larger of both angle ends, whose minimum sits on their kink)
+        if tol.any:
+            corner = ph.required_torque_corners_Nm(a, np.exp(lf), c, model.tissues, req, tol)[0]
+            return np.max([np.asarray(r + t, dtype=float) for r, t in corner], axis=0)
         return np.asarray(worst_required(model, a, np.exp(lf)).total_Nm, dtype=float)
 
     s_min = req.min_wall_strain * (1.0 - RTOL)

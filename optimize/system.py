@@ -184,6 +184,33 @@ class Requirements:
 
 
 @dataclass(frozen=True)
+class Tolerances:
+    """How far the made capsule and the patient may stray from the design (half-widths, SI).
+
+    The design holds over the box ``value ± tolerance`` of each key: every row is held at its
+    own worst corner of that box (:mod:`optimize.tolerance`). Zero switches a key's tolerance off.
+
+    Attributes
+    ----------
+    helical_angle_rad : float
+        ± on the spiral's helical angle (winding), rad.
+    spiral_wire_diameter_m : float
+        ± on the spiral wire's diameter (wire and bonding), m.
+    lumen_diameter_m : float
+        ± on every tissue set's lumen (the patient's lumen about the design's), m.
+    """
+
+    helical_angle_rad: float = 0.0
+    spiral_wire_diameter_m: float = 0.0
+    lumen_diameter_m: float = 0.0
+
+    @property
+    def any(self) -> bool:
+        """Whether any tolerance is set (a box, not a point)."""
+        return bool(self.helical_angle_rad or self.spiral_wire_diameter_m or self.lumen_diameter_m)
+
+
+@dataclass(frozen=True)
 class Bounds:
     """Search box of the optimiser and its options.
 
@@ -252,6 +279,8 @@ class DesignModel:
         Fixed operating field amplitude at the centre, T; None: the largest the limits allow.
     sizing : optimize.hardware.Sizing or None
         Hardware the optimiser may choose (free variables, standard wires, least bore).
+    tolerances : Tolerances
+        The box the design must hold over (angle, spiral wire, lumen), SI; zero by default.
     scenarios : optimize.robust.ScenarioSet or None
         Tissue scenarios drawn from the design's uncertainty, for the objectives and rows that
         judge a design over them (``margin_p05``, the step-out probability constraint); their
@@ -290,6 +319,7 @@ class DesignModel:
     session_s: float | None = None
     field_amplitude_T: float | None = None
     sizing: Any = None
+    tolerances: Tolerances = Tolerances()
     scenarios: Any = field(default=None, compare=False, repr=False)
     constants: Any = field(default=None, compare=False, repr=False)
     measured_resistance_20C_ohm: Any = None

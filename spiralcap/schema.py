@@ -985,6 +985,51 @@ KEYS.update(
 )
 
 
+# --- tolerances (issue 36): the design must hold over value ± tolerance of each key ---
+KEYS.update(
+    {
+        "tolerances.helical_angle_deg": _between(
+            "± on the spiral's helical angle the design must hold over (winding): every "
+            "requirement is met at its own worst angle in the band (0: off). Default 0.5 deg, an "
+            "engineering estimate (no standard covers a capsule's spiral): the lead pi D_h "
+            "tan(alpha) then errs by 0.34 mm per turn at 10 deg on a 12 mm helix, a third of the "
+            "1 mm wire, what a wire wound by hand on a jig or laid in a printed groove holds; "
+            "without it the built-in optimum failed a spiral angle rounded to two decimals "
+            "(issue 36); range: 0-5 deg (a spiral wound more than 5 deg off is another spiral)",
+            0.5,
+            0.0,
+            5.0,
+            open_=False,
+        ),
+        "tolerances.spiral_wire_diameter_mm": _between(
+            "± on the spiral wire's diameter as it stands on the body (wire and bonding): the "
+            "strain is held at the thinnest wire, the torque at the thickest (0: off). Default "
+            "0.02 mm: the round-wire standards (IEC 60317-0-1, NEMA MW 1000) allow about ±0.01 "
+            "mm on a 1 mm bare copper conductor, and a cyanoacrylate or epoxy bond line under "
+            "the wire adds 0.01 mm or more; range: 0-0.5 mm (beyond that the wire is another wire)",
+            0.02,
+            0.0,
+            0.5,
+            open_=False,
+        ),
+        "tolerances.lumen_diameter_mm": _between(
+            "± on every tissue set's lumen about the design's (tissue.lumen_diameter_mm or each "
+            "set's own): the strain is held at the widest lumen, the torque at the narrowest (0: "
+            "off; the spread of lumens over patients is tissue.uncertainty's). Default 0.05 mm: "
+            "the paper gives its samples' lumens to 0.1 mm (Zhou 2013, Tables I-II: 10.9 and "
+            "11.1 mm), so each is known to half that digit; 0.1 mm would leave the built-in "
+            "10 deg design 1.56 % strain in sample 3, below requirements.min_wall_strain; "
+            "range: 0-5 mm (wider spreads are a distribution, "
+            "tissue.uncertainty.lumen_diameter_sigma_mm)",
+            0.05,
+            0.0,
+            5.0,
+            open_=False,
+        ),
+    }
+)
+
+
 # --- report front matter (issue 12) ---
 def _text(help_: str) -> Key:
     """An optional line of text (shown on the report's title page), at most 200 characters."""

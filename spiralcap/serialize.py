@@ -282,4 +282,23 @@ def _hardware(h) -> dict[str, Any] | None:
         "feasible_candidates": h.feasible,
         "outer_iterations": h.outer_iterations,
         "settled": h.settled,
+        **_copper_declined(h),
+    }
+
+
+def _copper_declined(h: Any) -> dict[str, Any]:
+    """``copper_declined`` of a least-power sizing that gave up copper buying too little power
+    (optimize.discrete.leaner): the least-power design's copper (kg), power (W) and hardware
+    (design keys); absent otherwise."""
+    d = getattr(h, "copper_declined", None)
+    if not d:
+        return {}
+    from spiralcap.assemble.system import hardware_design_values
+
+    return {
+        "copper_declined": {
+            "copper_mass_kg": d["copper_kg"],
+            "objective_value": d["objective"],
+            "hardware": hardware_design_values(d["hardware"]),
+        }
     }

@@ -140,5 +140,21 @@ SIX_KEYS = [
         f"coils.{ax}.wire_diameter_mm=0.8:3.0",
     )
 ]
-#: ``--set`` arguments of a least-power sizing at safety factor 2.
-LEAST_POWER = ["--set", "optimize.objective=power", "--set", "requirements.min_safety_factor=2"]
+#: ``--set`` arguments that switch the tolerance box off (issue 36): the nominal rows, for tests
+#: whose subject is not the box (tests/test_tolerances.py holds the box's own).
+NO_TOLERANCES = [
+    *("--set", "tolerances.helical_angle_deg=0"),
+    *("--set", "tolerances.spiral_wire_diameter_mm=0"),
+    *("--set", "tolerances.lumen_diameter_mm=0"),
+]
+#: The same as design keys (``load_design(None, [...])``).
+NO_TOLERANCE_SETS = NO_TOLERANCES[1::2]
+#: ``--set`` arguments of a least-power sizing at safety factor 2 (its numbers pinned before the
+#: tolerance box: nominal rows).
+LEAST_POWER = [
+    "--set",
+    "optimize.objective=power",
+    "--set",
+    "requirements.min_safety_factor=2",
+    *NO_TOLERANCES,
+]

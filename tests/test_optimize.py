@@ -16,6 +16,7 @@ from optimize import evaluate, margin_grid, optimize_design, prepare
 from optimize import physics as ph
 from optimize import problem as pb
 from optimize.solve import scales_for
+from optimize.system import Tolerances
 from spiralcap.assemble import build_model
 from spiralcap.assemble.system import constraint_key
 from spiralcap.cli import main
@@ -109,6 +110,7 @@ def test_analytic_case_single_current_limit(model):
             model.requirements, min_speed_m_s=0.0, min_spiral_turns=0.0, min_wall_strain=1e-4
         ),
         bounds=replace(model.bounds, frequency_min_hz=f0, frequency_max_hz=f0),
+        tolerances=Tolerances(),  # the nominal rows (the box is tests/test_tolerances.py's)
     )
     m = prepare(m)
     c = m.constants

@@ -19,6 +19,7 @@ from typing import Any
 import numpy as np
 import pytest
 import tomllib
+from cli_outcome import NO_TOLERANCE_SETS
 from matplotlib.figure import Figure
 
 from spiralcap.design import load_design
@@ -43,7 +44,8 @@ def test_uncertainty_section_only_with_uncertainty(monkeypatch: pytest.MonkeyPat
     # fewer samples than the report's 2^16: the wiring is under test here, not the statistics
     monkeypatch.setattr(uncertainty, "REPORT_SAMPLES", 1 << 10)
     monkeypatch.setattr(uncertainty, "REPORT_SOBOL_BASE", 1 << 6)
-    design = load_design(None, [UNCERTAIN])
+    # the samples are the nominal capsule's: no tolerance box on the evaluation (issue 36)
+    design = load_design(None, [UNCERTAIN, *NO_TOLERANCE_SETS])
     assert design_has_uncertainty(design)
     rep = build_report(design)
     ids = [s.id for s in rep.sections]

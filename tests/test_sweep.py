@@ -116,7 +116,9 @@ def test_optimising_sweep_rows_carry_the_objective_and_the_sized_hardware(tmp_pa
     ]
     sets = [a for f in [*free, "optimize.objective=copper_mass"] for a in ("--set", f)]
     out = tmp_path / "sized.csv"
-    over = ["--over", "requirements.min_safety_factor=1.5:2.5:2"]
+    # within the built-in's tolerance box (issue 36) two sized pairs reach safety factor 2.0,
+    # not 2.5: the grip at the box's corner caps the angle
+    over = ["--over", "requirements.min_safety_factor=1.5:2.0:2"]
     assert main(["sweep", "--optimize", *over, *sets, "--csv", str(out)]) == 0
     with out.open() as fh:
         rows = list(csv.DictReader(fh))
@@ -143,12 +145,13 @@ def test_optimising_sweep_rows_carry_the_objective_and_the_sized_hardware(tmp_pa
             )
     power = tmp_path / "power.csv"
     least = ["--set", "optimize.objective=power", "--set", "requirements.min_safety_factor=2"]
-    assert main(["sweep", "--optimize", "--over", "limits.current_A=10:20:2", *least,
+    # 12 A, not 10: within the tolerance box (issue 36) 10 A cannot reach safety factor 2
+    assert main(["sweep", "--optimize", "--over", "limits.current_A=12:20:2", *least,
                  "--csv", str(power)]) == 0  # fmt: skip
     with power.open() as fh:
         prow = next(iter(csv.DictReader(fh)))
     capsys.readouterr()
-    assert main(["optimize", *least, "--set", "limits.current_A=10", "--json"]) == 0
+    assert main(["optimize", *least, "--set", "limits.current_A=12", "--json"]) == 0
     alone = json.loads(capsys.readouterr().out)
     assert float(prow["power_W"]) == pytest.approx(alone["objective_value"], rel=1e-9), (
         "the least-power sweep's power_W is the standalone optimum's objective (W, 1e-9)"

@@ -5,6 +5,7 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
+from cli_outcome import NO_TOLERANCE_SETS
 from scipy import stats
 
 from optimize import evaluate
@@ -39,7 +40,8 @@ def test_scale_only_stepout_matches_closed_form(method):
 def test_samples_evaluate_like_evaluate_with_scaled_tissues():
     # a scale-only sample at latent u is the model with every tissue scaled by exp(sigma z)
     sigma = 0.4
-    design = load_design(None, [f"tissue.uncertainty.scale_sigma_log={sigma}"])
+    # the samples are the nominal capsule's: evaluate without the tolerance box (issue 36)
+    design = load_design(None, [f"tissue.uncertainty.scale_sigma_log={sigma}", *NO_TOLERANCE_SETS])
     model = build_model(design)
     p = uq.margin_problem(model, build_uncertainty(design))
     u = np.array([[0.5], [0.1], [0.93]])
@@ -147,7 +149,12 @@ def test_bad_uncertainty_is_an_input_error(kwargs):
 def test_a_set_field_is_the_field_of_the_samples():
     """operation.field_amplitude_mT: the study's nominal margin is evaluate()'s at that field."""
     design = load_design(
-        None, ["tissue.uncertainty.scale_sigma_log=0.3", "operation.field_amplitude_mT=6"]
+        None,
+        [
+            "tissue.uncertainty.scale_sigma_log=0.3",
+            "operation.field_amplitude_mT=6",
+            *NO_TOLERANCE_SETS,  # the samples are the nominal capsule's (issue 36)
+        ],
     )
     model = build_model(design)
     p = uq.margin_problem(model, build_uncertainty(design))

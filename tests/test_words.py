@@ -10,7 +10,7 @@ import math
 import re
 
 import pytest
-from cli_outcome import run
+from cli_outcome import NO_TOLERANCES, run
 
 
 def _json(*argv: str) -> dict:
@@ -40,13 +40,13 @@ def test_hot_spot_check_is_in_degrees_celsius_against_the_key():
 
 
 def test_evaluate_text_says_checks_self_lock_and_step_out_in_words():
-    rc, out, _ = run(["evaluate"])
+    rc, out, _ = run(["evaluate", *NO_TOLERANCES])  # the design's own angle, no box
     assert rc == 0
     assert re.search(r"winding hot spot, [xyz] pair .* 90 °C <= 90 °C", out), out
     assert "65 <= 65" not in out and " K " not in out
     m = re.search(r"self-locking .* α \+ atan μ = ([\d.]+)°, must stay below 90°", out)
     assert m, out
-    doc = _json("evaluate")
+    doc = _json("evaluate", *NO_TOLERANCES)
     lock = next(c for c in doc["checks"] if c["name"] == "self_lock")
     mu = 0.51  # zhou2013-sample3, the most frictional set (Zhou 2013, Table I)
     assert lock["value_in_key_unit"] == pytest.approx(
@@ -148,7 +148,7 @@ def test_report_checks_table_names_the_self_lock_quantity():
     from spiralcap.report.sections._util import Context
     from spiralcap.report.sections.margin import checks_table
 
-    doc = _json("evaluate")
+    doc = _json("evaluate", *NO_TOLERANCES)  # the design's own angle, no box
     table = checks_table(Context(None, {"evaluate": doc}), "evaluate", "checks", "t")
     row = next(r for r in table.rows if r[1] == "capsule.spiral.helical_angle_deg")
     assert row[0] == "self-locking: α + atan μ", row

@@ -51,6 +51,8 @@ def build_model(design: Design, *, optimiser: bool = True):
     d = design
     if optimiser:
         check_optimiser_keys(d)
+    floor = angle_floor_deg(d)
+    tolerances = build_tolerances(d)
     if d["limits.coil_temperature_C"] <= d["coils.ambient_temperature_C"]:
         raise InputError(
             "limits.coil_temperature_C",
@@ -107,18 +109,21 @@ def build_model(design: Design, *, optimiser: bool = True):
     from spiralcap.assemble.measured import measured_constants
 
     measured_r20, measured_ind = measured_constants(d)
+    tissues = tuple(build_tissues(d))
+    _check_lumen_tolerance(d, tissues)
     return DesignModel(
         measured_resistance_20C_ohm=measured_r20,
         measured_inductance_H=measured_ind,
         coils=build_coils(d),
         capsule=build_capsule(d),
-        tissues=tuple(build_tissues(d)),
+        tissues=tissues,
         frequency_hz=d["operation.frequency_hz"],
         headings=_headings(d),
         points_m=workspace_points(d["workspace.radius_m"]),
         limits=limits,
         requirements=req,
-        bounds=bounds,
+        bounds=_bounds_within_floor(bounds, floor, tolerances),
+        tolerances=tolerances,
         winding_temperature_C=winding_temperature_C(d),
         ambient_temperature_C=d["coils.ambient_temperature_C"],
         heat_transfer_coefficient_W_m2K=d.get("coils.heat_transfer_coefficient_W_m2K"),
@@ -138,19 +143,13 @@ def build_model(design: Design, *, optimiser: bool = True):
     )
 
 
-def check_optimiser_keys(design: Design) -> None:
-    """The optimiser's own keys against each other and the capsule: bounds in order, the
-    smallest helical angle makeable (InputError naming the key otherwise)."""
-    d = design
-    for lo, hi in (
-        ("optimize.helical_angle_min_deg", "optimize.helical_angle_max_deg"),
-        ("optimize.frequency_min_hz", "optimize.frequency_max_hz"),
-    ):
-        if d[lo] > d[hi]:
-            raise InputError(hi, d[hi], f"a value >= {lo} = {d[lo]:g}")
+def angle_floor_deg(design: Design) -> float:
+    """The least helical angle the capsule's spiral can be wound at (its turns do not touch)
+    and the model holds at, deg."""
     import capsule as cap
 
-    floor = max(
+    d = design
+    return max(
         MIN_MODEL_ANGLE_deg,
         math.degrees(
             cap.min_helical_angle_for_clearance_rad(
@@ -162,6 +161,19 @@ def check_optimiser_keys(design: Design) -> None:
             )
         ),
     )
+
+
+def check_optimiser_keys(design: Design) -> None:
+    """The optimiser's own keys against each other and the capsule: bounds in order, the
+    smallest helical angle makeable (InputError naming the key otherwise)."""
+    d = design
+    for lo, hi in (
+        ("optimize.helical_angle_min_deg", "optimize.helical_angle_max_deg"),
+        ("optimize.frequency_min_hz", "optimize.frequency_max_hz"),
+    ):
+        if d[lo] > d[hi]:
+            raise InputError(hi, d[hi], f"a value >= {lo} = {d[lo]:g}")
+    floor = angle_floor_deg(d)
     if d["optimize.helical_angle_min_deg"] < floor:
         raise InputError(
             "optimize.helical_angle_min_deg",
@@ -169,6 +181,65 @@ def check_optimiser_keys(design: Design) -> None:
             f"an angle >= {floor:.3g} deg (below it the spiral's turns touch or the "
             "paper's profile conversion no longer holds)",
         )
+
+
+def build_tolerances(d: Design) -> Any:
+    """The :class:`optimize.system.Tolerances` of ``[tolerances]`` (SI), checked against the
+    design's own values: the band of each key must stay inside what the key allows.
+
+    Raises
+    ------
+    InputError
+        A tolerance that takes the spiral's angle out of (0, 90) deg or its wire to zero.
+    """
+    from optimize.system import Tolerances
+
+    da = d["tolerances.helical_angle_deg"]
+    angle = d["capsule.spiral.helical_angle_deg"]
+    if not (angle - da > 0.0 and angle + da < 90.0):
+        raise InputError(
+            "tolerances.helical_angle_deg",
+            da,
+            f"a tolerance that keeps capsule.spiral.helical_angle_deg = {angle:g} ± it inside "
+            "(0, 90) deg",
+        )
+    dw = d["tolerances.spiral_wire_diameter_mm"]
+    wire = d["capsule.spiral.wire_diameter_mm"]
+    if not dw < wire:
+        raise InputError(
+            "tolerances.spiral_wire_diameter_mm",
+            dw,
+            f"a tolerance below capsule.spiral.wire_diameter_mm = {wire:g}",
+        )
+    return Tolerances(
+        helical_angle_rad=to_si("tolerances.helical_angle_deg", da),
+        spiral_wire_diameter_m=to_si("tolerances.spiral_wire_diameter_mm", dw),
+        lumen_diameter_m=to_si("tolerances.lumen_diameter_mm", d["tolerances.lumen_diameter_mm"]),
+    )
+
+
+def _check_lumen_tolerance(d: Design, tissues: tuple) -> None:
+    """Every tissue set's narrowest lumen (its lumen less the tolerance) must stay open."""
+    dl = d["tolerances.lumen_diameter_mm"]
+    least = min(t.lumen_diameter_m for t in tissues) * 1e3
+    if not dl < least:
+        raise InputError(
+            "tolerances.lumen_diameter_mm",
+            dl,
+            f"a tolerance below the narrowest tissue set's lumen, {least:g} mm",
+        )
+
+
+def _bounds_within_floor(bounds: Any, floor_deg: float, tolerances: Any) -> Any:
+    """``bounds`` with the least helical angle raised so that its flattest corner (the angle
+    less its tolerance) stays at or above ``floor_deg``, the model's and the spiral's floor:
+    the optimiser cannot hold a row at a corner outside the model."""
+    from dataclasses import replace
+
+    least = math.radians(floor_deg) + tolerances.helical_angle_rad
+    if bounds.helical_angle_min_rad >= least:
+        return bounds
+    return replace(bounds, helical_angle_min_rad=min(least, bounds.helical_angle_max_rad))
 
 
 def channel_limits(d: Design) -> dict[str, Any]:
@@ -214,6 +285,7 @@ _CONSTRAINT_KEYS = {
     "frequency_min": "optimize.frequency_min_hz",
     "solver": "optimize.starts",
     "failure_probability": "requirements.max_failure_probability",
+    "tolerance": "tolerances",
     "copper_mass": "limits.copper_mass_kg",
     "bore_clearance": "coils.min_clearance_mm",
     "envelope": "limits.envelope_mm",

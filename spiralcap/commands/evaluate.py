@@ -139,6 +139,7 @@ def format_evaluation(ev) -> str:
 
 def run(args: argparse.Namespace) -> int:
     from optimize import evaluate
+    from spiralcap import tolerances
     from spiralcap.analysis.touch import evaluation_warnings
     from spiralcap.assemble import build_model
     from spiralcap.serialize import evaluation_to_dict
@@ -147,8 +148,16 @@ def run(args: argparse.Namespace) -> int:
     model = build_model(design, optimiser=False)
     ev = evaluate(model)
     warnings = evaluation_warnings(model, ev)
+    intervals = tolerances.evaluation_rows(model, ev)
     if args.json:
-        print_json({"design": design.source, **evaluation_to_dict(ev), "warnings": warnings})
+        print_json(
+            {
+                "design": design.source,
+                **evaluation_to_dict(ev),
+                "warnings": warnings,
+                "tolerance_intervals": tolerances.to_dict(intervals),
+            }
+        )
     else:
-        print("\n".join([format_evaluation(ev), *warnings]))
+        print("\n".join([format_evaluation(ev), *tolerances.text_lines(intervals), *warnings]))
     return 0

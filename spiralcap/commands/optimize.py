@@ -317,11 +317,20 @@ def _hardware_lines(res) -> list[str]:
         ),
         f"  continuous bound  {h.relaxed_objective * factor:.5g} {label}; "
         f"discrete {h.discrete_objective * factor:.5g} {label} "
-        f"(whole turns and standard wire cost {h.rounding_cost * factor:.3g} {label}, "
-        f"{100 * rel:.2g} %)",
+        f"(whole turns and standard wire"
+        + (" and the declined copper" if getattr(h, "copper_declined", None) else "")
+        + f" cost {h.rounding_cost * factor:.3g} {label}, {100 * rel:.2g} %)",
     ]
     for key, value in chosen.items():
         lines.append(f"  {key:<34} {_value(value):<10} (relaxed {_value(relaxed[key], 5)})")
+    declined = getattr(h, "copper_declined", None)
+    if declined:  # optimize.discrete.leaner: copper that bought too little power
+        lines.append(
+            f"  copper declined   the least power, {declined['objective'] * factor:.5g} "
+            f"{label}, took {declined['copper_kg']:.4g} kg of copper; this design takes "
+            f"{res.evaluation.copper_mass_kg:.4g} kg for {h.discrete_objective * factor:.5g} "
+            f"{label} (a sizing spends at most 10 % more copper for 1 % of its objective)"
+        )
     return lines
 
 
@@ -405,15 +414,20 @@ def run(args: argparse.Namespace) -> int:
         from spiralcap.design import write_text_atomic
 
         written = write_text_atomic(args.output, optimum_design_toml(design, res))
+    from spiralcap import tolerances
+
+    intervals = tolerances.optimum_rows(design, res)
     if args.json:
         payload = {"design": design.source, **optimization_to_dict(res)}
+        if intervals:
+            payload["tolerance_intervals"] = tolerances.to_dict(intervals)
         if rc is not None:
             payload["robust"] = robust_to_dict(rc)
         if written is not None:
             payload["written"] = str(written)
         print_json(payload)
     else:
-        print(format_result(res))
+        print("\n".join([format_result(res), *tolerances.text_lines(intervals)]))
         if rc is not None:
             print(format_robust(rc))
         if written is not None:

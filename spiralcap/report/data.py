@@ -161,9 +161,16 @@ def _core_stage(
                 "design": design.source,
                 **evaluation_to_dict(ev),
                 "warnings": evaluation_warnings(model, ev),
+                **_evaluation_intervals(model, ev),
             }
         ),
-        "optimize_json": _jsonable({"design": design.source, **optimization_to_dict(res)}),
+        "optimize_json": _jsonable(
+            {
+                "design": design.source,
+                **optimization_to_dict(res),
+                **_tolerance_intervals(design, res),
+            }
+        ),
         "freq_design": freq_design,
         "freq_optimum": freq_opt,
         "angle_optimum": angle_opt,
@@ -178,6 +185,22 @@ def _core_stage(
         out["uncertainty"] = _uncertainty.collect(design, model=model)
         lap("uncertainty")
     return out, timings
+
+
+def _evaluation_intervals(model: Any, ev: Any) -> dict[str, Any]:
+    """``{"tolerance_intervals": ...}`` of the design as ``spiralcap evaluate --json`` gives it."""
+    from spiralcap import tolerances
+
+    return {"tolerance_intervals": tolerances.to_dict(tolerances.evaluation_rows(model, ev))}
+
+
+def _tolerance_intervals(design: Design, res: Any) -> dict[str, Any]:
+    """``{"tolerance_intervals": ...}`` of the optimum as ``spiralcap optimize --json`` gives
+    it (spiralcap.tolerances); empty without an optimum."""
+    from spiralcap import tolerances
+
+    rows = tolerances.optimum_rows(design, res)
+    return {"tolerance_intervals": tolerances.to_dict(rows)} if rows else {}
 
 
 @dataclass(frozen=True)

@@ -191,6 +191,55 @@ def _draw_utilisation(checks: Any) -> Any:
     return draw
 
 
+def _tolerance_table(ctx: Context) -> list[Any]:
+    """Each toleranced key's feasible interval around the optimum (``spiralcap optimize``'s
+    ``tolerance_intervals``), with the requirement that ends it on each side; none without."""
+    o = "optimize.tolerance_intervals"
+    if "tolerance_intervals" not in ctx.value("optimize"):
+        return []
+    rows: list[list[Cell]] = []
+    for i, k in enumerate(ctx.value(f"{o}.keys")):
+        p = f"{o}.keys.{i}"
+        offset = bool(k["offset_from_each_tissue_set"])
+        head: list[Cell] = [
+            k["key"] + (" (offset from each tissue set's own)" if offset else ""),
+            k["unit"],
+            ctx.num(f"{p}.nominal"),
+            ctx.num(f"{p}.tolerance"),
+        ]
+        if not k["feasible_at_nominal"]:
+            rows.append([*head, "fails", "fails", readable(k["low_limited_by"]), ""])
+            continue
+        rows.append(
+            [
+                *head,
+                ctx.num(f"{p}.low"),
+                ctx.num(f"{p}.high"),
+                readable(k["low_limited_by"]) if k["low_limited_by"] != "search" else "–",
+                readable(k["high_limited_by"]) if k["high_limited_by"] != "search" else "–",
+            ]
+        )
+    return [
+        Table(
+            [
+                "toleranced key",
+                "unit",
+                "design",
+                "±",
+                "holds from",
+                "holds to",
+                "ends below on",
+                "ends above on",
+            ],
+            rows,
+            caption="Tolerances ([tolerances]): every requirement is held at its own worst "
+            "corner of the box; each key's interval is the room left, "
+            + str(ctx.value(f"{o}.varied")),
+            id="tolerance-intervals",
+        )
+    ]
+
+
 def _objective_rows(ctx: Context, what: str, sense: str) -> list[list[Cell]]:
     o = "optimize"
     if "objective_value_shown" not in ctx.value(o):
@@ -282,6 +331,7 @@ def build(ctx: Context) -> Section:
             )
         else:
             blocks.append(Paragraph(["No limit binds at the optimum."]))
+        blocks += _tolerance_table(ctx)
         blocks += design_file_blocks(ctx)
     else:
         blocks.append(_shortfall_table(ctx))
