@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from cli_outcome import run
+from cli_outcome import NO_TOLERANCE_SETS, run
 from scipy.spatial import ConvexHull
 
 import torque_model as tm
@@ -25,6 +25,10 @@ from spiralcap.assemble import build_model
 from spiralcap.design import load_design
 
 LUMEN_MM = 11.3
+#: The nominal spiral (no [tolerances] box): the ConvexHull references here are of the design's
+#: own angle, wire and lumen; the box's worst corner is checked in
+#: test_sweep_strain_is_held_at_its_worst_corner.
+NOMINAL = list(NO_TOLERANCE_SETS)
 #: The issue's sweep: 3-30 deg at a lumen of 11.3 mm (a 1 mm spiral on the 11 mm capsule).
 ANGLES = np.linspace(3.0, 30.0, 28)
 
@@ -60,7 +64,7 @@ def angle_sweep(tmp_path_factory):
             "sweep",
             "--over",
             over,
-            *_sets([f"tissue.lumen_diameter_mm={LUMEN_MM}"]),
+            *_sets([*NOMINAL, f"tissue.lumen_diameter_mm={LUMEN_MM}"]),
             "--csv",
             str(table),
             "--plot",
@@ -117,7 +121,7 @@ def test_sweep_figure_hatches_and_names_both_regions(angle_sweep):
 
     _, figure = angle_sweep
     assert figure.stat().st_size > 10_000, "the PNG was written"
-    design = load_design(None, [f"tissue.lumen_diameter_mm={LUMEN_MM}"])
+    design = load_design(None, [*NOMINAL, f"tissue.lumen_diameter_mm={LUMEN_MM}"])
     result = sweep(design, [parse_over(f"capsule.spiral.helical_angle_deg=3:30:{ANGLES.size}")])
     fig = Figure(layout="constrained")
     drawn = draw_sweep(fig, result)
@@ -137,7 +141,9 @@ def test_api_margin_is_nan_without_contact():
     does not touch (D' of 25 deg by ConvexHull is below 11.3 mm); ``model_margin_Nm`` keeps the
     formulas' number for starting points only."""
     assert hull_d_prime_mm(25.0) < LUMEN_MM
-    model = prepare(build_model(load_design(None, [f"tissue.lumen_diameter_mm={LUMEN_MM}"])))
+    model = prepare(
+        build_model(load_design(None, [*NOMINAL, f"tissue.lumen_diameter_mm={LUMEN_MM}"]))
+    )
     ev = evaluate(model, math.radians(25.0), 1.0)
     assert ev.grip == "none" and math.isnan(ev.margin_Nm) and math.isnan(ev.safety_factor)
     assert ev.speed_m_s == 0.0 and not ev.feasible
@@ -152,7 +158,9 @@ def test_notebook_view_shows_no_margin_without_contact():
     """The notebook table of a no-contact evaluation says so instead of a number or 'nan'."""
     from spiralcap.notebook import NO_CONTACT
 
-    model = prepare(build_model(load_design(None, [f"tissue.lumen_diameter_mm={LUMEN_MM}"])))
+    model = prepare(
+        build_model(load_design(None, [*NOMINAL, f"tissue.lumen_diameter_mm={LUMEN_MM}"]))
+    )
     page = evaluate(model, math.radians(25.0), 1.0)._repr_html_()
     assert NO_CONTACT in page and "nan" not in page.lower(), "no margin, named"
     assert "does not touch every wall" in page
@@ -294,7 +302,7 @@ def test_grip_bound_against_the_convex_hull():
 
     from optimize import grip_bound, optimize_design
 
-    model = prepare(build_model(load_design()))
+    model = prepare(build_model(load_design(None, NOMINAL)))
     need = tm.DEFAULT_MIN_WALL_STRAIN
     hull = brentq(lambda a: (hull_d_prime_mm(a) - 11.1) / 12.1 - need, 19.0, 21.0, xtol=1e-4)
     bound = grip_bound(model)
@@ -309,7 +317,7 @@ def no_contact_case():
     """The built-in design entered at 25 deg in an 11.3 mm lumen (no contact), its optimum."""
     from optimize import optimize_design
 
-    sets = [f"tissue.lumen_diameter_mm={LUMEN_MM}", "capsule.spiral.helical_angle_deg=25"]
+    sets = [*NOMINAL, f"tissue.lumen_diameter_mm={LUMEN_MM}", "capsule.spiral.helical_angle_deg=25"]
     model = prepare(build_model(load_design(None, sets)))
     return model, evaluate(model), optimize_design(model)
 
@@ -344,7 +352,9 @@ def test_evaluate_text_marks_below_minimum_as_extrapolated():
     shown, named as extrapolated, and the design is infeasible."""
     from spiralcap.commands.evaluate import format_evaluation
 
-    model = prepare(build_model(load_design(None, [f"tissue.lumen_diameter_mm={LUMEN_MM}"])))
+    model = prepare(
+        build_model(load_design(None, [*NOMINAL, f"tissue.lumen_diameter_mm={LUMEN_MM}"]))
+    )
     ev = evaluate(model, math.radians(15.0), 1.0)
     assert ev.grip == "below minimum" and math.isfinite(ev.margin_Nm) and not ev.feasible
     text = format_evaluation(ev)
@@ -369,3 +379,30 @@ def test_advice_for_a_limit_the_hardware_breaks_names_no_requirement():
     )
     assert "coils.x.turns" in both[0] and "limits.copper_mass_kg" in both[1]
     assert both[-1].startswith("relaxing a requirement"), both
+
+
+def test_sweep_strain_is_held_at_its_worst_corner():
+    """With the default [tolerances] box each point's strain is the least over the box: the
+    ConvexHull D' at the steepest angle and the thinnest wire against the widest lumen (issue
+    36 item 3); no margin where that corner does not touch."""
+    from spiralcap.sweep import parse_over, sweep
+
+    design = load_design(None, [f"tissue.lumen_diameter_mm={LUMEN_MM}"])
+    da, dw, dl = (
+        design[f"tolerances.{k}"]
+        for k in ("helical_angle_deg", "spiral_wire_diameter_mm", "lumen_diameter_mm")
+    )
+    assert da > 0 and dw > 0 and dl > 0, "the built-in box is not empty"
+    angles = np.array([8.0, 16.0, 24.0])
+    result = sweep(design, [parse_over("capsule.spiral.helical_angle_deg=8:24:3")])
+    walls = [1e3 * tm.preset(n).wall_thickness_m for n in ("zhou2013-sample2", "zhou2013-sample3")]
+    lumen = LUMEN_MM + dl
+    for i, alpha in enumerate(angles):
+        d_prime = hull_d_prime_mm(float(alpha) + da, wire_mm=1.0 - dw)
+        strain = min((d_prime - lumen) / (lumen + w) for w in walls)
+        got = float(result.outputs["wall_strain"][i])
+        assert got == pytest.approx(strain, abs=3e-5), (
+            f"{alpha} deg: eq. 6 at the box's least-strain corner (ConvexHull D'), 3e-5"
+        )
+        if d_prime <= lumen:
+            assert math.isnan(float(result.outputs["margin_Nm"][i])), f"{alpha}: no margin"
