@@ -126,7 +126,23 @@ class MeasuredConstants:
 
     def resistance_ohm_at(self, temperature_C: float) -> float:
         """The measured resistance brought to a copper temperature, Ω: R_m ρ(T) / ρ(T_m)
-        (IEC 60028, :func:`coils.electrical.copper_resistivity_ohm_m`)."""
+        (IEC 60028, :func:`coils.electrical.copper_resistivity_ohm_m`).
+
+        Parameters
+        ----------
+        temperature_C : float
+            Copper temperature, °C.
+
+        Returns
+        -------
+        float
+            The pair's resistance at that temperature, Ω.
+
+        Raises
+        ------
+        ValueError
+            No resistance was measured (only the inductance).
+        """
         if self.resistance_ohm is None:
             raise ValueError("no measured resistance")
         rho = copper_resistivity_ohm_m
