@@ -24,11 +24,13 @@ from coils.uniformity import (
     uniform_regions,
     uniformity,
 )
+from coils.winding import MeasuredConstants
 
 __all__ = [
     "SQUARE_HELMHOLTZ_RATIO",
     "AxisSizing",
     "HelmholtzPair",
+    "MeasuredConstants",
     "RectanglePair",
     "SquarePair",
     "SystemSizing",

@@ -18,7 +18,7 @@ import numpy as np
 
 from coils.filaments import Axis, FilamentSet
 from coils.loop import coaxial_mutual_inductance_H, loop_field
-from coils.winding import MAX_PACKING_FACTOR, PACK_ASPECT_RANGE, WoundPair
+from coils.winding import MAX_PACKING_FACTOR, PACK_ASPECT_RANGE, MeasuredConstants, WoundPair
 from spiralcap.core import backend as bk
 from spiralcap.core.constants import MU0_T_m_per_A
 
@@ -131,6 +131,9 @@ class HelmholtzPair(WoundPair):
     pack_aspect : float
         Axial width / radial depth of the winding pack, dimensionless, in
         :data:`PACK_ASPECT_RANGE`; 1 = square.
+    measured : coils.winding.MeasuredConstants or None
+        A lab's measured R and L of the pair as wired, which its resistance and series
+        inductance then answer (default None: computed from the geometry).
 
     Raises
     ------
@@ -147,6 +150,7 @@ class HelmholtzPair(WoundPair):
     packing_factor: float = 0.7
     filaments: tuple[int, int] = (1, 1)
     pack_aspect: float = 1.0
+    measured: MeasuredConstants | None = None
 
     #: The shape of the coils (:class:`coils.SquarePair` is a ``"square"``).
     shape: ClassVar[str] = "circle"

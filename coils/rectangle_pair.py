@@ -36,7 +36,7 @@ from coils.rectangle import (
     rectangle_mutual_inductance_H,
 )
 from coils.square_pair import _rectangle_distance, _rectangle_points, rectangle_gmd_m
-from coils.winding import WoundPair
+from coils.winding import MeasuredConstants, WoundPair
 from spiralcap.core import backend as bk
 from spiralcap.core.errors import InputError, check_positive
 
@@ -77,6 +77,9 @@ class RectanglePair(WoundPair):
         Gauss-Legendre filaments across the pack's depth and width for the field, counts.
     pack_aspect : float
         Axial width / depth of the winding pack, dimensionless.
+    measured : coils.winding.MeasuredConstants or None
+        A lab's measured R and L of the pair as wired, which its resistance and series
+        inductance then answer (default None: computed from the geometry).
 
     Raises
     ------
@@ -100,6 +103,7 @@ class RectanglePair(WoundPair):
     packing_factor: float = 0.7
     filaments: tuple[int, int] = (1, 1)
     pack_aspect: float = 1.0
+    measured: MeasuredConstants | None = None
 
     #: The shape of the coils.
     shape: ClassVar[str] = "rectangle"

@@ -18,7 +18,6 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 
@@ -72,10 +71,11 @@ class AxisSizing:
     current_amplitude_A : float
         The current amplitude this pair is sized at (its amplifier channel's limit), A.
     resistance_20C_ohm, resistance_ohm : float
-        Resistance of the pair at 20 °C and at its mean winding temperature, Ω.
+        Resistance of the pair at 20 °C and at its mean winding temperature, Ω (the pair's
+        own: a lab's measured pair answers its measured value).
     self_inductance_H, mutual_inductance_H, inductance_H : float
-        Self inductance of one coil, mutual inductance of the two, series inductance of the
-        pair, H.
+        Self inductance of one coil, mutual inductance of the two (both from the geometry),
+        series inductance of the pair (the pair's own, measured where given), H.
     impedance_ohm : float
         Series R-L impedance magnitude at the drive frequency, Ω.
     voltage_amplitude_V : float
@@ -267,8 +267,6 @@ def size_system(
     headings: np.ndarray | None = None,
     packs: tuple | None = None,
     view_factors: np.ndarray | None = None,
-    resistance_20C_ohm: Any = None,
-    inductance_H: Any = None,
 ) -> SystemSizing:
     """Evaluate every pair at one current amplitude and frequency.
 
@@ -298,9 +296,6 @@ def size_system(
         View factors, dimensionless, rows ``[room, x, y, z]``
         (:func:`coils.viewfactors.view_factors`): the three pairs, all at this current,
         radiate to each other; default: each alone in the room.
-    resistance_20C_ohm, inductance_H : array_like, shape (3,), optional
-        Each pair's series resistance at 20 °C (Ω) and inductance (H) in place of the values
-        computed from its geometry (a lab's measured pairs); default: computed.
 
     Returns
     -------
@@ -322,16 +317,9 @@ def size_system(
             for pair in system.pairs
         )
     amps = _pair_currents(current_amplitude_A)
-    r20s = (
-        [pair.resistance_ohm(20.0) for pair in system.pairs]
-        if resistance_20C_ohm is None
-        else [float(r) for r in resistance_20C_ohm]
-    )
-    inductances = (
-        [pair.series_inductance_H for pair in system.pairs]
-        if inductance_H is None
-        else [float(v) for v in inductance_H]
-    )
+    # each pair's own R and L (a lab's measured pair answers its measured values)
+    r20s = [pair.resistance_ohm(20.0) for pair in system.pairs]
+    inductances = [pair.series_inductance_H for pair in system.pairs]
     together = pair_temperatures(packs, r20s, amps, ambient_temperature_C, view_factors)
     for k, pair in enumerate(system.pairs):
         pack, r20, st = packs[k], r20s[k], together[k]

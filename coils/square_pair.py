@@ -30,7 +30,7 @@ from coils.square import (
     square_field_local,
     square_mutual_inductance_H,
 )
-from coils.winding import WoundPair
+from coils.winding import MeasuredConstants, WoundPair
 from spiralcap.core import backend as bk
 from spiralcap.core.constants import MU0_T_m_per_A
 
@@ -218,6 +218,9 @@ class SquarePair(WoundPair):
     pack_aspect : float
         Axial width / depth of the winding pack, a ratio (dimensionless), in
         :data:`coils.pair.PACK_ASPECT_RANGE`.
+    measured : coils.winding.MeasuredConstants or None
+        A lab's measured R and L of the pair as wired, which its resistance and series
+        inductance then answer (default None: computed from the geometry).
 
     Raises
     ------
@@ -235,6 +238,7 @@ class SquarePair(WoundPair):
     packing_factor: float = 0.7
     filaments: tuple[int, int] = (1, 1)
     pack_aspect: float = 1.0
+    measured: MeasuredConstants | None = None
 
     #: The shape of the coils (``coils.HelmholtzPair`` is a ``"circle"``).
     shape: ClassVar[str] = "square"

@@ -24,12 +24,21 @@ distance, :meth:`~WoundPair.scaled_sizes`, :meth:`~WoundPair.spacing_per_size`) 
 cooling, the CAD and the export never test which shape a pair is. The resistance
 (:meth:`WoundPair.resistance_ohm`) and each shape's ``self_inductance_H`` and
 ``mutual_inductance_H`` are each one method: where a measured value would sit.
+
+A lab's pair as measured (issue 37) is the pair's own field ``measured``
+(:class:`MeasuredConstants`, default None): where given, :meth:`WoundPair.resistance_ohm` and
+:attr:`WoundPair.series_inductance_H` answer the measured values (R following copper's
+temperature coefficient from the measuring temperature), and
+:meth:`WoundPair.computed_resistance_ohm` and :attr:`WoundPair.computed_series_inductance_H`
+answer what the geometry gives, for the side-by-side deviation. Every consumer asks the pair;
+none holds an override of its own.
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Callable
+from dataclasses import dataclass
 from functools import cached_property
 from typing import TYPE_CHECKING, Any, ClassVar
 
@@ -41,7 +50,7 @@ from spiralcap.core import backend as bk
 from spiralcap.core.constants import COPPER_DENSITY_kg_m3
 from spiralcap.core.errors import InputError, check_positive
 
-__all__ = ["MAX_PACKING_FACTOR", "PACK_ASPECT_RANGE", "WoundPair"]
+__all__ = ["MAX_PACKING_FACTOR", "PACK_ASPECT_RANGE", "MeasuredConstants", "WoundPair"]
 
 #: Densest packing of equal round wires (hexagonal), π / (2 sqrt 3).
 MAX_PACKING_FACTOR = math.pi / (2.0 * math.sqrt(3.0))
@@ -69,12 +78,84 @@ def _check_aspect(aspect: Any) -> float:
     return float(aspect)
 
 
+@dataclass(frozen=True)
+class MeasuredConstants:
+    """A lab's pair as measured at its terminals (both coils in series, as wired to its
+    channel); SI.
+
+    Parameters
+    ----------
+    resistance_ohm : float or None
+        Series resistance at ``temperature_C``, Ω; None: not measured (the computed one).
+    temperature_C : float
+        Copper temperature of the resistance measurement, °C (default 20).
+    inductance_H : float or None
+        Series inductance, mutual inductance included, H; None: not measured.
+
+    Raises
+    ------
+    InputError
+        A value that is not a positive number, a temperature outside [-50, 250] °C (the
+        copper model's range), or neither constant given, named by its parameter name.
+
+    Examples
+    --------
+    >>> m = MeasuredConstants(resistance_ohm=7.0, temperature_C=60.0)
+    >>> round(m.resistance_ohm_at(20.0), 4)  # copper's coefficient back to 20 °C
+    6.0491
+    """
+
+    resistance_ohm: float | None = None
+    temperature_C: float = 20.0
+    inductance_H: float | None = None
+
+    def __post_init__(self) -> None:
+        """Check the fields (InputError named by the field), store them as floats."""
+        set_ = object.__setattr__
+        if self.resistance_ohm is None and self.inductance_H is None:
+            raise InputError("resistance_ohm", None, "a measured resistance or inductance")
+        for key in ("resistance_ohm", "inductance_H"):
+            value = getattr(self, key)
+            if value is not None:
+                set_(self, key, check_positive(key, value))
+        t = self.temperature_C
+        ok = not isinstance(t, bool) and isinstance(t, (int, float, np.floating))
+        if not ok or not -50.0 <= t <= 250.0:
+            raise InputError("temperature_C", t, "a temperature in [-50, 250] °C")
+        set_(self, "temperature_C", float(t))
+
+    def resistance_ohm_at(self, temperature_C: float) -> float:
+        """The measured resistance brought to a copper temperature, Ω: R_m ρ(T) / ρ(T_m)
+        (IEC 60028, :func:`coils.electrical.copper_resistivity_ohm_m`).
+
+        Parameters
+        ----------
+        temperature_C : float
+            Copper temperature, °C.
+
+        Returns
+        -------
+        float
+            The pair's resistance at that temperature, Ω.
+
+        Raises
+        ------
+        ValueError
+            No resistance was measured (only the inductance).
+        """
+        if self.resistance_ohm is None:
+            raise ValueError("no measured resistance")
+        rho = copper_resistivity_ohm_m
+        return self.resistance_ohm * float(rho(temperature_C) / rho(self.temperature_C))
+
+
 class WoundPair:
     """Base of the coil pairs: the winding, field, resistance and cooling they share; SI.
 
     Not made on its own: a frozen dataclass (:class:`coils.HelmholtzPair`,
     :class:`coils.SquarePair`) with the fields ``turns``, ``axis``, ``separation_m``,
-    ``wire_diameter_m``, ``packing_factor``, ``filaments`` and ``pack_aspect`` and a size field
+    ``wire_diameter_m``, ``packing_factor``, ``filaments``, ``pack_aspect`` and ``measured``
+    (:class:`MeasuredConstants` or None) and a size field
     named by ``_SIZE_KEY`` derives from it and sets the class constants: ``_SIZE_KEY``,
     ``_TURN_LENGTH_PER_SIZE`` (mean turn length / size), ``_DEFAULT_SPACING_PER_SIZE``
     (separation / size when ``separation_m`` is not given) and ``_FILAMENT_PAIR`` (how the
@@ -97,6 +178,7 @@ class WoundPair:
         packing_factor: float
         filaments: tuple[int, int]
         pack_aspect: float
+        measured: MeasuredConstants | None
 
         @property
         def filament_set(self) -> Any: ...
@@ -155,12 +237,13 @@ class WoundPair:
 
     def with_sizes(self, sizes_m: tuple[float, ...]) -> Any:
         """This pair with sizes ``sizes_m`` (the order of :attr:`SIZE_NAMES`, m); a pair at
-        its default spacing keeps it."""
+        its default spacing keeps it; it carries no measured constants."""
         from dataclasses import replace
 
         me: Any = self
         sep = None if self.helmholtz else self.separation_m
-        return replace(me, **self.size_fields(sizes_m), separation_m=sep)
+        # a pair of other sizes is not the pair the lab measured: computed constants
+        return replace(me, **self.size_fields(sizes_m), separation_m=sep, measured=None)
 
     #: Flag: the pack is a solid of revolution (a ring), so the torus of :meth:`tube_radius_m`
     #: about the mean turn holds it and the least distance is at least the torus bound.
@@ -454,7 +537,27 @@ class WoundPair:
 
     # --- electrical ----------------------------------------------------------------------------
     def resistance_ohm(self, temperature_C: float = 20.0) -> float:
-        """Resistance of both coils in series at a copper temperature, Ω.
+        """Resistance of both coils in series at a copper temperature, Ω: the measured one
+        where the pair has one (``measured``, brought from its measuring temperature with
+        copper's coefficient), else :meth:`computed_resistance_ohm`.
+
+        Parameters
+        ----------
+        temperature_C : float
+            Copper temperature, °C.
+
+        Returns
+        -------
+        float
+            Resistance of the series pair, Ω.
+        """
+        m = self.measured
+        if m is not None and m.resistance_ohm is not None:
+            return m.resistance_ohm_at(temperature_C)
+        return self.computed_resistance_ohm(temperature_C)
+
+    def computed_resistance_ohm(self, temperature_C: float = 20.0) -> float:
+        """Resistance of both coils in series at a copper temperature from the geometry, Ω.
 
         R = ρ(T) ℓ / (π d²/4), ℓ = :attr:`wire_length_m`, ρ(T) from
         :func:`coils.electrical.copper_resistivity_ohm_m` (IEC 60028). DC value: at the drive
@@ -488,7 +591,16 @@ class WoundPair:
 
     @property
     def series_inductance_H(self) -> float:
-        """Inductance of the two coils in series aiding, 2 L + 2 M, H."""
+        """Inductance of the pair at its terminals, H: the measured one where the pair has one
+        (``measured``), else :attr:`computed_series_inductance_H`."""
+        m = self.measured
+        if m is not None and m.inductance_H is not None:
+            return m.inductance_H
+        return self.computed_series_inductance_H
+
+    @property
+    def computed_series_inductance_H(self) -> float:
+        """Inductance of the two coils in series aiding from the geometry, 2 L + 2 M, H."""
         return 2.0 * self.self_inductance_H + 2.0 * self.mutual_inductance_H
 
     # --- thermal -------------------------------------------------------------------------------

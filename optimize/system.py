@@ -293,11 +293,6 @@ class DesignModel:
         The optimiser's search box and options.
     constants : Constants or None
         The precomputed constants (:func:`prepare` fills them), or None.
-    measured_resistance_20C_ohm, measured_inductance_H : tuple of 3 (float or None), or None
-        A lab's measured series resistance at 20 °C (Ω) and inductance (H) of each pair as
-        wired to its channel (``coils.{x,y,z}.measured.*``): where given they replace the
-        values computed from the geometry in every voltage, power and heating figure
-        (:func:`precompute`); None (or a None entry): the computed value.
     """
 
     coils: Any
@@ -322,8 +317,6 @@ class DesignModel:
     tolerances: Tolerances = Tolerances()
     scenarios: Any = field(default=None, compare=False, repr=False)
     constants: Any = field(default=None, compare=False, repr=False)
-    measured_resistance_20C_ohm: Any = None
-    measured_inductance_H: Any = None
 
 
 #: The numbers of a model checked at the public entry points (``check_model``): where each
@@ -563,13 +556,6 @@ def view_factors_of(coils: Any) -> Any:
     return view_factors(pack_rings(coils))
 
 
-def _measured(measured: Any, computed: list[float]) -> np.ndarray:
-    """Each pair's measured value where the lab gave one, else the computed one (SI)."""
-    if measured is None:
-        return np.array(computed)
-    return np.array([c if m is None else float(m) for m, c in zip(measured, computed, strict=True)])
-
-
 def precompute(model: DesignModel) -> Constants:
     """Reduce coils, headings and workspace to the constants of the margin and the limits.
 
@@ -587,8 +573,9 @@ def precompute(model: DesignModel) -> Constants:
 
     pairs = model.coils.pairs
     g = np.asarray(model.coils.centre_gains_T_per_A, dtype=float)
-    r20 = _measured(model.measured_resistance_20C_ohm, [p.resistance_ohm(20.0) for p in pairs])
-    ind = _measured(model.measured_inductance_H, [p.series_inductance_H for p in pairs])
+    # each pair's own R and L (a lab's measured pair answers its measured values)
+    r20 = np.array([p.resistance_ohm(20.0) for p in pairs])
+    ind = np.array([p.series_inductance_H for p in pairs])
     packs = packs_of(model)
     n2 = np.asarray(model.headings, dtype=float) ** 2  # (h, 3)
     s = np.sqrt(np.clip(1.0 - n2, 0.0, 1.0))  # (h, 3)

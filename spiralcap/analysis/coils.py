@@ -246,8 +246,6 @@ def analyse_coils(design: Any, model: Any = None) -> CoilAnalysis:
         headings=model.headings,
         packs=c.packs,
         view_factors=c.view_factors,
-        resistance_20C_ohm=c.resistance_20C_ohm,  # a lab's measured pairs where given
-        inductance_H=c.inductance_H,
     )
     cap = physics.field_capacity(model.frequency_hz, c, model.limits, model.ambient_temperature_C)
     per = np.asarray(c.current_per_tesla_A_per_T, dtype=float)
@@ -297,7 +295,7 @@ def analyse_coils(design: Any, model: Any = None) -> CoilAnalysis:
     from spiralcap.analysis.touch import touch_warning
 
     touch = touch_warning(model, field)
-    measured = measured_pairs(design, model.coils) if hasattr(design, "get") else ()
+    measured = measured_pairs(model.coils)
     return replace(
         analysis,
         bill_of_materials=bill_of_materials(model, analysis),

@@ -1,6 +1,7 @@
 """A lab's measured pairs beside the computed ones (``spiralcap coils``, the report).
 
-For each pair with ``coils.{x,y,z}.measured.*``: the measured resistance (at its measuring
+For each pair that carries measured constants (its ``measured`` field, from the design keys
+``coils.{x,y,z}.measured.*``): the measured resistance (at its measuring
 temperature) and inductance, the values computed from the pair's geometry at the same
 temperature, and the deviation measured / computed - 1. A deviation beyond
 :data:`DEVIATION_WARNING` is a warning naming the likely causes.
@@ -73,38 +74,34 @@ class MeasuredPair:
         return out
 
 
-def measured_pairs(design: Any, coils: Any) -> tuple[MeasuredPair, ...]:
-    """The measured pairs of ``design`` (only those with a measured key) against ``coils``.
+def measured_pairs(coils: Any) -> tuple[MeasuredPair, ...]:
+    """The measured pairs of a coil set (only those whose pair carries ``measured``), each
+    beside what its geometry gives.
 
     Parameters
     ----------
-    design : spiralcap.design.Design
-        The design (its ``coils.{x,y,z}.measured.*`` keys).
     coils : coils.ThreeAxisHelmholtz
-        Its coils (the computed constants).
+        The coil set as built from the design (each pair's ``measured``,
+        :class:`coils.winding.MeasuredConstants`, and its ``computed_*`` twins).
 
     Returns
     -------
     tuple of MeasuredPair
         One per measured pair, in x, y, z order.
     """
-    from spiralcap.assemble.measured import measured_temperature_C
-
     out = []
     for pair in coils.pairs:
-        key = f"coils.{pair.axis}.measured."
-        r, ind = design.get(key + "resistance_ohm"), design.get(key + "inductance_H")
-        if r is None and ind is None:
+        m = pair.measured
+        if m is None:
             continue
-        t = measured_temperature_C(design, pair.axis)
         out.append(
             MeasuredPair(
                 axis=pair.axis,
-                temperature_C=t,
-                resistance_ohm=None if r is None else float(r),
-                computed_resistance_ohm=float(pair.resistance_ohm(t)),
-                inductance_H=None if ind is None else float(ind),
-                computed_inductance_H=float(pair.series_inductance_H),
+                temperature_C=m.temperature_C,
+                resistance_ohm=m.resistance_ohm,
+                computed_resistance_ohm=float(pair.computed_resistance_ohm(m.temperature_C)),
+                inductance_H=m.inductance_H,
+                computed_inductance_H=float(pair.computed_series_inductance_H),
             )
         )
     return tuple(out)

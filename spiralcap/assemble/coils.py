@@ -99,7 +99,10 @@ def _pair(design: Mapping[str, Any], ax: str, packing: float) -> Any:
         "packing_factor": packing,
         "pack_aspect": aspect,
     }
-    return cls(**{cls._SIZE_KEY: value if len(sizes) == 1 else sizes}, **common)
+    from spiralcap.assemble.measured import measured_of
+
+    measured = measured_of(design, ax)  # a lab's measured R and L: the pair answers them
+    return cls(**{cls._SIZE_KEY: value if len(sizes) == 1 else sizes}, **common, measured=measured)
 
 
 def _noun(size_key: str) -> str:

@@ -1,11 +1,14 @@
-"""Design keys ``coils.{x,y,z}.measured.*`` -> the measured R (at 20 °C) and L of each pair.
+"""Design keys ``coils.{x,y,z}.measured.*`` -> each pair's own ``measured`` field.
 
 A lab's pair as wired to its channel differs from the drawing (turn count, wire, series or
-parallel wiring, leads): its measured series resistance and inductance replace the computed
-ones in every voltage, power, heating and waveform figure (``optimize.system.precompute``). The
-resistance is brought to 20 °C with copper's temperature coefficient (IEC 60028,
-:func:`coils.electrical.copper_resistivity_ohm_m`). A sizing chooses the coils' geometry and
-computes R and L from it, so a design that frees hardware refuses the measured keys.
+parallel wiring, leads): its measured series resistance and inductance become the pair's
+:class:`coils.winding.MeasuredConstants` (:func:`measured_of`, set by
+``spiralcap.assemble.coils.build_coils``), and the pair's ``resistance_ohm(T)`` and
+``series_inductance_H`` answer them, so every voltage, power, heating, waveform and table
+figure that asks the pair uses them (the resistance follows copper's temperature coefficient
+from the measuring temperature, IEC 60028). A sizing chooses the coils' geometry and computes R
+and L from it, so a design that frees hardware refuses the measured keys
+(:func:`check_no_sizing`).
 """
 
 from __future__ import annotations
@@ -15,7 +18,7 @@ from typing import Any
 
 from spiralcap.core.errors import InputError
 
-__all__ = ["MEASURED_KEYS", "check_no_sizing", "measured_constants", "measured_temperature_C"]
+__all__ = ["MEASURED_KEYS", "check_no_sizing", "measured_of"]
 
 _AXES = ("x", "y", "z")
 #: The keys that carry a pair's measured constants (temperature_C only qualifies the first).
@@ -24,46 +27,33 @@ MEASURED_KEYS = tuple(
 )
 
 
-def measured_temperature_C(design: Mapping[str, Any], ax: str) -> float:
-    """The temperature of pair ``ax``'s measured resistance, °C (absent: 20)."""
-    value = design.get(f"coils.{ax}.measured.temperature_C")
-    return 20.0 if value is None else float(value)
-
-
-def measured_constants(design: Mapping[str, Any]) -> tuple[Any, Any]:
-    """(R at 20 °C in Ω, L in H) per pair as 3-tuples with None where not measured; (None,
-    None) when nothing is measured.
+def measured_of(design: Mapping[str, Any], ax: str) -> Any:
+    """Pair ``ax``'s measured constants as the pair's own field
+    (:class:`coils.winding.MeasuredConstants`), or None when the design measures nothing of it.
 
     Raises
     ------
     InputError
         ``coils.A.measured.temperature_C`` without ``coils.A.measured.resistance_ohm``.
     """
-    from coils.electrical import copper_resistivity_ohm_m
+    from coils.winding import MeasuredConstants
 
-    for ax in _AXES:
-        key = f"coils.{ax}.measured."
-        if (
-            design.get(key + "temperature_C") is not None
-            and design.get(key + "resistance_ohm") is None
-        ):
-            raise InputError(
-                key + "temperature_C",
-                design.get(key + "temperature_C"),
-                f"set together with {key}resistance_ohm (it is that measurement's temperature)",
-            )
-    if all(design.get(k) is None for k in MEASURED_KEYS):
-        return None, None
-    r20: list[float | None] = []
-    ind: list[float | None] = []
-    for ax in _AXES:
-        r = design.get(f"coils.{ax}.measured.resistance_ohm")
-        t = measured_temperature_C(design, ax)
-        ratio = float(copper_resistivity_ohm_m(20.0) / copper_resistivity_ohm_m(t))
-        r20.append(None if r is None else float(r) * ratio)
-        inductance = design.get(f"coils.{ax}.measured.inductance_H")
-        ind.append(None if inductance is None else float(inductance))
-    return tuple(r20), tuple(ind)
+    key = f"coils.{ax}.measured."
+    r, t = design.get(key + "resistance_ohm"), design.get(key + "temperature_C")
+    if t is not None and r is None:
+        raise InputError(
+            key + "temperature_C",
+            t,
+            f"set together with {key}resistance_ohm (it is that measurement's temperature)",
+        )
+    inductance = design.get(key + "inductance_H")
+    if r is None and inductance is None:
+        return None
+    return MeasuredConstants(
+        resistance_ohm=None if r is None else float(r),
+        temperature_C=20.0 if t is None else float(t),
+        inductance_H=None if inductance is None else float(inductance),
+    )
 
 
 def check_no_sizing(design: Mapping[str, Any], free: Mapping[str, Any]) -> None:

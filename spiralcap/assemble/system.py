@@ -106,14 +106,9 @@ def build_model(design: Design, *, optimiser: bool = True):
         objective=d["optimize.objective"],
         starts=d["optimize.starts"],
     )
-    from spiralcap.assemble.measured import measured_constants
-
-    measured_r20, measured_ind = measured_constants(d)
     tissues = tuple(build_tissues(d))
     _check_lumen_tolerance(d, tissues)
     return DesignModel(
-        measured_resistance_20C_ohm=measured_r20,
-        measured_inductance_H=measured_ind,
         coils=build_coils(d),
         capsule=build_capsule(d),
         tissues=tissues,
