@@ -153,7 +153,17 @@ class Frame:
 
     def halves(self) -> tuple[int, int, float, float, float, float]:
         """The two in-plane axes u < v and the section's outer and inner half extents along
-        them, ``(u, v, out_u, out_v, in_u, in_v)``, m."""
+        them, ``(u, v, out_u, out_v, in_u, in_v)``, m.
+
+        Returns
+        -------
+        u, v : int
+            The two axes other than the frame's, indices in ascending order.
+        out_u, out_v : float
+            Half extents of the frame's outer faces along u and v, (side + d)/2, m.
+        in_u, in_v : float
+            Half extents of its inner faces (the hole) along u and v, (side - d)/2, m.
+        """
         u, v = (k for k in range(3) if k != self.axis)
         a, b = self.sides_m
         along = {(self.axis + 1) % 3: a, (self.axis + 2) % 3: b}

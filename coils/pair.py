@@ -164,7 +164,20 @@ class HelmholtzPair(WoundPair):
     # --- the shape's terms (coils.winding.WoundPair) -------------------------------------------
     @classmethod
     def thermal_ring(cls, axis: str, sizes: tuple[Any, ...]) -> dict[str, Any]:
-        """The thermal model's ring: the coil itself, ``mean_radius_m`` = R, m."""
+        """The thermal model's ring: the coil itself, ``mean_radius_m`` = R, m.
+
+        Parameters
+        ----------
+        axis : {"x", "y", "z"}
+            The pair's axis (a ring has no vertical bars whatever its axis).
+        sizes : tuple of float or CasADi
+            The radius (R,), m.
+
+        Returns
+        -------
+        dict of str to float or CasADi
+            ``mean_radius_m`` = R, in the unit its name carries (m).
+        """
         return {"mean_radius_m": sizes[0]}
 
     @classmethod
@@ -173,7 +186,28 @@ class HelmholtzPair(WoundPair):
     ) -> dict[str, Any]:
         """Two coaxial loops of N turns at ±s/2: centre gain μ0 N R² / (R² + s²/4)^{3/2}
         (Biot-Savart on the axis), wire 2N · 2πR, Stefan's self inductance (Rosa & Grover
-        1912, eq. 91) and N² times Maxwell's coaxial mutual inductance; SI, backend-generic."""
+        1912, eq. 91) and N² times Maxwell's coaxial mutual inductance; SI, backend-generic.
+
+        Parameters
+        ----------
+        sizes : tuple of float or CasADi
+            The radius (R,), m.
+        turns : int, float or CasADi
+            Turns N of each coil, count.
+        separation : float or CasADi
+            Distance s between the coil planes, m.
+        width : float or CasADi
+            Axial width b of each winding pack, m.
+        depth : float or CasADi
+            Radial depth c of each winding pack, m.
+
+        Returns
+        -------
+        dict of str to float or CasADi
+            The four terms by name, each in the unit its name carries: ``gain_T_per_A``, T/A;
+            ``length_m``, m; ``self_inductance_H`` (one coil) and ``mutual_filament_H``
+            (N² times the mean-radius loops'), H.
+        """
         radius = sizes[0]
         gain = (
             MU0_T_m_per_A
@@ -200,7 +234,24 @@ class HelmholtzPair(WoundPair):
         cls, axis: int, sizes: tuple[float, ...], offset: float, n: int
     ) -> np.ndarray:
         """n points evenly round the mean circle (radius R) in the plane ``x[axis] = offset``,
-        (n, 3), m."""
+        (n, 3), m.
+
+        Parameters
+        ----------
+        axis : int
+            The pair's axis, an index (0, 1, 2 for x, y, z).
+        sizes : tuple of float
+            The radius (R,), m.
+        offset : float
+            Axial coordinate of the circle's plane, m.
+        n : int
+            Number of points (evenly in angle, the first on the lower-numbered in-plane axis).
+
+        Returns
+        -------
+        ndarray, shape (n, 3)
+            The points, m.
+        """
         phi = np.linspace(0.0, 2.0 * np.pi, n, endpoint=False)
         u, v = [k for k in range(3) if k != axis]
         pts = np.zeros((n, 3))
@@ -213,18 +264,47 @@ class HelmholtzPair(WoundPair):
         cls, points: np.ndarray, axis: int, sizes: tuple[float, ...], offset: float
     ) -> np.ndarray:
         """Exact distance of points (n, 3) to the mean circle in the plane ``x[axis] =
-        offset``: hypot(ρ - R, x[axis] - offset), m."""
+        offset``: hypot(ρ - R, x[axis] - offset), m.
+
+        Parameters
+        ----------
+        points : ndarray, shape (n, 3)
+            The points, m.
+        axis : int
+            The pair's axis, an index (0, 1, 2 for x, y, z).
+        sizes : tuple of float
+            The radius (R,), m.
+        offset : float
+            Axial coordinate of the circle's plane, m.
+
+        Returns
+        -------
+        ndarray, shape (n,)
+            Distance of each point to the circle, m.
+        """
         radial = np.sqrt(np.sum(np.delete(points, axis, axis=1) ** 2, axis=1))
         return np.hypot(radial - sizes[0], points[:, axis] - offset)
 
     def pack_solids(self) -> tuple[Any, Any]:
-        """The two packs as solid rings (:func:`coils.clearance.pair_rings`)."""
+        """The two packs as solid rings (:func:`coils.clearance.pair_rings`).
+
+        Returns
+        -------
+        tuple of Ring
+            The coil at -s/2 and the coil at +s/2 (:class:`coils.clearance.Ring`, SI).
+        """
         from coils.clearance import pair_rings
 
         return pair_rings(self)
 
     def view_pack(self) -> Any:
-        """The packs for the view factors (:class:`coils.viewfactors.PackRing`)."""
+        """The packs for the view factors (:class:`coils.viewfactors.PackRing`).
+
+        Returns
+        -------
+        PackRing
+            The pair's axis index, mean radius, spacing, pack width and depth (SI).
+        """
         from coils.viewfactors import PackRing
 
         return PackRing(

@@ -302,7 +302,8 @@ class RectangleFilamentSet(SquareFilamentSet):
     half_sides_v_m : ndarray, shape (L,)
         Half side h_v along v (the axis after), m.
     axes, centres_m, turns, columns, column_axes : ndarray or tuple
-        As in :class:`coils.filaments.AxisFilaments`.
+        As in :class:`coils.filaments.AxisFilaments`: axis indices, axial centres (m), turns
+        (a count) and drive columns of the filaments, and the axis of each column.
     """
 
     half_sides_v_m: np.ndarray

@@ -139,14 +139,38 @@ class RectanglePair(WoundPair):
         return float(self.sides_m[0])
 
     def with_sizes(self, sizes_m: tuple[float, ...]) -> Any:
-        """This pair with sides ``sizes_m`` (a, b), m; at its default spacing it keeps it."""
+        """This pair with sides ``sizes_m`` (a, b), m; at its default spacing it keeps it.
+
+        Parameters
+        ----------
+        sizes_m : tuple of float
+            The new sides (a, b), m; a lone first side a keeps the aspect b / a
+            (:meth:`size_fields`).
+
+        Returns
+        -------
+        RectanglePair
+            A pair with those sides and this pair's other fields (``measured`` included),
+            at the default spacing of the new sides where this pair had its default spacing.
+        """
         helm = self.helmholtz
         return replace(
             self, **self.size_fields(sizes_m), separation_m=None if helm else self.separation_m
         )
 
     def size_fields(self, sizes: tuple[float, ...]) -> dict[str, Any]:
-        """``sides_m`` of sizes (a, b); a lone first side keeps the aspect b / a."""
+        """``sides_m`` of sizes (a, b); a lone first side keeps the aspect b / a.
+
+        Parameters
+        ----------
+        sizes : tuple of float
+            The sides (a, b), or the first side (a,) alone, m.
+
+        Returns
+        -------
+        dict of str to tuple of float
+            ``{"sides_m": (a, b)}``, in the unit its name carries (m).
+        """
         a = float(sizes[0])
         b = float(sizes[1]) if len(sizes) > 1 else a * self.sides_m[1] / self.sides_m[0]
         return {"sides_m": (a, b)}
@@ -158,50 +182,159 @@ class RectanglePair(WoundPair):
 
     @classmethod
     def scaled_sizes(cls, key: tuple[Any, ...], size: Any) -> tuple[Any, ...]:
-        """(a, a · b/a) for the aspect of ``key``, m."""
+        """(a, a · b/a) for the aspect of ``key``, m.
+
+        Parameters
+        ----------
+        key : tuple
+            The shape key (:attr:`shape_key`): the class and the aspect b / a.
+        size : float or CasADi
+            The first side a, m.
+
+        Returns
+        -------
+        tuple of float or CasADi
+            The sides (a, b), m.
+        """
         return (size, key[1] * size)
 
     @classmethod
     def spacing_per_size(cls, key: tuple[Any, ...]) -> float:
-        """The zero-curvature spacing / a at the aspect of ``key`` (a numerical root)."""
+        """The zero-curvature spacing / a at the aspect of ``key`` (a numerical root).
+
+        Parameters
+        ----------
+        key : tuple
+            The shape key (:attr:`shape_key`): the class and the aspect b / a.
+
+        Returns
+        -------
+        float
+            Default separation over the first side a, dimensionless
+            (:func:`coils.rectangle.helmholtz_spacing_ratio`; 0.5445 at b = a).
+        """
         return helmholtz_spacing_ratio(1.0, key[1])
 
     @classmethod
     def default_spacing_m(cls, sizes: tuple[Any, ...]) -> Any:
         """The spacing with zero centre curvature at sides (a, b), m (numbers only: a
-        numerical root, :func:`coils.rectangle.helmholtz_spacing_ratio`)."""
+        numerical root, :func:`coils.rectangle.helmholtz_spacing_ratio`).
+
+        Parameters
+        ----------
+        sizes : tuple of float
+            The sides (a, b), m (numbers, not CasADi expressions).
+
+        Returns
+        -------
+        float
+            Default separation of the coil planes, m.
+        """
         a, b = float(sizes[0]), float(sizes[1])
         return helmholtz_spacing_ratio(a, b) * a
 
     @classmethod
     def turn_length_m(cls, sizes: tuple[Any, ...]) -> Any:
-        """The mean turn, 2 (a + b), m (exact for the mitred frame)."""
+        """The mean turn, 2 (a + b), m (exact for the mitred frame).
+
+        Parameters
+        ----------
+        sizes : tuple of float or CasADi
+            The sides (a, b) along the next two axes in cyclic order, m.
+
+        Returns
+        -------
+        float or CasADi
+            Mean turn length 2 (a + b), m.
+        """
         return 2.0 * (sizes[0] + sizes[1])
 
     @classmethod
     def reach_m(cls, sizes: tuple[Any, ...]) -> Any:
-        """Distance from the axis to the middle of the longer sides, min(a, b)/2, m."""
+        """Distance from the axis to the middle of the longer sides, min(a, b)/2, m.
+
+        Parameters
+        ----------
+        sizes : tuple of float or CasADi
+            The sides (a, b) along the next two axes in cyclic order, m.
+
+        Returns
+        -------
+        float or CasADi
+            min(a, b)/2, m.
+        """
         return 0.5 * bk.fmin(sizes[0], sizes[1])
 
     @classmethod
     def depth_limit_m(cls, sizes: tuple[Any, ...]) -> Any:
-        """The pack's depth must stay below the shorter side, m."""
+        """The pack's depth must stay below the shorter side, m.
+
+        Parameters
+        ----------
+        sizes : tuple of float or CasADi
+            The sides (a, b) along the next two axes in cyclic order, m.
+
+        Returns
+        -------
+        float or CasADi
+            The depth limit min(a, b), m.
+        """
         return bk.fmin(sizes[0], sizes[1])
 
     @classmethod
     def reaches_m(cls, sizes: tuple[Any, ...]) -> tuple[Any, Any]:
-        """(a/2, b/2): the mean turn's half sides along the next two axes in cyclic order, m."""
+        """(a/2, b/2): the mean turn's half sides along the next two axes in cyclic order, m.
+
+        Parameters
+        ----------
+        sizes : tuple of float or CasADi
+            The sides (a, b) along the next two axes in cyclic order, m.
+
+        Returns
+        -------
+        tuple of float or CasADi
+            (a/2, b/2), m.
+        """
         return (0.5 * sizes[0], 0.5 * sizes[1])
 
     @classmethod
     def tube_radius_m(cls, width_m: Any, depth_m: Any) -> Any:
-        """The frame's sharp outer corner, sqrt(h²/2 + w²/4) from the mean turn's corner, m."""
+        """The frame's sharp outer corner, sqrt(h²/2 + w²/4) from the mean turn's corner, m.
+
+        Parameters
+        ----------
+        width_m : float or CasADi
+            Axial width w of the winding pack, m.
+        depth_m : float or CasADi
+            Depth h of the winding pack across each side, m.
+
+        Returns
+        -------
+        float or CasADi
+            Radius sqrt(h²/2 + w²/4) of the tube about the mean turn that holds the frame, m.
+        """
         return bk.sqrt(0.5 * depth_m * depth_m + 0.25 * width_m * width_m)
 
     @classmethod
     def thermal_ring(cls, axis: str, sizes: tuple[Any, ...]) -> dict[str, Any]:
         """A ring as long as the mean turn (radius (a + b)/π), with vertical bars of the side
-        along z where the frame stands in a vertical plane (x pair: b; y pair: a), m."""
+        along z where the frame stands in a vertical plane (x pair: b; y pair: a), m.
+
+        Parameters
+        ----------
+        axis : {"x", "y", "z"}
+            The pair's axis: the x and y frames stand in a vertical plane, the z frame lies
+            flat.
+        sizes : tuple of float or CasADi
+            The sides (a, b) along the next two axes in cyclic order, m.
+
+        Returns
+        -------
+        dict of str to float or CasADi
+            :class:`coils.thermal.WindingPack` fields by name, each in the unit its name
+            carries (m): ``mean_radius_m`` = (a + b)/π, and ``vertical_bar_height_m`` for the
+            x and y pairs (absent for z).
+        """
         ring = {"mean_radius_m": cls.turn_length_m(sizes) / (2.0 * bk.pi)}
         if axis == "z":
             return ring
@@ -214,7 +347,28 @@ class RectanglePair(WoundPair):
         """Two rectangles of N turns at ±s/2: centre gain 2 N B1(s/2)
         (:func:`coils.rectangle.rectangle_axial_field_T_per_A`), wire 2N · 2(a + b), N² times
         Grover's rectangle with the section's GMD and N² times the centre-line rectangles'
-        mutual inductance; SI, backend-generic."""
+        mutual inductance; SI, backend-generic.
+
+        Parameters
+        ----------
+        sizes : tuple of float or CasADi
+            The sides (a, b) along the next two axes in cyclic order, m.
+        turns : int, float or CasADi
+            Turns N of each coil, count.
+        separation : float or CasADi
+            Distance s between the coil planes, m.
+        width : float or CasADi
+            Axial width w of each winding pack, m.
+        depth : float or CasADi
+            Depth h of each winding pack across each side, m.
+
+        Returns
+        -------
+        dict of str to float or CasADi
+            The four terms by name, each in the unit its name carries: ``gain_T_per_A``, T/A;
+            ``length_m``, m; ``self_inductance_H`` (one coil) and ``mutual_filament_H``
+            (N² times the centre-line rectangles'), H.
+        """
         a, b = sizes
         return {
             "gain_T_per_A": 2.0 * turns * rectangle_axial_field_T_per_A(a, b, 0.5 * separation),
@@ -231,7 +385,24 @@ class RectanglePair(WoundPair):
     def mean_turn_points(
         cls, axis: int, sizes: tuple[float, ...], offset: float, n: int
     ) -> np.ndarray:
-        """n points along the mean rectangle in the plane ``x[axis] = offset``, (n, 3), m."""
+        """n points along the mean rectangle in the plane ``x[axis] = offset``, (n, 3), m.
+
+        Parameters
+        ----------
+        axis : int
+            The pair's axis, an index (0, 1, 2 for x, y, z).
+        sizes : tuple of float
+            The sides (a, b) along the next two axes in cyclic order, m.
+        offset : float
+            Axial coordinate of the rectangle's plane, m.
+        n : int
+            Number of points (a quarter on each side, evenly along it).
+
+        Returns
+        -------
+        ndarray, shape (n, 3)
+            The points, m.
+        """
         su, sv = _ascending(axis, sizes)
         return _rectangle_points(axis, su, sv, offset, n)
 
@@ -239,12 +410,36 @@ class RectanglePair(WoundPair):
     def mean_turn_distance_m(
         cls, points: np.ndarray, axis: int, sizes: tuple[float, ...], offset: float
     ) -> np.ndarray:
-        """Exact distance of points (n, 3) to the mean rectangle, m."""
+        """Exact distance of points (n, 3) to the mean rectangle, m.
+
+        Parameters
+        ----------
+        points : ndarray, shape (n, 3)
+            The points, m.
+        axis : int
+            The pair's axis, an index (0, 1, 2 for x, y, z).
+        sizes : tuple of float
+            The sides (a, b) along the next two axes in cyclic order, m.
+        offset : float
+            Axial coordinate of the rectangle's plane, m.
+
+        Returns
+        -------
+        ndarray, shape (n,)
+            Distance of each point to the rectangle's perimeter, m.
+        """
         su, sv = _ascending(axis, sizes)
         return _rectangle_distance(points, axis, su, sv, offset)
 
     def pack_solids(self) -> tuple[Any, Any]:
-        """The two packs as solid frames of sides a ± h, b ± h at ∓s/2."""
+        """The two packs as solid frames of sides a ± h, b ± h at ∓s/2.
+
+        Returns
+        -------
+        tuple of Frame
+            The coil at -s/2 and the coil at +s/2 (:class:`coils.clearance.Frame` of mean
+            sides a, b and the pack's width and depth, SI).
+        """
         from coils.clearance import Frame
 
         half = 0.5 * self.spacing_m
@@ -255,7 +450,13 @@ class RectanglePair(WoundPair):
         )
 
     def view_pack(self) -> Any:
-        """The packs for the view factors (:class:`coils.viewfactors.PackFrame`)."""
+        """The packs for the view factors (:class:`coils.viewfactors.PackFrame`).
+
+        Returns
+        -------
+        PackFrame
+            The pair's axis index, sides a and b, spacing, pack width and depth (SI).
+        """
         from coils.viewfactors import PackFrame
 
         a, b = self.sizes_m

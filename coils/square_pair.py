@@ -251,19 +251,59 @@ class SquarePair(WoundPair):
     # --- the shape's terms (coils.winding.WoundPair) -------------------------------------------
     @classmethod
     def reach_m(cls, sizes: tuple[Any, ...]) -> Any:
-        """Distance from the axis to the middle of the mean turn's sides, a/2, m."""
+        """Distance from the axis to the middle of the mean turn's sides, a/2, m.
+
+        Parameters
+        ----------
+        sizes : tuple of float or CasADi
+            The side (a,), m.
+
+        Returns
+        -------
+        float or CasADi
+            a/2, m.
+        """
         return 0.5 * sizes[0]
 
     @classmethod
     def tube_radius_m(cls, width_m: Any, depth_m: Any) -> Any:
         """Radius of the tube about the mean turn that holds the frame: its sharp outer corner,
-        (h/2, h/2, w/2) from the mean turn's corner, is sqrt(h²/2 + w²/4) away, m."""
+        (h/2, h/2, w/2) from the mean turn's corner, is sqrt(h²/2 + w²/4) away, m.
+
+        Parameters
+        ----------
+        width_m : float or CasADi
+            Axial width w of the winding pack, m.
+        depth_m : float or CasADi
+            Depth h of the winding pack across each side, m.
+
+        Returns
+        -------
+        float or CasADi
+            Tube radius sqrt(h²/2 + w²/4), m.
+        """
         return bk.sqrt(0.5 * depth_m * depth_m + 0.25 * width_m * width_m)
 
     @classmethod
     def thermal_ring(cls, axis: str, sizes: tuple[Any, ...]) -> dict[str, Any]:
         """A ring as long as the mean turn (radius 4a/(2π)) with vertical bars of height a
-        where the frame stands in a vertical plane (the x and y pairs), m."""
+        where the frame stands in a vertical plane (the x and y pairs), m.
+
+        Parameters
+        ----------
+        axis : {"x", "y", "z"}
+            The pair's axis: the x and y frames stand in a vertical plane, the z frame lies
+            flat.
+        sizes : tuple of float or CasADi
+            The side (a,), m.
+
+        Returns
+        -------
+        dict of str to float or CasADi
+            :class:`coils.thermal.WindingPack` fields by name, each in the unit its name
+            carries (m): ``mean_radius_m`` = 2a/π, and ``vertical_bar_height_m`` = a for the x
+            and y pairs (absent for z).
+        """
         side = sizes[0]
         bars = {"vertical_bar_height_m": side} if axis != "z" else {}
         return {"mean_radius_m": 4.0 * side / (2.0 * bk.pi), **bars}
@@ -275,7 +315,28 @@ class SquarePair(WoundPair):
         """Two square loops of N turns, side a, at ±s/2: centre gain
         4 μ0 N a² / (π (a² + s²) sqrt(a²/2 + s²/4)) (each side a finite straight wire), wire
         2N · 4a, N² times Grover's square with the section's geometric mean distance, and N²
-        times the coaxial centre-line squares' mutual inductance; SI, backend-generic."""
+        times the coaxial centre-line squares' mutual inductance; SI, backend-generic.
+
+        Parameters
+        ----------
+        sizes : tuple of float or CasADi
+            The side (a,), m.
+        turns : int, float or CasADi
+            Turns N of each coil, count.
+        separation : float or CasADi
+            Distance s between the coil planes, m.
+        width : float or CasADi
+            Axial width w of each winding pack, m.
+        depth : float or CasADi
+            Depth h of each winding pack across each side, m.
+
+        Returns
+        -------
+        dict of str to float or CasADi
+            The four terms by name, each in the unit its name carries: ``gain_T_per_A``, T/A;
+            ``length_m``, m; ``self_inductance_H`` (one coil) and ``mutual_filament_H``
+            (N² times the centre-line squares'), H.
+        """
         side = sizes[0]
         half = 0.5 * side
         a2, s2 = side * side, separation * separation
@@ -296,7 +357,24 @@ class SquarePair(WoundPair):
         cls, axis: int, sizes: tuple[float, ...], offset: float, n: int
     ) -> np.ndarray:
         """n points evenly along the mean square (side a, sides along the other two axes) in
-        the plane ``x[axis] = offset``, (n, 3), m."""
+        the plane ``x[axis] = offset``, (n, 3), m.
+
+        Parameters
+        ----------
+        axis : int
+            The pair's axis, an index (0, 1, 2 for x, y, z).
+        sizes : tuple of float
+            The side (a,), m.
+        offset : float
+            Axial coordinate of the square's plane, m.
+        n : int
+            Number of points (evenly along the perimeter, the same step on every side).
+
+        Returns
+        -------
+        ndarray, shape (n, 3)
+            The points, m.
+        """
         return _rectangle_points(axis, sizes[0], sizes[0], offset, n)
 
     @classmethod
@@ -304,11 +382,35 @@ class SquarePair(WoundPair):
         cls, points: np.ndarray, axis: int, sizes: tuple[float, ...], offset: float
     ) -> np.ndarray:
         """Exact distance of points (n, 3) to the mean square in the plane ``x[axis] =
-        offset``, m."""
+        offset``, m.
+
+        Parameters
+        ----------
+        points : ndarray, shape (n, 3)
+            The points, m.
+        axis : int
+            The pair's axis, an index (0, 1, 2 for x, y, z).
+        sizes : tuple of float
+            The side (a,), m.
+        offset : float
+            Axial coordinate of the square's plane, m.
+
+        Returns
+        -------
+        ndarray, shape (n,)
+            Distance of each point to the square's perimeter, m.
+        """
         return _rectangle_distance(points, axis, sizes[0], sizes[0], offset)
 
     def pack_solids(self) -> tuple[Any, Any]:
-        """The two packs as solid frames (:class:`coils.clearance.Frame`) at ∓s/2."""
+        """The two packs as solid frames (:class:`coils.clearance.Frame`) at ∓s/2.
+
+        Returns
+        -------
+        tuple of Frame
+            The coil at -s/2 and the coil at +s/2: square frames of side a, the pack's width and
+            depth (SI).
+        """
         from coils.clearance import Frame
 
         half = 0.5 * self.spacing_m
@@ -324,7 +426,14 @@ class SquarePair(WoundPair):
         )
 
     def view_pack(self) -> Any:
-        """The packs for the view factors (:class:`coils.viewfactors.PackFrame`)."""
+        """The packs for the view factors (:class:`coils.viewfactors.PackFrame`).
+
+        Returns
+        -------
+        PackFrame
+            The pair's axis index, side a, spacing, pack width and depth (a square: no second
+            side; SI).
+        """
         from coils.viewfactors import PackFrame
 
         return PackFrame(

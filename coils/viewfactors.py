@@ -96,7 +96,15 @@ class PackFrame:
 
     def halves(self) -> tuple[float, float, float, float]:
         """Outer and inner half extents of the section along u = (a+1) % 3 and w = (a+2) % 3,
-        ``(out_u, out_w, in_u, in_w)``, m (side_v_m None: a square)."""
+        ``(out_u, out_w, in_u, in_w)``, m (side_v_m None: a square).
+
+        Returns
+        -------
+        out_u, out_w : float
+            Half extents of the frame's outer faces along u and w, (side + depth)/2, m.
+        in_u, in_w : float
+            Half extents of its inner faces (the hole) along u and w, (side - depth)/2, m.
+        """
         a = self.side_m
         b = a if self.side_v_m is None else self.side_v_m
         d = self.depth_m

@@ -237,7 +237,19 @@ class WoundPair:
 
     def with_sizes(self, sizes_m: tuple[float, ...]) -> Any:
         """This pair with sizes ``sizes_m`` (the order of :attr:`SIZE_NAMES`, m); a pair at
-        its default spacing keeps it; it carries no measured constants."""
+        its default spacing keeps it; it carries no measured constants.
+
+        Parameters
+        ----------
+        sizes_m : tuple of float
+            The new sizes in the order of :attr:`SIZE_NAMES`, m.
+
+        Returns
+        -------
+        WoundPair
+            A pair of the same class and fields but those sizes, ``measured`` None, and the
+            default spacing of the new sizes where this pair had its default spacing.
+        """
         from dataclasses import replace
 
         me: Any = self
@@ -258,16 +270,54 @@ class WoundPair:
     @classmethod
     def scaled_sizes(cls, key: tuple[Any, ...], size: Any) -> tuple[Any, ...]:
         """The sizes (:attr:`SIZE_NAMES` order) of a pair of shape ``key`` whose first size is
-        ``size`` (backend-generic), m."""
+        ``size`` (backend-generic), m.
+
+        Parameters
+        ----------
+        key : tuple
+            The shape key (:attr:`shape_key`): the pair class and any fixed number its sizes
+            follow.
+        size : float or CasADi
+            The first (free) size, m.
+
+        Returns
+        -------
+        tuple of float or CasADi
+            The sizes in :attr:`SIZE_NAMES` order, m: ``(size,)`` for a one-size pair.
+        """
         return (size,)
 
     @classmethod
     def spacing_per_size(cls, key: tuple[Any, ...]) -> float:
-        """Default spacing / first size of a pair of shape ``key``, dimensionless."""
+        """Default spacing / first size of a pair of shape ``key``, dimensionless.
+
+        Parameters
+        ----------
+        key : tuple
+            The shape key (:attr:`shape_key`).
+
+        Returns
+        -------
+        float
+            Default separation over the first size, dimensionless (the class's
+            ``_DEFAULT_SPACING_PER_SIZE``: 1 for a circle, 0.5445 for a square).
+        """
         return cls._DEFAULT_SPACING_PER_SIZE
 
     def size_fields(self, sizes: tuple[float, ...]) -> dict[str, Any]:
-        """The dataclass fields that set sizes ``sizes``, by name (for ``dataclasses.replace``)."""
+        """The dataclass fields that set sizes ``sizes``, by name (for ``dataclasses.replace``).
+
+        Parameters
+        ----------
+        sizes : tuple of float
+            Sizes in :attr:`SIZE_NAMES` order, m.
+
+        Returns
+        -------
+        dict of str to float
+            The size field by its name (``radius_m`` or ``side_m``), in the unit its name
+            carries (m).
+        """
         return {self._SIZE_KEY: float(sizes[0])}
 
     @property
@@ -284,35 +334,104 @@ class WoundPair:
 
     @classmethod
     def default_spacing_m(cls, sizes: tuple[Any, ...]) -> Any:
-        """The separation the pair has by default at sizes ``sizes``, m (backend-generic)."""
+        """The separation the pair has by default at sizes ``sizes``, m (backend-generic).
+
+        Parameters
+        ----------
+        sizes : tuple of float or CasADi
+            Sizes in :attr:`SIZE_NAMES` order, m.
+
+        Returns
+        -------
+        float or CasADi
+            Default separation of the coil planes, m (the first size times the class's spacing
+            ratio).
+        """
         return cls._DEFAULT_SPACING_PER_SIZE * sizes[0]
 
     @classmethod
     def turn_length_m(cls, sizes: tuple[Any, ...]) -> Any:
-        """Length of the mean turn at sizes ``sizes``, m (backend-generic)."""
+        """Length of the mean turn at sizes ``sizes``, m (backend-generic).
+
+        Parameters
+        ----------
+        sizes : tuple of float or CasADi
+            Sizes in :attr:`SIZE_NAMES` order, m.
+
+        Returns
+        -------
+        float or CasADi
+            Mean turn length, m (the first size times the class's length per size).
+        """
         return cls._TURN_LENGTH_PER_SIZE * sizes[0]
 
     @classmethod
     def reach_m(cls, sizes: tuple[Any, ...]) -> Any:
-        """Least distance from the axis to the mean turn (R; a/2 of a square), m."""
+        """Least distance from the axis to the mean turn (R; a/2 of a square), m.
+
+        Parameters
+        ----------
+        sizes : tuple of float or CasADi
+            Sizes in :attr:`SIZE_NAMES` order, m.
+
+        Returns
+        -------
+        float or CasADi
+            The least distance, m (here the first size).
+        """
         return sizes[0]
 
     @classmethod
     def depth_limit_m(cls, sizes: tuple[Any, ...]) -> Any:
-        """What the pack's depth must stay below: R, or the (least) side of a frame, m."""
+        """What the pack's depth must stay below: R, or the (least) side of a frame, m.
+
+        Parameters
+        ----------
+        sizes : tuple of float or CasADi
+            Sizes in :attr:`SIZE_NAMES` order, m.
+
+        Returns
+        -------
+        float or CasADi
+            The depth limit, m (here the first size).
+        """
         return sizes[0]
 
     @classmethod
     def reaches_m(cls, sizes: tuple[Any, ...]) -> tuple[Any, Any]:
         """Distance from the axis to the mean turn's middle along the next two axes in cyclic
-        order, m (R and R for a circle)."""
+        order, m (R and R for a circle).
+
+        Parameters
+        ----------
+        sizes : tuple of float or CasADi
+            Sizes in :attr:`SIZE_NAMES` order, m.
+
+        Returns
+        -------
+        tuple of float or CasADi
+            The two distances, m (here :meth:`reach_m` twice).
+        """
         r = cls.reach_m(sizes)
         return (r, r)
 
     @classmethod
     def tube_radius_m(cls, width_m: Any, depth_m: Any) -> Any:
         """Radius of the tube about the mean turn that holds the whole pack, m: half the
-        section's diagonal for a ring (backend-generic)."""
+        section's diagonal for a ring (backend-generic).
+
+        Parameters
+        ----------
+        width_m : float or CasADi
+            Axial width w of the winding pack, m.
+        depth_m : float or CasADi
+            Depth h of the winding pack across the turn, m.
+
+        Returns
+        -------
+        float or CasADi
+            Tube radius sqrt(w² + h²) / 2, m.
+        """
         return 0.5 * bk.sqrt(width_m * width_m + depth_m * depth_m)
 
     @classmethod
@@ -320,7 +439,26 @@ class WoundPair:
         cls, axis_index: int, sizes: tuple[Any, ...], separation_m: Any, width_m: Any, depth_m: Any
     ) -> list[Any]:
         """Half-extent of the two packs as solids along x, y and z, m (backend-generic): along
-        the axis s/2 + w/2, across it the mean turn's reach plus h/2."""
+        the axis s/2 + w/2, across it the mean turn's reach plus h/2.
+
+        Parameters
+        ----------
+        axis_index : int
+            The pair's axis, an index (0, 1, 2 for x, y, z).
+        sizes : tuple of float or CasADi
+            Sizes in :attr:`SIZE_NAMES` order, m.
+        separation_m : float or CasADi
+            Distance s between the coil planes, m.
+        width_m : float or CasADi
+            Axial width w of each winding pack, m.
+        depth_m : float or CasADi
+            Depth h of each winding pack across the turn, m.
+
+        Returns
+        -------
+        list of float or CasADi
+            The three half extents along x, y, z, m (:func:`coils.clearance.pair_extent_m`).
+        """
         from coils.clearance import pair_extent_m
 
         return pair_extent_m(axis_index, cls.reaches_m(sizes), separation_m, width_m, depth_m)
@@ -328,7 +466,21 @@ class WoundPair:
     @classmethod
     def thermal_ring(cls, axis: str, sizes: tuple[Any, ...]) -> dict[str, Any]:
         """The thermal model's ring (:class:`coils.thermal.WindingPack`): ``mean_radius_m`` of
-        the circle as long as the mean turn, and a frame's ``vertical_bar_height_m``, m."""
+        the circle as long as the mean turn, and a frame's ``vertical_bar_height_m``, m.
+
+        Parameters
+        ----------
+        axis : {"x", "y", "z"}
+            The pair's axis (a frame in a vertical plane has vertical bars).
+        sizes : tuple of float or CasADi
+            Sizes in :attr:`SIZE_NAMES` order, m.
+
+        Returns
+        -------
+        dict of str to float or CasADi
+            :class:`coils.thermal.WindingPack` fields by name, each in the unit its name
+            carries (m): here ``mean_radius_m``, the mean turn's length / 2π.
+        """
         return {"mean_radius_m": cls.turn_length_m(sizes) / (2.0 * bk.pi)}
 
     @classmethod
@@ -337,14 +489,53 @@ class WoundPair:
     ) -> dict[str, Any]:
         """The shape's closed forms at these sizes (backend-generic, SI): the two-filament
         centre gain ``gain_T_per_A``, the wire ``length_m`` of both coils, one coil's
-        ``self_inductance_H`` and N² times the centre-line filaments' ``mutual_filament_H``."""
+        ``self_inductance_H`` and N² times the centre-line filaments' ``mutual_filament_H``.
+
+        Parameters
+        ----------
+        sizes : tuple of float or CasADi
+            Sizes in :attr:`SIZE_NAMES` order, m.
+        turns : int, float or CasADi
+            Turns N of each coil, count.
+        separation : float or CasADi
+            Distance s between the coil planes, m.
+        width : float or CasADi
+            Axial width w of each winding pack, m.
+        depth : float or CasADi
+            Depth h of each winding pack across the turn, m.
+
+        Returns
+        -------
+        dict of str to float or CasADi
+            The four terms by name, each in the unit its name carries: ``gain_T_per_A``, T/A;
+            ``length_m``, m; ``self_inductance_H`` and ``mutual_filament_H``, H. The base
+            class has none (NotImplementedError): each shape supplies them.
+        """
         raise NotImplementedError
 
     @classmethod
     def mean_turn_points(
         cls, axis: int, sizes: tuple[float, ...], offset: float, n: int
     ) -> np.ndarray:
-        """n points evenly along the mean turn in the plane ``x[axis] = offset``, (n, 3), m."""
+        """n points evenly along the mean turn in the plane ``x[axis] = offset``, (n, 3), m.
+
+        Parameters
+        ----------
+        axis : int
+            The pair's axis, an index (0, 1, 2 for x, y, z).
+        sizes : tuple of float
+            Sizes in :attr:`SIZE_NAMES` order, m.
+        offset : float
+            Axial coordinate of the turn's plane, m.
+        n : int
+            Number of points.
+
+        Returns
+        -------
+        ndarray, shape (n, 3)
+            The points, m. The base class has none (NotImplementedError): each shape supplies
+            them.
+        """
         raise NotImplementedError
 
     @classmethod
@@ -352,16 +543,50 @@ class WoundPair:
         cls, points: np.ndarray, axis: int, sizes: tuple[float, ...], offset: float
     ) -> np.ndarray:
         """Exact distance of points (n, 3) to the mean turn in the plane ``x[axis] = offset``,
-        m."""
+        m.
+
+        Parameters
+        ----------
+        points : ndarray, shape (n, 3)
+            The points, m.
+        axis : int
+            The pair's axis, an index (0, 1, 2 for x, y, z).
+        sizes : tuple of float
+            Sizes in :attr:`SIZE_NAMES` order, m.
+        offset : float
+            Axial coordinate of the turn's plane, m.
+
+        Returns
+        -------
+        ndarray, shape (n,)
+            Distance of each point to the mean turn, m. The base class has none
+            (NotImplementedError): each shape supplies it.
+        """
         raise NotImplementedError
 
     # --- the pair's own solids, cooling and corrections ----------------------------------------
     def pack_solids(self) -> tuple[Any, Any]:
-        """The two packs as solids at ∓s/2 (:mod:`coils.clearance`)."""
+        """The two packs as solids at ∓s/2 (:mod:`coils.clearance`).
+
+        Returns
+        -------
+        tuple of two solids
+            The coil at -s/2 and the coil at +s/2 (a :class:`coils.clearance.Ring` or
+            :class:`coils.clearance.Frame` each, SI). The base class has none
+            (NotImplementedError): each shape supplies them.
+        """
         raise NotImplementedError
 
     def view_pack(self) -> Any:
-        """The pack geometry the view factors are traced on (:mod:`coils.viewfactors`)."""
+        """The pack geometry the view factors are traced on (:mod:`coils.viewfactors`).
+
+        Returns
+        -------
+        PackRing or PackFrame
+            The pair's packs (:class:`coils.viewfactors.PackRing` or
+            :class:`coils.viewfactors.PackFrame`, SI). The base class has none
+            (NotImplementedError): each shape supplies it.
+        """
         raise NotImplementedError
 
     @property
@@ -393,7 +618,14 @@ class WoundPair:
         """(gain, mutual) corrections of the closed forms (:meth:`terms`) to this pair: its
         exact centre field over the two-filament formula's, and the series inductance's excess
         over the formulas' self inductance, 2(L + M - L_formula), over 2 N² M_filament, so
-        2 L_formula + 2 c M_filament is the pair's series inductance exactly."""
+        2 L_formula + 2 c M_filament is the pair's series inductance exactly.
+
+        Returns
+        -------
+        tuple of float
+            (gain, mutual) correction factors, dimensionless: the centre field per ampere over
+            ``terms``' ``gain_T_per_A``, and (L + M - L_formula) / N² M_filament.
+        """
         q = self.terms(
             self.sizes_m,
             self.turns,

@@ -210,7 +210,7 @@ def derived_sizes(model: Any, values: Mapping[str, float]) -> dict[str, float]:
     model : DesignModel
         The design (its pairs' shapes).
     values : mapping of str to float
-        Hardware by :data:`NAMES` name.
+        Hardware by :data:`NAMES` name, each in the unit its name carries.
 
     Returns
     -------
@@ -576,11 +576,35 @@ class HardwareStructure:
     shapes: tuple = ()
 
     def shape(self, k: int) -> Any:
-        """Pair k's class (a ``coils.winding.WoundPair``)."""
+        """Pair k's class (a ``coils.winding.WoundPair``).
+
+        Parameters
+        ----------
+        k : int
+            The pair (0, 1, 2 for x, y, z), an index.
+
+        Returns
+        -------
+        type
+            The pair's class (``coils.HelmholtzPair``, ``coils.SquarePair``, ...), which gives
+            the shape's terms.
+        """
         return self.shapes[k][0]
 
     def key(self, k: int) -> tuple[Any, ...]:
-        """Pair k's shape key."""
+        """Pair k's shape key.
+
+        Parameters
+        ----------
+        k : int
+            The pair (0, 1, 2 for x, y, z), an index.
+
+        Returns
+        -------
+        tuple
+            Its ``shape_key``: the pair class and any fixed number its sizes follow (a
+            rectangle's aspect b / a).
+        """
         return self.shapes[k]
 
     @property
@@ -591,7 +615,21 @@ class HardwareStructure:
         return tuple(n for n in NAMES if n not in sizes or n in own)
 
     def sizes(self, hw: dict[str, Any], k: int) -> tuple[Any, ...]:
-        """Pair k's sizes as expressions (its ``SIZE_NAMES`` order), m."""
+        """Pair k's sizes as expressions (its ``SIZE_NAMES`` order), m.
+
+        Parameters
+        ----------
+        hw : dict of str to casadi.SX
+            The hardware expressions by name, in the unit each name carries.
+        k : int
+            The pair (0, 1, 2 for x, y, z), an index.
+
+        Returns
+        -------
+        tuple of casadi.SX
+            The sizes (R; a; a and b of a rectangle), m: its free size and those that follow
+            it (``scaled_sizes``).
+        """
         return self.shape(k).scaled_sizes(self.key(k), self.size(hw, k))
 
     def size(self, hw: dict[str, Any], k: int) -> Any:

@@ -351,7 +351,17 @@ _MODEL_NUMBERS = (
 def check_model(name: str, model: Any) -> None:
     """Refuse what is not a :class:`DesignModel` (TypeError) or one whose numbers are nonsense
     (InputError naming ``model.limits.current_A`` and its value): the rule of the ``model``
-    argument of the public functions (:func:`spiralcap.core.checks.guard`)."""
+    argument of the public functions (:func:`spiralcap.core.checks.guard`).
+
+    Parameters
+    ----------
+    name : str
+        The argument's name, which each error's key starts with (``model``, ...).
+    model : DesignModel
+        The value to check: its type, its numbers (frequency, temperatures, limits,
+        requirements, bounds; each by its rule) and each pair's own channel limits where it
+        has one.
+    """
     if not isinstance(model, DesignModel):
         raise TypeError(
             f"{name} = {model!r:.80}: an optimize.DesignModel (spiralcap.assemble.build_model) "
