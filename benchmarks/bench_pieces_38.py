@@ -26,7 +26,12 @@ SIX = [
     for ax in "xyz"
     for key in ("turns=100:800", "wire_diameter_mm=0.8:3.0")
 ]
-ROBUST = ["--set", "tissue.uncertainty.scale_sigma_log=0.3", "--set", "optimize.objective=margin_p05"]
+ROBUST = [
+    "--set",
+    "tissue.uncertainty.scale_sigma_log=0.3",
+    "--set",
+    "optimize.objective=margin_p05",
+]
 OUT = str(Path(tempfile.gettempdir()) / "spiralcap-bench-pieces-38.html")
 
 COMMANDS: dict[str, list[str]] = {
