@@ -131,6 +131,19 @@ class Evaluation(Viewable):
         Model inputs outside the paper's calibrated range.
     calibration_edges : tuple
         Model inputs inside that range but on its edge (torque_model.domain.calibration_edges).
+
+    Examples
+    --------
+    What :func:`evaluate` returns for the built-in design at its operating point (10°, 2 Hz) with the field its limits allow:
+
+    >>> from optimize import evaluate, prepare
+    >>> from spiralcap.assemble import build_model
+    >>> from spiralcap.design import load_design
+    >>> model = prepare(build_model(load_design(None, [])))
+    >>> ev = evaluate(model, frequency_bounds=False)
+    >>> print(f"{ev.field_amplitude_T * 1e3:.3f} mT ({ev.field_limited_by}), "
+    ...       f"margin {ev.margin_Nm * 1e3:.3f} mN m, safety factor {ev.safety_factor:.3f}")
+    10.627 mT (hot_spot_y), margin 1.633 mN m, safety factor 2.033
     """
 
     _view_kind: ClassVar[str] = "evaluation"
@@ -229,6 +242,17 @@ def worst_required(model: DesignModel, alpha: Any, f: Any) -> WorstRequired:
     -------
     WorstRequired
         Torques in N·m and the tissue index, broadcast like the inputs.
+
+    Examples
+    --------
+    >>> import math
+    >>> from optimize import prepare, worst_required
+    >>> from spiralcap.assemble import build_model
+    >>> from spiralcap.design import load_design
+    >>> model = prepare(build_model(load_design(None, [])))
+    >>> w = worst_required(model, math.radians(45.0), 2.0)
+    >>> print(f"{w.total_Nm * 1e3:.4f} mN m = {w.resistive_Nm * 1e3:.4f} resistive + {w.thrust_Nm * 1e3:.4f} thrust")
+    1.6628 mN m = 0.7384 resistive + 0.9245 thrust
     """
     model = prepare(model)
     c = model.constants
@@ -300,6 +324,19 @@ def margin_grid(
     -------
     MarginGrid
         The columns on the broadcast shape, SI.
+
+    Examples
+    --------
+    The built-in design at 30° and 45°, 2 Hz, in one call:
+
+    >>> import numpy as np
+    >>> from optimize import margin_grid, prepare
+    >>> from spiralcap.assemble import build_model
+    >>> from spiralcap.design import load_design
+    >>> model = prepare(build_model(load_design(None, [])))
+    >>> grid = margin_grid(model, np.radians([30.0, 45.0]), 2.0)
+    >>> print(np.round(grid.margin_Nm * 1e3, 4), np.round(grid.speed_m_s * 1e3, 2))  # mN m, mm/s
+    [1.8511 1.5495] [21.77 37.7 ]
     """
     model = prepare(model)
     c = model.constants
@@ -531,6 +568,19 @@ def step_out_frequency_hz(
     -------
     FrequencyBound
         The step-out frequency, Hz.
+
+    Examples
+    --------
+    Where the built-in design's capsule steps out at its operating field:
+
+    >>> import math
+    >>> from optimize import prepare, step_out_frequency_hz
+    >>> from spiralcap.assemble import build_model
+    >>> from spiralcap.design import load_design
+    >>> model = prepare(build_model(load_design(None, [])))
+    >>> bound = step_out_frequency_hz(model, math.radians(10.0))
+    >>> print(f"{bound.frequency_hz:.3f} Hz, beyond the search: {bound.beyond_search}")
+    5.128 Hz, beyond the search: False
     """
     model = prepare(model)
     c = model.constants
@@ -622,6 +672,7 @@ def evaluate(
     -------
     Evaluation
         Every figure and check at that operating point, SI.
+
     """
     model = prepare(model)
     c, req = model.constants, model.requirements

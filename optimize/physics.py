@@ -48,6 +48,18 @@ def exposure_level_T(frequency_hz: Any, kind: str) -> Any:
     -------
     float, array or CasADi
         Reference level, T (rms).
+
+    Examples
+    --------
+    ICNIRP 2010's occupational level at 4 Hz (a / f² below 8 Hz) and above 25 Hz (flat), and the
+    general public's at 4 Hz:
+
+    >>> from optimize import exposure_level_T
+    >>> for f, kind in ((4.0, "occupational"), (50.0, "occupational"), (4.0, "public")):
+    ...     print(f"{kind} at {f:g} Hz: {float(exposure_level_T(f, kind)) * 1e3:.3f} mT")
+    occupational at 4 Hz: 12.500 mT
+    occupational at 50 Hz: 1.000 mT
+    public at 4 Hz: 2.500 mT
     """
     a, b, c = ICNIRP2010_LEVELS_T[kind]
     f = bk.fmax(frequency_hz, 1.0)
