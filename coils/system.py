@@ -110,7 +110,7 @@ class ThreeAxisHelmholtz:
     >>> print(np.round(np.asarray(coils.centre_gains_T_per_A) * 1e3, 5))  # mT/A, each (4/5)^1.5 mu0 N/R
     [0.89918 0.89918 0.89918]
     >>> B = coils.field(np.array([[0.0, 0.0, 0.05]]), np.array([10.0, 0.0, 0.0]))
-    >>> print(np.round(B * 1e3, 4))  # mT at 5 cm up the z axis, 10 A in the x pair
+    >>> print(np.round(B * 1e3, 4) + 0.0)  # mT at 5 cm up the z axis, 10 A in the x pair
     [[8.9908 0.     0.    ]]
     """
 

@@ -14,7 +14,6 @@ from typing import Any, ClassVar, NamedTuple
 import numpy as np
 
 from optimize import physics as ph
-from optimize._roots import brentq
 from optimize.system import DesignModel, prepare
 from optimize.views import Viewable
 from torque_model.domain import calibration_edges, extrapolations
@@ -532,6 +531,8 @@ def _first_zero(margin, f_lo: float, f_hi: float) -> FrequencyBound:
     while hi - lo > 1:  # margin > 0 at lo, <= 0 at hi
         mid = (lo + hi) // 2
         lo, hi = (lo, mid) if reached(mid) else (mid, hi)
+    from scipy.optimize import brentq  # here: a command that never searches does not load it
+
     root = brentq(
         lambda f: float(margin(np.asarray(f))), grid[hi - 1], grid[hi], xtol=1e-12, rtol=1e-14
     )
