@@ -449,7 +449,7 @@ def pack_rings(coils: Any) -> list[Any]:
 
 
 def view_factors_of(coils: Any) -> Any:
-    """Diffuse view factors ``[room, x, y, z]`` of the three pairs (cached ray trace).
+    """Diffuse view factors ``[room, x, y, z]`` of the three pairs (a ray trace).
 
     Parameters
     ----------

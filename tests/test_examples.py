@@ -74,8 +74,8 @@ def test_enough_examples() -> None:
 
 @pytest.fixture(scope="module")
 def warm() -> None:
-    """The built-in design prepared and evaluated once (its compiled thermal states and pack
-    view factors are per-process caches), so each example's time is its own."""
+    """The built-in design prepared and evaluated once (its compiled thermal states are
+    per-process caches), so each example's time is its own."""
     from optimize import evaluate, prepare
     from spiralcap.assemble import build_model
     from spiralcap.design import load_design
