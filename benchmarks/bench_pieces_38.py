@@ -42,6 +42,14 @@ COMMANDS: dict[str, list[str]] = {
     "robust": ["optimize", "--json", *ROBUST],
     "report": ["report", "-o", OUT, "--workers", "1"],
     "sweep40": ["sweep", "--optimize", "--over", "limits.power_W=300:3000:40"],
+    "square-sizing": [
+        "optimize",
+        "--json",
+        "examples/square_coils.toml",
+        *SIX,
+        *("--free", "coils.x.side_m=0.7:1.2"),
+        *("--set", "optimize.objective=power", "--set", "requirements.min_safety_factor=2"),
+    ],
 }
 
 #: The filament scratch buffers and the ``out=`` twin off: the numpy field through the same
@@ -114,7 +122,7 @@ PIECES: dict[str, tuple[str, tuple[str, ...]]] = {
     "scalar_fast (pack conduction)": (SCALAR_FAST_OFF, ("evaluate", "sizing", "report")),
     "lru_cache clearance._closest": (
         _uncached("coils.clearance", "_closest"),
-        ("sizing", "report"),
+        ("sizing", "square-sizing", "report"),
     ),
     "lru_cache viewfactors.halton_points": (
         _uncached("coils.viewfactors", "halton_points"),
@@ -141,7 +149,10 @@ PIECES: dict[str, tuple[str, tuple[str, ...]]] = {
         ("optimize", "sizing", "sweep40"),
     ),
     "lru_cache hardware._gap": (_uncached("optimize.hardware", "_gap"), ("sizing",)),
-    "lru_cache hardware._shape_gap": (_uncached("optimize.hardware", "_shape_gap"), ("sizing",)),
+    "lru_cache hardware._shape_gap": (
+        _uncached("optimize.hardware", "_shape_gap"),
+        ("square-sizing",),
+    ),
 }
 
 

@@ -80,7 +80,7 @@ def warm() -> None:
     from spiralcap.assemble import build_model
     from spiralcap.design import load_design
 
-    evaluate(prepare(build_model(load_design(None, []))))
+    evaluate(prepare(build_model(load_design(None, []))), frequency_bounds=False)
 
 
 @pytest.mark.parametrize("name", sorted(TESTS))
