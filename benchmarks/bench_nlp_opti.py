@@ -81,13 +81,16 @@ def main() -> None:
         f"built-in optimize: {len(solves)} solves of its NLP ({X.shape[0]} variables, "
         f"{len(nlp.rows)} rows); posing it with Opti: {pose_s * 1e3:.1f} ms CPU"
     )
+    named = np.array([not v.name.startswith("positive_part[") for v in nlp.variables])
     for k, (x0, p, lo, hi) in enumerate(solves):
         own, theirs, its = [], [], set()
         x_own = x_opti = np.zeros(0)
+        f_own = f_opti = np.nan
         for _ in range(repeat):
             t0 = time.process_time()
             sol = nlp.solver(x0=x0, p=p, lbx=lo, ubx=hi, lbg=-np.inf, ubg=0.0)
             x_own, _ = np.asarray(sol["x"]).ravel(), np.asarray(sol["lam_g"]).ravel()
+            f_own = float(sol["f"])
             own.append(time.process_time() - t0)
             its.add(("builder", nlp.solver.stats()["iter_count"]))
 
@@ -96,14 +99,16 @@ def main() -> None:
             opti.set_initial(X, x0)
             s = opti.solve_limited()
             x_opti, _ = np.ravel(s.value(X)), s.value(opti.lam_g)
+            f_opti = float(s.value(opti.f))
             theirs.append(time.process_time() - t0)
             its.add(("Opti", s.stats()["iter_count"]))
         mo, mt = statistics.median(own), statistics.median(theirs)
         print(
             f"solve {k}: builder {mo * 1e3:.2f} ms, Opti {mt * 1e3:.2f} ms CPU (median of "
             f"{repeat}): Opti's overhead {(mt - mo) * 1e3:.2f} ms a solve; iterations "
-            f"{sorted(its)}; max |x_builder - x_Opti| {np.max(np.abs(x_own - x_opti)):.1e} "
-            "(scaled)",
+            f"{sorted(its)}; objective {abs(f_own - f_opti):.0e} apart; the variables "
+            f"{np.max(np.abs(x_own - x_opti)[named]):.0e} apart (scaled; the epigraph slacks, "
+            "free inside their bounds at the optimum, left out)",
             flush=True,
         )
 
