@@ -245,7 +245,7 @@ def test_loop_terms_numpy_matches_casadi_agm_on_both_branches() -> None:
 
 
 def test_filament_order_does_not_matter(nested_system) -> None:
-    """Grouped filaments (broadcast path) and a shuffled list (gather path) give one field."""
+    """Grouped filaments and a shuffled list of the same filaments give one field."""
     from coils.filaments import FilamentSet
 
     fs = nested_system.filament_set
