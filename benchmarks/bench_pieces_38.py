@@ -8,6 +8,10 @@ far less than the wall time. Prints, per piece and command, the median CPU secon
 the saving ``1 - on / off`` (docs/architecture.md: a piece stays only if it saves at least
 20 % of a command a user waits on for more than a second), the median wall time on, and the
 load average. Asserts nothing.
+
+Most of these pieces were retired by issue 38: measure them on a checkout of the tree before
+it, with ``PYTHONPATH`` pointing there (``git archive 925e794``); the kept ones (the
+``thermal_states`` and ``compile_problem`` memos) switch off on the current tree too.
 """
 
 from __future__ import annotations
