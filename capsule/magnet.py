@@ -52,6 +52,12 @@ def remanence_for_grade(grade: str) -> float:
     ------
     spiralcap.core.errors.InputError
         Naming ``grade`` for an unknown grade.
+
+    Examples
+    --------
+    >>> from capsule import remanence_for_grade
+    >>> print(f"N52: {remanence_for_grade('N52')} T")
+    N52: 1.44 T
     """
     key = grade.upper() if isinstance(grade, str) else grade
     if key not in GRADE_REMANENCE_T:
@@ -78,6 +84,17 @@ class Magnet:
     ------
     spiralcap.core.errors.InputError
         Naming the parameter at fault.
+
+    Examples
+    --------
+    An 8 × 10 mm N52 cylinder: its moment is B_r V / μ0:
+
+    >>> import math
+    >>> from capsule import Magnet
+    >>> m = Magnet(0.008, 0.010, 1.44)
+    >>> volume = math.pi * 0.004**2 * 0.010
+    >>> print(f"{m.moment_Am2:.5f} A m2; Br V / mu0 = {1.44 * volume / (4e-7 * math.pi):.5f}")
+    0.57600 A m2; Br V / mu0 = 0.57600
     """
 
     diameter_m: float

@@ -43,6 +43,16 @@ def body_volume_m3(diameter_m: Scalar, length_m: Scalar) -> Scalar:
     -------
     float or CasADi
         pi D² (L - D) / 4 + pi D³ / 6, m³.
+
+    Examples
+    --------
+    A 12 × 25 mm capsule, a cylinder of 13 mm with two hemispherical ends:
+
+    >>> import math
+    >>> from capsule import body_volume_m3
+    >>> by_hand = math.pi * 0.006**2 * 0.013 + 4 / 3 * math.pi * 0.006**3
+    >>> print(f"{body_volume_m3(0.012, 0.025) * 1e6:.4f} cm3; by hand {by_hand * 1e6:.4f}")
+    2.3750 cm3; by hand 2.3750
     """
     return 0.25 * math.pi * diameter_m**2 * (length_m - diameter_m) + math.pi * diameter_m**3 / 6.0
 

@@ -192,6 +192,20 @@ class Capsule:
     ------
     spiralcap.core.errors.InputError
         For the first problem :func:`geometry_problems` finds, naming e.g. ``magnet.diameter_m``.
+
+    Examples
+    --------
+    An 11 × 26 mm capsule with a 1 mm wire at 45° and an 8 × 10 mm N52 magnet:
+
+    >>> import math
+    >>> from capsule import Body, Capsule, Magnet, Spiral
+    >>> cap = Capsule(
+    ...     Body(0.011, 0.026, 0.0005),
+    ...     Spiral(math.radians(45.0), 0.001, 0.015, 1),
+    ...     Magnet(0.008, 0.010, 1.44),
+    ... )
+    >>> print(f"{cap.mass_kg * 1e3:.2f} g, moment {cap.magnet.moment_Am2:.3f} A m2")
+    5.88 g, moment 0.576 A m2
     """
 
     body: Body

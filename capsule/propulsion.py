@@ -39,6 +39,14 @@ def forward_speed_m_s(frequency_hz: Any, lead_m: Any, slip_efficiency: Any) -> A
     -------
     float, array or CasADi
         Speed along the capsule axis, m/s.
+
+    Examples
+    --------
+    2 Hz on a 30 mm lead at half slip efficiency:
+
+    >>> from capsule import forward_speed_m_s
+    >>> print(f"{forward_speed_m_s(2.0, 0.03, 0.5) * 1e3:.1f} mm/s")
+    30.0 mm/s
     """
     return slip_efficiency * frequency_hz * lead_m
 

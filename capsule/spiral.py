@@ -52,6 +52,14 @@ def helix_diameter_m(body_diameter_m: Any, wire_diameter_m: Any) -> Any:
     -------
     float, array or CasADi
         Helix (centre-line) diameter ``D_h``, m.
+
+    Examples
+    --------
+    A 1 mm wire on an 11 mm body winds on an 12 mm helix (centre line of the wire):
+
+    >>> from capsule import helix_diameter_m
+    >>> print(f"{helix_diameter_m(0.011, 0.001) * 1e3:.1f} mm")
+    12.0 mm
     """
     return body_diameter_m + wire_diameter_m
 
@@ -75,6 +83,15 @@ def lead_m(helical_angle_rad: Any, helix_diameter_m: Any) -> Any:
     Notes
     -----
     Unrolled helix (a right triangle of base ``pi D_h``); the helical angle to the cross-section plane as in Zhou et al. 2013, section II-A.
+
+    Examples
+    --------
+    At 45° the lead equals the helix's circumference, π D:
+
+    >>> import math
+    >>> from capsule import lead_m
+    >>> print(f"{lead_m(math.radians(45.0), 0.012) * 1e3:.3f} mm; pi D = {math.pi * 12:.3f} mm")
+    37.699 mm; pi D = 37.699 mm
     """
     return bk.pi * helix_diameter_m * bk.tan(helical_angle_rad)
 
@@ -96,6 +113,15 @@ def spiral_turns(helical_angle_rad: Any, helix_diameter_m: Any, wound_length_m: 
     -------
     float, array or CasADi
         Number of turns (not rounded; 0.7 means 70 % of one revolution). Decreases with alpha.
+
+    Examples
+    --------
+    15 mm of spiral on a 12 mm helix at 45°: 15 mm over a 37.7 mm lead:
+
+    >>> import math
+    >>> from capsule import spiral_turns
+    >>> print(f"{spiral_turns(math.radians(45.0), 0.012, 0.015):.4f} turns")
+    0.3979 turns
     """
     return wound_length_m / lead_m(helical_angle_rad, helix_diameter_m)
 

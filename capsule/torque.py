@@ -39,6 +39,15 @@ def magnetic_torque_Nm(moment_Am2_vec: Any, field_T_vec: Any) -> np.ndarray:
     Exact for a uniform field; for a finite magnet in a non-uniform field the field is taken at
     the magnet's centre (the capsule's magnet is millimetres across, the coils tens of
     centimetres, so the error is of order (magnet size / coil radius)^2).
+
+    Examples
+    --------
+    A 0.1 A m² moment along x in a 10 mT field along y: τ = m × B, 1 mN m about z:
+
+    >>> import numpy as np
+    >>> from capsule import magnetic_torque_Nm
+    >>> print(magnetic_torque_Nm(np.array([0.1, 0.0, 0.0]), np.array([0.0, 0.01, 0.0])) * 1e3)
+    [0. 0. 1.]
     """
     return np.cross(np.asarray(moment_Am2_vec, dtype=float), np.asarray(field_T_vec, dtype=float))
 
@@ -58,6 +67,12 @@ def max_synchronous_torque_Nm(moment_Am2: Any, field_amplitude_T: Any) -> Any:
     -------
     float, array or CasADi
         Torque, N·m.
+
+    Examples
+    --------
+    >>> from capsule import max_synchronous_torque_Nm
+    >>> print(f"{max_synchronous_torque_Nm(0.1, 0.01) * 1e3:.3f} mN m")  # m B0
+    1.000 mN m
     """
     return moment_Am2 * field_amplitude_T
 
@@ -79,6 +94,15 @@ def synchronous_torque_Nm(moment_Am2: Any, field_amplitude_T: Any, lag_angle_rad
     -------
     float, array or CasADi
         Torque about the rotation axis, N·m.
+
+    Examples
+    --------
+    Lagging the field by 30° the magnet gives half its largest torque, m B0 sin 30°:
+
+    >>> import math
+    >>> from capsule import synchronous_torque_Nm
+    >>> print(f"{synchronous_torque_Nm(0.1, 0.01, math.radians(30.0)) * 1e3:.3f} mN m")
+    0.500 mN m
     """
     return moment_Am2 * field_amplitude_T * bk.sin(lag_angle_rad)
 
@@ -103,6 +127,15 @@ def lag_angle_rad(load_torque_Nm: Any, moment_Am2: Any, field_amplitude_T: Any) 
         synchronous solution (step-out) and the result is NaN: silently on the numpy path, and on
         the CasADi path when the expression is evaluated. Optimisers should constrain
         ``m B0 - load`` instead of calling this near step-out.
+
+    Examples
+    --------
+    The inverse of :func:`synchronous_torque_Nm`: half the largest torque needs a 30° lag:
+
+    >>> import math
+    >>> from capsule import lag_angle_rad
+    >>> print(f"{math.degrees(lag_angle_rad(0.0005, 0.1, 0.01)):.6f} deg")
+    30.000000 deg
     """
     ratio = load_torque_Nm / (moment_Am2 * field_amplitude_T)
     with np.errstate(invalid="ignore"):

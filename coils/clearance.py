@@ -25,7 +25,6 @@ ring's surface search with the frame's signed distance.
 
 from __future__ import annotations
 
-import functools
 import itertools
 import math
 from dataclasses import dataclass
@@ -497,7 +496,6 @@ def _frames_closest(a: Frame, b: Frame) -> tuple[float, np.ndarray, np.ndarray]:
     return frame_distance_m(a, b), best[1], best[2]
 
 
-@functools.lru_cache(maxsize=4096)
 def _closest(a: Ring, b: Any) -> tuple[float, np.ndarray, Any]:
     per = 2.0 * (a.width_m + a.depth_m)
     n_phi, n_s = _GRID

@@ -27,7 +27,6 @@ other packs) is superposed exactly the same way.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 from typing import Any
 
@@ -35,12 +34,6 @@ from spiralcap.core import backend as bk
 
 __all__ = ["RobinStatics", "RobinTransient", "eigenvalues", "robin_statics", "robin_transient"]
 
-
-_sin = bk.scalar_fast(math.sin, bk.sin)
-_cos = bk.scalar_fast(math.cos, bk.cos)
-_exp = bk.scalar_fast(math.exp, bk.exp)
-_atan = bk.scalar_fast(math.atan, bk.arctan)
-_sqrt = bk.scalar_fast(math.sqrt, bk.sqrt)
 
 _NEWTON = 5
 _STATIC_TERMS = 3
@@ -66,9 +59,9 @@ def eigenvalues(biot: Any, count: int) -> list[Any]:
     out = []
     for m in range(count):
         base = m * bk.pi
-        beta = _atan(_sqrt(biot)) if m == 0 else base + _atan(biot / base)
+        beta = bk.arctan(bk.sqrt(biot)) if m == 0 else base + bk.arctan(biot / base)
         for _ in range(_NEWTON):
-            g = beta - base - _atan(biot / beta)
+            g = beta - base - bk.arctan(biot / beta)
             dg = 1.0 + biot / (beta * beta + biot * biot)
             beta = beta - g / dg
         out.append(beta)
@@ -77,7 +70,7 @@ def eigenvalues(biot: Any, count: int) -> list[Any]:
 
 def _projection(beta: Any) -> Any:
     """Coefficient of cos(β x/a) in the expansion of 1 on [0, a]."""
-    return 2.0 * _sin(beta) / (beta + _sin(beta) * _cos(beta))
+    return 2.0 * bk.sin(beta) / (beta + bk.sin(beta) * bk.cos(beta))
 
 
 @dataclass(frozen=True)
@@ -114,14 +107,14 @@ def _statics(width_m: Any, depth_m: Any, h_W_m2K: Any, k_W_mK: Any) -> tuple[Any
         mu = beta / a
         s = _projection(beta) / (mu * mu)
         z = mu * b
-        e = _exp(-z)
+        e = bk.exp(-z)
         th = (1.0 - e * e) / (1.0 + e * e)
         sech = 2.0 * e / (1.0 + e * e)
         inv = 1.0 / (1.0 + beta / bi * th)
         centre = centre - s * sech * inv
-        face_a = face_a - s * _cos(beta) * sech * inv
+        face_a = face_a - s * bk.cos(beta) * sech * inv
         face_b = face_b - s * inv
-        mean = mean - s * (_sin(beta) / beta) * th / z * inv
+        mean = mean - s * (bk.sin(beta) / beta) * th / z * inv
     return centre, mean, a * a * b / (bi * (a + b)), face_a, face_b
 
 
@@ -167,7 +160,7 @@ def _phi(z: Any) -> tuple[Any, Any]:
     """(e^z - 1)/z and (e^z - 1 - z)/z² for z <= 0, continuous through z = 0."""
     small = bk.abs(z) < 1e-4
     zs = bk.where(small, -1.0, z)
-    em1 = _exp(zs) - 1.0
+    em1 = bk.exp(zs) - 1.0
     phi1 = bk.where(small, 1.0 + z / 2.0 + z * z / 6.0, em1 / zs)
     phi2 = bk.where(small, 0.5 + z / 6.0 + z * z / 24.0, (em1 - zs) / (zs * zs))
     return phi1, phi2
@@ -225,16 +218,16 @@ def robin_transient(
             gn = gammas[n]
             lam = diff * ((bm / a) ** 2 + (gn / b) ** 2)
             nmn = _projection(bm) * _projection(gn)
-            mean_m, mean_n = _sin(bm) / bm, _sin(gn) / gn
+            mean_m, mean_n = bk.sin(bm) / bm, bk.sin(gn) / gn
             rates.append(lam)
             gains.append(1.0 / heat_capacity_J_m3K)
             obs.append(
                 (
                     nmn,
                     nmn * mean_m * mean_n,
-                    nmn * (b * _cos(bm) * mean_n + a * _cos(gn) * mean_m) / (a + b),
-                    nmn * _cos(bm),
-                    nmn * _cos(gn),
+                    nmn * (b * bk.cos(bm) * mean_n + a * bk.cos(gn) * mean_m) / (a + b),
+                    nmn * bk.cos(bm),
+                    nmn * bk.cos(gn),
                 )
             )
     slow_left_out = diff * ((betas[_MODES] / a) ** 2 + (gammas[0] / b) ** 2)
@@ -255,15 +248,15 @@ def robin_transient(
         """Response of observable i to a unit sink step: 1 - Σ N O e^(-λ t) (all modes)."""
         left = 0.0
         for j in range(len(rates)):
-            left = left + obs[j][i] * _exp(-rates[j] * t)
-        return 1.0 - left - uniform_left[i] * _exp(-slow_left_out * t)
+            left = left + obs[j][i] * bk.exp(-rates[j] * t)
+        return 1.0 - left - uniform_left[i] * bk.exp(-slow_left_out * t)
 
     dt = time_s / _STEPS
     coef = []
     for lam in [*rates, slow_left_out]:
         z = -lam * dt
         p1, p2 = _phi(z)
-        coef.append((_exp(z), p1 * dt, p2 * dt))
+        coef.append((bk.exp(z), p1 * dt, p2 * dt))
     nmodes = len(rates)
 
     def mean_rise(c: list[Any], r: list[Any], t: Any) -> Any:

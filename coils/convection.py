@@ -238,7 +238,7 @@ def pack_convection_W_m2K(
     float or CasADi
         Convective heat transfer coefficient, W/(m²·K).
     """
-    return _pack_convection(
+    return _pack_convection_W_m2K(
         width_m, depth_m, surface_C, ambient_C, air_speed_m_s, bool(vertical_axis), bool(forced)
     )
 
@@ -279,10 +279,6 @@ def _pack_convection_W_m2K(
     re = air_speed_m_s * diam / nu
     h_forced = forced_cylinder_nusselt(re, pr) * k / diam
     return (h_forced**3 + h_nat**3) ** (1.0 / 3.0)
-
-
-#: the correlation traced once per orientation and cooling for the NLPs (an SX function)
-_pack_convection = bk.symbolic_once(_pack_convection_W_m2K, 5)
 
 
 def vertical_bar_convection_W_m2K(

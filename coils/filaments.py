@@ -17,15 +17,13 @@ so the field matrix is G(p) = p S^T + diag-like T and B = G(p) I.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
-from contextvars import ContextVar
 from dataclasses import dataclass, field
 from typing import Any, ClassVar, Literal
 
 import numpy as np
 
-from coils.loop import ROW_SCRATCH, loop_terms, loop_terms_rows
+from coils.loop import loop_terms
 from spiralcap.core import backend as bk
 from spiralcap.core.backend import Scalar
 
@@ -35,25 +33,9 @@ __all__ = ["AXES", "AxisFilaments", "FilamentSet", "gauss_legendre_pack"]
 Axis = Literal["x", "y", "z"]
 AXES: tuple[Axis, Axis, Axis] = ("x", "y", "z")
 
-#: The last scratch of the numpy path (see FilamentSet._workspace): (sizes, buffers). A context
-#: variable, so every thread (a Dask worker's, a caller's own) has its own buffers.
-_WORK: ContextVar[tuple | None] = ContextVar("spiralcap_filament_scratch", default=None)
-
-#: Point-filament pairs per chunk on the numpy path: bounds the scratch (about 7 MB) and keeps
-#: it reused, whatever the number of filaments.
+#: Point-filament pairs per chunk on the numpy path: bounds the temporaries (about 20 arrays
+#: of this many floats), whatever the number of filaments.
 CHUNK_ELEMENTS = 49152
-
-
-def _groups(axes: np.ndarray) -> tuple[list[int], int] | None:
-    """(axis of each group, filaments per group) if the filaments come in contiguous runs of
-    equal length, one run per axis (every pair and system here); else None."""
-    axes = np.asarray(axes)
-    starts = np.flatnonzero(np.r_[True, axes[1:] != axes[:-1]])
-    counts = np.diff(np.r_[starts, axes.size])
-    order = axes[starts].tolist()
-    if len(set(order)) != len(order) or np.any(counts != counts[0]):
-        return None
-    return order, int(counts[0])
 
 
 def gauss_legendre_pack(
@@ -230,8 +212,9 @@ class AxisFilaments:
 class FilamentSet(AxisFilaments):
     """Circular filaments: the loops of :class:`AxisFilaments` with a radius each.
 
-    The field is the module docstring's S/T form: the numpy path shares ρ per axis and keeps
-    its scratch from call to call (:meth:`_terms_rows`); the CasADi path is :meth:`terms`.
+    The field is the module docstring's S/T form, one code path for numpy and CasADi
+    (:meth:`terms`). An own numpy twin of the loop formulas with reused scratch buffers saved
+    nothing measurable on any command (issue 38, docs/architecture.md) and was retired.
 
     Parameters
     ----------
@@ -264,10 +247,10 @@ class FilamentSet(AxisFilaments):
         S, T : ndarray (n, n_currents) or CasADi (1, n_currents)
             S in T/(A·m), T in T/A.
         """
-        if not bk.is_casadi(points):
-            S, T, _ = self._terms_rows(np.asarray(points, dtype=float))
-            return S.T.copy(), T.T.copy()
-        mats = self._matrices(True)
+        casadi = bk.is_casadi(points)
+        if not casadi:
+            points = np.asarray(points, dtype=float)
+        mats = self._matrices(casadi)
         zeta = points @ mats["sel_w"]
         rho_sq = (points * points) @ mats["across"]
         rho = bk.sqrt_guarded(rho_sq)  # finite derivatives on the axis
@@ -275,121 +258,12 @@ class FilamentSet(AxisFilaments):
         return s @ mats["weights"], (b_z - s * zeta) @ mats["weights"]
 
     def _field_rows(self, points: Scalar, currents: Scalar, mats: dict[str, Any]) -> Scalar:
-        """B = p (S I) + (T I) e_a, T (the CasADi path: :meth:`terms`)."""
+        """B = p (S I) + (T I) e_a, T (numpy or CasADi: :meth:`terms`)."""
         S, T = self.terms(points)
         return points * (S @ currents) + (T * currents.T) @ mats["direction"]
 
-    def _field_chunk(self, points: np.ndarray, currents: np.ndarray) -> np.ndarray:
-        """B (n, 3), T, from the S and T rows of :meth:`_terms_rows` (in its scratch)."""
-        S, T, work = self._terms_rows(points)
-        P, B = work["P"], work["B"]
-        np.multiply(P, currents.T @ S, out=B)
-        T *= currents
-        B += self._rows()["direction"] @ T
-        return B.T
-
     def _matrix_chunk(self, points: np.ndarray) -> np.ndarray:
         """G = p S^T + e_a T^T, shape (n, 3, n_currents), T/A."""
-        S, T, work = self._terms_rows(points)
-        P, direction = work["P"], self._rows()["direction"]
-        G = P[:, None, :] * S[None, :, :] + direction[:, :, None] * T[None, :, :]
-        return G.transpose(2, 0, 1)
-
-    def _terms_rows(
-        self, points: np.ndarray
-    ) -> tuple[np.ndarray, np.ndarray, dict[str, np.ndarray]]:
-        """S and T as (n_currents, n) rows at (n, 3) points (numpy path), and the scratch.
-
-        ρ² and ρ are computed once per axis (3 rows) and shared by every filament on that axis
-        (both coils of a pair and all their quadrature nodes); the filament terms come from
-        :func:`coils.loop.loop_terms_rows` with one row per filament. All filaments of a drive
-        column share its axis a_k, so T_k = Σ N_l b_z,l - p_{a_k} S_k. S and T are views into
-        the buffers of :meth:`_workspace` for this n, returned with them (the points, as (3, n)
-        rows, in ``P``).
-        """
-        rows = self._rows()
-        w = self._workspace(len(points))
-        P = w["P"]
-        np.copyto(P, points.T)
-        P_sq, rho_sq3, rho3 = w["P_sq"], w["rho_sq3"], w["rho3"]
-        np.multiply(P, P, out=P_sq)
-        np.subtract(P_sq.sum(axis=0), P_sq, out=rho_sq3)  # distance² from the x, y, z axes
-        np.sqrt(rho_sq3, out=rho3)
-        n = P.shape[1]
-        if rows["groups"] is not None:  # g axes of k filaments each: broadcast, no gathers
-            axes, k = rows["groups"]
-            g = len(axes)
-            dz = w["dz"].reshape(g, k, n)
-            np.subtract(P[axes, None, :], rows["centres"].reshape(g, k, 1), out=dz)
-            s, b_z = loop_terms_rows(
-                rows["radii"].reshape(g, k, 1),
-                dz,
-                rho3[axes, None, :],
-                rho_sq3[axes, None, :],
-                w["scratch"].reshape(ROW_SCRATCH, g, k, n),
-            )
-            s, b_z = s.reshape(-1, n), b_z.reshape(-1, n)
-        else:
-            dz, rho, rho_sq = w["dz"], w["rho"], w["rho_sq"]
-            np.take(P, self.axes, axis=0, out=dz)
-            dz -= rows["centres"]
-            np.take(rho3, self.axes, axis=0, out=rho)
-            np.take(rho_sq3, self.axes, axis=0, out=rho_sq)
-            s, b_z = loop_terms_rows(rows["radii"], dz, rho, rho_sq, w["scratch"])
-        S, T, tmp = w["S"], w["T"], w["tmp"]
-        np.matmul(rows["weights"], s, out=S)
-        np.matmul(rows["weights"], b_z, out=T)
-        np.take(P, rows["column_axes"], axis=0, out=tmp)
-        tmp *= S
-        T -= tmp
-        return S, T, w
-
-    def _workspace(self, n: int) -> dict[str, np.ndarray]:
-        """Buffers for :meth:`_terms_rows` on n points, reused chunk after chunk.
-
-        Scratch only (no content survives a call), so the last one built is
-        kept and handed to any filament set of the same sizes: repeated small calls skip the
-        allocation, and a big batch keeps its pages.
-        """
-        L, k = len(self.radii_m), self.n_currents
-        key = (L, k, n)
-        cached = _WORK.get()
-        if cached is not None and cached[0] == key:
-            return cached[1]
-        shapes = {
-            "P": (3, n),
-            "P_sq": (3, n),
-            "rho_sq3": (3, n),
-            "rho3": (3, n),
-            "dz": (L, n),
-            "rho": (L, n),
-            "rho_sq": (L, n),
-            "scratch": (ROW_SCRATCH, L, n),
-            "S": (k, n),
-            "T": (k, n),
-            "tmp": (k, n),
-            "B": (3, n),
-        }
-        sizes = [math.prod(shape) for shape in shapes.values()]
-        flat = np.empty(sum(sizes))  # one allocation, carved into contiguous views
-        ends = np.cumsum(sizes)
-        work = {
-            name: flat[end - size : end].reshape(shape)
-            for (name, shape), size, end in zip(shapes.items(), sizes, ends, strict=True)
-        }
-        _WORK.set((key, work))
-        return work
-
-    def _rows(self) -> dict[str, np.ndarray]:
-        """The constant matrices of the numpy path, laid out for (3, n) point rows."""
-        if "rows" not in self._mats:
-            mats = self._matrices(False)
-            self._mats["rows"] = {
-                "radii": mats["sizes"].T.copy(),
-                "centres": mats["centres"].T.copy(),
-                "weights": mats["weights"].T.copy(),
-                "column_axes": np.asarray(self.column_axes, dtype=np.intp),
-                "groups": _groups(self.axes),
-                "direction": mats["direction"].T.copy(),
-            }
-        return self._mats["rows"]
+        S, T = self.terms(points)
+        direction = self._matrices(False)["direction"]
+        return points[:, :, None] * S[:, None, :] + direction.T[None, :, :] * T[:, None, :]

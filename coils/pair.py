@@ -140,6 +140,20 @@ class HelmholtzPair(WoundPair):
     InputError
         A parameter outside its range, named by its parameter name; also a pack depth >= R
         (``wire_diameter_m``) or coils that overlap (``separation_m``).
+
+    Examples
+    --------
+    A 0.3 m, 300-turn pair: the centre field per ampere is the textbook (4/5)^(3/2) μ0 N / R:
+
+    >>> import math
+    >>> import numpy as np
+    >>> from coils import HelmholtzPair
+    >>> pair = HelmholtzPair(0.3, 300, "z")
+    >>> b = pair.field(np.zeros(3), 1.0)
+    >>> print(f"{b[2] * 1e3:.5f} mT/A; (4/5)^1.5 mu0 N/R = {0.8**1.5 * 4e-7 * math.pi * 300 / 0.3 * 1e3:.5f}")
+    0.89918 mT/A; (4/5)^1.5 mu0 N/R = 0.89918
+    >>> print(f"separation {pair.separation_m} m, series inductance {pair.series_inductance_H * 1e3:.1f} mH")
+    separation 0.3 m, series inductance 214.5 mH
     """
 
     radius_m: float

@@ -38,6 +38,13 @@ def heading_frame(heading: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarr
     -------
     n, u, v : ndarray, shape (3,)
         Orthonormal right-handed frame, dimensionless.
+
+    Examples
+    --------
+    >>> from coils import heading_frame
+    >>> n, u, v = heading_frame([0.0, 0.0, 2.0])
+    >>> print(n, u, v)
+    [0. 0. 1.] [1. 0. 0.] [0. 1. 0.]
     """
     h = np.asarray(heading, dtype=float)
     norm = float(np.linalg.norm(h)) if h.shape == (3,) else 0.0

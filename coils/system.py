@@ -104,6 +104,21 @@ class ThreeAxisHelmholtz:
     ------
     InputError
         A pair missing or on the wrong axis (named ``x``, ``y`` or ``z``).
+
+    Examples
+    --------
+    Three nested pairs; the field is linear in the currents, B(p) = G(p) I:
+
+    >>> import numpy as np
+    >>> from coils import HelmholtzPair, ThreeAxisHelmholtz
+    >>> coils = ThreeAxisHelmholtz(
+    ...     HelmholtzPair(0.4, 400, "x"), HelmholtzPair(0.35, 350, "y"), HelmholtzPair(0.3, 300, "z")
+    ... )
+    >>> print(np.round(np.asarray(coils.centre_gains_T_per_A) * 1e3, 5))  # mT/A, each (4/5)^1.5 mu0 N/R
+    [0.89918 0.89918 0.89918]
+    >>> B = coils.field(np.array([[0.0, 0.0, 0.05]]), np.array([10.0, 0.0, 0.0]))
+    >>> print(np.round(B * 1e3, 4) + 0.0)  # mT at 5 cm up the z axis, 10 A in the x pair
+    [[8.9908 0.     0.    ]]
     """
 
     x: WoundPair
@@ -325,6 +340,20 @@ class ThreeAxisHelmholtz:
         -------
         ndarray, shape (m, 3)
             Current of each pair at each time, A.
+
+        Examples
+        --------
+        A 5 mT field rotating about z at 2 Hz: the x and y pairs a quarter period apart, z idle:
+
+        >>> import numpy as np
+        >>> from coils import HelmholtzPair, ThreeAxisHelmholtz
+        >>> coils = ThreeAxisHelmholtz(
+        ...     HelmholtzPair(0.4, 400, "x"), HelmholtzPair(0.35, 350, "y"), HelmholtzPair(0.3, 300, "z")
+        ... )
+        >>> I = coils.rotating_currents([0.0, 0.0, 1.0], 5e-3, 2.0, [0.0, 0.125])
+        >>> print(np.round(I, 3) + 0.0)  # A; 5 mT / 0.899 mT/A = 5.561 A
+        [[5.561 0.    0.   ]
+         [0.    5.561 0.   ]]
         """
         amps, phases = self.rotating_allocation(heading, amplitude_T)
         t = np.atleast_1d(np.asarray(t_s, dtype=float))

@@ -112,6 +112,17 @@ def uniformity(system: Any, points_m: Any, currents_A: Any = None) -> np.ndarray
     -------
     ndarray, shape (n,)
         Relative deviation of the field magnitude from the centre value, dimensionless.
+
+    Examples
+    --------
+    5 cm from the centre of a 0.3 m pair, on its axis and across it: the field falls on the axis
+    and rises across it, as the fourth-order term of a Helmholtz pair says:
+
+    >>> import numpy as np
+    >>> from coils import HelmholtzPair, uniformity
+    >>> dev = uniformity(HelmholtzPair(0.3, 300, "z"), np.array([[0, 0, 0.05], [0.05, 0, 0]]))
+    >>> print(np.round(dev * 100, 4))  # %
+    [-0.0862 -0.0342]
     """
     points = np.atleast_2d(np.asarray(points_m, dtype=float))
     return _deviation(_field_function(system, currents_A), points)
@@ -661,6 +672,15 @@ def uniform_region(
     -------
     UniformRegion
         Radius capped at the smallest coil radius (the search stops there).
+
+    Examples
+    --------
+    The ±1 % sphere of a circular pair and the ray that ends it (along the axis):
+
+    >>> from coils import HelmholtzPair, uniform_region
+    >>> region = uniform_region(HelmholtzPair(0.3, 300, "z"), 0.01)
+    >>> print(f"{region.radius_m * 1e3:.1f} mm, limited along {region.limiting_ray}")
+    94.1 mm, limited along [0. 0. 1.]
     """
     return uniform_regions(system_or_pair, [tolerance], currents_A, direction)[0]
 
@@ -690,5 +710,16 @@ def uniform_region_radius_m(
     -------
     float
         Radius of the uniform sphere, m.
+
+    Examples
+    --------
+    An ideal circular pair is within ±1 % out to about 0.31 R and ±5 % to about 0.49 R:
+
+    >>> from coils import HelmholtzPair, uniform_region_radius_m
+    >>> pair = HelmholtzPair(0.3, 300, "z")
+    >>> for tol in (0.01, 0.05):
+    ...     print(f"{tol:.0%}: {uniform_region_radius_m(pair, tol) / 0.3:.3f} R")
+    1%: 0.314 R
+    5%: 0.488 R
     """
     return uniform_region(system_or_pair, tolerance, currents_A, direction).radius_m

@@ -24,7 +24,6 @@ its partner coil, at its own temperature; the others: the packs it exchanges rad
 
 from __future__ import annotations
 
-import functools
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -267,7 +266,6 @@ def radical_inverse(index: np.ndarray, base: int) -> np.ndarray:
     return out
 
 
-@functools.lru_cache(maxsize=4)
 def halton_points(n: int) -> np.ndarray:
     """Points 1..n of the Halton sequence in :data:`_BASES` (n x 5; point 0, the origin, left
     out).
@@ -398,7 +396,6 @@ def _cosine_directions(normal: Sequence[np.ndarray], u: np.ndarray) -> tuple:
     return tuple(c1 * t1[i] + c2 * t2[i] + c3 * normal[i] for i in range(3))
 
 
-@functools.lru_cache(maxsize=64)
 def _traced(rings: tuple[PackRing | PackFrame, ...], rays: int) -> np.ndarray:
     u = halton_points(rays)
     out = np.zeros((len(rings), 1 + len(rings)))
@@ -438,7 +435,8 @@ def view_factors(rings: Sequence[PackRing | PackFrame], rays: int = RAYS_PER_PAI
     """Fractions of each pair's diffuse emission reaching ``[room, pair 0, pair 1, pair 2]``.
 
     Rows sum to 1; ``[:, 0]`` is the ``radiation_view_factor`` (what leaves the coil set).
-    Deterministic (Halton points) and cached per geometry (values rounded to 1e-12 m).
+    Deterministic (Halton points; the geometry rounded to 1e-12 m). Not cached: a memo of the
+    traces saved 1-3 % of any command (issue 38, docs/architecture.md).
 
     Parameters
     ----------

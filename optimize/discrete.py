@@ -26,7 +26,7 @@ import math
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, replace
-from typing import Any, NamedTuple
+from typing import Any, NamedTuple, Protocol
 
 import numpy as np
 
@@ -85,9 +85,10 @@ class SizingOptions:
     lean: tuple[float, float] | None = (0.10, 0.01)
 
 
-class Executor:
+class Executor(Protocol):
     """What sizing needs of an executor (``concurrent.futures.Executor``, a Dask client, ...):
-    ``submit(fn, *args)`` returning a future whose ``result()`` is ``fn(*args)``."""
+    ``submit(fn, *args)`` returning a future whose ``result()`` is ``fn(*args)``. A
+    structural type: anything with such a ``submit`` is one, no base class needed."""
 
     def submit(self, fn: Callable[..., Any], /, *args: Any) -> Any:  # pragma: no cover
         """``fn(*args)`` to run.
@@ -104,7 +105,11 @@ class Executor:
         future
             An object whose ``result()`` is ``fn(*args)``.
         """
-        raise NotImplementedError
+        ...
+
+
+def _silent(_stage: str) -> None:
+    """A progress callback that says nothing (library functions do not print)."""
 
 
 class _Done(NamedTuple):
@@ -252,7 +257,9 @@ def _point(sol: Solution, scales: Any) -> tuple[float, float, float]:
 
 
 def relax(
-    s: _Setup, options: SizingOptions = SizingOptions(), say: Callable[[str], None] = print
+    s: _Setup,
+    options: SizingOptions = SizingOptions(),
+    progress: Callable[[str], None] | None = None,
 ) -> Relaxation:
     """Step 1: the continuous relaxation, re-solved warm until the frozen factors settle (and,
     with tissue scenarios, until the tail lies in the working set).
@@ -263,8 +270,8 @@ def relax(
         The relaxation's model at its starting hardware and its compiled NLP (:func:`_setup`).
     options : SizingOptions
         ``outer_max``: the most outer rounds.
-    say : callable
-        ``say(stage)`` at each outer round.
+    progress : callable, optional
+        ``progress(stage)`` at each outer round (None: nothing is said).
 
     Returns
     -------
@@ -272,6 +279,7 @@ def relax(
         The best solution (None if no start converged), the free hardware there (SI: m,
         turns), the model prepared there, the rounds and IPOPT iterations spent.
     """
+    say = progress or _silent
     exact, problem, ws = s.exact, s.problem, s.ws
     hw_now = dict(s.hw_start)
     iterations, outer, outer_max = 0, 0, options.outer_max
@@ -439,7 +447,7 @@ def rank(
     first_wins: bool = False,
     executor: Executor | None = None,
     options: SizingOptions = SizingOptions(),
-    say: Callable[[str], None] = print,
+    progress: Callable[[str], None] | None = None,
 ) -> Ranking:
     """Step 3: solve the neighbours (through ``executor``) and keep the best feasible one.
 
@@ -459,8 +467,8 @@ def rank(
         Where the solves run (None: here, in order).
     options : SizingOptions
         ``batch``.
-    say : callable
-        ``say(stage)`` for each neighbour.
+    progress : callable, optional
+        ``progress(stage)`` for each neighbour (None: nothing is said).
 
     Returns
     -------
@@ -468,6 +476,7 @@ def rank(
         The winner (hardware, result) or None, the neighbours tried and feasible, the first
         buildable one's model, the IPOPT iterations spent.
     """
+    say = progress or _silent
     tried, feasible, iterations = 0, 0, 0
     winner: tuple[dict[str, float], OptimizationResult] | None = None
     first_built = None
@@ -580,7 +589,7 @@ def size_design(
         The best buildable design (``hardware`` holds the relaxed and discrete hardware), or
         an infeasible result naming what is out of reach.
     """
-    say = progress or (lambda _stage: None)
+    say = progress or _silent
     t0 = time.perf_counter()
     # the screen's least required torque, found once; early, so that an executor finds it
     # while the relaxation runs here
@@ -620,7 +629,13 @@ def size_design(
     first_wins = model.bounds.objective == "copper_mass"  # the mass is known before a solve
     sense = pb.OBJECTIVES[model.bounds.objective].sense
     ranking = rank(
-        ctx, candidates, sense, first_wins=first_wins, executor=executor, options=options, say=say
+        ctx,
+        candidates,
+        sense,
+        first_wins=first_wins,
+        executor=executor,
+        options=options,
+        progress=say,
     )
     spent += r.iterations + its + ranking.iterations
     if ranking.winner is None:

@@ -14,7 +14,6 @@ from typing import Any, ClassVar, NamedTuple
 import numpy as np
 
 from optimize import physics as ph
-from optimize._roots import brentq
 from optimize.system import MODEL, DesignModel, prepare
 from optimize.views import Viewable
 from spiralcap.core.checks import angle, finite, guard, nonnegative, positive
@@ -164,6 +163,19 @@ class Evaluation(Viewable):
         Model inputs outside the paper's calibrated range.
     calibration_edges : tuple
         Model inputs inside that range but on its edge (torque_model.domain.calibration_edges).
+
+    Examples
+    --------
+    What :func:`evaluate` returns for the built-in design at its operating point (10°, 2 Hz) with the field its limits allow:
+
+    >>> from optimize import evaluate, prepare
+    >>> from spiralcap.assemble import build_model
+    >>> from spiralcap.design import load_design
+    >>> model = prepare(build_model(load_design(None, [])))
+    >>> ev = evaluate(model, frequency_bounds=False)
+    >>> print(f"{ev.field_amplitude_T * 1e3:.3f} mT ({ev.field_limited_by}), "
+    ...       f"margin {ev.margin_Nm * 1e3:.3f} mN m, safety factor {ev.safety_factor:.3f}")
+    10.627 mT (hot_spot_y), margin 1.633 mN m, safety factor 2.033
     """
 
     _view_kind: ClassVar[str] = "evaluation"
@@ -272,6 +284,17 @@ def worst_required(model: DesignModel, alpha: Any, f: Any) -> WorstRequired:
     -------
     WorstRequired
         Torques in N·m and the tissue index, broadcast like the inputs.
+
+    Examples
+    --------
+    >>> import math
+    >>> from optimize import prepare, worst_required
+    >>> from spiralcap.assemble import build_model
+    >>> from spiralcap.design import load_design
+    >>> model = prepare(build_model(load_design(None, [])))
+    >>> w = worst_required(model, math.radians(45.0), 2.0)
+    >>> print(f"{w.total_Nm * 1e3:.4f} mN m = {w.resistive_Nm * 1e3:.4f} resistive + {w.thrust_Nm * 1e3:.4f} thrust")
+    1.6628 mN m = 0.7384 resistive + 0.9245 thrust
     """
     model = prepare(model)
     pairs = _worst_corner_pairs(model, alpha, f)
@@ -373,6 +396,19 @@ def margin_grid(
     -------
     MarginGrid
         The columns on the broadcast shape, SI.
+
+    Examples
+    --------
+    The built-in design at 30° and 45°, 2 Hz, in one call:
+
+    >>> import numpy as np
+    >>> from optimize import margin_grid, prepare
+    >>> from spiralcap.assemble import build_model
+    >>> from spiralcap.design import load_design
+    >>> model = prepare(build_model(load_design(None, [])))
+    >>> grid = margin_grid(model, np.radians([30.0, 45.0]), 2.0)
+    >>> print(np.round(grid.margin_Nm * 1e3, 4), np.round(grid.speed_m_s * 1e3, 2))  # mN m, mm/s
+    [1.8511 1.5495] [21.77 37.7 ]
     """
     model = prepare(model)
     c = model.constants
@@ -490,6 +526,8 @@ def grip_bound(model: DesignModel) -> GripBound:
         return GripBound(lo, excess(lo) >= -FEASIBILITY_RTOL * need, excess(lo) + need)
     if excess(hi) >= 0:
         return GripBound(hi, True, excess(hi) + need)
+    from scipy.optimize import brentq  # here: a command that never searches does not load it
+
     root = brentq(excess, lo, hi, xtol=1e-13, rtol=1e-14)
     while excess(root) < 0 and root > lo:  # the root's side that grips (one ulp at a time)
         root = math.nextafter(root, lo)
@@ -634,6 +672,8 @@ def _first_zero(margin, f_lo: float, f_hi: float) -> FrequencyBound:
     while hi - lo > 1:  # margin > 0 at lo, <= 0 at hi
         mid = (lo + hi) // 2
         lo, hi = (lo, mid) if reached(mid) else (mid, hi)
+    from scipy.optimize import brentq  # here: a command that never searches does not load it
+
     root = brentq(
         lambda f: float(margin(np.asarray(f))), grid[hi - 1], grid[hi], xtol=1e-12, rtol=1e-14
     )
@@ -677,6 +717,19 @@ def step_out_frequency_hz(
     -------
     FrequencyBound
         The step-out frequency, Hz.
+
+    Examples
+    --------
+    Where the built-in design's capsule steps out at its operating field:
+
+    >>> import math
+    >>> from optimize import prepare, step_out_frequency_hz
+    >>> from spiralcap.assemble import build_model
+    >>> from spiralcap.design import load_design
+    >>> model = prepare(build_model(load_design(None, [])))
+    >>> bound = step_out_frequency_hz(model, math.radians(10.0))
+    >>> print(f"{bound.frequency_hz:.3f} Hz, beyond the search: {bound.beyond_search}")
+    5.128 Hz, beyond the search: False
     """
     model = prepare(model)
     c = model.constants
@@ -780,6 +833,7 @@ def evaluate(
     -------
     Evaluation
         Every figure and check at that operating point, SI.
+
     """
     model = prepare(model)
     c = model.constants

@@ -2,7 +2,9 @@
 
 Variables, parameters and constraint rows are declared by name; the problem is compiled once
 into an IPOPT ``nlpsol`` and then re-solved with new parameter values, bounds and warm starts
-(the way AeroSandbox and ``casadi.Opti`` keep names, without ``Opti``'s per-solve overhead).
+(the way AeroSandbox and ``casadi.Opti`` keep names, without ``Opti``'s per-solve overhead:
+the built-in optimize's NLP posed through ``Opti`` takes 10-18 ms of CPU a solve instead of
+5-9 ms, the same iterations, ``benchmarks/bench_nlp_opti.py``; docs/architecture.md).
 A :class:`Solution` reads values, multipliers and parametric sensitivities by name.
 
 Conventions: every row is ``g <= 0``; variables are scaled, ``physical = ref * scaled``, so the

@@ -50,6 +50,18 @@ def exposure_level_T(frequency_hz: Any, kind: str) -> Any:
     -------
     float, array or CasADi
         Reference level, T (rms).
+
+    Examples
+    --------
+    ICNIRP 2010's occupational level at 4 Hz (a / f² below 8 Hz) and above 25 Hz (flat), and the
+    general public's at 4 Hz:
+
+    >>> from optimize import exposure_level_T
+    >>> for f, kind in ((4.0, "occupational"), (50.0, "occupational"), (4.0, "public")):
+    ...     print(f"{kind} at {f:g} Hz: {float(exposure_level_T(f, kind)) * 1e3:.3f} mT")
+    occupational at 4 Hz: 12.500 mT
+    occupational at 50 Hz: 1.000 mT
+    public at 4 Hz: 2.500 mT
     """
     a, b, c = ICNIRP2010_LEVELS_T[kind]
     f = bk.fmax(frequency_hz, 1.0)
@@ -290,30 +302,18 @@ def _number(x: Any) -> float | None:
     return float(x)
 
 
-def _memo_key(k: int, per_amp: Any) -> tuple | None:
-    """Key under which a current per tesla shares its thermal solve: its value (numbers) or
-    its CasADi node (the NLP reuses one node for headings with the same current); None: none."""
-    num = _number(per_amp)
-    if num is not None:
-        return (k, round(num, 15))
-    if bk.is_casadi(per_amp) and per_amp.numel() == 1:
-        return (k, "node", per_amp.element_hash())
-    return None
-
-
 def heading_losses_W(
     field_T: Any,
     c: Constants,
     ambient_temperature_C: Any,
-    memo: dict | None = None,
     states: list | None = None,
 ) -> list[Any]:
     """Copper loss of every heading, Σ_k R_k(I_hk) I_hk² / 2, W (backend-generic).
 
     I_hk = B0 · ``c.heading_current_per_tesla_A_per_T[h, k]`` (sqrt(1 - n_hk²) / g_k), each
     pair at its own self-consistent resistance (:func:`winding_resistance_ohm`). With numbers,
-    currents per tesla that recur (few distinct values per axis) share one thermal solve through
-    ``memo``; with CasADi values, entries that are the same node do (:func:`_memo_key`).
+    every heading at once, pair by pair. (A memo of the resistances of recurring currents, keyed
+    on CasADi node hashes, saved nothing measurable and was retired: issue 38.)
 
     Parameters
     ----------
@@ -323,8 +323,6 @@ def heading_losses_W(
         The design's constants.
     ambient_temperature_C : float or CasADi
         Ambient air, °C.
-    memo : dict, optional
-        Shared (current, resistance) per current-per-tesla key, filled here (object).
     states : list of PairTemperatures, optional
         The three pairs' states at ``field_T`` if the caller has them.
 
@@ -334,7 +332,6 @@ def heading_losses_W(
         Copper loss of each heading, W.
     """
     a = c.heading_current_per_tesla_A_per_T
-    memo = {} if memo is None else memo
     if states is None and c.winding_temperature_C is None:
         states = pair_states(field_T, c, ambient_temperature_C)
     if states is None:
@@ -347,25 +344,12 @@ def heading_losses_W(
     for h in range(a.shape[0]):
         loss: Any = 0.0
         for k in range(3):
-            if rows is not None:
-                per_amp = num = rows[h][k]
-                if num <= 0:
-                    continue
-                key: tuple | None = (k, round(num, 15))  # as _memo_key
-            else:
-                per_amp = a[h, k]
-                num = _number(per_amp)
-                if num is not None and num <= 0:
-                    continue
-                key = _memo_key(k, per_amp)
-            if key is None or key not in memo:
-                cur = field_T * per_amp
-                r = winding_resistance_ohm(cur, k, c, ambient_temperature_C, states[k])
-                if key is None:
-                    loss = loss + 0.5 * r * cur * cur
-                    continue
-                memo[key] = (cur, r)
-            cur, r = memo[key]
+            per_amp = rows[h][k] if rows is not None else a[h, k]
+            num = per_amp if rows is not None else _number(per_amp)
+            if num is not None and num <= 0:
+                continue
+            cur = field_T * per_amp
+            r = winding_resistance_ohm(cur, k, c, ambient_temperature_C, states[k])
             loss = loss + 0.5 * r * cur * cur
         out.append(loss)
     return out
@@ -375,7 +359,7 @@ def _heading_losses_of_numbers(
     field_T: Any, c: Constants, ambient_temperature_C: Any, states: list
 ) -> list[float]:
     """:func:`heading_losses_W` with numbers: every heading at once, pair by pair (the same
-    operations on each heading's current, elementwise: the same bits, without the memo)."""
+    operations on each heading's current, elementwise: the same bits)."""
     a = np.asarray(c.heading_current_per_tesla_A_per_T, dtype=float)
     field = float(field_T)
     total = np.zeros(a.shape[0])
@@ -392,7 +376,6 @@ def total_loss_W(
     field_T: Any,
     c: Constants,
     ambient_temperature_C: Any,
-    memo: dict | None = None,
     states: list | None = None,
 ) -> Any:
     """Copper loss of the heading that draws the most, max_h Σ_k R_k(I_hk) I_hk² / 2, W.
@@ -408,8 +391,6 @@ def total_loss_W(
         The design's constants.
     ambient_temperature_C : float or CasADi
         Ambient air, °C.
-    memo : dict, optional
-        Shared thermal solves (see :func:`heading_losses_W`), object.
     states : list of PairTemperatures, optional
         The three pairs' states at ``field_T`` if the caller has them.
 
@@ -419,7 +400,7 @@ def total_loss_W(
         Worst-heading copper loss, W.
     """
     worst: Any = None
-    for loss in heading_losses_W(field_T, c, ambient_temperature_C, memo, states):
+    for loss in heading_losses_W(field_T, c, ambient_temperature_C, states):
         worst = loss if worst is None else bk.fmax(worst, loss)
     return worst
 
@@ -472,15 +453,14 @@ def limit_terms(
     terms: list[LimitTerm] = []
     fixed_r = c.winding_temperature_C is not None  # then every term but the hot spot is a power law
     amb = ambient_temperature_C
-    memo: dict = {}
     states = pair_states(field_T, c, amb)  # the three pairs together, one thermal solve
     for k in range(3):
-        terms += _pair_terms(k, frequency_hz, field_T, c, limits, amb, states[k], memo)
+        terms += _pair_terms(k, frequency_hz, field_T, c, limits, amb, states[k])
     terms.append(
         LimitTerm(
             "power",
             "W",
-            total_loss_W(field_T, c, amb, memo, states) if loss_W is None else loss_W,
+            total_loss_W(field_T, c, amb, states) if loss_W is None else loss_W,
             limits.power_W,
             2 if fixed_r else None,
         )
@@ -506,11 +486,9 @@ def _pair_terms(
     limits: Limits,
     ambient_temperature_C: Any,
     state: Any,
-    memo: dict,
 ) -> list[LimitTerm]:
     """Pair k's rows of :func:`limit_terms`: current and drive voltage (its own amplifier
-    channel's where set), its channel's copper loss (where set), hot spot and surface; its
-    (current, resistance) noted in ``memo`` for the total loss."""
+    channel's where set), its channel's copper loss (where set), hot spot and surface."""
     import coils
 
     ax = _AXES[k]
@@ -518,9 +496,6 @@ def _pair_terms(
     per_amp = c.current_per_tesla_A_per_T[k]
     current = field_T * per_amp
     r = _resistance_at(state.mean_C, k, c)
-    key = _memo_key(k, per_amp)
-    if key is not None:
-        memo[key] = (current, r)
     name, allowed = limits.channel("current", k)
     out = [LimitTerm(name, "A", current, allowed, 1)]
     name, allowed = limits.channel("voltage", k)
@@ -576,7 +551,7 @@ def _bisect_field_T(
 def _brent_below(value: Any, allowed: float, lo: float, hi: float) -> float:
     """Root of value(b) = allowed in [lo, hi] (value(lo) <= allowed < value(hi)) by Brent's
     method to machine precision, returned on the allowed side (value(b) <= allowed)."""
-    from optimize._roots import brentq
+    from scipy.optimize import brentq
 
     def excess(b: float) -> float:
         v = float(np.asarray(value(b), dtype=float))
@@ -584,7 +559,7 @@ def _brent_below(value: Any, allowed: float, lo: float, hi: float) -> float:
 
     if excess(lo) > 0:
         return lo
-    root = float(brentq(excess, lo, hi, xtol=1e-300, rtol=8.9e-16, maxiter=200))
+    root = float(brentq(excess, lo, hi, xtol=1e-300, rtol=8.9e-16, maxiter=200, disp=False))
     while root > lo and excess(root) > 0:  # step back onto the allowed side
         root = float(np.nextafter(root, lo))
     return root

@@ -549,7 +549,7 @@ def pack_rings(coils: Any) -> list[Any]:
 
 
 def view_factors_of(coils: Any) -> Any:
-    """Diffuse view factors ``[room, x, y, z]`` of the three pairs (cached ray trace).
+    """Diffuse view factors ``[room, x, y, z]`` of the three pairs (a ray trace).
 
     Parameters
     ----------
@@ -639,6 +639,17 @@ def prepare(model: DesignModel) -> DesignModel:
     -------
     DesignModel
         The same design with ``constants`` set.
+
+    Examples
+    --------
+    The built-in design (``spiralcap evaluate`` with no file), assembled and prepared:
+
+    >>> from optimize import prepare
+    >>> from spiralcap.assemble import build_model
+    >>> from spiralcap.design import load_design
+    >>> model = prepare(build_model(load_design(None, [])))
+    >>> print(model.constants is not None, model.limits.current_A, "A")
+    True 15.0 A
     """
     if model.constants is not None:
         return model

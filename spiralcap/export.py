@@ -118,6 +118,22 @@ def to_magpylib(model: Any, currents_A: Sequence[float] = (1.0, 1.0, 1.0)) -> An
     ------
     spiralcap.core.errors.InputError
         ``currents_A`` is not three finite numbers, or ``model`` has no coils.
+
+    Examples
+    --------
+    The built-in design's coils in magpylib, an independent field solver: its field at 5 cm
+    against spiralcap's own with 10 A in the x pair:
+
+    >>> import numpy as np
+    >>> from spiralcap.assemble import build_model
+    >>> from spiralcap.design import load_design
+    >>> from spiralcap.export import to_magpylib
+    >>> model = build_model(load_design(None, []))
+    >>> p = np.array([[0.02, 0.03, 0.05]])
+    >>> ours = model.coils.field(p, np.array([10.0, 0.0, 0.0]))
+    >>> theirs = to_magpylib(model, (10.0, 0.0, 0.0)).getB(p)
+    >>> print(np.round(ours * 1e3, 5), f"{np.max(np.abs(theirs - ours)) / np.max(np.abs(ours)):.0e}")
+    [[ 8.36433e+00 -7.40000e-04 -1.23000e-03]] 7e-10
     """
     import magpylib
 
@@ -200,6 +216,19 @@ def field_grid(
     ------
     spiralcap.core.errors.InputError
         ``--grid-step-mm`` not positive, or so small the grid exceeds :data:`MAX_GRID_POINTS`.
+
+    Examples
+    --------
+    The field per ampere of each pair at the 27 points of a 10 cm cube:
+
+    >>> import numpy as np
+    >>> from spiralcap.assemble import build_model
+    >>> from spiralcap.design import load_design
+    >>> from spiralcap.export import field_grid
+    >>> grid = field_grid(build_model(load_design(None, [])), 0.05, 0.05)
+    >>> centre = np.flatnonzero(np.all(grid.points_m == 0.0, axis=1))[0]
+    >>> print(grid.points_m.shape, np.round(np.diag(grid.field_per_A_T_per_A[centre]) * 1e3, 5))  # mT/A
+    (27, 3) [0.83644 0.89918 0.9634 ]
     """
     system = _system(model)
     h = float(half_width_m)

@@ -440,7 +440,8 @@ def test_main_job_runs_without_the_cad_extra(tmp_path) -> None:
     code = (
         "import sys; sys.modules['build123d'] = None\n"
         "from spiralcap.cli import main\n"
-        f"rc = main(['report', '-o', {str(tmp_path / 'r.html')!r}])\n"
+        # one process: the subject is the missing CAD kernel, not the forked path (conftest)
+        f"rc = main(['report', '-o', {str(tmp_path / 'r.html')!r}, '--workers', '1'])\n"
         "assert 'build123d' not in [m for m, v in sys.modules.items() if v is not None]\n"
         "sys.exit(rc)\n"
     )

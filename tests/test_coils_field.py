@@ -211,33 +211,41 @@ def test_div_and_curl_vanish_inside_workspace() -> None:
         )
 
 
-def test_row_kernel_matches_generic_loop_terms() -> None:
-    """The in-place batch kernel restates loop_terms; both must agree everywhere, axis included."""
-    from coils.loop import SERIES_BELOW, loop_terms, loop_terms_rows
+def test_loop_terms_numpy_matches_casadi_agm_on_both_branches() -> None:
+    """loop_terms on numpy (scipy's Cephes K, E; K from 1 - m given exactly) against the same
+    formulas on CasADi (the AGM), on and near the axis (series branch of g) and away from it."""
+    import casadi as ca
+
+    from coils.loop import SERIES_BELOW, loop_terms
 
     rng = np.random.default_rng(5)
     radius = np.array([[0.3], [0.35], [0.4]])
     rho = np.concatenate([[0.0, 1e-9, 1e-4], rng.uniform(0.0, 0.6, 400)])
     dz = np.concatenate([[0.0, 0.1, -0.2], rng.uniform(-0.4, 0.4, 400)])
     rho2, dz2 = np.broadcast_to(rho, (3, rho.size)).copy(), np.broadcast_to(dz, (3, dz.size)).copy()
-    s_new, bz_new = loop_terms_rows(radius, dz2, rho2, rho2 * rho2)
-    s_ref, bz_ref = loop_terms(radius, dz2, rho2, rho2 * rho2)
+    s_np, bz_np = loop_terms(radius, dz2, rho2, rho2 * rho2)
+    r, z, q = ca.SX.sym("r"), ca.SX.sym("z"), ca.SX.sym("q")
+    f = ca.Function("terms", [q, z, r], list(loop_terms(q, z, r, r * r)))
+    s_ca, bz_ca = (
+        np.asarray(v).reshape(rho2.shape)
+        for v in f.map(rho2.size)(
+            np.broadcast_to(radius, rho2.shape).ravel(), dz2.ravel(), rho2.ravel()
+        )
+    )
     m = 4 * radius * rho2 / ((radius + rho2) ** 2 + dz2**2)
     assert (m < SERIES_BELOW).sum() >= 3 and (m >= SERIES_BELOW).sum() > 100, "both branches hit"
-    b_abs = np.hypot(bz_ref, rho2 * s_ref)
-    assert np.all(np.abs(bz_new - bz_ref) <= 1e-12 * b_abs), (
-        "kernel vs loop_terms B_z, 1e-12 |B| (both lose a few digits next to the wire)"
+    b_abs = np.hypot(bz_ca, rho2 * s_ca)
+    assert np.all(np.abs(bz_np - bz_ca) <= 1e-12 * b_abs), "numpy vs CasADi AGM B_z, 1e-12 |B|"
+    assert np.all(np.abs(rho2 * (s_np - s_ca)) <= 1e-12 * b_abs), (
+        "numpy vs CasADi AGM B_rho, 1e-12 |B|"
     )
-    assert np.all(np.abs(rho2 * (s_new - s_ref)) <= 1e-12 * b_abs), (
-        "kernel vs loop_terms B_rho, 1e-12 |B|"
-    )
-    assert np.allclose(s_new[:, :3], s_ref[:, :3], rtol=1e-12, atol=0), (
+    assert np.allclose(s_np[:, :3], s_ca[:, :3], rtol=1e-12, atol=0), (
         "B_rho/rho on and next to the axis (series branch), rel 1e-12"
     )
 
 
 def test_filament_order_does_not_matter(nested_system) -> None:
-    """Grouped filaments (broadcast path) and a shuffled list (gather path) give one field."""
+    """Grouped filaments and a shuffled list of the same filaments give one field."""
     from coils.filaments import FilamentSet
 
     fs = nested_system.filament_set

@@ -33,7 +33,7 @@ def _relaxed_objective(sets: list[str]) -> float:
     from optimize import discrete, prepare
 
     s = discrete._setup(prepare(build_model(load_design(None, sets))))
-    r = discrete.relax(s, say=lambda _stage: None)
+    r = discrete.relax(s)
     assert r.best is not None, "the relaxation converged"
     return discrete._relaxed_objective(s, r)
 

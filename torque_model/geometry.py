@@ -214,6 +214,16 @@ def capsule_d_prime_m(helical_angle_rad: Scalar, geometry: ContactGeometry) -> S
     -------
     float, array or CasADi
         D', m.
+
+    Examples
+    --------
+    The paper's capsule at 45°: the equivalent diameter lies between the body's 11 mm and the
+    helix's outer 13 mm:
+
+    >>> import math
+    >>> from torque_model import PAPER_CAPSULE, capsule_d_prime_m
+    >>> print(f"{capsule_d_prime_m(math.radians(45.0), PAPER_CAPSULE) * 1e3:.4f} mm")
+    11.2571 mm
     """
     g = geometry
     return equivalent_diameter_m(helical_angle_rad, g.body_diameter_m, g.wire_diameter_m, g.starts)

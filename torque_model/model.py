@@ -103,6 +103,14 @@ def strain(diameter_after_m: Scalar, lumen_diameter_m: Scalar, wall_thickness_m:
     float, array or CasADi
         The strain, dimensionless; negative where the capsule does not touch (callers clip
         it at zero).
+
+    Examples
+    --------
+    A 12 mm lumen with a 2 mm wall stretched to 14 mm, ε = (D' - D) / (D + d):
+
+    >>> from torque_model import strain
+    >>> print(f"{strain(0.014, 0.012, 0.002):.6f}")
+    0.142857
     """
     return (diameter_after_m - lumen_diameter_m) / (lumen_diameter_m + wall_thickness_m)
 
@@ -122,6 +130,16 @@ def relaxation_modulus_Pa(time_s: Scalar, tissue: ViscoelasticConstants) -> Scal
     -------
     float, array or CasADi
         Relaxation modulus E(t), Pa.
+
+    Examples
+    --------
+    The five-element model: E1 + E2 + E3 at t = 0, only E3 long after:
+
+    >>> from torque_model import preset, relaxation_modulus_Pa
+    >>> t = preset("zhou2013-sample2")
+    >>> print(f"{relaxation_modulus_Pa(0.0, t):.3f} Pa = {t.E1_Pa + t.E2_Pa + t.E3_Pa:.3f}; "
+    ...       f"{relaxation_modulus_Pa(1e9, t):.3f} Pa = E3 {t.E3_Pa:.3f}")
+    6701299.956 Pa = 6701299.956; 4355.156 Pa = E3 4355.156
     """
     t = tissue
     return (
@@ -344,6 +362,16 @@ def torque_breakdown_Nm(
     -------
     dict of str to float, array or CasADi
         Torque of each part and their sum, N·m.
+
+    Examples
+    --------
+    The same torque by part of the capsule (the parts sum to the total):
+
+    >>> import math
+    >>> from torque_model import PAPER_CAPSULE, preset, torque_breakdown_Nm
+    >>> parts = torque_breakdown_Nm(math.radians(10.0), 1.0, preset("zhou2013-sample2"), PAPER_CAPSULE)
+    >>> print({k: round(float(v) * 1e3, 4) for k, v in parts.items()})  # mN m
+    {'wound': 0.8231, 'cylinder': 0.0, 'ends': 0.0101, 'total': 0.8332}
     """
     parts = contact_factors_m3(helical_angle_rad, tissue, geometry, d_prime_m)
     integral = relaxation_integral_Pa(frequency_hz, tissue)
@@ -474,6 +502,17 @@ def resistive_torque_Nm(
     float, array or CasADi
         The resistive torque, N·m: wound section (D_after = D'), unwound cylinder and the two
         hemispherical ends (D_after(z) where wider than the lumen).
+
+    Examples
+    --------
+    The paper's capsule (Zhou et al. 2013) in sample 2 at 10° and 1 Hz, within the 0.6-1.8 mN m
+    the paper measured from 0.5 to 3 Hz:
+
+    >>> import math
+    >>> from torque_model import PAPER_CAPSULE, preset, resistive_torque_Nm
+    >>> tau = resistive_torque_Nm(math.radians(10.0), 1.0, preset("zhou2013-sample2"), PAPER_CAPSULE)
+    >>> print(f"{tau * 1e3:.3f} mN m")
+    0.833 mN m
     """
     return torque_breakdown_Nm(helical_angle_rad, frequency_hz, tissue, geometry, d_prime_m)[
         "total"

@@ -35,6 +35,13 @@ def preset(name: str) -> TissueParameters:
     ------
     InputError
         An unknown name.
+
+    Examples
+    --------
+    >>> from torque_model import preset
+    >>> t = preset("zhou2013-sample2")
+    >>> print(f"{t.name}: E1 {t.E1_Pa / 1e3:.1f} kPa, lumen {t.lumen_diameter_m * 1e3:.1f} mm, mu {t.friction_coefficient}")
+    zhou2013-sample2: E1 42.8 kPa, lumen 10.9 mm, mu 0.28
     """
     if name not in _SETS:
         raise InputError("tissue.preset", name, "one of " + ", ".join(repr(n) for n in _SETS))

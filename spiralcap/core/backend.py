@@ -54,13 +54,11 @@ __all__ = [
     "pi",
     "positive_part",
     "positive_part_lifted",
-    "scalar_fast",
     "sin",
     "softplus",
     "sqrt",
     "sqrt_guarded",
     "square",
-    "symbolic_once",
     "tan",
     "where",
 ]
@@ -100,48 +98,6 @@ log = _unary(_np.log, _ca.log)
 sqrt = _unary(_np.sqrt, _ca.sqrt)
 abs = _unary(_np.abs, _ca.fabs)
 square = _unary(_np.square, lambda x: x * x)
-
-
-def scalar_fast(math_fn: Any, bk_fn: Any) -> Any:
-    """``bk_fn``, but ``math_fn`` on a plain Python float.
-
-    For scalar paths called thousands of times (the pack conduction series): a numpy scalar
-    would turn every later operation into a numpy one. Arrays and CasADi values go to
-    ``bk_fn``; the two agree to the last bit or two (tests compare the paths to 1e-12).
-    """
-
-    def fn(x: Any) -> Any:
-        return math_fn(x) if type(x) is float else bk_fn(x)
-
-    fn.__name__ = getattr(bk_fn, "__name__", "fn")
-    return fn
-
-
-def symbolic_once(fn: Callable[..., Any], n_args: int) -> Callable[..., Any]:
-    """``fn(*args, *static)``, but on CasADi arguments through a CasADi ``Function`` of the
-    ``n_args`` scalar arguments, traced once per ``static`` tuple (hashable).
-
-    The same expression as calling ``fn`` on the symbols (CasADi inlines an SX function called
-    on SX, folding the constants as the Python operators would), built in C++ instead of one
-    Python call per operation: for a correlation that every NLP re-traces many times (the pack
-    convection: ~60 operations at each of ~100 Newton stages). Numbers and arrays call ``fn``.
-    """
-    cache: dict[tuple, Any] = {}
-
-    def wrapped(*args: Any) -> Any:
-        dynamic, static = args[:n_args], tuple(args[n_args:])
-        if not is_casadi(*dynamic):
-            return fn(*args)
-        f = cache.get(static)
-        if f is None:
-            syms = [_ca.SX.sym(f"a{i}") for i in range(n_args)]
-            f = _ca.Function("symbolic_once", syms, [fn(*syms, *static)])
-            cache[static] = f
-        return f(*dynamic)
-
-    wrapped.__name__ = getattr(fn, "__name__", "fn")
-    wrapped.__doc__ = fn.__doc__
-    return wrapped
 
 
 def arctan2(y: Scalar, x: Scalar) -> Scalar:
@@ -249,28 +205,19 @@ def ellipe(m: Scalar) -> Scalar:
     return _agm_K_E(m)[1] if isinstance(m, _CASADI_TYPES) else _scipy_special().ellipe(m)
 
 
-def _ellipke_numpy(
-    m: Any,
-    out: tuple[_np.ndarray, _np.ndarray] | None = None,
-    complement: Any = None,
-) -> tuple[Any, Any]:
+def _ellipke_numpy(m: Any, complement: Any = None) -> tuple[Any, Any]:
     """K and E by scipy's Cephes ``ellipk``/``ellipe``; with ``complement`` (1 - m, given more
     accurately than by subtraction) K by ``ellipkm1``, exact next to m = 1."""
     _special = _scipy_special()
     mm = _np.asarray(m, dtype=float)
-    k_out, e_out = (None, None) if out is None else out
     if complement is not None and _np.all(_np.asarray(complement) <= 1.0):
-        K = _special.ellipkm1(_np.asarray(complement, dtype=float), out=k_out)
+        K = _special.ellipkm1(_np.asarray(complement, dtype=float))
     else:  # m < 0 lies outside ellipkm1's range
-        K = _special.ellipk(mm, out=k_out)
-    return K, _special.ellipe(mm, out=e_out)
+        K = _special.ellipk(mm)
+    return K, _special.ellipe(mm)
 
 
-def ellipke(
-    m: Scalar,
-    out: tuple[_np.ndarray, _np.ndarray] | None = None,
-    complement: Any = None,
-) -> tuple[Scalar, Scalar]:
+def ellipke(m: Scalar, complement: Any = None) -> tuple[Scalar, Scalar]:
     """Both K(m) and E(m); on the CasADi path they share one AGM iteration.
 
     On the numpy path scipy's Cephes ``ellipk``/``ellipe`` (``ellipkm1`` when the caller gives
@@ -281,12 +228,10 @@ def ellipke(
     ----------
     m : float, array or CasADi
         Parameter m = k², 0 <= m <= 1.
-    out : (ndarray, ndarray), optional
-        Arrays to write K and E into (numpy path).
     complement : array, optional
         1 - m when the caller has it more accurately than by subtraction (numpy path; the
         loop field passes alpha²/beta², exact near the wire where m -> 1).
     """
     if isinstance(m, _CASADI_TYPES):
         return _agm_K_E(m)
-    return _ellipke_numpy(m, out, complement)
+    return _ellipke_numpy(m, complement)
