@@ -320,31 +320,32 @@ class DesignModel:
 
 
 #: The numbers of a model checked at the public entry points (``check_model``): where each
-#: lives, and its rule; symbols pass (an NLP's parameters), optional ones may be None.
+#: lives (its attribute path on the model: these are model fields in SI, not design keys), and
+#: its rule; symbols pass (an NLP's parameters), optional ones may be None.
 _MODEL_NUMBERS = (
-    ("frequency_hz", positive()),
-    ("ambient_temperature_C", temperature()),
-    ("winding_temperature_C", temperature(optional=True)),
-    ("field_amplitude_T", nonnegative(optional=True)),
-    ("session_s", positive(optional=True)),
-    ("limits.current_A", positive()),
-    ("limits.voltage_V", positive()),
-    ("limits.power_W", positive()),
-    ("limits.coil_temperature_C", temperature()),
-    ("limits.surface_temperature_C", temperature(optional=True)),
-    ("limits.copper_mass_kg", positive(optional=True)),
-    ("requirements.axial_load_N", nonnegative()),
-    ("requirements.slip_efficiency", Spec(low=0.0, high=1.0, low_open=True)),
-    ("requirements.min_speed_m_s", nonnegative()),
-    ("requirements.min_spiral_turns", nonnegative()),
-    ("requirements.min_safety_factor", positive()),
-    ("requirements.min_clearance_m", nonnegative()),
-    ("requirements.bore_radius_m", nonnegative()),
-    ("requirements.min_wall_strain", nonnegative()),
-    ("bounds.helical_angle_min_rad", angle()),
-    ("bounds.helical_angle_max_rad", angle()),
-    ("bounds.frequency_min_hz", positive()),
-    ("bounds.frequency_max_hz", positive()),
+    (("frequency_hz",), positive()),
+    (("ambient_temperature_C",), temperature()),
+    (("winding_temperature_C",), temperature(optional=True)),
+    (("field_amplitude_T",), nonnegative(optional=True)),
+    (("session_s",), positive(optional=True)),
+    (("limits", "current_A"), positive()),
+    (("limits", "voltage_V"), positive()),
+    (("limits", "power_W"), positive()),
+    (("limits", "coil_temperature_C"), temperature()),
+    (("limits", "surface_temperature_C"), temperature(optional=True)),
+    (("limits", "copper_mass_kg"), positive(optional=True)),
+    (("requirements", "axial_load_N"), nonnegative()),
+    (("requirements", "slip_efficiency"), Spec(low=0.0, high=1.0, low_open=True)),
+    (("requirements", "min_speed_m_s"), nonnegative()),
+    (("requirements", "min_spiral_turns"), nonnegative()),
+    (("requirements", "min_safety_factor"), positive()),
+    (("requirements", "min_clearance_m"), nonnegative()),
+    (("requirements", "bore_radius_m"), nonnegative()),
+    (("requirements", "min_wall_strain"), nonnegative()),
+    (("bounds", "helical_angle_min_rad"), angle()),
+    (("bounds", "helical_angle_max_rad"), angle()),
+    (("bounds", "frequency_min_hz"), positive()),
+    (("bounds", "frequency_max_hz"), positive()),
 )
 
 
@@ -369,9 +370,9 @@ def check_model(name: str, model: Any) -> None:
         )
     for path, spec in _MODEL_NUMBERS:
         value: Any = model
-        for part in path.split("."):
+        for part in path:
             value = getattr(value, part)
-        spec.check(f"{name}.{path}", value)
+        spec.check(f"{name}.{'.'.join(path)}", value)
     lim = model.limits
     for kind, unit in (("current", "A"), ("voltage", "V"), ("power", "W")):
         own = getattr(lim, f"axis_{kind}_{unit}")

@@ -17,7 +17,7 @@ from dataclasses import replace
 import casadi as ca
 import numpy as np
 import pytest
-from cli_outcome import SIX_KEYS, run, run_json
+from cli_outcome import NO_TOLERANCE_SETS, SIX_KEYS, run, run_json
 from scipy import integrate
 
 import capsule as cap
@@ -230,6 +230,7 @@ def test_default_min_strain_includes_the_papers_least():
     assert min(ours, hull) - need < 1e-4, "the case to three figures, rounded down"
     # and the CLI agrees: the paper's capsule No. 4 in sample 3 meets the default grip row
     sets = ["capsule.spiral.helical_angle_deg=20", "tissue.preset=zhou2013-sample3"]
+    sets += NO_TOLERANCE_SETS  # the paper's capsule as measured, not a toleranced design
     ev = run_json(["evaluate", *_sets([*sets, "tissue.worst_case_presets=[]"])])
     grip = [c for c in ev["checks"] if c["name"].startswith("wall_strain")]
     assert grip and all(c["ok"] for c in grip), grip

@@ -12,7 +12,14 @@ import os
 
 import numpy as np
 import pytest
-from cli_outcome import NO_TOLERANCES, ZERO_TORQUE, bad_numbers, sound, weightless
+from cli_outcome import (
+    NO_TOLERANCE_SETS,
+    NO_TOLERANCES,
+    ZERO_TORQUE,
+    bad_numbers,
+    sound,
+    weightless,
+)
 
 from spiralcap.core.errors import DataError, InputError
 from spiralcap.design import load_design, write_text_atomic
@@ -295,6 +302,7 @@ def test_step_out_above_the_search_range_is_a_bound():
     """A spiral that touches (strain 0.3 %, below the minimum) with a small load: the margin
     stays positive to 200 Hz."""
     grazing = ["tissue.lumen_diameter_mm=11.3", "capsule.spiral.helical_angle_deg=15"]
+    grazing += NO_TOLERANCE_SETS  # the nominal spiral: the box's corner would not touch
     _, out, _ = sound(["evaluate", "--json", *(a for g in grazing for a in ("--set", g))], (0,))
     ev = json.loads(out)
     assert ev["step_out_bound"] == "above_search_range"

@@ -183,4 +183,6 @@ def test_infeasible_sizing_names_the_hardware_as_design_keys():
     )
     assert rc == 3, out
     assert "coils.x.wire_diameter_mm = " in out and "wire_diameter_m =" not in out, out
-    assert re.search(r"requirements.min_safety_factor: needs 2, best reachable 1\.\d+", out), out
+    # (0.915 at the closest design that grips, with the default tolerance box; 1.3 without)
+    found = re.search(r"requirements.min_safety_factor: needs 2, best reachable (\d\.\d+)", out)
+    assert found and 0 < float(found.group(1)) < 2, out

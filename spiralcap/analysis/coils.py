@@ -340,49 +340,9 @@ def coils_payload(a: CoilAnalysis) -> dict[str, Any]:
     sizing = asdict(a.sizing)
     if sizing["heat_transfer_coefficient_W_m2K"] is None:  # one type per field: no null
         del sizing["heat_transfer_coefficient_W_m2K"]
-    lim = {x.axis: asdict(x) for x in a.axis_limits}
+    sizing["axes"] = _axes_payload(a, sizing["axes"])
+    uniform = _uniform_payload(a.uniform)
     op = {x.axis: asdict(x) for x in a.operating}
-    sizing["axes"] = {
-        s["axis"]: {
-            **s,
-            **lim[s["axis"]],
-            # no steady state at the current limit: the temperatures, R and P are undefined
-            "thermal_runaway": not math.isfinite(s["hot_spot_temperature_C"]),
-        }
-        for s in sizing["axes"]
-    }
-    from spiralcap.analysis.measured import measured_payload
-
-    for m in a.measured:  # a lab's measured pair: measured beside computed, the deviation
-        sizing["axes"][m.axis]["measured"] = measured_payload(m)
-    for ax, key in zip(_AXES, a.current_keys):  # the amplifier channel each pair is sized at
-        sizing["axes"][ax]["current_limit_key"] = key
-    for s in sizing["axes"].values():  # a side only on a square pair (radius_m: half of it)
-        if s["side_m"] is None:
-            del s["side_m"]
-        if s["sides_m"] is None:  # sides only on a rectangle (radius_m: half the shorter)
-            del s["sides_m"]
-        else:
-            s["sides_m"] = list(s["sides_m"])
-    for s in sizing["axes"].values():  # the side of a square pack only where it is one
-        if not math.isclose(s["winding_pack_width_m"], s["winding_pack_depth_m"], rel_tol=1e-12):
-            del s["winding_pack_side_m"]
-    u = a.uniform
-    uniform: dict[str, Any] = {
-        "radius_1pct_m": u.radius_1pct_m,
-        "radius_5pct_m": u.radius_5pct_m,
-        "worst_field_direction_1pct": list(u.worst_field_direction_1pct),
-        "worst_field_direction_5pct": list(u.worst_field_direction_5pct),
-        "limiting_ray_1pct": list(u.limiting_ray_1pct),
-        "limiting_ray_5pct": list(u.limiting_ray_5pct),
-        "per_axis": {
-            ax: {
-                "radius_1pct_m": u.per_axis_radius_1pct_m[ax],
-                "radius_5pct_m": u.per_axis_radius_5pct_m[ax],
-            }
-            for ax in _AXES
-        },
-    }
     from spiralcap.assemble.system import constraint_key
     from spiralcap.presentation import readable
 
@@ -420,6 +380,62 @@ def coils_payload(a: CoilAnalysis) -> dict[str, Any]:
         "warnings": list(a.warnings),
         **({} if a.stray is None else {"stray_field": _stray_payload(a.stray)}),
         **({} if a.calibration is None else {"calibration": a.calibration}),
+    }
+
+
+def _axes_payload(a: CoilAnalysis, axes: list[dict[str, Any]]) -> dict[str, Any]:
+    """Each pair's sizing, its limits and flags, keyed by axis: measured beside computed where
+    the lab measured the pair, the amplifier channel each is sized at, a side only on a square
+    and sides only on a rectangle, a square pack's side only where the pack is square."""
+    from spiralcap.analysis.measured import measured_payload
+
+    lim = {x.axis: asdict(x) for x in a.axis_limits}
+    out = {
+        s["axis"]: {
+            **s,
+            **lim[s["axis"]],
+            # no steady state at the current limit: the temperatures, R and P are undefined
+            "thermal_runaway": not math.isfinite(s["hot_spot_temperature_C"]),
+        }
+        for s in axes
+    }
+    for m in a.measured:  # a lab's measured pair: measured beside computed, the deviation
+        out[m.axis]["measured"] = measured_payload(m)
+    for ax, key in zip(_AXES, a.current_keys):  # the amplifier channel each pair is sized at
+        out[ax]["current_limit_key"] = key
+    for s in out.values():
+        _shape_fields(s)
+    return out
+
+
+def _shape_fields(s: dict[str, Any]) -> None:
+    """Drop the size fields a pair's shape does not have (one type per field: no null)."""
+    if s["side_m"] is None:  # a side only on a square pair (radius_m: half of it)
+        del s["side_m"]
+    if s["sides_m"] is None:  # sides only on a rectangle (radius_m: half the shorter)
+        del s["sides_m"]
+    else:
+        s["sides_m"] = list(s["sides_m"])
+    if not math.isclose(s["winding_pack_width_m"], s["winding_pack_depth_m"], rel_tol=1e-12):
+        del s["winding_pack_side_m"]  # the side of a square pack only where it is one
+
+
+def _uniform_payload(u: Any) -> dict[str, Any]:
+    """The uniform regions (±1 %, ±5 %) in SI, the whole field's and each axis's."""
+    return {
+        "radius_1pct_m": u.radius_1pct_m,
+        "radius_5pct_m": u.radius_5pct_m,
+        "worst_field_direction_1pct": list(u.worst_field_direction_1pct),
+        "worst_field_direction_5pct": list(u.worst_field_direction_5pct),
+        "limiting_ray_1pct": list(u.limiting_ray_1pct),
+        "limiting_ray_5pct": list(u.limiting_ray_5pct),
+        "per_axis": {
+            ax: {
+                "radius_1pct_m": u.per_axis_radius_1pct_m[ax],
+                "radius_5pct_m": u.per_axis_radius_5pct_m[ax],
+            }
+            for ax in _AXES
+        },
     }
 
 
