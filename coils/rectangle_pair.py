@@ -150,13 +150,13 @@ class RectanglePair(WoundPair):
         Returns
         -------
         RectanglePair
-            A pair with those sides and this pair's other fields (``measured`` included),
-            at the default spacing of the new sides where this pair had its default spacing.
+            A pair with those sides and this pair's other fields but ``measured`` (None: a
+            pair of other sides is not the pair the lab measured), at the default spacing of
+            the new sides where this pair had its default spacing.
         """
         helm = self.helmholtz
-        return replace(
-            self, **self.size_fields(sizes_m), separation_m=None if helm else self.separation_m
-        )
+        sep = None if helm else self.separation_m
+        return replace(self, **self.size_fields(sizes_m), separation_m=sep, measured=None)
 
     def size_fields(self, sizes: tuple[float, ...]) -> dict[str, Any]:
         """``sides_m`` of sizes (a, b); a lone first side keeps the aspect b / a.

@@ -168,3 +168,20 @@ def test_the_assembler_puts_the_design_keys_on_the_pairs() -> None:
     assert z.resistance_ohm(20.0) == pytest.approx(7.0 / (1 + ALPHA20 * 40.0), rel=1e-12), (
         "IEC 60028 copper scaling to 20 °C, rel 1e-12"
     )
+
+
+def test_a_rectangle_of_other_sides_is_not_the_measured_pair() -> None:
+    """The rectangle's own ``with_sizes`` drops the measured constants too (every shape)."""
+    from coils import MeasuredConstants
+    from spiralcap.assemble import build_model
+    from spiralcap.design import load_design
+
+    design = load_design(
+        str(Path(__file__).resolve().parents[1] / "examples" / "rectangle_coils.toml")
+    )
+    rect = next(p for p in build_model(design).coils.pairs if len(p.sizes_m) == 2)
+    meas = dataclasses.replace(rect, measured=MeasuredConstants(resistance_ohm=3.0))
+    assert meas.resistance_ohm(20.0) == 3.0, "the measured resistance at its 20 °C"
+    other = meas.with_sizes((0.7, 0.9))
+    assert other.measured is None, "other sides: computed constants"
+    assert other.resistance_ohm(20.0) == rect.with_sizes((0.7, 0.9)).resistance_ohm(20.0)
