@@ -198,7 +198,9 @@ def main(argv: list[str] | None = None) -> int:
             status = int(args._module.run(args) or 0)
         sys.stdout.flush()  # a full disk behind stdout is found here, not at exit
     except BaseException as exc:  # each kind is answered, or raised again, below
+        stopping.settle()
         status = _stopped(name, exc) or _failed(name, exc)
+    stopping.settle()
     return _after(name, status)
 
 
@@ -309,7 +311,14 @@ def console() -> None:  # pragma: no cover -- the installed ``spiralcap`` comman
     from spiralcap.stopping import stop_on_signals
 
     stop_on_signals()  # SIGTERM, SIGHUP, SIGINT: workers stopped, nothing written
-    status = main()
+    try:
+        status = main()
+    except KeyboardInterrupt:  # a stop's reminder that came as main was saying how it ended
+        from spiralcap.stopping import settle
+
+        settle()
+        command = next((w for w in sys.argv[1:] if not w.startswith("-")), "")
+        status = _stop_line(command if command in COMMANDS else "", (stop_status() or 130) - 128)
     if stop_status():
         # stopped: nothing was committed and every worker is killed; leave now, without the
         # exit handlers that join the threads of a killed pool (they can block)

@@ -393,8 +393,9 @@ def write_files_atomic(files: Mapping[Any, str | bytes]) -> list[Path]:
         with stopping.committing():  # a stop before: nothing written; from here: all of it
             _commit(devices, staged)
     finally:
-        for tmp, _ in staged:
-            Path(tmp).unlink(missing_ok=True)
+        with stopping.deferred():  # every staged name removed, whatever comes meanwhile
+            for tmp, _ in staged:
+                Path(tmp).unlink(missing_ok=True)
     return [Path(g) for g in files]
 
 

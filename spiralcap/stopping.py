@@ -25,14 +25,17 @@ were written. So exit 130/143 always means nothing was written, exit 0 that ever
 from __future__ import annotations
 
 import contextlib
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from typing import Any
 
 #: The signal number of the first stop request this process received (0: none).
 _REQUESTED = [0]
-#: [deferring, committing, committed]: a stop waits for the end of a short block that must not
-#: be cut (staging the outputs); the outputs are being, or have been, put in place.
-_COMMIT = [False, False, False]
+#: [deferring, committing, committed, settled]: a stop waits for the end of a short block that
+#: must not be cut (staging the outputs); the outputs are being, or have been, put in place;
+#: the command has taken the stop into account (it is saying so and leaving).
+_COMMIT = [False, False, False, False]
+#: Seconds between the reminders of a stop request that was not honoured yet (:func:`_again`).
+AGAIN_S = 0.25
 
 
 def requested() -> int:
@@ -54,7 +57,7 @@ def committed() -> bool:
 def new_run() -> None:
     """Forget the commit of an earlier run in this process (:func:`spiralcap.cli.main` calls it
     first; a stop request is never forgotten)."""
-    _COMMIT[:] = [False, False, False]
+    _COMMIT[:] = [False, False, False, False]
 
 
 class Terminated(KeyboardInterrupt):
@@ -75,6 +78,18 @@ def raise_if_requested() -> None:
     """
     if _REQUESTED[0] and not any(_COMMIT):
         raise Terminated(_REQUESTED[0])
+
+
+def checked(callback: Callable[..., None] | None) -> Callable[..., None]:
+    """``callback`` (a progress callback, or None: nothing) with a stage boundary before each
+    call: a stop request that came before, its exception lost on the way, raises here."""
+
+    def call(*args: Any) -> None:
+        raise_if_requested()
+        if callback is not None:
+            callback(*args)
+
+    return call
 
 
 @contextlib.contextmanager
@@ -105,7 +120,7 @@ def committing() -> Iterator[None]:
     except BaseException:
         _COMMIT[1] = False
         raise
-    _COMMIT[1:] = [False, True]
+    _COMMIT[1], _COMMIT[2] = False, True
 
 
 #: Signals the command turns into :class:`Terminated`.
@@ -115,7 +130,8 @@ STOP_SIGNALS = ("SIGTERM", "SIGHUP", "SIGINT")
 def _stop(signum: int, _frame: Any) -> None:
     """The handler: record the request; raise :class:`Terminated` unless the outputs are being
     or have been committed. After the first request every stop signal takes its default action
-    again, so a second one ends a command that is slow to clean up at once."""
+    again, so a second one ends a command that is slow to clean up at once; and the request is
+    raised again every :data:`AGAIN_S` until the command takes it (:func:`_again`)."""
     import signal
 
     first = not _REQUESTED[0]
@@ -124,8 +140,32 @@ def _stop(signum: int, _frame: Any) -> None:
         for name in STOP_SIGNALS:
             if hasattr(signal, name):
                 signal.signal(getattr(signal, name), signal.SIG_DFL)
+        if hasattr(signal, "setitimer"):
+            signal.signal(signal.SIGALRM, _again)
+            signal.setitimer(signal.ITIMER_REAL, AGAIN_S, AGAIN_S)
     if not any(_COMMIT):
         raise Terminated(_REQUESTED[0])
+
+
+def _again(_signum: int, _frame: Any) -> None:
+    """The reminder: a stop request whose exception was swallowed (an import that turns it into
+    an ImportError another import catches, a library's ``except BaseException``) is raised again,
+    until the command has taken it (:func:`settle`) or committed its outputs."""
+    if _REQUESTED[0] and not any(_COMMIT):
+        raise Terminated(_REQUESTED[0])
+
+
+def settle() -> None:
+    """The command has taken the stop request into account (or ended without one): no
+    reminder is raised any more (:func:`spiralcap.cli.main`, as it says how the run ended)."""
+    import signal
+
+    _COMMIT[3] = True
+    if _REQUESTED[0] and hasattr(signal, "setitimer"):
+        try:
+            signal.setitimer(signal.ITIMER_REAL, 0.0)
+        except (OSError, ValueError):  # pragma: no cover -- not the main interpreter
+            pass
 
 
 def stop_on_signals() -> None:

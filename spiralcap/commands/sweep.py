@@ -108,6 +108,7 @@ def run(args: argparse.Namespace) -> int:
     design = design_from_args(args)
     axes = _checked_axes(args)
     from spiralcap.progress import progress_bar
+    from spiralcap.stopping import checked
 
     stage = "re-optimising" if args.optimize else "evaluating"
     with progress_bar(stage, unit="point") as progress:
@@ -116,7 +117,7 @@ def run(args: argparse.Namespace) -> int:
             axes,
             optimize=args.optimize,
             workers=args.workers,
-            progress=progress,
+            progress=checked(progress),
             dask=args.dask,
         )
     header, rows = _rows(result)
