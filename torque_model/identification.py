@@ -389,8 +389,12 @@ def identify(
     def residuals(q: np.ndarray) -> np.ndarray:
         return (G * integral.value(np.exp(c + A @ q)) - torque) * scale
 
+    weight = (G * scale)[:, None]
+
     def jac(q: np.ndarray) -> np.ndarray:
-        return (G * scale)[:, None] * (integral.jacobian(c + A @ q) @ A)
+        out = integral.jacobian(c + A @ q) @ A
+        out *= weight  # in place: one n x free matrix per call, not three
+        return out
 
     fit_jac = jac if jacobian == "analytic" else jacobian
     budget = _MAX_NFEV if max_nfev is None else int(max_nfev)
@@ -468,10 +472,15 @@ def _log_map(names: tuple[str, ...], p0: np.ndarray) -> tuple[np.ndarray, np.nda
 def _solve(
     fun: Any, jac: Any, q0: np.ndarray, lo: np.ndarray, hi: np.ndarray, max_nfev: int
 ) -> Any:
-    """One bounded TRF run from ``q0`` with at most ``max_nfev`` evaluations."""
+    """One bounded TRF run from ``q0`` with at most ``max_nfev`` evaluations.
+
+    The run's final Jacobian (n x free numbers) is dropped: the fit keeps every start's run and
+    recomputes the Jacobian at the one it takes, so a bench file of 200,000 rows does not hold
+    one 8 MB matrix per start.
+    """
     from scipy import optimize  # ~0.25 s to import: only when fitting
 
-    return optimize.least_squares(
+    sol = optimize.least_squares(
         fun,
         q0,
         jac=jac,
@@ -482,6 +491,8 @@ def _solve(
         gtol=1e-9,
         max_nfev=max_nfev,
     )
+    sol.jac = None
+    return sol
 
 
 def _converge(fun: Any, jac: Any, sol: Any, lo: np.ndarray, hi: np.ndarray, budget: int) -> Any:
