@@ -22,7 +22,7 @@ import argparse
 import csv
 import math
 from array import array
-from collections.abc import Iterator
+from collections.abc import Iterable, Iterator
 from pathlib import Path
 from typing import Any
 
@@ -114,8 +114,9 @@ def parse_only(text: str | None) -> tuple[str, ...] | None:
     return tuple(out)
 
 
-def read_bench_csv(path: str | Path) -> dict[str, list[float]]:
-    """Read and check a bench CSV: column name -> values (frequency Hz, torque mN·m, angle deg).
+def read_bench_csv(path: str | Path) -> dict[str, Any]:
+    """Read and check a bench CSV: column name -> values, a float array (frequency Hz, torque
+    mN·m, angle deg).
 
     Raises
     ------
@@ -153,16 +154,25 @@ def read_bench_csv(path: str | Path) -> dict[str, list[float]]:
         for col, idx, values in columns:
             raw = cells[idx].strip() if idx < len(cells) else ""
             values.append(_cell(raw, col, where))
-    out = {col: values.tolist() for col, _, values in columns}
-    if not out[REQUIRED[0]]:
+    if not columns[0][2]:
         raise DataError(f"{p}: a header but no data rows")
-    return out
+    import numpy as np
+
+    return {col: np.frombuffer(values, dtype=float) for col, _, values in columns}
 
 
 def _data_lines(text: str) -> Iterator[tuple[int, str]]:
     """(1-based line number, line) of each line of ``text`` that is not blank or a comment,
-    one at a time (the lines themselves are the text's size again, the rest is per row)."""
-    for i, line in enumerate(text.splitlines(), start=1):
+    one at a time, the line ends :meth:`str.splitlines` knows (a text with one of its rarer
+    ends, a form feed or a Unicode line separator, is split by it at once)."""
+    import io
+
+    rare = ("\v", "\f", "\x1c", "\x1d", "\x1e", "\x85", "\u2028", "\u2029")
+    lines: Iterable[str] = (
+        text.splitlines() if any(c in text for c in rare) else io.StringIO(text, newline=None)
+    )
+    for i, line in enumerate(lines, start=1):
+        line = line.rstrip("\n")
         if line.strip() and not line.lstrip().startswith("#"):
             yield i, line
 
