@@ -12,7 +12,8 @@ A try passes when either
 - or the signal came after the outputs were committed: exit 0 (the outputs were already in
   place and complete, so the command finishes; it says so on stderr), every output present;
 
-and, either way, the command and every process of its group ended within 5 s of the signal.
+and, either way, the command and every process of its group ended within 5 s of the signal (2 s
+for the fit of a bench file at the size cap).
 A try whose command had already ended before the signal went is counted as ``early end``; one
 signalled before the interpreter had set the command up (its first ~0.1 s: the signal's default
 action ends it, nothing written, a shell reports 128 + the signal number) as ``ended at start``.
@@ -64,6 +65,8 @@ class Scenario:
     prepare: Callable[[Path], None] | None = None
     command: str = ""
     inputs: tuple[str, ...] = field(default=())
+    #: Seconds the command and its group may take to end after the signal.
+    end_within_s: float = END_WITHIN_S
 
 
 def _bench_csv(folder: Path) -> None:
@@ -152,10 +155,11 @@ SCENARIOS: dict[str, Scenario] = {
         ("fit", "bench.csv", "-o", "f.toml"),
         signal.SIGTERM,
         ("f.toml",),
-        (0.2, 3.0),
+        (0.5, 8.0),
         prepare=_bench_csv,
         command="fit",
         inputs=("bench.csv",),
+        end_within_s=2.0,  # issue 39: a fit on a file at the size cap stops within 2 s
     ),
 }
 
@@ -232,7 +236,7 @@ def one_try(sc: Scenario, delay_s: float, root: Path) -> Outcome:
             return Outcome("early end", delay_s, 0.0, proc.returncode, "")
         os.kill(proc.pid, sc.sig)
         sent = time.monotonic()
-        while time.monotonic() - sent < END_WITHIN_S:
+        while time.monotonic() - sent < sc.end_within_s:
             if proc.poll() is not None and not group(proc.pid):
                 break
             time.sleep(0.02)
@@ -243,7 +247,7 @@ def one_try(sc: Scenario, delay_s: float, root: Path) -> Outcome:
             os.kill(pid, signal.SIGKILL)
     _, err = proc.communicate(timeout=30)
     if hung:
-        return Outcome(f"still running {END_WITHIN_S:g} s later", delay_s, took, None, err)
+        return Outcome(f"still running {sc.end_within_s:g} s later", delay_s, took, None, err)
     return Outcome(_judge(sc, proc.returncode, err, folder), delay_s, took, proc.returncode, err)
 
 
