@@ -163,18 +163,26 @@ def read_bench_csv(path: str | Path) -> dict[str, Any]:
 
 def _data_lines(text: str) -> Iterator[tuple[int, str]]:
     """(1-based line number, line) of each line of ``text`` that is not blank or a comment,
-    one at a time, the line ends :meth:`str.splitlines` knows (a text with one of its rarer
-    ends, a form feed or a Unicode line separator, is split by it at once)."""
-    import io
-
+    one at a time, split where :meth:`str.splitlines` splits (a text with one of its rarer line
+    ends, a lone carriage return, a form feed or a Unicode line separator, by it at once)."""
     rare = ("\v", "\f", "\x1c", "\x1d", "\x1e", "\x85", "\u2028", "\u2029")
-    lines: Iterable[str] = (
-        text.splitlines() if any(c in text for c in rare) else io.StringIO(text, newline=None)
-    )
+    if any(c in text for c in rare) or text.count("\r") != text.count("\r\n"):
+        lines: Iterable[str] = text.splitlines()
+    else:
+        lines = _lines_of(text)
     for i, line in enumerate(lines, start=1):
-        line = line.rstrip("\n")
         if line.strip() and not line.lstrip().startswith("#"):
             yield i, line
+
+
+def _lines_of(text: str) -> Iterator[str]:
+    """The lines of ``text`` (ends ``\n`` or ``\r\n``) without copying it whole."""
+    start, end = 0, len(text)
+    while start < end:
+        stop = text.find("\n", start)
+        stop = end if stop < 0 else stop
+        yield text[start:stop].removesuffix("\r")
+        start = stop + 1
 
 
 def _short(raw: str, limit: int = 60) -> str:
