@@ -310,7 +310,7 @@ def console() -> None:  # pragma: no cover -- the installed ``spiralcap`` comman
         os.environ.setdefault(var, "1")
     from spiralcap.stopping import stop_on_signals
 
-    stop_on_signals()  # SIGTERM, SIGHUP, SIGINT: workers stopped, nothing written
+    stop_on_signals(quiet=True)  # SIGTERM, SIGHUP, SIGINT: workers stopped, nothing written
     try:
         status = main()
     except KeyboardInterrupt:  # a stop's reminder that came as main was saying how it ended

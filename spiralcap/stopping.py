@@ -136,6 +136,8 @@ def _stop(signum: int, _frame: Any) -> None:
 
     first = not _REQUESTED[0]
     record(signum)
+    if first and _QUIET[0] and not any(_COMMIT[1:]):
+        _quiet_stderr()
     if first:
         for name in STOP_SIGNALS:
             if hasattr(signal, name):
@@ -161,6 +163,7 @@ def settle() -> None:
     import signal
 
     _COMMIT[3] = True
+    _restore_stderr()
     if _REQUESTED[0] and hasattr(signal, "setitimer"):
         try:
             signal.setitimer(signal.ITIMER_REAL, 0.0)
@@ -168,12 +171,61 @@ def settle() -> None:
             pass
 
 
-def stop_on_signals() -> None:
+#: A copy of file descriptor 2 while it is pointed at the null device (-1: it is not).
+_SAVED_STDERR = [-1]
+#: Whether a stop request quietens stderr (:func:`stop_on_signals`).
+_QUIET = [False]
+
+
+def _quiet_stderr() -> None:
+    """From a stop request (before the commit) until the command says how it ended, file
+    descriptor 2 goes to the null device: what libraries print as they are cut short (CasADi's
+    ``KeyboardInterruptException`` warning from IPOPT's callback, an exception Python reports
+    as ignored in a finaliser) is not the command's, whose one line follows (:func:`settle`)."""
+    import os
+    import sys
+
+    if _SAVED_STDERR[0] >= 0:
+        return
+    try:
+        sys.stderr.flush()
+        saved = os.dup(2)
+        null = os.open(os.devnull, os.O_WRONLY)
+    except (OSError, ValueError, AttributeError):  # no real stderr: nothing to quieten
+        return
+    os.dup2(null, 2)
+    os.close(null)
+    _SAVED_STDERR[0] = saved
+
+
+def _restore_stderr() -> None:
+    """File descriptor 2 back where it was (after :func:`_quiet_stderr`)."""
+    import os
+    import sys
+
+    saved = _SAVED_STDERR[0]
+    if saved < 0:
+        return
+    try:
+        sys.stderr.flush()  # what was said meanwhile goes to the null device
+    except (OSError, ValueError, AttributeError):
+        pass
+    os.dup2(saved, 2)
+    os.close(saved)
+    _SAVED_STDERR[0] = -1
+
+
+def stop_on_signals(*, quiet: bool = False) -> None:
     """In the ``spiralcap`` command: SIGTERM, SIGHUP and SIGINT are recorded and raise
     :class:`Terminated` in the main thread, once; a second one while it cleans up ends the
-    process at once (the default action; its workers then end through ``PR_SET_PDEATHSIG``)."""
+    process at once (the default action; its workers then end through ``PR_SET_PDEATHSIG``).
+
+    With ``quiet`` (the command, whose :func:`spiralcap.cli.main` calls :func:`settle` and
+    then says how it ended), stderr is quietened from the request on (:func:`_quiet_stderr`).
+    """
     import signal
 
+    _QUIET[0] = quiet
     for name in STOP_SIGNALS:
         if hasattr(signal, name):
             signal.signal(getattr(signal, name), _stop)
