@@ -29,6 +29,7 @@ The suite keeps a short version (tests/test_stop_storm.py, a few tries, slow-mar
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import json
 import os
 import random
@@ -123,6 +124,13 @@ SCENARIOS: dict[str, Scenario] = {
     "report": Scenario(
         ("report", "-o", "r.html", "--pdf", "r.pdf"),
         signal.SIGTERM,
+        ("r.html", "r.pdf"),
+        (0.05, 2.4),
+        command="report",
+    ),
+    "report-sigint": Scenario(  # Ctrl-C once went unnoticed inside matplotlib's import
+        ("report", "-o", "r.html", "--pdf", "r.pdf"),
+        signal.SIGINT,
         ("r.html", "r.pdf"),
         (0.05, 2.4),
         command="report",
@@ -255,8 +263,12 @@ def one_try(sc: Scenario, delay_s: float, root: Path) -> Outcome:
 PASSING = ("stopped", "late", "early end", "ended at start")
 
 
-def storm(name: str, tries: int, rng: random.Random, root: Path) -> dict:
+def storm(
+    name: str, tries: int, rng: random.Random, root: Path, window: tuple[float, float] | None = None
+) -> dict:
     sc = SCENARIOS[name]
+    if window is not None:
+        sc = dataclasses.replace(sc, window_s=window)
     outcomes = [one_try(sc, rng.uniform(*sc.window_s), root) for _ in range(tries)]
     counts = Counter(o.verdict for o in outcomes)
     bad = [o for o in outcomes if o.verdict not in PASSING]
@@ -278,12 +290,18 @@ def main() -> int:
     parser.add_argument("scenarios", nargs="*", default=list(SCENARIOS), choices=list(SCENARIOS))
     parser.add_argument("--tries", type=int, default=20)
     parser.add_argument("--seed", type=int, default=39)
+    parser.add_argument(
+        "--window",
+        metavar="LO:HI",
+        help="draw the signal times from LO to HI seconds instead (past the commit: late stops)",
+    )
     args = parser.parse_args()
     rng = random.Random(args.seed)
     failed = 0
     with tempfile.TemporaryDirectory(prefix="signal-storm-") as root:
         for name in args.scenarios:
-            summary = storm(name, args.tries, rng, Path(root))
+            window = tuple(float(x) for x in args.window.split(":")) if args.window else None
+            summary = storm(name, args.tries, rng, Path(root), window)  # type: ignore[arg-type]
             failed += len(summary["failures"])
             print(json.dumps(summary), flush=True)
     return 1 if failed else 0

@@ -185,6 +185,7 @@ def main(argv: list[str] | None = None) -> int:
     from spiralcap import stopping
 
     stopping.new_run()
+    _SAID[0] = False
     ascii_fallback(sys.stdout)
     ascii_fallback(sys.stderr, ("strict", "backslashreplace"))
     words = sys.argv[1:] if argv is None else argv
@@ -223,7 +224,12 @@ def _stop_line(command: str, signum: int) -> int:
     name = signal.Signals(signum).name
     what = "interrupted" if signum == signal.SIGINT else f"stopped by {name}"
     print(f"{_prefix(command)}: {what}", file=sys.stderr)
+    _SAID[0] = True
     return 128 + signum
+
+
+#: Whether this run has said how a stop request ended it (its one line).
+_SAID = [False]
 
 
 def _stopped(command: str, exc: BaseException) -> int:
@@ -277,6 +283,7 @@ def _after(command: str, status: int) -> int:
         "written; they are complete",
         file=sys.stderr,
     )
+    _SAID[0] = True
     return status
 
 
@@ -319,6 +326,15 @@ def console() -> None:  # pragma: no cover -- the installed ``spiralcap`` comman
         settle()
         command = next((w for w in sys.argv[1:] if not w.startswith("-")), "")
         status = _stop_line(command if command in COMMANDS else "", (stop_status() or 130) - 128)
+    from spiralcap.stopping import ignore_stops, requested
+
+    # the outcome is decided and said: a stop that comes while the interpreter exits changes
+    # nothing (it would otherwise meet the default action Python restores there: killed by the
+    # signal, no line, though the outputs are complete)
+    ignore_stops()
+    if requested() and not _SAID[0]:  # one that came as main returned: said now
+        command = next((w for w in sys.argv[1:] if not w.startswith("-")), "")
+        status = _after(command if command in COMMANDS else "", status)
     if stop_status():
         # stopped: nothing was committed and every worker is killed; leave now, without the
         # exit handlers that join the threads of a killed pool (they can block)

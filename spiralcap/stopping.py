@@ -215,6 +215,15 @@ def _restore_stderr() -> None:
     _SAVED_STDERR[0] = -1
 
 
+def ignore_stops() -> None:
+    """SIGTERM, SIGHUP and SIGINT ignored from here on (the command's outcome is decided)."""
+    import signal
+
+    for name in STOP_SIGNALS:
+        if hasattr(signal, name):
+            signal.signal(getattr(signal, name), signal.SIG_IGN)
+
+
 def stop_on_signals(*, quiet: bool = False) -> None:
     """In the ``spiralcap`` command: SIGTERM, SIGHUP and SIGINT are recorded and raise
     :class:`Terminated` in the main thread, once; a second one while it cleans up ends the
