@@ -10,7 +10,9 @@ A try passes when either
   (``spiralcap optimize: stopped by SIGTERM`` or ``... interrupted``), no file left in its
   folder (no output, no staged ``.part`` file);
 - or the signal came after the outputs were committed: exit 0 (the outputs were already in
-  place and complete, so the command finishes; it says so on stderr), every output present;
+  place and complete, so the command finishes; it says so on stderr in one line, or says
+  nothing when the signal came as the interpreter exits, once the command had ended), every
+  output present;
 
 and, either way, the command and every process of its group ended within 5 s of the signal (2 s
 for the fit of a bench file at the size cap).
@@ -219,8 +221,13 @@ def _judge(sc: Scenario, rc: int | None, err: str, folder: Path) -> str:
         missing = [o for o in sc.outputs if not (folder / o).is_file()]
         if missing or set(left) != set(sc.outputs):
             return f"exit 0 with outputs {left} (missing {missing})"
-        if not any("after the outputs were written" in line for line in lines):
-            return "exit 0 after a signal without saying the stop came too late"
+        if not lines:
+            # after the command had said how it ended, as the interpreter exits: ignored
+            return "late, at exit"
+        if lines != [
+            f"spiralcap {sc.command}: {name} came after the outputs were written; they are complete"
+        ]:
+            return f"exit 0 after a signal, stderr {lines[-3:]!r}"
         return "late"
     return f"exit {rc}: {lines[-3:]!r}"
 
@@ -260,7 +267,7 @@ def one_try(sc: Scenario, delay_s: float, root: Path) -> Outcome:
 
 
 #: Verdicts of a try that kept the contract.
-PASSING = ("stopped", "late", "early end", "ended at start")
+PASSING = ("stopped", "late", "late, at exit", "early end", "ended at start")
 
 
 def storm(
