@@ -15,6 +15,7 @@ from typing import NoReturn
 
 from spiralcap import __version__
 from spiralcap.core.errors import SpiralcapError
+from spiralcap.outputs import run_files
 
 #: name -> (module under spiralcap.commands, one-line help)
 COMMANDS: dict[str, tuple[str, str]] = {
@@ -176,44 +177,115 @@ def build_parser(only: str | None = None) -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Entry point: parse, run, and turn every expected error into one line and an exit status."""
+    """Entry point: parse, run, and turn every expected error into one line and an exit status.
+
+    A stop request (:mod:`spiralcap.stopping`) wins over whatever the command did after it,
+    unless its outputs were already committed: a stopped command exits 128 + the signal number
+    with one line, however it ended (an error, a traceback, success).
+    """
+    from spiralcap import stopping
+
+    stopping.new_run()
+    _SAID[0] = False
     ascii_fallback(sys.stdout)
     ascii_fallback(sys.stderr, ("strict", "backslashreplace"))
     words = sys.argv[1:] if argv is None else argv
     # The top-level parser has only options, so its first other word names the subcommand.
     command = next((w for w in words if not w.startswith("-")), None)
-    parser = build_parser(command if command in COMMANDS else None)
-    args = parser.parse_args(argv)
+    name = command if command in COMMANDS else ""
     try:
-        status = int(args._module.run(args) or 0)
+        parser = build_parser(command if command in COMMANDS else None)
+        args = parser.parse_args(argv)
+        with run_files():  # every file this run reads is refused as one of its outputs
+            status = int(args._module.run(args) or 0)
         sys.stdout.flush()  # a full disk behind stdout is found here, not at exit
-        return status
-    except SpiralcapError as exc:
-        print(f"spiralcap {args.command}: error: {one_line(str(exc))}", file=sys.stderr)
+    except BaseException as exc:  # each kind is answered, or raised again, below
+        stopping.settle()
+        status = _stopped(name, exc) or _failed(name, exc)
+    stopping.settle()
+    return _after(name, status)
+
+
+def _prefix(command: str) -> str:
+    return f"spiralcap {command}" if command else "spiralcap"
+
+
+def stop_status() -> int:
+    """128 + the recorded stop signal if this run was stopped before its outputs were committed,
+    else 0."""
+    from spiralcap import stopping
+
+    signum = stopping.requested()
+    return 128 + signum if signum and not stopping.committed() else 0
+
+
+def _stop_line(command: str, signum: int) -> int:
+    import signal
+
+    name = signal.Signals(signum).name
+    what = "interrupted" if signum == signal.SIGINT else f"stopped by {name}"
+    print(f"{_prefix(command)}: {what}", file=sys.stderr)
+    _SAID[0] = True
+    return 128 + signum
+
+
+#: Whether this run has said how a stop request ended it (its one line).
+_SAID = [False]
+
+
+def _stopped(command: str, exc: BaseException) -> int:
+    """The exit status of a run that ``exc`` ended because it was stopped (0: it was not): a
+    recorded stop request (whatever ``exc`` is: an import, a compiled solver or a library may
+    turn the interrupt into another error), or a KeyboardInterrupt."""
+    import signal
+
+    if stop_status():
+        return _stop_line(command, stop_status() - 128)
+    if isinstance(exc, KeyboardInterrupt):
+        # inside IPOPT the signal ends the solve, which raises its own KeyboardInterrupt
+        return _stop_line(command, int(getattr(exc, "signum", 0) or signal.SIGINT))
+    return 0
+
+
+def _failed(command: str, exc: BaseException) -> int:
+    """The exit status of a run that ``exc`` ended, with its one line; an unexpected exception
+    is raised again (a traceback is a bug)."""
+    if isinstance(exc, SpiralcapError):
+        print(f"{_prefix(command)}: error: {one_line(str(exc))}", file=sys.stderr)
         return exc.exit_status
-    except BrokenPipeError:  # output piped into `head` and closed early: not an error
+    if isinstance(exc, BrokenPipeError):  # output piped into `head` and closed early
         sys.stderr.close()
         return 0
-    except OSError as exc:  # stdout on a full disk (``> /dev/full``): an error, never success
-        if exc.errno not in _FULL:
-            raise
+    if isinstance(exc, OSError) and exc.errno in _FULL:  # stdout on a full disk (``> /dev/full``)
         _discard_stdout()
         print(
-            f"spiralcap {args.command}: error: cannot write the output ({exc.strerror})",
+            f"{_prefix(command)}: error: cannot write the output ({exc.strerror})",
             file=sys.stderr,
         )
         return 2
-    except KeyboardInterrupt as exc:  # Ctrl-C, or SIGTERM/SIGHUP (stopping.Terminated)
-        import signal
+    raise exc
 
-        from spiralcap.stopping import requested
 
-        # inside IPOPT the signal ends the solve, which raises its own KeyboardInterrupt
-        signum = int(getattr(exc, "signum", 0) or requested() or signal.SIGINT)
-        name = signal.Signals(signum).name
-        what = "interrupted" if signum == signal.SIGINT else f"stopped by {name}"
-        print(f"spiralcap {args.command}: {what}", file=sys.stderr)
-        return 128 + signum
+def _after(command: str, status: int) -> int:
+    """The final status: a stop request that came before the outputs were committed turns any
+    status into 128 + its signal (one line; said once); one that came after is noted, and the
+    command's own status kept (its outputs are complete)."""
+    from spiralcap import stopping
+
+    signum = stopping.requested()
+    if not signum or status == 128 + signum:
+        return status
+    if not stopping.committed():
+        return _stop_line(command, signum)
+    import signal
+
+    print(
+        f"{_prefix(command)}: {signal.Signals(signum).name} came after the outputs were "
+        "written; they are complete",
+        file=sys.stderr,
+    )
+    _SAID[0] = True
+    return status
 
 
 #: errno values of a write that found no room (full disk, quota, file size limit, I/O error).
@@ -234,8 +306,9 @@ def _discard_stdout() -> None:
 
 
 def console() -> None:  # pragma: no cover -- the installed ``spiralcap`` command
-    """The ``spiralcap`` command: :func:`main` with SIGTERM and SIGHUP stopping it like Ctrl-C
-    (:mod:`spiralcap.stopping`), BLAS single-threaded, then exit with its status."""
+    """The ``spiralcap`` command: :func:`main` with SIGTERM, SIGHUP and SIGINT stopping it
+    (:mod:`spiralcap.stopping`), BLAS single-threaded, then exit with its status (a stopped
+    command at once, without waiting for threads)."""
     import os
 
     # spiralcap's matrices are small: extra BLAS threads would only spin after each call (a
@@ -245,8 +318,34 @@ def console() -> None:  # pragma: no cover -- the installed ``spiralcap`` comman
         os.environ.setdefault(var, "1")
     from spiralcap.stopping import stop_on_signals
 
-    stop_on_signals()  # SIGTERM, SIGHUP unwind like Ctrl-C: workers stopped, nothing half-written
-    sys.exit(main())
+    stop_on_signals(quiet=True)  # SIGTERM, SIGHUP, SIGINT: workers stopped, nothing written
+    try:
+        status = main()
+    except KeyboardInterrupt:  # a stop's reminder that came as main was saying how it ended
+        from spiralcap.stopping import settle
+
+        settle()
+        command = next((w for w in sys.argv[1:] if not w.startswith("-")), "")
+        status = _stop_line(command if command in COMMANDS else "", (stop_status() or 130) - 128)
+    from spiralcap.stopping import ignore_stops, requested
+
+    # the outcome is decided and said: a stop that comes while the interpreter exits changes
+    # nothing (it would otherwise meet the default action Python restores there: killed by the
+    # signal, no line, though the outputs are complete)
+    ignore_stops()
+    if requested() and not _SAID[0]:  # one that came as main returned: said now
+        command = next((w for w in sys.argv[1:] if not w.startswith("-")), "")
+        status = _after(command if command in COMMANDS else "", status)
+    if stop_status():
+        # stopped: nothing was committed and every worker is killed; leave now, without the
+        # exit handlers that join the threads of a killed pool (they can block)
+        for stream in (sys.stdout, sys.stderr):
+            try:
+                stream.flush()
+            except (OSError, ValueError):
+                pass
+        os._exit(status)
+    sys.exit(status)
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -24,6 +24,7 @@ else:  # Python 3.10
 from spiralcap.core.errors import DataError, InputError, short_text
 from spiralcap.outputs import (  # noqa: F401 -- where commands have always imported them
     WRITE_THROUGH,
+    note_input,
     special_file,
     write_files_atomic,
     write_text_atomic,
@@ -168,10 +169,12 @@ def read_text_file(path: str | os.PathLike[str], what: str = "design file") -> s
         # descriptor's own fstat then decides (the name may have been swapped since)
         fd = os.open(p, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_NOCTTY", 0))
         try:
-            if not stat.S_ISREG(os.fstat(fd).st_mode):
+            st = os.fstat(fd)
+            if not stat.S_ISREG(st.st_mode):
                 raise DataError(
                     f"{p}: cannot read the {what} (not a regular file: a device, FIFO or socket)"
                 )
+            note_input(p, f"the {what}", st)  # never an output of the same run
             if hasattr(os, "set_blocking"):
                 os.set_blocking(fd, True)
             with os.fdopen(fd, "rb", closefd=False) as fh:
@@ -359,7 +362,16 @@ def load_design(
             values.pop(key, None)
             continue
         values[key] = value
-    return Design(values, source=source, origins=origins)
+    design = Design(values, source=source, origins=origins)
+    for key in PATH_KEYS:  # a file the design names is an input, read or not
+        named = design.path_of(key)
+        if named is not None:
+            note_input(named, f"the file {key} names")
+    return design
+
+
+#: Keys whose value is a path to a file the design reads (relative to the file that sets it).
+PATH_KEYS = ("tissue.uncertainty.covariance_from",)
 
 
 #: The word that clears a key with ``--set KEY=none`` (no key takes it as a value).

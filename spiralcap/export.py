@@ -273,14 +273,18 @@ def write_field_grid(path: str | os.PathLike[str], grid: FieldGrid) -> None:
     """
     from spiralcap.design import write_text_atomic
 
+    write_text_atomic(path, field_grid_bytes(path, grid))
+
+
+def field_grid_bytes(path: str | os.PathLike[str], grid: FieldGrid) -> bytes:
+    """What :func:`write_field_grid` writes to ``path`` (CSV, or NumPy arrays for ``.npz``)."""
     table = _table(grid)
     names = grid_columns()
     if str(path).lower().endswith(".npz"):
         buf = io.BytesIO()
         arrays: dict[str, Any] = {name: table[:, i] for i, name in enumerate(names)}
         np.savez(buf, **arrays)  # plain float arrays
-        write_text_atomic(path, buf.getvalue())
-        return
+        return buf.getvalue()
     buf_text = io.StringIO()
     np.savetxt(buf_text, table, delimiter=",", fmt="%.17g", header=",".join(names), comments="")
-    write_text_atomic(path, buf_text.getvalue())
+    return buf_text.getvalue().encode()

@@ -19,11 +19,12 @@ writes (``-o``, ``--pdf``, ``--csv``, ``--plot``, ``--step``, ``--stl``, ``init`
 
 from __future__ import annotations
 
+import contextlib
 import errno
 import os
 import stat
 import tempfile
-from collections.abc import Mapping
+from collections.abc import Iterator, Mapping
 from pathlib import Path
 from typing import Any
 
@@ -374,33 +375,45 @@ def write_files_atomic(files: Mapping[Any, str | bytes]) -> list[Path]:
         a FIFO with no reader), or a path is neither a regular file nor a device one can write
         into (one line, exit 2).
     """
+    from spiralcap import stopping
+
+    stopping.raise_if_requested()  # a stop request that came before: nothing is staged
+    refuse_inputs(files)
     staged: list[tuple[str, Any]] = []
     devices: list[tuple[Any, bytes]] = []
     try:
-        for given, text in files.items():
-            # a file name of bytes that are not UTF-8 (held as surrogates) is written as "?"
-            data = text.encode("utf-8", "replace") if isinstance(text, str) else text
-            if special_file(given) in WRITE_THROUGH:
-                devices.append((given, data))
-            else:
-                staged.append((_stage_one(given, data), given))
-        for given, data in devices:
-            try:
-                _write_through(given, data)
-            except OSError as exc:
-                why = exc.strerror or str(exc)
-                if exc.errno == errno.ENXIO:
-                    why = "a FIFO that nobody reads"
-                raise DataError(f"{given}: cannot write ({why})") from None
-        for tmp, given in staged:
-            try:
-                os.replace(tmp, given)  # onto the name itself: a link there is replaced
-            except OSError as exc:
-                raise DataError(f"{given}: cannot write ({exc.strerror or exc})") from None
+        with stopping.deferred():  # a stop waits for the staged names, removed below
+            for given, text in files.items():
+                # a file name of bytes that are not UTF-8 (held as surrogates) is written as "?"
+                data = text.encode("utf-8", "replace") if isinstance(text, str) else text
+                if special_file(given) in WRITE_THROUGH:
+                    devices.append((given, data))
+                else:
+                    staged.append((_stage_one(given, data), given))
+        with stopping.committing():  # a stop before: nothing written; from here: all of it
+            _commit(devices, staged)
     finally:
-        for tmp, _ in staged:
-            Path(tmp).unlink(missing_ok=True)
+        with stopping.deferred():  # every staged name removed, whatever comes meanwhile
+            for tmp, _ in staged:
+                Path(tmp).unlink(missing_ok=True)
     return [Path(g) for g in files]
+
+
+def _commit(devices: list[tuple[Any, bytes]], staged: list[tuple[str, Any]]) -> None:
+    """Write into the devices, then rename each staged file onto its path."""
+    for given, data in devices:
+        try:
+            _write_through(given, data)
+        except OSError as exc:
+            why = exc.strerror or str(exc)
+            if exc.errno == errno.ENXIO:
+                why = "a FIFO that nobody reads"
+            raise DataError(f"{given}: cannot write ({why})") from None
+    for tmp, given in staged:
+        try:
+            os.replace(tmp, given)  # onto the name itself: a link there is replaced
+        except OSError as exc:
+            raise DataError(f"{given}: cannot write ({exc.strerror or exc})") from None
 
 
 def write_text_atomic(path: str | os.PathLike[str], text: str | bytes) -> Path:
@@ -420,3 +433,104 @@ def write_text_atomic(path: str | os.PathLike[str], text: str | bytes) -> Path:
         The folder is missing or the file cannot be written (one line, exit 2).
     """
     return write_files_atomic({path: text})[0]
+
+
+# --- inputs are never outputs (issue 39) ---
+
+
+class _RunFiles:
+    """The files one command run reads and writes, by identity: the resolved path (symbolic
+    links, ``./`` and ``..`` resolved) and, for an existing file, its device and inode (hard
+    links)."""
+
+    def __init__(self) -> None:
+        #: (resolved path or (device, inode)) -> (the path as named, what it is)
+        self.inputs: dict[Any, tuple[str, str]] = {}
+        #: (resolved path or (device, inode)) -> (the option, the path as given)
+        self.outputs: dict[Any, tuple[str, str]] = {}
+
+
+_RUN: list[_RunFiles | None] = [None]
+
+
+@contextlib.contextmanager
+def run_files() -> Iterator[None]:
+    """The block of one command run (:func:`spiralcap.cli.main`): every file it reads
+    (:func:`note_input`) is refused as an output (:func:`note_output`, and again at the commit in
+    :func:`write_files_atomic`). Outside it (library use) nothing is recorded."""
+    before = _RUN[0]
+    _RUN[0] = _RunFiles()
+    try:
+        yield
+    finally:
+        _RUN[0] = before
+
+
+def _identities(path: str | os.PathLike[str], st: os.stat_result | None = None) -> list[Any]:
+    """What names the file ``path`` whatever alias reaches it: its resolved path and, if it is
+    an existing regular file, ``(device, inode)``."""
+    ids: list[Any] = [os.path.realpath(path)]
+    if st is None:
+        try:
+            st = os.stat(path)
+        except (OSError, ValueError):
+            st = None
+    if st is not None and stat.S_ISREG(st.st_mode):
+        ids.append((st.st_dev, st.st_ino))
+    return ids
+
+
+def note_input(path: str | os.PathLike[str], what: str, st: os.stat_result | None = None) -> None:
+    """Record ``path`` as an input of this run (a design file, a file a design names, bench
+    data), described by ``what``; ``st`` is its ``fstat`` where the caller has it.
+
+    Raises
+    ------
+    InputError
+        Naming the option of an output already given that is this same file.
+    """
+    run = _RUN[0]
+    if run is None:
+        return
+    for ident in _identities(path, st):
+        run.inputs.setdefault(ident, (os.fspath(path), what))
+        if ident in run.outputs:
+            flag, given = run.outputs[ident]
+            raise InputError(flag, given, _not_an_input(path, what))
+
+
+def note_output(flag: str, path: str | os.PathLike[str]) -> None:
+    """Record ``path`` (given with option ``flag``) as an output of this run.
+
+    Raises
+    ------
+    InputError
+        Naming ``flag``: the path is a file this run reads.
+    """
+    run = _RUN[0]
+    if run is None:
+        return
+    for ident in _identities(path):
+        if ident in run.inputs:
+            raise InputError(flag, os.fspath(path), _not_an_input(*run.inputs[ident]))
+        run.outputs.setdefault(ident, (flag, os.fspath(path)))
+
+
+def refuse_inputs(files: Mapping[Any, Any]) -> None:
+    """At the commit: none of the paths of ``files`` may be a file this run read or named
+    (InputError naming the option the path was given with, or ``output``)."""
+    run = _RUN[0]
+    if run is None:
+        return
+    for given in files:
+        for ident in _identities(given):
+            if ident in run.inputs:
+                flag = next(
+                    (f for i in _identities(given) for f, _ in [run.outputs.get(i, ("", ""))] if f),
+                    "output",
+                )
+                raise InputError(flag, os.fspath(given), _not_an_input(*run.inputs[ident]))
+
+
+def _not_an_input(path: str | os.PathLike[str], what: str) -> str:
+    return f"a file other than {os.fspath(path)} ({what}; inputs are never overwritten)"

@@ -126,14 +126,24 @@ def process_pool(processes: int) -> Iterator[Executor]:
 
 
 def _stop_pool(pool: Any) -> None:
-    """Stop a ProcessPoolExecutor's workers now (their work is done or not wanted)."""
-    procs = list((getattr(pool, "_processes", None) or {}).values())
-    pool.shutdown(wait=False, cancel_futures=True)
-    for proc in procs:
-        if proc.is_alive():
-            proc.kill()
-    for proc in procs:
-        proc.join(5)
+    """Stop a ProcessPoolExecutor's workers now (their work is done or not wanted), never
+    waiting on the pool's own thread.
+
+    The workers are killed first, so the pool's manager thread finds them gone instead of
+    waiting on a pipe a worker holds (it hung so after Ctrl-C, issue 39); the shutdown does
+    not wait for that thread, and each worker is reaped with a deadline. A stop request that
+    comes meanwhile waits for the end of this (:func:`spiralcap.stopping.deferred`).
+    """
+    from spiralcap.stopping import deferred
+
+    with deferred():
+        procs = list((getattr(pool, "_processes", None) or {}).values())
+        for proc in procs:
+            if proc.is_alive():
+                proc.kill()
+        pool.shutdown(wait=False, cancel_futures=True)
+        for proc in procs:
+            proc.join(2)
 
 
 _INHERITED: dict[int, Callable[..., Any]] = {}

@@ -234,20 +234,32 @@ class _RelaxationIntegral:
     Both come from :func:`torque_model.model.relaxation_integral_Pa`: values on its numpy path,
     the n x 5 Jacobian in log-parameters q = log p by CasADi's algorithmic differentiation of
     the same expression (compiled once per fit).
+
+    The expression is built for one symbolic frequency and mapped over the distinct
+    frequencies of the data (a bench repeats a few), so its size does not grow with the data:
+    a bench file of 200,000 rows costs arrays of 200,000 x 5 numbers, not a graph of millions
+    of nodes (issue 39: 2.2 GB and a minute to build for a 4 MB file).
     """
 
     def __init__(self, freq: np.ndarray) -> None:
         import casadi as ca
 
         self.freq = freq
+        self._unique, self._index = np.unique(freq, return_inverse=True)
+        m = self._unique.size
         q = ca.SX.sym("log_p", len(PARAMETER_NAMES))
-        integral = relaxation_integral_Pa(ca.DM(freq), _Constants(*ca.vertsplit(ca.exp(q))))
-        fn: Any = ca.Function("dI_dlogp", [q], [ca.densify(ca.jacobian(integral, q))])
+        f = ca.SX.sym("frequency_hz")
+        integral = relaxation_integral_Pa(f, _Constants(*ca.vertsplit(ca.exp(q))))
+        one: Any = ca.Function("dI_dlogp", [q, f], [ca.densify(ca.jacobian(integral, q))])
+        # q is shared by every frequency (not repeated m times); the result is 1 x 5m
+        fn = one.map("dI_dlogp_map", "serial", m, [0], [])
         # Called a thousand times per fit: through a buffer, without DM conversions.
         self._q = np.zeros(len(PARAMETER_NAMES))
-        self._jac = np.zeros(freq.size * len(PARAMETER_NAMES))
+        self._f = np.ascontiguousarray(self._unique, dtype=float)
+        self._jac = np.zeros(m * len(PARAMETER_NAMES))
         self._buffer, self._trigger = fn.buffer()
         self._buffer.set_arg(0, self._q.data)
+        self._buffer.set_arg(1, self._f.data)
         self._buffer.set_res(0, self._jac.data)
 
     def value(self, p: np.ndarray) -> np.ndarray:
@@ -258,7 +270,8 @@ class _RelaxationIntegral:
         """dI/dlog(p) at q = log p, shape (n, 5), Pa."""
         self._q[:] = q
         self._trigger()
-        return self._jac.reshape(len(PARAMETER_NAMES), -1).T.copy()  # CasADi is column-major
+        # one row of 5 per distinct frequency, then one per data point
+        return self._jac.reshape(-1, len(PARAMETER_NAMES))[self._index]
 
 
 def _as_points(name: str, values: Any, n: int | None) -> np.ndarray:
@@ -376,8 +389,12 @@ def identify(
     def residuals(q: np.ndarray) -> np.ndarray:
         return (G * integral.value(np.exp(c + A @ q)) - torque) * scale
 
+    weight = (G * scale)[:, None]
+
     def jac(q: np.ndarray) -> np.ndarray:
-        return (G * scale)[:, None] * (integral.jacobian(c + A @ q) @ A)
+        out = integral.jacobian(c + A @ q) @ A
+        out *= weight  # in place: one n x free matrix per call, not three
+        return out
 
     fit_jac = jac if jacobian == "analytic" else jacobian
     budget = _MAX_NFEV if max_nfev is None else int(max_nfev)
@@ -455,10 +472,15 @@ def _log_map(names: tuple[str, ...], p0: np.ndarray) -> tuple[np.ndarray, np.nda
 def _solve(
     fun: Any, jac: Any, q0: np.ndarray, lo: np.ndarray, hi: np.ndarray, max_nfev: int
 ) -> Any:
-    """One bounded TRF run from ``q0`` with at most ``max_nfev`` evaluations."""
+    """One bounded TRF run from ``q0`` with at most ``max_nfev`` evaluations.
+
+    The run's final Jacobian (n x free numbers) is dropped: the fit keeps every start's run and
+    recomputes the Jacobian at the one it takes, so a bench file of 200,000 rows does not hold
+    one 8 MB matrix per start.
+    """
     from scipy import optimize  # ~0.25 s to import: only when fitting
 
-    return optimize.least_squares(
+    sol = optimize.least_squares(
         fun,
         q0,
         jac=jac,
@@ -469,6 +491,8 @@ def _solve(
         gtol=1e-9,
         max_nfev=max_nfev,
     )
+    sol.jac = None
+    return sol
 
 
 def _converge(fun: Any, jac: Any, sol: Any, lo: np.ndarray, hi: np.ndarray, budget: int) -> Any:

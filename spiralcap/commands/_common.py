@@ -12,7 +12,7 @@ from typing import Any
 
 from spiralcap.core.errors import InputError
 from spiralcap.design import Design, load_design
-from spiralcap.outputs import check_output
+from spiralcap.outputs import WRITE_THROUGH, check_output, note_input, note_output, special_file
 
 
 def add_design_arguments(
@@ -114,6 +114,11 @@ def check_outputs(outputs: Mapping[str, str | None], inputs: Sequence[str] = ())
         if real in seen:
             raise InputError(flag, path, f"a different file from {seen[real]}")
         seen[real] = flag
+    for x in inputs:
+        note_input(x, "an input of this run")
+    for flag, path in outputs.items():
+        if path is not None and special_file(str(path)) not in WRITE_THROUGH:
+            note_output(flag, str(path))  # also a file a design names (covariance_from)
 
 
 def _plain(value: Any) -> Any:

@@ -26,12 +26,24 @@ def write_figure(path: str, draw: Callable[[Any], Any], size_in: tuple[float, fl
 
     Returns what ``draw`` returned.
     """
+    from spiralcap.design import write_text_atomic
+
+    data, drawn = figure_bytes(path, draw, size_in)
+    write_text_atomic(path, data)
+    return drawn
+
+
+def figure_bytes(
+    path: str, draw: Callable[[Any], Any], size_in: tuple[float, float]
+) -> tuple[bytes, Any]:
+    """The file ``path`` would hold (its suffix the format): a new Figure in the report style
+    drawn with ``draw(fig)``; and what ``draw`` returned. Nothing is written (a command with
+    several outputs commits them together)."""
     import io
 
     import matplotlib
     from matplotlib.figure import Figure
 
-    from spiralcap.design import write_text_atomic
     from spiralcap.figures.style import REPORT_RC
 
     suffix = Path(path).suffix.lower().lstrip(".")
@@ -40,8 +52,7 @@ def write_figure(path: str, draw: Callable[[Any], Any], size_in: tuple[float, fl
         drawn = draw(fig)
         buf = io.BytesIO()
         fig.savefig(buf, format=suffix, dpi=150, metadata=None)
-    write_text_atomic(path, buf.getvalue())
-    return drawn
+    return buf.getvalue(), drawn
 
 
 def add_geometry_plot_argument(parser: Any) -> None:
@@ -56,11 +67,23 @@ def add_geometry_plot_argument(parser: Any) -> None:
 
 def write_geometry(path: str, design: Any, *, quiet: bool = False) -> Any:
     """Draw the geometry view of ``design`` to ``path`` (:func:`spiralcap.figures.hardware.draw_geometry`)."""
+    from spiralcap.design import write_text_atomic
+
+    data, drawn = geometry_bytes(path, design)
+    write_text_atomic(path, data)
+    if not quiet:
+        print(f"wrote {path}")
+    return drawn
+
+
+def geometry_bytes(path: str, design: Any) -> tuple[bytes, Any]:
+    """The geometry view of ``design`` as the file ``path`` would hold, and what the drawing
+    returned (:func:`figure_bytes`)."""
     from spiralcap.assemble import build_model
     from spiralcap.figures.hardware import draw_geometry
 
     model = build_model(design)
-    drawn = write_figure(
+    return figure_bytes(
         path,
         lambda fig: draw_geometry(
             fig,
@@ -71,6 +94,3 @@ def write_geometry(path: str, design: Any, *, quiet: bool = False) -> Any:
         ),
         (7.0, 3.5),
     )
-    if not quiet:
-        print(f"wrote {path}")
-    return drawn

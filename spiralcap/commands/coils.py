@@ -402,7 +402,7 @@ def _text(p: dict[str, Any], bom: str = "", stray: Sequence[str] = ()) -> str:
 
 def run(args: argparse.Namespace) -> int:
     """Print the sizing table (or JSON); with --plot also draw the geometry view."""
-    from spiralcap.commands._plot import check_figure_path, write_geometry
+    from spiralcap.commands._plot import check_figure_path
 
     check_outputs(
         {
@@ -431,13 +431,35 @@ def run(args: argparse.Namespace) -> int:
 
         stray = stray_words(analysis.stray) if analysis.stray is not None else []
         print(_text(payload, bom_table(analysis.bill_of_materials), stray))
-    if args.plot:
-        write_geometry(args.plot, design, quiet=args.json)
-    if args.step or args.stl:
-        _write_cad(args, design)
-    if grid is not None:
-        _write_grid(args, grid)
+    _write_outputs(args, design, grid)
     return 0
+
+
+def _write_outputs(args: argparse.Namespace, design: Any, grid: Any) -> None:
+    """--plot, --step/--stl and --field-grid: each made in memory, then all committed together
+    (all or nothing), then said."""
+    from spiralcap.commands._plot import geometry_bytes
+    from spiralcap.design import write_files_atomic
+
+    outputs: dict[str, bytes] = {}
+    if args.plot:
+        outputs[args.plot] = geometry_bytes(args.plot, design)[0]
+    cad = _cad_files(args, design) if args.step or args.stl else None
+    if cad is not None:
+        outputs.update(cad[0])
+    if grid is not None:
+        from spiralcap.export import field_grid_bytes
+
+        outputs[args.field_grid] = field_grid_bytes(args.field_grid, grid)
+    if not outputs:
+        return
+    write_files_atomic(outputs)
+    if args.plot and not args.json:
+        print(f"wrote {args.plot}")
+    if cad is not None:
+        _say_cad(args, cad[1], list(cad[0]))
+    if grid is not None:
+        _say_grid(args, grid)
 
 
 def _check_grid_arguments(args: argparse.Namespace) -> None:
@@ -500,12 +522,9 @@ def _field_grid(args: argparse.Namespace, design: Any) -> Any:
     return field_grid(design, float(design["workspace.radius_m"]), step, box_m)
 
 
-def _write_grid(args: argparse.Namespace, grid: Any) -> None:
+def _say_grid(args: argparse.Namespace, grid: Any) -> None:
     import sys
 
-    from spiralcap.export import write_field_grid
-
-    write_field_grid(args.field_grid, grid)
     print(
         f"wrote the field per ampere of each pair at {len(grid.points_m)} points "
         f"(step {grid.step_m * 1e3:.4g} mm) to {args.field_grid}",
@@ -531,19 +550,24 @@ def _check_cad_paths(args: argparse.Namespace) -> None:
         raise InputError("--cad-workspace", True, "used with --step or --stl")
 
 
-def _write_cad(args: argparse.Namespace, design: Any) -> None:
-    import sys
-
+def _cad_files(args: argparse.Namespace, design: Any) -> tuple[dict[str, bytes], int]:
+    """The STEP and/or STL files' contents, and how many winding packs they hold."""
     from spiralcap.assemble.coils import build_coils
-    from spiralcap.cad import write_cad
+    from spiralcap.cad import cad_bodies, cad_files
 
     system = build_coils(design)
     radius = float(design["workspace.radius_m"]) if args.cad_workspace else None
-    written = write_cad(system.pairs, args.step, args.stl, radius)
+    files = cad_files(cad_bodies(system.pairs, radius), args.step, args.stl)
+    return dict(files), len(system.pairs) * 2
+
+
+def _say_cad(args: argparse.Namespace, packs: int, written: list[str]) -> None:
+    import sys
+
     if not args.json:
         print(
-            f"wrote the CAD model ({len(system.pairs) * 2} winding packs"
-            f"{' and the workspace' if radius else ''}) to {', '.join(written)}"
+            f"wrote the CAD model ({packs} winding packs"
+            f"{' and the workspace' if args.cad_workspace else ''}) to {', '.join(written)}"
         )
     else:
         print(f"wrote {', '.join(written)}", file=sys.stderr)

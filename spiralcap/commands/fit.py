@@ -29,6 +29,8 @@ from __future__ import annotations
 import argparse
 import csv
 import math
+from array import array
+from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -283,8 +285,9 @@ def parse_only(text: str | None) -> tuple[str, ...] | None:
     return tuple(out)
 
 
-def read_bench_csv(path: str | Path) -> dict[str, list[float]]:
-    """Read and check a bench CSV: column name -> values (frequency Hz, torque mN·m, angle deg).
+def read_bench_csv(path: str | Path) -> dict[str, Any]:
+    """Read and check a bench CSV: column name -> values, a float array (frequency Hz, torque
+    mN·m, angle deg).
 
     Raises
     ------
@@ -297,14 +300,13 @@ def read_bench_csv(path: str | Path) -> dict[str, list[float]]:
     from spiralcap.design import read_text_file
 
     text = read_text_file(p, "data file")
-    lines = [
-        (i + 1, line)
-        for i, line in enumerate(text.splitlines())
-        if line.strip() and not line.lstrip().startswith("#")
-    ]
-    if not lines:
+    # one line at a time, the numbers into compact arrays: a file at the size cap (4 MB,
+    # 200,000 rows) costs a few MB here, not a list of every line (issue 39)
+    lines = _data_lines(text)
+    first = next(lines, None)
+    if first is None:
         raise DataError(f"{p}: no header row (expected columns {', '.join(REQUIRED)})")
-    header_line, header_text = lines[0]
+    header_line, header_text = first
     header = [h.strip() for h in _split(header_text, f"{p} line {header_line}")]
     for col in REQUIRED:
         if col not in header:
@@ -316,17 +318,42 @@ def read_bench_csv(path: str | Path) -> dict[str, list[float]]:
     for col in wanted:
         if header.count(col) > 1:  # which of two torque columns is meant cannot be guessed
             raise DataError(f"{p} line {header_line}: column {col!r} appears more than once")
-    out: dict[str, list[float]] = {c: [] for c in wanted}
-    for row_no, (line_no, line) in enumerate(lines[1:], start=1):
+    columns = [(col, header.index(col), array("d")) for col in wanted]
+    for row_no, (line_no, line) in enumerate(lines, start=1):
         where = f"{p} line {line_no} (data row {row_no})"
         cells = _split(line, where)
-        for col in wanted:
-            idx = header.index(col)
+        for col, idx, values in columns:
             raw = cells[idx].strip() if idx < len(cells) else ""
-            out[col].append(_cell(raw, col, where))
-    if not out[REQUIRED[0]]:
+            values.append(_cell(raw, col, where))
+    if not columns[0][2]:
         raise DataError(f"{p}: a header but no data rows")
-    return out
+    import numpy as np
+
+    return {col: np.frombuffer(values, dtype=float) for col, _, values in columns}
+
+
+def _data_lines(text: str) -> Iterator[tuple[int, str]]:
+    """(1-based line number, line) of each line of ``text`` that is not blank or a comment,
+    one at a time, split where :meth:`str.splitlines` splits (a text with one of its rarer line
+    ends, a lone carriage return, a form feed or a Unicode line separator, by it at once)."""
+    rare = ("\v", "\f", "\x1c", "\x1d", "\x1e", "\x85", "\u2028", "\u2029")
+    if any(c in text for c in rare) or text.count("\r") != text.count("\r\n"):
+        lines: Iterable[str] = text.splitlines()
+    else:
+        lines = _lines_of(text)
+    for i, line in enumerate(lines, start=1):
+        if line.strip() and not line.lstrip().startswith("#"):
+            yield i, line
+
+
+def _lines_of(text: str) -> Iterator[str]:
+    """The lines of ``text`` (ends ``\n`` or ``\r\n``) without copying it whole."""
+    start, end = 0, len(text)
+    while start < end:
+        stop = text.find("\n", start)
+        stop = end if stop < 0 else stop
+        yield text[start:stop].removesuffix("\r")
+        start = stop + 1
 
 
 def _short(raw: str, limit: int = 60) -> str:
@@ -762,12 +789,18 @@ def _parameter_rows(result: Any) -> list[list[Any]]:
     return rows
 
 
-def _residual_rows(result: Any) -> list[list[Any]]:
+#: Most data rows the text output lists (the rest: ``--json``).
+MAX_TEXT_ROWS = 200
+
+
+def _residual_rows(result: Any, limit: int | None = None) -> list[list[Any]]:
+    """The data rows with their fitted torque and relative residual (the first ``limit``)."""
+    end = result.frequency_hz.size if limit is None else limit
     points = zip(
-        result.frequency_hz,
-        result.helical_angle_rad,
-        result.torque_Nm,
-        result.predicted_Nm,
+        result.frequency_hz[:end],
+        result.helical_angle_rad[:end],
+        result.torque_Nm[:end],
+        result.predicted_Nm[:end],
         strict=True,
     )
     return [
@@ -860,12 +893,15 @@ def _print_text(
     for line in _verdict_lines(result, quality):
         print(line)
     print()
+    rows = _residual_rows(result, MAX_TEXT_ROWS)
     print(
         format_table(
             ["row", "frequency_hz", "helical_angle_deg", "torque_mNm", "fitted_mNm", "residual_%"],
-            _residual_rows(result),
+            rows,
         )
     )
+    if result.frequency_hz.size > len(rows):
+        print(f"... {result.frequency_hz.size - len(rows)} more rows (--json gives every row)")
     basis = "" if result.dof > 0 else ", root mean square: no residual degree of freedom is left"
     print(
         f"residual std {100 * residual_std(result):.3g} % (relative{basis}); optimiser: "

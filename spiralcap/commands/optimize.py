@@ -396,6 +396,7 @@ def run(args: argparse.Namespace) -> int:
     check_outputs({"-o": args.output}, design_paths(args))
     args.overrides = [*args.overrides, *free_overrides(args.free)]
     from spiralcap.progress import working
+    from spiralcap.stopping import checked
 
     design = design_from_args(args)
     rc = None
@@ -407,7 +408,7 @@ def run(args: argparse.Namespace) -> int:
         res = rc.result
     else:
         with working("optimize") as say:
-            res = optimize_design(optimization_model(design), progress=say)
+            res = optimize_design(optimization_model(design), progress=checked(say))
     written = None
     if args.output and res.status == "optimal":
         from spiralcap.assemble.system import optimum_design_toml

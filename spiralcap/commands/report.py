@@ -132,6 +132,7 @@ def run(args: argparse.Namespace) -> int:
     from spiralcap.design import write_files_atomic
     from spiralcap.progress import stages
     from spiralcap.report import build_report
+    from spiralcap.stopping import checked
 
     names = REPORT_STAGES + (("comparison",) if compare is not None else ()) + ("figures", "HTML")
     names += ("PDF",) if args.pdf is not None else ()
@@ -141,7 +142,7 @@ def run(args: argparse.Namespace) -> int:
             pdf=args.pdf is not None,
             workers=args.workers,
             command=_command_line(args),
-            progress=say,
+            progress=checked(say),
             compare=compare,
         )
     outputs: dict[str, str | bytes] = {args.output: report.html}

@@ -106,13 +106,14 @@ def _checked_axes(args: argparse.Namespace) -> list[Any]:
 
 
 def run(args: argparse.Namespace) -> int:
-    from spiralcap.design import write_text_atomic
+    from spiralcap.design import write_files_atomic
     from spiralcap.sweep import sweep
 
     _check_options(args)
     design = design_from_args(args)
     axes = _checked_axes(args)
     from spiralcap.progress import progress_bar
+    from spiralcap.stopping import checked
 
     stage = "re-optimising" if args.optimize else "evaluating"
     with progress_bar(stage, unit="point") as progress:
@@ -121,30 +122,33 @@ def run(args: argparse.Namespace) -> int:
             axes,
             optimize=args.optimize,
             workers=args.workers,
-            progress=progress,
+            progress=checked(progress),
             dask=args.dask,
         )
     header, rows = _rows(result)
+    outputs: dict[str, str | bytes] = {}
     if args.plot:
-        _write_plot(args.plot, design, result, len(axes))
+        outputs[args.plot] = _plot_bytes(args.plot, design, result, len(axes))
     if args.csv:
         buf = io.StringIO()
         writer = csv.writer(buf)
         writer.writerow(header)
         writer.writerows(rows)
-        write_text_atomic(args.csv, buf.getvalue())
+        outputs[args.csv] = buf.getvalue()
+    if outputs:
+        write_files_atomic(outputs)  # both or neither
     _print(args, design, result, axes, header, rows)
     return 0
 
 
-def _write_plot(path: str, design: Any, result: Any, n_axes: int) -> None:
-    from spiralcap.commands._plot import write_figure
+def _plot_bytes(path: str, design: Any, result: Any, n_axes: int) -> bytes:
+    from spiralcap.commands._plot import figure_bytes
     from spiralcap.figures.sweep import draw_sweep
     from spiralcap.sweep import failing_requirements
 
     size = (6.4, 4.6) if n_axes == 2 else (6.4, 7.0)
     failing = failing_requirements(design, result) if len(result.axes) == 2 else None
-    write_figure(path, lambda fig: draw_sweep(fig, result, failing), size)
+    return figure_bytes(path, lambda fig: draw_sweep(fig, result, failing), size)[0]
 
 
 def _print(

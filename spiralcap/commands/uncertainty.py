@@ -140,6 +140,7 @@ def run(args: argparse.Namespace) -> int:
     check_outputs({"--plot": args.plot}, design_paths(args))
     design = design_from_args(args)
     from spiralcap.progress import progress_bar
+    from spiralcap.stopping import checked
 
     with progress_bar(
         "sampling tissues", unit="chunk", enabled=False if args.json else None
@@ -152,7 +153,7 @@ def run(args: argparse.Namespace) -> int:
             sobol_base=args.sobol_samples,
             workers=args.workers,
             dask=args.dask,
-            progress=bar,
+            progress=checked(bar),
         )
     if args.plot:
         from spiralcap.figures.uncertainty import save_uncertainty_figure
