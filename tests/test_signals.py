@@ -301,6 +301,8 @@ def test_a_lost_stop_request_still_ends_a_sweep_after_its_point(
     from spiralcap.sweep import parse_over, sweep
 
     monkeypatch.setattr(stopping, "_REQUESTED", [int(signal.SIGTERM)])  # the lost request
+    # a fresh run: an earlier in-process command of this worker may have committed its outputs
+    monkeypatch.setattr(stopping, "_COMMIT", [False, False, False, False])
     with pytest.raises(stopping.Terminated) as stopped:
         sweep(load_design(), [parse_over("limits.power_W=300:3000:3")], optimize=True)
     assert stopped.value.signum == signal.SIGTERM, "the request's own signal"
