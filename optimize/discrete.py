@@ -657,7 +657,7 @@ def leaner(
     ctx: _Attempt,
     options: SizingOptions,
     executor: Executor | None = None,
-    say: Callable[[str], None] = print,
+    say: Callable[[str], None] = _silent,
 ) -> tuple[OptimizationResult, int]:
     """Step 5 (least power): no copper that buys too little power.
 

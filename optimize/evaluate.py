@@ -175,7 +175,7 @@ class Evaluation(Viewable):
     >>> ev = evaluate(model, frequency_bounds=False)
     >>> print(f"{ev.field_amplitude_T * 1e3:.3f} mT ({ev.field_limited_by}), "
     ...       f"margin {ev.margin_Nm * 1e3:.3f} mN m, safety factor {ev.safety_factor:.3f}")
-    10.627 mT (hot_spot_y), margin 1.633 mN m, safety factor 2.033
+    10.627 mT (hot_spot_y), margin 1.332 mN m, safety factor 1.708
     """
 
     _view_kind: ClassVar[str] = "evaluation"
@@ -294,7 +294,7 @@ def worst_required(model: DesignModel, alpha: Any, f: Any) -> WorstRequired:
     >>> model = prepare(build_model(load_design(None, [])))
     >>> w = worst_required(model, math.radians(45.0), 2.0)
     >>> print(f"{w.total_Nm * 1e3:.4f} mN m = {w.resistive_Nm * 1e3:.4f} resistive + {w.thrust_Nm * 1e3:.4f} thrust")
-    1.6628 mN m = 0.7384 resistive + 0.9245 thrust
+    1.9133 mN m = 0.9590 resistive + 0.9543 thrust
     """
     model = prepare(model)
     pairs = _worst_corner_pairs(model, alpha, f)
@@ -408,7 +408,7 @@ def margin_grid(
     >>> model = prepare(build_model(load_design(None, [])))
     >>> grid = margin_grid(model, np.radians([30.0, 45.0]), 2.0)
     >>> print(np.round(grid.margin_Nm * 1e3, 4), np.round(grid.speed_m_s * 1e3, 2))  # mN m, mm/s
-    [1.8511 1.5495] [21.77 37.7 ]
+    [1.6781 1.299 ] [21.29 36.99]
     """
     model = prepare(model)
     c = model.constants
@@ -729,7 +729,7 @@ def step_out_frequency_hz(
     >>> model = prepare(build_model(load_design(None, [])))
     >>> bound = step_out_frequency_hz(model, math.radians(10.0))
     >>> print(f"{bound.frequency_hz:.3f} Hz, beyond the search: {bound.beyond_search}")
-    5.128 Hz, beyond the search: False
+    4.316 Hz, beyond the search: False
     """
     model = prepare(model)
     c = model.constants

@@ -363,11 +363,17 @@ def load_design(
             continue
         values[key] = value
     design = Design(values, source=source, origins=origins)
-    for key in PATH_KEYS:  # a file the design names is an input, read or not
+    _note_named_inputs(design)
+    return design
+
+
+def _note_named_inputs(design: Design) -> None:
+    """Every file the design names (:data:`PATH_KEYS`) is an input of this run, read or not:
+    never an output of the same run."""
+    for key in PATH_KEYS:
         named = design.path_of(key)
         if named is not None:
             note_input(named, f"the file {key} names")
-    return design
 
 
 #: Keys whose value is a path to a file the design reads (relative to the file that sets it).
