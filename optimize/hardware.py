@@ -33,7 +33,6 @@ clearance; every buildable neighbour is then checked with the exact distance.
 
 from __future__ import annotations
 
-import functools
 import itertools
 from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
@@ -308,19 +307,11 @@ def mean_turn_gap_m(pa: Any, pb: Any) -> float:
     float
         Least distance between their mean turns, m.
     """
-    return _shape_gap(
-        (type(pa), pa.axis_index, pa.sizes_m, float(pa.separation_m)),
-        (type(pb), pb.axis_index, pb.sizes_m, float(pb.separation_m)),
-    )
-
-
-@functools.lru_cache(maxsize=256)
-def _shape_gap(a: tuple, b: tuple) -> float:
-    """:func:`mean_turn_gap_m` of (pair class, axis, sizes, separation) each."""
     best = np.inf
     for sa, sb in itertools.product((-0.5, 0.5), repeat=2):
-        pts = a[0].mean_turn_points(a[1], a[2], sa * a[3], GAP_SAMPLES)
-        d = b[0].mean_turn_distance_m(pts, b[1], b[2], sb * b[3])
+        sep_a, sep_b = sa * float(pa.separation_m), sb * float(pb.separation_m)
+        pts = pa.mean_turn_points(pa.axis_index, pa.sizes_m, sep_a, GAP_SAMPLES)
+        d = pb.mean_turn_distance_m(pts, pb.axis_index, pb.sizes_m, sep_b)
         best = min(best, float(d.min()))
     return best
 
