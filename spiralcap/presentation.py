@@ -270,7 +270,7 @@ GAIN_STEPS: dict[str, tuple[float, str]] = {
     "requirements.min_wall_strain": (1e-3, "0.1 % of strain"),
     "requirements.min_safety_factor": (0.1, "0.1 of the safety factor"),
     "requirements.slip_efficiency": (0.01, "0.01 of slip efficiency"),
-    "requirements.max_stepout_probability": (0.01, "1 % of step-out probability"),
+    "requirements.max_failure_probability": (0.01, "1 % of failure probability"),
 }
 
 
