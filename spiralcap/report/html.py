@@ -58,6 +58,10 @@ td:first-child { overflow-wrap: anywhere; }
 th.n { text-align: right; }
 #bom-table { font-size: 0.8rem; } /* 13 columns: fits a 820 px window */
 #bom-table th, #bom-table td { padding: 0.25rem 0.3rem; }
+/* 6 columns with long design keys and gains per step: fits a 820 px window */
+#binding-limits { font-size: 0.8rem; }
+#binding-limits th, #binding-limits td { padding: 0.25rem 0.3rem; }
+#binding-limits td:nth-child(2) { overflow-wrap: anywhere; }
 th { background: var(--shade); border-bottom: 2px solid var(--ink); }
 td.n { text-align: right; font-variant-numeric: tabular-nums; white-space: nowrap; }
 .num { font-variant-numeric: tabular-nums; }
