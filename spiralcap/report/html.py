@@ -61,7 +61,7 @@ th.n { text-align: right; }
 /* 6 columns with long design keys and gains per step: fits a 820 px window */
 #binding-limits { font-size: 0.8rem; }
 #binding-limits th, #binding-limits td { padding: 0.25rem 0.3rem; }
-#binding-limits td:nth-child(2) { overflow-wrap: anywhere; }
+#binding-limits td:last-child { white-space: normal; } /* the gain wraps before "per" */
 th { background: var(--shade); border-bottom: 2px solid var(--ink); }
 td.n { text-align: right; font-variant-numeric: tabular-nums; white-space: nowrap; }
 .num { font-variant-numeric: tabular-nums; }
