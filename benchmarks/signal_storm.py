@@ -25,7 +25,7 @@ Usage (long: minutes; the machine is shared, so run it once, not in the test sui
     python benchmarks/signal_storm.py                      # every scenario, 20 tries each
     python benchmarks/signal_storm.py --tries 5 sizing fit
 
-The suite keeps a short version (tests/test_stop_storm.py, a few tries, slow-marked).
+The suite keeps a short version (tests/test_stop_io.py, a few tries, slow-marked).
 """
 
 from __future__ import annotations

@@ -19,7 +19,7 @@ Long frames are what labs build for patient access: the frame is long along the 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from functools import cached_property
 from typing import Any, ClassVar
 
@@ -137,26 +137,6 @@ class RectanglePair(WoundPair):
     def _size_m(self) -> float:
         """The first side a, m (the scale of tolerances)."""
         return float(self.sides_m[0])
-
-    def with_sizes(self, sizes_m: tuple[float, ...]) -> Any:
-        """This pair with sides ``sizes_m`` (a, b), m; at its default spacing it keeps it.
-
-        Parameters
-        ----------
-        sizes_m : tuple of float
-            The new sides (a, b), m; a lone first side a keeps the aspect b / a
-            (:meth:`size_fields`).
-
-        Returns
-        -------
-        RectanglePair
-            A pair with those sides and this pair's other fields but ``measured`` (None: a
-            pair of other sides is not the pair the lab measured), at the default spacing of
-            the new sides where this pair had its default spacing.
-        """
-        helm = self.helmholtz
-        sep = None if helm else self.separation_m
-        return replace(self, **self.size_fields(sizes_m), separation_m=sep, measured=None)
 
     def size_fields(self, sizes: tuple[float, ...]) -> dict[str, Any]:
         """``sides_m`` of sizes (a, b); a lone first side keeps the aspect b / a.

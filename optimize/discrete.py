@@ -738,7 +738,6 @@ def leaner(
         full,
         iterations=0,
         hardware=hardware,
-        binding_limits=res.binding_limits,
         message=message,
     ), spent
 

@@ -341,7 +341,8 @@ _MODEL_NUMBERS = (
     (("requirements", "min_safety_factor"), positive()),
     (("requirements", "min_clearance_m"), nonnegative()),
     (("requirements", "bore_radius_m"), nonnegative()),
-    (("requirements", "min_wall_strain"), nonnegative()),
+    # > 0: the grip rows divide by it (the design key's range starts at 1e-4)
+    (("requirements", "min_wall_strain"), positive()),
     (("bounds", "helical_angle_min_rad"), angle()),
     (("bounds", "helical_angle_max_rad"), angle()),
     (("bounds", "frequency_min_hz"), positive()),
@@ -374,7 +375,12 @@ def check_model(name: str, model: Any) -> None:
             value = getattr(value, part)
         spec.check(f"{name}.{'.'.join(path)}", value)
     lim = model.limits
-    for kind, unit in (("current", "A"), ("voltage", "V"), ("power", "W")):
+    for kind, unit in (
+        ("current", "A"),
+        ("voltage", "V"),
+        ("power", "W"),
+        ("apparent_power", "VA"),
+    ):
         own = getattr(lim, f"axis_{kind}_{unit}")
         for k, ax in enumerate("xyz"):  # a pair's own channel, where it has one
             if f"{kind}_{ax}" in lim.own:

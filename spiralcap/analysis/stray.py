@@ -28,7 +28,7 @@ __all__ = [
 
 #: ICNIRP 2009 (static magnetic fields): keep people with implanted devices below 0.5 mT, T.
 IMPLANT_LEVEL_T = 0.5e-3
-#: How far out the stray-field search goes, in multiples of the largest pair's radius (the
+#: How far out the stray-field search goes, in multiples of the largest half-extent of a pack (the
 #: field of air coils falls as a dipole's beyond the windings).
 REACH_RADII = 6.0
 _AXES = ("x", "y", "z")
@@ -114,7 +114,8 @@ def stray_field(model: Any, field_T: float) -> StrayField:
     allocations = [
         allocation_vectors(*coils.rotating_allocation(h, float(field_T))) for h in model.headings
     ]
-    reach = REACH_RADII * max(float(p.radius_m) for p in coils.pairs)
+    # the search reaches past every pack: its half-extent, not a frame's half shortest side
+    reach = REACH_RADII * max(max(p.extents_m) for p in coils.pairs)
     fade = {}
     for k, ax in enumerate(_AXES):
         e = np.eye(3)[k]
