@@ -377,7 +377,7 @@ def _note_named_inputs(design: Design) -> None:
 
 
 #: Keys whose value is a path to a file the design reads (relative to the file that sets it).
-PATH_KEYS = ("tissue.uncertainty.covariance_from",)
+PATH_KEYS = ("tissue.uncertainty.covariance_from", "calibration.survey_csv")
 
 
 #: The word that clears a key with ``--set KEY=none`` (no key takes it as a value).

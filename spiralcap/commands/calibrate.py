@@ -17,6 +17,7 @@ calibrated actuation matrix.
 from __future__ import annotations
 
 import argparse
+import json
 import os
 from typing import Any
 
@@ -174,7 +175,7 @@ def calibration_toml(fit: Any, survey_path: str, output_path: str) -> str:
     except ValueError:
         survey = os.path.abspath(survey_path)
     lines = [
-        f"# spiralcap calibrate of {survey_path}: {fit.rows} rows, residual RMS "
+        f"# spiralcap calibrate of {json.dumps(str(survey_path))}: {fit.rows} rows, residual RMS "
         f"{fit.residual_rms_T * 1e6:.3g} uT (held-out rows {fit.holdout_rms_T * 1e6:.3g} uT)",
         "# layered on the design (spiralcap evaluate DESIGN THIS.toml), the coils' field per",
         "# ampere is each map times the modelled one; the actuation matrix at the centre is",
@@ -204,6 +205,4 @@ def calibration_toml(fit: Any, survey_path: str, output_path: str) -> str:
 
 def _toml_string(text: str) -> str:
     """``text`` as a TOML basic string (the json escapes are TOML's)."""
-    import json
-
     return json.dumps(text, ensure_ascii=False)

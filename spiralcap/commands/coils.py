@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from typing import Any
 
 from spiralcap.commands._common import (
@@ -424,6 +424,7 @@ def run(args: argparse.Namespace) -> int:
 
     analysis = analyse_coils(design)
     payload = coils_payload(analysis)
+    said = _write_outputs(args, design, grid)  # committed before anything is printed
     if args.json:
         print_json(payload)
     else:
@@ -431,13 +432,13 @@ def run(args: argparse.Namespace) -> int:
 
         stray = stray_words(analysis.stray) if analysis.stray is not None else []
         print(_text(payload, bom_table(analysis.bill_of_materials), stray))
-    _write_outputs(args, design, grid)
+    said()
     return 0
 
 
-def _write_outputs(args: argparse.Namespace, design: Any, grid: Any) -> None:
+def _write_outputs(args: argparse.Namespace, design: Any, grid: Any) -> Callable[[], None]:
     """--plot, --step/--stl and --field-grid: each made in memory, then all committed together
-    (all or nothing), then said."""
+    (all or nothing); returns what says so (called after the command's own output)."""
     from spiralcap.commands._plot import geometry_bytes
     from spiralcap.design import write_files_atomic
 
@@ -452,14 +453,18 @@ def _write_outputs(args: argparse.Namespace, design: Any, grid: Any) -> None:
 
         outputs[args.field_grid] = field_grid_bytes(args.field_grid, grid)
     if not outputs:
-        return
+        return lambda: None
     write_files_atomic(outputs)
-    if args.plot and not args.json:
-        print(f"wrote {args.plot}")
-    if cad is not None:
-        _say_cad(args, cad[1], list(cad[0]))
-    if grid is not None:
-        _say_grid(args, grid)
+
+    def say() -> None:
+        if args.plot and not args.json:
+            print(f"wrote {args.plot}")
+        if cad is not None:
+            _say_cad(args, cad[1], list(cad[0]))
+        if grid is not None:
+            _say_grid(args, grid)
+
+    return say
 
 
 def _check_grid_arguments(args: argparse.Namespace) -> None:
@@ -517,9 +522,23 @@ def _field_grid(args: argparse.Namespace, design: Any) -> Any:
     from spiralcap.export import field_grid
 
     step = None if args.grid_step_mm is None else args.grid_step_mm * 1e-3
+    import numpy as np
+
+    from spiralcap.core.errors import InputError
+
     box = getattr(args, "grid_box_mm", None)
     box_m = None if box is None else parse_grid_box_mm(box)
-    return field_grid(design, float(design["workspace.radius_m"]), step, box_m)
+    with np.errstate(all="ignore"):  # a point on a filament: judged below, not warned
+        grid = field_grid(design, float(design["workspace.radius_m"]), step, box_m)
+    bad = ~np.isfinite(grid.field_per_A_T_per_A).all(axis=(1, 2))
+    if bad.any():  # the field of a filament is singular on its wire
+        at = ", ".join(f"{1e3 * v:.4g}" for v in grid.points_m[np.argmax(bad)])
+        raise InputError(
+            "--grid-box-mm" if box is not None else "--grid-step-mm",
+            box if box is not None else args.grid_step_mm,
+            f"a grid with no point on a winding (the field there is singular; e.g. ({at}) mm)",
+        )
+    return grid
 
 
 def _say_grid(args: argparse.Namespace, grid: Any) -> None:

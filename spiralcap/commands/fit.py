@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import argparse
 import csv
+import json
 import math
 from array import array
 from collections.abc import Iterable, Iterator
@@ -681,7 +682,7 @@ def tissue_toml(result: Any, data_path: str, quality: Any = None, design_scale: 
     loose = ", ".join(_DISPLAY[n][0] for n in result.not_pinned_down) or "none"
     fitted = ", ".join(_DISPLAY[n][0] for n in result.free)
     lines = [
-        f"# spiralcap fit of {data_path}: {result.frequency_hz.size} points, "
+        f"# spiralcap fit of {json.dumps(str(data_path))}: {result.frequency_hz.size} points, "
         f"residual std {residual_std(result):.3g} (relative)",
     ]
     lines.append(f"# optimiser: {result.message}")

@@ -409,15 +409,15 @@ def run(args: argparse.Namespace) -> int:
     else:
         with working("optimize") as say:
             res = optimize_design(optimization_model(design), progress=checked(say))
+    from spiralcap import tolerances
+
+    intervals = tolerances.optimum_rows(design, res)  # before the write: all work done first
     written = None
     if args.output and res.status == "optimal":
         from spiralcap.assemble.system import optimum_design_toml
         from spiralcap.design import write_text_atomic
 
         written = write_text_atomic(args.output, optimum_design_toml(design, res))
-    from spiralcap import tolerances
-
-    intervals = tolerances.optimum_rows(design, res)
     if args.json:
         payload = {"design": design.source, **optimization_to_dict(res)}
         if intervals:

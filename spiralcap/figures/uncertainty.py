@@ -28,10 +28,11 @@ def plot_margin_distribution(ax: Any, result: Any) -> dict[str, Any]:
     ok = m >= 0
     if strains.size == m.size:
         ok &= strains >= result.min_wall_strain
-    shown = m[ok] if ok.any() else m
+    shown = m[ok]  # only samples that do not fail are a margin (none: an empty histogram)
     lo, hi = np.percentile(m, [0.5, 99.95])
-    lo = min(lo, -0.05 * (hi - lo))
-    hi = max(hi, float(np.max(shown)) if shown.size else hi, 0.05 * (hi - lo))
+    span = max(hi - lo, 0.5)  # mN·m: every sample alike (all failed, counted as 0) still shows
+    lo = min(lo, -0.05 * span)
+    hi = max(hi, float(np.max(shown)) if shown.size else hi, 0.05 * span)
     bins = np.linspace(lo, hi, 80)
     # density over the whole sample: the bars' area is the share that does not fail (failed
     # samples are not a margin; their share is in the hatched region's label)
@@ -44,6 +45,7 @@ def plot_margin_distribution(ax: Any, result: Any) -> dict[str, Any]:
         alpha=0.55,
         label="samples that do not fail (histogram)",
     )
+    ax.set_ylim(bottom=0.0)  # a density: none below 0, also with no sample to show
     fail = getattr(result, "failure", None)
     p_fail = fail.value if fail is not None else result.stepout_probability
     below = getattr(result, "below_min_strain", None)
