@@ -5,6 +5,7 @@ from __future__ import annotations
 import contextlib
 import importlib
 import io
+import sys
 import types
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -75,12 +76,15 @@ def builtin_report(tmp_path_factory: pytest.TempPathFactory) -> BuiltinReport:
     """The built-in design's report, written once per test process and read by the report's
     tests and its layout check (nothing writes beside it): ``spiralcap report -o ... --pdf ...
     --workers 2`` (analyses and figures forked) into a folder the user made (spiralcap makes no
-    folder: spiralcap.outputs)."""
+    folder: spiralcap.outputs), with the CAD kernel (the ``cad`` extra) unimportable."""
     out = tmp_path_factory.mktemp("report") / "nested" / "folder"
     out.mkdir(parents=True)
     html_path, pdf_path = out / "report.html", out / "report.pdf"
     buf = io.StringIO()
-    with contextlib.redirect_stdout(buf):
+    # the README's main job needs no CAD kernel: build123d unimportable while it runs (an
+    # ``import build123d`` raises ImportError; test_coils_buildable.py reads the outcome)
+    with pytest.MonkeyPatch.context() as mp, contextlib.redirect_stdout(buf):
+        mp.setitem(sys.modules, "build123d", None)
         status = cli.main(
             ["report", "-o", str(html_path), "--pdf", str(pdf_path), "--workers", "2"]
         )
@@ -121,3 +125,4 @@ def pytest_sessionfinish(session: pytest.Session, exitstatus: int) -> None:
     mistaken for a configuration problem, because the tests were not found."""
     if exitstatus == pytest.ExitCode.NO_TESTS_COLLECTED:
         session.exitstatus = pytest.ExitCode.TESTS_FAILED
+

@@ -429,22 +429,3 @@ def test_impossible_clearance_or_mass_exits_3_naming_it(capsys) -> None:
     assert "coils.min_clearance_mm" in capsys.readouterr().out
     assert cli.main(["optimize", *SIX_KEYS, *LEAST_POWER, "--set", "limits.copper_mass_kg=5"]) == 3
     assert "limits.copper_mass_kg" in capsys.readouterr().out
-
-
-def test_main_job_runs_without_the_cad_extra(tmp_path) -> None:
-    """The README's main job (`spiralcap report`) on an install without build123d: the CAD
-    kernel made unimportable in a fresh interpreter."""
-    import subprocess
-    import sys
-
-    code = (
-        "import sys; sys.modules['build123d'] = None\n"
-        "from spiralcap.cli import main\n"
-        # one process: the subject is the missing CAD kernel, not the forked path (conftest)
-        f"rc = main(['report', '-o', {str(tmp_path / 'r.html')!r}, '--workers', '1'])\n"
-        "assert 'build123d' not in [m for m, v in sys.modules.items() if v is not None]\n"
-        "sys.exit(rc)\n"
-    )
-    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=600)
-    assert done.returncode == 0, done.stderr[-2000:]
-    assert (tmp_path / "r.html").stat().st_size > 100_000, "the report was written"
