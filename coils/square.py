@@ -47,15 +47,6 @@ def square_mutual_inductance_H(
     -------
     same kind
         Mutual inductance, H (one turn each).
-
-    Examples
-    --------
-    Far apart, two coaxial squares of area A couple as dipoles, μ0 A² / (2π z³):
-
-    >>> import math
-    >>> m = square_mutual_inductance_H(0.03, 0.03, 5.0)
-    >>> round(float(m / (4e-7 * math.pi * 0.06**4 / (2 * math.pi * 5.0**3))), 4)
-    1.0
     """
     h1, h2 = half_side1_m, half_side2_m
     return rectangle_mutual_inductance_H(h1, h1, h2, h2, distance_m)

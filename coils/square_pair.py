@@ -53,13 +53,6 @@ def grover_square_inductance_H(side_m: Any, gmd_m: Any) -> Any:
     -------
     same kind
         Self inductance L, H (one turn).
-
-    Examples
-    --------
-    >>> import math
-    >>> thin = 2 * 4e-7 * math.pi * 0.6 / math.pi * (math.log(0.6 / 0.001) - 0.77401 + 0.001 / 0.6)
-    >>> bool(abs(grover_square_inductance_H(0.6, 0.001) / thin - 1) < 1e-5)
-    True
     """
     return grover_rectangle_inductance_H(side_m, side_m, gmd_m)
 
