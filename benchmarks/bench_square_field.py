@@ -1,7 +1,7 @@
 """Field speed of a square three-axis set against magpylib polylines and against the circles.
 
 Three nested square pairs (sides 0.95 / 0.78 / 0.62 m, one filament per coil) at 2·10^5 points:
-``coils`` (four square roots per filament and point, :mod:`coils.square`) against magpylib's
+``coils`` (four square roots per filament and point, :mod:`coils.rectangle` at a = b) against magpylib's
 ``Polyline`` squares on the same six filaments, and against the circular set of the same size
 (:mod:`coils.filaments`), all timed in this process as ratios (best of a few rounds, CPU time).
 Asserts nothing; run ``python benchmarks/bench_square_field.py``.

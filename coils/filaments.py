@@ -4,7 +4,8 @@ Every coil in this package is a list of filaments, each with an axis (x, y or z)
 axial centre, a number of turns and the drive current (column) it belongs to. What does not
 depend on the shape is written here once (:class:`AxisFilaments`: the constant matrices, the
 chunking of numpy points, the numpy or CasADi path); a shape adds its size and its closed-form
-field: circular loops here (:class:`FilamentSet`, radii), squares in :mod:`coils.square`.
+field: circular loops here (:class:`FilamentSet`, radii), rectangles and squares in
+:mod:`coils.rectangle`.
 
 For a circular filament along axis a, a point p has axial coordinate ζ = p_a and the field per ampere is
 B = s (p - ζ e_a) + b_z e_a = s p + (b_z - s ζ) e_a with s = B_ρ/ρ (see :mod:`coils.loop`). Summed
@@ -17,8 +18,10 @@ so the field matrix is G(p) = p S^T + diag-like T and B = G(p) I.
 
 from __future__ import annotations
 
+import operator
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from functools import reduce
 from typing import Any, ClassVar, Literal
 
 import numpy as np
@@ -27,7 +30,7 @@ from coils.loop import loop_terms
 from spiralcap.core import backend as bk
 from spiralcap.core.backend import Scalar
 
-__all__ = ["AXES", "AxisFilaments", "FilamentSet", "gauss_legendre_pack"]
+__all__ = ["AXES", "AxisFilaments", "FilamentSet", "MixedFilamentSet", "gauss_legendre_pack"]
 
 #: A coil axis, as the option strings the pairs and the design use.
 Axis = Literal["x", "y", "z"]
@@ -75,7 +78,7 @@ class AxisFilaments:
     constant matrices built from them, the chunking of numpy points and the choice between the
     numpy and the CasADi path; a subclass adds the filaments' size (a field named by
     ``_SIZE_KEY``) and the shape's closed-form field: :class:`FilamentSet` (circles) and
-    :class:`coils.square.SquareFilamentSet` (squares). Keyword arguments only.
+    :class:`coils.rectangle.RectangleFilamentSet` (rectangles, squares). Keyword arguments only.
 
     Parameters
     ----------
@@ -267,3 +270,38 @@ class FilamentSet(AxisFilaments):
         S, T = self.terms(points)
         direction = self._matrices(False)["direction"]
         return points[:, :, None] * S[:, None, :] + direction.T[None, :, :] * T[:, None, :]
+
+
+@dataclass(frozen=True)
+class MixedFilamentSet:
+    """Filament sets of several shapes (circles, rectangles) driven by the same currents: their
+    fields add.
+
+    Parameters
+    ----------
+    parts : tuple
+        :class:`FilamentSet` and :class:`coils.rectangle.RectangleFilamentSet` objects with
+        the same drive columns (``column_axes``).
+    """
+
+    parts: tuple[Any, ...]
+
+    @property
+    def column_axes(self) -> tuple[int, ...]:
+        """Axis index of each drive column (0, 1, 2 for x, y, z)."""
+        return tuple(self.parts[0].column_axes)
+
+    @property
+    def n_currents(self) -> int:
+        """Number of drive currents."""
+        return len(self.column_axes)
+
+    def field(self, points: Scalar, currents: Scalar) -> Scalar:
+        return reduce(operator.add, (part.field(points, currents) for part in self.parts))
+
+    def field_matrix(self, points: np.ndarray) -> np.ndarray:
+        return reduce(operator.add, (part.field_matrix(points) for part in self.parts))
+
+    # the parts' sum, documented as theirs
+    field.__doc__ = AxisFilaments.field.__doc__
+    field_matrix.__doc__ = AxisFilaments.field_matrix.__doc__

@@ -9,9 +9,8 @@ from typing import Any
 
 import numpy as np
 
-from coils.filaments import AXES, FilamentSet
+from coils.filaments import AXES, FilamentSet, MixedFilamentSet
 from coils.rotating import allocation, ellipse_semi_axes
-from coils.square import MixedFilamentSet
 from coils.winding import WoundPair
 from spiralcap.core.errors import InputError
 

@@ -9,7 +9,8 @@ across the turn; two coils at ±s/2 on the pair's axis carrying the same current
 sense. :class:`WoundPair` holds what follows from that alone: the input checks, the pack
 geometry, the Gauss-Legendre grids of both packs, the field, the DC resistance, the series
 inductance and the convective conductance. Each pair supplies its size, the length of its mean
-turn per unit of size (2π for a circle, 4 for a square), the filament set of its shape, the
+turn (2π per unit of radius for a circle; 2(a + b) for the frames of
+:class:`coils.rectangle_pair.FramePair`, the square's a = b), the filament set of its shape, the
 centre field of a set of its filaments and its inductances.
 
 The shape is an object every layer asks (issue 38): each pair class also owns its
@@ -157,7 +158,8 @@ class WoundPair:
     ``wire_diameter_m``, ``packing_factor``, ``filaments``, ``pack_aspect`` and ``measured``
     (:class:`MeasuredConstants` or None) and a size field
     named by ``_SIZE_KEY`` derives from it and sets the class constants: ``_SIZE_KEY``,
-    ``_TURN_LENGTH_PER_SIZE`` (mean turn length / size), ``_DEFAULT_SPACING_PER_SIZE``
+    ``_TURN_LENGTH_PER_SIZE`` (mean turn length / size, or its own :meth:`turn_length_m`),
+    ``_DEFAULT_SPACING_PER_SIZE``
     (separation / size when ``separation_m`` is not given) and ``_FILAMENT_PAIR`` (how the
     error names the two filament counts). It supplies ``filament_set``,
     ``_filament_size_m`` (the size coordinate of a filament at the pack centre),
