@@ -17,6 +17,7 @@ from optimize import physics as ph
 from optimize.system import MODEL, DesignModel, prepare
 from optimize.views import Viewable
 from spiralcap.core.checks import angle, finite, guard, nonnegative, positive
+from spiralcap.core.constants import to_unit
 from torque_model.domain import calibration_edges, extrapolations
 
 #: the rule for a ``model`` argument of the public functions here
@@ -237,7 +238,7 @@ class Evaluation(Viewable):
     @property
     def helical_angle_deg(self) -> float:
         """Helical angle, deg."""
-        return float(np.degrees(self.helical_angle_rad))
+        return float(to_unit(self.helical_angle_rad, "deg"))
 
     def failed(self) -> list[Check]:
         """The requirements and limits that do not hold.

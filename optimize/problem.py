@@ -26,7 +26,6 @@ all three for its CVaR objective and step-out constraint). The core is not touch
 from __future__ import annotations
 
 import functools
-import math
 from collections.abc import Callable
 from dataclasses import dataclass, fields, replace
 from typing import Any
@@ -39,11 +38,12 @@ from optimize import scenario_nlp
 from optimize.nlp import Row
 from optimize.system import DesignModel
 from spiralcap.core import backend as bk
+from spiralcap.core.constants import from_unit
 
 ALPHA_REF_rad = 0.1745329251994330  # 10 degrees
 F_REF_hz = 1.0
 #: The screw must stay this far from self-locking (capsule.self_lock_margin_rad), rad.
-SELF_LOCK_MIN_MARGIN_rad = math.radians(1.0)
+SELF_LOCK_MIN_MARGIN_rad = from_unit(1.0, "deg")
 #: Speed reference of the speed row when no minimum speed is asked, m/s.
 _SPEED_FLOOR_m_s = 1e-4
 

@@ -10,10 +10,9 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any, ClassVar
 
-import numpy as np
-
 from optimize.evaluate import Evaluation
 from optimize.views import Viewable
+from spiralcap.core.constants import to_unit
 
 
 @dataclass(frozen=True)
@@ -190,7 +189,7 @@ class OptimizationResult(Viewable):
     @property
     def helical_angle_deg(self) -> float:
         """Optimal helical angle, deg."""
-        return float(np.degrees(self.helical_angle_rad))
+        return float(to_unit(self.helical_angle_rad, "deg"))
 
     @property
     def feasible(self) -> bool:

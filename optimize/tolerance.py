@@ -26,25 +26,26 @@ from typing import Any
 import capsule as cap
 from optimize import physics as ph
 from optimize.system import DesignModel, Tolerances, prepare
+from spiralcap.core.constants import from_unit
 
 #: The keys varied, as :class:`Tolerances` fields (SI), in the order reported.
 KEYS = ("helical_angle_rad", "spiral_wire_diameter_m", "lumen_diameter_m")
 #: How far each search goes from the design's value at most (SI: rad, m, m) and how finely the
 #: end of an interval is found (the same units).
 _REACH = {
-    "helical_angle_rad": math.radians(30.0),
+    "helical_angle_rad": from_unit(30.0, "deg"),
     "spiral_wire_diameter_m": 2e-3,
     "lumen_diameter_m": 5e-3,
 }
 _RESOLUTION = {
-    "helical_angle_rad": math.radians(1e-3),
+    "helical_angle_rad": from_unit(1e-3, "deg"),
     "spiral_wire_diameter_m": 1e-7,
     "lumen_diameter_m": 1e-7,
 }
 #: The least helical angle searched (the tissue model's profile conversion holds above ~1.8°).
-_MIN_ANGLE_rad = math.radians(2.0)
+_MIN_ANGLE_rad = from_unit(2.0, "deg")
 #: The most the search lets the angle reach (a screw thread well short of axial).
-_MAX_ANGLE_rad = math.radians(80.0)
+_MAX_ANGLE_rad = from_unit(80.0, "deg")
 
 
 @dataclass(frozen=True)

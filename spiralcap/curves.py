@@ -16,6 +16,7 @@ from typing import Any
 
 import numpy as np
 
+from spiralcap.core.constants import to_unit
 from spiralcap.design import Design
 
 #: Power budgets of the trade-off sweep, as multiples of the design's ``limits.power_W``.
@@ -134,7 +135,7 @@ def margin_map(model: Any, f_max_hz: float) -> MarginMap:
 
     g = margin_grid(model, aa, ff)
     return MarginMap(
-        np.degrees(a),
+        to_unit(a, "deg"),
         f,
         _grid_field(g, "margin_Nm").astype(float),
         _grid_field(g, "feasible").astype(bool),
@@ -162,7 +163,7 @@ def angle_curve(model: Any, alpha_rad: np.ndarray) -> Curve:
     per_hz = _grid_field(margin_grid(model, alpha_rad, 1.0), "speed_m_s").astype(float)
     needed = req.min_speed_m_s / np.maximum(per_hz, 1e-300)
     f = np.clip(needed, b.frequency_min_hz, b.frequency_max_hz)
-    c = curve(model, alpha_rad, f, np.degrees(alpha_rad))
+    c = curve(model, alpha_rad, f, to_unit(np.asarray(alpha_rad, dtype=float), "deg"))
     return replace(c, frequency_hz=f)
 
 

@@ -17,6 +17,7 @@ from typing import Any
 import numpy as np
 
 from spiralcap.core.checks import guard, instance
+from spiralcap.core.constants import from_unit
 from spiralcap.core.errors import InputError
 from spiralcap.design import Design
 from spiralcap.schema import KEYS, si_name, to_si
@@ -478,7 +479,7 @@ def optimize_row(model: Any, warm: dict[str, Any] | None = None) -> dict[str, An
     start = None
     if warm is not None and warm["status"] == "optimal":
         start = {
-            "helical_angle": math.radians(float(warm["helical_angle_deg"])),
+            "helical_angle": from_unit(float(warm["helical_angle_deg"]), "deg"),
             "frequency": float(warm["frequency_hz"]),
             "field_T": float(warm["field_amplitude_T"]),
         }

@@ -13,6 +13,8 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
+from spiralcap.core.constants import to_unit
+
 #: What the intervals hold (said in the text, the JSON and the report).
 VARIED = (
     "each key varied alone, the other two anywhere within their tolerances (every requirement "
@@ -25,21 +27,21 @@ _KEYS = {
         "capsule.spiral.helical_angle_deg",
         "tolerances.helical_angle_deg",
         "deg",
-        180.0 / math.pi,
+        to_unit(1.0, "deg"),
         "helical angle",
     ),
     "spiral_wire_diameter_m": (
         "capsule.spiral.wire_diameter_mm",
         "tolerances.spiral_wire_diameter_mm",
         "mm",
-        1e3,
+        to_unit(1.0, "mm"),
         "spiral wire",
     ),
     "lumen_diameter_m": (
         "tissue.lumen_diameter_mm",
         "tolerances.lumen_diameter_mm",
         "mm",
-        1e3,
+        to_unit(1.0, "mm"),
         "lumen",
     ),
 }

@@ -2,13 +2,13 @@
 
 from __future__ import annotations
 
-import math
 import os
 from typing import Any
 
 import numpy as np
 
 from spiralcap.core.checks import guard, instance
+from spiralcap.core.constants import from_unit, to_unit
 from spiralcap.core.errors import InputError
 from spiralcap.design import Design
 from spiralcap.keymap import design_key, field_of, from_field_si, si_factor
@@ -146,14 +146,15 @@ def angle_floor_deg(design: Design) -> float:
     d = design
     return max(
         MIN_MODEL_ANGLE_deg,
-        math.degrees(
+        to_unit(
             cap.min_helical_angle_for_clearance_rad(
                 cap.helix_diameter_m(
                     d["capsule.diameter_mm"], d["capsule.spiral.wire_diameter_mm"]
                 ),
                 d["capsule.spiral.wire_diameter_mm"],
                 d["capsule.spiral.starts"],
-            )
+            ),
+            "deg",
         ),
     )
 
@@ -231,7 +232,7 @@ def _bounds_within_floor(bounds: Any, floor_deg: float, tolerances: Any) -> Any:
     the optimiser cannot hold a row at a corner outside the model."""
     from dataclasses import replace
 
-    least = math.radians(floor_deg) + tolerances.helical_angle_rad
+    least = from_unit(floor_deg, "deg") + tolerances.helical_angle_rad
     if bounds.helical_angle_min_rad >= least:
         return bounds
     return replace(bounds, helical_angle_min_rad=min(least, bounds.helical_angle_max_rad))
