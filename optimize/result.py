@@ -147,8 +147,8 @@ class OptimizationResult(Viewable):
     hardware : HardwareResult or None
         The sizing outcome, when hardware was free.
     solution_x : dict of str to float or None
-        The raw optimum by variable name, in the unit each name carries (``helical_angle``
-        rad, ``frequency`` Hz, ``field_T``, ``t_value`` in the objective's unit), a warm start.
+        The raw optimum by variable name, in the unit each name carries (``helical_angle_rad``,
+        ``frequency_hz``, ``field_T``, ``t_value`` in the objective's unit), a warm start.
     solution_lam_g : ndarray or None
         Its row multipliers, dimensionless (scaled rows), a warm start.
     scenario_solve : ScenarioSolve or None

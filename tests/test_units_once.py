@@ -1,10 +1,13 @@
-"""Units are converted once, through one helper (issue 38 item 3).
+"""Units are converted once, through one helper, and the helical angle has one name (issue 38
+item 3).
 
 Every degree <-> radian conversion in the five packages goes through
 :func:`spiralcap.core.constants.to_unit` / :func:`~spiralcap.core.constants.from_unit`, which
 read the same unit table as the design keys. The scan below reads the code (not docstrings:
 the ``Examples`` sections may show ``math.radians`` to a reader) and fails on a hand
-conversion, so a new one cannot slip in.
+conversion, so a new one cannot slip in. The helical angle in rad is ``helical_angle_rad`` in
+every public function's parameters and every public class's fields (a model's maths-local short
+names inside a function body stay, where they read like the paper's formula).
 """
 
 from __future__ import annotations
@@ -142,3 +145,72 @@ def test_helper_examples_run() -> None:
     for test in doctest.DocTestFinder().find(constants):
         result = doctest.DocTestRunner(optionflags=doctest.ELLIPSIS).run(test)
         assert result.failed == 0, f"{test.name}: its Examples section"
+
+
+#: Other names the helical angle went by (issue 38: 23 files, 4 names).
+OLD_ANGLE_NAMES = {
+    "alpha",
+    "alpha_rad",
+    "angle_rad",
+    "helical_angle",
+    "helix_angle",
+    "spiral_angle",
+}
+
+
+def other_angle_names(source: str) -> list[tuple[int, str]]:
+    """(line, where) of a public function's parameter or a public class's field named by
+    :data:`OLD_ANGLE_NAMES` (module level and class bodies; private names and nested helpers
+    are a function's own business)."""
+    out = []
+
+    def params(node: ast.FunctionDef | ast.AsyncFunctionDef, owner: str) -> None:
+        if node.name.startswith("_") and node.name != "__init__":
+            return
+        a = node.args
+        for arg in a.posonlyargs + a.args + a.kwonlyargs:
+            if arg.arg in OLD_ANGLE_NAMES:
+                out.append((node.lineno, f"{owner}{node.name}({arg.arg})"))
+
+    for node in ast.parse(source).body:
+        if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
+            params(node, "")
+        elif isinstance(node, ast.ClassDef) and not node.name.startswith("_"):
+            for item in node.body:
+                target = getattr(item, "target", None)
+                if isinstance(item, ast.AnnAssign) and isinstance(target, ast.Name):
+                    if target.id in OLD_ANGLE_NAMES:
+                        out.append((item.lineno, f"{node.name}.{target.id}"))
+                elif isinstance(item, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                    params(item, f"{node.name}.")
+    return out
+
+
+def test_the_name_scan_finds_public_parameters_and_fields() -> None:
+    src = """
+def worst(model, alpha, f):  # 2
+    def inner(alpha):  # nested: its own business
+        return alpha
+    return inner(alpha)
+def _private(alpha_rad):
+    return alpha_rad
+class Context:
+    helical_angle: float  # 9
+    helical_angle_rad: float
+    def at(self, angle_rad):  # 11
+        return angle_rad
+"""
+    found = [line for line, _ in other_angle_names(src)]
+    assert found == [2, 9, 11], f"the scan must flag lines 2, 9 and 11 of the sample: {found}"
+
+
+def test_the_helical_angle_has_one_name() -> None:
+    bad = []
+    for pkg in PACKAGES:
+        for path in sorted((ROOT / pkg).rglob("*.py")):
+            for line, where in other_angle_names(path.read_text(encoding="utf-8")):
+                bad.append(f"{path.relative_to(ROOT)}:{line}: {where}")
+    assert not bad, (
+        "the helical angle in rad is helical_angle_rad in public parameters and fields "
+        "(design keys and JSON keys keep their schema names):\n" + "\n".join(bad)
+    )
