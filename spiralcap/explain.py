@@ -29,7 +29,7 @@ def explained_at_values(res: Any) -> dict[str, float]:
         "operation.frequency_hz": float(ev.frequency_hz),
     }
     if ev.field_limited_by == "fixed":
-        values["operation.field_amplitude_mT"] = float(ev.field_amplitude_T) * 1e3
+        values["operation.field_amplitude_mT"] = to_unit(float(ev.field_amplitude_T), "mT")
     return values
 
 

@@ -217,7 +217,7 @@ def build_tolerances(d: Design) -> Any:
 def _check_lumen_tolerance(d: Design, tissues: tuple) -> None:
     """Every tissue set's narrowest lumen (its lumen less the tolerance) must stay open."""
     dl = d["tolerances.lumen_diameter_mm"]
-    least = min(t.lumen_diameter_m for t in tissues) * 1e3
+    least = to_unit(min(t.lumen_diameter_m for t in tissues), "mm")
     if not dl < least:
         raise InputError(
             "tolerances.lumen_diameter_mm",
