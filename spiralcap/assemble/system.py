@@ -143,20 +143,12 @@ def angle_floor_deg(design: Design) -> float:
     and the model holds at, deg."""
     import capsule as cap
 
-    d = design
-    return max(
-        MIN_MODEL_ANGLE_deg,
-        to_unit(
-            cap.min_helical_angle_for_clearance_rad(
-                cap.helix_diameter_m(
-                    d["capsule.diameter_mm"], d["capsule.spiral.wire_diameter_mm"]
-                ),
-                d["capsule.spiral.wire_diameter_mm"],
-                d["capsule.spiral.starts"],
-            ),
-            "deg",
-        ),
+    body_m = to_si("capsule.diameter_mm", design["capsule.diameter_mm"])
+    wire_m = to_si("capsule.spiral.wire_diameter_mm", design["capsule.spiral.wire_diameter_mm"])
+    least_rad = cap.min_helical_angle_for_clearance_rad(
+        cap.helix_diameter_m(body_m, wire_m), wire_m, design["capsule.spiral.starts"]
     )
+    return max(MIN_MODEL_ANGLE_deg, to_unit(least_rad, "deg"))
 
 
 def check_optimiser_keys(design: Design) -> None:
