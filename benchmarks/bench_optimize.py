@@ -63,15 +63,15 @@ def main() -> None:
     vb = solve_module.variable_bounds(model)
     starts = [
         [
-            x["helical_angle"] / pb.ALPHA_REF_rad,
-            x["frequency"] / pb.F_REF_hz,
+            x["helical_angle_rad"] / pb.ALPHA_REF_rad,
+            x["frequency_hz"] / pb.F_REF_hz,
             x["field_scaled"],
             x["t"],
         ]
         for x in grid
     ]
-    lo = [vb["helical_angle"][0] / pb.ALPHA_REF_rad, vb["frequency"][0], 0.0, vb["t"][0]]
-    hi = [vb["helical_angle"][1] / pb.ALPHA_REF_rad, vb["frequency"][1], np.inf, vb["t"][1]]
+    lo = [vb["helical_angle_rad"][0] / pb.ALPHA_REF_rad, vb["frequency_hz"][0], 0.0, vb["t"][0]]
+    hi = [vb["helical_angle_rad"][1] / pb.ALPHA_REF_rad, vb["frequency_hz"][1], np.inf, vb["t"][1]]
 
     def ipopt_only():
         return [problem.nlp.solve(x0, p, None).f for x0 in grid]

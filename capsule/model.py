@@ -18,6 +18,7 @@ from capsule.spiral import (
 )
 from capsule.torque import max_synchronous_torque_Nm
 from spiralcap.core.checks import guard, instance
+from spiralcap.core.constants import to_unit
 from spiralcap.core.errors import InputError, check_positive
 
 
@@ -75,7 +76,7 @@ def geometry_problems(body: Body, spiral: Spiral, magnet: Magnet) -> list[tuple[
             out.append(
                 (
                     "spiral.helical_angle_rad",
-                    f"at least {math.degrees(a_min):.3g} deg, else neighbouring turns of the "
+                    f"at least {to_unit(a_min, 'deg'):.3g} deg, else neighbouring turns of the "
                     f"{spiral.wire_diameter_m * 1e3:g} mm wire ({spiral.starts} start{'' if spiral.starts == 1 else 's'}) "
                     "overlap",
                 )
@@ -294,8 +295,9 @@ class Capsule:
             turns=turns,
             min_turns=float(min_turns),
             full_turn_ok=bool(turns >= min_turns),
-            max_helical_angle_for_min_turns_deg=math.degrees(
-                float(max_helical_angle_for_turns_rad(d_h, s.wound_length_m, float(min_turns)))
+            max_helical_angle_for_min_turns_deg=to_unit(
+                float(max_helical_angle_for_turns_rad(d_h, s.wound_length_m, float(min_turns))),
+                "deg",
             ),
             footprint_width_m=s.footprint_width_m,
             frequency_hz=float(frequency_hz),

@@ -28,6 +28,7 @@ from typing import Any
 from capsule.body import Body
 from spiralcap.core import backend as bk
 from spiralcap.core.checks import Spec, angle, guard, nonnegative, positive
+from spiralcap.core.constants import to_unit
 from spiralcap.core.errors import InputError, check_positive
 
 #: Largest spiral wire diameter accepted, as a fraction of the body diameter. An engineering
@@ -249,7 +250,7 @@ class Spiral:
     @property
     def helical_angle_deg(self) -> float:
         """Helical angle, deg."""
-        return math.degrees(self.helical_angle_rad)
+        return to_unit(self.helical_angle_rad, "deg")
 
     @property
     def footprint_width_m(self) -> float:

@@ -42,6 +42,7 @@ import numpy as np
 
 from coils.rotating import allocation
 from coils.system import ThreeAxisHelmholtz
+from spiralcap.core.constants import to_unit
 from spiralcap.core.errors import DataError, InputError
 
 __all__ = [
@@ -155,7 +156,7 @@ def gains_and_tilts(
     g = np.asarray(model_actuation_T_per_A, dtype=float)
     na, ng = np.linalg.norm(a, axis=0), np.linalg.norm(g, axis=0)
     cos = np.sum(a * g, axis=0) / (na * ng)
-    return na / ng, np.degrees(np.arccos(np.clip(cos, -1.0, 1.0)))
+    return na / ng, to_unit(np.arccos(np.clip(cos, -1.0, 1.0)), "deg")
 
 
 def holdout_mask(rows: int, every: int = HOLDOUT_EVERY) -> np.ndarray:

@@ -93,7 +93,9 @@ class ScenarioSolve:
     tail_edge_Nm: float
 
 
-def worst_margins(model: DesignModel, alpha: float, f: float, field: float) -> np.ndarray:
+def worst_margins(
+    model: DesignModel, helical_angle_rad: float, frequency_hz: float, field_T: float
+) -> np.ndarray:
     """The effective margin of every scenario of ``model`` (the least of its torque and grip
     margins over the tissue sets, :func:`optimize.robust.scenario_rows`; < 0: it fails), N·m.
 
@@ -101,11 +103,11 @@ def worst_margins(model: DesignModel, alpha: float, f: float, field: float) -> n
     ----------
     model : DesignModel
         The design with its scenarios (prepared).
-    alpha : float
+    helical_angle_rad : float
         Helical angle, rad.
-    f : float
+    frequency_hz : float
         Rotation frequency, Hz.
-    field : float
+    field_T : float
         Rotating-field amplitude at the centre, T.
 
     Returns
@@ -117,7 +119,9 @@ def worst_margins(model: DesignModel, alpha: float, f: float, field: float) -> n
 
     sc = model.scenarios
     c, req = model.constants, model.requirements
-    rows = scenario_rows(alpha, f, field, c, req, sc.tissues, sc.grip_torque_Nm, sc.grip)
+    rows = scenario_rows(
+        helical_angle_rad, frequency_hz, field_T, c, req, sc.tissues, sc.grip_torque_Nm, sc.grip
+    )
     return effective_margins(rows, sc.count)
 
 
@@ -166,8 +170,8 @@ def _point(res: Any) -> tuple[float, float, float]:
     capacity evaluate reports)."""
     x = res.solution_x or {}
     return (
-        float(x.get("helical_angle", res.helical_angle_rad)),
-        float(x.get("frequency", res.frequency_hz)),
+        float(x.get("helical_angle_rad", res.helical_angle_rad)),
+        float(x.get("frequency_hz", res.frequency_hz)),
         float(x.get("field_T", res.field_amplitude_T)),
     )
 
@@ -243,15 +247,15 @@ def _core(warm: Any) -> Any:
         return {k: v for k, v in warm.items() if k != "scenario_index"}
     if not warm.solution_x:
         return None
-    keep = ("helical_angle", "frequency", "field_T", "t_value")
+    keep = ("helical_angle_rad", "frequency_hz", "field_T", "t_value")
     return {k: v for k, v in warm.solution_x.items() if k in keep}
 
 
 def _warm_point(warm: Any) -> tuple[float, float, float] | None:
     """The (angle, frequency, field) of a warm start, if it has one."""
     if isinstance(warm, dict):
-        if "helical_angle" in warm and "frequency" in warm and "field_T" in warm:
-            return (warm["helical_angle"], warm["frequency"], warm["field_T"])
+        if "helical_angle_rad" in warm and "frequency_hz" in warm and "field_T" in warm:
+            return (warm["helical_angle_rad"], warm["frequency_hz"], warm["field_T"])
         return None
     if warm is not None and warm.solution_x:
         return _point(warm)
@@ -343,8 +347,8 @@ def optimize_scenarios(
     model : DesignModel
         The design with its whole tissue-scenario set (``model.scenarios``), SI.
     warm_start : OptimizationResult or dict, optional
-        A neighbouring problem's result, or a dict of ``helical_angle`` (rad), ``frequency``
-        (Hz), ``field_T`` (T) and optionally ``scenario_index`` (a working set to start from);
+        A neighbouring problem's result, or a dict of ``helical_angle_rad``,
+        ``frequency_hz``, ``field_T`` and optionally ``scenario_index`` (a working set to start from);
         without one, the grid starts rank the scenarios for the first working set.
     options : SolveOptions, optional
         How each working-set NLP is solved (default ``SolveOptions()``).

@@ -252,8 +252,8 @@ def _build(structure: Structure) -> NLPBuilder:
 def _build_rows(b: NLPBuilder, structure: Structure) -> NLPBuilder:
     """The named variables, parameters, rows and objective of ``structure``'s NLP."""
     inf = np.inf
-    alpha = b.variable("helical_angle", pb.ALPHA_REF_rad)
-    f = b.variable("frequency", pb.F_REF_hz)
+    alpha = b.variable("helical_angle_rad", pb.ALPHA_REF_rad)
+    f = b.variable("frequency_hz", pb.F_REF_hz)
     field_scaled = b.variable("field_scaled", 1.0, 0.0, inf)
     t = b.variable("t", 1.0)
     relax = tuple(b.variable(n, 1.0, 0.0, inf) for n in _SLACKS) if structure.relaxed else None

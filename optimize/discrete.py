@@ -250,8 +250,8 @@ def _best_of(problem: Any, starts: list[dict[str, float]], p: Any, bounds: dict)
 
 def _point(sol: Solution, scales: Any) -> tuple[float, float, float]:
     return (
-        sol.value("helical_angle"),
-        sol.value("frequency"),
+        sol.value("helical_angle_rad"),
+        sol.value("frequency_hz"),
         sol.value("field_scaled") * scales.field_T,
     )
 
@@ -365,8 +365,8 @@ class _Attempt(NamedTuple):
 def _attempt_of(s: _Setup, r: Relaxation, least_required_Nm: float | None) -> _Attempt:
     assert r.best is not None
     warm: dict[str, Any] = {
-        "helical_angle": r.best.value("helical_angle"),
-        "frequency": r.best.value("frequency"),
+        "helical_angle_rad": r.best.value("helical_angle_rad"),
+        "frequency_hz": r.best.value("frequency_hz"),
         "field_T": r.best.value("field_scaled") * s.scales.field_T,
     }
     if s.ws is not None:  # the neighbours start from the relaxation's working set
@@ -936,7 +936,8 @@ def _working_set(model: DesignModel, grid: list[dict[str, float]], scales: Any) 
     if cap >= sc.count:
         return None
     points = [
-        (x["helical_angle"], x["frequency"], x["field_scaled"] * scales.field_T) for x in grid
+        (x["helical_angle_rad"], x["frequency_hz"], x["field_scaled"] * scales.field_T)
+        for x in grid
     ]
     return acs.WorkingSet(model, acs.initial_index(model, cap, points))
 

@@ -17,6 +17,7 @@ from optimize import physics as ph
 from optimize.system import MODEL, DesignModel, prepare
 from optimize.views import Viewable
 from spiralcap.core.checks import angle, finite, guard, nonnegative, positive
+from spiralcap.core.constants import to_unit
 from torque_model.domain import calibration_edges, extrapolations
 
 #: the rule for a ``model`` argument of the public functions here
@@ -237,7 +238,7 @@ class Evaluation(Viewable):
     @property
     def helical_angle_deg(self) -> float:
         """Helical angle, deg."""
-        return float(np.degrees(self.helical_angle_rad))
+        return float(to_unit(self.helical_angle_rad, "deg"))
 
     def failed(self) -> list[Check]:
         """The requirements and limits that do not hold.
@@ -267,18 +268,18 @@ class WorstRequired(NamedTuple):
     tissue_index: np.ndarray
 
 
-@guard(model=_MODEL, alpha=angle(), f=positive())
-def worst_required(model: DesignModel, alpha: Any, f: Any) -> WorstRequired:
-    """Worst tissue's resistive, thrust and total torque and its index at (alpha, f).
+@guard(model=_MODEL, helical_angle_rad=angle(), frequency_hz=positive())
+def worst_required(model: DesignModel, helical_angle_rad: Any, frequency_hz: Any) -> WorstRequired:
+    """Worst tissue's resistive, thrust and total torque and its index at an angle and frequency.
 
     Parameters
     ----------
     model : DesignModel
         The design.
-    alpha : float or ndarray
+    helical_angle_rad : float or ndarray
         Helical angle, rad.
-    f : float or ndarray
-        Rotation frequency, Hz (broadcasts against ``alpha``).
+    frequency_hz : float or ndarray
+        Rotation frequency, Hz (broadcasts against ``helical_angle_rad``).
 
     Returns
     -------
@@ -297,7 +298,7 @@ def worst_required(model: DesignModel, alpha: Any, f: Any) -> WorstRequired:
     1.9133 mN m = 0.9590 resistive + 0.9543 thrust
     """
     model = prepare(model)
-    pairs = _worst_corner_pairs(model, alpha, f)
+    pairs = _worst_corner_pairs(model, helical_angle_rad, frequency_hz)
     totals = np.stack([np.asarray(r + t, dtype=float) for r, t in pairs])
     worst = np.argmax(totals, axis=0)
     res = np.choose(worst, [np.asarray(r, dtype=float) for r, _ in pairs])
@@ -370,11 +371,11 @@ class MarginGrid:
         return getattr(self, name)
 
 
-@guard(model=_MODEL, alpha_rad=angle(), frequency_hz=positive())
+@guard(model=_MODEL, helical_angle_rad=angle(), frequency_hz=positive())
 def margin_grid(
-    model: DesignModel, alpha_rad: Any, frequency_hz: Any, *, capacity: bool = False
+    model: DesignModel, helical_angle_rad: Any, frequency_hz: Any, *, capacity: bool = False
 ) -> MarginGrid:
-    """Margin, safety factor, speed and feasibility on broadcast arrays of (alpha, f).
+    """Margin, safety factor, speed and feasibility on broadcast arrays of angle and frequency.
 
     The vectorised core of :func:`evaluate` (same definitions), for sweeps and initial guesses.
     The field is the largest every limit allows, or the model's set field
@@ -385,10 +386,10 @@ def margin_grid(
     ----------
     model : DesignModel
         The design.
-    alpha_rad : float or ndarray
+    helical_angle_rad : float or ndarray
         Helical angle, rad.
     frequency_hz : float or ndarray
-        Rotation frequency, Hz (broadcasts against ``alpha_rad``).
+        Rotation frequency, Hz (broadcasts against ``helical_angle_rad``).
     capacity : bool
         Flag: use the largest field the limits allow even where the model sets a field.
 
@@ -412,7 +413,9 @@ def margin_grid(
     """
     model = prepare(model)
     c = model.constants
-    alpha, f = np.broadcast_arrays(np.asarray(alpha_rad, float), np.asarray(frequency_hz, float))
+    alpha, f = np.broadcast_arrays(
+        np.asarray(helical_angle_rad, float), np.asarray(frequency_hz, float)
+    )
     field = _capacity_T(model, f)
     within = np.ones(field.shape, dtype=bool)
     if model.field_amplitude_T is not None and not capacity:
@@ -453,14 +456,14 @@ def margin_grid(
     )
 
 
-def least_wall_strain(model: DesignModel, alpha_rad: Any) -> np.ndarray:
+def least_wall_strain(model: DesignModel, helical_angle_rad: Any) -> np.ndarray:
     """The least strain the wound section stretches any tissue set's wall by (numpy).
 
     Parameters
     ----------
     model : DesignModel
         The design (capsule and tissue sets).
-    alpha_rad : float or array
+    helical_angle_rad : float or array
         Helical angle, rad.
 
     Returns
@@ -470,7 +473,7 @@ def least_wall_strain(model: DesignModel, alpha_rad: Any) -> np.ndarray:
     """
     model = prepare(model)
     strains = ph.toleranced_wall_strains(
-        np.asarray(alpha_rad, dtype=float), model.constants, model.tissues, model.tolerances
+        np.asarray(helical_angle_rad, dtype=float), model.constants, model.tissues, model.tolerances
     )
     return np.min(np.stack([np.asarray(s, dtype=float) for s in strains]), axis=0)
 
@@ -550,7 +553,7 @@ def _capacity_T(model: DesignModel, f: np.ndarray) -> np.ndarray:
     return np.broadcast_to(field, distinct.shape)[inverse.ravel()].reshape(f.shape)
 
 
-def self_lock_margin(model: DesignModel, alpha_rad):
+def self_lock_margin(model: DesignModel, helical_angle_rad):
     """pi/2 - (alpha + atan mu) for the most frictional tissue set, rad (<= 0: self-locks).
 
     At or below zero the screw self-locks: turning it cannot push the load, and the thrust
@@ -561,7 +564,7 @@ def self_lock_margin(model: DesignModel, alpha_rad):
     ----------
     model : DesignModel
         The design (its tissue sets' friction).
-    alpha_rad : float or ndarray
+    helical_angle_rad : float or ndarray
         Helical angle, rad.
 
     Returns
@@ -572,18 +575,18 @@ def self_lock_margin(model: DesignModel, alpha_rad):
     import capsule as cap
 
     mu = max(float(t.friction_coefficient) for t in model.tissues)
-    steepest = ph.angle_corner(np.asarray(alpha_rad, dtype=float), model.tolerances, +1)
+    steepest = ph.angle_corner(np.asarray(helical_angle_rad, dtype=float), model.tolerances, +1)
     return cap.self_lock_margin_rad(steepest, mu)
 
 
-def self_lock_check(model: DesignModel, alpha_rad: float) -> Check:
+def self_lock_check(model: DesignModel, helical_angle_rad: float) -> Check:
     """The self-locking check: alpha + atan mu (most frictional tissue) must stay below 90 deg.
 
     Parameters
     ----------
     model : DesignModel
         The design.
-    alpha_rad : float
+    helical_angle_rad : float
         Helical angle, rad.
 
     Returns
@@ -591,7 +594,7 @@ def self_lock_check(model: DesignModel, alpha_rad: float) -> Check:
     Check
         ``self_lock``: alpha + atan mu against pi/2, rad.
     """
-    margin = float(self_lock_margin(model, alpha_rad))
+    margin = float(self_lock_margin(model, helical_angle_rad))
     lead = float(np.pi / 2 - margin)  # alpha + atan mu
     return Check("self_lock", "rad", lead, float(np.pi / 2), "<", margin > 0, lead / (np.pi / 2))
 
@@ -682,14 +685,14 @@ def _first_zero(margin, f_lo: float, f_hi: float) -> FrequencyBound:
 
 @guard(
     model=_MODEL,
-    alpha_rad=angle(scalar=True),
+    helical_angle_rad=angle(scalar=True),
     field_T=nonnegative(optional=True, scalar=True),
     f_lo=positive(scalar=True),
     f_hi=positive(scalar=True),
 )
 def step_out_frequency_hz(
     model: DesignModel,
-    alpha_rad: float,
+    helical_angle_rad: float,
     field_T: float | None = None,
     f_lo: float = SEARCH_RANGE_HZ[0],
     f_hi: float = SEARCH_RANGE_HZ[1],
@@ -706,7 +709,7 @@ def step_out_frequency_hz(
     ----------
     model : DesignModel
         The design.
-    alpha_rad : float
+    helical_angle_rad : float
         Helical angle, rad.
     field_T : float, optional
         Centre field amplitude the capsule is driven with, T.
@@ -738,20 +741,20 @@ def step_out_frequency_hz(
     avail = float(ph.available_torque_Nm(field_T, c))
 
     def margin(f):
-        return avail - worst_required(model, alpha_rad, f).total_Nm
+        return avail - worst_required(model, helical_angle_rad, f).total_Nm
 
     return _first_zero(margin, f_lo, f_hi)
 
 
 @guard(
     model=_MODEL,
-    alpha_rad=angle(scalar=True),
+    helical_angle_rad=angle(scalar=True),
     f_lo=positive(scalar=True),
     f_hi=positive(scalar=True),
 )
 def max_frequency_hz(
     model: DesignModel,
-    alpha_rad: float,
+    helical_angle_rad: float,
     f_lo: float = SEARCH_RANGE_HZ[0],
     f_hi: float = SEARCH_RANGE_HZ[1],
 ) -> tuple[FrequencyBound, str]:
@@ -765,7 +768,7 @@ def max_frequency_hz(
     ----------
     model : DesignModel
         The design.
-    alpha_rad : float
+    helical_angle_rad : float
         Helical angle, rad.
     f_lo, f_hi : float
         Search range, Hz.
@@ -785,7 +788,7 @@ def max_frequency_hz(
         field, _, _ = ph.field_capacity_T(f, c, model.limits, model.ambient_temperature_C, known)
         return (
             np.asarray(ph.available_torque_Nm(field, c))
-            - worst_required(model, alpha_rad, f).total_Nm
+            - worst_required(model, helical_angle_rad, f).total_Nm
         )
 
     bound = _first_zero(margin, f_lo, f_hi)

@@ -905,7 +905,7 @@ def geometry_terms(b: Any, hs: HardwareStructure, hw: dict, q: list, ctx: Any) -
 
     from optimize.physics import heading_losses_W
 
-    losses = heading_losses_W(ctx.field, ctx.constants, ctx.ambient_temperature_C)
+    losses = heading_losses_W(ctx.field_T, ctx.constants, ctx.ambient_temperature_C)
     for h, loss in enumerate(losses):
         out.append(Term(Row(f"heading_loss[{h}]", "epigraph", "W"), loss, q[3]["power_W"], upper))
 
@@ -1035,7 +1035,7 @@ def _capsule_terms(b: Any, free: set, hw: dict, ctx: Any) -> list:
         out.append(
             Term(
                 Row("spiral_clearance", "geometry", "rad", -1.0),
-                ph.angle_corner(ctx.alpha, ctx.tolerances, -1),
+                ph.angle_corner(ctx.helical_angle_rad, ctx.tolerances, -1),
                 floor,
                 lambda v, a: (a - v) / ALPHA_REF_rad,
             )

@@ -34,7 +34,7 @@ def optimize_design(
         (``model.scenarios``) are solved by the working-set loop.
     warm_start : OptimizationResult or dict, optional
         A result of a neighbouring problem (the previous sweep point), or a dict of
-        ``helical_angle`` (rad), ``frequency`` (Hz), ``field_T`` (T) (and ``t_value``); tried
+        ``helical_angle_rad``, ``frequency_hz``, ``field_T`` (T) (and ``t_value``); tried
         first, the grid starts only if it fails. Not used by a sizing.
     frequency_bounds : bool
         False: the evaluation's step-out and highest frequency are left NaN (a sweep's rows

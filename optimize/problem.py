@@ -1,8 +1,8 @@
 """The design NLP: helical angle, rotation frequency and field amplitude, with named rows.
 
-Variables (physical, scaled inside :mod:`optimize.nlp`): ``alpha`` (ref 10°), ``frequency``
-(ref 1 Hz), ``field`` (ref B_ref) and the epigraph variable ``t`` (margin / tau_ref, or the
-safety factor). The three coil current amplitudes are exact linear functions of the field once
+Variables (physical, scaled inside :mod:`optimize.nlp`): ``helical_angle_rad`` (ref 10°),
+``frequency_hz`` (ref 1 Hz), ``field_scaled`` (the field / B_ref) and the epigraph variable
+``t`` (margin / tau_ref, or the safety factor). The three coil current amplitudes are exact linear functions of the field once
 the headings are fixed (``I_k = B0 · max_n sqrt(1 - n_k²) / g_k``), so they are expressions
 with their own limits rather than three more variables (which would only add flat directions).
 
@@ -26,7 +26,6 @@ all three for its CVaR objective and step-out constraint). The core is not touch
 from __future__ import annotations
 
 import functools
-import math
 from collections.abc import Callable
 from dataclasses import dataclass, fields, replace
 from typing import Any
@@ -39,11 +38,12 @@ from optimize import scenario_nlp
 from optimize.nlp import Row
 from optimize.system import DesignModel
 from spiralcap.core import backend as bk
+from spiralcap.core.constants import from_unit
 
 ALPHA_REF_rad = 0.1745329251994330  # 10 degrees
 F_REF_hz = 1.0
 #: The screw must stay this far from self-locking (capsule.self_lock_margin_rad), rad.
-SELF_LOCK_MIN_MARGIN_rad = math.radians(1.0)
+SELF_LOCK_MIN_MARGIN_rad = from_unit(1.0, "deg")
 #: Speed reference of the speed row when no minimum speed is asked, m/s.
 _SPEED_FLOOR_m_s = 1e-4
 
@@ -112,11 +112,11 @@ class Context:
 
     Attributes
     ----------
-    alpha : float or CasADi
+    helical_angle_rad : float or CasADi
         Helical angle, rad.
-    frequency : float or CasADi
+    frequency_hz : float or CasADi
         Rotation frequency, Hz.
-    field : float or CasADi
+    field_T : float or CasADi
         Rotating-field amplitude at the centre, T.
     t : float or CasADi
         Epigraph variable: margin / tau_ref or the safety factor, dimensionless.
@@ -148,9 +148,9 @@ class Context:
         The tolerance box, SI (None: none).
     """
 
-    alpha: Any
-    frequency: Any
-    field: Any
+    helical_angle_rad: Any
+    frequency_hz: Any
+    field_T: Any
     t: Any
     constants: Any
     limits: Any
@@ -366,13 +366,13 @@ def core_terms(ctx: Context) -> list[Term]:
             )
         )
     for term in ph.limit_terms(
-        ctx.frequency, ctx.field, c, ctx.limits, ctx.ambient_temperature_C, loss_W=ctx.loss_W
+        ctx.frequency_hz, ctx.field_T, c, ctx.limits, ctx.ambient_temperature_C, loss_W=ctx.loss_W
     ):
         out.append(Term(Row(term.name, "limit", term.unit), term.value, term.allowed, _upper))
     out.append(
         Term(
             Row("speed", "requirement", "m/s", -1.0),
-            ph.toleranced_speed_m_s(ctx.alpha, ctx.frequency, c, req, tol),
+            ph.toleranced_speed_m_s(ctx.helical_angle_rad, ctx.frequency_hz, c, req, tol),
             req.min_speed_m_s,
             lambda v, a: (a - v) / bk.fmax(a, _SPEED_FLOOR_m_s) - relax[0],
         )
@@ -380,12 +380,14 @@ def core_terms(ctx: Context) -> list[Term]:
     out.append(
         Term(
             Row("spiral_turns", "requirement", "turns", -1.0),
-            ph.toleranced_spiral_turns(ctx.alpha, c, tol),
+            ph.toleranced_spiral_turns(ctx.helical_angle_rad, c, tol),
             req.min_spiral_turns,
             lambda v, a: a / v - 1.0 - relax[1],
         )
     )
-    for tis, strain in zip(ctx.tissues, ph.toleranced_wall_strains(ctx.alpha, c, ctx.tissues, tol)):
+    for tis, strain in zip(
+        ctx.tissues, ph.toleranced_wall_strains(ctx.helical_angle_rad, c, ctx.tissues, tol)
+    ):
         out.append(  # engagement: the spiral must stretch every tissue set's wall
             Term(
                 Row(f"wall_strain[{tis.name}]", "requirement", "1", -1.0),
@@ -399,7 +401,7 @@ def core_terms(ctx: Context) -> list[Term]:
             Term(
                 Row(f"self_lock[{tis.name}]", "requirement", "rad", -1.0),
                 cap.self_lock_margin_rad(
-                    ph.angle_corner(ctx.alpha, tol, +1), tis.friction_coefficient
+                    ph.angle_corner(ctx.helical_angle_rad, tol, +1), tis.friction_coefficient
                 ),
                 SELF_LOCK_MIN_MARGIN_rad,
                 lambda v, a: a - v,
@@ -463,9 +465,9 @@ def make_context(
     if loss_W is None:
         loss_W = ph.total_loss_W(field, c, amb)
     return Context(
-        alpha=alpha,
-        frequency=f,
-        field=field,
+        helical_angle_rad=alpha,
+        frequency_hz=f,
+        field_T=field,
         t=t,
         constants=c,
         limits=model.limits if limits is None else limits,

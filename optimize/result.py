@@ -10,10 +10,9 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any, ClassVar
 
-import numpy as np
-
 from optimize.evaluate import Evaluation
 from optimize.views import Viewable
+from spiralcap.core.constants import to_unit
 
 
 @dataclass(frozen=True)
@@ -148,8 +147,8 @@ class OptimizationResult(Viewable):
     hardware : HardwareResult or None
         The sizing outcome, when hardware was free.
     solution_x : dict of str to float or None
-        The raw optimum by variable name, in the unit each name carries (``helical_angle``
-        rad, ``frequency`` Hz, ``field_T``, ``t_value`` in the objective's unit), a warm start.
+        The raw optimum by variable name, in the unit each name carries (``helical_angle_rad``,
+        ``frequency_hz``, ``field_T``, ``t_value`` in the objective's unit), a warm start.
     solution_lam_g : ndarray or None
         Its row multipliers, dimensionless (scaled rows), a warm start.
     scenario_solve : ScenarioSolve or None
@@ -190,7 +189,7 @@ class OptimizationResult(Viewable):
     @property
     def helical_angle_deg(self) -> float:
         """Optimal helical angle, deg."""
-        return float(np.degrees(self.helical_angle_rad))
+        return float(to_unit(self.helical_angle_rad, "deg"))
 
     @property
     def feasible(self) -> bool:

@@ -363,7 +363,9 @@ class InSample:
     below_min_strain_probability: float = 0.0
 
 
-def scenario_outcomes(model: DesignModel, alpha: float, f: float, field: float) -> tuple:
+def scenario_outcomes(
+    model: DesignModel, helical_angle_rad: float, frequency_hz: float, field_T: float
+) -> tuple:
     """Per scenario of ``model``: the worst torque margin (N·m), the least wall strain and the
     effective margin (N·m), at the operating point.
 
@@ -371,11 +373,11 @@ def scenario_outcomes(model: DesignModel, alpha: float, f: float, field: float) 
     ----------
     model : DesignModel
         The design with its scenarios (prepared).
-    alpha : float
+    helical_angle_rad : float
         Helical angle, rad.
-    f : float
+    frequency_hz : float
         Rotation frequency, Hz.
-    field : float
+    field_T : float
         Rotating-field amplitude at the centre, T.
 
     Returns
@@ -386,9 +388,11 @@ def scenario_outcomes(model: DesignModel, alpha: float, f: float, field: float) 
     sc = model.scenarios
     c, req = model.constants, model.requirements
     n, k = sc.count, len(sc.tissues)
-    rows = scenario_rows(alpha, f, field, c, req, sc.tissues, sc.grip_torque_Nm, sc.grip)
+    rows = scenario_rows(
+        helical_angle_rad, frequency_hz, field_T, c, req, sc.tissues, sc.grip_torque_Nm, sc.grip
+    )
     torque = effective_margins(rows[:k], n)
-    strains = effective_margins(ph.wall_strains(alpha, c, sc.tissues), n)
+    strains = effective_margins(ph.wall_strains(helical_angle_rad, c, sc.tissues), n)
     return torque, strains, effective_margins(rows, n)
 
 

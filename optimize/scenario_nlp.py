@@ -108,16 +108,18 @@ def cvar_rows(
     return eta - ca.sum1(u) / (beta * n), rows
 
 
-def scenario_margins(alpha: Any, f: Any, field: Any, c: Any, req: Any, arrays: tuple) -> list:
+def scenario_margins(
+    helical_angle_rad: Any, frequency_hz: Any, field_T: Any, c: Any, req: Any, arrays: tuple
+) -> list:
     """Per tissue set, the torque margin of every scenario (numpy arrays or CasADi vectors), N·m.
 
     Parameters
     ----------
-    alpha : float or CasADi
+    helical_angle_rad : float or CasADi
         Helical angle, rad.
-    f : float or CasADi
+    frequency_hz : float or CasADi
         Rotation frequency, Hz.
-    field : float or CasADi
+    field_T : float or CasADi
         Rotating-field amplitude at the centre, T.
     c : Constants
         The design's constants.
@@ -131,12 +133,22 @@ def scenario_margins(alpha: Any, f: Any, field: Any, c: Any, req: Any, arrays: t
     list of ndarray or CasADi
         Per tissue set, each scenario's margin, N·m.
     """
-    avail = ph.available_torque_Nm(field, c)
-    return [avail - (r + t) for r, t in ph.required_torques_Nm(alpha, f, c, arrays, req)]
+    avail = ph.available_torque_Nm(field_T, c)
+    return [
+        avail - (r + t)
+        for r, t in ph.required_torques_Nm(helical_angle_rad, frequency_hz, c, arrays, req)
+    ]
 
 
 def scenario_rows(
-    alpha: Any, f: Any, field: Any, c: Any, req: Any, arrays: tuple, grip_Nm: Any, grip: bool
+    helical_angle_rad: Any,
+    frequency_hz: Any,
+    field_T: Any,
+    c: Any,
+    req: Any,
+    arrays: tuple,
+    grip_Nm: Any,
+    grip: bool,
 ) -> list:
     """Every term of a scenario's effective margin: per tissue set its torque margin, then per
     set its grip margin ``grip_Nm · (ε/ε_min − 1)`` (ε the strain the spiral stretches that
@@ -149,11 +161,11 @@ def scenario_rows(
 
     Parameters
     ----------
-    alpha : float or CasADi
+    helical_angle_rad : float or CasADi
         Helical angle, rad.
-    f : float or CasADi
+    frequency_hz : float or CasADi
         Rotation frequency, Hz.
-    field : float or CasADi
+    field_T : float or CasADi
         Rotating-field amplitude at the centre, T.
     c : Constants
         The design's constants.
@@ -174,11 +186,11 @@ def scenario_rows(
     list of ndarray or CasADi
         Torque margins of the sets, then (with ``grip``) grip margins of the sets, N·m.
     """
-    margins = scenario_margins(alpha, f, field, c, req, arrays)
+    margins = scenario_margins(helical_angle_rad, frequency_hz, field_T, c, req, arrays)
     if not grip:
         return margins
     eps_min = req.min_wall_strain
-    grips = [grip_Nm * (e / eps_min - 1.0) for e in ph.wall_strains(alpha, c, arrays)]
+    grips = [grip_Nm * (e / eps_min - 1.0) for e in ph.wall_strains(helical_angle_rad, c, arrays)]
     return [*margins, *grips]
 
 
@@ -213,9 +225,9 @@ def _symbolic_margins(ctx: Any) -> list:
         for k, tissue in enumerate(ctx.tissues)
     )
     rows = scenario_rows(
-        ctx.alpha,
-        ctx.frequency,
-        ctx.field,
+        ctx.helical_angle_rad,
+        ctx.frequency_hz,
+        ctx.field_T,
         ctx.constants,
         ctx.requirements,
         arrays,

@@ -79,7 +79,7 @@ def initial_points(model: DesignModel, scales: pb.Scales, starts: int) -> list[d
     Returns
     -------
     list of dict of str to float
-        Per start, ``helical_angle`` (rad), ``frequency`` (Hz), ``field_scaled`` (field /
+        Per start, ``helical_angle_rad``, ``frequency_hz``, ``field_scaled`` (field /
         ``scales.field_T``, dimensionless) and ``t`` (the epigraph variable, dimensionless).
     """
     b = model.bounds
@@ -110,8 +110,8 @@ def initial_points(model: DesignModel, scales: pb.Scales, starts: int) -> list[d
         i, j = np.unravel_index(np.argmax(sub), sub.shape)
         out.append(
             {
-                "helical_angle": float(A[band][i, j]),
-                "frequency": float(F[band][i, j]),
+                "helical_angle_rad": float(A[band][i, j]),
+                "frequency_hz": float(F[band][i, j]),
                 "field_scaled": float(field[band][i, j]) / scales.field_T,
                 "t": float(t0[band][i, j]),
             }
@@ -134,7 +134,7 @@ def grid_points(model: DesignModel) -> list[tuple[float, float, float]]:
     """
     scales = scales_for(model)
     return [
-        (x["helical_angle"], x["frequency"], x["field_scaled"] * scales.field_T)
+        (x["helical_angle_rad"], x["frequency_hz"], x["field_scaled"] * scales.field_T)
         for x in initial_points(model, scales, model.bounds.starts)
     ]
 
@@ -150,13 +150,13 @@ def variable_bounds(model: DesignModel) -> dict[str, tuple[float, float]]:
     Returns
     -------
     dict of str to (float, float)
-        Bounds of ``helical_angle`` (rad), ``frequency`` (Hz) and ``t`` (dimensionless).
+        Bounds of ``helical_angle_rad``, ``frequency_hz`` and ``t`` (dimensionless).
     """
     b = model.bounds
     t = (0.0, 0.0) if _minimises_power(model) else (-np.inf, np.inf)
     return {
-        "helical_angle": (b.helical_angle_min_rad, b.helical_angle_max_rad),
-        "frequency": (b.frequency_min_hz, b.frequency_max_hz),
+        "helical_angle_rad": (b.helical_angle_min_rad, b.helical_angle_max_rad),
+        "frequency_hz": (b.frequency_min_hz, b.frequency_max_hz),
         "t": t,
     }
 
@@ -195,7 +195,7 @@ class SolveOptions:
 
 
 def _warm_candidates(warm_start: OptimizationResult | dict | None) -> list[tuple[Any, Any, bool]]:
-    """(start, multipliers, warm) of a warm start: a dict of ``helical_angle``, ``frequency``,
+    """(start, multipliers, warm) of a warm start: a dict of ``helical_angle_rad``, ``frequency_hz``,
     ``field_T`` (``t_value``), or a neighbouring problem's result."""
     if isinstance(warm_start, dict):
         return [(dict(warm_start), None, True)]
@@ -259,7 +259,7 @@ def solve_fixed(
         The design, SI; its hardware is fixed (``model.sizing`` is not read).
     warm_start : OptimizationResult or dict, optional
         A result of a neighbouring problem (the previous sweep point), or a dict of
-        ``helical_angle`` (rad), ``frequency`` (Hz), ``field_T`` (T) (and ``t_value``); tried
+        ``helical_angle_rad``, ``frequency_hz``, ``field_T`` (T) (and ``t_value``); tried
         first, the grid starts only if it fails.
     options : SolveOptions
         What to search and evaluate.
@@ -307,7 +307,7 @@ def _optimum(
 ) -> OptimizationResult:
     """The result at a converged optimum: evaluated, with what binds."""
     xs = best.values()
-    alpha, f = xs["helical_angle"], xs["frequency"]
+    alpha, f = xs["helical_angle_rad"], xs["frequency_hz"]
     field = xs["field_scaled"] * scales.field_T
     # the field ends below what the limits allow when the objective or a registered row says so
     # (a candidate: taken as set, its rows hold every limit to the solver's tolerance)
@@ -437,10 +437,12 @@ def _bound_bindings(
 ) -> tuple[BindingLimit, ...]:
     """The variables at a bound of their box (angle, frequency, free hardware)."""
     box = {**variable_bounds(model), **extra_bounds}
-    named = [("helical_angle", "rad"), ("frequency", "Hz")]
-    named += [(n, "turns" if n.endswith("turns") else "m") for n in extra_bounds]
+    #: (variable, the name its bound is reported under, unit): the angle's and the
+    #: frequency's bounds are ``helical_angle_min`` ... (the binding names of the JSON)
+    named = [("helical_angle_rad", "helical_angle", "rad"), ("frequency_hz", "frequency", "Hz")]
+    named += [(n, n, "turns" if n.endswith("turns") else "m") for n in extra_bounds]
     out = []
-    for name, unit in named:
+    for name, shown, unit in named:
         lam = sol.bound_multiplier(name)  # d F / d ub = -lam (per physical unit)
         if abs(lam) < 1e-9 / sol.nlp.variables[sol.nlp.var_index[name]].ref:
             continue
@@ -450,7 +452,7 @@ def _bound_bindings(
         sep = "@" if name in extra_bounds else "_"
         out.append(
             BindingLimit(
-                f"{name}{sep}{'max' if at_hi else 'min'}",
+                f"{shown}{sep}{'max' if at_hi else 'min'}",
                 unit,
                 float(x),
                 float(hi if at_hi else lo),
@@ -488,7 +490,7 @@ def _infeasible(model, scales, starts, iterations, tried, t0, status_text, ev=No
     iterations += spent
     tried += len(starts or initial_points(model, scales, model.bounds.starts))
     xs = best.values()
-    alpha, f = xs["helical_angle"], xs["frequency"]
+    alpha, f = xs["helical_angle_rad"], xs["frequency_hz"]
     capacity = float(margin_grid(model, alpha, f, capacity=True).field_amplitude_T)
     field = xs["field_scaled"] * scales.field_T if _minimises_power(model) else None
     if field is None and model.field_amplitude_T is not None:
@@ -592,8 +594,11 @@ def _relaxed_optimum(
     p = problem.parameters(model, scales)
     bounds = {**variable_bounds(model), "t": (0.0, 0.0)}
     if alpha_max_rad is not None:
-        lo = bounds["helical_angle"][0]
-        bounds["helical_angle"] = (lo, max(lo, min(bounds["helical_angle"][1], alpha_max_rad)))
+        lo = bounds["helical_angle_rad"][0]
+        bounds["helical_angle_rad"] = (
+            lo,
+            max(lo, min(bounds["helical_angle_rad"][1], alpha_max_rad)),
+        )
     bounds.update(dict.fromkeys(hard, (0.0, 0.0)))
     starts = starts or initial_points(model, scales, model.bounds.starts)
     best, iterations = None, 0
@@ -613,8 +618,8 @@ def _from_relaxed_optimum(
     """The problem itself, warm-started at the relaxed optimum (angle ``alpha``, rad, and
     frequency ``f``, Hz) and its evaluation ``ev``."""
     warm = {
-        "helical_angle": alpha,
-        "frequency": f,
+        "helical_angle_rad": alpha,
+        "frequency_hz": f,
         "field_T": ev.field_amplitude_T,
         "t_value": _objective_value(model, ev) if not _minimises_power(model) else 0.0,
     }

@@ -26,25 +26,26 @@ from typing import Any
 import capsule as cap
 from optimize import physics as ph
 from optimize.system import DesignModel, Tolerances, prepare
+from spiralcap.core.constants import from_unit
 
 #: The keys varied, as :class:`Tolerances` fields (SI), in the order reported.
 KEYS = ("helical_angle_rad", "spiral_wire_diameter_m", "lumen_diameter_m")
 #: How far each search goes from the design's value at most (SI: rad, m, m) and how finely the
 #: end of an interval is found (the same units).
 _REACH = {
-    "helical_angle_rad": math.radians(30.0),
+    "helical_angle_rad": from_unit(30.0, "deg"),
     "spiral_wire_diameter_m": 2e-3,
     "lumen_diameter_m": 5e-3,
 }
 _RESOLUTION = {
-    "helical_angle_rad": math.radians(1e-3),
+    "helical_angle_rad": from_unit(1e-3, "deg"),
     "spiral_wire_diameter_m": 1e-7,
     "lumen_diameter_m": 1e-7,
 }
 #: The least helical angle searched (the tissue model's profile conversion holds above ~1.8°).
-_MIN_ANGLE_rad = math.radians(2.0)
+_MIN_ANGLE_rad = from_unit(2.0, "deg")
 #: The most the search lets the angle reach (a screw thread well short of axial).
-_MAX_ANGLE_rad = math.radians(80.0)
+_MAX_ANGLE_rad = from_unit(80.0, "deg")
 
 
 @dataclass(frozen=True)
@@ -86,7 +87,7 @@ class FeasibleInterval:
 
 
 def row_slacks(
-    model: DesignModel, alpha: float, frequency_hz: float, field_T: float
+    model: DesignModel, helical_angle_rad: float, frequency_hz: float, field_T: float
 ) -> dict[str, float]:
     """Every row that depends on the toleranced keys, as a relative slack (>= -rtol holds).
 
@@ -97,7 +98,7 @@ def row_slacks(
     ----------
     model : DesignModel
         The design (prepared).
-    alpha : float
+    helical_angle_rad : float
         Helical angle, rad.
     frequency_hz : float
         Rotation frequency, Hz.
@@ -110,32 +111,37 @@ def row_slacks(
         Relative slack by row name, dimensionless (>= 0 holds; the self-lock in rad).
     """
     c, req, tol = model.constants, model.requirements, model.tolerances
-    corners = ph.required_torque_corners_Nm(alpha, frequency_hz, c, model.tissues, req, tol)
+    corners = ph.required_torque_corners_Nm(
+        helical_angle_rad, frequency_hz, c, model.tissues, req, tol
+    )
     need = max(float(r + t) for corner in corners for r, t in corner)
     avail = float(ph.available_torque_Nm(field_T, c))
     sf = req.min_safety_factor
     out: dict[str, float] = {}
     name = "margin" if sf == 1.0 else "safety_factor"
     out[name] = (avail - sf * need) / (sf * need) if need > 0 else math.inf
-    strains = [float(s) for s in ph.toleranced_wall_strains(alpha, c, model.tissues, tol)]
+    strains = [
+        float(s) for s in ph.toleranced_wall_strains(helical_angle_rad, c, model.tissues, tol)
+    ]
     for t, s in zip(model.tissues, strains):
         out[f"wall_strain[{t.name}]"] = s / req.min_wall_strain - 1.0
-    speed = float(ph.toleranced_speed_m_s(alpha, frequency_hz, c, req, tol))
+    speed = float(ph.toleranced_speed_m_s(helical_angle_rad, frequency_hz, c, req, tol))
     speed = speed if min(strains) > 0 else 0.0
     if req.min_speed_m_s > 0:
         out["speed"] = speed / req.min_speed_m_s - 1.0
     if req.min_spiral_turns > 0:
         out["spiral_turns"] = (
-            float(ph.toleranced_spiral_turns(alpha, c, tol)) / (req.min_spiral_turns) - 1.0
+            float(ph.toleranced_spiral_turns(helical_angle_rad, c, tol)) / (req.min_spiral_turns)
+            - 1.0
         )
     mu = max(float(t.friction_coefficient) for t in model.tissues)
-    steepest = ph.angle_corner(alpha, tol, +1)
+    steepest = ph.angle_corner(helical_angle_rad, tol, +1)
     out["self_lock"] = math.pi / 2 - steepest - math.atan(mu)  # > 0 holds (as evaluate)
     thick = ph.wire_corner(c, tol, +1)  # neighbouring turns apart (capsule.geometry_problems)
     floor = cap.min_helical_angle_for_clearance_rad(
         thick.helix_diameter_m, thick.wire_diameter_m, c.starts
     )
-    out["spiral_clearance"] = float(ph.angle_corner(alpha, tol, -1) / floor) - 1.0
+    out["spiral_clearance"] = float(ph.angle_corner(helical_angle_rad, tol, -1) / floor) - 1.0
     return out
 
 

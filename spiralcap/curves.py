@@ -16,6 +16,7 @@ from typing import Any
 
 import numpy as np
 
+from spiralcap.core.constants import to_unit
 from spiralcap.design import Design
 
 #: Power budgets of the trade-off sweep, as multiples of the design's ``limits.power_W``.
@@ -134,7 +135,7 @@ def margin_map(model: Any, f_max_hz: float) -> MarginMap:
 
     g = margin_grid(model, aa, ff)
     return MarginMap(
-        np.degrees(a),
+        to_unit(a, "deg"),
         f,
         _grid_field(g, "margin_Nm").astype(float),
         _grid_field(g, "feasible").astype(bool),
@@ -148,7 +149,7 @@ def _grid_field(grid: Any, name: str) -> np.ndarray:
     return np.asarray(value)
 
 
-def angle_curve(model: Any, alpha_rad: np.ndarray) -> Curve:
+def angle_curve(model: Any, helical_angle_rad: np.ndarray) -> Curve:
     """Margin against helical angle, each angle at the lowest frequency meeting the speed.
 
     The margin falls with frequency, and the speed is proportional to it, so at each angle the
@@ -159,20 +160,25 @@ def angle_curve(model: Any, alpha_rad: np.ndarray) -> Curve:
     from optimize import margin_grid
 
     b, req = model.bounds, model.requirements
-    per_hz = _grid_field(margin_grid(model, alpha_rad, 1.0), "speed_m_s").astype(float)
+    per_hz = _grid_field(margin_grid(model, helical_angle_rad, 1.0), "speed_m_s").astype(float)
     needed = req.min_speed_m_s / np.maximum(per_hz, 1e-300)
-    f = np.clip(needed, b.frequency_min_hz, b.frequency_max_hz)
-    c = curve(model, alpha_rad, f, np.degrees(alpha_rad))
-    return replace(c, frequency_hz=f)
+    frequency_hz = np.clip(needed, b.frequency_min_hz, b.frequency_max_hz)
+    c = curve(
+        model,
+        helical_angle_rad,
+        frequency_hz,
+        to_unit(np.asarray(helical_angle_rad, dtype=float), "deg"),
+    )
+    return replace(c, frequency_hz=frequency_hz)
 
 
-def curve(model: Any, alpha: Any, f: Any, x: np.ndarray) -> Curve:
-    """Margin, feasibility and requirement slacks at helical angles ``alpha`` (rad) and
-    frequencies ``f`` (Hz), broadcast; ``x`` is what the curve is drawn against."""
+def curve(model: Any, helical_angle_rad: Any, frequency_hz: Any, x: np.ndarray) -> Curve:
+    """Margin, feasibility and requirement slacks at helical angles ``helical_angle_rad`` and
+    frequencies ``frequency_hz``, broadcast; ``x`` is what the curve is drawn against."""
     from optimize import margin_grid
     from optimize.evaluate import FEASIBILITY_RTOL
 
-    g = margin_grid(model, alpha, f)
+    g = margin_grid(model, helical_angle_rad, frequency_hz)
     req = model.requirements
     tol = 1.0 - FEASIBILITY_RTOL
     return Curve(

@@ -11,8 +11,9 @@ One function per text: the CLI and the report print the same words.
 
 from __future__ import annotations
 
-import math
 from typing import Any
+
+from spiralcap.core.constants import to_unit
 
 #: Relative distance within which a wall strain counts as held at its minimum (the grip binds).
 _TIGHT = 1e-3
@@ -24,11 +25,11 @@ def explained_at_values(res: Any) -> dict[str, float]:
     the solver chose it (a set or least-power field), else the field the limits allow."""
     ev = res.evaluation
     values = {
-        "capsule.spiral.helical_angle_deg": math.degrees(ev.helical_angle_rad),
+        "capsule.spiral.helical_angle_deg": to_unit(ev.helical_angle_rad, "deg"),
         "operation.frequency_hz": float(ev.frequency_hz),
     }
     if ev.field_limited_by == "fixed":
-        values["operation.field_amplitude_mT"] = float(ev.field_amplitude_T) * 1e3
+        values["operation.field_amplitude_mT"] = to_unit(float(ev.field_amplitude_T), "mT")
     return values
 
 

@@ -19,7 +19,7 @@ NO_CONTACT = "no contact: no margin"
 BELOW_MINIMUM = ": extrapolated"
 
 
-def failing_requirements(model: Any, alpha_rad: np.ndarray, grid: Any) -> np.ndarray:
+def failing_requirements(model: Any, helical_angle_rad: np.ndarray, grid: Any) -> np.ndarray:
     """The first requirement not met at each point of a ``margin_grid`` (``""``: none).
 
     In the order no contact (:data:`NO_CONTACT`: the margin is NaN there), self-locking,
@@ -43,10 +43,10 @@ def failing_requirements(model: Any, alpha_rad: np.ndarray, grid: Any) -> np.nda
         # a swept requirement is an array: name it without a number
         return f" < {value:{fmt}}{unit}" if np.ndim(value) == 0 else " below the requirement"
 
-    strain = np.asarray(least_wall_strain(model, alpha_rad), float)
+    strain = np.asarray(least_wall_strain(model, helical_angle_rad), float)
     checks = [
         (NO_CONTACT, strain <= 0),  # no physics there: margin NaN, speed 0
-        ("spiral self-locks", np.asarray(self_lock_margin(model, alpha_rad), float) <= 0),
+        ("spiral self-locks", np.asarray(self_lock_margin(model, helical_angle_rad), float) <= 0),
         (
             "wall strain (grip)"
             + text(np.asarray(req.min_wall_strain) * 100, ".3g", " %")

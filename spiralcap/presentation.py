@@ -11,16 +11,17 @@ import math
 from collections.abc import Mapping
 from typing import Any
 
+from spiralcap.core.constants import to_unit
 from spiralcap.keymap import design_key, si_factor
 
 #: How an SI unit is shown: SI unit -> (shown unit, factor from SI to shown).
 SHOWN_UNITS: dict[str, tuple[str, float]] = {
-    "T": ("mT", 1e3),
-    "m/s": ("mm/s", 1e3),
-    "N·m": ("mN·m", 1e3),
-    "m": ("mm", 1e3),
-    "H": ("mH", 1e3),
-    "rad": ("deg", 180.0 / math.pi),
+    "T": ("mT", to_unit(1.0, "mT")),
+    "m/s": ("mm/s", to_unit(1.0, "mm_s")),
+    "N·m": ("mN·m", to_unit(1.0, "mNm")),
+    "m": ("mm", to_unit(1.0, "mm")),
+    "H": ("mH", to_unit(1.0, "mH")),
+    "rad": ("deg", to_unit(1.0, "deg")),
 }
 
 
@@ -94,12 +95,12 @@ _PER_AXIS = {
 
 #: (SI unit of a value, unit its design key names) -> factor from the first to the second
 _TO_KEY_UNIT: dict[tuple[str, str], float] = {
-    ("m/s", "mm/s"): 1e3,
-    ("rad", "°"): 180.0 / math.pi,
-    ("T", "mT"): 1e3,
-    ("m", "mm"): 1e3,
-    ("N·m", "mN·m"): 1e3,
-    ("N", "mN"): 1e3,
+    ("m/s", "mm/s"): to_unit(1.0, "mm_s"),
+    ("rad", "°"): to_unit(1.0, "deg"),
+    ("T", "mT"): to_unit(1.0, "mT"),
+    ("m", "mm"): to_unit(1.0, "mm"),
+    ("N·m", "mN·m"): to_unit(1.0, "mNm"),
+    ("N", "mN"): to_unit(1.0, "mN"),
     ("K", "°C"): 1.0,  # a temperature difference: per K is per °C
 }
 

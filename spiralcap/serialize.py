@@ -31,6 +31,8 @@ import math
 from collections.abc import Callable
 from typing import Any
 
+from spiralcap.core.constants import to_unit
+
 _AXES = ("x", "y", "z")
 
 #: dataclass field -> JSON name
@@ -69,7 +71,7 @@ def to_dict(obj: Any) -> dict[str, Any]:
             name, conv = TRANSFORMS[f.name]
             out[name] = conv(value)
         elif f.name.endswith("_rad") and isinstance(value, (int, float)):
-            out[f.name[: -len("_rad")] + "_deg"] = math.degrees(value)
+            out[f.name[: -len("_rad")] + "_deg"] = to_unit(value, "deg")
         else:
             out[RENAMES.get(f.name, f.name)] = _value(value)
     for prop in PROPERTIES:
@@ -170,7 +172,7 @@ def optimization_to_dict(res: Any) -> dict[str, Any]:
         {
             "heading": [float(c) for c in h],
             "amplitudes_A": _by_axis(a),
-            "phases_deg": dict(zip(_AXES, (math.degrees(p) for p in ph))),
+            "phases_deg": dict(zip(_AXES, (to_unit(p, "deg") for p in ph))),
         }
         for h, (a, ph) in zip(res.headings, res.current_phases_rad)
     ]

@@ -17,15 +17,17 @@ from typing import Any
 import numpy as np
 
 from spiralcap.core.checks import guard, instance
+from spiralcap.core.constants import from_unit
 from spiralcap.core.errors import InputError
 from spiralcap.design import Design
 from spiralcap.schema import KEYS, si_name, to_si
 
-#: design key -> where it lives in the model ("alpha", "f", or the model field holding the SI
-#: value under the key's SI leaf name); the SI conversion comes from the schema's unit table
+#: design key -> where it lives in the model (the angle and the frequency by their model field
+#: names of :data:`spiralcap.keymap.FIELD_KEYS`, or the model part holding the SI value under
+#: the key's SI leaf name); the SI conversion comes from the schema's unit table
 _VECTOR_KEYS: dict[str, str] = {
-    "capsule.spiral.helical_angle_deg": "alpha",
-    "operation.frequency_hz": "f",
+    "capsule.spiral.helical_angle_deg": "spiral.helical_angle_rad",
+    "operation.frequency_hz": "operation.frequency_hz",
     "limits.current_A": "limits",
     "limits.voltage_V": "limits",
     "limits.power_W": "limits",
@@ -216,9 +218,9 @@ def _vector_model(
     groups: dict[str, dict[str, Any]] = {"limits": {}, "requirements": {}}
     for key, values in inputs.items():
         where = _VECTOR_KEYS[key]
-        if where == "alpha":
+        if where == "spiral.helical_angle_rad":
             alpha = to_si(key, values)
-        elif where == "f":
+        elif where == "operation.frequency_hz":
             f = to_si(key, values)
         else:
             groups[where][si_name(key)] = to_si(key, values)
@@ -478,8 +480,8 @@ def optimize_row(model: Any, warm: dict[str, Any] | None = None) -> dict[str, An
     start = None
     if warm is not None and warm["status"] == "optimal":
         start = {
-            "helical_angle": math.radians(float(warm["helical_angle_deg"])),
-            "frequency": float(warm["frequency_hz"]),
+            "helical_angle_rad": from_unit(float(warm["helical_angle_deg"]), "deg"),
+            "frequency_hz": float(warm["frequency_hz"]),
             "field_T": float(warm["field_amplitude_T"]),
         }
     columns = optimize_columns(model)

@@ -13,36 +13,36 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
+from spiralcap.core.constants import design_unit, to_unit
+from spiralcap.keymap import design_key
+
 #: What the intervals hold (said in the text, the JSON and the report).
 VARIED = (
     "each key varied alone, the other two anywhere within their tolerances (every requirement "
     "at its own worst corner of them), at the design's frequency and field"
 )
 
-#: optimize.tolerance key -> (design key, tolerance key, unit, SI -> unit factor, label)
-_KEYS = {
-    "helical_angle_rad": (
-        "capsule.spiral.helical_angle_deg",
-        "tolerances.helical_angle_deg",
-        "deg",
-        180.0 / math.pi,
-        "helical angle",
-    ),
-    "spiral_wire_diameter_m": (
-        "capsule.spiral.wire_diameter_mm",
-        "tolerances.spiral_wire_diameter_mm",
-        "mm",
-        1e3,
-        "spiral wire",
-    ),
-    "lumen_diameter_m": (
-        "tissue.lumen_diameter_mm",
-        "tolerances.lumen_diameter_mm",
-        "mm",
-        1e3,
-        "lumen",
-    ),
+#: optimize.tolerance key -> (its model field of :data:`spiralcap.keymap.FIELD_KEYS`, label);
+#: the design key, the tolerance key, the unit and the factor follow from the field (:func:`_key`)
+_FIELDS = {
+    "helical_angle_rad": ("spiral.helical_angle_rad", "helical angle"),
+    "spiral_wire_diameter_m": ("spiral.wire_diameter_m", "spiral wire"),
+    "lumen_diameter_m": ("tissue.lumen_diameter_m", "lumen"),
 }
+
+
+def _key(name: str) -> tuple[str, str, str, float, str]:
+    """(design key, tolerance key, unit, SI -> unit factor, label) of an optimize.tolerance key:
+    ``helical_angle_rad`` -> ``capsule.spiral.helical_angle_deg``, ``tolerances.helical_angle_deg``,
+    ``deg``, 180/pi (the unit table), ``helical angle``."""
+    field, label = _FIELDS[name]
+    key = design_key(field)
+    suffix, si_suffix, _ = design_unit(key)
+    tolerance_key = "tolerances." + name.removesuffix(si_suffix) + suffix
+    return key, tolerance_key, suffix[1:], to_unit(1.0, suffix[1:]), label
+
+
+_KEYS = {name: _key(name) for name in _FIELDS}
 
 
 @dataclass(frozen=True)

@@ -23,14 +23,14 @@ def solve_slsqp(model: DesignModel) -> tuple[float, float, float, float]:
     model = prepare(model)
     scales = scales_for(model)
     vb = variable_bounds(model)
-    refs = {"helical_angle": pb.ALPHA_REF_rad, "frequency": pb.F_REF_hz, "t": 1.0}
+    refs = {"helical_angle_rad": pb.ALPHA_REF_rad, "frequency_hz": pb.F_REF_hz, "t": 1.0}
     bounds = [
         *(
             (
                 vb[n][0] / refs[n] if np.isfinite(vb[n][0]) else None,
                 vb[n][1] / refs[n] if np.isfinite(vb[n][1]) else None,
             )
-            for n in ("helical_angle", "frequency")
+            for n in ("helical_angle_rad", "frequency_hz")
         ),
         (0.0, None),
         tuple(None if not np.isfinite(v) else v for v in vb["t"]),
@@ -44,7 +44,12 @@ def solve_slsqp(model: DesignModel) -> tuple[float, float, float, float]:
 
     best = None
     for s0 in initial_points(model, scales, model.bounds.starts):
-        x0 = [s0["helical_angle"] / pb.ALPHA_REF_rad, s0["frequency"], s0["field_scaled"], s0["t"]]
+        x0 = [
+            s0["helical_angle_rad"] / pb.ALPHA_REF_rad,
+            s0["frequency_hz"],
+            s0["field_scaled"],
+            s0["t"],
+        ]
         res = minimize(
             fun,
             np.asarray(x0),

@@ -21,7 +21,7 @@ def assert_sizing_rows_equal_fixed_rows(model, names: tuple[str, ...], what: str
     fixed = compile_problem(structure_of(model))
     scales = scales_for(model)
     extra = hw.sizing_parameters(model, hw.frozen_factors(model), hw.bore_m(model))
-    point = {"helical_angle": 0.3, "frequency": 1.2, "field_scaled": 0.8, "t": 0.1}
+    point = {"helical_angle_rad": 0.3, "frequency_hz": 1.2, "field_scaled": 0.8, "t": 0.1}
     here = hw.hardware_of(model)
     loss = total_loss_W(
         point["field_scaled"] * scales.field_T, model.constants, model.ambient_temperature_C

@@ -84,8 +84,8 @@ def test_the_loop_grows_a_working_set_that_misses_the_tail():
     m = acs.worst_margins(model, *acs._point(ref))
     best = np.argsort(m)[::-1][: ref.scenario_solve.capacity]
     start = {
-        "helical_angle": ref.helical_angle_rad,
-        "frequency": ref.frequency_hz,
+        "helical_angle_rad": ref.helical_angle_rad,
+        "frequency_hz": ref.frequency_hz,
         "field_T": ref.field_amplitude_T,
         "scenario_index": best,
     }

@@ -78,7 +78,7 @@ def test_self_lock_row_binds_when_it_is_the_tightest(model):
     mm = prepare(m)
     p = compile_problem(structure_of(mm)).parameters(mm, scales_for(mm))
     x = nlp.scaled_start(
-        {"helical_angle": math.radians(30.0), "frequency": 1.0, "field_scaled": 1.0}, p
+        {"helical_angle_rad": math.radians(30.0), "frequency_hz": 1.0, "field_scaled": 1.0}, p
     )
     _, g = nlp.evaluate(x, p)
     row = nlp.row_names.index(f"self_lock[{tis[0].name}]")
@@ -189,7 +189,7 @@ def test_registered_constraint_is_part_of_every_problem(model):
 
     def cap_field(ctx):
         return [
-            pb.Term(pb.Row("field_cap", "limit", "T"), ctx.field, 10e-3, lambda v, a: v / a - 1.0)
+            pb.Term(pb.Row("field_cap", "limit", "T"), ctx.field_T, 10e-3, lambda v, a: v / a - 1.0)
         ]
 
     pb.register_constraint(cap_field)
@@ -256,7 +256,12 @@ def test_compiled_rows_with_parameter_constants_equal_the_numeric_rows(sets):
     problem = compile_problem(structure_of(m))
     names = problem.nlp.row_names
     for point in ((0.3, 1.2, 0.8), (0.6, 3.0, 1.1)):
-        x = {"helical_angle": point[0], "frequency": point[1], "field_scaled": point[2], "t": 0.1}
+        x = {
+            "helical_angle_rad": point[0],
+            "frequency_hz": point[1],
+            "field_scaled": point[2],
+            "t": 0.1,
+        }
         p = problem.parameters(m, scales)
         _, g = problem.nlp.evaluate(problem.nlp.scaled_start(x, p), p)
         scaled = (point[0] / pb.ALPHA_REF_rad, point[1] / pb.F_REF_hz, point[2], 0.1)

@@ -179,12 +179,12 @@ VALID: dict[str, dict[str, object]] = {
     # optimize
     "evaluate": {"model": "model", "helical_angle_rad": 0.2, "frequency_hz": 2.0},
     "exposure_level_T": {"frequency_hz": 2.0, "kind": "public"},
-    "margin_grid": {"model": "model", "alpha_rad": 0.2, "frequency_hz": 2.0},
+    "margin_grid": {"model": "model", "helical_angle_rad": 0.2, "frequency_hz": 2.0},
     "grip_state": {"least_strain": 0.02, "min_wall_strain": 0.0168},
     "grip_bound": {"model": "model"},
-    "max_frequency_hz": {"model": "model", "alpha_rad": 0.2},
-    "step_out_frequency_hz": {"model": "model", "alpha_rad": 0.2},
-    "worst_required": {"model": "model", "alpha": 0.2, "f": 2.0},
+    "max_frequency_hz": {"model": "model", "helical_angle_rad": 0.2},
+    "step_out_frequency_hz": {"model": "model", "helical_angle_rad": 0.2},
+    "worst_required": {"model": "model", "helical_angle_rad": 0.2, "frequency_hz": 2.0},
     "prepare": {"model": "model"},
 }
 #: public functions not in VALID, and why
@@ -235,7 +235,7 @@ UNSIGNED_SUFFIXES = (
     "min_turns",
     "starts",
 )
-ANGLES = {"helical_angle_rad", "alpha_rad", "alpha"}
+ANGLES = {"helical_angle_rad"}
 
 
 def _public_functions() -> dict[str, object]:

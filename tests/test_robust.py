@@ -139,7 +139,9 @@ def test_compiled_scenario_rows_equal_numpy_margins():
     problem = compile_problem(structure_of(model))
     nlp = problem.nlp
     alpha, f, field = 0.3, 1.7, 8e-3
-    x = nlp.scale({"helical_angle": alpha, "frequency": f, "field_scaled": field / scales.field_T})
+    x = nlp.scale(
+        {"helical_angle_rad": alpha, "frequency_hz": f, "field_scaled": field / scales.field_T}
+    )
     _, g = nlp.evaluate(x, problem.parameters(model, scales))
     c, sc = model.constants, model.scenarios
     ref = rb.scenario_margins(alpha, f, field, c, model.requirements, sc.tissues)

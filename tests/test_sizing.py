@@ -119,8 +119,8 @@ def test_discrete_x_pair_is_standard_and_beats_a_brute_force_grid(model, x_sized
     }
     grid.discard((int(n), r40[at]))  # the optimum itself
     warm = {
-        "helical_angle": res.helical_angle_rad,
-        "frequency": res.frequency_hz,
+        "helical_angle_rad": res.helical_angle_rad,
+        "frequency_hz": res.frequency_hz,
         "field_T": res.field_amplitude_T,
     }
     best_grid = -np.inf

@@ -12,10 +12,9 @@ with m_i the torque of the published set and y_i the paper's torque at the calib
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
+from spiralcap.core.constants import from_unit
 from torque_model.data import PAPER_CAPSULE, PAPER_POINTS, PaperPoint
 from torque_model.model import resistive_torque_Nm
 from torque_model.parameters import zhou2013
@@ -66,7 +65,7 @@ def fit_calibration_factor() -> float:
         [
             float(
                 resistive_torque_Nm(
-                    math.radians(p.helical_angle_deg), p.frequency_hz, tissue, PAPER_CAPSULE
+                    from_unit(p.helical_angle_deg, "deg"), p.frequency_hz, tissue, PAPER_CAPSULE
                 )
             )
             / (p.torque_mNm * 1e-3)

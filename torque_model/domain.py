@@ -17,6 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from spiralcap.core.constants import from_unit
 from torque_model.data import CAPSULE_ANGLES_DEG, PAPER_CAPSULE, PAPER_POINTS
 from torque_model.engagement import wall_strain
 from torque_model.geometry import ContactGeometry
@@ -44,7 +45,7 @@ def _paper_strains() -> tuple[float, float]:
     three figures the paper gives its lumens to (1.6852 % -> 1.68 %: the exact tube section's
     hull gives 1.6826 %, docs/torque-model.md, so the fourth figure is the D' reading's)."""
     strains = [
-        float(wall_strain(math.radians(CAPSULE_ANGLES_DEG[n]), preset(name), PAPER_CAPSULE))
+        float(wall_strain(from_unit(CAPSULE_ANGLES_DEG[n], "deg"), preset(name), PAPER_CAPSULE))
         for name, capsules in _TESTED.items()
         for n in capsules
     ]
@@ -59,7 +60,7 @@ def _lumens() -> tuple[float, float]:
 #: Calibrated range of each model input, SI: quantity -> (low, high, unit). Equal ends mean the
 #: paper tested one value only.
 CALIBRATED: dict[str, tuple[float, float, str]] = {
-    "helical_angle_rad": (math.radians(5.0), math.radians(20.0), "rad"),
+    "helical_angle_rad": (from_unit(5.0, "deg"), from_unit(20.0, "deg"), "rad"),
     "frequency_hz": (0.5, 3.0, "Hz"),
     "body_diameter_m": (PAPER_CAPSULE.body_diameter_m, PAPER_CAPSULE.body_diameter_m, "m"),
     "wire_diameter_m": (PAPER_CAPSULE.wire_diameter_m, PAPER_CAPSULE.wire_diameter_m, "m"),
@@ -241,7 +242,7 @@ def validation_errors() -> tuple[ValidationPoint, ...]:
             p.torque_mNm * 1e-3,
             float(
                 resistive_torque_Nm(
-                    math.radians(p.helical_angle_deg), p.frequency_hz, tissue, PAPER_CAPSULE
+                    from_unit(p.helical_angle_deg, "deg"), p.frequency_hz, tissue, PAPER_CAPSULE
                 )
             ),
             p.role,

@@ -2,13 +2,13 @@
 
 from __future__ import annotations
 
-import math
 import os
 from typing import Any
 
 import numpy as np
 
 from spiralcap.core.checks import guard, instance
+from spiralcap.core.constants import from_unit, to_unit
 from spiralcap.core.errors import InputError
 from spiralcap.design import Design
 from spiralcap.keymap import design_key, field_of, from_field_si, si_factor
@@ -143,19 +143,12 @@ def angle_floor_deg(design: Design) -> float:
     and the model holds at, deg."""
     import capsule as cap
 
-    d = design
-    return max(
-        MIN_MODEL_ANGLE_deg,
-        math.degrees(
-            cap.min_helical_angle_for_clearance_rad(
-                cap.helix_diameter_m(
-                    d["capsule.diameter_mm"], d["capsule.spiral.wire_diameter_mm"]
-                ),
-                d["capsule.spiral.wire_diameter_mm"],
-                d["capsule.spiral.starts"],
-            )
-        ),
+    body_m = to_si("capsule.diameter_mm", design["capsule.diameter_mm"])
+    wire_m = to_si("capsule.spiral.wire_diameter_mm", design["capsule.spiral.wire_diameter_mm"])
+    least_rad = cap.min_helical_angle_for_clearance_rad(
+        cap.helix_diameter_m(body_m, wire_m), wire_m, design["capsule.spiral.starts"]
     )
+    return max(MIN_MODEL_ANGLE_deg, to_unit(least_rad, "deg"))
 
 
 def check_optimiser_keys(design: Design) -> None:
@@ -216,7 +209,7 @@ def build_tolerances(d: Design) -> Any:
 def _check_lumen_tolerance(d: Design, tissues: tuple) -> None:
     """Every tissue set's narrowest lumen (its lumen less the tolerance) must stay open."""
     dl = d["tolerances.lumen_diameter_mm"]
-    least = min(t.lumen_diameter_m for t in tissues) * 1e3
+    least = to_unit(min(t.lumen_diameter_m for t in tissues), "mm")
     if not dl < least:
         raise InputError(
             "tolerances.lumen_diameter_mm",
@@ -231,7 +224,7 @@ def _bounds_within_floor(bounds: Any, floor_deg: float, tolerances: Any) -> Any:
     the optimiser cannot hold a row at a corner outside the model."""
     from dataclasses import replace
 
-    least = math.radians(floor_deg) + tolerances.helical_angle_rad
+    least = from_unit(floor_deg, "deg") + tolerances.helical_angle_rad
     if bounds.helical_angle_min_rad >= least:
         return bounds
     return replace(bounds, helical_angle_min_rad=min(least, bounds.helical_angle_max_rad))

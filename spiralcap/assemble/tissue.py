@@ -7,6 +7,7 @@ from collections.abc import Mapping
 from typing import Any
 
 import torque_model
+from spiralcap.core.constants import from_unit
 from torque_model import TissueParameters
 
 
@@ -121,8 +122,12 @@ def build_uncertainty(design: Mapping[str, Any]) -> Any:
         scale_sigma_log=float(design.get(_UNC + "scale_sigma_log", 0.0)),
         sigma_log=tuple(float(design.get(f"{_UNC}{p}_sigma_log", 0.0)) for p in SHORT),  # type: ignore[arg-type]
         friction_sigma_log=float(design.get(_UNC + "friction_sigma_log", 0.0)),
-        lumen_diameter_sigma_m=float(design.get(_UNC + "lumen_diameter_sigma_mm", 0.0)) * 1e-3,
-        wall_thickness_sigma_m=float(design.get(_UNC + "wall_thickness_sigma_mm", 0.0)) * 1e-3,
+        lumen_diameter_sigma_m=from_unit(
+            float(design.get(_UNC + "lumen_diameter_sigma_mm", 0.0)), "mm"
+        ),
+        wall_thickness_sigma_m=from_unit(
+            float(design.get(_UNC + "wall_thickness_sigma_mm", 0.0)), "mm"
+        ),
         covariance_log=cov,
     )
 

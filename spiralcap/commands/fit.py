@@ -44,6 +44,7 @@ from spiralcap.commands._common import (
     format_table,
     print_json,
 )
+from spiralcap.core.constants import from_unit, to_unit
 from spiralcap.core.errors import DataError
 
 REQUIRED = ("frequency_hz", "torque_mNm")
@@ -437,7 +438,7 @@ def run(args: argparse.Namespace) -> int:
     result = tm.identify(
         np.asarray(data["frequency_hz"]),
         np.asarray(data["torque_mNm"]) * 1e-3,
-        np.radians(angle_deg),
+        from_unit(angle_deg, "deg"),
         base,
         bench.geometry,
         free=free,
@@ -482,7 +483,7 @@ def _check_angles(geometry: Any, angle_deg: Any, data_path: str) -> None:
     helix = cap.helix_diameter_m(g.body_diameter_m, g.wire_diameter_m)
     least = max(
         MIN_MODEL_ANGLE_deg,
-        math.degrees(cap.min_helical_angle_for_clearance_rad(helix, g.wire_diameter_m, g.starts)),
+        to_unit(cap.min_helical_angle_for_clearance_rad(helix, g.wire_diameter_m, g.starts), "deg"),
     )
     for a in sorted({float(x) for x in angle_deg}):
         if not least <= a < 90:
@@ -553,7 +554,7 @@ def bench_record(result: Any) -> dict[str, Any]:
     import numpy as np
 
     full = result.tissue.as_design_table()
-    angles = sorted({float(f"{math.degrees(float(a)):.12g}") for a in result.helical_angle_rad})
+    angles = sorted({float(f"{to_unit(float(a), 'deg'):.12g}") for a in result.helical_angle_rad})
     if len(angles) > MAX_RECORDED_ANGLES:  # the key holds 64: spread over the range, ends kept
         pick = np.linspace(0, len(angles) - 1, MAX_RECORDED_ANGLES).round().astype(int)
         angles = [angles[i] for i in pick]
@@ -610,7 +611,7 @@ def fit_payload(
         "not_pinned_down": [_DISPLAY[n][0] for n in result.not_pinned_down],
         "data": {
             "frequency_hz": result.frequency_hz,
-            "helical_angle_deg": [math.degrees(a) for a in result.helical_angle_rad],
+            "helical_angle_deg": [to_unit(float(a), "deg") for a in result.helical_angle_rad],
             "torque_mNm": result.torque_Nm * 1e3,
             "fitted_torque_mNm": result.predicted_Nm * 1e3,
             "relative_residual": (result.predicted_Nm - result.torque_Nm) / result.torque_Nm,
@@ -808,7 +809,7 @@ def _residual_rows(result: Any, limit: int | None = None) -> list[list[Any]]:
         [
             i + 1,
             float(f),
-            math.degrees(float(a)),
+            to_unit(float(a), "deg"),
             float(y) * 1e3,
             float(m) * 1e3,
             100.0 * (float(m) - float(y)) / float(y),

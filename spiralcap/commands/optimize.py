@@ -17,23 +17,24 @@ from spiralcap.commands._common import (
     design_paths,
     print_json,
 )
+from spiralcap.core.constants import from_unit
 
 if TYPE_CHECKING:
     from optimize.result import OptimizationResult
 
 #: how to show a sensitivity per SI unit in engineering units: unit -> (label, factor)
 _ENGINEERING = {
-    "N·m": ("mN·m", 1e-3),
+    "N·m": ("mN·m", from_unit(1.0, "mNm")),
     "A": ("A", 1.0),
     "V": ("V", 1.0),
     "W": ("W", 1.0),
     "K": ("K", 1.0),
-    "T": ("mT", 1e-3),
-    "m/s": ("mm/s", 1e-3),
+    "T": ("mT", from_unit(1.0, "mT")),
+    "m/s": ("mm/s", from_unit(1.0, "mm_s")),
     "turns": ("turn", 1.0),
-    "rad": ("deg", math.pi / 180),
+    "rad": ("deg", from_unit(1.0, "deg")),
     "Hz": ("Hz", 1.0),
-    "m": ("mm", 1e-3),
+    "m": ("mm", from_unit(1.0, "mm")),
     "1": ("", 1.0),
 }
 EXIT_INFEASIBLE = 3

@@ -15,6 +15,7 @@ from spiralcap.commands._common import (
     format_table,
     print_json,
 )
+from spiralcap.core.constants import from_unit
 from spiralcap.core.errors import InputError
 
 DEFAULT_FREQUENCIES_HZ = (0.5, 1.0, 1.5, 2.0, 2.5, 3.0)
@@ -92,7 +93,7 @@ def run(args: argparse.Namespace) -> int:
     tissues = build_tissues(design)
     d_prime = float(
         tm.equivalent_diameter_m(
-            math.radians(angle_deg),
+            from_unit(angle_deg, "deg"),
             geometry.body_diameter_m,
             geometry.wire_diameter_m,
             geometry.starts,
@@ -100,7 +101,7 @@ def run(args: argparse.Namespace) -> int:
     )
     capsule = build_capsule(design)
     radius = float(tm.contact_radius_m(geometry.body_diameter_m, geometry.wire_diameter_m))
-    rows = [_tissue_row(tissue, math.radians(angle_deg), f, geometry) for tissue in tissues]
+    rows = [_tissue_row(tissue, from_unit(angle_deg, "deg"), f, geometry) for tissue in tissues]
     for row, tissue in zip(rows, tissues):
         weight = float(
             tm.weight_friction_torque_Nm(capsule.mass_kg, tissue.friction_coefficient, radius)

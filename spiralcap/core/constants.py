@@ -77,3 +77,52 @@ def from_si(value: Any, factor: float) -> Any:
     prefixes come back exactly (0.0109 m -> 10.9 mm, not 10.899999999999999).
     """
     return value / factor if factor >= 1.0 else value * (1.0 / factor)
+
+
+#: A unit's name (a suffix of :data:`UNIT_SUFFIXES` without its underscore: ``deg``, ``mm``,
+#: ``mNm``) -> its factor to SI, the same numbers the design keys use.
+UNIT_FACTORS: dict[str, float] = {
+    suffix[1:]: factor for suffix, (_, factor) in UNIT_SUFFIXES.items()
+}
+
+
+def _factor(unit: str) -> float:
+    try:
+        return UNIT_FACTORS[unit]
+    except KeyError:
+        raise KeyError(
+            f"unit {unit!r} is not in the unit table; one of {sorted(UNIT_FACTORS)}"
+        ) from None
+
+
+def to_unit(value_si: Any, unit: str) -> Any:
+    """``value_si`` (SI) in ``unit`` of the unit table: the one SI -> display conversion.
+
+    Works on floats, numpy arrays and CasADi symbols alike (a multiplication); decimal prefixes
+    come back exactly (:func:`from_si`), and ``to_unit(x, "deg")`` is bit for bit
+    ``math.degrees(x)``.
+
+    Examples
+    --------
+    >>> to_unit(0.5235987755982988, "deg")
+    29.999999999999996
+    >>> to_unit(0.0109, "mm")
+    10.9
+    """
+    return from_si(value_si, _factor(unit))
+
+
+def from_unit(value: Any, unit: str) -> Any:
+    """``value`` in ``unit`` of the unit table, in SI: the one design/display -> SI conversion.
+
+    Works on floats, numpy arrays and CasADi symbols alike (a multiplication);
+    ``from_unit(x, "deg")`` is bit for bit ``math.radians(x)``.
+
+    Examples
+    --------
+    >>> from_unit(30.0, "deg")
+    0.5235987755982988
+    >>> from_unit(12.0, "mm")
+    0.012
+    """
+    return value * _factor(unit)

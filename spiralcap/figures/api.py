@@ -26,6 +26,7 @@ import numpy as np
 
 from optimize import DesignModel, Evaluation, OptimizationResult
 from spiralcap.core.checks import guard, instance
+from spiralcap.core.constants import to_unit
 
 #: the rules for the arguments of the figure functions (a wrong object: one TypeError naming it)
 _MODEL = instance(DesignModel, "an optimize.DesignModel (spiralcap.assemble.build_model)")
@@ -195,7 +196,7 @@ def margin_vs_angle(
     keep = np.nonzero(c.margin_Nm >= -0.4 * abs(peak))[0]
     first = int(keep[0]) - 1 if keep.size else 0
     # never cut off the optimum (or closest design) or the angle as entered
-    marked = min(np.degrees(angles))
+    marked = to_unit(min(angles), "deg")
     first = min(first, int(np.searchsorted(c.x, marked)) - 6)  # a few points left of it
     sl = slice(max(0, first), None)
     drawn = plot_margin_vs_angle(
@@ -340,7 +341,7 @@ def tissue_torque(
     lines = []
     for tissue in model.tissues:
         for obj, what in points:
-            angle = np.degrees(obj.helical_angle_rad)
+            angle = to_unit(obj.helical_angle_rad, "deg")
             out = plot_torque_vs_frequency(
                 ax, tissue, (angle,), frequency_hz=f, paper_points=(), geometry=geometry
             )

@@ -22,6 +22,7 @@ from typing import Any, NamedTuple
 import numpy as np
 from matplotlib.axes import Axes
 
+from spiralcap.core.constants import to_unit
 from spiralcap.figures.style import COLOURS
 
 __all__ = ["CapsuleDrawn", "GeometryDrawn", "draw_geometry", "plot_capsule", "plot_geometry"]
@@ -343,7 +344,7 @@ def plot_capsule(ax: Axes, capsule: Any) -> CapsuleDrawn:
             linewidth=0.8,
             linestyle=(0, (2, 1.5)),
         )
-    alpha_deg = math.degrees(spiral.helical_angle_rad)
+    alpha_deg = to_unit(spiral.helical_angle_rad, "deg")
     ax.set_title(
         f"capsule {d:.3g} × {length:.3g} mm, magnet {dm:.3g} × {lm:.3g} mm\n"
         f"spiral α = {alpha_deg:.3g}°, {int(spiral.starts)} start{'' if int(spiral.starts) == 1 else 's'}, wire {dw:.2g} mm, "

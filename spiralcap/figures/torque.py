@@ -5,12 +5,13 @@ Functions take ``ax`` and return the artists they drew; they never create figure
 
 from __future__ import annotations
 
-import math
 from collections.abc import Iterable, Sequence
 from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 from matplotlib.axes import Axes
+
+from spiralcap.core.constants import from_unit, to_unit
 
 if TYPE_CHECKING:
     from torque_model import ContactGeometry
@@ -96,7 +97,7 @@ def plot_torque_vs_frequency(
     for k, angle in enumerate(angles):
         # the paper's capsules are the paper's geometry, whatever the design's
         capsule = geometry if k < len(helical_angles_deg) and geometry else tm.PAPER_CAPSULE
-        tau = tm.resistive_torque_Nm(math.radians(angle), f, tissue, capsule)
+        tau = tm.resistive_torque_Nm(from_unit(angle, "deg"), f, tissue, capsule)
         (line,) = ax.plot(
             f,
             np.asarray(tau) * 1e3,
@@ -157,7 +158,7 @@ def plot_fit(
     curves, points = [], []
     for angle in np.unique(r.helical_angle_rad):
         sel = r.helical_angle_rad == angle
-        deg = math.degrees(float(angle))
+        deg = to_unit(float(angle), "deg")
         pts = ax.scatter(
             r.frequency_hz[sel], r.torque_Nm[sel] * 1e3, zorder=3, label=f"measured, α = {deg:.4g}°"
         )

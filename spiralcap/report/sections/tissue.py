@@ -2,9 +2,9 @@
 
 from __future__ import annotations
 
-import math
 from typing import Any
 
+from spiralcap.core.constants import from_unit
 from spiralcap.report.document import Cell, FigureBlock, Paragraph, Ref, Section, Table
 from spiralcap.report.sections._util import Context
 
@@ -36,7 +36,7 @@ def tissue_payload(data: Any) -> dict[str, Any]:
         tissue = tm.preset(f"zhou2013-sample{p.sample}")
         model = float(
             tm.resistive_torque_Nm(
-                math.radians(p.helical_angle_deg), p.frequency_hz, tissue, tm.PAPER_CAPSULE
+                from_unit(p.helical_angle_deg, "deg"), p.frequency_hz, tissue, tm.PAPER_CAPSULE
             )
         )
         points.append(
