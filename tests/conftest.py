@@ -125,4 +125,3 @@ def pytest_sessionfinish(session: pytest.Session, exitstatus: int) -> None:
     mistaken for a configuration problem, because the tests were not found."""
     if exitstatus == pytest.ExitCode.NO_TESTS_COLLECTED:
         session.exitstatus = pytest.ExitCode.TESTS_FAILED
-
