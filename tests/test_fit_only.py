@@ -89,8 +89,17 @@ def test_only_a_subset_holds_the_rest(tmp_path: Path, capsys) -> None:
         assert out["tissue"][key] == pytest.approx(preset, rel=1e-12), f"{key} held at preset"
 
 
-def test_full_fit_intervals_are_positive(capsys) -> None:
-    out = _json(capsys, "fit", str(EXAMPLES / "bench_synthetic_sample2.csv"))
+@pytest.fixture(scope="module")
+def full_fit() -> tuple[dict, int, str]:
+    """``fit`` of the example bench file with every constant free, run once for this module:
+    its ``--json`` document and its text run (exit status, stdout), which several tests read."""
+    csv = str(EXAMPLES / "bench_synthetic_sample2.csv")
+    code, text, _ = run(["fit", csv])
+    return run_json(["fit", csv]), code, text
+
+
+def test_full_fit_intervals_are_positive(full_fit) -> None:
+    out, code, text = full_fit
     for key, p in out["parameters"].items():
         if p["identifiable"]:
             assert p["ci95"][0] > 0 and p["ci95"][1] > p["ci95"][0], (
@@ -102,7 +111,6 @@ def test_full_fit_intervals_are_positive(capsys) -> None:
     assert any(not p["identifiable"] for p in out["parameters"].values()), (
         "a 0.5-3 Hz curve leaves some constant unidentifiable (docs/torque-model.md section 5)"
     )
-    code, text, _ = _run(capsys, "fit", str(EXAMPLES / "bench_synthetic_sample2.csv"))
     assert code == 0 and "not identifiable" in text
     assert not re.search(r"\[-", text), "no negative interval end in the table"
 
@@ -161,10 +169,9 @@ def test_covariance_only_for_what_is_pinned(tmp_path: Path, capsys) -> None:
     )
 
 
-def test_notes_name_parameters_as_the_table(capsys) -> None:
-    code, text, _ = _run(capsys, "fit", str(EXAMPLES / "bench_synthetic_sample2.csv"))
+def test_notes_name_parameters_as_the_table(full_fit) -> None:
+    out, code, text = full_fit
     assert code == 0
-    out = _json(capsys, "fit", str(EXAMPLES / "bench_synthetic_sample2.csv"))
     notes = text + json.dumps([p["flags"] for p in out["parameters"].values()])
     assert not re.search(r"\b(E[123]|eta[12])_Pa", notes), (
         "notes name parameters by their design keys (kPa), as the table does"

@@ -11,7 +11,7 @@ import sys
 import numpy as np
 import pytest
 
-from tests.cli_outcome import sound
+from tests.cli_outcome import run, sound
 
 COV = "tissue.uncertainty.covariance_from"
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -106,16 +106,36 @@ def test_unreadable_covariance_files_are_one_line(tmp_path, content, why):
 )
 def test_bad_covariances_exit_2_naming_the_file(tmp_path, cov, why):
     """#20 item 3 / #22: no LinAlgError, no RuntimeWarning, no NaN percentiles; the error
-    names covariance_from and the file, never "tissue.uncertainty = 'none'"."""
+    names covariance_from and the file, never "tissue.uncertainty = 'none'". In-process (the
+    refusal is Python's, before any solve): pytest's ``filterwarnings = error`` turns any
+    warning into a failure, ``sound`` asserts one line and no traceback; the same refusal as a
+    process (stderr seen whole) is in ``test_a_bad_covariance_is_one_line_as_a_process``."""
+    p = _bad_cov_file(tmp_path, cov)
+    _rc, _, err = sound(["uncertainty", "--samples", "64", "--set", f"{COV}='{p}'"], allowed=(2,))
+    for w in (COV, "cov.toml", why):
+        assert w in err, f"{w!r} not in {err!r}"
+    assert "Warning" not in err and "'none'" not in err, err
+
+
+def test_a_bad_covariance_is_one_line_as_a_process(tmp_path):
+    """One refusal of the parametrised cases above (the not-semi-definite 3-cycle: the
+    eigenvalue check) as a process: exit 2, one stderr line, no warning (PYTHONWARNINGS)."""
+    c3 = np.array([[1, 0.9, -0.9], [0.9, 1, 0.9], [-0.9, 0.9, 1]])
+    cov = np.block([[c3, np.zeros((3, 2))], [np.zeros((2, 3)), np.eye(2)]])
+    p = _bad_cov_file(tmp_path, cov)
+    proc = _spiralcap("uncertainty", "--samples", "64", "--set", f"{COV}='{p}'")
+    _one_line_exit_2(proc, COV, "cov.toml", "semi-definite")
+    assert "'none'" not in proc.stderr
+
+
+def _bad_cov_file(tmp_path, cov) -> str:
     p = tmp_path / "cov.toml"
     p.write_text(
         "[tissue.fit]\ncovariance_log = ["
         + ", ".join("[" + ", ".join(_toml_float(x) for x in r) + "]" for r in cov)
         + "]\n"
     )
-    proc = _spiralcap("uncertainty", "--samples", "64", "--set", f"{COV}='{p}'")
-    _one_line_exit_2(proc, COV, "cov.toml", why)
-    assert "'none'" not in proc.stderr
+    return str(p)
 
 
 def _toml_float(x: float) -> str:
@@ -144,19 +164,20 @@ def test_relative_covariance_from_resolves_against_the_file_naming_it(tmp_path, 
     design = load_design([base_dir / "base.toml", fit_dir / "layer.toml"])
     unc = build_uncertainty(design)
     assert np.allclose(unc.covariance_log, np.eye(5) * 0.04), "read the cwd's cov.toml"
-    # and from the command line as a subprocess, run in the other folder
-    proc = _spiralcap(
-        "uncertainty",
-        str(base_dir / "base.toml"),
-        str(fit_dir / "layer.toml"),
-        "--samples",
-        "256",
-        "--sobol-samples",
-        "0",
-        "--json",
-        cwd=elsewhere,
+    # and from the command line (in-process, run in the other folder: the chdir above)
+    sound(
+        [
+            "uncertainty",
+            str(base_dir / "base.toml"),
+            str(fit_dir / "layer.toml"),
+            "--samples",
+            "256",
+            "--sobol-samples",
+            "0",
+            "--json",
+        ],
+        allowed=(0,),
     )
-    assert proc.returncode == 0, proc.stderr
     # a --set value is relative to the current folder
     design = load_design(
         [base_dir / "base.toml", fit_dir / "layer.toml"], [f"{COV}='{fit_dir / 'cov.toml'}'"]
@@ -287,33 +308,38 @@ def test_fit_row_at_1e_200_hz_and_an_overlong_cell(tmp_path):
     for cell in ("9" * 140_000, '"' + "9" * 140_000 + '"'):
         long = tmp_path / "long.csv"
         long.write_text(f"frequency_hz,torque_mNm\n1,{cell}\n")
-        _one_line_exit_2(_spiralcap("fit", str(long)), "long.csv", "line 2")
-        assert len(_spiralcap("fit", str(long)).stderr) < 600, "the cell is not echoed whole"
+        proc = _spiralcap("fit", str(long))
+        _one_line_exit_2(proc, "long.csv", "line 2")
+        assert len(proc.stderr) < 600, "the cell is not echoed whole"
 
 
 def test_waveforms_heading_in_the_form_help_shows():
-    """`--heading -1,0,0` (a reversed axis, as `--help` writes it), not only `--heading=-1,0,0`."""
-    proc = _spiralcap(
-        "waveforms", "--heading", "-1,0,0", "--heading", "0,-1,0", "--dwell-s", "1", "--json"
+    """`--heading -1,0,0` (a reversed axis, as `--help` writes it), not only `--heading=-1,0,0`.
+    In-process (argparse's reading of the argument is the subject; pytest's ``filterwarnings =
+    error`` fails the run on any warning, stricter than the empty stderr checked too)."""
+    rc, out, err = run(
+        ["waveforms", "--heading", "-1,0,0", "--heading", "0,-1,0", "--dwell-s", "1", "--json"]
     )
-    assert proc.returncode == 0, proc.stderr
+    assert rc == 0, err
     import json
 
-    doc = json.loads(proc.stdout)
+    doc = json.loads(out)
     assert np.allclose(doc["headings"], [[-1, 0, 0], [0, -1, 0]]), doc["headings"]
-    assert proc.stderr == ""
+    assert err == ""
 
 
 def test_huge_heading_is_a_direction_like_workspace_headings():
-    proc = _spiralcap("waveforms", "--heading", "1e200,1e200,0", "--dwell-s", "1", "--json")
-    assert proc.returncode == 0 and proc.stderr == "", proc.stderr
+    """In-process: an overflow in the normalisation would be a RuntimeWarning, which pytest's
+    ``filterwarnings = error`` turns into a failure (the empty stderr is checked as well)."""
+    rc, out, err = run(["waveforms", "--heading", "1e200,1e200,0", "--dwell-s", "1", "--json"])
+    assert rc == 0 and err == "", err
     import json
 
-    h = json.loads(proc.stdout)["headings"][0]
+    h = json.loads(out)["headings"][0]
     assert np.allclose(h, [2**-0.5, 2**-0.5, 0.0]), h
-    same = _spiralcap("waveforms", "--heading", "1,1,0", "--dwell-s", "1", "--json")
-    a, b = json.loads(proc.stdout), json.loads(same.stdout)
-    assert a["peaks"] == b["peaks"], "the same direction as 1,1,0"
+    rc_same, same, _ = run(["waveforms", "--heading", "1,1,0", "--dwell-s", "1", "--json"])
+    a, b = json.loads(out), json.loads(same)
+    assert rc_same == 0 and a["peaks"] == b["peaks"], "the same direction as 1,1,0"
 
 
 @pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="needs FIFOs")

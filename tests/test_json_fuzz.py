@@ -78,7 +78,36 @@ def _nulls(value, path="$") -> list[str]:
     return []
 
 
+@pytest.fixture
+def each_solve_once(monkeypatch):
+    """The ``--json`` run and the text run of one case solve the same design: the optimiser's
+    entry points (``optimize.optimize_design``, ``spiralcap.robust.robust_optimum``,
+    deterministic) are solved once per test, by their arguments' content (their pickle; the
+    progress callback aside), so the text run prints the result the JSON run computed."""
+    import pickle
+
+    import optimize
+    import spiralcap.robust as robust
+
+    memo: dict[bytes, object] = {}
+
+    def once(real):
+        def solve(*args, **kw):
+            key = pickle.dumps(
+                (real.__name__, args, {k: v for k, v in kw.items() if k != "progress"})
+            )
+            if key not in memo:
+                memo[key] = real(*args, **kw)
+            return memo[key]
+
+        return solve
+
+    monkeypatch.setattr(optimize, "optimize_design", once(optimize.optimize_design))
+    monkeypatch.setattr(robust, "robust_optimum", once(robust.robust_optimum))
+
+
 @pytest.mark.slow
+@pytest.mark.usefixtures("each_solve_once")
 @pytest.mark.parametrize(("name", "argv"), CASES, ids=[" ".join(a)[:70] for _, a in CASES])
 def test_json_matches_schema_and_text_has_no_nan(tmp_path, name, argv):
     argv = [_five_rows(tmp_path) if a == "FIVE" else a for a in argv]

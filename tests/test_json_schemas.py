@@ -6,6 +6,7 @@ parameters the data do not bound) are the ones that used to print null or "inf".
 
 from __future__ import annotations
 
+import functools
 import json
 from pathlib import Path
 
@@ -73,6 +74,7 @@ CASES = [
 ]
 
 
+@functools.cache  # checked and built once per schema (stateless: iter_errors per document)
 def validator(name: str):
     schema = json.loads((DOCS / f"{name}.schema.json").read_text())
     cls = jsonschema.validators.validator_for(schema)

@@ -1,4 +1,7 @@
-"""Outputs that are not regular files, and full disks (issue 22), through the command as a process.
+"""Outputs that are not regular files, and full disks (issue 22), through the command as a process
+(stdout itself, and FIFOs: the process's timeout is the guard against a hang) or in-process
+(``spiralcap.cli.main``: the same code opens, writes and closes the files, and pytest's
+``filterwarnings = error`` fails a run on any warning).
 
 A character device or FIFO given as an output is written into, never replaced by a file; a block
 device or socket is refused (exit 2 naming the option); a full device (``/dev/full``) is an
@@ -14,6 +17,7 @@ import subprocess
 from pathlib import Path
 
 import pytest
+from cli_outcome import run
 from proc_util import SPIRALCAP
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -25,6 +29,15 @@ def _run(args: list[str], cwd: Path) -> subprocess.CompletedProcess[str]:
     return subprocess.run([*SPIRALCAP, *args], cwd=cwd, capture_output=True, text=True, timeout=300)
 
 
+def _here(
+    args: list[str], cwd: Path, monkeypatch: pytest.MonkeyPatch
+) -> subprocess.CompletedProcess[str]:
+    """``spiralcap args`` in-process in ``cwd``, its outcome in the form :func:`_run` gives."""
+    monkeypatch.chdir(cwd)
+    rc, out, err = run(args)
+    return subprocess.CompletedProcess(args, rc, out, err)
+
+
 def _one_line_error(proc: subprocess.CompletedProcess[str], *needles: str) -> str:
     assert proc.returncode == 2, f"exit 2 expected, got {proc.returncode}: {proc.stderr}"
     lines = proc.stderr.strip().splitlines()
@@ -34,14 +47,16 @@ def _one_line_error(proc: subprocess.CompletedProcess[str], *needles: str) -> st
     return lines[0]
 
 
-def test_output_to_a_character_device_stays_a_device(tmp_path: Path) -> None:
+def test_output_to_a_character_device_stays_a_device(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
     dev = tmp_path / "null.toml"
     null = os.stat("/dev/null")
     try:
         os.mknod(dev, stat.S_IFCHR | 0o666, null.st_rdev)  # a copy of /dev/null
     except PermissionError:
         pytest.skip("creating a device node needs root")
-    proc = _run(["optimize", "-o", str(dev)], tmp_path)
+    proc = _here(["optimize", "-o", str(dev)], tmp_path, monkeypatch)
     assert proc.returncode == 0, proc.stderr
     mode = os.lstat(dev).st_mode
     assert stat.S_ISCHR(mode), "the device node is written into, not replaced by a file"
@@ -50,10 +65,12 @@ def test_output_to_a_character_device_stays_a_device(tmp_path: Path) -> None:
 
 
 @pytest.mark.parametrize("command", [["init", "--force"], ["optimize", "-o"]])
-def test_a_full_device_is_an_error_not_success(tmp_path: Path, command: list[str]) -> None:
+def test_a_full_device_is_an_error_not_success(
+    tmp_path: Path, command: list[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
     if not os.path.exists("/dev/full"):
         pytest.skip("no /dev/full")
-    proc = _run([*command, "/dev/full"], tmp_path)
+    proc = _here([*command, "/dev/full"], tmp_path, monkeypatch)
     _one_line_error(proc, "/dev/full", "No space left")
     assert stat.S_ISCHR(os.stat("/dev/full").st_mode)
 
@@ -89,12 +106,14 @@ def test_a_fifo_with_a_reader_gets_the_file(tmp_path: Path) -> None:
     assert stat.S_ISFIFO(os.lstat(fifo).st_mode)
 
 
-def test_a_socket_is_refused_before_any_work(tmp_path: Path) -> None:
+def test_a_socket_is_refused_before_any_work(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
     path = tmp_path / "s.toml"
     sock = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
     try:
         sock.bind(str(path))
-        proc = _run(["optimize", "-o", str(path)], tmp_path)
+        proc = _here(["optimize", "-o", str(path)], tmp_path, monkeypatch)
     finally:
         sock.close()
     _one_line_error(proc, "-o", "socket")
@@ -112,7 +131,7 @@ def test_a_socket_is_refused_before_any_work(tmp_path: Path) -> None:
     ],
 )
 def test_two_outputs_are_written_both_or_neither(
-    tmp_path: Path, args: list[str], first: str
+    tmp_path: Path, args: list[str], first: str, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     if not os.path.exists("/dev/full"):
         pytest.skip("no /dev/full")
@@ -120,12 +139,12 @@ def test_two_outputs_are_written_both_or_neither(
         os.mknod(tmp_path / "P.png", stat.S_IFCHR | 0o666, os.stat("/dev/full").st_rdev)
     except PermissionError:
         pytest.skip("creating a device node needs root")
-    proc = _run(args, tmp_path)
+    proc = _here(args, tmp_path, monkeypatch)
     _one_line_error(proc, "P.png", "No space left")
     assert not (tmp_path / first).exists(), f"{first} is not left behind when the plot fails"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["P.png"], "no temporary file left"
     (tmp_path / "P.png").unlink()
-    ok = _run(args, tmp_path)
+    ok = _here(args, tmp_path, monkeypatch)
     assert ok.returncode == 0, ok.stderr
     assert (tmp_path / first).stat().st_size > 0 and (tmp_path / "P.png").stat().st_size > 0
 
