@@ -152,8 +152,9 @@ def test_optimising_sweep_rows_carry_the_objective_and_the_sized_hardware(tmp_pa
             )
     power = tmp_path / "power.csv"
     least = ["--set", "optimize.objective=power", "--set", "requirements.min_safety_factor=2"]
-    # 12 A, not 10: within the tolerance box (issue 36) 10 A cannot reach safety factor 2
-    assert main(["sweep", "--optimize", "--over", "limits.current_A=12:20:2", *least,
+    # 12 A, not 10: within the tolerance box (issue 36) 10 A cannot reach safety factor 2; the
+    # row checked is the first (12 A), so the sweep is that one point (20 A was never read)
+    assert main(["sweep", "--optimize", "--over", "limits.current_A=12:12:1", *least,
                  "--csv", str(power)]) == 0  # fmt: skip
     with power.open() as fh:
         prow = next(iter(csv.DictReader(fh)))
