@@ -59,9 +59,16 @@ def test_cvar_is_the_mean_of_the_tail():
     assert acs.cvar(np.concatenate([m, np.full(24, 9.0)]), 0.01) == pytest.approx(ref, rel=1e-12)
 
 
-def test_margin_p05_on_a_working_set_equals_every_scenario():
-    model = _model(UNCERTAIN, "margin_p05")
-    res = optimize_design(model)
+@pytest.fixture(scope="module")
+def p05():
+    """The margin_p05 model over 256 scenarios (prepared) and its optimum on the working set,
+    solved once and read by the two tests of that optimum."""
+    model = prepare(_model(UNCERTAIN, "margin_p05"))
+    return model, optimize_design(model)
+
+
+def test_margin_p05_on_a_working_set_equals_every_scenario(p05):
+    model, res = p05
     rec = res.scenario_solve
     assert rec.capacity < model.scenarios.count, "solved on a working set, not all 256"
     assert rec.outside_min_Nm >= rec.tail_edge_Nm * (1 - 1e-9), (
@@ -76,11 +83,10 @@ def test_margin_p05_on_a_working_set_equals_every_scenario():
     )
 
 
-def test_the_loop_grows_a_working_set_that_misses_the_tail():
+def test_the_loop_grows_a_working_set_that_misses_the_tail(p05):
     """Started from the 32 *best* scenarios, the loop must add the tail and end at the same
     optimum (cutting planes: each round adds scenarios the whole set shows in the tail)."""
-    model = prepare(_model(UNCERTAIN, "margin_p05"))
-    ref = optimize_design(model)
+    model, ref = p05
     m = acs.worst_margins(model, *acs._point(ref))
     best = np.argsort(m)[::-1][: ref.scenario_solve.capacity]
     start = {
@@ -151,15 +157,20 @@ def test_cli_prints_the_evidence(capsys):
     assert solve["check"]["failure_cvar_Nm"] > 0
 
 
-def test_robust_sweep_is_bit_identical_on_workers():
+def test_robust_sweep_is_bit_identical_on_workers(monkeypatch):
     """sweep --optimize with margin_p05 (each point the working-set loop, warm-started along
-    a chunk with the previous point's working set): 2 worker processes give the same bits."""
+    a chunk with the previous point's working set): 2 worker processes give the same bits.
+    The chunk is cut to 2 points (16 in use): 4 points make two chunks, each a cold point and
+    a warm-started one, as 18 points made with chunks of 16 and 2, at 8 solves instead of 36
+    (the chunks are cut in this process, so the workers run the same two chains)."""
+    import spiralcap.sweep as sweep_module
     from spiralcap.sweep import parse_over, sweep
 
+    monkeypatch.setattr(sweep_module, "OPTIMIZE_CHUNK", 2)
     design = load_design(None, UNCERTAIN).with_values(
         {"optimize.objective": "margin_p05", "optimize.scenarios": 128}
     )
-    axes = [parse_over("requirements.axial_load_mN=20:80:18")]  # two chunks of 16 and 2
+    axes = [parse_over("requirements.axial_load_mN=20:80:4")]  # two chunks of 2 and 2
     here = sweep(design, axes, optimize=True)
     two = sweep(design, axes, optimize=True, workers=2)
     for col, values in here.outputs.items():

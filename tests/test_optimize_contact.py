@@ -29,18 +29,100 @@ NO_TOLERANCES = [
 ]
 
 
-def _optimize(*sets: str) -> tuple[int, dict, str]:
+#: The script of the one subprocess that runs every case (a fresh interpreter: CasADi writes
+#: on file descriptors 1 and 2, which in-process runs cannot see). Each case gets its own files
+#: on descriptors 1 and 2 while it runs (its stdout and stderr, as a process of its own would
+#: have them) and its exit status (a traceback, as Python prints it, and 1 if it raises).
+_SCRIPT = """
+import json, os, sys, tempfile, traceback
+from dataclasses import replace
+
+
+def no_torque(sets):
+    from optimize import optimize_design, prepare
+    from spiralcap.assemble import build_model
+    from spiralcap.design import load_design
+    from spiralcap.serialize import optimization_to_dict
+
+    m = build_model(load_design(None, sets))
+    m = prepare(replace(m, capsule=replace(m.capsule, set_mass_kg=0.0)))
+    print(json.dumps(optimization_to_dict(optimize_design(m))))
+    return 0
+
+
+def cli(argv):
+    from spiralcap.cli import main
+
+    return main(argv)
+
+
+results = {}
+for name, kind, args in json.loads(sys.argv[1]):
+    files = [tempfile.TemporaryFile(mode="w+b") for _ in range(2)]
+    saved = [os.dup(1), os.dup(2)]
+    sys.stdout.flush(); sys.stderr.flush()
+    os.dup2(files[0].fileno(), 1); os.dup2(files[1].fileno(), 2)
+    try:
+        rc = (cli if kind == "cli" else no_torque)(args)
+    except SystemExit as exc:
+        rc = exc.code if isinstance(exc.code, int) else 1
+    except BaseException:
+        traceback.print_exc()
+        rc = 1
+    sys.stdout.flush(); sys.stderr.flush()
+    os.dup2(saved[0], 1); os.dup2(saved[1], 2)
+    out, err = (f.seek(0) or f.read().decode() for f in files)
+    results[name] = [rc, out, err]
+print(json.dumps(results))
+"""
+
+
+@pytest.fixture(scope="module")
+def outcomes() -> dict[str, tuple[int, dict, str]]:
+    """Every case of this module in one fresh interpreter (one start-up and import instead of
+    four): case name -> (exit status, stdout as JSON, stderr)."""
+    cases = [
+        (f"lumen {lumen_mm}", "cli", ["optimize", "--json", *_lumen_sets(lumen_mm)])
+        for lumen_mm in LUMENS_MM
+    ]
+    cases.append(("no torque", "no_torque", NO_TORQUE_SETS))
     env = dict(os.environ, PYTHONPATH=str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", ""))
-    script = "import sys\nfrom spiralcap.cli import main\nsys.exit(main(sys.argv[1:]))"
     run = subprocess.run(
-        [sys.executable, "-c", script, "optimize", "--json", *sets],
+        [sys.executable, "-c", _SCRIPT, json.dumps(cases)],
         capture_output=True,
         text=True,
         env=env,
         cwd=ROOT,
-        timeout=300,
+        timeout=600,
     )
-    return run.returncode, json.loads(run.stdout) if run.stdout.strip() else {}, run.stderr
+    assert run.returncode == 0 and run.stderr.strip() == "", run.stderr
+    found = json.loads(run.stdout)
+    return {
+        name: (rc, json.loads(out) if out.strip() else {}, err)
+        for name, (rc, out, err) in found.items()
+    }
+
+
+LUMENS_MM = (11.4, 11.45, 11.5)
+
+
+def _lumen_sets(lumen_mm: float) -> tuple[str, ...]:
+    return (
+        *ALONE,
+        "--set",
+        f"tissue.lumen_diameter_mm={lumen_mm}",
+        *(a for v in NO_TOLERANCES for a in ("--set", v)),
+    )
+
+
+#: A weightless capsule in a 12 mm lumen pushing no load (test_a_design_needing_no_torque_...).
+NO_TORQUE_SETS = [
+    "tissue.worst_case_presets=[]",
+    "tissue.lumen_diameter_mm=12",
+    "requirements.axial_load_mN=0",
+    "requirements.min_speed_mm_s=2",  # the grip holds the angle near 2.4 deg: a slow screw
+    *NO_TOLERANCES,
+]
 
 
 def _grid_best_margin_Nm(*sets: str) -> float:
@@ -59,15 +141,10 @@ def _grid_best_margin_Nm(*sets: str) -> float:
     return float(np.max(np.where(g.feasible, g.margin_Nm, -np.inf)))
 
 
-@pytest.mark.parametrize("lumen_mm", [11.4, 11.45, 11.5])
-def test_a_lumen_just_wider_than_the_capsule_is_optimised(lumen_mm):
-    sets = (
-        *ALONE,
-        "--set",
-        f"tissue.lumen_diameter_mm={lumen_mm}",
-        *(a for v in NO_TOLERANCES for a in ("--set", v)),
-    )
-    rc, out, err = _optimize(*sets)
+@pytest.mark.parametrize("lumen_mm", LUMENS_MM)
+def test_a_lumen_just_wider_than_the_capsule_is_optimised(outcomes, lumen_mm):
+    sets = _lumen_sets(lumen_mm)
+    rc, out, err = outcomes[f"lumen {lumen_mm}"]
     assert rc == 0, f"exit 0 (issue 22: was exit 3 'meets solver'); stderr {err!r}"
     assert "NaN" not in err and err.strip() == "", f"nothing on stderr: {err!r}"
     assert not bad_numbers(out), bad_numbers(out)
@@ -78,40 +155,13 @@ def test_a_lumen_just_wider_than_the_capsule_is_optimised(lumen_mm):
     )
 
 
-def test_a_design_needing_no_torque_is_optimised_without_nan():
+def test_a_design_needing_no_torque_is_optimised_without_nan(outcomes):
     """A weightless capsule in a 12 mm lumen pushing no load: nothing resists wherever the
     spiral is off the wall. No design file reaches that (capsule.mass_g >= 0.1 g), so the model
-    is built in Python, in a subprocess that shows what CasADi writes on file descriptor 2."""
-    script = (
-        "import json, sys\n"
-        "from dataclasses import replace\n"
-        "from optimize import optimize_design, prepare\n"
-        "from spiralcap.assemble import build_model\n"
-        "from spiralcap.design import load_design\n"
-        "from spiralcap.serialize import optimization_to_dict\n"
-        "m = build_model(load_design(None, sys.argv[1:]))\n"
-        "m = prepare(replace(m, capsule=replace(m.capsule, set_mass_kg=0.0)))\n"
-        "print(json.dumps(optimization_to_dict(optimize_design(m))))\n"
-    )
-    sets = [
-        "tissue.worst_case_presets=[]",
-        "tissue.lumen_diameter_mm=12",
-        "requirements.axial_load_mN=0",
-        "requirements.min_speed_mm_s=2",  # the grip holds the angle near 2.4 deg: a slow screw
-        *NO_TOLERANCES,
-    ]
-    env = dict(os.environ, PYTHONPATH=str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", ""))
-    run = subprocess.run(
-        [sys.executable, "-c", script, *sets],
-        capture_output=True,
-        text=True,
-        env=env,
-        cwd=ROOT,
-        timeout=300,
-    )
-    assert run.returncode == 0, run.stderr
-    assert "NaN" not in run.stderr and run.stderr.strip() == "", f"stderr: {run.stderr!r}"
-    out = json.loads(run.stdout)
+    is built in Python, in the subprocess that shows what CasADi writes on file descriptor 2."""
+    rc, out, err = outcomes["no torque"]
+    assert rc == 0, err
+    assert "NaN" not in err and err.strip() == "", f"stderr: {err!r}"
     assert not bad_numbers(out), bad_numbers(out)
     assert out["status"] == "optimal"
     assert min(out["evaluation"]["wall_strains"]) >= 0.0168 * (1 - 1e-6), "it grips (1.68 %)"

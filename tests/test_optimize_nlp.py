@@ -34,6 +34,12 @@ def power_result(model):
     return m, optimize_design(m)
 
 
+@pytest.fixture(scope="module")
+def optimum(model):
+    """The built-in design's margin optimum, solved once for the tests that read it."""
+    return optimize_design(model)
+
+
 def test_rows_are_named_and_one_per_tissue(model):
     nlp = compile_problem(structure_of(model)).nlp
     names = nlp.row_names
@@ -48,8 +54,8 @@ def test_rows_are_named_and_one_per_tissue(model):
     )
 
 
-def test_self_lock_rows_hold_at_the_optimum(model):
-    res = optimize_design(model)
+def test_self_lock_rows_hold_at_the_optimum(model, optimum):
+    res = optimum
     import capsule as cap
 
     for t in model.tissues:
@@ -231,10 +237,10 @@ def test_evaluate_honours_a_set_field(capsys):
     )
 
 
-def test_margin_optimum_ignores_a_set_field(model):
+def test_margin_optimum_ignores_a_set_field(model, optimum):
     """The field is a decision variable: a design carrying a set field (e.g. a saved power
     optimum) re-optimised for the margin reaches the same optimum (1e-9)."""
-    free = optimize_design(model)
+    free = optimum
     fixed = optimize_design(replace(model, field_amplitude_T=3e-3))
     assert math.isclose(fixed.margin_Nm, free.margin_Nm, rel_tol=1e-9)
     assert math.isclose(fixed.field_amplitude_T, free.field_amplitude_T, rel_tol=1e-9)

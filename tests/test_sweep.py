@@ -46,21 +46,32 @@ def test_bad_over_exits_2(capsys):
     assert "operation.frequency_hz" in capsys.readouterr().err
 
 
-def test_adaptive_power_sweep_refines_the_knee_with_the_cold_optima():
-    """The report's power trade-off: the refinements close in on the knee (where power stops
-    binding), each warm-started refinement is the optimum the grid starts find (1e-8 relative:
-    IPOPT's tolerance 1e-10 on the scaled problem), and reusing the caller's model gives the
-    same rows bit for bit."""
-    from dataclasses import replace
-
-    from optimize import optimize_design, prepare
+@pytest.fixture(scope="module")
+def power_curve():
+    """The report's adaptive power sweep of the built-in design over its coarse budgets, with
+    the caller's prepared model (computed once, read by the two tests below): (design, model,
+    coarse budgets, the sweep)."""
+    from optimize import prepare
     from spiralcap.assemble import build_model
     from spiralcap.curves import POWER_FACTORS, adaptive_power_sweep
 
     design = load_design()
     model = prepare(build_model(design))
     coarse = design["limits.power_W"] * np.asarray(POWER_FACTORS)
-    res = adaptive_power_sweep(design, coarse, model=model)
+    return design, model, coarse, adaptive_power_sweep(design, coarse, model=model)
+
+
+def test_adaptive_power_sweep_refines_the_knee_with_the_cold_optima(power_curve):
+    """The report's power trade-off: the refinements close in on the knee (where power stops
+    binding), each warm-started refinement is the optimum the grid starts find (1e-8 relative:
+    IPOPT's tolerance 1e-10 on the scaled problem), and reusing the caller's model gives the
+    same rows bit for bit."""
+    from dataclasses import replace
+
+    from optimize import optimize_design
+    from spiralcap.curves import adaptive_power_sweep
+
+    design, model, coarse, res = power_curve
     again = adaptive_power_sweep(design, coarse)
     p = res.inputs["limits.power_W"]
     assert len(p) == len(coarse) + 4 and np.all(np.diff(p) > 0) and set(coarse) <= set(p)
@@ -80,20 +91,16 @@ def test_adaptive_power_sweep_refines_the_knee_with_the_cold_optima():
         )
 
 
-def test_adaptive_power_sweep_from_the_designs_optimum_gives_the_same_curve():
+def test_adaptive_power_sweep_from_the_designs_optimum_gives_the_same_curve(power_curve):
     """Given the design's own optimum, the first budgets are warm chains out from it: the same
     budgets, statuses and binding sets, margins within IPOPT's tolerance (1e-8 relative), and
     the design's own budget is the optimum's row."""
-    from optimize import optimize_design, prepare
-    from spiralcap.assemble import build_model
-    from spiralcap.curves import POWER_FACTORS, adaptive_power_sweep
+    from optimize import optimize_design
+    from spiralcap.curves import adaptive_power_sweep
 
-    design = load_design()
-    model = prepare(build_model(design))
-    coarse = design["limits.power_W"] * np.asarray(POWER_FACTORS)
+    design, model, coarse, plain = power_curve  # the same call without the optimum
     res = optimize_design(model)
     fast = adaptive_power_sweep(design, coarse, model=model, optimum=res)
-    plain = adaptive_power_sweep(design, coarse, model=model)
     p = fast.inputs["limits.power_W"]
     assert np.array_equal(p, plain.inputs["limits.power_W"]), "the same budgets"
     for k in ("status", "binding_limits"):
@@ -145,8 +152,9 @@ def test_optimising_sweep_rows_carry_the_objective_and_the_sized_hardware(tmp_pa
             )
     power = tmp_path / "power.csv"
     least = ["--set", "optimize.objective=power", "--set", "requirements.min_safety_factor=2"]
-    # 12 A, not 10: within the tolerance box (issue 36) 10 A cannot reach safety factor 2
-    assert main(["sweep", "--optimize", "--over", "limits.current_A=12:20:2", *least,
+    # 12 A, not 10: within the tolerance box (issue 36) 10 A cannot reach safety factor 2; the
+    # row checked is the first (12 A), so the sweep is that one point (20 A was never read)
+    assert main(["sweep", "--optimize", "--over", "limits.current_A=12:12:1", *least,
                  "--csv", str(power)]) == 0  # fmt: skip
     with power.open() as fh:
         prow = next(iter(csv.DictReader(fh)))
