@@ -41,13 +41,15 @@ def model():
 @pytest.fixture(scope="module")
 def power_six(model):
     """The six-key least-power sizing, solved once for the module, and every neighbour attempt
-    it made (``discrete._attempt``'s context and hardware)."""
+    it made (``discrete._attempt``'s context, hardware and outcome: the candidate result the
+    ranking used)."""
     seen = []
     real = discrete._attempt
 
     def keep(ctx, combo):
-        seen.append((ctx, combo))
-        return real(ctx, combo)
+        res = real(ctx, combo)
+        seen.append((ctx, combo, res))
+        return res
 
     with pytest.MonkeyPatch.context() as mp:
         mp.setattr(discrete, "_attempt", keep)
@@ -121,18 +123,21 @@ def test_neighbours_on_a_process_pool_give_this_process_result_bit_for_bit(
 
 
 def test_candidate_neighbours_rank_as_their_full_solves(power_six):
-    """Each buildable neighbour's candidate result (evaluated at the solver's field) has the
-    status of its full solve and its objective to 1e-9 relative (IPOPT's tolerance 1e-10)."""
+    """Each buildable neighbour's candidate result (evaluated at the solver's field: the very
+    result the sizing ranked, ``discrete._attempt``'s) has the status of its full solve and its
+    objective to 1e-9 relative (IPOPT's tolerance 1e-10)."""
     compared = 0
-    for ctx, combo in power_six[1]:
+    for ctx, combo, quick in power_six[1]:
         m = discrete.buildable(ctx.fixed_model, {**ctx.relaxed, **combo}, ctx.min_bore_m)
+        assert (m is None) == (quick is None), f"{combo}: built as the sizing built it"
         if m is None:
             continue
+        assert ctx.least_required_Nm is None, "least power: no screen, every neighbour solved"
         how = SolveOptions(
             diagnose=False, grid_starts=False, frequency_bounds=False, scales=ctx.scales
         )
+        assert replace(how, candidate=True) == replace(discrete.NEIGHBOUR_SOLVE, scales=ctx.scales)
         full = solve_fixed(m, ctx.warm, how)
-        quick = solve_fixed(m, ctx.warm, replace(how, candidate=True))
         assert quick.status == full.status, f"{combo}: the status of the full solve"
         if full.status == "optimal":
             assert quick.objective_value == pytest.approx(full.objective_value, rel=1e-9), (
