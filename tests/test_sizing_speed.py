@@ -215,12 +215,13 @@ def unscreened(copper):
     return run
 
 
-@pytest.mark.parametrize(
-    ("sf", "free"), [(2.5, SIX), (1.5, SIX[:4]), (3.2, SIX[:4])], ids=["six", "four", "four-high"]
-)
+@pytest.mark.parametrize(("sf", "free"), [(2.5, SIX), (3.2, SIX[:4])], ids=["six", "four-high"])
 def test_screen_rules_out_only_neighbours_the_nlp_cannot_solve(unscreened, sf, free):
     """Every buildable neighbour of a least-copper sizing solved in full (screen off): none the
-    screen rules out is feasible, and the screen rules out most of the infeasible ones."""
+    screen rules out is feasible, and the screen rules out most of the infeasible ones. (Four
+    keys at safety factor 1.5 rule out the same rows as at 3.2 -- hot_spot_x 8, hot_spot_y 4 of
+    12 infeasible in 16 -- so the stricter requirement, where a wrong rule-out is likelier, is
+    the four-key case kept.)"""
     from optimize.screen import least_required_torque_Nm, out_of_reach
 
     m, _, seen = unscreened(sf, free)
