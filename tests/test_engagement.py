@@ -189,8 +189,14 @@ def test_uncertainty_samples_centre_on_the_patients_lumen():
         )
 
 
-def test_extrapolation_is_named():
-    inside = run_json(["evaluate"])
+@pytest.fixture(scope="module")
+def builtin_evaluation() -> dict:
+    """``spiralcap evaluate --json`` of the built-in design, run once for the module."""
+    return run_json(["evaluate"])
+
+
+def test_extrapolation_is_named(builtin_evaluation):
+    inside = builtin_evaluation
     assert inside["extrapolations"] == [], "the built-in design lies in the paper's range"
     out = run_json(["evaluate", "--set", "capsule.spiral.helical_angle_deg=25"])
     names = {e["quantity"] for e in out["extrapolations"]}
@@ -245,8 +251,8 @@ def test_bad_input(arg):
     assert out == ""
 
 
-def test_evaluate_json_carries_strains():
-    ev = run_json(["evaluate"])
+def test_evaluate_json_carries_strains(builtin_evaluation):
+    ev = builtin_evaluation
     assert len(ev["wall_strains"]) == len(ev["tissue_names"]) == 2
     assert json.dumps(ev)  # serialisable
 

@@ -142,11 +142,18 @@ def test_discrete_x_pair_is_standard_and_beats_a_brute_force_grid(model, x_sized
     )
 
 
-def test_sized_design_saved_and_reproduced(tmp_path, capsys):
-    out = tmp_path / "hw.toml"
-    free = ["--free", "coils.x.turns=100:800", "--free", "coils.x.wire_diameter_mm=0.8:3.0"]
-    assert main(["optimize", "--json", "-o", str(out), *free]) == 0
+def test_sized_design_saved_and_reproduced(tmp_path, capsys, x_sized):
+    """The x pair sized from the CLI, its turns freed by an [optimize.free] table in the design
+    file and its wire by ``--free`` (one run for both ways in): saved, evaluated, the same as
+    the module's in-process sizing."""
+    f, out = tmp_path / "d.toml", tmp_path / "hw.toml"
+    f.write_text('[optimize.free]\n"coils.x.turns" = [100, 800]\n')
+    free = ["--free", "coils.x.wire_diameter_mm=0.8:3.0"]
+    assert main(["optimize", "--json", "-o", str(out), *free, str(f)]) == 0
     opt = json.loads(capsys.readouterr().out)
+    assert "coils.x.turns" in opt["hardware"]["discrete"], "the design file's free table read"
+    assert "coils.x.wire_diameter_mm" in opt["hardware"]["discrete"], "and the --free key"
+    assert opt["margin_Nm"] == x_sized.margin_Nm, "the in-process sizing of the same keys"
     text = out.read_text()
     assert "[optimize.free" not in text.replace("[optimize.free.", "#"), "no free table left"
     assert main(["evaluate", "--json", str(out)]) == 0
@@ -156,14 +163,6 @@ def test_sized_design_saved_and_reproduced(tmp_path, capsys):
     assert opt["hardware"]["discrete"]["coils.x.turns"] == round(
         opt["hardware"]["discrete"]["coils.x.turns"]
     )
-
-
-def test_free_table_in_a_design_file(tmp_path, capsys):
-    f = tmp_path / "d.toml"
-    f.write_text('[optimize.free]\n"coils.x.turns" = [100, 800]\n')
-    assert main(["optimize", "--json", str(f)]) == 0
-    out = json.loads(capsys.readouterr().out)
-    assert "coils.x.turns" in out["hardware"]["discrete"]
 
 
 @pytest.mark.parametrize(

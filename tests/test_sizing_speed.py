@@ -38,19 +38,38 @@ def model():
     return prepare(build_model(load_design(None, sets)))
 
 
+def _recorder(seen: list):
+    """Stand-ins for ``discrete._attempt`` and ``discrete.buildable`` that record each neighbour
+    attempt as (context, hardware, the model the attempt built or None, its outcome): the
+    tests below read the very model and result the sizing ranked instead of building and
+    solving each neighbour again."""
+    real_attempt, real_build = discrete._attempt, discrete.buildable
+    built: list = []
+
+    def build(model, values, min_bore_m, **kw):
+        m = real_build(model, values, min_bore_m, **kw)
+        built.append(m)
+        return m
+
+    def keep(ctx, combo):
+        built.clear()
+        res = real_attempt(ctx, combo)
+        seen.append((ctx, combo, built[0], res))
+        return res
+
+    return keep, build
+
+
 @pytest.fixture(scope="module")
 def power_six(model):
     """The six-key least-power sizing, solved once for the module, and every neighbour attempt
-    it made (``discrete._attempt``'s context and hardware)."""
-    seen = []
-    real = discrete._attempt
-
-    def keep(ctx, combo):
-        seen.append((ctx, combo))
-        return real(ctx, combo)
-
+    it made (``discrete._attempt``'s context, hardware, built model and outcome: the candidate
+    result the ranking used)."""
+    seen: list = []
+    keep, build = _recorder(seen)
     with pytest.MonkeyPatch.context() as mp:
         mp.setattr(discrete, "_attempt", keep)
+        mp.setattr(discrete, "buildable", build)
         sized = optimize_design(replace(model, sizing=hw.Sizing(SIX)))
     return sized, seen
 
@@ -63,15 +82,15 @@ def test_bound_first_buildability_equals_every_exact_check(model):
             values = {**base, **{f"{ax}.turns": turns for ax in hw.AXES}}
             values.update({f"{ax}.wire_diameter_m": wire for ax in hw.AXES})
             m = hw.with_hardware(model, values)
-            want = all(c.ok for c in build_checks(m))
+            checks = build_checks(m)
+            want = all(c.ok for c in checks)
             assert buildable_ok(m) == want, (
                 f"{turns} turns of {wire * 1e3} mm wire: the bound-first answer is every exact "
                 "check's (optimize.buildcheck.build_checks)"
             )
             verdicts.append(want)
             exact_needed += any(
-                c.name.startswith("clearance") and abs(c.value - c.allowed) < 5e-3
-                for c in build_checks(m)
+                c.name.startswith("clearance") and abs(c.value - c.allowed) < 5e-3 for c in checks
             )
     assert any(verdicts) and not all(verdicts), "the designs tried both pass and fail"
     assert exact_needed, "some clearances lie within 5 mm of the requirement (bound not decisive)"
@@ -121,18 +140,20 @@ def test_neighbours_on_a_process_pool_give_this_process_result_bit_for_bit(
 
 
 def test_candidate_neighbours_rank_as_their_full_solves(power_six):
-    """Each buildable neighbour's candidate result (evaluated at the solver's field) has the
-    status of its full solve and its objective to 1e-9 relative (IPOPT's tolerance 1e-10)."""
+    """Each buildable neighbour's candidate result (evaluated at the solver's field: the very
+    result the sizing ranked, ``discrete._attempt``'s) has the status of its full solve and its
+    objective to 1e-9 relative (IPOPT's tolerance 1e-10)."""
     compared = 0
-    for ctx, combo in power_six[1]:
-        m = discrete.buildable(ctx.fixed_model, {**ctx.relaxed, **combo}, ctx.min_bore_m)
+    for ctx, combo, m, quick in power_six[1]:
+        assert (m is None) == (quick is None), f"{combo}: solved if and only if buildable"
         if m is None:
             continue
+        assert ctx.least_required_Nm is None, "least power: no screen, every neighbour solved"
         how = SolveOptions(
             diagnose=False, grid_starts=False, frequency_bounds=False, scales=ctx.scales
         )
+        assert replace(how, candidate=True) == replace(discrete.NEIGHBOUR_SOLVE, scales=ctx.scales)
         full = solve_fixed(m, ctx.warm, how)
-        quick = solve_fixed(m, ctx.warm, replace(how, candidate=True))
         assert quick.status == full.status, f"{combo}: the status of the full solve"
         if full.status == "optimal":
             assert quick.objective_value == pytest.approx(full.objective_value, rel=1e-9), (
@@ -185,24 +206,19 @@ def test_least_required_torque_bounds_a_dense_grid(copper):
 def unscreened(copper):
     """``unscreened(sf, free)``: the least-copper sizing at safety factor ``sf`` with every
     buildable neighbour solved in full (screen off, one batch: not only up to the winner), its
-    result and each attempt (context, hardware, outcome); solved once per module."""
+    result and each attempt (context, hardware, built model, outcome); solved once per module."""
     done: dict = {}
 
     def run(sf: float, free: tuple):
         if (sf, free) in done:
             return done[(sf, free)]
-        seen = []
-        real = discrete._attempt
-
-        def keep(ctx, combo):
-            res = real(ctx, combo)
-            seen.append((ctx, combo, res))
-            return res
-
+        seen: list = []
+        keep, build = _recorder(seen)
         m = replace(copper, requirements=replace(copper.requirements, min_safety_factor=sf))
         options = discrete.SizingOptions(batch=1000, screen=False)
         with pytest.MonkeyPatch.context() as mp:
             mp.setattr(discrete, "_attempt", keep)
+            mp.setattr(discrete, "buildable", build)
             res = discrete.size_design(replace(m, sizing=hw.Sizing(free)), options=options)
         done[(sf, free)] = (m, res, seen)
         return done[(sf, free)]
@@ -210,21 +226,22 @@ def unscreened(copper):
     return run
 
 
-@pytest.mark.parametrize(
-    ("sf", "free"), [(2.5, SIX), (1.5, SIX[:4]), (3.2, SIX[:4])], ids=["six", "four", "four-high"]
-)
+@pytest.mark.parametrize(("sf", "free"), [(2.5, SIX), (3.2, SIX[:4])], ids=["six", "four-high"])
 def test_screen_rules_out_only_neighbours_the_nlp_cannot_solve(unscreened, sf, free):
     """Every buildable neighbour of a least-copper sizing solved in full (screen off): none the
-    screen rules out is feasible, and the screen rules out most of the infeasible ones."""
+    screen rules out is feasible, and the screen rules out most of the infeasible ones. (Four
+    keys at safety factor 1.5 rule out the same rows as at 3.2 -- hot_spot_x 8, hot_spot_y 4 of
+    12 infeasible in 16 -- so the stricter requirement, where a wrong rule-out is likelier, is
+    the four-key case kept.)"""
     from optimize.screen import least_required_torque_Nm, out_of_reach
 
     m, _, seen = unscreened(sf, free)
     least = least_required_torque_Nm(m)
     screened = infeasible = 0
-    for ctx, combo, res in seen:
+    for _ctx, combo, built, res in seen:
+        assert (built is None) == (res is None), f"{combo}: solved if and only if buildable"
         if res is None:
             continue
-        built = discrete.buildable(ctx.fixed_model, {**ctx.relaxed, **combo}, ctx.min_bore_m)
         row = out_of_reach(built, least)
         feasible = not isinstance(res, discrete._Failed) and res.status == "optimal"
         assert not (row and feasible), f"{combo}: ruled out by {row} but its NLP solves"
