@@ -99,6 +99,20 @@ def built_in():
     return prepare(build_model(load_design(None)))
 
 
+@pytest.fixture(scope="module")
+def built_in_evaluation(built_in):
+    """The built-in design's evaluation, computed once for the tests that compare against it."""
+    return evaluate(built_in)
+
+
+@pytest.fixture(scope="module")
+def built_in_coils_json() -> dict:
+    """``spiralcap coils --json`` of the built-in design, run once for the tests that read it."""
+    rc, out, err = run(["coils", "--json"])
+    assert rc == 0, err
+    return json.loads(out)
+
+
 def test_view_factors_against_an_independent_trace(built_in):
     rings = _rings(built_in)
     f = view_factors(rings)
@@ -181,13 +195,12 @@ def test_coupling_sweep_against_a_converged_fixed_point(built_in):
         )
 
 
-def test_reported_h_is_the_correlation_at_the_reported_surface(run_cli, capsys):
+def test_reported_h_is_the_correlation_at_the_reported_surface(built_in_coils_json, built_in):
     """Issue 26 (a): `coils --json` gives, beside each surface temperature (steady at the
     current limit, and at the operating point), h_c of the Churchill-Chu / Morgan correlation
     (coils.convection) at that very temperature, to 1e-12."""
-    assert run_cli(["coils", "--json"]) == 0
-    out = json.loads(capsys.readouterr().out)
-    packs = prepare(build_model(load_design(None))).constants.packs
+    out = built_in_coils_json
+    packs = built_in.constants.packs
     for k, ax in enumerate("xyz"):
         p = packs[k]
         for where in (out["axes"][ax], out["operating_point"]["axes"][ax]):
@@ -225,9 +238,8 @@ def test_vertical_plate_against_the_textbook_example():
     )
 
 
-def test_default_h_is_the_correlation_and_a_set_h_is_exact(run_cli, capsys):
-    assert run_cli(["coils", "--json"]) == 0
-    out = json.loads(capsys.readouterr().out)
+def test_default_h_is_the_correlation_and_a_set_h_is_exact(run_cli, capsys, built_in_coils_json):
+    out = built_in_coils_json
     assert out["cooling"] == "natural" and "heat_transfer_coefficient_W_m2K" not in out
     for ax in "xyz":
         h = out["operating_point"]["axes"][ax]["convection_coefficient_W_m2K"]
@@ -243,14 +255,14 @@ def test_default_h_is_the_correlation_and_a_set_h_is_exact(run_cli, capsys):
         )
 
 
-def test_forced_air_cools_more_and_reduces_to_natural_at_rest():
+def test_forced_air_cools_more_and_reduces_to_natural_at_rest(built_in_evaluation):
     natural = pack_convection_W_m2K(0.05, 0.05, False, 70.0, 25.0)
     still = pack_convection_W_m2K(0.05, 0.05, False, 70.0, 25.0, 0.0, forced=True)
     fan = pack_convection_W_m2K(0.05, 0.05, False, 70.0, 25.0, 2.0, forced=True)
     assert fan > 2.0 * natural, "2 m/s across the packs more than doubles h"
     # Churchill-Bernstein at Re = 0 leaves Nu = 0.3: the cube sum then adds < 0.1 %
     assert still == pytest.approx(natural, rel=1e-3)
-    m1 = evaluate(prepare(build_model(load_design(None))))
+    m1 = built_in_evaluation
     m2 = evaluate(
         prepare(build_model(load_design(None, ["coils.cooling=forced", "coils.air_speed_m_s=2"])))
     )
@@ -276,15 +288,17 @@ def test_bad_cooling_input_exits_2_naming_the_key(sets, key):
     assert out == "", "nothing half-written"
 
 
-def test_surface_limit_binds_and_the_optimiser_agrees():
+def test_surface_limit_binds_and_the_optimiser_agrees(built_in_evaluation):
     from optimize import optimize_design
     from spiralcap.assemble.system import constraint_key
 
-    m = prepare(build_model(load_design(None, ["limits.surface_temperature_C=55"])))
+    # one IPOPT start (default 4): the row checked binds at the optimum whichever start wins
+    sets = ["limits.surface_temperature_C=55", "optimize.starts=1"]
+    m = prepare(build_model(load_design(None, sets)))
     ev = evaluate(m)
     assert ev.field_limited_by.startswith("surface_temperature_"), ev.field_limited_by
     assert constraint_key(ev.field_limited_by) == "limits.surface_temperature_C"
-    free = evaluate(prepare(build_model(load_design(None))))
+    free = built_in_evaluation
     assert ev.field_amplitude_T < free.field_amplitude_T, "the touch limit costs field"
     res = optimize_design(m)
     assert res.status == "optimal"

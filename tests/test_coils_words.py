@@ -15,6 +15,22 @@ def _out(capsys: pytest.CaptureFixture[str], argv: list[str]) -> str:
     return capsys.readouterr().out
 
 
+@pytest.fixture(scope="module")
+def builtin_text() -> dict[str, str]:
+    """The built-in design's ``coils`` text and ``evaluate --json`` output, each run once for
+    the tests that read them (the CLI in-process, stdout captured here)."""
+    import contextlib
+    import io
+
+    out: dict[str, str] = {}
+    for name, argv in (("coils", ["coils"]), ("evaluate_json", ["evaluate", "--json"])):
+        buf = io.StringIO()
+        with contextlib.redirect_stdout(buf):
+            assert main(argv) == 0, f"spiralcap {' '.join(argv)} exits 0"
+        out[name] = buf.getvalue()
+    return out
+
+
 def test_coils_leads_with_the_operating_point_and_says_runaway_in_words(capsys) -> None:
     text = _out(capsys, ["coils", "--set", "limits.current_A=40"])
     lines = text.splitlines()
@@ -28,8 +44,8 @@ def test_coils_leads_with_the_operating_point_and_says_runaway_in_words(capsys) 
     assert "°C" not in rating and "runaway " not in rating, "no temperature of a runaway branch"
 
 
-def test_coils_at_a_rating_that_holds_shows_its_temperatures(capsys) -> None:
-    text = _out(capsys, ["coils"])
+def test_coils_at_a_rating_that_holds_shows_its_temperatures(builtin_text) -> None:
+    text = builtin_text["coils"]
     rating = text[text.index("at the amplifier rating, 15 A") : text.index("uniform region")]
     assert "runs away" not in rating and "hot_C" in rating, rating
     assert (
@@ -37,13 +53,15 @@ def test_coils_at_a_rating_that_holds_shows_its_temperatures(capsys) -> None:
     ), "the rating above what the limits allow is said in words, with the current to keep below"
 
 
-def test_surface_above_iec_60601_is_a_warning_only_without_a_surface_limit(capsys) -> None:
+def test_surface_above_iec_60601_is_a_warning_only_without_a_surface_limit(
+    capsys, builtin_text
+) -> None:
     warned = _out(capsys, ["evaluate"])
     assert f"above the {IEC60601_LONG_CONTACT_C:g} °C IEC 60601-1" in warned, warned[-400:]
     assert "limits.surface_temperature_C" in warned
-    coils_text = _out(capsys, ["coils"])
+    coils_text = builtin_text["coils"]
     assert "IEC 60601-1 allows" in coils_text
-    payload = json.loads(_out(capsys, ["evaluate", "--json"]))
+    payload = json.loads(builtin_text["evaluate_json"])
     assert len(payload["warnings"]) == 1 and "x, y and z pairs" in payload["warnings"][0]
     quiet = _out(capsys, ["evaluate", "--set", "limits.surface_temperature_C=80"])
     assert "IEC 60601-1" not in quiet, "with the limit set, the check speaks instead"
@@ -64,10 +82,10 @@ def test_touch_limit_follows_iec_60601_table_24_by_contact_time(session_min, lim
     )
 
 
-def test_touch_warning_names_the_limit_of_the_session(capsys) -> None:
+def test_touch_warning_names_the_limit_of_the_session(capsys, builtin_text) -> None:
     hot = ["limits.current_A=33", "limits.coil_temperature_C=200", "limits.voltage_V=2000"]
     argv = ["evaluate", "--json", "--set", "operation.session_min=5", "--set", "limits.power_W=1e5"]
     short = json.loads(_out(capsys, argv + [a for k in hot for a in ("--set", k)]))["warnings"]
-    steady = json.loads(_out(capsys, ["evaluate", "--json"]))["warnings"]
+    steady = json.loads(builtin_text["evaluate_json"])["warnings"]
     assert "48 °C" in " ".join(short) and "of 1-10 min" in " ".join(short), short
     assert "43 °C" in " ".join(steady) and "10 min or more" in " ".join(steady), steady
