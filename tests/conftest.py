@@ -5,16 +5,24 @@ from __future__ import annotations
 import contextlib
 import importlib
 import io
+import os
 import sys
 import types
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
-import pytest
+# As the ``spiralcap`` console does (spiralcap.cli.console): one BLAS thread, set before numpy is
+# first imported. The in-process tests run the commands through ``cli.main``, which does not set
+# it; with OpenBLAS's default threads each xdist worker's small matrix calls spin a second thread
+# after every call, on a machine whose cores the workers already fill.
+for _var in ("OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ.setdefault(_var, "1")
 
-import coils
-from spiralcap import cli
+import pytest  # noqa: E402
+
+import coils  # noqa: E402
+from spiralcap import cli  # noqa: E402
 
 
 def pytest_configure(config: pytest.Config) -> None:
