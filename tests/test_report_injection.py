@@ -4,8 +4,8 @@ The PDF: every string reaches Typst through ``sys.inputs`` (a JSON array the tem
 title holding ``TITLE``, ``#read(...)`` or quotes compiles, shows literally and reads no file.
 The HTML: text is escaped for its context; the embedded JSON has ``<``, ``>`` and ``&`` as JSON
 escapes, so a spec-conformant HTML parser (html5lib) hands back the same JSON.
-Checked on small documents over arbitrary text (hypothesis), and through ``spiralcap report`` as a
-subprocess on the issue's cases.
+Checked on small documents over arbitrary text (hypothesis), and through ``spiralcap report``
+(in-process, ``spiralcap.cli.main``) on the issue's cases.
 """
 
 from __future__ import annotations
@@ -23,7 +23,6 @@ import pytest
 from cli_outcome import run
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-from proc_util import SPIRALCAP
 
 from spiralcap.report.document import FrontMatter, Paragraph, Section
 from spiralcap.report.html import render_html
@@ -149,15 +148,17 @@ def test_any_title_author_and_file_name_is_data(
 #: a script), in one title: one report run checks both.
 ISSUE_TITLE = 'TITLE #read("/etc/hostname") ")#read("marker.txt")#(" <!--<script>'
 #: The design's file name: the template's placeholder words, and a byte that is not UTF-8 (shown
-#: as '?'). One report run (a process: the name reaches it as argv bytes) checks both.
+#: as '?'), as Python hands such an argv byte to ``main`` (``os.fsdecode``, a surrogate escape).
+#: One report run checks both.
 DESIGN_NAME = os.fsdecode(b"TITLE AUTHOR n\xffm.toml")
 SHOWN_NAME = "TITLE AUTHOR n?m.toml"
 
 
 @pytest.fixture(scope="module")
-def issue_report(tmp_path_factory: pytest.TempPathFactory) -> tuple[Any, Path]:
-    """``spiralcap report`` as a process on a design file named :data:`DESIGN_NAME` whose title
-    is :data:`ISSUE_TITLE` (its author the same after ``AUTHOR``), with ``marker.txt`` beside it."""
+def issue_report(tmp_path_factory: pytest.TempPathFactory) -> tuple[tuple[int, str, str], Path]:
+    """``spiralcap report`` (in-process, ``spiralcap.cli.main``) run in a folder holding
+    ``marker.txt`` on a design file named :data:`DESIGN_NAME` whose title is
+    :data:`ISSUE_TITLE` (its author the same after ``AUTHOR``): (status, stdout, stderr), folder."""
     tmp = tmp_path_factory.mktemp("issue")
     (tmp / "marker.txt").write_text(MARKER, encoding="utf-8")
     (tmp / DESIGN_NAME).write_text(
@@ -165,21 +166,18 @@ def issue_report(tmp_path_factory: pytest.TempPathFactory) -> tuple[Any, Path]:
         f"author = {json.dumps('AUTHOR ' + ISSUE_TITLE)}\n",
         encoding="utf-8",
     )
-    proc = subprocess.run(
-        [*SPIRALCAP, "report", DESIGN_NAME, "-o", "r.html", "--pdf", "r.pdf", "--workers", "1"],
-        cwd=tmp,
-        capture_output=True,
-        timeout=600,
-    )
-    return proc, tmp
+    with pytest.MonkeyPatch.context() as mp:
+        mp.chdir(tmp)  # a relative read("marker.txt") would find the file
+        outcome = run(["report", DESIGN_NAME, "-o", "r.html", "--pdf", "r.pdf", "--workers", "1"])
+    return outcome, tmp
 
 
 @needs_pdftotext
 def test_report_command_takes_the_issue_cases_as_text(issue_report: tuple[Any, Path]) -> None:
-    proc, tmp = issue_report
+    (rc, _, err), tmp = issue_report
     title = ISSUE_TITLE
-    assert proc.returncode == 0, proc.stderr[-2000:]
-    assert b"Traceback" not in proc.stderr, proc.stderr[-2000:]
+    assert rc == 0, err[-2000:]
+    assert "Traceback" not in err, err[-2000:]
     text = _pdf_text((tmp / "r.pdf").read_bytes(), tmp)
     assert MARKER not in text, "no local file's content in the PDF"
     flat = _flat(text)
@@ -195,10 +193,9 @@ def test_bytes_that_are_not_utf8_never_crash_the_report(
     issue_report: tuple[Any, Path], tmp_path: Path
 ) -> None:
     """A file name that is not UTF-8 is shown with '?' (the report run above, whose design file
-    name holds the byte 0xff); a --set value that is not is refused (in-process: Python hands
-    ``main`` such an argv byte as this same surrogate escape, ``os.fsdecode``)."""
-    proc, tmp = issue_report
-    assert proc.returncode == 0 and b"Traceback" not in proc.stderr, proc.stderr[-2000:]
+    name holds the byte 0xff); a --set value that is not is refused."""
+    (rc, _, err), tmp = issue_report
+    assert rc == 0 and "Traceback" not in err, err[-2000:]
     page = (tmp / "r.html").read_text(encoding="utf-8")  # valid UTF-8
     assert _script_json(page)["design"]["source"] == SHOWN_NAME, "the byte shown as ?"
     rc, _, err = run(
