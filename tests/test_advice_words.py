@@ -7,7 +7,7 @@ import contextlib
 import io
 from pathlib import Path
 
-from test_report_conclusion import _context, _json, _text
+from test_report_conclusion import _context, _text
 
 from optimize import BindingLimit
 from spiralcap.cli import main
@@ -28,7 +28,7 @@ def test_a_bound_binds_only_when_the_solution_sits_on_it() -> None:
 
 
 def test_a_design_at_its_optimum_is_told_so_in_one_sentence() -> None:
-    opt = _json("optimize")
+    opt = _context()[1]["optimize"]  # spiralcap optimize --json, shared with the line below
     at = (
         f"capsule.spiral.helical_angle_deg={opt['helical_angle_deg']!r}",
         f"operation.frequency_hz={opt['frequency_hz']!r}",

@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import contextlib
+import copy
+import functools
 import io
 import json
 import math
@@ -26,15 +28,23 @@ def _json(*argv: str) -> dict[str, Any]:
     return json.loads(buf.getvalue())
 
 
-def _context(*sets: str) -> tuple[Context, dict[str, Any]]:
+@functools.cache
+def _payload(sets: tuple[str, ...]) -> dict[str, Any]:
+    """``spiralcap evaluate/optimize --json`` of the built-in design with ``sets`` and the
+    conclusion computed from them: once per set of overrides in this module (the plain built-in
+    design is read by five tests)."""
     args = [a for s in sets for a in ("--set", s)]
     ev, opt = _json("evaluate", *args), _json("optimize", *args)
     design = load_design(None, list(sets))
-    payload = {
+    return {
         "evaluate": ev,
         "optimize": opt,
         "conclusion": conclusion.conclusion_payload(ev, opt, design, None),
     }
+
+
+def _context(*sets: str) -> tuple[Context, dict[str, Any]]:
+    payload = copy.deepcopy(_payload(sets))  # each test its own copy: none sees another's edits
     return Context(None, payload), payload
 
 

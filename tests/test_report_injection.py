@@ -4,8 +4,8 @@ The PDF: every string reaches Typst through ``sys.inputs`` (a JSON array the tem
 title holding ``TITLE``, ``#read(...)`` or quotes compiles, shows literally and reads no file.
 The HTML: text is escaped for its context; the embedded JSON has ``<``, ``>`` and ``&`` as JSON
 escapes, so a spec-conformant HTML parser (html5lib) hands back the same JSON.
-Checked on small documents over arbitrary text (hypothesis), and through ``spiralcap report`` as a
-subprocess on the issue's cases.
+Checked on small documents over arbitrary text (hypothesis), and through ``spiralcap report``
+(in-process, ``spiralcap.cli.main``) on the issue's cases.
 """
 
 from __future__ import annotations
@@ -20,9 +20,9 @@ from typing import Any
 
 import html5lib
 import pytest
+from cli_outcome import run
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-from proc_util import SPIRALCAP
 
 from spiralcap.report.document import FrontMatter, Paragraph, Section
 from spiralcap.report.html import render_html
@@ -144,68 +144,63 @@ def test_any_title_author_and_file_name_is_data(
     assert _html_text(page, "h1") == title and _html_text(page, "title") == title
 
 
-def _report(tmp: Path, design_name: str, title: str) -> tuple[subprocess.CompletedProcess, Path]:
-    (tmp / "marker.txt").write_text(MARKER, encoding="utf-8")
-    design = tmp / design_name
-    design.write_text(
-        f"[report]\ntitle = {json.dumps(title)}\nauthor = {json.dumps('AUTHOR ' + title)}\n",
-        encoding="utf-8",
-    )
-    proc = subprocess.run(
-        [*SPIRALCAP, "report", design.name, "-o", "r.html", "--pdf", "r.pdf", "--workers", "1"],
-        cwd=tmp,
-        capture_output=True,
-        text=True,
-        timeout=600,
-    )
-    return proc, design
-
-
 #: The issue's two cases (a Typst ``#read`` breaking out of a string, and an HTML comment opening
 #: a script), in one title: one report run checks both.
 ISSUE_TITLE = 'TITLE #read("/etc/hostname") ")#read("marker.txt")#(" <!--<script>'
+#: The design's file name: the template's placeholder words, and a byte that is not UTF-8 (shown
+#: as '?'), as Python hands such an argv byte to ``main`` (``os.fsdecode``, a surrogate escape).
+#: One report run checks both.
+DESIGN_NAME = os.fsdecode(b"TITLE AUTHOR n\xffm.toml")
+SHOWN_NAME = "TITLE AUTHOR n?m.toml"
+
+
+@pytest.fixture(scope="module")
+def issue_report(tmp_path_factory: pytest.TempPathFactory) -> tuple[tuple[int, str, str], Path]:
+    """``spiralcap report`` (in-process, ``spiralcap.cli.main``) run in a folder holding
+    ``marker.txt`` on a design file named :data:`DESIGN_NAME` whose title is
+    :data:`ISSUE_TITLE` (its author the same after ``AUTHOR``): (status, stdout, stderr), folder."""
+    tmp = tmp_path_factory.mktemp("issue")
+    (tmp / "marker.txt").write_text(MARKER, encoding="utf-8")
+    (tmp / DESIGN_NAME).write_text(
+        f"[report]\ntitle = {json.dumps(ISSUE_TITLE)}\n"
+        f"author = {json.dumps('AUTHOR ' + ISSUE_TITLE)}\n",
+        encoding="utf-8",
+    )
+    with pytest.MonkeyPatch.context() as mp:
+        mp.chdir(tmp)  # a relative read("marker.txt") would find the file
+        outcome = run(["report", DESIGN_NAME, "-o", "r.html", "--pdf", "r.pdf", "--workers", "1"])
+    return outcome, tmp
 
 
 @needs_pdftotext
-def test_report_command_takes_the_issue_cases_as_text(tmp_path: Path) -> None:
-    design_name, title = "TITLE AUTHOR.toml", ISSUE_TITLE
-    proc, _ = _report(tmp_path, design_name, title)
-    assert proc.returncode == 0, proc.stderr
-    assert "Traceback" not in proc.stderr
-    text = _pdf_text((tmp_path / "r.pdf").read_bytes(), tmp_path)
+def test_report_command_takes_the_issue_cases_as_text(issue_report: tuple[Any, Path]) -> None:
+    (rc, _, err), tmp = issue_report
+    title = ISSUE_TITLE
+    assert rc == 0, err[-2000:]
+    assert "Traceback" not in err, err[-2000:]
+    text = _pdf_text((tmp / "r.pdf").read_bytes(), tmp)
     assert MARKER not in text, "no local file's content in the PDF"
     flat = _flat(text)
     assert _flat(title) in flat and _flat(f"AUTHOR {title}") in flat, "typeset literally"
-    assert design_name in text, "the file name shows as written"
-    page = (tmp_path / "r.html").read_text(encoding="utf-8")
+    assert SHOWN_NAME in text, "the file name shows as written (its non-UTF-8 byte as ?)"
+    page = (tmp / "r.html").read_text(encoding="utf-8")
     data = _script_json(page)
     assert data["design"]["values"]["report.title"] == title
-    assert data["design"]["source"] == design_name
     assert _html_text(page, "h1") == title
 
 
-@pytest.mark.slow
-def test_bytes_that_are_not_utf8_never_crash_the_report(tmp_path: Path) -> None:
-    """A file name that is not UTF-8 is shown with '?'; a --set value that is not is refused."""
-    name = os.fsdecode(b"n\xffm.toml")
-    (tmp_path / name).write_text('[report]\ntitle = "T"\n', encoding="utf-8")
-    ok = subprocess.run(
-        [*SPIRALCAP, "report", name, "-o", "r.html", "--pdf", "r.pdf", "--workers", "1"],
-        cwd=tmp_path,
-        capture_output=True,
-        timeout=600,
+def test_bytes_that_are_not_utf8_never_crash_the_report(
+    issue_report: tuple[Any, Path], tmp_path: Path
+) -> None:
+    """A file name that is not UTF-8 is shown with '?' (the report run above, whose design file
+    name holds the byte 0xff); a --set value that is not is refused."""
+    (rc, _, err), tmp = issue_report
+    assert rc == 0 and "Traceback" not in err, err[-2000:]
+    page = (tmp / "r.html").read_text(encoding="utf-8")  # valid UTF-8
+    assert _script_json(page)["design"]["source"] == SHOWN_NAME, "the byte shown as ?"
+    rc, _, err = run(
+        ["report", "--set", os.fsdecode(b"report.title='a\xffb'"), "-o", str(tmp_path / "s.html")]
     )
-    assert ok.returncode == 0 and b"Traceback" not in ok.stderr, ok.stderr[-2000:]
-    page = (tmp_path / "r.html").read_text(encoding="utf-8")  # valid UTF-8
-    assert _script_json(page)["design"]["source"] == "n?m.toml", "the byte shown as ?"
-    bad = subprocess.run(
-        [*SPIRALCAP, "report", "--set", os.fsdecode(b"report.title='a\xffb'"), "-o", "s.html"],
-        cwd=tmp_path,
-        capture_output=True,
-        text=True,
-        errors="replace",
-        timeout=600,
-    )
-    _, *rest = bad.stderr.strip().splitlines() or [""]
-    assert bad.returncode == 2 and not rest and "--set" in bad.stderr, bad.stderr
-    assert "UTF-8" in bad.stderr and not (tmp_path / "s.html").exists()
+    _, *rest = err.strip().splitlines() or [""]
+    assert rc == 2 and not rest and "--set" in err, err
+    assert "UTF-8" in err and not (tmp_path / "s.html").exists()

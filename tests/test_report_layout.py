@@ -4,7 +4,8 @@ The check reads each page's words and their boxes with poppler's ``pdftotext -bb
 (:mod:`tests.pdf_layout`) and fails on any pair whose boxes share more than a third of the
 smaller box: a squeezed table column (its header words over each other), a long design key
 over its value, two figure labels over each other. Each report is built once per module: the
-built-in design, a six-key least-power sizing (turns and wire of every pair freed) and a robust
+built-in design, a six-key least-power sizing (turns and wire of every pair freed; built once
+per process in ``_treports_shared``, shared with test_words.py) and a robust
 optimum of a design with fitted tissue parameters.
 """
 
@@ -14,6 +15,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
+from _treports_shared import sizing_report
 from pdf_layout import OVERLAP_SHARE, collisions, have_pdftotext, pages_words
 
 from spiralcap.design import load_design
@@ -25,16 +27,12 @@ ROOT = Path(__file__).resolve().parents[1]
 #: The built-in report with its appendix fits this many pages (16 before issues 36-37 added the
 #: tolerance intervals and the stray field with its figure).
 MAX_PAGES_BUILTIN = 17
-SIZING = [
-    *(f"optimize.free.coils.{ax}.turns=[100, 800]" for ax in "xyz"),
-    *(f"optimize.free.coils.{ax}.wire_diameter_mm=[0.8, 3.0]" for ax in "xyz"),
-    "optimize.objective=power",
-    "requirements.min_safety_factor=2",
-]
 
 
 def _report(tmp: Path, paths: list[Path] | None, overrides: list[str]) -> Path:
-    report = build_report(load_design(paths, overrides), pdf=True, workers=2)
+    # in this process: forking the analyses (--workers 2) costs ~0.7 s more CPU and writes the
+    # same report (test_report.py::test_report_in_one_process_is_the_report_on_two)
+    report = build_report(load_design(paths, overrides), pdf=True, workers=1)
     assert report.pdf is not None
     out = tmp / "report.pdf"
     out.write_bytes(report.pdf)
@@ -49,16 +47,11 @@ def builtin(builtin_report: Any) -> Path:
 
 @pytest.fixture(scope="module")
 def sizing(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    """The sizing report with its power sweep at two budgets (half and once the design's) and
-    no adaptive refinement: each point is a six-key sizing. Its own pages are the
-    sizing tables; the full power table is laid out in the built-in and robust reports."""
-    from spiralcap.curves import adaptive_power_sweep
-    from spiralcap.report.data import collect
-
-    with pytest.MonkeyPatch.context() as mp:
-        mp.setitem(adaptive_power_sweep.__kwdefaults__, "refinements", 0)
-        mp.setitem(collect.__kwdefaults__, "power_factors", (0.5, 1.0))
-        return _report(tmp_path_factory.mktemp("sizing"), None, SIZING)
+    """The six-key least-power sizing report's PDF (``_treports_shared.sizing_report``, whose
+    HTML test_words.py reads)."""
+    out = tmp_path_factory.mktemp("sizing") / "report.pdf"
+    out.write_bytes(sizing_report().pdf)
+    return out
 
 
 @pytest.fixture(scope="module")

@@ -10,6 +10,7 @@ import math
 import re
 
 import pytest
+from _treports_shared import sizing_report
 from cli_outcome import NO_TOLERANCES, run
 
 
@@ -107,24 +108,11 @@ def test_singular_counts_in_evaluate_and_with_unit():
     assert not re.search(r"(?<![\d.])1 turns\b", out), out
 
 
-def _report_text(tmp_path, *sets: str) -> str:
-    argv = ["report", "--quiet", "--workers", "1", "-o", str(tmp_path / "r.html")]
-    for s in sets:
-        argv += ["--set", s]
-    rc, _, err = run(argv)
-    assert rc == 0, err
-    t = (tmp_path / "r.html").read_text(encoding="utf-8")
-    t = re.sub(r"<script.*?</script>|<style.*?</style>", "", t, flags=re.S)
-    return re.sub(r"\s+", " ", html.unescape(re.sub(r"<[^>]+>", " ", t)))
-
-
-def test_power_report_names_power_in_watts_never_a_safety_factor_objective(tmp_path):
-    text = _report_text(
-        tmp_path,
-        "optimize.objective=power",
-        "requirements.min_safety_factor=2",
-        "requirements.min_wall_strain=0.005",  # the grip held low: the spiral turns bind
-    )
+def test_power_report_names_power_in_watts_never_a_safety_factor_objective():
+    """The least-power sizing report (``_treports_shared.SIZING``: objective power, safety
+    factor 2, the grip held low so the spiral turns bind; its PDF is test_report_layout.py's)."""
+    t = re.sub(r"<script.*?</script>|<style.*?</style>", "", sizing_report().html, flags=re.S)
+    text = re.sub(r"\s+", " ", html.unescape(re.sub(r"<[^>]+>", " ", t)))
     assert "IPOPT minimised the worst-heading copper power" in text
     assert re.search(r"Objective: the worst-heading copper power, minimised: [\d.]+ W", text)
     assert "safety factor per" not in text, "no gain in safety factor for a power design"
