@@ -230,10 +230,16 @@ def frame_signed_distance(frame: Frame, points: np.ndarray) -> np.ndarray:
         Signed distance, m (negative inside).
     """
     p = np.asarray(points, dtype=float)
+    return _frame_sd_xyz(frame, (p[..., 0], p[..., 1], p[..., 2]))
+
+
+def _frame_sd_xyz(frame: Frame, xyz: tuple[np.ndarray, ...]) -> np.ndarray:
+    """:func:`frame_signed_distance` of the points whose x, y, z are ``xyz`` (three arrays
+    that broadcast together), m."""
     u, v, out_u, out_v, in_u, in_v = frame.halves()
-    au, av = np.abs(p[..., u]), np.abs(p[..., v])
+    au, av = np.abs(xyz[u]), np.abs(xyz[v])
     s2 = np.maximum(_box_sdf_2d(au - out_u, av - out_v), -_box_sdf_2d(au - in_u, av - in_v))
-    qz = np.abs(p[..., frame.axis] - frame.centre_m) - 0.5 * frame.width_m
+    qz = np.abs(xyz[frame.axis] - frame.centre_m) - 0.5 * frame.width_m
     return _box_sdf_2d(s2, qz)
 
 
@@ -299,6 +305,14 @@ def _signed_distance(pack: Any, points: np.ndarray) -> np.ndarray:
     return ring_signed_distance(pack, points)
 
 
+def _signed_distance_xyz(pack: Any, xyz: tuple[np.ndarray, ...]) -> np.ndarray:
+    """:func:`_signed_distance` of the points whose x, y, z are ``xyz`` (three arrays that
+    broadcast together; no (..., 3) array is built), m."""
+    if isinstance(pack, Frame):
+        return _frame_sd_xyz(pack, xyz)
+    return _ring_sd_xyz(pack, xyz)
+
+
 def _cylindrical(points: np.ndarray, axis: int) -> tuple[np.ndarray, np.ndarray]:
     p = np.asarray(points, dtype=float)
     u, v = (k for k in range(3) if k != axis)
@@ -323,12 +337,25 @@ def ring_signed_distance(ring: Ring, points: np.ndarray) -> np.ndarray:
     ndarray, shape (...)
         Signed distance of each point, m.
     """
-    rho, z = _cylindrical(points, ring.axis)
-    qx = np.abs(rho - ring.radius_m) - 0.5 * ring.depth_m
-    qz = np.abs(z - ring.centre_m) - 0.5 * ring.width_m
-    outside = np.hypot(np.maximum(qx, 0.0), np.maximum(qz, 0.0))
-    inside = np.minimum(np.maximum(qx, qz), 0.0)
-    return outside + inside
+    p = np.asarray(points, dtype=float)
+    return _ring_sd_xyz(ring, (p[..., 0], p[..., 1], p[..., 2]))
+
+
+def _ring_sd_xyz(ring: Ring, xyz: tuple[np.ndarray, ...]) -> np.ndarray:
+    """:func:`ring_signed_distance` of the points whose x, y, z are ``xyz`` (three arrays that
+    broadcast together), m; the same operations, in place on the full-size temporaries."""
+    u, v = (k for k in range(3) if k != ring.axis)
+    qx = np.hypot(xyz[u], xyz[v])
+    qx -= ring.radius_m
+    np.abs(qx, out=qx)
+    qx -= 0.5 * ring.depth_m
+    qz = np.abs(xyz[ring.axis] - ring.centre_m) - 0.5 * ring.width_m
+    inside = np.maximum(qx, qz)
+    np.minimum(inside, 0.0, out=inside)
+    np.maximum(qx, 0.0, out=qx)
+    outside = np.hypot(qx, np.maximum(qz, 0.0))
+    outside += inside
+    return outside
 
 
 def _section_point(ring: Ring, s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -338,16 +365,12 @@ def _section_point(ring: Ring, s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     per = 2.0 * (h + w)
     s = np.mod(s, per)
     r0, z0 = ring.radius_m - 0.5 * h, ring.centre_m - 0.5 * w
-    rho = np.select(
-        [s < w, s < w + h, s < 2 * w + h],
-        [np.full_like(s, r0), r0 + (s - w), np.full_like(s, r0 + h)],
-        r0 + h - (s - 2 * w - h),
+    # the first face whose end lies past s (nested np.where: np.select's choice, fewer calls)
+    inner, top, outer = s < w, s < w + h, s < 2 * w + h
+    rho = np.where(
+        inner, r0, np.where(top, r0 + (s - w), np.where(outer, r0 + h, r0 + h - (s - 2 * w - h)))
     )
-    z = np.select(
-        [s < w, s < w + h, s < 2 * w + h],
-        [z0 + s, np.full_like(s, z0 + w), z0 + w - (s - w - h)],
-        np.full_like(s, z0),
-    )
+    z = np.where(inner, z0 + s, np.where(top, z0 + w, np.where(outer, z0 + w - (s - w - h), z0)))
     return rho, z
 
 
@@ -369,15 +392,21 @@ def ring_surface_points(ring: Ring, phi: np.ndarray, s: np.ndarray) -> np.ndarra
     ndarray, shape (..., 3)
         The surface points, m.
     """
-    rho, z = _section_point(ring, np.asarray(s, dtype=float))
-    phi = np.asarray(phi, dtype=float)
-    rho, z, phi = np.broadcast_arrays(rho, z, phi)
-    out = np.empty((*rho.shape, 3))
-    u, v = (k for k in range(3) if k != ring.axis)
-    out[..., u] = rho * np.cos(phi)
-    out[..., v] = rho * np.sin(phi)
-    out[..., ring.axis] = z
+    xyz = _surface_xyz(ring, np.asarray(phi, dtype=float), np.asarray(s, dtype=float))
+    out = np.empty((*np.broadcast_shapes(*(c.shape for c in xyz)), 3))
+    for k in range(3):
+        out[..., k] = xyz[k]
     return out
+
+
+def _surface_xyz(ring: Ring, phi: np.ndarray, s: np.ndarray) -> tuple[np.ndarray, ...]:
+    """x, y, z of :func:`ring_surface_points` as three arrays that broadcast together, m: the
+    section point on ``s``'s shape, cos and sin on ``phi``'s (no broadcast copies)."""
+    rho, z = _section_point(ring, s)
+    u, v = (k for k in range(3) if k != ring.axis)
+    xyz = [z, z, z]
+    xyz[u], xyz[v] = rho * np.cos(phi), rho * np.sin(phi)
+    return tuple(xyz)
 
 
 def ring_distance_m(a: Ring, b: Ring) -> float:
@@ -502,7 +531,7 @@ def _closest(a: Ring, b: Any) -> tuple[float, np.ndarray, Any]:
     dphi, ds = 2.0 * math.pi / n_phi, per / n_s
     phi = np.arange(n_phi) * dphi
     s = (np.arange(n_s) + 0.5) * ds
-    d = _signed_distance(b, ring_surface_points(a, phi[:, None], s[None, :]))
+    d = _signed_distance_xyz(b, _surface_xyz(a, phi[:, None], s[None, :]))
     best = float(d.min())
     # the signed distance is 1-Lipschitz in space: a cell whose grid value exceeds the best by
     # more than the cell's spatial size cannot hold the minimum
@@ -522,11 +551,12 @@ def _closest(a: Ring, b: Any) -> tuple[float, np.ndarray, Any]:
     for _ in range(_REFINE_STEPS):
         gp = c_phi[:, None] + h_phi * step  # (K, 9)
         gs = c_s[:, None] + h_s * step
-        dd = _signed_distance(b, ring_surface_points(a, gp[:, :, None], gs[:, None, :]))
-        k = np.argmin(dd.reshape(len(flat), -1), axis=1)
-        km, mm = np.unravel_index(k, (9, 9))
+        dd = _signed_distance_xyz(b, _surface_xyz(a, gp[:, :, None], gs[:, None, :]))
+        dd = dd.reshape(len(flat), -1)
+        k = dd.argmin(axis=1)
+        km, mm = np.divmod(k, 9)
         c_phi, c_s = gp[rows, km], gs[rows, mm]
-        values = dd[rows, km, mm]
+        values = dd[rows, k]
         top = int(np.argmin(values))
         if float(values[top]) < best:
             best, where = float(values[top]), (c_phi[top], c_s[top])
