@@ -313,6 +313,12 @@ def _worst_corner_pairs(model: DesignModel, alpha: Any, f: Any) -> list[tuple[An
     corners = ph.required_torque_corners_Nm(
         alpha, f, model.constants, model.tissues, model.requirements, model.tolerances
     )
+    return _worst_of_corners(corners)
+
+
+def _worst_of_corners(corners: list[list[tuple[Any, Any]]]) -> list[tuple[Any, Any]]:
+    """(resistive, thrust) per tissue set at the angle corner that needs more torque, of
+    :func:`optimize.physics.required_torque_corners_Nm`'s corners, numpy."""
     if len(corners) == 1:
         return corners[0]
     out = []
@@ -320,6 +326,21 @@ def _worst_corner_pairs(model: DesignModel, alpha: Any, f: Any) -> list[tuple[An
         steep = np.asarray(r1 + t1, dtype=float) > np.asarray(r0 + t0, dtype=float)
         out.append((np.where(steep, r1, r0), np.where(steep, t1, t0)))
     return out
+
+
+def _worst_total_at(model: DesignModel, alpha: float):
+    """``f -> worst_required(model, alpha, f).total_Nm`` (N·m at a frequency in Hz), the
+    torque's frequency-free parts at the angle worked out once
+    (:func:`optimize.physics.required_torque_corners_at`): for a search over frequency."""
+    torques = ph.required_torque_corners_at(
+        alpha, model.constants, model.tissues, model.requirements, model.tolerances
+    )
+
+    def total_Nm(f: Any) -> np.ndarray:
+        pairs = _worst_of_corners(torques(f))
+        return np.max(np.stack([np.asarray(r + t, dtype=float) for r, t in pairs]), axis=0)
+
+    return total_Nm
 
 
 @dataclass(frozen=True)
@@ -650,36 +671,61 @@ class FrequencyBound:
 FREQUENCY_GRID_POINTS = 400
 
 
+class _NaNMarginError(ArithmeticError):
+    """A margin came out NaN inside a search (there the grid's cell search decides)."""
+
+
 def _first_zero(margin, f_lo: float, f_hi: float) -> FrequencyBound:
-    """Where ``margin(f)`` first reaches zero on [f_lo, f_hi]: Brent's method in the first
-    cell of the geometric grid (:data:`FREQUENCY_GRID_POINTS`) whose upper point has a margin
-    <= 0 (NaN counts as positive).
+    """Where ``margin(f)`` first reaches zero on [f_lo, f_hi]: Brent's method in log f.
 
     Both margins searched do not rise with frequency: the field each limit allows stays or
     falls (the drive's impedance grows with f, the exposure limits fall), and the tissue's
-    torque grows (the relaxation integral ω η (1 - exp(-2π E/(ω η))) rises with ω). So that
-    cell is found by bisection over the grid's indices: 11 evaluations of the margin at one
-    frequency instead of the whole grid, the same cell (``tests/test_evaluate.py`` checks it
-    against the whole grid).
+    torque grows (the relaxation integral ω η (1 - exp(-2π E/(ω η))) rises with ω). So once
+    the margin is positive at ``f_lo`` and not positive at ``f_hi``, its one sign change is the
+    first zero, and Brent's method on log f over the whole range finds it (about 10
+    evaluations of the margin at one frequency). A NaN margin met on the way (NaN counts as
+    positive) hands the search to :func:`_first_zero_on_grid`, the first cell of the geometric
+    grid whose upper point is not positive (``tests/test_evaluate.py`` checks the answer
+    against the whole grid's first cell).
     """
     grid = np.geomspace(f_lo, f_hi, FREQUENCY_GRID_POINTS)
 
-    def reached(i: int) -> bool:
-        return bool(float(margin(np.asarray(grid[i]))) <= 0)
+    def value(f: float) -> float:
+        return float(margin(np.asarray(f)))
 
-    if reached(0):
+    if value(grid[0]) <= 0:
         return FrequencyBound(0.0, False)
-    lo, hi = 0, grid.size - 1
-    if not reached(hi):
+    if not value(grid[-1]) <= 0:  # NaN counts as positive
         return FrequencyBound(float(f_hi), True)
-    while hi - lo > 1:  # margin > 0 at lo, <= 0 at hi
-        mid = (lo + hi) // 2
-        lo, hi = (lo, mid) if reached(mid) else (mid, hi)
+
+    def in_log(u: float) -> float:
+        m = value(math.exp(u))
+        if math.isnan(m):
+            raise _NaNMarginError(u)
+        return m
+
     from scipy.optimize import brentq  # here: a command that never searches does not load it
 
-    root = brentq(
-        lambda f: float(margin(np.asarray(f))), grid[hi - 1], grid[hi], xtol=1e-12, rtol=1e-14
-    )
+    try:
+        # xtol 1e-12 in log f: 1e-12 of the frequency, reported to 1e-9
+        root = brentq(in_log, math.log(grid[0]), math.log(grid[-1]), xtol=1e-12, rtol=1e-14)
+    except _NaNMarginError:
+        return _first_zero_on_grid(value, grid)
+    return FrequencyBound(math.exp(root), False)
+
+
+def _first_zero_on_grid(value, grid: np.ndarray) -> FrequencyBound:
+    """:func:`_first_zero` where the margin is NaN somewhere: Brent's method in the first cell of
+    ``grid`` whose upper point has a margin <= 0 (NaN counts as positive), found by bisection
+    over the grid's indices (the margin does not rise with f); the ends are known to be
+    positive (low) and not positive (high)."""
+    lo, hi = 0, grid.size - 1
+    while hi - lo > 1:  # margin > 0 at lo, <= 0 at hi
+        mid = (lo + hi) // 2
+        lo, hi = (lo, mid) if value(grid[mid]) <= 0 else (mid, hi)
+    from scipy.optimize import brentq
+
+    root = brentq(value, grid[hi - 1], grid[hi], xtol=1e-12, rtol=1e-14)
     return FrequencyBound(float(root), False)
 
 
@@ -739,9 +785,10 @@ def step_out_frequency_hz(
     if field_T is None:
         field_T = float(operating_field_T(model, model.frequency_hz))
     avail = float(ph.available_torque_Nm(field_T, c))
+    required_Nm = _worst_total_at(model, helical_angle_rad)
 
     def margin(f):
-        return avail - worst_required(model, helical_angle_rad, f).total_Nm
+        return avail - required_Nm(f)
 
     return _first_zero(margin, f_lo, f_hi)
 
@@ -783,17 +830,15 @@ def max_frequency_hz(
     model = prepare(model)
     c = model.constants
     known = ph.frequency_free_caps_T(c, model.limits, model.ambient_temperature_C)
+    required_Nm = _worst_total_at(model, helical_angle_rad)
 
     def margin(f):
         field, _, _ = ph.field_capacity_T(f, c, model.limits, model.ambient_temperature_C, known)
-        return (
-            np.asarray(ph.available_torque_Nm(field, c))
-            - worst_required(model, helical_angle_rad, f).total_Nm
-        )
+        return np.asarray(ph.available_torque_Nm(field, c)) - required_Nm(f)
 
     bound = _first_zero(margin, f_lo, f_hi)
     at = bound.frequency_hz if bound.frequency_hz > 0 else f_lo
-    cap = ph.field_capacity(at, c, model.limits, model.ambient_temperature_C)
+    cap = ph.field_capacity(at, c, model.limits, model.ambient_temperature_C, known)
     return bound, cap.limited_by
 
 
