@@ -131,6 +131,7 @@ def test_failing_requirement_is_reported(capsys):
         ),  # session, forced air
         ("limits.power_W=150",),  # the power cap, flat in f
         ("tissue.scale=3",),  # stiff tissue: the margin crosses low
+        ("operation.field_amplitude_mT=5",),  # a fixed field: no bracket from the step-out
     ],
 )
 def test_frequency_bounds_are_the_whole_grids_first_cell(overrides):
@@ -147,6 +148,12 @@ def test_frequency_bounds_are_the_whole_grids_first_cell(overrides):
     ev = evaluate(m)
     c, amb = m.constants, m.ambient_temperature_C
     lo, hi = ev_mod.SEARCH_RANGE_HZ
+    whole, _ = ev_mod.max_frequency_hz(m, ev.helical_angle_rad)  # over the whole range
+    assert ev.max_frequency_hz == pytest.approx(whole.frequency_hz, rel=1e-11, abs=0), (
+        f"{overrides}: evaluate's search in [operating f, step-out] finds the whole range's "
+        "zero, 1e-11"
+    )
+    assert ev.max_frequency_beyond_search == whole.beyond_search, overrides
     grid = np.geomspace(lo, hi, ev_mod.FREQUENCY_GRID_POINTS)
     field = ph.field_capacity_T(grid, c, m.limits, amb)[0]
     drive = (
