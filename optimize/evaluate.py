@@ -313,6 +313,12 @@ def _worst_corner_pairs(model: DesignModel, alpha: Any, f: Any) -> list[tuple[An
     corners = ph.required_torque_corners_Nm(
         alpha, f, model.constants, model.tissues, model.requirements, model.tolerances
     )
+    return _worst_of_corners(corners)
+
+
+def _worst_of_corners(corners: list[list[tuple[Any, Any]]]) -> list[tuple[Any, Any]]:
+    """(resistive, thrust) per tissue set at the angle corner that needs more torque, of
+    :func:`optimize.physics.required_torque_corners_Nm`'s corners, numpy."""
     if len(corners) == 1:
         return corners[0]
     out = []
@@ -320,6 +326,21 @@ def _worst_corner_pairs(model: DesignModel, alpha: Any, f: Any) -> list[tuple[An
         steep = np.asarray(r1 + t1, dtype=float) > np.asarray(r0 + t0, dtype=float)
         out.append((np.where(steep, r1, r0), np.where(steep, t1, t0)))
     return out
+
+
+def _worst_total_at(model: DesignModel, alpha: float):
+    """``f -> worst_required(model, alpha, f).total_Nm`` (N·m at a frequency in Hz), the
+    torque's frequency-free parts at the angle worked out once
+    (:func:`optimize.physics.required_torque_corners_at`): for a search over frequency."""
+    torques = ph.required_torque_corners_at(
+        alpha, model.constants, model.tissues, model.requirements, model.tolerances
+    )
+
+    def total_Nm(f: Any) -> np.ndarray:
+        pairs = _worst_of_corners(torques(f))
+        return np.max(np.stack([np.asarray(r + t, dtype=float) for r, t in pairs]), axis=0)
+
+    return total_Nm
 
 
 @dataclass(frozen=True)
@@ -650,36 +671,81 @@ class FrequencyBound:
 FREQUENCY_GRID_POINTS = 400
 
 
-def _first_zero(margin, f_lo: float, f_hi: float) -> FrequencyBound:
-    """Where ``margin(f)`` first reaches zero on [f_lo, f_hi]: Brent's method in the first
-    cell of the geometric grid (:data:`FREQUENCY_GRID_POINTS`) whose upper point has a margin
-    <= 0 (NaN counts as positive).
+class _NaNMarginError(ArithmeticError):
+    """A margin came out NaN inside a search (there the grid's cell search decides)."""
+
+
+def _first_zero(
+    margin, f_lo: float, f_hi: float, inside: tuple[float, float] | None = None
+) -> FrequencyBound:
+    """Where ``margin(f)`` first reaches zero on [f_lo, f_hi]: Brent's method in log f.
 
     Both margins searched do not rise with frequency: the field each limit allows stays or
     falls (the drive's impedance grows with f, the exposure limits fall), and the tissue's
-    torque grows (the relaxation integral ω η (1 - exp(-2π E/(ω η))) rises with ω). So that
-    cell is found by bisection over the grid's indices: 11 evaluations of the margin at one
-    frequency instead of the whole grid, the same cell (``tests/test_evaluate.py`` checks it
-    against the whole grid).
+    torque grows (the relaxation integral ω η (1 - exp(-2π E/(ω η))) rises with ω). So once
+    the margin is positive at ``f_lo`` and not positive at ``f_hi``, its one sign change is the
+    first zero, and Brent's method on log f over the whole range finds it (about 14
+    evaluations of the margin at one frequency). ``inside``: a narrower (a, b) within the range
+    that probably brackets it; if the margin is positive at a and not at b, the search keeps
+    to it (the same zero, fewer evaluations), else it takes the whole range. A NaN margin met
+    on the way (NaN counts as positive) hands the search to :func:`_first_zero_on_grid`, the
+    first cell of the geometric grid whose upper point is not positive
+    (``tests/test_evaluate.py`` checks the answer against the whole grid's first cell).
     """
     grid = np.geomspace(f_lo, f_hi, FREQUENCY_GRID_POINTS)
 
-    def reached(i: int) -> bool:
-        return bool(float(margin(np.asarray(grid[i]))) <= 0)
+    def value(f: float) -> float:
+        return float(margin(np.asarray(f)))
 
-    if reached(0):
-        return FrequencyBound(0.0, False)
-    lo, hi = 0, grid.size - 1
-    if not reached(hi):
-        return FrequencyBound(float(f_hi), True)
-    while hi - lo > 1:  # margin > 0 at lo, <= 0 at hi
-        mid = (lo + hi) // 2
-        lo, hi = (lo, mid) if reached(mid) else (mid, hi)
+    bracket = _bracket(value, grid, inside)
+    if isinstance(bracket, FrequencyBound):
+        return bracket
+
+    def in_log(u: float) -> float:
+        m = value(math.exp(u))
+        if math.isnan(m):
+            raise _NaNMarginError(u)
+        return m
+
     from scipy.optimize import brentq  # here: a command that never searches does not load it
 
-    root = brentq(
-        lambda f: float(margin(np.asarray(f))), grid[hi - 1], grid[hi], xtol=1e-12, rtol=1e-14
-    )
+    try:
+        # xtol 1e-12 in log f: 1e-12 of the frequency, reported to 1e-9
+        a, b = math.log(bracket[0]), math.log(bracket[1])
+        root = brentq(in_log, a, b, xtol=1e-12, rtol=1e-14)
+    except _NaNMarginError:
+        return _first_zero_on_grid(value, grid)
+    return FrequencyBound(math.exp(root), False)
+
+
+def _bracket(
+    value, grid: np.ndarray, inside: tuple[float, float] | None
+) -> tuple[float, float] | FrequencyBound:
+    """(a, b), Hz, with ``value`` positive at a and not at b: ``inside`` if it is one and lies
+    in the grid's range, else the grid's ends; or the bound itself where the margin is not
+    positive at the low end (0) or is at the high end (the range's top, beyond the search)."""
+    if inside is not None and grid[0] <= inside[0] < inside[1] <= grid[-1]:
+        if value(inside[0]) > 0 and value(inside[1]) <= 0:
+            return float(inside[0]), float(inside[1])
+    if value(grid[0]) <= 0:
+        return FrequencyBound(0.0, False)
+    if not value(grid[-1]) <= 0:  # NaN counts as positive
+        return FrequencyBound(float(grid[-1]), True)
+    return float(grid[0]), float(grid[-1])
+
+
+def _first_zero_on_grid(value, grid: np.ndarray) -> FrequencyBound:
+    """:func:`_first_zero` where the margin is NaN somewhere: Brent's method in the first cell of
+    ``grid`` whose upper point has a margin <= 0 (NaN counts as positive), found by bisection
+    over the grid's indices (the margin does not rise with f); the ends are known to be
+    positive (low) and not positive (high)."""
+    lo, hi = 0, grid.size - 1
+    while hi - lo > 1:  # margin > 0 at lo, <= 0 at hi
+        mid = (lo + hi) // 2
+        lo, hi = (lo, mid) if value(grid[mid]) <= 0 else (mid, hi)
+    from scipy.optimize import brentq
+
+    root = brentq(value, grid[hi - 1], grid[hi], xtol=1e-12, rtol=1e-14)
     return FrequencyBound(float(root), False)
 
 
@@ -739,9 +805,10 @@ def step_out_frequency_hz(
     if field_T is None:
         field_T = float(operating_field_T(model, model.frequency_hz))
     avail = float(ph.available_torque_Nm(field_T, c))
+    required_Nm = _worst_total_at(model, helical_angle_rad)
 
     def margin(f):
-        return avail - worst_required(model, helical_angle_rad, f).total_Nm
+        return avail - required_Nm(f)
 
     return _first_zero(margin, f_lo, f_hi)
 
@@ -780,20 +847,29 @@ def max_frequency_hz(
     limited_by : str
         The limit that sets the field there.
     """
-    model = prepare(model)
+    return _max_frequency(prepare(model), helical_angle_rad, f_lo, f_hi)
+
+
+def _max_frequency(
+    model: DesignModel,
+    alpha: float,
+    f_lo: float,
+    f_hi: float,
+    inside: tuple[float, float] | None = None,
+) -> tuple[FrequencyBound, str]:
+    """:func:`max_frequency_hz` of a prepared model, the search kept to ``inside`` where that
+    brackets it (:func:`_first_zero`)."""
     c = model.constants
     known = ph.frequency_free_caps_T(c, model.limits, model.ambient_temperature_C)
+    required_Nm = _worst_total_at(model, alpha)
 
     def margin(f):
         field, _, _ = ph.field_capacity_T(f, c, model.limits, model.ambient_temperature_C, known)
-        return (
-            np.asarray(ph.available_torque_Nm(field, c))
-            - worst_required(model, helical_angle_rad, f).total_Nm
-        )
+        return np.asarray(ph.available_torque_Nm(field, c)) - required_Nm(f)
 
-    bound = _first_zero(margin, f_lo, f_hi)
+    bound = _first_zero(margin, f_lo, f_hi, inside)
     at = bound.frequency_hz if bound.frequency_hz > 0 else f_lo
-    cap = ph.field_capacity(at, c, model.limits, model.ambient_temperature_C)
+    cap = ph.field_capacity(at, c, model.limits, model.ambient_temperature_C, known)
     return bound, cap.limited_by
 
 
@@ -868,7 +944,7 @@ def evaluate(
     lag = float(np.arcsin(min(max(required / avail, 0.0), 1.0))) if avail > 0 else np.pi / 2
     # no contact: no margin, so no frequency where it reaches zero (NaN; the searches skipped)
     step_out, fmax, fmax_by = _frequency_bounds(
-        model, alpha, field, frequency_bounds and min(strains) > 0
+        model, alpha, field, frequency_bounds and min(strains) > 0, _capped_at(binding, f)
     )
     return Evaluation(
         helical_angle_rad=alpha,
@@ -965,16 +1041,39 @@ def _operating_field(model: DesignModel, f: float, field_T: float | None) -> tup
     return cap.field_T, cap.limited_by
 
 
+def _capped_at(binding: str, f: float) -> float | None:
+    """The operating frequency ``f``, Hz, if the operating field is the largest the limits
+    allow there (``binding`` names a limit), else None (a fixed field)."""
+    return None if binding == "fixed" else f
+
+
 def _frequency_bounds(
-    model: DesignModel, alpha: float, field: float, search: bool
+    model: DesignModel,
+    alpha: float,
+    field: float,
+    search: bool,
+    capped_at_hz: float | None = None,
 ) -> tuple[FrequencyBound, FrequencyBound, str]:
     """(step-out at the field, the drive's highest frequency, what limits it); NaN and ""
-    without the searches."""
+    without the searches.
+
+    ``capped_at_hz``: the frequency f0 at which ``field`` is the largest the limits allow.
+    Then the highest frequency f* lies in [f0, step-out] where the margin at f0 is positive:
+    above f0 the allowed field is at most ``field`` (the caps do not rise with f), so the
+    torque the tissue needs at f* is at most the magnet's torque at ``field``, met at the
+    step-out (the tissue torque rises with f). The search tries that bracket first, its top
+    widened by 0.1 % (a field that does not fall puts f* at the step-out itself).
+    """
     if not search:
         nan = FrequencyBound(float("nan"), False)
         return nan, nan, ""
-    fmax, fmax_by = max_frequency_hz(model, alpha)
-    return step_out_frequency_hz(model, alpha, field), fmax, fmax_by
+    lo_hz, hi_hz = SEARCH_RANGE_HZ
+    step_out = step_out_frequency_hz(model, alpha, field)
+    inside = None
+    if capped_at_hz is not None and not step_out.beyond_search:
+        inside = (capped_at_hz, min(step_out.frequency_hz * 1.001, hi_hz))
+    fmax, fmax_by = _max_frequency(model, alpha, lo_hz, hi_hz, inside)
+    return step_out, fmax, fmax_by
 
 
 def strain_checks(model: DesignModel, strains: tuple[float, ...]) -> list[Check]:

@@ -14,6 +14,7 @@ end of a session, ``power`` None) is inverted by bisection on the same expressio
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
@@ -826,7 +827,11 @@ class FieldCapacity:
 
 
 def field_capacity(
-    frequency_hz: float, c: Constants, limits: Limits, ambient_temperature_C: float
+    frequency_hz: float,
+    c: Constants,
+    limits: Limits,
+    ambient_temperature_C: float,
+    known: dict[str, Any] | None = None,
 ) -> FieldCapacity:
     """:func:`field_capacity_T` at one frequency with the binding limit named (computed once).
 
@@ -840,13 +845,15 @@ def field_capacity(
         The limits, SI.
     ambient_temperature_C : float
         Ambient air, °C.
+    known : dict of str to ndarray, optional
+        Caps already solved by limit name, T (:func:`frequency_free_caps_T`).
 
     Returns
     -------
     FieldCapacity
         The field (T) and the binding limit.
     """
-    best, caps, terms = field_capacity_T(frequency_hz, c, limits, ambient_temperature_C)
+    best, caps, terms = field_capacity_T(frequency_hz, c, limits, ambient_temperature_C, known)
     values = [float(x) for x in caps]
     i = int(np.argmin(values))
     return FieldCapacity(
@@ -924,18 +931,57 @@ def required_torques_Nm(
     list of (float, float)
         (resistive, thrust) torque per tissue set, N·m (floats, arrays or CasADi).
     """
+    return required_torques_at(helical_angle_rad, c, tissues, req)(frequency_hz)
+
+
+def required_torques_at(
+    helical_angle_rad: bk.Scalar, c: Constants, tissues: tuple, req: Requirements
+) -> Callable[[bk.Scalar], list[tuple[bk.Scalar, bk.Scalar]]]:
+    """:func:`required_torques_Nm` as a function of the frequency alone, its frequency-free
+    parts (the contact geometry, D', the weight's friction, the thrust) worked out once: for a
+    search over frequency at one angle.
+
+    Parameters
+    ----------
+    helical_angle_rad : float, array or CasADi
+        Helical angle, rad.
+    c : Constants
+        The design's constants.
+    tissues : tuple of TissueParameters
+        The tissue sets.
+    req : Requirements
+        The requirements (axial load).
+
+    Returns
+    -------
+    callable
+        ``at(frequency_hz)``: (resistive, thrust) torque per tissue set, N·m, at a frequency in
+        Hz (float, array or CasADi), the same numbers as :func:`required_torques_Nm`.
+    """
     geometry = contact_geometry(c)
     d_prime = tm.capsule_d_prime_m(helical_angle_rad, geometry)  # the same for every set
-    out = []
-    for tissue in tissues:
-        res = tm.resistive_torque_Nm(
-            helical_angle_rad, frequency_hz, tissue, geometry, d_prime
-        ) + weight_friction_Nm(c, tissue)
-        thr = cap.thrust_torque_Nm(
-            req.axial_load_N, c.helix_diameter_m, helical_angle_rad, tissue.friction_coefficient
+    fixed = [
+        (
+            tissue,
+            weight_friction_Nm(c, tissue),
+            cap.thrust_torque_Nm(
+                req.axial_load_N, c.helix_diameter_m, helical_angle_rad, tissue.friction_coefficient
+            ),
         )
-        out.append((res, thr))
-    return out
+        for tissue in tissues
+    ]
+
+    def at(frequency_hz: bk.Scalar) -> list[tuple[bk.Scalar, bk.Scalar]]:
+        return [
+            (
+                tm.resistive_torque_Nm(helical_angle_rad, frequency_hz, tissue, geometry, d_prime)
+                + friction,
+                thrust,
+            )
+            for tissue, friction, thrust in fixed
+        ]
+
+    return at
 
 
 def weight_friction_Nm(c: Constants, tissue: Any) -> Any:
@@ -1146,13 +1192,47 @@ def required_torque_corners_Nm(
     list of list of (float, float)
         Per angle corner, (resistive, thrust) per tissue set, N·m.
     """
+    return required_torque_corners_at(helical_angle_rad, c, tissues, req, tol)(frequency_hz)
+
+
+def required_torque_corners_at(
+    helical_angle_rad: Any, c: Constants, tissues: tuple, req: Requirements, tol: Any
+) -> Callable[[Any], list[list[tuple[Any, Any]]]]:
+    """:func:`required_torque_corners_Nm` as a function of the frequency alone, the corners
+    and each one's frequency-free parts (:func:`required_torques_at`) worked out once.
+
+    Parameters
+    ----------
+    helical_angle_rad : float, array or CasADi
+        Helical angle, rad.
+    c : Constants
+        The design's constants.
+    tissues : tuple of TissueParameters
+        The tissue sets.
+    req : Requirements
+        The requirements (axial load).
+    tol : Tolerances or None
+        The tolerance box (SI).
+
+    Returns
+    -------
+    callable
+        ``at(frequency_hz)``: per angle corner, (resistive, thrust) per tissue set, N·m, at a
+        frequency in Hz, the same numbers as :func:`required_torque_corners_Nm`.
+    """
     cw, ts = wire_corner(c, tol, +1), lumen_corner(tissues, tol, -1)
     if _tolerance(tol, "helical_angle_rad") == 0.0:
-        return [required_torques_Nm(helical_angle_rad, frequency_hz, cw, ts, req)]
-    return [
-        required_torques_Nm(angle_corner(helical_angle_rad, tol, s), frequency_hz, cw, ts, req)
-        for s in (-1, +1)
-    ]
+        corners = [required_torques_at(helical_angle_rad, cw, ts, req)]
+    else:
+        corners = [
+            required_torques_at(angle_corner(helical_angle_rad, tol, s), cw, ts, req)
+            for s in (-1, +1)
+        ]
+
+    def at(frequency_hz: Any) -> list[list[tuple[Any, Any]]]:
+        return [corner(frequency_hz) for corner in corners]
+
+    return at
 
 
 def worst_required_torques_Nm(

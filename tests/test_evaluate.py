@@ -131,12 +131,13 @@ def test_failing_requirement_is_reported(capsys):
         ),  # session, forced air
         ("limits.power_W=150",),  # the power cap, flat in f
         ("tissue.scale=3",),  # stiff tissue: the margin crosses low
+        ("operation.field_amplitude_mT=5",),  # a fixed field: no bracket from the step-out
     ],
 )
 def test_frequency_bounds_are_the_whole_grids_first_cell(overrides):
-    """The bisection over the grid's indices (optimize.evaluate._first_zero) lands in the same
+    """The search (Brent's method in log f, optimize.evaluate._first_zero) lands in the same
     cell as scanning the whole 400-point grid, and the margin on that grid does not rise with f
-    (the premise of the bisection: the field caps stay or fall, the tissue torque rises)."""
+    (the premise of the search: the field caps stay or fall, the tissue torque rises)."""
     import importlib
 
     from optimize import physics as ph
@@ -147,6 +148,12 @@ def test_frequency_bounds_are_the_whole_grids_first_cell(overrides):
     ev = evaluate(m)
     c, amb = m.constants, m.ambient_temperature_C
     lo, hi = ev_mod.SEARCH_RANGE_HZ
+    whole, _ = ev_mod.max_frequency_hz(m, ev.helical_angle_rad)  # over the whole range
+    assert ev.max_frequency_hz == pytest.approx(whole.frequency_hz, rel=1e-11, abs=0), (
+        f"{overrides}: evaluate's search in [operating f, step-out] finds the whole range's "
+        "zero, 1e-11"
+    )
+    assert ev.max_frequency_beyond_search == whole.beyond_search, overrides
     grid = np.geomspace(lo, hi, ev_mod.FREQUENCY_GRID_POINTS)
     field = ph.field_capacity_T(grid, c, m.limits, amb)[0]
     drive = (
@@ -166,3 +173,34 @@ def test_frequency_bounds_are_the_whole_grids_first_cell(overrides):
         f"{overrides}: max frequency {ev.max_frequency_hz} Hz in the whole grid's first cell "
         f"[{grid[i - 1]}, {grid[i]}] Hz"
     )
+
+
+def test_first_zero_against_closed_form_roots():
+    """optimize.evaluate._first_zero on margins with known roots: ln(5/f) (Brent in log f over
+    the whole range) and a margin NaN below 1 Hz, then 2 - f (NaN counts as positive: the grid
+    cell search takes over), both to 1e-12 of the root; the ends: negative from the start
+    gives 0, positive (or NaN) at the top gives the bound."""
+    import importlib
+
+    ev_mod = importlib.import_module("optimize.evaluate")
+    lo, hi = ev_mod.SEARCH_RANGE_HZ
+
+    def nan_then_line(f):
+        return math.nan if float(f) < 1.0 else 2.0 - float(f)
+
+    cases = [
+        (lambda f: math.log(5.0 / float(f)), 5.0),
+        (nan_then_line, 2.0),
+    ]
+    for margin, root in cases:
+        bound = ev_mod._first_zero(margin, lo, hi)
+        assert not bound.beyond_search
+        assert bound.frequency_hz == pytest.approx(root, rel=1e-12), (
+            f"closed-form root {root} Hz, 1e-12"
+        )
+    assert ev_mod._first_zero(lambda f: -1.0, lo, hi).frequency_hz == 0.0, "negative from the start"
+    for top in (1.0, math.nan):
+        bound = ev_mod._first_zero(lambda f, top=top: top, lo, hi)
+        assert bound.beyond_search and bound.frequency_hz == hi, (
+            f"margin {top} at the top: the bound"
+        )
