@@ -10,11 +10,10 @@ lines and lines starting with ``#`` are skipped.
 from __future__ import annotations
 
 import csv
-import math
 from pathlib import Path
 from typing import Any
 
-from spiralcap.core.errors import DataError
+from spiralcap.core.errors import DataError, csv_number
 
 __all__ = ["COLUMNS", "read_survey_csv"]
 
@@ -86,14 +85,7 @@ def _check_header(header: list[str], where: str) -> None:
 
 
 def _cell(raw: str, col: str, where: str) -> float:
-    if raw == "":
-        raise DataError(f"{where}, column {col}: empty cell")
-    try:
-        value = float(raw)
-    except ValueError:
-        raise DataError(f"{where}, column {col}: {raw[:60]!r} is not a number") from None
-    if not math.isfinite(value):
-        raise DataError(f"{where}, column {col}: {raw!r} is not a finite number")
+    value = csv_number(raw, col, where)
     if col.endswith("_m") and abs(value) > MAX_POSITION_M:
         raise DataError(
             f"{where}, column {col}: {raw} m; at most {MAX_POSITION_M:g} m from the centre (a "

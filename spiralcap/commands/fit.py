@@ -45,7 +45,7 @@ from spiralcap.commands._common import (
     print_json,
 )
 from spiralcap.core.constants import from_unit, to_unit
-from spiralcap.core.errors import DataError
+from spiralcap.core.errors import DataError, csv_number
 
 REQUIRED = ("frequency_hz", "torque_mNm")
 #: Torques a bench can measure on a capsule, mN·m: 1 nN·m to 100 N·m (beyond: a unit mistake).
@@ -372,14 +372,7 @@ def _split(line: str, where: str) -> list[str]:
 
 
 def _cell(raw: str, col: str, where: str) -> float:
-    if raw == "":
-        raise DataError(f"{where}, column {col}: empty cell")
-    try:
-        value = float(raw)
-    except ValueError:
-        raise DataError(f"{where}, column {col}: {_short(raw)!r} is not a number") from None
-    if not math.isfinite(value):
-        raise DataError(f"{where}, column {col}: {raw!r} is not a finite number")
+    value = csv_number(raw, col, where)
     if col == "frequency_hz" and value < FREQUENCY_MIN_hz:
         raise DataError(
             f"{where}, column {col}: {_short(raw)} Hz; at least {FREQUENCY_MIN_hz:g} Hz "

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 
@@ -66,6 +67,43 @@ def short_text(text: str, limit: int = 120) -> str:
 
 class DataError(SpiralcapError, ValueError):
     """A data file (CSV of bench measurements, design TOML) cannot be read as it stands."""
+
+
+def csv_number(raw: str, column: str, where: str) -> float:
+    """One CSV cell as a finite float, else a DataError naming the line and column (an empty
+    cell, a cell that is not a number, an infinity or NaN); the cell's own range is the
+    caller's to check.
+
+    Parameters
+    ----------
+    raw : str
+        The cell as read.
+    column : str
+        Its column's name.
+    where : str
+        The file and line, for the message (``bench.csv, line 3``).
+
+    Returns
+    -------
+    float
+        The value, in the unit the column's name carries.
+
+    Examples
+    --------
+    >>> csv_number("0.5", "frequency_hz", "b.csv, line 2")
+    0.5
+    """
+    if raw == "":
+        raise DataError(f"{where}, column {column}: empty cell")
+    try:
+        value = float(raw)
+    except ValueError:
+        raise DataError(
+            f"{where}, column {column}: {_short_repr(raw, 62)} is not a number"
+        ) from None
+    if not math.isfinite(value):
+        raise DataError(f"{where}, column {column}: {raw!r} is not a finite number")
+    return value
 
 
 def check_positive(key: str, value: Any, *, allow_zero: bool = False) -> float:
