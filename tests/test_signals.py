@@ -72,29 +72,54 @@ def _start(argv: list[str], cwd: Path) -> subprocess.Popen[str]:
     )
 
 
+def _ipopt_loaded(pid: int) -> bool:
+    """Whether process ``pid`` has mapped CasADi's IPOPT plugin: it builds its first solver,
+    and its solves follow (the plugin is loaded at the first ``nlpsol``)."""
+    try:
+        return "ipopt" in Path(f"/proc/{pid}/maps").read_text()
+    except OSError:
+        return False
+
+
+def _ready(proc: subprocess.Popen[str], workers: int, solving: bool) -> bool:
+    """``workers`` children of ``proc`` run (``solving``: and have each loaded IPOPT)."""
+    children = [p for p in _group(proc.pid) if p != proc.pid]
+    if solving:
+        children = [p for p in children if _ipopt_loaded(p)]
+    return len(children) >= workers
+
+
 def _stop_and_check(proc: subprocess.Popen[str], sig: int, workers: int, after_s: float) -> str:
-    """Once ``workers`` children run and ``after_s`` seconds have passed since the start, send
-    ``sig`` to the parent; the group must be empty within 20 s."""
+    """Once ``workers`` children run, wait ``after_s`` seconds more and send ``sig`` to the
+    parent; the group must be empty within 20 s."""
     return _stop_all_and_check([(proc, sig, workers, after_s)])[0]
 
 
-def _stop_all_and_check(jobs: list[tuple[subprocess.Popen[str], int, int, float]]) -> list[str]:
+def _stop_all_and_check(
+    jobs: list[tuple[subprocess.Popen[str], int, int, float]], solving: bool = False
+) -> list[str]:
     """:func:`_stop_and_check` for several commands running at once, each job ``(proc, sig,
-    workers, after_s)``: each is signalled once its workers run and ``after_s`` seconds have
-    passed since this call; every group must be empty within 20 s of its signal. The stderr of
-    each, in order."""
+    workers, after_s)``: each is signalled ``after_s`` seconds after its workers run
+    (``solving``: after each has loaded IPOPT, so they are in their tasks); every group must be
+    empty within 20 s of its signal. The stderr of each, in order."""
     t0 = time.monotonic()
+    ready: dict[int, float] = {}  # job -> when its workers were first seen ready
+    sent: set[int] = set()
     try:
-        for proc, sig, workers, after_s in sorted(jobs, key=lambda j: j[3]):
-            started = _poll(
-                lambda p=proc, w=workers: len(_group(p.pid)) >= 1 + w or p.poll() is not None, 120
-            )
-            assert started and proc.poll() is None, "the workers started and the command still runs"
-            time.sleep(
-                max(0.0, after_s - (time.monotonic() - t0))
-            )  # the workers are in their tasks
-            assert proc.poll() is None, "the command still runs when signalled"
-            os.kill(proc.pid, sig)
+        while len(sent) < len(jobs):
+            assert time.monotonic() - t0 < 120.0, "the workers started within 120 s"
+            now = time.monotonic()
+            for i, (proc, sig, workers, after_s) in enumerate(jobs):
+                if i in sent:
+                    continue
+                assert proc.poll() is None, "the command still runs until it is signalled"
+                if i not in ready:
+                    if _ready(proc, workers, solving):
+                        ready[i] = now
+                elif now - ready[i] >= after_s:
+                    os.kill(proc.pid, sig)
+                    sent.add(i)
+            time.sleep(0.05)
         for proc, sig, _, _ in jobs:
             emptied = _poll(lambda p=proc: p.poll() is not None and not _group(p.pid), 20)
             assert emptied, (
@@ -112,14 +137,15 @@ def _stop_all_and_check(jobs: list[tuple[subprocess.Popen[str], int, int, float]
 def test_a_signalled_sweep_stops_its_workers(tmp_path: Path) -> None:
     """SIGTERM, SIGHUP, SIGINT to a sweep on two workers, and SIGKILL (which cannot be handled:
     the workers end through PR_SET_PDEATHSIG), four sweeps running at once, each in its own
-    folder: no process left, exit 128 + signal number with one line saying so, no output."""
+    folder, each signalled 0.5 s after both its workers have loaded IPOPT (they are in their
+    solves): no process left, exit 128 + signal number with one line saying so, no output."""
     sigs = [signal.SIGTERM, signal.SIGHUP, signal.SIGINT, signal.SIGKILL]
     folders = [tmp_path / signal.Signals(sig).name for sig in sigs]
     jobs = []
     for sig, folder in zip(sigs, folders):
         folder.mkdir()
-        jobs.append((_start([*SPIRALCAP, *SWEEP], folder), sig, 2, 4.0))
-    errs = _stop_all_and_check(jobs)
+        jobs.append((_start([*SPIRALCAP, *SWEEP], folder), sig, 2, 0.5))
+    errs = _stop_all_and_check(jobs, solving=True)
     for (proc, sig, _, _), err, folder in zip(jobs, errs, folders):
         name = signal.Signals(sig).name
         assert list(folder.iterdir()) == [], f"{name}: no output, not even a partial one"
@@ -150,14 +176,14 @@ def test_pool_workers_die_with_the_command(tmp_path: Path, sig: int) -> None:
         """
     )
     proc = _start([sys.executable, "-c", script], tmp_path)
-    err = _stop_and_check(proc, sig, workers=3, after_s=1.0)
+    err = _stop_and_check(proc, sig, workers=3, after_s=0.3)
     if sig == signal.SIGTERM:
         assert err.strip() == f"stopped {int(sig)}", err
 
 
 #: A re-optimising sweep without --workers: every solve runs in the command's own process, so
-#: a signal mostly lands inside IPOPT. (A 40-point sweep ends in about 1.6 s, before 3 s: the
-#: grid is 40 x 40 points so that the command still runs 9 s in.)
+#: a signal mostly lands inside IPOPT. (The grid is 40 x 40 points so that the command still
+#: runs well after the last signal.)
 LONG_SWEEP = [
     "sweep",
     "--optimize",
@@ -172,24 +198,32 @@ LONG_SWEEP = [
 
 @pytest.mark.slow
 def test_sigterm_inside_ipopt_ends_the_sweep_within_5_s(tmp_path: Path) -> None:
-    """SIGTERM at 3, 6 and 9 s (three sweeps running at once, each in its own folder) reaches a
-    solve in IPOPT (CasADi turns it into a status the NLP layer raises as
+    """SIGTERM 0.5, 1.25 and 2 s after each sweep has loaded IPOPT (three sweeps running at
+    once, each in its own folder: a signal early in the solves and later ones) reaches a solve
+    in IPOPT (CasADi turns it into a status the NLP layer raises as
     :class:`optimize.nlp.SolveInterrupted`): each command ends within 5 s, exit 128 + 15, says
-    so on its last stderr line, writes nothing and leaves no process."""
-    afters = [3.0, 6.0, 9.0]
-    folders = [tmp_path / f"at_{int(a)}s" for a in afters]
+    so on its last stderr line, writes nothing and leaves no process. The schedule starts when
+    the solver exists, not at a fixed time, so a slow runner still signals inside the solves."""
+    afters = [0.5, 1.25, 2.0]
+    folders = [tmp_path / f"at_{a}s" for a in afters]
     for folder in folders:
         folder.mkdir()
     procs = [_start([*SPIRALCAP, *LONG_SWEEP], folder) for folder in folders]
     t0 = time.monotonic()
+    ready: dict[int, float] = {}  # job -> when IPOPT was first seen loaded
     sent: dict[int, float] = {}  # job -> when its SIGTERM went
     ended: dict[int, float] = {}  # job -> when its group was first seen empty
     try:
-        while len(ended) < len(procs) and time.monotonic() - t0 < afters[-1] + 10.0:
+        while len(ended) < len(procs) and time.monotonic() - t0 < 120.0:
             now = time.monotonic()
             for i, (proc, after_s) in enumerate(zip(procs, afters)):
-                if i not in sent and now - t0 >= after_s:
-                    assert proc.poll() is None, f"the sweep still runs {after_s} s in"
+                if i not in ready:
+                    if _ipopt_loaded(proc.pid):
+                        ready[i] = now
+                    else:
+                        assert proc.poll() is None, f"the sweep ended before IPOPT ({i})"
+                elif i not in sent and now - ready[i] >= after_s:
+                    assert proc.poll() is None, f"the sweep still runs {after_s} s into IPOPT"
                     os.kill(proc.pid, signal.SIGTERM)
                     sent[i] = time.monotonic()
                 elif i in sent and i not in ended and proc.poll() is not None:
@@ -204,7 +238,7 @@ def test_sigterm_inside_ipopt_ends_the_sweep_within_5_s(tmp_path: Path) -> None:
                 os.kill(pid, signal.SIGKILL)
         errs = [proc.communicate(timeout=30)[1] for proc in procs]  # reaps, closes the pipes
     for i, (proc, after_s, folder, err) in enumerate(zip(procs, afters, folders, errs)):
-        assert i in sent and sent[i] - t0 >= after_s, f"SIGTERM sent {after_s} s in"
+        assert i in sent and sent[i] - ready[i] >= after_s, f"SIGTERM sent {after_s} s into IPOPT"
         took = ended.get(i, float("inf")) - sent[i]
         assert took <= 5.0, f"still running 5 s after SIGTERM at {after_s} s ({took:.1f} s)"
         assert proc.returncode == 128 + signal.SIGTERM, f"{after_s} s: exit 143 ({err})"
