@@ -5,19 +5,18 @@ it, and a report that names its objective in its own unit."""
 from __future__ import annotations
 
 import html
-import json
 import math
 import re
 
 import pytest
+from _td_cli import cli_json
 from _treports_shared import sizing_report
 from cli_outcome import NO_TOLERANCES, run
 
 
 def _json(*argv: str) -> dict:
-    rc, out, err = run([*argv, "--json"])
-    assert rc == 0, err
-    return json.loads(out)
+    """``spiralcap *argv --json``, exit 0 (``_td_cli``: each run once in this process)."""
+    return cli_json(*argv)
 
 
 def test_hot_spot_check_is_in_degrees_celsius_against_the_key():
