@@ -166,8 +166,15 @@ def issue_report(tmp_path_factory: pytest.TempPathFactory) -> tuple[tuple[int, s
         f"author = {json.dumps('AUTHOR ' + ISSUE_TITLE)}\n",
         encoding="utf-8",
     )
+    from spiralcap.curves import adaptive_power_sweep
+    from spiralcap.report.data import collect
+
     with pytest.MonkeyPatch.context() as mp:
         mp.chdir(tmp)  # a relative read("marker.txt") would find the file
+        # the power trade-off at the design's budget only, unrefined (five refined budgets:
+        # ~0.3 s more); the sweep still runs and is drawn, and its text is not under test
+        mp.setitem(adaptive_power_sweep.__kwdefaults__, "refinements", 0)
+        mp.setitem(collect.__kwdefaults__, "power_factors", (1.0,))
         outcome = run(["report", DESIGN_NAME, "-o", "r.html", "--pdf", "r.pdf", "--workers", "1"])
     return outcome, tmp
 

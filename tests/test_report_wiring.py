@@ -13,6 +13,7 @@
 
 from __future__ import annotations
 
+import functools
 from types import SimpleNamespace
 from typing import Any
 
@@ -36,14 +37,19 @@ def _figure(block: FigureBlock) -> Figure:
 
 
 def test_uncertainty_section_only_with_uncertainty(monkeypatch: pytest.MonkeyPatch) -> None:
+    from spiralcap.curves import adaptive_power_sweep
     from spiralcap.report.builder import build_report
-    from spiralcap.report.data import design_has_uncertainty
+    from spiralcap.report.data import collect, design_has_uncertainty
     from spiralcap.report.sections import uncertainty
 
     assert not design_has_uncertainty(load_design()), "the built-in design has no uncertainty"
     # fewer samples than the report's 2^16: the wiring is under test here, not the statistics
     monkeypatch.setattr(uncertainty, "REPORT_SAMPLES", 1 << 10)
     monkeypatch.setattr(uncertainty, "REPORT_SOBOL_BASE", 1 << 6)
+    # and the power trade-off at the design's budget only, unrefined (five refined budgets:
+    # ~0.3 s more): its section is not under test here; the sweep still runs and is drawn
+    monkeypatch.setitem(adaptive_power_sweep.__kwdefaults__, "refinements", 0)
+    monkeypatch.setitem(collect.__kwdefaults__, "power_factors", (1.0,))
     # the samples are the nominal capsule's: no tolerance box on the evaluation (issue 36)
     design = load_design(None, [UNCERTAIN, *NO_TOLERANCE_SETS])
     assert design_has_uncertainty(design)
@@ -62,11 +68,16 @@ def test_uncertainty_section_only_with_uncertainty(monkeypatch: pytest.MonkeyPat
     assert 'id="fig-uncertainty"' in rep.html and 'id="uncertainty"' in rep.html
 
 
-def _heating_context(design: Any) -> Any:
+@functools.cache
+def _heating_context(sets: tuple[str, ...] = ()) -> Any:
+    """(report context, coil analysis) of the built-in design with ``sets``: once per set of
+    overrides in this module (the plain design's is read by four tests; nothing here edits
+    either)."""
     from spiralcap.analysis.coils import analyse_coils, coils_payload
     from spiralcap.presentation import jsonable
     from spiralcap.report.sections._util import Context
 
+    design = load_design(None, list(sets))
     analysis = analyse_coils(design)
     data = SimpleNamespace(design=design, heating=analysis.heating)
     return Context(data, {"coils": jsonable(coils_payload(analysis))}), analysis
@@ -78,7 +89,7 @@ def test_heating_curves_in_the_coils_section(session_min: float | None) -> None:
 
     sets = [] if session_min is None else [f"operation.session_min={session_min}"]
     design = load_design(None, sets)
-    ctx, analysis = _heating_context(design)
+    ctx, analysis = _heating_context(tuple(sets))
     paragraph, block = heating_blocks(ctx)
     assert isinstance(paragraph, Paragraph) and isinstance(block, FigureBlock)
     assert block.id == "fig-heating"
@@ -117,7 +128,7 @@ def test_heating_shows_the_surface_limit_when_set(session_min: float | None) -> 
 
     sets = ["limits.surface_temperature_C=48"]
     sets += [] if session_min is None else [f"operation.session_min={session_min}"]
-    ctx, analysis = _heating_context(load_design(None, sets))
+    ctx, analysis = _heating_context(tuple(sets))
     paragraph, block = heating_blocks(ctx)
     ax = _figure(block).axes[0]
     lines = {line.get_label(): line for line in ax.get_lines()}
@@ -135,7 +146,7 @@ def test_heating_shows_the_surface_limit_when_set(session_min: float | None) -> 
     assert said == [worst], f"the sentence gives the hottest surface ({field}): {keys}"
     assert worst == pytest.approx(48.0, abs=1e-6), "the touch limit binds the built-in design"
     assert "limits.surface_temperature_C" in block.caption
-    _plain, plain_block = heating_blocks(_heating_context(load_design())[0])
+    _plain, plain_block = heating_blocks(_heating_context()[0])
     assert "surface limit" not in [x.get_label() for x in _figure(plain_block).axes[0].get_lines()]
 
 
@@ -149,7 +160,7 @@ def test_sizing_table_shows_the_cooling_as_built() -> None:
     from spiralcap.report.numbers import Num
     from spiralcap.report.sections.coils import _sizing_table
 
-    ctx, _ = _heating_context(load_design())
+    ctx, _ = _heating_context()
     rows = {str(r[0]): r for r in _sizing_table(ctx).rows}
     axes = ctx.value("coils.axes")
     for label, field in (
