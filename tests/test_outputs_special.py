@@ -17,6 +17,7 @@ import subprocess
 from pathlib import Path
 
 import pytest
+from _te_memo import solved_once  # noqa: F401 (the fixture)
 from cli_outcome import run
 from proc_util import SPIRALCAP
 
@@ -47,6 +48,7 @@ def _one_line_error(proc: subprocess.CompletedProcess[str], *needles: str) -> st
     return lines[0]
 
 
+@pytest.mark.usefixtures("solved_once")  # the built-in optimum, once (tests/_te_memo.py)
 def test_output_to_a_character_device_stays_a_device(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
@@ -64,6 +66,7 @@ def test_output_to_a_character_device_stays_a_device(
     assert sorted(p.name for p in tmp_path.iterdir()) == ["null.toml"], "no temporary file left"
 
 
+@pytest.mark.usefixtures("solved_once")
 @pytest.mark.parametrize("command", [["init", "--force"], ["optimize", "-o"]])
 def test_a_full_device_is_an_error_not_success(
     tmp_path: Path, command: list[str], monkeypatch: pytest.MonkeyPatch
