@@ -163,7 +163,10 @@ def test_dask_local_cluster_gives_the_local_results(capsys, monkeypatch):
     ]
     local = _json(capsys, argv)
     two = _json(capsys, [*argv, "--workers", "2"])
-    design = load_design()
+    # one IPOPT start for the cold points and the sizing's relaxation (of the default 4): the
+    # subject is that each side gives the same numbers bit for bit, whatever it solved; the
+    # chunks still start cold and go on warm, the sizing still ranks its neighbours (-1.7 s)
+    design = load_design(None, ["optimize.starts=1"])
     axes = [parse_over("requirements.axial_load_mN=20:80:2")]
     sweep_local = sweep(design, axes, optimize=True)
     robust = design.with_values(
