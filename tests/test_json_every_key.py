@@ -14,6 +14,7 @@ import math
 from pathlib import Path
 
 import pytest
+from _te_memo import solved_once  # noqa: F401 (the fixture)
 from cli_outcome import LEAST_POWER, sound
 
 jsonschema = pytest.importorskip("jsonschema")
@@ -156,6 +157,9 @@ def _id(case) -> str:
     return f"{name}-{shape}-" + ",".join(s.removeprefix("limits.") for s in sets)[:60]
 
 
+#: each model evaluated and optimised once in this process (tests/_te_memo.py): ``compare``
+#: re-solves what the evaluate and optimize cases did, ``evaluate --json`` runs twice
+@pytest.mark.usefixtures("solved_once")
 @pytest.mark.parametrize(("name", "argv"), CASES, ids=[_id(c) for c in CASES])
 def test_every_command_json_matches_its_schema(name, argv):
     _, out, _ = sound([*argv, "--json"], allowed=(0, 3))
@@ -169,6 +173,7 @@ def test_every_command_json_matches_its_schema(name, argv):
     assert not not_si, f"{argv}: JSON is SI (README); these are not: {not_si[:5]}"
 
 
+@pytest.mark.usefixtures("solved_once")
 def test_checks_are_si_and_carry_their_key_unit():
     """The speed check: 6.6 mm/s is 0.0066 m/s in ``value``, 6.6 in ``value_in_key_unit``."""
     _, out, _ = sound(["evaluate", "--json"], allowed=(0,))

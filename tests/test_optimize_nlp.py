@@ -7,6 +7,8 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
+from _te_memo import optimum as solved_optimum
+from _te_memo import solved_once  # noqa: F401 (the fixture)
 
 from optimize import MarginGrid, evaluate, margin_grid, optimize_design, prepare, worst_required
 from optimize import problem as pb
@@ -31,13 +33,14 @@ def power_result(model):
         bounds=replace(model.bounds, objective="power"),
         requirements=replace(model.requirements, min_safety_factor=2.0),
     )
-    return m, optimize_design(m)
+    return m, solved_optimum(m)  # the same as `optimize` of these keys (tests/_te_memo.py)
 
 
 @pytest.fixture(scope="module")
 def optimum(model):
-    """The built-in design's margin optimum, solved once for the tests that read it."""
-    return optimize_design(model)
+    """The built-in design's margin optimum, solved once for the tests that read it (and
+    the `spiralcap optimize` run below: tests/_te_memo.py)."""
+    return solved_optimum(model)
 
 
 def test_rows_are_named_and_one_per_tissue(model):
@@ -139,6 +142,7 @@ def test_copper_mass_objective_with_fixed_copper_takes_least_power(model, power_
     assert math.isclose(res.safety_factor, 2.0, rel_tol=1e-5), "the tie-break takes least field"
 
 
+@pytest.mark.usefixtures("solved_once")
 def test_optimize_output_reproduced_by_evaluate(tmp_path, capsys):
     out = tmp_path / "best.toml"
     assert main(["optimize", "--json", "-o", str(out)]) == 0
@@ -160,6 +164,7 @@ def test_optimize_output_reproduced_by_evaluate(tmp_path, capsys):
     assert math.isclose(opt["margin_Nm"] * 1e3, 1.786, rel_tol=1e-3), "built-in optimum 1.786 mN·m"
 
 
+@pytest.mark.usefixtures("solved_once")
 def test_power_optimum_saved_with_its_field(tmp_path, capsys):
     out = tmp_path / "p.toml"
     args = ["--set", "optimize.objective=power", "--set", "requirements.min_safety_factor=2"]
