@@ -17,7 +17,7 @@ from dataclasses import replace
 import casadi as ca
 import numpy as np
 import pytest
-from cli_outcome import NO_TOLERANCE_SETS, SIX_KEYS, run, run_json
+from cli_outcome import NO_TOLERANCE_SETS, run, run_json
 from scipy import integrate
 
 import capsule as cap
@@ -151,8 +151,14 @@ def test_infeasible_when_grip_and_speed_conflict():
 @pytest.mark.slow
 @pytest.mark.parametrize("objective", ["power", "copper_mass"])
 def test_sizing_grips_every_tissue_set(objective, tmp_path):
-    """Six-key sizing of the small capsule in a 9.1 mm lumen: the sized design stretches every
-    set's wall by at least the requirement and evaluates feasible."""
+    """A sizing of the small capsule in a 9.1 mm lumen: the sized design stretches every set's
+    wall by at least the requirement and evaluates feasible.
+
+    Every pair's turns free (was: turns and wire, the six keys): the subject is the grip rows
+    inside a sizing, not the wire's neighbour search (test_coils_buildable.py and
+    test_square_sizing.py size the wire); both sets' wall_strain rows bind at the optimum
+    either way, for each objective (measured), at 1.1 s and 0.65 s of CPU instead of 2.7 s
+    and 1.9 s."""
     out = tmp_path / "sized.toml"
     sets = [s for s in SMALL if "lumen" not in s] + [
         "tissue.lumen_diameter_mm=9.1",
@@ -162,7 +168,8 @@ def test_sizing_grips_every_tissue_set(objective, tmp_path):
         "tolerances.spiral_wire_diameter_mm=0",
         "tolerances.lumen_diameter_mm=0",
     ]
-    rc, text, err = run(["optimize", *SIX_KEYS, *_sets(sets), *ONE_START, "-o", str(out)])
+    turns = [a for ax in "xyz" for a in ("--free", f"coils.{ax}.turns=100:800")]
+    rc, text, err = run(["optimize", *turns, *_sets(sets), *ONE_START, "-o", str(out)])
     assert rc == 0, text + err
     ev = run_json(["evaluate", str(out)])
     assert ev["feasible"] is True and ev["engaged"] is True
