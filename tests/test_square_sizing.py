@@ -26,7 +26,7 @@ SQUARE_ONLY_X = ["coils.x.shape=square", "coils.x.side_m=0.95"]
 PAIR = coils.SquarePair(0.78, 350, "y", wire_diameter_m=2.5e-3, pack_aspect=1.5)
 #: One IPOPT start (default 4) for the sizings below: their subject is the hardware (square
 #: clearances, envelope, copper limit, the rule that refuses), not the angle's starts; each gives
-#: the same optimum from one start as from four (objective to 1e-11 relative, the same binding
+#: the same optimum from one start as from four (objective to 2e-11 relative, the same binding
 #: rows and outer rounds, measured) for ~5-8 % less CPU.
 ONE_START = ["--set", "optimize.starts=1"]
 
