@@ -73,6 +73,25 @@ def boxes_distance(box_list: list[tuple[np.ndarray, np.ndarray]], points: np.nda
     return out
 
 
+def union_gap_m(
+    box_a: list[tuple[np.ndarray, np.ndarray]], box_b: list[tuple[np.ndarray, np.ndarray]]
+) -> float:
+    """Least distance between two disjoint unions of boxes, exact: the least box-to-box
+    distance (for two axis-aligned boxes, the norm of the per-axis gaps max(lo2 - hi1,
+    lo1 - hi2, 0)). What a dense sample of one union's surface against the other's boxes
+    converges to, without the sample's spacing."""
+    best = np.inf
+    for (lo1, hi1), (lo2, hi2) in itertools.product(box_a, box_b):
+        gap = np.maximum(np.maximum(lo2 - hi1, lo1 - hi2), 0.0)
+        best = min(best, float(np.linalg.norm(gap)))
+    return best
+
+
+def pair_boxes(pair) -> list[tuple[np.ndarray, np.ndarray]]:
+    """Both frames of a square pair as four overlapping boxes each (:func:`boxes`)."""
+    return [b for frame in pair_packs(pair) for b in boxes(frame)]
+
+
 def inside_any(box_list: list[tuple[np.ndarray, np.ndarray]], points: np.ndarray):
     """Whether each point lies in a closed box (lo, hi) of ``box_list``: where the distance to
     their union is 0, decided by comparisons instead of the distance (the same decision)."""
@@ -130,12 +149,12 @@ def test_frame_signed_distance_against_the_union_of_boxes() -> None:
 def test_frame_distance_against_brute_force() -> None:
     a = Frame(0, 0.95, 0.26, 0.06, 0.06)
     b = Frame(1, 0.78, -0.21, 0.05, 0.05)
-    rng = np.random.default_rng(2)
-    surf, _ = surface_samples(a, 2_000_000, rng)
-    brute = float(np.min(union_distance(b, surf)))
+    # brute force over every pair of the frames' overlapping boxes: the exact least distance
+    # (was: a ~0.7 mm sample of A's surface against B's boxes, within 2 mm; the sample's limit)
+    brute = union_gap_m(boxes(a), boxes(b))
     exact = frame_distance_m(a, b)
-    assert 0 < exact <= brute + 1e-12 and brute - exact < 2e-3, (
-        f"least distance of A's surface to B's boxes (sampled), exact {exact:.6f} m"
+    assert 0 < exact and exact == pytest.approx(brute, rel=1e-9), (
+        f"least distance of A's boxes to B's boxes (every pair, exact), 1e-9; {exact:.6f} m"
     )
     # a pair of frames that overlap reports a negative clearance
     c = Frame(1, 0.93, 0.0, 0.06, 0.06)
@@ -170,10 +189,12 @@ def test_nested_square_set_clearances_and_bore() -> None:
     for key, gap in gaps.items():
         a, b = key.split("/")
         fa, fb = pair_packs(pairs[a])[1], pair_packs(pairs[b])[1]
-        rng = np.random.default_rng(3)
-        surf, _ = surface_samples(fa, 1_000_000, rng)
-        brute = min(float(np.min(union_distance(f, surf))) for f in pair_packs(pairs[b]))
-        assert gap <= brute + 1e-12 and brute - gap < 3e-3, f"{key}: sampled surface vs boxes"
+        # exact least distance of the two pairs' box unions (was: a ~1 mm surface sample of
+        # one frame against the other pair's boxes, within 3 mm; the sample's limit)
+        independent = union_gap_m(pair_boxes(pairs[a]), pair_boxes(pairs[b]))
+        assert independent > 0 and gap == pytest.approx(independent, rel=1e-9), (
+            f"{key}: clearance = the least distance of the pairs' union of boxes (exact), 1e-9"
+        )
         assert gap == frame_distance_m(fa, fb)
     depth = pairs["z"].winding_pack_depth_m
     assert bore_clearance_m(list(pairs.values()), 0.1) == pytest.approx(
@@ -342,17 +363,16 @@ def test_square_example_evaluates_with_exact_clearances(example_evaluate: dict) 
     model = build_model(load_design(EXAMPLE))
     assert all(p.shape == "square" for p in model.coils.pairs)
     checks = {c["name"]: c["value"] for c in ev["checks"]}
-    rng = np.random.default_rng(5)
     for name, (a, b) in {
         "clearance_xy": (0, 1),
         "clearance_xz": (0, 2),
         "clearance_yz": (1, 2),
     }.items():
         pa, pb = model.coils.pairs[a], model.coils.pairs[b]
-        surf, _ = surface_samples(pair_packs(pa)[1], 1_000_000, rng)
-        brute = min(float(np.min(union_distance(f, surf))) for f in pair_packs(pb))
-        assert checks[name] <= brute + 1e-12 and brute - checks[name] < 3e-3, (
-            f"{name}: sampled surface against the other frames' boxes (independent), 3 mm"
+        # exact (was: a ~1 mm surface sample against the other frames' boxes, within 3 mm)
+        independent = union_gap_m(pair_boxes(pa), pair_boxes(pb))
+        assert independent > 0 and checks[name] == pytest.approx(independent, rel=1e-9), (
+            f"{name}: the least distance of the pairs' union of boxes (independent, exact), 1e-9"
         )
 
 

@@ -17,7 +17,7 @@ from dataclasses import replace
 import casadi as ca
 import numpy as np
 import pytest
-from cli_outcome import NO_TOLERANCE_SETS, SIX_KEYS, run, run_json
+from cli_outcome import NO_TOLERANCE_SETS, run, run_json
 from scipy import integrate
 
 import capsule as cap
@@ -43,6 +43,12 @@ SMALL = [
     "limits.current_A=40",
     "limits.power_W=4500",
 ]
+
+
+#: One IPOPT start (default 4) where the subject is the grip, not the angle's starts: the sizings
+#: below give the same optimum (objective to 1e-12) and the refusals the same text (numbers to
+#: 1e-10) from one start as from four, measured.
+ONE_START = ["--set", "optimize.starts=1"]
 
 
 def _sets(values: list[str]) -> list[str]:
@@ -138,15 +144,21 @@ def test_optimiser_cannot_reach_a_grazing_design():
 
 
 def test_infeasible_when_grip_and_speed_conflict():
-    rc, out, _ = run(["optimize", *_sets(SMALL)])
+    rc, out, _ = run(["optimize", *_sets(SMALL), *ONE_START])
     assert rc == 3 and "requirements.min_wall_strain binds" in out, out
 
 
 @pytest.mark.slow
 @pytest.mark.parametrize("objective", ["power", "copper_mass"])
 def test_sizing_grips_every_tissue_set(objective, tmp_path):
-    """Six-key sizing of the small capsule in a 9.1 mm lumen: the sized design stretches every
-    set's wall by at least the requirement and evaluates feasible."""
+    """A sizing of the small capsule in a 9.1 mm lumen: the sized design stretches every set's
+    wall by at least the requirement and evaluates feasible.
+
+    Every pair's turns free (was: turns and wire, the six keys): the subject is the grip rows
+    inside a sizing, not the wire's neighbour search (test_coils_buildable.py and
+    test_square_sizing.py size the wire); both sets' wall_strain rows bind at the optimum
+    either way, for each objective (measured), at 1.1 s and 0.65 s of CPU instead of 2.7 s
+    and 1.9 s."""
     out = tmp_path / "sized.toml"
     sets = [s for s in SMALL if "lumen" not in s] + [
         "tissue.lumen_diameter_mm=9.1",
@@ -156,7 +168,8 @@ def test_sizing_grips_every_tissue_set(objective, tmp_path):
         "tolerances.spiral_wire_diameter_mm=0",
         "tolerances.lumen_diameter_mm=0",
     ]
-    rc, text, err = run(["optimize", *SIX_KEYS, *_sets(sets), "-o", str(out)])
+    turns = [a for ax in "xyz" for a in ("--free", f"coils.{ax}.turns=100:800")]
+    rc, text, err = run(["optimize", *turns, *_sets(sets), *ONE_START, "-o", str(out)])
     assert rc == 0, text + err
     ev = run_json(["evaluate", str(out)])
     assert ev["feasible"] is True and ev["engaged"] is True
@@ -293,7 +306,7 @@ def test_no_grip_probability_against_sampling():
 def test_infeasible_text_names_each_tissue_row() -> None:
     """Two tissue sets short of the same key: one line each, the set named (not twice the same
     line)."""
-    rc, out, _ = run(["optimize", "--set", "tissue.lumen_diameter_mm=100"])
+    rc, out, _ = run(["optimize", "--set", "tissue.lumen_diameter_mm=100", *ONE_START])
     assert rc == 3
     lines = [ln for ln in out.splitlines() if "requirements.min_wall_strain (" in ln]
     assert len(lines) == 2 and len(set(lines)) == 2, lines
