@@ -182,6 +182,8 @@ def test_infeasible_sizing_names_requirements_with_numbers():
 
     argv = ["optimize", "--json", "--set", "optimize.objective=copper_mass"]
     argv += ["--set", "requirements.min_safety_factor=6", "--free", "coils.x.turns=100:110"]
+    # the wire free too, as in the least-copper sizing above: its sizing NLP compiled once
+    argv += ["--free", "coils.x.wire_diameter_mm=0.8:3.0"]
     rc, out, _ = run(argv)
     doc = json.loads(out)
     assert rc == 3 and doc["status"] == "infeasible"

@@ -42,18 +42,30 @@ def _recorder(seen: list):
     """Stand-ins for ``discrete._attempt`` and ``discrete.buildable`` that record each neighbour
     attempt as (context, hardware, the model the attempt built or None, its outcome): the
     tests below read the very model and result the sizing ranked instead of building and
-    solving each neighbour again."""
+    solving each neighbour again.
+
+    The model an attempt builds is handed to it prepared (``optimize.prepare``: its constants,
+    view factors and all), which the attempt's solve does first anyway (``solve_fixed``
+    prepares its model; a prepared model is returned unchanged): the same numbers, and the
+    tests read the prepared model instead of computing its constants a second time."""
     real_attempt, real_build = discrete._attempt, discrete.buildable
     built: list = []
+    attempting: list = []
 
     def build(model, values, min_bore_m, **kw):
         m = real_build(model, values, min_bore_m, **kw)
+        if attempting and m is not None:
+            m = prepare(m)
         built.append(m)
         return m
 
     def keep(ctx, combo):
         built.clear()
-        res = real_attempt(ctx, combo)
+        attempting.append(True)
+        try:
+            res = real_attempt(ctx, combo)
+        finally:
+            attempting.clear()
         seen.append((ctx, combo, built[0], res))
         return res
 
