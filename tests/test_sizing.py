@@ -182,14 +182,21 @@ def test_bad_free_input_exits_2_naming_the_key(args, named, capsys):
 
 
 def test_impossible_sizing_exits_3_naming_what_is_out_of_reach(capsys):
+    # the x pair's turns and wire free, as in the module's sizing (x_sized): its sizing NLP
+    # compiled once for both; one start: what is judged is the naming of what is out of reach,
+    # not the multi-start search (every start fails here, each after its full iterations)
     code = main(
         [
             "optimize",
             "--json",
             "--free",
             "coils.x.turns=100:800",
+            "--free",
+            "coils.x.wire_diameter_mm=0.8:3.0",
             "--set",
             "requirements.min_speed_mm_s=500",
+            "--set",
+            "optimize.starts=1",
         ]
     )
     out = json.loads(capsys.readouterr().out)
