@@ -14,7 +14,9 @@ def test_vectorised_equals_point_by_point():
     design = load_design()
     axes = [
         parse_over("capsule.spiral.helical_angle_deg=5:20:4"),
-        parse_over("limits.power_W=300:2000:3"),
+        # two budgets: 300 W caps the field (margins below 0), at 1150 W the power binds
+        # nowhere; a third (2000 W) repeated 1150 W's rows: 8 points rebuilt, not 12
+        parse_over("limits.power_W=300:1150:2"),
     ]
     fast = sweep(design, axes)
     assert fast.mode.startswith("evaluate (vectorised")
@@ -24,6 +26,11 @@ def test_vectorised_equals_point_by_point():
         "vectorised sweep equals evaluate() point by point (1e-12 relative)"
     )
     assert (fast.outputs["feasible"] == slow.outputs["feasible"]).all()
+    assert (fast.outputs["grip"] == slow.outputs["grip"]).all()
+    # the grid still crosses each regime: a power-capped margin below 0, a feasible point and
+    # strains below the minimum
+    assert (fast.outputs["margin_Nm"] < 0).any() and fast.outputs["feasible"].any()
+    assert set(fast.outputs["grip"]) == {"ok", "below minimum"}
 
 
 def test_sweep_csv_and_json(tmp_path, capsys):
