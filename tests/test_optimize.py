@@ -237,12 +237,6 @@ def test_single_heading_leaves_the_unused_axis_idle(capsys):
     assert out["current_amplitudes_A"]["z"] == 0.0, "heading along z: no z current"
 
 
-def test_impossible_margin_is_named(capsys):
-    assert main(["optimize", "--set", "limits.power_W=1"]) == 3
-    out = capsys.readouterr().out
-    assert "falls short of the required torque" in out, "a 1 W budget cannot turn the capsule"
-
-
 @pytest.mark.parametrize(
     ("setting", "key"),
     [("limits.x.power_W=5", "limits.x.power_W"), ("limits.power_W=1", "limits.power_W")],
@@ -257,7 +251,10 @@ def test_a_torque_shortfall_names_the_limit_that_caps_the_field(capsys, setting,
     field_mT = json.loads(capsys.readouterr().out)["evaluation"]["field_amplitude_T"] * 1e3
     assert main(["optimize", "--set", setting]) == 3
     out = capsys.readouterr().out
-    line = next(ln for ln in out.splitlines() if "falls short of the required torque" in ln)
+    # (the case limits.power_W=1 is also the check that a 1 W budget cannot turn the capsule)
+    short = [ln for ln in out.splitlines() if "falls short of the required torque" in ln]
+    assert short, f"{setting}: the text says the torque falls short: {out}"
+    line = short[0]
     found = re.search(r"there (\S+) \(.*?\) caps the field at ([\d.]+) mT", line)
     assert found and found.group(1) == key, f"{setting}: names {key}: {line}"
     assert float(found.group(2)) == pytest.approx(field_mT, rel=1e-3), "the field, 4 digits"
@@ -271,13 +268,19 @@ def test_an_infeasible_power_or_robust_optimum_prints_no_false_limit_or_nan(caps
     assert main(["optimize", *(a for s in power for a in ("--set", s))]) == 3
     out = capsys.readouterr().out
     assert "falls short" in out and "caps the field" not in out, out
+    # x's own power limit at 5 W, as in test_a_torque_shortfall_names_the_limit_that_caps_the_field:
+    # the deterministic optimum robust_optimum also solves reuses that test's compiled NLPs
     robust = [
         "optimize.objective=margin_p05",
         "tissue.uncertainty.scale_sigma_log=0.3",
-        "limits.z.power_W=3",
+        "limits.x.power_W=5",
+        # 128 scenarios, not the default 1024: what is printed of an infeasible robust
+        # optimum does not depend on their number; the NLP of a working set of 16 compiles
+        # in less time than the default's 80
+        "optimize.scenarios=128",
     ]
     assert main(["optimize", *(a for s in robust for a in ("--set", s))]) == 3
     out = capsys.readouterr().out
     assert "nan" not in out.lower(), out
     assert "no feasible optimum to check" in out, "the scenario check says it did not run"
-    assert "limits.z.power_W" in out, "the channel that caps the field is named"
+    assert "limits.x.power_W" in out, "the channel that caps the field is named"

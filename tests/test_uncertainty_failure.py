@@ -179,7 +179,10 @@ ROBUST_DESIGN = (
 def test_robust_optimum_fails_at_most_5_percent_of_fresh_samples():
     from spiralcap.robust import robust_optimum
 
-    design = load_design(None, list(ROBUST_DESIGN))
+    # 256 scenarios, not the default 1024: the claim is checked on the 100,000 fresh samples,
+    # whatever the number of scenarios the optimum was found on (P(failure) 1.9 % with 1024,
+    # 1.9 % with 256); a working set of 32 rows compiles and solves in less time than 80
+    design = load_design(None, [*ROBUST_DESIGN, "optimize.scenarios=256"])
     rc = robust_optimum(design, samples=100_000)
     res, oos = rc.result, rc.out_of_sample
     assert res.status == "optimal", res.status
@@ -212,7 +215,9 @@ def test_margin_p05_moves_off_the_nominal_strain_edge():
     from optimize import optimize_design
     from spiralcap.robust import robust_model
 
-    sets = [LUMEN, "optimize.objective=margin_p05", "optimize.scenarios=256"]
+    # 128 scenarios (256 before): the move off the edge is judged on the nominal sets and by
+    # the closed form, not on the scenarios; a working set of 16 rows instead of 32
+    sets = [LUMEN, "optimize.objective=margin_p05", "optimize.scenarios=128"]
     design = load_design(None, [*sets, "requirements.min_wall_strain=0.017"])
     model = robust_model(design)
     res = optimize_design(model)
