@@ -21,7 +21,7 @@ from proc_util import SPIRALCAP
 distributed = pytest.importorskip("distributed")
 
 #: Seconds without a worker the commands here wait before giving up.
-WAIT_S = 2.0
+WAIT_S = 1.0
 #: ``spiralcap`` as a process, its wait for a worker set to :data:`WAIT_S`.
 COMMAND = [
     sys.executable,
