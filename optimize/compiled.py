@@ -1,6 +1,6 @@
 """The compiled design NLP: one IPOPT solver per problem *structure*, memoised by value.
 
-A :class:`Structure` is what is compiled in (objective, tissue sets, exposure kind, spiral
+A :class:`Structure` is what is compiled in (objective, tissue sets' names, exposure kind, spiral
 starts, relaxation, warm-start options, registered hooks, free hardware, how many tissue
 scenarios); every number of the
 design is a parameter filled by :meth:`CompiledProblem.parameters`. ``compile_problem`` is an
@@ -20,6 +20,8 @@ from coils.thermal import PACK_NUMBER_FIELDS
 from optimize import hardware as hw
 from optimize import problem as pb
 from optimize.nlp import CompiledNLP, NLPBuilder
+from optimize.scenario_nlp import FIELDS as TISSUE_FIELDS
+from optimize.scenario_nlp import TissueArrays
 from optimize.system import DesignModel
 from spiralcap.core import backend as bk
 
@@ -52,8 +54,9 @@ class Structure:
     ----------
     objective : str
         Objective name.
-    tissues : tuple of TissueParameters
-        The tissue sets (their names and friction shape the rows).
+    tissues : tuple of str
+        The tissue sets' names (they name the rows); their numbers are parameters
+        (``tissue.{k}.{field}``), so another stiffness, lumen or friction reuses the problem.
     field_exposure : str
         Exposure limit kind (``"occupational"``, ``"public"``, ``"off"``).
     spiral_starts : int
@@ -137,7 +140,7 @@ def structure_of(
     """
     return Structure(
         model.bounds.objective,
-        model.tissues,
+        tuple(t.name for t in model.tissues),
         model.limits.field_exposure,
         int(model.capsule.spiral.starts),
         relaxed,
@@ -198,6 +201,7 @@ class CompiledProblem:
             **pb.parameter_values("requirement", model.requirements),
             **pb.parameter_values("scale", scales),
             "ambient_temperature_C": model.ambient_temperature_C,
+            **_tissue_values(model.tissues),
         }
         if model.scenarios is not None:
             values.update(model.scenarios.parameter_values())
@@ -284,7 +288,9 @@ def _build_rows(b: NLPBuilder, structure: Structure) -> NLPBuilder:
     scales = pb.symbolic(b, "scale", pb.Scales(1.0, 1.0))
     ambient = b.parameter("ambient_temperature_C")
     # a template model carries the structure; its numbers are the parameters
-    template = _Template(structure.tissues, lim, req, ambient, tolerances=structure.tolerances)
+    template = _Template(
+        _tissue_parameters(b, structure.tissues), lim, req, ambient, tolerances=structure.tolerances
+    )
     ctx = pb.make_context(
         (alpha, f, field_scaled * scales.field_T, t),
         template,  # type: ignore[arg-type]
@@ -314,6 +320,24 @@ def _build_rows(b: NLPBuilder, structure: Structure) -> NLPBuilder:
         b.constrain(term.row, g, term.allowed, dg, term.value)
     b.minimize(obj)
     return b
+
+
+def _tissue_parameters(b: NLPBuilder, names: tuple[str, ...]) -> tuple[TissueArrays, ...]:
+    """The tissue sets as parameters ``tissue.{k}.{field}`` (SI, the field's unit), named as
+    the model's sets (the rows carry the names); filled by :func:`_tissue_values`."""
+    return tuple(
+        TissueArrays(**{f: b.parameter(f"tissue.{k}.{f}") for f in TISSUE_FIELDS}, name=name)
+        for k, name in enumerate(names)
+    )
+
+
+def _tissue_values(tissues: tuple) -> dict[str, float]:
+    """The ``tissue.{k}.{field}`` parameter values of the model's tissue sets."""
+    return {
+        f"tissue.{k}.{f}": float(getattr(t, f))
+        for k, t in enumerate(tissues)
+        for f in TISSUE_FIELDS
+    }
 
 
 def _axis_limit_parameters(b: NLPBuilder, structure: Structure) -> dict[str, Any]:

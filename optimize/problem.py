@@ -9,7 +9,8 @@ with their own limits rather than three more variables (which would only add fla
 Everything that is a number of the design — the precomputed :class:`Constants`, the
 :class:`Limits`, the :class:`Requirements`, the ambient temperature and the scales — is a named
 parameter, so one compiled solver serves a whole sweep over limits and requirements. Only the
-structure (objective, tissue sets, exposure kind, spiral starts, relaxation) is compiled in.
+structure (objective, tissue sets' names, exposure kind, spiral starts, relaxation) is compiled
+in; the tissue numbers are parameters too.
 
 Every limit comes from :func:`optimize.physics.limit_terms` (one definition); every row is
 ``g <= 0`` and carries its allowed value, so IPOPT's multipliers convert to engineering

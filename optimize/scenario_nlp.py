@@ -18,6 +18,7 @@ smooth row per term, ``u_s >= η − term_s``, so IPOPT sees only smooth rows.
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import math
 from dataclasses import dataclass
@@ -58,6 +59,22 @@ class TissueArrays:
     wall_thickness_m: Any
     friction_coefficient: Any
     name: str = "samples"
+
+    def replace(self, **changes: Any) -> TissueArrays:
+        """A copy with some fields changed (as :meth:`TissueParameters.replace`, unchecked:
+        the fields may be symbols).
+
+        Parameters
+        ----------
+        **changes : ndarray, CasADi or str
+            New field values by field name, SI as the names say (``lumen_diameter_m=...``, m).
+
+        Returns
+        -------
+        TissueArrays
+            The copy.
+        """
+        return dataclasses.replace(self, **changes)
 
 
 #: The tissue fields a scenario perturbs (one parameter vector per field and tissue set).
