@@ -21,7 +21,7 @@ from optimize import hardware as hw
 from optimize import problem as pb
 from optimize.nlp import CompiledNLP, NLPBuilder
 from optimize.scenario_nlp import FIELDS as TISSUE_FIELDS
-from optimize.scenario_nlp import TissueArrays
+from optimize.scenario_nlp import TissueArrays, zero_moduli
 from optimize.system import DesignModel
 from spiralcap.core import backend as bk
 
@@ -54,9 +54,11 @@ class Structure:
     ----------
     objective : str
         Objective name.
-    tissues : tuple of str
-        The tissue sets' names (they name the rows); their numbers are parameters
-        (``tissue.{k}.{field}``), so another stiffness, lumen or friction reuses the problem.
+    tissues : tuple of (str, tuple of str)
+        Each tissue set's name (it names the rows) and which of its moduli are zero (compiled
+        in as 0, as a constant term drops out; a zero as a parameter value leaves 0/0 in the
+        Hessian); its other numbers are parameters (``tissue.{k}.{field}``), so another
+        stiffness, lumen or friction reuses the problem.
     field_exposure : str
         Exposure limit kind (``"occupational"``, ``"public"``, ``"off"``).
     spiral_starts : int
@@ -140,7 +142,7 @@ def structure_of(
     """
     return Structure(
         model.bounds.objective,
-        tuple(t.name for t in model.tissues),
+        tuple((t.name, zero_moduli(t)) for t in model.tissues),
         model.limits.field_exposure,
         int(model.capsule.spiral.starts),
         relaxed,
@@ -322,12 +324,16 @@ def _build_rows(b: NLPBuilder, structure: Structure) -> NLPBuilder:
     return b
 
 
-def _tissue_parameters(b: NLPBuilder, names: tuple[str, ...]) -> tuple[TissueArrays, ...]:
-    """The tissue sets as parameters ``tissue.{k}.{field}`` (SI, the field's unit), named as
-    the model's sets (the rows carry the names); filled by :func:`_tissue_values`."""
+def _tissue_parameters(b: NLPBuilder, sets: tuple) -> tuple[TissueArrays, ...]:
+    """The tissue sets as parameters ``tissue.{k}.{field}`` (SI, the field's unit), a zero
+    modulus as the constant 0, named as the model's sets (the rows carry the names); filled by
+    :func:`_tissue_values`."""
     return tuple(
-        TissueArrays(**{f: b.parameter(f"tissue.{k}.{f}") for f in TISSUE_FIELDS}, name=name)
-        for k, name in enumerate(names)
+        TissueArrays(
+            **{f: 0.0 if f in zeros else b.parameter(f"tissue.{k}.{f}") for f in TISSUE_FIELDS},
+            name=name,
+        )
+        for k, (name, zeros) in enumerate(sets)
     )
 
 

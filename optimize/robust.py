@@ -62,6 +62,7 @@ from optimize.scenario_nlp import (  # noqa: F401  (re-exported: the scenario ro
     effective_margins,
     scenario_margins,
     scenario_rows,
+    zero_moduli,
 )
 from optimize.system import DesignModel, prepare
 from spiralcap.core.errors import InputError
@@ -84,12 +85,16 @@ class ScenarioStructure:
         Flag: the failure probability row is part of the problem.
     grip : bool
         Flag: the grip rows are part of the problem (the scenarios move the wall strain).
+    zero_moduli : tuple of tuple of str
+        Per set, the moduli zero in every scenario (compiled in as 0,
+        :func:`optimize.scenario_nlp.zero_moduli`).
     """
 
     count: int
     sets: int
     failure_constraint: bool
     grip: bool = True
+    zero_moduli: tuple = ()
 
 
 @dataclass(frozen=True, eq=False)
@@ -178,7 +183,11 @@ class ScenarioSet:
     def structure(self) -> ScenarioStructure:
         """The compiled-in part (hashable)."""
         return ScenarioStructure(
-            self.count, len(self.tissues), self.max_failure_probability is not None, self.grip
+            self.count,
+            len(self.tissues),
+            self.max_failure_probability is not None,
+            self.grip,
+            tuple(zero_moduli(t) for t in self.tissues),
         )
 
     def parameter_values(self) -> dict[str, Any]:

@@ -77,6 +77,28 @@ class TissueArrays:
         return dataclasses.replace(self, **changes)
 
 
+#: The tissue moduli that may be zero (TissueParameters allows E = 0: no spring in that arm).
+MODULI = ("E1_Pa", "E2_Pa", "E3_Pa")
+
+
+def zero_moduli(tissue: Any) -> tuple[str, ...]:
+    """The moduli of ``tissue`` (a set, or scenario arrays) that are zero everywhere: part of a
+    compiled problem's structure, compiled in as the constant 0 (a constant term drops out of
+    the derivatives; a zero parameter value leaves 0 x inf in the Hessian of a Maxwell arm).
+
+    Parameters
+    ----------
+    tissue : TissueParameters or TissueArrays
+        The tissue set (Pa), numbers or arrays.
+
+    Returns
+    -------
+    tuple of str
+        Names of its zero moduli, in :data:`MODULI` order.
+    """
+    return tuple(f for f in MODULI if bool(np.all(np.asarray(getattr(tissue, f)) == 0.0)))
+
+
 #: The tissue fields a scenario perturbs (one parameter vector per field and tissue set).
 FIELDS = (
     "E1_Pa",
@@ -234,9 +256,13 @@ def _symbolic_margins(ctx: Any) -> list:
     scenarios as parameters."""
     assert ctx.parameter is not None
     n = ctx.scenarios.count
+    zeros = ctx.scenarios.zero_moduli or ((),) * len(ctx.tissues)
     arrays = tuple(
         TissueArrays(
-            **{name: ctx.parameter(f"scenario.{k}.{name}", (n,)) for name in FIELDS},
+            **{
+                name: 0.0 if name in zeros[k] else ctx.parameter(f"scenario.{k}.{name}", (n,))
+                for name in FIELDS
+            },
             name=tissue.name,
         )
         for k, tissue in enumerate(ctx.tissues)

@@ -63,7 +63,60 @@ def test_tissue_names_still_name_the_rows() -> None:
     """The sets' names stay in the structure: the rows are named by them."""
     base = prepare(build_model(load_design()))
     names = tuple(t.name for t in base.tissues)
-    assert structure_of(base).tissues == names, "the structure holds the names"
+    assert tuple(n for n, _ in structure_of(base).tissues) == names, "the structure holds the names"
     rows = {r.name for r in compile_problem(structure_of(base)).nlp.rows}
     for name in names:
         assert f"wall_strain[{name}]" in rows, f"a wall-strain row named for {name}"
+
+
+@pytest.mark.parametrize("modulus", ["E1_kPa", "E3_kPa"])
+def test_every_zero_modulus_is_structure(modulus: str) -> None:
+    """Each modulus at zero is compiled in (a structure of its own), as E2 below."""
+    zero = prepare(build_model(load_design().with_values({f"tissue.{modulus}": 0.0})))
+    tiny = prepare(build_model(load_design().with_values({f"tissue.{modulus}": 1e-9})))
+    assert structure_of(zero) != structure_of(tiny), f"{modulus} = 0 is structure"
+
+
+def test_a_zero_modulus_is_compiled_in_and_optimises() -> None:
+    """E = 0 (no spring in that arm, allowed by TissueParameters) is part of the structure,
+    compiled in as the constant 0: as a parameter value it left 0/0 in the Hessian and the
+    built-in design with tissue.E2_kPa = 0 came out infeasible (exit 3) where it is optimal. The
+    optimum is the one with the modulus just above zero, to 1e-6 (the model is continuous in E
+    at 0; 1e-9 kPa)."""
+    modulus = "E2_kPa"
+    zero = build_model(load_design().with_values({f"tissue.{modulus}": 0.0}))
+    tiny = build_model(load_design().with_values({f"tissue.{modulus}": 1e-9}))
+    assert structure_of(prepare(zero)) != structure_of(prepare(tiny)), "zero is structure"
+    at_zero, near = (optimize_design(m, frequency_bounds=False) for m in (zero, tiny))
+    assert at_zero.status == near.status == "optimal", f"{modulus} = 0 optimises"
+    assert at_zero.objective_value == pytest.approx(near.objective_value, rel=1e-6), (
+        f"{modulus} = 0 is the limit of E -> 0 (1e-6)"
+    )
+
+
+def test_a_zero_modulus_in_robust_scenarios_optimises(capsys) -> None:
+    """The robust problem's scenario moduli zero in every scenario are compiled in as 0 too
+    (``ScenarioStructure.zero_moduli``): ``spiralcap optimize`` with margin_p05 at
+    tissue.E2_kPa = 0 had NaN in the Hessian and came out infeasible (exit 3; before the tissue
+    numbers became parameters too). Its CVaR05 is the one just above zero, to 1e-6 (1e-9 kPa;
+    32 scenarios)."""
+    import json
+
+    from spiralcap.cli import main
+
+    robust = [
+        "--set",
+        "optimize.objective=margin_p05",
+        "--set",
+        "tissue.uncertainty.scale_sigma_log=0.3",
+        "--set",
+        "optimize.scenarios=32",
+    ]
+    out = []
+    for e in (0.0, 1e-9):
+        status = main(["optimize", *robust, "--set", f"tissue.E2_kPa={e}", "--json"])
+        assert status == 0, f"margin_p05 with E2 = {e} kPa optimises (exit 0)"
+        out.append(json.loads(capsys.readouterr().out))
+    assert out[0]["objective_value"] == pytest.approx(out[1]["objective_value"], rel=1e-6), (
+        "E2 = 0 is the limit of E2 -> 0 in the scenarios too (1e-6)"
+    )
